@@ -1,0 +1,159 @@
+"""Narrow phase: overlap polygon of two convex polygons and its contact frame (thesis 3.6-3.7).
+
+The overlap of two convex polygons is found by Sutherland-Hodgman clipping: the subject
+polygon is clipped in turn by the half-plane left of every edge of the (counter-clockwise)
+clip polygon. Its area and centroid follow thesis Eq. 3.1-3.3. The contact frame follows
+thesis 3.7: the tangent is parallel to the longest side of a triangular overlap, or to the
+longest line joining two non-consecutive vertices of a larger overlap polygon; the normal
+is perpendicular to it and points from body a to body b.
+"""
+
+import numpy as np
+from numba import njit
+
+from dem.kernels import JIT_OPTIONS
+
+MAX_OVERLAP_VERTICES = 64
+# vertices closer than this [m] are merged, so a vertex lying on an edge does not
+# turn a triangle into a degenerate quadrilateral
+DUPLICATE_VERTEX_TOLERANCE = 1e-12
+
+
+@njit(**JIT_OPTIONS)
+def clip_convex_polygons(ax, ay, bx, by, out_x, out_y, tmp_x, tmp_y):
+    """Clip convex polygon a by convex polygon b; return the vertex count written to out.
+
+    ax, ay: vertices of a, counter-clockwise (n_a,) [m]
+    bx, by: vertices of b, counter-clockwise (n_b,) [m]
+    out_x, out_y, tmp_x, tmp_y: scratch of length >= n_a + n_b; the overlap polygon,
+        counter-clockwise, is left in out_x[:n], out_y[:n]
+
+    Pseudocode: poly <- a; for every edge (p, q) of b: keep the part of poly on the
+    left of p->q (cross(q - p, v - p) >= 0), inserting the crossing points.
+    """
+    n = ax.shape[0]
+    for i in range(n):
+        out_x[i] = ax[i]
+        out_y[i] = ay[i]
+    nb = bx.shape[0]
+    for e in range(nb):
+        px = bx[e]
+        py = by[e]
+        qx = bx[(e + 1) % nb]
+        qy = by[(e + 1) % nb]
+        ex = qx - px
+        ey = qy - py
+        m = 0
+        for i in range(n):
+            tmp_x[i] = out_x[i]
+            tmp_y[i] = out_y[i]
+        for i in range(n):
+            sx = tmp_x[i]
+            sy = tmp_y[i]
+            fx = tmp_x[(i + 1) % n]
+            fy = tmp_y[(i + 1) % n]
+            side_s = ex * (sy - py) - ey * (sx - px)
+            side_f = ex * (fy - py) - ey * (fx - px)
+            if side_s >= 0.0:
+                out_x[m] = sx
+                out_y[m] = sy
+                m += 1
+            if (side_s >= 0.0) != (side_f >= 0.0):
+                s = side_s / (side_s - side_f)
+                out_x[m] = sx + s * (fx - sx)
+                out_y[m] = sy + s * (fy - sy)
+                m += 1
+        n = m
+        if n < 3:
+            return 0
+    # merge duplicate consecutive vertices
+    m = 0
+    for i in range(n):
+        if m > 0:
+            dx = out_x[i] - out_x[m - 1]
+            dy = out_y[i] - out_y[m - 1]
+            if dx * dx + dy * dy <= DUPLICATE_VERTEX_TOLERANCE**2:
+                continue
+        out_x[m] = out_x[i]
+        out_y[m] = out_y[i]
+        m += 1
+    while m > 1:
+        dx = out_x[m - 1] - out_x[0]
+        dy = out_y[m - 1] - out_y[0]
+        if dx * dx + dy * dy <= DUPLICATE_VERTEX_TOLERANCE**2:
+            m -= 1
+        else:
+            break
+    if m < 3:
+        return 0
+    return m
+
+
+@njit(**JIT_OPTIONS)
+def polygon_area_centroid(x, y, n):
+    """Area [m2] and centroid [m] of the polygon x[:n], y[:n] (thesis Eq. 3.1-3.3).
+
+    Coordinates are taken relative to the first vertex so slivers far from the origin
+    keep their digits.
+    """
+    x0 = x[0]
+    y0 = y[0]
+    area2 = 0.0
+    cx = 0.0
+    cy = 0.0
+    for i in range(n):
+        xi = x[i] - x0
+        yi = y[i] - y0
+        xj = x[(i + 1) % n] - x0
+        yj = y[(i + 1) % n] - y0
+        cross = xi * yj - xj * yi
+        area2 += cross
+        cx += (xi + xj) * cross
+        cy += (yi + yj) * cross
+    if area2 <= 0.0:
+        return 0.0, x0, y0
+    return 0.5 * area2, x0 + cx / (3.0 * area2), y0 + cy / (3.0 * area2)
+
+
+@njit(**JIT_OPTIONS)
+def contact_tangent(x, y, n):
+    """Unit tangent (tx, ty) and its chord length [m] of the overlap polygon x[:n], y[:n].
+
+    thesis 3.7: a triangle -> its longest side; a polygon with more vertices -> the longest
+    line joining two non-consecutive vertices (for a quadrilateral, the longer diagonal).
+    """
+    best = -1.0
+    bx = 1.0
+    by = 0.0
+    for i in range(n):
+        for j in range(i + 1, n):
+            if n > 3 and (j == i + 1 or (i == 0 and j == n - 1)):
+                continue
+            dx = x[j] - x[i]
+            dy = y[j] - y[i]
+            d2 = dx * dx + dy * dy
+            if d2 > best:
+                best = d2
+                bx = dx
+                by = dy
+    length = np.sqrt(best)
+    if length <= 0.0:
+        return 1.0, 0.0, 0.0
+    return bx / length, by / length, length
+
+
+@njit(**JIT_OPTIONS)
+def contact_frame(x, y, n, from_x, from_y, to_x, to_y):
+    """Contact normal (nx, ny), tangent (tx, ty) and chord length of an overlap polygon.
+
+    The normal is perpendicular to the thesis 3.7 tangent and oriented from the centroid
+    (from_x, from_y) of body a towards the centroid (to_x, to_y) of body b; the tangent is
+    the normal turned clockwise by 90 degrees, so (t, n) is a right-handed frame.
+    """
+    tx, ty, length = contact_tangent(x, y, n)
+    nx = -ty
+    ny = tx
+    if nx * (to_x - from_x) + ny * (to_y - from_y) < 0.0:
+        nx = -nx
+        ny = -ny
+    return nx, ny, ny, -nx, length

@@ -1,0 +1,196 @@
+"""The time loop of the 2D rigid-block engine, compiled whole (thesis 3.10, Fig. 3.14).
+
+Stages of one step at time t_n = n dt:
+
+1. drive_bodies             driven bodies take the base pose and velocity at t_n
+2. update_world_vertices    world vertices and bounds from the poses
+3. find_candidate_pairs     only when some body has moved half the margin since the last sweep
+4. contact_forces           overlap polygons -> spring-dashpot + Coulomb forces (velocities v_{n-1/2})
+5. sample                   every ``out_every`` steps: poses, energies, contact count; NaN and collapse checks
+6. central_difference_step  v_{n+1/2} = v_{n-1/2} + dt a_n (first step: a half kick), x_{n+1} = x_n + dt v_{n+1/2}
+
+Python never sees a single step: :func:`run` is called once per simulation.
+"""
+
+import numpy as np
+from numba import njit
+
+from dem.kernels import JIT_OPTIONS
+from dem.kernels.broad_phase import body_bounds, find_candidate_pairs
+from dem.kernels.contact import contact_forces
+from dem.kernels.excitation import base_motion
+from dem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
+from dem.kernels.overlap import MAX_OVERLAP_VERTICES
+
+STATUS_OK = 0
+STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
+STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
+
+# columns of the sampled energy array
+ENERGY_KINETIC = 0
+ENERGY_POTENTIAL = 1
+ENERGY_ELASTIC = 2
+ENERGY_DAMPING = 3
+ENERGY_TANGENTIAL = 4
+ENERGY_BASE_WORK = 5
+ENERGY_RESIDUAL = 6
+N_ENERGY = 7
+
+
+@njit(**JIT_OPTIONS)
+def collapse_state(n_body, body_driven, body_group, n_group, group_theta_cr, body_theta,
+                   body_y, ref_y, fall_depth, d_v):
+    """True when a group's mean |theta| exceeds its theta_cr, or a body dropped below its support.
+
+    body_group: group (column, epistyle, block) of each body, -1 for none (n_body,)
+    group_theta_cr: critical mean rotation of each group, atan(b/h) (n_group,) [rad]
+    fall_depth: drop of a body's centroid, relative to the base, that means it fell (n_body,) [m]
+    """
+    sums = np.zeros(n_group)
+    counts = np.zeros(n_group)
+    for b in range(n_body):
+        if body_driven[b]:
+            continue
+        if ref_y[b] - (body_y[b] - d_v) > fall_depth[b]:
+            return True
+        g = body_group[b]
+        if g >= 0:
+            sums[g] += abs(body_theta[b])
+            counts[g] += 1.0
+    for g in range(n_group):
+        if counts[g] > 0.0 and sums[g] / counts[g] > group_theta_cr[g]:
+            return True
+    return False
+
+
+@njit(**JIT_OPTIONS)
+def run(
+    vert_start, local_x, local_y, body_mass, body_inertia, body_driven, body_radius,
+    ref_x, ref_y, ref_theta, pair_mu, k_n, c_n, k_t, c_t, gravity,
+    body_group, group_theta_cr, fall_depth,
+    h_kind, h_params, h_accel, h_vel, h_disp, h_dt,
+    v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
+    dt, step_start, step_stop, n_steps, out_every, margin, sweep_axis, stop_on_collapse,
+    body_x, body_y, body_theta, body_vx, body_vy, body_omega,
+    pair_ft, pair_elastic_n, pair_elastic_t, energy_acc,
+    out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
+):
+    """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
+
+    Scene arrays (read only) are described in :class:`dem.simulate.SceneArrays`; h_* / v_*
+    describe the horizontal / vertical base motion (:func:`dem.kernels.excitation.base_motion`).
+    State (read and written, so a run can be split into chunks): body_* hold velocities at
+    t = 0 before step 0 and at mid-steps after; pair_* and energy_acc are the contact
+    memory and energy accumulators of :mod:`dem.kernels.contact`.
+    out_*: preallocated samples (n_sample, n_body) and (n_sample, N_ENERGY); samples are
+    written from index n_sample on. collapse_sample is the first collapsed sample, or -1.
+    """
+    n_body = body_mass.shape[0]
+    n_group = group_theta_cr.shape[0]
+    n_vert = local_x.shape[0]
+    world_x = np.empty(n_vert)
+    world_y = np.empty(n_vert)
+    lo_x = np.empty(n_body)
+    lo_y = np.empty(n_body)
+    hi_x = np.empty(n_body)
+    hi_y = np.empty(n_body)
+    force_x = np.zeros(n_body)
+    force_y = np.zeros(n_body)
+    torque = np.zeros(n_body)
+    scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
+    sweep_x = np.empty(n_body)
+    sweep_y = np.empty(n_body)
+    sweep_theta = np.empty(n_body)
+    pair_a = np.zeros(0, dtype=np.int64)
+    pair_b = np.zeros(0, dtype=np.int64)
+    need_sweep = True
+    status = STATUS_OK
+
+    for n in range(step_start, min(step_stop, n_steps + 1)):
+        t = n * dt
+        d_h, vel_h, acc_h = base_motion(t, h_kind, h_params, h_accel, h_vel, h_disp, h_dt)
+        d_v, vel_v, acc_v = base_motion(t, v_kind, v_params, v_accel, v_vel, v_disp, v_dt)
+        drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
+                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+        update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
+                              world_x, world_y)
+        body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+
+        if not need_sweep:
+            for b in range(n_body):
+                moved = (abs(body_x[b] - sweep_x[b]) + abs(body_y[b] - sweep_y[b])
+                         + body_radius[b] * abs(body_theta[b] - sweep_theta[b]))
+                if moved > 0.5 * margin:
+                    need_sweep = True
+                    break
+        if need_sweep:
+            pair_a, pair_b = find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y,
+                                                  margin, sweep_axis)
+            for b in range(n_body):
+                sweep_x[b] = body_x[b]
+                sweep_y[b] = body_y[b]
+                sweep_theta[b] = body_theta[b]
+            need_sweep = False
+
+        force_x[:] = 0.0
+        force_y[:] = 0.0
+        torque[:] = 0.0
+        n_contact = contact_forces(
+            pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+            body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
+            k_n, c_n, k_t, c_t, dt, pair_ft, pair_elastic_n, pair_elastic_t,
+            force_x, force_y, torque, energy_acc, scratch,
+        )
+
+        if n % out_every == 0:
+            kinetic = 0.0
+            potential = 0.0
+            finite = True
+            for b in range(n_body):
+                out_x[n_sample, b] = body_x[b]
+                out_y[n_sample, b] = body_y[b]
+                out_theta[n_sample, b] = body_theta[b]
+                if body_driven[b]:
+                    continue
+                # velocity at t_n: half a kick on from v_{n-1/2} (the start holds v_0 itself)
+                h = 0.0 if n == 0 else 0.5 * dt
+                vx = body_vx[b] + h * force_x[b] / body_mass[b]
+                vy = body_vy[b] + h * (force_y[b] / body_mass[b] - gravity)
+                om = body_omega[b] + h * torque[b] / body_inertia[b]
+                kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
+                kinetic += 0.5 * body_inertia[b] * om * om
+                potential += body_mass[b] * gravity * body_y[b]
+                if not (np.isfinite(body_x[b]) and np.isfinite(body_y[b])
+                        and np.isfinite(body_theta[b]) and np.isfinite(om)):
+                    finite = False
+            elastic = 0.0
+            for p in range(pair_a.shape[0]):
+                elastic += pair_elastic_n[pair_a[p], pair_b[p]] + pair_elastic_t[pair_a[p], pair_b[p]]
+            out_energy[n_sample, ENERGY_KINETIC] = kinetic
+            out_energy[n_sample, ENERGY_POTENTIAL] = potential
+            out_energy[n_sample, ENERGY_ELASTIC] = elastic
+            out_energy[n_sample, ENERGY_DAMPING] = energy_acc[0]
+            out_energy[n_sample, ENERGY_TANGENTIAL] = energy_acc[1]
+            out_energy[n_sample, ENERGY_BASE_WORK] = energy_acc[2]
+            out_energy[n_sample, ENERGY_RESIDUAL] = energy_acc[3]
+            out_n_contact[n_sample] = n_contact
+            n_sample += 1
+            if not finite:
+                status = STATUS_NONFINITE
+                break
+            if collapse_sample < 0 and collapse_state(
+                n_body, body_driven, body_group, n_group, group_theta_cr, body_theta,
+                body_y, ref_y, fall_depth, d_v,
+            ):
+                collapse_sample = n_sample - 1
+                if stop_on_collapse:
+                    status = STATUS_COLLAPSED
+                    break
+        if n == n_steps:
+            break
+        # the first kick is a half step, so velocities sit at t + dt/2 from then on
+        kick = 0.5 * dt if n == 0 else dt
+        central_difference_step(n_body, body_driven, body_mass, body_inertia, gravity, kick, dt,
+                                force_x, force_y, torque,
+                                body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+    return status, n_sample, collapse_sample

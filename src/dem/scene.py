@@ -1,0 +1,409 @@
+"""Scene files: YAML or dict -> validated, frozen :class:`Scene` -> read-only kernel arrays.
+
+A scene lists rigid convex polygons (explicit ``box``/``polygon`` bodies and/or a
+``structure`` built by :mod:`dem.structures`), contact and friction parameters, the base
+excitation, solver and output settings. Every field is checked once here; a bad one raises
+:class:`dem.errors.InputError` naming its dotted path. Defaults follow the thesis: contact
+stiffness k_n = 1e8 N/m2 and damping c_n = 1e3 N s/m (thesis 3.8, 5.1.2), stone density
+2000 kg/m3 (thesis Fig. 4.6), unit out-of-plane depth.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from dem import geometry
+from dem.errors import InputError
+from dem.ground_motion import BaseMotion, excitation_pair
+
+TOP_KEYS = {
+    "name": "scene name",
+    "description": "free text",
+    "bodies": "list of bodies",
+    "structure": "a built structure (dem.structures)",
+    "depth": "out-of-plane depth [m]",
+    "density": "default density [kg m-3]",
+    "gravity": "acceleration of gravity [m s-2]",
+    "friction": "default friction coefficient mu [1]",
+    "interface_friction": "per-interface friction [{bodies: [a, b], mu}]",
+    "contact": "contact law {k_n, c_n, k_t, c_t}",
+    "excitation": "base motion",
+    "solver": "{duration, dt, dt_safety, stop_on_collapse}",
+    "output": "{every}",
+}
+BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "velocity",
+             "friction", "role", "column", "tier")
+ROLES = ("base", "drum", "capital", "epistyle", "block")
+TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
+CONTACT_DEFAULTS = {"k_n": 1.0e8, "c_n": 1.0e3}
+SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": 0.25, "stop_on_collapse": True}
+OUTPUT_DEFAULTS = {"every": 0.001}
+MAX_BODY_VERTICES = 24
+# bodies may touch at t = 0 but not overlap by more than this share of the smaller area
+INITIAL_OVERLAP_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class Body:
+    """One rigid body at rest (before any tilt), with its derived mass properties."""
+
+    name: str
+    vertices: np.ndarray  # counter-clockwise, world coordinates at rest (n, 2) [m]
+    mass: float  # [kg]
+    inertia: float  # about the centroid [kg m2]
+    driven: bool
+    role: str
+    column: int  # -1 when not part of a column
+    tier: int
+    friction: float | None
+    tilt_angle: float  # counter-clockwise rotation applied at t = 0 [rad]
+    tilt_pivot: np.ndarray  # [m]
+    velocity: tuple | None  # (vx [m s-1], vy [m s-1], omega [rad s-1]) or None
+
+    @property
+    def centroid(self) -> np.ndarray:
+        return geometry.centroid(self.vertices)
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Soft contact law (thesis Eq. 3.4-3.6)."""
+
+    k_n: float  # normal stiffness per unit overlap area [N m-2]
+    c_n: float  # normal dashpot [N s m-1]
+    k_t: float  # tangential stiffness per unit contact length [N m-2]
+    c_t: float  # tangential dashpot [N s m-1]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: bodies, materials, excitation and settings, all in SI units."""
+
+    bodies: tuple
+    contact: ContactLaw
+    friction: float
+    pair_friction: dict  # {(name_a, name_b): mu}, names sorted
+    gravity: float
+    depth: float
+    horizontal: BaseMotion
+    vertical: BaseMotion
+    duration: float
+    dt: float | None  # None = choose automatically
+    dt_safety: float
+    stop_on_collapse: bool
+    output_every: float
+    spec: dict = field(repr=False)  # the fully defaulted input, for provenance
+
+    @property
+    def body_names(self) -> list[str]:
+        return [b.name for b in self.bodies]
+
+
+def load_scene(path: str | Path, overrides: list[str] | None = None) -> Scene:
+    """Read a scene YAML file, apply ``key=value`` overrides, validate; see :func:`scene_from_dict`."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(str(path), "scene file not found", "check the path")
+    try:
+        spec = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" at line {mark.line + 1}" if mark is not None else ""
+        problem = getattr(err, "problem", None) or "invalid YAML"
+        raise InputError(str(path), f"malformed YAML{where}: {problem}",
+                         "fix the YAML syntax") from None
+    if not isinstance(spec, dict):
+        raise InputError(str(path), "a scene file must be a YAML mapping",
+                         "start with keys such as bodies:, contact:, solver:")
+    for item in overrides or []:
+        apply_override(spec, item)
+    return scene_from_dict(spec, base_dir=path.parent)
+
+
+def apply_override(spec: dict, item: str) -> None:
+    """Set a dotted key from ``key=value`` (value parsed as YAML): ``solver.duration=2``."""
+    if "=" not in item:
+        raise InputError("--set", f"'{item}' is not key=value", "write e.g. --set solver.duration=2")
+    key, _, text = item.partition("=")
+    value = yaml.safe_load(text)
+    parts = key.strip().split(".")
+    node = spec
+    for i, part in enumerate(parts[:-1]):
+        if isinstance(node, list):
+            node = node[_list_index(node, part, ".".join(parts[: i + 1]))]
+            continue
+        if part not in node or node[part] is None:
+            node[part] = {}
+        node = node[part]
+        if not isinstance(node, (dict, list)):
+            raise InputError(f"--set {key}", f"'{part}' is not a mapping", "set a leaf key")
+    last = parts[-1]
+    if isinstance(node, list):
+        node[_list_index(node, last, key)] = value
+    else:
+        node[last] = value
+
+
+def _list_index(node: list, part: str, key: str) -> int:
+    if part.isdigit() and int(part) < len(node):
+        return int(part)
+    names = [b.get("name") for b in node if isinstance(b, dict)]
+    if part in names:
+        return names.index(part)
+    raise InputError(f"--set {key}", f"no list item '{part}'", "use an index or a body name")
+
+
+def _check_keys(mapping, allowed, where: str) -> None:
+    if not isinstance(mapping, dict):
+        raise InputError(where, f"expected a mapping, got {type(mapping).__name__}",
+                         f"allowed keys: {', '.join(allowed)}")
+    for key in mapping:
+        if key not in allowed:
+            raise InputError(f"{where}.{key}" if where else str(key), "unknown key",
+                             f"allowed keys: {', '.join(allowed)}")
+
+
+def _number(value, where: str, positive=False, nonnegative=False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(where, f"expected a number, got {value!r}", "give a number in SI units")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(where, f"{value} is not finite", "give a finite number")
+    if positive and value <= 0.0:
+        raise InputError(where, f"must be > 0, got {value}", "give a positive value")
+    if nonnegative and value < 0.0:
+        raise InputError(where, f"must be >= 0, got {value}", "give a non-negative value")
+    return value
+
+
+def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
+    """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
+    spec = copy.deepcopy(spec)
+    _check_keys(spec, TOP_KEYS, "")
+    depth = _number(spec.get("depth", 1.0), "depth", positive=True)
+    density = _number(spec.get("density", 2000.0), "density", positive=True)
+    gravity = _number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
+    friction = _number(spec.get("friction", 0.5), "friction", nonnegative=True)
+
+    body_specs = list(spec.get("bodies") or [])
+    if "structure" in spec:
+        from dem.structures import build_structure
+
+        body_specs = build_structure(dict(spec["structure"])) + body_specs
+    if not isinstance(body_specs, list) or not body_specs:
+        raise InputError("bodies", "the scene has no bodies", "list bodies: or give a structure:")
+    bodies = tuple(_body(b, i, density, depth) for i, b in enumerate(body_specs))
+    names = [b.name for b in bodies]
+    for i, name in enumerate(names):
+        if names.index(name) != i:
+            raise InputError(f"bodies[{i}].name", f"duplicate body name '{name}'", "make names unique")
+    if all(b.driven for b in bodies):
+        raise InputError("bodies", "every body is driven", "leave at least one body free")
+
+    contact_spec = dict(spec.get("contact") or {})
+    _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t"), "contact")
+    k_n = _number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
+    c_n = _number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
+    k_t = _number(contact_spec.get("k_t", k_n), "contact.k_t", positive=True)
+    c_t = _number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
+    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t)
+
+    pair_friction = {}
+    for i, item in enumerate(spec.get("interface_friction") or []):
+        where = f"interface_friction[{i}]"
+        _check_keys(item, ("bodies", "mu"), where)
+        pair = item.get("bodies")
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
+        for name in pair:
+            if name not in names:
+                raise InputError(f"{where}.bodies", f"no body named '{name}'",
+                                 f"known bodies: {', '.join(names)}")
+        pair_friction[tuple(sorted(pair))] = _number(item.get("mu"), f"{where}.mu", nonnegative=True)
+
+    solver = {**SOLVER_DEFAULTS, **(spec.get("solver") or {})}
+    _check_keys(solver, SOLVER_DEFAULTS, "solver")
+    if solver["duration"] is None:
+        raise InputError("solver.duration", "missing", "give the simulated time in s")
+    duration = _number(solver["duration"], "solver.duration", positive=True)
+    dt = None if solver["dt"] in ("auto", None) else _number(solver["dt"], "solver.dt", positive=True)
+    dt_safety = _number(solver["dt_safety"], "solver.dt_safety", positive=True)
+    if dt_safety > 1.0:
+        raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
+                         "use a fraction of the limit, e.g. 0.25")
+    if not isinstance(solver["stop_on_collapse"], bool):
+        raise InputError("solver.stop_on_collapse", "expected true or false", "write true or false")
+    output = {**OUTPUT_DEFAULTS, **(spec.get("output") or {})}
+    _check_keys(output, OUTPUT_DEFAULTS, "output")
+    every = _number(output["every"], "output.every", positive=True)
+
+    horizontal, vertical = excitation_pair(spec.get("excitation") or {"kind": "none"}, Path(base_dir))
+
+    spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
+                contact={"k_n": k_n, "c_n": c_n, "k_t": k_t, "c_t": c_t},
+                solver=solver, output=output)
+    scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
+                  gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,
+                  duration=duration, dt=dt, dt_safety=dt_safety,
+                  stop_on_collapse=solver["stop_on_collapse"], output_every=every, spec=spec)
+    check_initial_overlaps(scene)
+    return scene
+
+
+def _body(spec: dict, index: int, density: float, depth: float) -> Body:
+    where = f"bodies[{index}]"
+    _check_keys(spec, BODY_KEYS, where)
+    name = str(spec.get("name", f"body{index}"))
+    where = f"bodies[{index}] ({name})"
+    if ("box" in spec) == ("polygon" in spec):
+        raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
+    if "box" in spec:
+        box = spec["box"]
+        _check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
+        width = _number(box.get("width"), f"{where}.box.width", positive=True)
+        height = _number(box.get("height"), f"{where}.box.height", positive=True)
+        center = box.get("center", [0.0, 0.0])
+        if not isinstance(center, (list, tuple)) or len(center) != 2:
+            raise InputError(f"{where}.box.center", "expected [x, y]", "write center: [x, y]")
+        center = [_number(c, f"{where}.box.center") for c in center]
+        angle = _number(box.get("angle", 0.0), f"{where}.box.angle")
+        vertices = geometry.box_vertices(width, height, center, angle)
+    else:
+        poly = spec["polygon"]
+        _check_keys(poly, ("vertices",), f"{where}.polygon")
+        raw = poly.get("vertices")
+        if not isinstance(raw, list) or len(raw) < 3:
+            raise InputError(f"{where}.polygon.vertices", "need at least 3 [x, y] vertices",
+                             "list the corners in order")
+        try:
+            vertices = np.array([[float(v[0]), float(v[1])] for v in raw])
+            if any(len(v) != 2 for v in raw):
+                raise ValueError
+        except (TypeError, ValueError, IndexError):
+            raise InputError(f"{where}.polygon.vertices", "every vertex must be [x, y]",
+                             "list numbers in pairs") from None
+        if not np.all(np.isfinite(vertices)):
+            raise InputError(f"{where}.polygon.vertices", "non-finite coordinate", "give finite numbers")
+        if len(vertices) > MAX_BODY_VERTICES:
+            raise InputError(f"{where}.polygon.vertices", f"{len(vertices)} vertices",
+                             f"use at most {MAX_BODY_VERTICES}")
+        if not geometry.is_simple(vertices):
+            raise InputError(f"{where}.polygon", "self-intersecting polygon",
+                             "order the vertices around the boundary")
+        if geometry.signed_area(vertices) < 0.0:
+            vertices = vertices[::-1].copy()
+        if abs(geometry.signed_area(vertices)) <= 1e-14:
+            raise InputError(f"{where}.polygon", "zero area", "give a polygon with area")
+        if not geometry.is_convex(vertices):
+            raise InputError(f"{where}.polygon", "non-convex polygon",
+                             "split it into convex bodies")
+
+    area = geometry.signed_area(vertices) * depth  # volume [m3]
+    polar = geometry.polar_moment_about_centroid(vertices) * depth
+    if "mass" in spec and "density" in spec:
+        raise InputError(where, "give mass or density, not both", "remove one")
+    if "mass" in spec:
+        mass = _number(spec["mass"], f"{where}.mass", positive=True)
+    else:
+        mass = _number(spec.get("density", density), f"{where}.density", positive=True) * area
+    inertia = mass * polar / area  # uniform distribution over the polygon
+
+    driven = spec.get("driven", False)
+    if not isinstance(driven, bool):
+        raise InputError(f"{where}.driven", "expected true or false", "write true or false")
+    role = spec.get("role", "base" if driven else "block")
+    if role not in ROLES:
+        raise InputError(f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}")
+    column = int(spec.get("column", -1))
+    tier = int(spec.get("tier", 0))
+    mu = spec.get("friction")
+    mu = None if mu is None else _number(mu, f"{where}.friction", nonnegative=True)
+
+    tilt_angle, tilt_pivot = 0.0, geometry.centroid(vertices)
+    if "tilt" in spec:
+        tilt = spec["tilt"]
+        _check_keys(tilt, ("angle", "about"), f"{where}.tilt")
+        angle = _number(tilt.get("angle"), f"{where}.tilt.angle")
+        tilt_angle, tilt_pivot = _tilt(vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about")
+        if driven:
+            raise InputError(f"{where}.tilt", "a driven body cannot be tilted", "remove tilt:")
+    velocity = spec.get("velocity")
+    if velocity is not None:
+        if not isinstance(velocity, (list, tuple)) or len(velocity) != 3:
+            raise InputError(f"{where}.velocity", "expected [vx, vy, omega]",
+                             "give [m/s, m/s, rad/s]")
+        velocity = tuple(_number(v, f"{where}.velocity") for v in velocity)
+    return Body(name=name, vertices=vertices, mass=mass, inertia=inertia, driven=driven,
+                role=role, column=column, tier=tier, friction=mu, tilt_angle=tilt_angle,
+                tilt_pivot=tilt_pivot, velocity=velocity)
+
+
+def _tilt(vertices: np.ndarray, angle: float, about, where: str):
+    """Tilt angle (counter-clockwise) and pivot for a ``tilt:`` entry.
+
+    A named corner means "lean onto that corner by ``angle``": the opposite side rises, so
+    about bottom_right the body turns clockwise. An explicit [x, y] pivot turns it
+    counter-clockwise by ``angle``.
+    """
+    if isinstance(about, (list, tuple)) and len(about) == 2:
+        return angle, np.array([_number(about[0], where), _number(about[1], where)])
+    if about not in TILT_PIVOTS:
+        raise InputError(where, f"unknown pivot '{about}'",
+                         f"use one of {', '.join(TILT_PIVOTS)} or [x, y]")
+    if about == "centroid":
+        return angle, geometry.centroid(vertices)
+    # the outermost vertex among the lowest ones
+    ys = vertices[:, 1]
+    lowest = np.flatnonzero(ys <= ys.min() + 1e-9 * np.ptp(vertices).clip(min=1.0))
+    xs = vertices[lowest, 0]
+    right = about == "bottom_right"
+    pivot = vertices[lowest[int(np.argmax(xs) if right else np.argmin(xs))]]
+    return (-angle if right else angle), pivot
+
+
+def initial_pose(body: Body) -> tuple[float, float, float]:
+    """Centroid position [m] and rotation [rad] of a body at t = 0, after its tilt."""
+    c = body.centroid
+    if body.tilt_angle == 0.0:
+        return float(c[0]), float(c[1]), 0.0
+    moved = geometry.rotate_about(c[None, :], body.tilt_angle, body.tilt_pivot)[0]
+    return float(moved[0]), float(moved[1]), body.tilt_angle
+
+
+def posed_vertices(body: Body) -> np.ndarray:
+    """World vertices of a body at t = 0 [m]."""
+    if body.tilt_angle == 0.0:
+        return body.vertices
+    return geometry.rotate_about(body.vertices, body.tilt_angle, body.tilt_pivot)
+
+
+def check_initial_overlaps(scene: Scene) -> None:
+    """Refuse bodies that overlap at t = 0 by more than a touching tolerance."""
+    from dem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid
+
+    posed = [posed_vertices(b) for b in scene.bodies]
+    lo = np.array([p.min(axis=0) for p in posed])
+    hi = np.array([p.max(axis=0) for p in posed])
+    scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
+    for i in range(len(posed)):
+        for j in range(i + 1, len(posed)):
+            if np.any(lo[i] > hi[j]) or np.any(lo[j] > hi[i]):
+                continue
+            a, b = posed[i], posed[j]
+            n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
+                                     scratch[0], scratch[1], scratch[2], scratch[3])
+            if n < 3:
+                continue
+            area = polygon_area_centroid(scratch[0], scratch[1], n)[0]
+            smaller = min(geometry.signed_area(a), geometry.signed_area(b))
+            if area > INITIAL_OVERLAP_TOLERANCE * smaller:
+                bi, bj = scene.bodies[i].name, scene.bodies[j].name
+                raise InputError(f"bodies ({bi}, {bj})",
+                                 f"overlap by {area:.3g} m2 at t = 0",
+                                 "place bodies so they touch without overlapping")

@@ -180,7 +180,7 @@ def scene_dataset(scene, result) -> xr.Dataset:
         "dt_mode": "auto" if scene.dt is None else "given",
         "output_interval": result.out_every * result.dt,
         "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
-        "k_t": law.k_t, "k_t_units": "N m-2 (per unit contact length)",
+        "k_t": law.k_t, "k_t_units": "N m-1",
         "c_t": law.c_t, "c_t_units": "N s m-1",
         "friction": scene.friction, "gravity": scene.gravity, "depth": scene.depth,
         "duration": scene.duration, "n_steps": result.n_steps, "steps_run": result.steps_run,

@@ -77,7 +77,7 @@ class ContactLaw:
 
     k_n: float  # normal stiffness per unit overlap area [N m-2]
     c_n: float  # normal dashpot [N s m-1]
-    k_t: float  # tangential stiffness per unit contact length [N m-2]
+    k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
 
 
@@ -170,6 +170,12 @@ def _check_keys(mapping, allowed, where: str) -> None:
 
 
 def _number(value, where: str, positive=False, nonnegative=False) -> float:
+    if isinstance(value, str):
+        # YAML 1.1 reads 1.0e9 (no sign in the exponent) as a string
+        try:
+            value = float(value)
+        except ValueError:
+            pass
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise InputError(where, f"expected a number, got {value!r}", "give a number in SI units")
     value = float(value)
@@ -210,7 +216,8 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t"), "contact")
     k_n = _number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
     c_n = _number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
-    k_t = _number(contact_spec.get("k_t", k_n), "contact.k_t", positive=True)
+    # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
+    k_t = _number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = _number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
     contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t)
 

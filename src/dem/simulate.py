@@ -17,7 +17,7 @@ import numpy as np
 from dem import geometry
 from dem.errors import InputError
 from dem.kernels import step
-from dem.kernels.contact import N_ENERGY_ACC
+from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from dem.scene import Scene, initial_pose, posed_vertices
 
 
@@ -121,12 +121,11 @@ def stability_limit(scene: Scene) -> float:
 
     omega^2 bounds the body's highest contact frequency (Gershgorin, factor 2 for moving
     neighbours): 2 (sum k_ij / m + sum k_ij (l^2/12 + d^2) / I) over the bodies it touches
-    at rest, with k_ij = max(k_n, k_t) l_ij, l_ij the shared length of their bounds and d_ij
+    at rest, with k_ij = max(k_n l_ij, k_t), l_ij the shared length of their bounds and d_ij
     the distance from the centroid to the shared patch; z is the damping ratio of the
     dashpots on that stiffness (explicit-integration limit with damping).
     """
     law = scene.contact
-    k = max(law.k_n, law.k_t)
     c = max(law.c_n, law.c_t)
     posed = [posed_vertices(b) for b in scene.bodies]
     lo = np.array([p.min(axis=0) for p in posed])
@@ -150,14 +149,15 @@ def stability_limit(scene: Scene) -> float:
             length = float(max(overlap.max(), 0.0))
             patch = 0.5 * (np.maximum(lo[i], lo[j]) + np.minimum(hi[i], hi[j]))
             d2 = float(np.sum((patch - centre) ** 2))
-            k_trans += k * length
-            k_rot += k * length * (length**2 / 12.0 + d2)
+            k_pair = max(law.k_n * length, law.k_t)
+            k_trans += k_pair
+            k_rot += k_pair * (length**2 / 12.0 + d2)
             n_touch += 1
         if n_touch == 0:
             # a body touching nothing at rest: bound by a contact as long as its own size
             length = float(size[i].max())
-            k_trans = k * length
-            k_rot = k * length * (length**2 / 12.0 + float(np.sum(size[i] ** 2)) / 4.0)
+            k_trans = max(law.k_n * length, law.k_t)
+            k_rot = k_trans * (length**2 / 12.0 + float(np.sum(size[i] ** 2)) / 4.0)
             n_touch = 1
         omega = math.sqrt(2.0 * (k_trans / body.mass + k_rot / body.inertia))
         zeta = n_touch * c / (2.0 * math.sqrt(k_trans * body.mass))
@@ -213,8 +213,8 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
     bx, by, bth = arrays.init_x.copy(), arrays.init_y.copy(), arrays.init_theta.copy()
     bvx, bvy, bom = arrays.init_vx.copy(), arrays.init_vy.copy(), arrays.init_omega.copy()
     pair_ft = np.zeros((n_body, n_body))
-    pair_en = np.zeros((n_body, n_body))
-    pair_et = np.zeros((n_body, n_body))
+    pair_memory = np.zeros((n_body, n_body, N_MEMORY))
+    base_force_prev = np.zeros((n_body, 2))
     energy_acc = np.zeros(N_ENERGY_ACC)
     h, v = scene.horizontal, scene.vertical
     a = arrays
@@ -231,7 +231,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
             v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
             dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
             scene.stop_on_collapse, bx, by, bth, bvx, bvy, bom,
-            pair_ft, pair_en, pair_et, energy_acc,
+            pair_ft, pair_memory, base_force_prev, energy_acc,
             out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
         )
         if progress:

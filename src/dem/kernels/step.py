@@ -17,7 +17,7 @@ from numba import njit
 
 from dem.kernels import JIT_OPTIONS
 from dem.kernels.broad_phase import body_bounds, find_candidate_pairs
-from dem.kernels.contact import contact_forces
+from dem.kernels.contact import E_BASE_WORK, MEM_ELASTIC_N, MEM_ELASTIC_T, contact_forces
 from dem.kernels.excitation import base_motion
 from dem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES
@@ -72,7 +72,7 @@ def run(
     v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
     dt, step_start, step_stop, n_steps, out_every, margin, sweep_axis, stop_on_collapse,
     body_x, body_y, body_theta, body_vx, body_vy, body_omega,
-    pair_ft, pair_elastic_n, pair_elastic_t, energy_acc,
+    pair_ft, pair_memory, base_force_prev, energy_acc,
     out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
 ):
     """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
@@ -80,8 +80,9 @@ def run(
     Scene arrays (read only) are described in :class:`dem.simulate.SceneArrays`; h_* / v_*
     describe the horizontal / vertical base motion (:func:`dem.kernels.excitation.base_motion`).
     State (read and written, so a run can be split into chunks): body_* hold velocities at
-    t = 0 before step 0 and at mid-steps after; pair_* and energy_acc are the contact
-    memory and energy accumulators of :mod:`dem.kernels.contact`.
+    t = 0 before step 0 and at mid-steps after; pair_ft, pair_memory and energy_acc are the
+    contact memory and energy accumulators of :mod:`dem.kernels.contact`; base_force_prev
+    (n_body, 2) [N] is the force driven bodies exerted on each body at the previous step.
     out_*: preallocated samples (n_sample, n_body) and (n_sample, N_ENERGY); samples are
     written from index n_sample on. collapse_sample is the first collapsed sample, or -1.
     """
@@ -97,6 +98,8 @@ def run(
     force_x = np.zeros(n_body)
     force_y = np.zeros(n_body)
     torque = np.zeros(n_body)
+    base_force_x = np.zeros(n_body)
+    base_force_y = np.zeros(n_body)
     scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
     sweep_x = np.empty(n_body)
     sweep_y = np.empty(n_body)
@@ -135,12 +138,25 @@ def run(
         force_x[:] = 0.0
         force_y[:] = 0.0
         torque[:] = 0.0
+        base_force_x[:] = 0.0
+        base_force_y[:] = 0.0
         n_contact = contact_forces(
             pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
             body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-            k_n, c_n, k_t, c_t, dt, pair_ft, pair_elastic_n, pair_elastic_t,
-            force_x, force_y, torque, energy_acc, scratch,
+            k_n, c_n, k_t, c_t, dt, pair_ft, pair_memory,
+            force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch,
         )
+        # work of the base over the last step, trapezoidal like the contact energies
+        if n > 0:
+            d_h_prev = base_motion(t - dt, h_kind, h_params, h_accel, h_vel, h_disp, h_dt)[0]
+            d_v_prev = base_motion(t - dt, v_kind, v_params, v_accel, v_vel, v_disp, v_dt)[0]
+            for b in range(n_body):
+                energy_acc[E_BASE_WORK] += 0.5 * (
+                    (base_force_prev[b, 0] + base_force_x[b]) * (d_h - d_h_prev)
+                    + (base_force_prev[b, 1] + base_force_y[b]) * (d_v - d_v_prev))
+        for b in range(n_body):
+            base_force_prev[b, 0] = base_force_x[b]
+            base_force_prev[b, 1] = base_force_y[b]
 
         if n % out_every == 0:
             kinetic = 0.0
@@ -165,7 +181,8 @@ def run(
                     finite = False
             elastic = 0.0
             for p in range(pair_a.shape[0]):
-                elastic += pair_elastic_n[pair_a[p], pair_b[p]] + pair_elastic_t[pair_a[p], pair_b[p]]
+                elastic += (pair_memory[pair_a[p], pair_b[p], MEM_ELASTIC_N]
+                            + pair_memory[pair_a[p], pair_b[p], MEM_ELASTIC_T])
             out_energy[n_sample, ENERGY_KINETIC] = kinetic
             out_energy[n_sample, ENERGY_POTENTIAL] = potential
             out_energy[n_sample, ENERGY_ELASTIC] = elastic

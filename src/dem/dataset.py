@@ -18,8 +18,6 @@ import numpy as np
 import xarray as xr
 
 import dem
-from dem import measures
-from dem.kernels import step
 
 # name: (units, long_name)
 VARIABLES = {
@@ -86,6 +84,10 @@ def code_version() -> str:
 
 def scene_dataset(scene, result) -> xr.Dataset:
     """Dataset of one simulated scene: histories, energies, response measures, provenance."""
+    from dem import measures
+    from dem.kernels import step
+    from dem.simulate import pack_scene
+
     time = result.time
     names = scene.body_names
     d_h, v_h, a_h = scene.horizontal.evaluate(time)
@@ -97,8 +99,6 @@ def scene_dataset(scene, result) -> xr.Dataset:
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
     rock_idx = measures.rocking_bodies(scene)
     rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
-    from dem.simulate import pack_scene
-
     arrays = pack_scene(scene)
     groups = np.unique(arrays.body_group[rock_idx])
     theta_cr = float(arrays.group_theta_cr[groups].min())
@@ -215,6 +215,9 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -188,7 +188,7 @@ def scene_dataset(scene, result) -> xr.Dataset:
         "status": ["completed", "stopped at collapse", "diverged"][result.status],
         "wall_seconds": result.wall_seconds,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
-        "contact_frame": "thesis 3.7: longest side of a triangular overlap, longest diagonal otherwise",
+        "contact_frame": law.frame,
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 

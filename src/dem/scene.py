@@ -79,6 +79,7 @@ class ContactLaw:
     c_n: float  # normal dashpot [N s m-1]
     k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
+    frame: str = "boundary"  # contact frame rule: boundary | thesis (dem.kernels.overlap)
 
 
 @dataclass(frozen=True)
@@ -213,13 +214,16 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
     contact_spec = dict(spec.get("contact") or {})
-    _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t"), "contact")
+    _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t", "frame"), "contact")
     k_n = _number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
     c_n = _number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
     # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
     k_t = _number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = _number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
-    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t)
+    frame = contact_spec.get("frame", "boundary")
+    if frame not in ("boundary", "thesis"):
+        raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
+    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame)
 
     pair_friction = {}
     for i, item in enumerate(spec.get("interface_friction") or []):
@@ -253,7 +257,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     horizontal, vertical = excitation_pair(spec.get("excitation") or {"kind": "none"}, Path(base_dir))
 
     spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
-                contact={"k_n": k_n, "c_n": c_n, "k_t": k_t, "c_t": c_t},
+                contact={"k_n": k_n, "c_n": c_n, "k_t": k_t, "c_t": c_t, "frame": frame},
                 solver=solver, output=output)
     scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
                   gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,

@@ -18,7 +18,11 @@ from dem import geometry
 from dem.errors import InputError
 from dem.kernels import step
 from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY
+from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 from dem.scene import Scene, initial_pose, posed_vertices
+
+
+FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS}
 
 
 @dataclass(frozen=True)
@@ -226,7 +230,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
             a.vert_start, a.local_x, a.local_y, a.body_mass, a.body_inertia, a.body_driven,
             a.body_radius, a.ref_x, a.ref_y, a.ref_theta, a.pair_mu,
             scene.contact.k_n, scene.contact.c_n, scene.contact.k_t, scene.contact.c_t,
-            scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
+            FRAME_RULES[scene.contact.frame], scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
             h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt,
             v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
             dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,

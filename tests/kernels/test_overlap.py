@@ -7,6 +7,8 @@ from hypothesis import strategies as st
 
 from dem import geometry
 from dem.kernels.overlap import (
+    FRAME_BOUNDARY,
+    FRAME_THESIS,
     MAX_OVERLAP_VERTICES,
     clip_convex_polygons,
     contact_frame,
@@ -25,16 +27,33 @@ def overlap(a, b):
     return area, np.array([cx, cy]), s, n
 
 
+def frame(s, n, a, b, rule):
+    return contact_frame(s[0], s[1], n, a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(),
+                         b[:, 1].copy(), a[:, 0].mean(), a[:, 1].mean(), b[:, 0].mean(),
+                         b[:, 1].mean(), rule)
+
+
 def test_box_on_box_overlap_is_the_sliver():
     base = geometry.box_vertices(4.0, 0.5, (0.0, -0.25))
     block = geometry.box_vertices(0.25, 1.0, (0.3, 0.5 - 1e-4))
     area, c, s, n = overlap(base, block)
     assert area == pytest.approx(0.25 * 1e-4, rel=1e-9), "sliver 0.25 m x 0.1 mm"
     assert c == pytest.approx([0.3, -0.5e-4], abs=1e-12)
-    nx, ny, tx, ty, chord = contact_frame(s[0], s[1], n, 0.0, -0.25, 0.3, 0.5)
-    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-3), "normal from base to block"
-    assert chord == pytest.approx(0.25, rel=1e-6)
+    nx, ny, tx, ty, chord = frame(s, n, base, block, FRAME_BOUNDARY)
+    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-14), "boundary rule: exactly the face normal"
+    assert chord == pytest.approx(0.25, rel=1e-9)
     assert (tx, ty) == pytest.approx((ny, -nx))
+    # thesis 3.7: longest diagonal of the 0.25 x 1e-4 sliver, tilted by 1e-4 / 0.25
+    nx, ny, *_ = frame(s, n, base, block, FRAME_THESIS)
+    assert abs(nx) == pytest.approx(1e-4 / 0.25, rel=1e-3) and ny > 0
+
+
+def test_flush_drums_normal_ignores_shared_sides():
+    lower = geometry.box_vertices(1.0, 0.75, (0.0, 0.375))
+    upper = geometry.box_vertices(1.0, 0.75, (0.0, 0.75 + 0.375 - 2e-5))
+    area, c, s, n = overlap(lower, upper)
+    nx, ny, *_ = frame(s, n, lower, upper, FRAME_BOUNDARY)
+    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-12)
 
 
 def test_corner_triangle_tangent_along_longest_side():
@@ -44,8 +63,9 @@ def test_corner_triangle_tangent_along_longest_side():
     block[:, 1] -= 1e-3
     area, c, s, n = overlap(base, block)
     assert n == 3
-    nx, ny, *_ = contact_frame(s[0], s[1], n, 0.0, -0.25, 0.0, 0.5)
-    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-12), "tangent along the base face"
+    for rule in (FRAME_BOUNDARY, FRAME_THESIS):
+        nx, ny, *_ = frame(s, n, base, block, rule)
+        assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-9), "tangent along the base face"
 
 
 def test_separated_polygons_have_no_overlap():

@@ -1,7 +1,7 @@
 """Contact forces from overlap polygons: spring-dashpots with Coulomb friction (thesis 3.8).
 
 For every candidate pair the overlap polygon gives the area A, centroid C and the contact
-frame (n from body a to body b, t = n turned clockwise). At C:
+frame (n from body a to body b, t = n turned clockwise; :mod:`dem.kernels.overlap`). At C:
 
     F_N = k_n A + c_n v_N,  clipped at 0 (no tension)            # thesis Eq. 3.4
     F_T,el <- F_T,el + k_t v_T dt;  F_T = F_T,el + c_t v_T        # thesis Eq. 3.5
@@ -58,7 +58,7 @@ def release_contact(a, b, pair_ft, pair_memory, energy_acc):
 def contact_forces(
     pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-    k_n, c_n, k_t, c_t, dt,
+    k_n, c_n, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
     force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch,
 ):
@@ -72,6 +72,7 @@ def contact_forces(
     pair_mu: friction coefficient of every pair (n_body, n_body) [1]
     k_n: normal stiffness per unit overlap area [N m-2]; k_t: tangential stiffness [N m-1]
     c_n, c_t: dashpot coefficients [N s m-1];  dt: time step [s]
+    frame_rule: contact frame, FRAME_BOUNDARY or FRAME_THESIS (:mod:`dem.kernels.overlap`)
     pair_ft: stored elastic tangential force, in the contact frame (n_body, n_body) [N]
     pair_memory: per-pair energies and previous forces, slots MEM_* (n_body, n_body, N_MEMORY)
     force_x, force_y, torque: accumulators (n_body,) [N], [N m]
@@ -108,7 +109,8 @@ def contact_forces(
             continue
         n_contact += 1
         nx, ny, tx, ty, _ = contact_frame(
-            out_x, out_y, n_over, body_x[a], body_y[a], body_x[b], body_y[b]
+            out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+            body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
         )
         # velocities of both bodies at the contact point C
         rax = cx - body_x[a]

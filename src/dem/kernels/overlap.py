@@ -2,10 +2,21 @@
 
 The overlap of two convex polygons is found by Sutherland-Hodgman clipping: the subject
 polygon is clipped in turn by the half-plane left of every edge of the (counter-clockwise)
-clip polygon. Its area and centroid follow thesis Eq. 3.1-3.3. The contact frame follows
-thesis 3.7: the tangent is parallel to the longest side of a triangular overlap, or to the
-longest line joining two non-consecutive vertices of a larger overlap polygon; the normal
-is perpendicular to it and points from body a to body b.
+clip polygon. Its area and centroid follow thesis Eq. 3.1-3.3.
+
+Two contact frames are offered (``FRAME_*``):
+
+- FRAME_BOUNDARY (default): the normal is the direction in which moving b away from a
+  shrinks the overlap fastest, i.e. the sum of (length x outward normal) over the overlap
+  edges lying on a's boundary minus that over the edges on b's boundary (edges on both,
+  such as the flush sides of aligned drums, cancel and are skipped). It equals the thesis'
+  rule where that rule is unambiguous (a corner triangle: the longest side, on the face),
+  follows the face of a thin sliver exactly, and changes smoothly as a triangle becomes a
+  quadrilateral.
+- FRAME_THESIS: thesis 3.7 as written: the tangent is parallel to the longest side of a
+  triangular overlap, or to the longest line joining two non-consecutive vertices of a
+  larger one. For a flat sliver L x d the two diagonals are equally long and tilt the
+  normal by +-d/L, so a block resting flat feels a spurious sideways force of F_N d/L.
 """
 
 import numpy as np
@@ -14,6 +25,8 @@ from numba import njit
 from dem.kernels import JIT_OPTIONS
 
 MAX_OVERLAP_VERTICES = 64
+FRAME_BOUNDARY = 0
+FRAME_THESIS = 1
 # vertices closer than this [m] are merged, so a vertex lying on an edge does not
 # turn a triangle into a degenerate quadrilateral
 DUPLICATE_VERTEX_TOLERANCE = 1e-12
@@ -143,13 +156,69 @@ def contact_tangent(x, y, n):
 
 
 @njit(**JIT_OPTIONS)
-def contact_frame(x, y, n, from_x, from_y, to_x, to_y):
+def on_boundary(px, py, vx, vy, tol):
+    """True when point p lies on an edge of the polygon (vx, vy), within distance tol [m]."""
+    n = vx.shape[0]
+    for k in range(n):
+        ex = vx[(k + 1) % n] - vx[k]
+        ey = vy[(k + 1) % n] - vy[k]
+        length = np.sqrt(ex * ex + ey * ey)
+        if length <= 0.0:
+            continue
+        rx = px - vx[k]
+        ry = py - vy[k]
+        if abs(ex * ry - ey * rx) <= tol * length:
+            along = (ex * rx + ey * ry) / length
+            if -tol <= along <= length + tol:
+                return True
+    return False
+
+
+@njit(**JIT_OPTIONS)
+def boundary_normal(x, y, n, ax, ay, bx, by, tol):
+    """Unnormalised contact normal (from a to b) of the overlap polygon x[:n], y[:n].
+
+    sum over overlap edges on a's boundary only of (length x outward normal), minus the
+    same over edges on b's boundary only; the outward normal of a counter-clockwise edge
+    (ex, ey) times its length is (ey, -ex).
+    """
+    dx = 0.0
+    dy = 0.0
+    for k in range(n):
+        x0 = x[k]
+        y0 = y[k]
+        x1 = x[(k + 1) % n]
+        y1 = y[(k + 1) % n]
+        mx = 0.5 * (x0 + x1)
+        my = 0.5 * (y0 + y1)
+        on_a = on_boundary(mx, my, ax, ay, tol)
+        on_b = on_boundary(mx, my, bx, by, tol)
+        if on_a and not on_b:
+            dx += y1 - y0
+            dy -= x1 - x0
+        elif on_b and not on_a:
+            dx -= y1 - y0
+            dy += x1 - x0
+    return dx, dy
+
+
+@njit(**JIT_OPTIONS)
+def contact_frame(x, y, n, ax, ay, bx, by, from_x, from_y, to_x, to_y, frame_rule):
     """Contact normal (nx, ny), tangent (tx, ty) and chord length of an overlap polygon.
 
-    The normal is perpendicular to the thesis 3.7 tangent and oriented from the centroid
-    (from_x, from_y) of body a towards the centroid (to_x, to_y) of body b; the tangent is
-    the normal turned clockwise by 90 degrees, so (t, n) is a right-handed frame.
+    x, y: overlap polygon (n vertices); ax, ay, bx, by: the two bodies' vertices [m]
+    from_*, to_*: centroids of bodies a and b, used to orient the thesis-rule normal
+    frame_rule: FRAME_BOUNDARY or FRAME_THESIS (module docstring)
+    The tangent is the normal turned clockwise by 90 degrees, so (t, n) is right-handed.
     """
+    if frame_rule == FRAME_BOUNDARY:
+        scale = 1.0 + abs(x[0]) + abs(y[0])
+        dx, dy = boundary_normal(x, y, n, ax, ay, bx, by, 1e-9 * scale)
+        norm = np.sqrt(dx * dx + dy * dy)
+        if norm > 0.0:
+            nx = dx / norm
+            ny = dy / norm
+            return nx, ny, ny, -nx, 0.5 * norm
     tx, ty, length = contact_tangent(x, y, n)
     nx = -ty
     ny = tx

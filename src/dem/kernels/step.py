@@ -66,7 +66,7 @@ def collapse_state(n_body, body_driven, body_group, n_group, group_theta_cr, bod
 @njit(**JIT_OPTIONS)
 def run(
     vert_start, local_x, local_y, body_mass, body_inertia, body_driven, body_radius,
-    ref_x, ref_y, ref_theta, pair_mu, k_n, c_n, k_t, c_t, gravity,
+    ref_x, ref_y, ref_theta, pair_mu, k_n, c_n, k_t, c_t, frame_rule, gravity,
     body_group, group_theta_cr, fall_depth,
     h_kind, h_params, h_accel, h_vel, h_disp, h_dt,
     v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
@@ -143,7 +143,7 @@ def run(
         n_contact = contact_forces(
             pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
             body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-            k_n, c_n, k_t, c_t, dt, pair_ft, pair_memory,
+            k_n, c_n, k_t, c_t, dt, frame_rule, pair_ft, pair_memory,
             force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch,
         )
         # work of the base over the last step, trapezoidal like the contact energies

@@ -1,0 +1,91 @@
+"""Contact force law (thesis Eq. 3.4-3.6) on hand-computed cases."""
+
+import numpy as np
+import pytest
+
+from dem import geometry
+from dem.kernels.contact import MEM_FN_ELASTIC, N_ENERGY_ACC, N_MEMORY, contact_forces
+from dem.kernels.overlap import MAX_OVERLAP_VERTICES
+
+
+def two_boxes(depth, shift_x=0.0):
+    """Base 4 x 0.5 (top at 0) and a 1 x 1 block pushed ``depth`` into it."""
+    base = geometry.box_vertices(4.0, 0.5, (0.0, -0.25))
+    block = geometry.box_vertices(1.0, 1.0, (shift_x, 0.5 - depth))
+    verts = np.vstack([base, block])
+    return verts, np.array([0, 4, 8]), np.array([[0.0, -0.25], [shift_x, 0.5 - depth]])
+
+
+def call(depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_t=0.0, ft=0.0, dt=1e-4):
+    verts, start, centres = two_boxes(depth)
+    lo = np.array([verts[s:e].min(axis=0) for s, e in zip(start[:-1], start[1:])])
+    hi = np.array([verts[s:e].max(axis=0) for s, e in zip(start[:-1], start[1:])])
+    pair_ft = np.zeros((2, 2))
+    pair_ft[0, 1] = ft
+    memory = np.zeros((2, 2, N_MEMORY))
+    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
+    bfx, bfy = np.zeros(2), np.zeros(2)
+    energy = np.zeros(N_ENERGY_ACC)
+    n = contact_forces(
+        np.array([0]), np.array([1]), start, verts[:, 0].copy(), verts[:, 1].copy(),
+        lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
+        centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, vel_block[0]]),
+        np.array([0.0, vel_block[1]]), np.array([0.0, vel_block[2]]), np.array([True, False]),
+        np.full((2, 2), mu), k_n, c_n, k_t, c_t, dt, 0, pair_ft, memory, fx, fy, tq, bfx, bfy, energy,
+        np.zeros((4, MAX_OVERLAP_VERTICES)))
+    return n, fx, fy, tq, pair_ft, memory
+
+
+def test_normal_force_is_stiffness_times_overlap_area():
+    n, fx, fy, tq, *_ = call(1e-4)
+    assert n == 1
+    # the 0.1 mm sliver is computed from coordinates of order 1 m: ~1e-8 relative rounding
+    assert fy[1] == pytest.approx(1e8 * 1.0 * 1e-4, rel=1e-7), "thesis Eq. 3.4: k_n A"
+    assert fy[0] == pytest.approx(-fy[1]), "equal and opposite"
+    assert tq[1] == pytest.approx(0.0, abs=1e-6), "centred overlap, no moment"
+
+
+def test_normal_damping_adds_and_never_pulls():
+    _, _, fy, *_ = call(1e-4, vel_block=(0.0, -0.1, 0.0), c_n=1e4)
+    assert fy[1] == pytest.approx(1e4 + 1e4 * 0.1, rel=1e-7), "k_n A + c_n v_N"
+    _, _, fy, *_ = call(1e-6, vel_block=(0.0, 1.0, 0.0), c_n=1e6)
+    assert fy[1] == 0.0, "separating fast: no tension"
+
+
+def test_tangential_spring_increments_and_coulomb_cap():
+    # block moving right at 0.01 m/s: F_T,el grows by k_t v dt and opposes the motion
+    _, fx, _, _, pair_ft, _ = call(1e-4, vel_block=(0.01, 0.0, 0.0), k_t=1e6, mu=10.0)
+    assert pair_ft[0, 1] == pytest.approx(1e6 * 0.01 * 1e-4)
+    assert fx[1] == pytest.approx(-1.0, rel=1e-9)
+    # the cap: mu F_N
+    _, fx, fy, _, pair_ft, _ = call(1e-4, vel_block=(1.0, 0.0, 0.0), k_t=1e8, mu=0.3)
+    assert abs(fx[1]) == pytest.approx(0.3 * fy[1], rel=1e-12), "thesis Eq. 3.6"
+    assert pair_ft[0, 1] == pytest.approx(0.3 * fy[1]), "on slip the spring sits at the cap"
+
+
+def test_forces_conserve_angular_momentum_for_a_corner_contact():
+    # block tilted onto its right corner: forces act at the overlap centroid, off both centroids
+    base = geometry.box_vertices(4.0, 0.5, (0.0, -0.25))
+    block = geometry.rotate_about(geometry.box_vertices(1.0, 1.0, (0.0, 0.5)), -0.2, (0.5, 0.0))
+    block[:, 1] -= 1e-3
+    verts = np.vstack([base, block])
+    start = np.array([0, 4, 8])
+    centres = np.array([[0.0, -0.25], block.mean(axis=0)])
+    lo, hi = np.array([base.min(0), block.min(0)]), np.array([base.max(0), block.max(0)])
+    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
+    n = contact_forces(
+        np.array([0]), np.array([1]), start, verts[:, 0].copy(), verts[:, 1].copy(),
+        lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
+        centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, 0.3]), np.array([0.0, -0.2]),
+        np.array([0.0, 0.5]), np.array([True, False]), np.full((2, 2), 0.4), 1e8, 1e4, 1e8, 1e3,
+        1e-4, 0, np.zeros((2, 2)), np.zeros((2, 2, N_MEMORY)), fx, fy, tq, np.zeros(2),
+        np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, MAX_OVERLAP_VERTICES)))
+    assert n == 1 and tq[1] != 0.0
+    moment = tq.sum() + np.sum(centres[:, 0] * fy - centres[:, 1] * fx)
+    assert moment == pytest.approx(0.0, abs=1e-9 * abs(fy[1])), "no net moment about the origin"
+    assert fx.sum() == pytest.approx(0.0, abs=1e-9) and fy.sum() == pytest.approx(0.0, abs=1e-9)
+
+
+def test_no_overlap_no_force_and_memory_released():
+    n, fx, fy, tq, pair_ft, _ = call(-1e-3, ft=5.0)
+    assert n == 0 and fy[1] == 0.0

@@ -1,0 +1,38 @@
+"""`dem run` exit codes, messages, and no file left behind on bad input."""
+
+import subprocess
+import sys
+
+import xarray as xr
+
+SCENE = "tests/data/scenes/rocking_block.yaml"
+
+
+def dem(*args):
+    return subprocess.run([sys.executable, "-m", "dem", *args], capture_output=True, text=True)
+
+
+def test_run_writes_a_dataset(tmp_path):
+    out = tmp_path / "rock.nc"
+    proc = dem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.3", "-q")
+    assert proc.returncode == 0, proc.stderr
+    with xr.open_dataset(out) as ds:
+        assert ds.theta.dims == ("time", "body")
+        assert ds.time.attrs["units"] == "s" and float(ds.time[-1]) >= 0.3 - 1e-9
+        assert '"mass": 503.0' in ds.attrs["scene"]
+
+
+def test_bad_input_one_line_nonzero_exit_no_output(tmp_path):
+    out = tmp_path / "bad.nc"
+    for override in ("solver.dt=0.5", "bodies.block.mass=-3", "contact.k_x=1"):
+        proc = dem("run", SCENE, "-o", str(out), "--set", override, "-q")
+        assert proc.returncode == 2, override
+        lines = proc.stderr.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("error: "), proc.stderr
+        assert not out.exists()
+        assert not list(tmp_path.glob(".*.tmp")), "no temporary file left behind"
+
+
+def test_missing_scene_file():
+    proc = dem("run", "nope.yaml", "-o", "x.nc")
+    assert proc.returncode == 2 and "not found" in proc.stderr

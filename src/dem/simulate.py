@@ -207,13 +207,14 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
     arrays = pack_scene(scene)
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))
-    n_out = n_steps // out_every + 1
+    n_out = n_steps // out_every + 2
     n_body = len(scene.bodies)
     out_x = np.full((n_out, n_body), np.nan)
     out_y = np.full((n_out, n_body), np.nan)
     out_theta = np.full((n_out, n_body), np.nan)
     out_energy = np.full((n_out, step.N_ENERGY), np.nan)
     out_n_contact = np.zeros(n_out, dtype=np.int64)
+    out_step = np.zeros(n_out, dtype=np.int64)
     bx, by, bth = arrays.init_x.copy(), arrays.init_y.copy(), arrays.init_theta.copy()
     bvx, bvy, bom = arrays.init_vx.copy(), arrays.init_vy.copy(), arrays.init_omega.copy()
     pair_ft = np.zeros((n_body, n_body))
@@ -236,7 +237,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
             dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
             scene.stop_on_collapse, bx, by, bth, bvx, bvy, bom,
             pair_ft, pair_memory, base_force_prev, energy_acc,
-            out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
+            out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
         )
         if progress:
             done = (k + 1) / (len(bounds) - 1)
@@ -247,9 +248,9 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
     wall = wallclock.perf_counter() - start
     if progress:
         print(file=sys.stderr)
-    steps_run = min(n_steps, (n_sample - 1) * out_every) if n_sample else 0
+    steps_run = int(out_step[n_sample - 1]) if n_sample else 0
     return RunResult(
-        time=np.arange(n_sample) * out_every * dt, x=out_x[:n_sample], y=out_y[:n_sample],
+        time=out_step[:n_sample] * dt, x=out_x[:n_sample], y=out_y[:n_sample],
         theta=out_theta[:n_sample], energy=out_energy[:n_sample],
         n_contact=out_n_contact[:n_sample], status=int(status),
         collapse_sample=int(collapse_sample), dt=dt, dt_limit=limit, out_every=out_every,

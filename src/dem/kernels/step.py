@@ -73,7 +73,7 @@ def run(
     dt, step_start, step_stop, n_steps, out_every, margin, sweep_axis, stop_on_collapse,
     body_x, body_y, body_theta, body_vx, body_vy, body_omega,
     pair_ft, pair_memory, base_force_prev, energy_acc,
-    out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
+    out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
 ):
     """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
 
@@ -83,8 +83,9 @@ def run(
     t = 0 before step 0 and at mid-steps after; pair_ft, pair_memory and energy_acc are the
     contact memory and energy accumulators of :mod:`dem.kernels.contact`; base_force_prev
     (n_body, 2) [N] is the force driven bodies exerted on each body at the previous step.
-    out_*: preallocated samples (n_sample, n_body) and (n_sample, N_ENERGY); samples are
-    written from index n_sample on. collapse_sample is the first collapsed sample, or -1.
+    out_*: preallocated samples (n_sample, n_body) and (n_sample, N_ENERGY), taken every
+    out_every steps and at the last step; out_step holds each sample's step number.
+    Samples are written from index n_sample on. collapse_sample is the first collapsed sample, or -1.
     """
     n_body = body_mass.shape[0]
     n_group = group_theta_cr.shape[0]
@@ -158,7 +159,8 @@ def run(
             base_force_prev[b, 0] = base_force_x[b]
             base_force_prev[b, 1] = base_force_y[b]
 
-        if n % out_every == 0:
+        if n % out_every == 0 or n == n_steps:
+            out_step[n_sample] = n
             kinetic = 0.0
             potential = 0.0
             finite = True

@@ -7,7 +7,14 @@ frame (n from body a to body b, t = n turned clockwise; :mod:`dem.kernels.overla
     F_T,el <- F_T,el + k_t v_T dt;  F_T = F_T,el + c_t v_T        # thesis Eq. 3.5
     |F_T| <= mu F_N  (on slip the elastic part is set to the cap)  # thesis Eq. 3.6
 
-with v_N the approach speed and v_T the tangential velocity of b relative to a at C. k_t is
+with v_N the approach speed and v_T the tangential velocity of b relative to a. The
+elastic part k_n A is the resultant of springs spread over the overlap (depth x k_n per
+unit length), so it acts at the area centroid C. The dashpots are spread the same way,
+evenly along the contact chord (the overlap's extent along t, midpoint M): their resultant
+is c_n v_N(M) at M plus a moment -c_n (omega_b - omega_a) l^2 / 12, and they dissipate
+c_n (v_N(M)^2 + (omega_b - omega_a)^2 l^2 / 12) >= 0. A single dashpot at C would miss the
+landing corner of a rocking block (C stays near the loaded pivot), which is where impact
+energy is lost (thesis 5.1.2). The tangential force acts at C. k_t is
 a stiffness per contact [N m-1], constant, so the tangential spring stores energy
 F_T,el^2 / (2 k_t) and gives it back (a stiffness scaled by the changing contact length
 would not: it loses or creates energy as a rocking contact narrows and widens). The
@@ -40,7 +47,7 @@ N_ENERGY_ACC = 4
 MEM_ELASTIC_N = 0  # elastic energy of the normal spring [J]
 MEM_ELASTIC_T = 1  # elastic energy of the tangential spring [J]
 MEM_FN_ELASTIC = 2  # k_n A at the previous step [N]
-MEM_FN_DAMPER = 3  # damper part of F_N at the previous step [N]
+MEM_DAMPER_POWER = 3  # power of the normal dashpots at the previous step [W]
 MEM_FT = 4  # total tangential force at the previous step [N]
 N_MEMORY = 5
 
@@ -52,6 +59,29 @@ def release_contact(a, b, pair_ft, pair_memory, energy_acc):
     pair_ft[a, b] = 0.0
     for k in range(N_MEMORY):
         pair_memory[a, b, k] = 0.0
+
+
+@njit(**JIT_OPTIONS)
+def relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b, px, py, nx, ny, tx, ty):
+    """(approach speed v_N, > 0 closing; tangential v_T) of b relative to a at point p [m s-1]."""
+    vax = body_vx[a] - body_omega[a] * (py - body_y[a])
+    vay = body_vy[a] + body_omega[a] * (px - body_x[a])
+    vbx = body_vx[b] - body_omega[b] * (py - body_y[b])
+    vby = body_vy[b] + body_omega[b] * (px - body_x[b])
+    rel_x = vbx - vax
+    rel_y = vby - vay
+    return -(rel_x * nx + rel_y * ny), rel_x * tx + rel_y * ty
+
+
+@njit(**JIT_OPTIONS)
+def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
+    """Force (fx, fy) on b at point p and its opposite on a, with their moments about the centroids."""
+    force_x[b] += fx
+    force_y[b] += fy
+    torque[b] += (px - body_x[b]) * fy - (py - body_y[b]) * fx
+    force_x[a] -= fx
+    force_y[a] -= fy
+    torque[a] -= (px - body_x[a]) * fy - (py - body_y[a]) * fx
 
 
 @njit(**JIT_OPTIONS)
@@ -112,33 +142,43 @@ def contact_forces(
             out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
             body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
         )
-        # velocities of both bodies at the contact point C
-        rax = cx - body_x[a]
-        ray = cy - body_y[a]
-        rbx = cx - body_x[b]
-        rby = cy - body_y[b]
-        vax = body_vx[a] - body_omega[a] * ray
-        vay = body_vy[a] + body_omega[a] * rax
-        vbx = body_vx[b] - body_omega[b] * rby
-        vby = body_vy[b] + body_omega[b] * rbx
-        rel_x = vbx - vax
-        rel_y = vby - vay
-        v_n = -(rel_x * nx + rel_y * ny)  # approach speed, > 0 when closing
-        v_t = rel_x * tx + rel_y * ty
+        # the contact chord: the overlap's extent along the tangent, and its midpoint M
+        proj_lo = np.inf
+        proj_hi = -np.inf
+        for k in range(n_over):
+            proj = (out_x[k] - cx) * tx + (out_y[k] - cy) * ty
+            proj_lo = min(proj_lo, proj)
+            proj_hi = max(proj_hi, proj)
+        chord = proj_hi - proj_lo
+        mx = cx + 0.5 * (proj_lo + proj_hi) * tx
+        my = cy + 0.5 * (proj_lo + proj_hi) * ty
 
-        # thesis Eq. 3.4, no tension
+        # relative velocity of b with respect to a at C and at M
+        v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                     cx, cy, nx, ny, tx, ty)
+        v_nm, _ = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                    mx, my, nx, ny, tx, ty)
+        spin = body_omega[b] - body_omega[a]
+
+        # thesis Eq. 3.4: elastic k_n A at C; c_n v_N from dashpots spread evenly along the
+        # chord: resultant c_n v_N(M) at M and moment -c_n spin l^2 / 12 about M; no tension
         f_el = k_n * area
-        f_n = f_el + c_n * v_n
-        if f_n < 0.0:
-            f_n = 0.0
+        f_damp = c_n * v_nm
+        m_damp = -c_n * spin * chord * chord / 12.0
+        if f_el + f_damp < 0.0:
+            scale = f_el / -f_damp
+            f_damp *= scale
+            m_damp *= scale
+        f_n = f_el + f_damp
         mem = pair_memory[a, b]
         # trapezoidal work over the last step, v_n dt being the approach in that step
         mem[MEM_ELASTIC_N] += 0.5 * (mem[MEM_FN_ELASTIC] + f_el) * v_n * dt
-        energy_acc[E_DAMPING] += 0.5 * (mem[MEM_FN_DAMPER] + f_n - f_el) * v_n * dt
+        power = f_damp * v_nm - m_damp * spin  # >= 0
+        energy_acc[E_DAMPING] += 0.5 * (mem[MEM_DAMPER_POWER] + power) * dt
         mem[MEM_FN_ELASTIC] = f_el
-        mem[MEM_FN_DAMPER] = f_n - f_el
+        mem[MEM_DAMPER_POWER] = power
 
-        # thesis Eq. 3.5-3.6
+        # thesis Eq. 3.5-3.6, at C
         ft_el = pair_ft[a, b] + k_t * v_t * dt
         f_t = ft_el + c_t * v_t
         cap = pair_mu[a, b] * f_n
@@ -152,20 +192,20 @@ def contact_forces(
         mem[MEM_ELASTIC_T] = stored_t
         mem[MEM_FT] = f_t
 
-        # force on b; a receives the opposite
-        fbx = f_n * nx - f_t * tx
-        fby = f_n * ny - f_t * ty
+        # forces on b (a receives the opposite): at C elastic normal + tangential, at M damping
+        fcx = f_el * nx - f_t * tx
+        fcy = f_el * ny - f_t * ty
+        fmx = f_damp * nx
+        fmy = f_damp * ny
         if body_driven[a]:
-            base_force_x[b] += fbx
-            base_force_y[b] += fby
+            base_force_x[b] += fcx + fmx
+            base_force_y[b] += fcy + fmy
         if body_driven[b]:
-            base_force_x[a] -= fbx
-            base_force_y[a] -= fby
-        force_x[b] += fbx
-        force_y[b] += fby
-        torque[b] += rbx * fby - rby * fbx
-        force_x[a] -= fbx
-        force_y[a] -= fby
-        torque[a] -= rax * fby - ray * fbx
+            base_force_x[a] -= fcx + fmx
+            base_force_y[a] -= fcy + fmy
+        apply_force(a, b, body_x, body_y, cx, cy, fcx, fcy, force_x, force_y, torque)
+        apply_force(a, b, body_x, body_y, mx, my, fmx, fmy, force_x, force_y, torque)
+        torque[b] += m_damp
+        torque[a] -= m_damp
     return n_contact
 

@@ -42,13 +42,12 @@ VARIABLES = {
     "epistyle_displacement": ("m", "mean horizontal epistyle displacement relative to the base"),
     "energy_kinetic": ("J", "kinetic energy of the free bodies"),
     "energy_potential": ("J", "gravitational potential energy relative to t = 0"),
-    "energy_elastic": ("J", "elastic energy stored in the contacts"),
+    "energy_elastic": ("J", "elastic energy stored in the contacts (Winkler layer + tangential springs)"),
     "energy_dissipated": ("J", "energy dissipated by dashpots and friction since t = 0"),
     "energy_dissipated_normal": ("J", "energy dissipated by the normal dashpots"),
     "energy_dissipated_tangential": ("J", "energy dissipated by friction slip and tangential dashpots"),
     "energy_base_work": ("J", "work done by the driven base on the free bodies since t = 0"),
-    "energy_contact_residual": ("J", "elastic energy left in contacts when they opened"),
-    "energy_balance_error": ("J", "kinetic + potential + elastic + dissipated + residual - base work - initial energy"),
+    "energy_balance_error": ("J", "kinetic + potential + elastic + dissipated - base work - initial energy"),
     "n_contact": ("1", "number of contacts"),
     "max_total_sliding": ("m", "maximum total sliding"),
     "residual_total_sliding": ("m", "total sliding at the end of the run"),
@@ -112,8 +111,7 @@ def scene_dataset(scene, result) -> xr.Dataset:
     diss_n = e[:, step.ENERGY_DAMPING]
     diss_t = e[:, step.ENERGY_TANGENTIAL]
     base_work = e[:, step.ENERGY_BASE_WORK]
-    residual = e[:, step.ENERGY_RESIDUAL]
-    balance = kinetic + potential + elastic + diss_n + diss_t + residual - base_work
+    balance = kinetic + potential + elastic + diss_n + diss_t - base_work
     balance = balance - (kinetic[0] + elastic[0])
     collapsed = result.collapse_sample >= 0
     collapse_time = float(time[result.collapse_sample]) if collapsed else float("nan")
@@ -141,7 +139,6 @@ def scene_dataset(scene, result) -> xr.Dataset:
         "energy_dissipated_normal": var("energy_dissipated_normal", ("time",), diss_n),
         "energy_dissipated_tangential": var("energy_dissipated_tangential", ("time",), diss_t),
         "energy_base_work": var("energy_base_work", ("time",), base_work),
-        "energy_contact_residual": var("energy_contact_residual", ("time",), residual),
         "energy_balance_error": var("energy_balance_error", ("time",), balance),
         "n_contact": var("n_contact", ("time",), result.n_contact.astype(np.int32)),
         "max_abs_theta": var("max_abs_theta", ("body",), np.abs(result.theta).max(axis=0)),

@@ -219,7 +219,6 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
     bvx, bvy, bom = arrays.init_vx.copy(), arrays.init_vy.copy(), arrays.init_omega.copy()
     pair_ft = np.zeros((n_body, n_body))
     pair_memory = np.zeros((n_body, n_body, N_MEMORY))
-    base_force_prev = np.zeros((n_body, 2))
     energy_acc = np.zeros(N_ENERGY_ACC)
     h, v = scene.horizontal, scene.vertical
     a = arrays
@@ -236,7 +235,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
             v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
             dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
             scene.stop_on_collapse, bx, by, bth, bvx, bvy, bom,
-            pair_ft, pair_memory, base_force_prev, energy_acc,
+            pair_ft, pair_memory, energy_acc,
             out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
         )
         if progress:

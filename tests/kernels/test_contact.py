@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from dem import geometry
-from dem.kernels.contact import MEM_FN_ELASTIC, N_ENERGY_ACC, N_MEMORY, contact_forces
+from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY, contact_forces, winkler_integral
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES
 
 
@@ -32,8 +32,8 @@ def call(depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_
         centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, vel_block[0]]),
         np.array([0.0, vel_block[1]]), np.array([0.0, vel_block[2]]), np.array([True, False]),
         np.full((2, 2), mu), k_n, c_n, k_t, c_t, dt, 0, pair_ft, memory, fx, fy, tq, bfx, bfy, energy,
-        np.zeros((4, MAX_OVERLAP_VERTICES)))
-    return n, fx, fy, tq, pair_ft, memory
+        np.zeros((4, MAX_OVERLAP_VERTICES)), True)
+    return n[0], fx, fy, tq, pair_ft, memory
 
 
 def test_normal_force_is_stiffness_times_overlap_area():
@@ -79,8 +79,8 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
         centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, 0.3]), np.array([0.0, -0.2]),
         np.array([0.0, 0.5]), np.array([True, False]), np.full((2, 2), 0.4), 1e8, 1e4, 1e8, 1e3,
         1e-4, 0, np.zeros((2, 2)), np.zeros((2, 2, N_MEMORY)), fx, fy, tq, np.zeros(2),
-        np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, MAX_OVERLAP_VERTICES)))
-    assert n == 1 and tq[1] != 0.0
+        np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, MAX_OVERLAP_VERTICES)), False)
+    assert n[0] == 1 and tq[1] != 0.0
     moment = tq.sum() + np.sum(centres[:, 0] * fy - centres[:, 1] * fx)
     assert moment == pytest.approx(0.0, abs=1e-9 * abs(fy[1])), "no net moment about the origin"
     assert fx.sum() == pytest.approx(0.0, abs=1e-9) and fy.sum() == pytest.approx(0.0, abs=1e-9)
@@ -89,3 +89,13 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
 def test_no_overlap_no_force_and_memory_released():
     n, fx, fy, tq, pair_ft, _ = call(-1e-3, ft=5.0)
     assert n == 0 and fy[1] == 0.0
+
+
+def test_winkler_integral_of_a_triangle_and_a_sliver():
+    # depth rising linearly from 0 to D over L: int d^2 ds = D^2 L / 3
+    x = np.array([0.0, 2.0, 2.0])
+    y = np.array([0.0, 0.0, 0.3])
+    assert winkler_integral(x, y, 3, 1.0, 0.0, 0.0, 1.0) == pytest.approx(0.3**2 * 2.0 / 3.0, rel=1e-12)
+    x = np.array([0.0, 1.0, 1.0, 0.0])
+    y = np.array([0.0, 0.0, 1e-4, 1e-4])
+    assert winkler_integral(x, y, 4, 1.0, 0.0, 0.0, 1.0) == pytest.approx(1e-8, rel=1e-9)

@@ -1,33 +1,33 @@
 """Contact forces from overlap polygons: spring-dashpots with Coulomb friction (thesis 3.8).
 
 For every candidate pair the overlap polygon gives the area A, centroid C and the contact
-frame (n from body a to body b, t = n turned clockwise; :mod:`dem.kernels.overlap`). At C:
+frame (n from body a to body b, t = n turned clockwise; :mod:`dem.kernels.overlap`):
 
     F_N = k_n A + c_n v_N,  clipped at 0 (no tension)            # thesis Eq. 3.4
     F_T,el <- F_T,el + k_t v_T dt;  F_T = F_T,el + c_t v_T        # thesis Eq. 3.5
     |F_T| <= mu F_N  (on slip the elastic part is set to the cap)  # thesis Eq. 3.6
 
 with v_N the approach speed and v_T the tangential velocity of b relative to a. The
-elastic part k_n A is the resultant of springs spread over the overlap (depth x k_n per
-unit length), so it acts at the area centroid C. The dashpots are spread the same way,
-evenly along the contact chord (the overlap's extent along t, midpoint M): their resultant
-is c_n v_N(M) at M plus a moment -c_n (omega_b - omega_a) l^2 / 12, and they dissipate
-c_n (v_N(M)^2 + (omega_b - omega_a)^2 l^2 / 12) >= 0. A single dashpot at C would miss the
-landing corner of a rocking block (C stays near the loaded pivot), which is where impact
-energy is lost (thesis 5.1.2). The tangential force acts at C. k_t is
-a stiffness per contact [N m-1], constant, so the tangential spring stores energy
-F_T,el^2 / (2 k_t) and gives it back (a stiffness scaled by the changing contact length
-would not: it loses or creates energy as a rocking contact narrows and widens). The
-elastic tangential force is stored per
-pair as a scalar in the contact frame, so it is invariant to rigid rotations of the pair,
-and is released when the pair separates. Force b receives: F_N n - F_T t; a the opposite.
+elastic part k_n A is the resultant of springs spread over the contact (a Winkler layer:
+k_n x depth per unit length of the chord), so it acts at the area centroid C and stores
+k_n/2 int depth(s)^2 ds. The dashpots are spread the same way, evenly along the contact
+chord (the overlap's extent along t, midpoint M): their resultant is c_n v_N(M) at M plus a
+moment -c_n (omega_b - omega_a) l^2 / 12, dissipating c_n (v_N(M)^2 + (omega_b -
+omega_a)^2 l^2 / 12) >= 0. A single dashpot at C would miss the landing corner of a rocking
+block (C stays near the loaded pivot), which is where impact energy is lost (thesis 5.1.2).
 
-Energy (per pair, accumulated with the trapezoidal rule over each step, so the bookkeeping
-is second order like the integrator): elastic normal energy is the work of k_n A; elastic
-tangential energy is F_T,el^2 / (2 k_t); damper work and the tangential work not stored
-are dissipation; energy still stored when a contact opens is booked as a contact residual
-(zero for a conservative contact law), so the balance can show it. The force each free
-body receives from driven bodies is returned so the loop can book the base work.
+The tangential force acts at C. k_t is a stiffness per contact [N m-1], constant, so the
+tangential spring stores F_T,el^2 / (2 k_t) and gives it back. The elastic tangential force
+is stored per pair as a scalar in the contact frame, so it is invariant to rigid rotations
+of the pair, and is released when the pair separates. Force b receives: F_N n - F_T t
+(normal damping at M), a the opposite.
+
+Energy: stored energy is evaluated as a state function when sampled (Winkler layer +
+tangential springs); dissipation is the dashpots' power plus friction times slip rate,
+accumulated with the trapezoidal rule; in the tangential channel (where slip and the
+spring's unloading mix) dissipation is the work of F_T minus the change of the spring's
+energy. The normal channel is not booked by difference, so the balance (kinetic +
+potential + stored + dissipated - base work) checks the integrator and the contact law.
 """
 
 import numpy as np
@@ -37,28 +37,80 @@ from dem.kernels import JIT_OPTIONS
 from dem.kernels.overlap import clip_convex_polygons, contact_frame, polygon_area_centroid
 
 # energy accumulator slots
-E_DAMPING = 0  # normal damper dissipation [J]
-E_TANGENTIAL = 1  # friction slip + tangential damper dissipation [J]
+E_DAMPING = 0  # normal dashpot dissipation [J]
+E_TANGENTIAL = 1  # friction slip + tangential dashpot dissipation [J]
 E_BASE_WORK = 2  # work done by driven bodies on the others [J] (booked by the time loop)
-E_RESIDUAL = 3  # elastic energy left in contacts when they opened [J]
-N_ENERGY_ACC = 4
+N_ENERGY_ACC = 3
 
-# per-pair memory slots besides the elastic tangential force
-MEM_ELASTIC_N = 0  # elastic energy of the normal spring [J]
-MEM_ELASTIC_T = 1  # elastic energy of the tangential spring [J]
-MEM_FN_ELASTIC = 2  # k_n A at the previous step [N]
-MEM_DAMPER_POWER = 3  # power of the normal dashpots at the previous step [W]
-MEM_FT = 4  # total tangential force at the previous step [N]
-N_MEMORY = 5
+# per-pair memory slots besides the elastic tangential force: the current step's forces
+# and points, for booking dissipation with the velocities at t_n (contact_power)
+MEM_ACTIVE = 0  # 1 while the pair is in contact
+MEM_CX = 1  # area centroid C [m]
+MEM_CY = 2
+MEM_MX = 3  # chord midpoint M [m]
+MEM_MY = 4
+MEM_NX = 5  # normal, from a to b
+MEM_NY = 6
+MEM_F_DAMP = 7  # dashpot resultant at M, along n [N]
+MEM_M_DAMP = 8  # dashpot moment on b [N m]
+MEM_F_T = 9  # tangential force at C, F_T (b receives -F_T t) [N]
+N_MEMORY = 10
 
 
 @njit(**JIT_OPTIONS)
-def release_contact(a, b, pair_ft, pair_memory, energy_acc):
-    """Forget the stored state of pair (a, b); book its leftover elastic energy as residual."""
-    energy_acc[E_RESIDUAL] += pair_memory[a, b, MEM_ELASTIC_N] + pair_memory[a, b, MEM_ELASTIC_T]
+def release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc):
+    """Forget the stored state of pair (a, b) once it has separated; its spring energy is lost."""
+    energy_acc[E_TANGENTIAL] += 0.5 * pair_ft[a, b] ** 2 / k_t
     pair_ft[a, b] = 0.0
     for k in range(N_MEMORY):
         pair_memory[a, b, k] = 0.0
+
+
+@njit(**JIT_OPTIONS)
+def winkler_integral(x, y, n, tx, ty, nx, ny):
+    """int depth(s)^2 ds [m3] of the overlap polygon x[:n], y[:n] over its chord along t.
+
+    depth(s) is the overlap's extent along n at chord coordinate s; it is piecewise
+    linear between the vertices' s, so each piece integrates exactly: ds (d0^2 + d0 d1 + d1^2) / 3.
+    """
+    total = 0.0
+    s_prev = 0.0
+    d_prev = 0.0
+    first = True
+    # vertices' chord coordinates, visited in increasing order (n is small)
+    last = -np.inf
+    for _ in range(n):
+        s_next = np.inf
+        for k in range(n):
+            sk = x[k] * tx + y[k] * ty
+            if last < sk < s_next:
+                s_next = sk
+        if s_next == np.inf:
+            break
+        last = s_next
+        lo = np.inf
+        hi = -np.inf
+        for k in range(n):
+            k1 = (k + 1) % n
+            s0 = x[k] * tx + y[k] * ty
+            s1 = x[k1] * tx + y[k1] * ty
+            if (s0 - s_next) * (s1 - s_next) <= 0.0:
+                h0 = x[k] * nx + y[k] * ny
+                h1 = x[k1] * nx + y[k1] * ny
+                h = h0 if s1 == s0 else h0 + (h1 - h0) * (s_next - s0) / (s1 - s0)
+                if s1 == s0:
+                    lo = min(lo, h0, h1)
+                    hi = max(hi, h0, h1)
+                else:
+                    lo = min(lo, h)
+                    hi = max(hi, h)
+        d = hi - lo if hi > lo else 0.0
+        if not first:
+            total += (s_next - s_prev) * (d_prev * d_prev + d_prev * d + d * d) / 3.0
+        first = False
+        s_prev = s_next
+        d_prev = d
+    return total
 
 
 @njit(**JIT_OPTIONS)
@@ -90,9 +142,12 @@ def contact_forces(
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
     k_n, c_n, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
-    force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch,
+    force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, want_energy,
 ):
-    """Add the contact forces of all candidate pairs to force_x, force_y, torque; return n_contact.
+    """Add the contact forces of all candidate pairs to force_x, force_y, torque.
+
+    Returns (n_contact, stored elastic energy [J]); the energy is evaluated only when
+    want_energy is true (sample steps), else 0.
 
     pair_a, pair_b: candidate pairs, a < b (n_pair,)
     vert_start: body b's vertices are world_x[vert_start[b]:vert_start[b+1]] (n_body + 1,)
@@ -104,13 +159,14 @@ def contact_forces(
     c_n, c_t: dashpot coefficients [N s m-1];  dt: time step [s]
     frame_rule: contact frame, FRAME_BOUNDARY or FRAME_THESIS (:mod:`dem.kernels.overlap`)
     pair_ft: stored elastic tangential force, in the contact frame (n_body, n_body) [N]
-    pair_memory: per-pair energies and previous forces, slots MEM_* (n_body, n_body, N_MEMORY)
+    pair_memory: per-pair contact flag and previous dissipation powers, slots MEM_* (n_body, n_body, N_MEMORY)
     force_x, force_y, torque: accumulators (n_body,) [N], [N m]
     base_force_x, base_force_y: accumulators of the force from driven bodies (n_body,) [N]
     energy_acc: accumulators, slots E_* (N_ENERGY_ACC,) [J]
     scratch: work array (4, MAX_OVERLAP_VERTICES)
     """
     n_contact = 0
+    stored = 0.0
     out_x = scratch[0]
     out_y = scratch[1]
     tmp_x = scratch[2]
@@ -119,8 +175,8 @@ def contact_forces(
         a = pair_a[p]
         b = pair_b[p]
         if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
-            if pair_memory[a, b, MEM_FN_ELASTIC] != 0.0:
-                release_contact(a, b, pair_ft, pair_memory, energy_acc)
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
         sa = vert_start[a]
         ea = vert_start[a + 1]
@@ -134,8 +190,8 @@ def contact_forces(
         if n_over >= 3:
             area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
         if area <= 0.0:
-            if pair_memory[a, b, MEM_FN_ELASTIC] != 0.0:
-                release_contact(a, b, pair_ft, pair_memory, energy_acc)
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
         n_contact += 1
         nx, ny, tx, ty, _ = contact_frame(
@@ -170,27 +226,32 @@ def contact_forces(
             f_damp *= scale
             m_damp *= scale
         f_n = f_el + f_damp
-        mem = pair_memory[a, b]
-        # trapezoidal work over the last step, v_n dt being the approach in that step
-        mem[MEM_ELASTIC_N] += 0.5 * (mem[MEM_FN_ELASTIC] + f_el) * v_n * dt
-        power = f_damp * v_nm - m_damp * spin  # >= 0
-        energy_acc[E_DAMPING] += 0.5 * (mem[MEM_DAMPER_POWER] + power) * dt
-        mem[MEM_FN_ELASTIC] = f_el
-        mem[MEM_DAMPER_POWER] = power
 
         # thesis Eq. 3.5-3.6, at C
-        ft_el = pair_ft[a, b] + k_t * v_t * dt
+        ft_old = pair_ft[a, b]
+        ft_el = ft_old + k_t * v_t * dt
         f_t = ft_el + c_t * v_t
         cap = pair_mu[a, b] * f_n
         if abs(f_t) > cap:
             f_t = cap if f_t > 0.0 else -cap
             ft_el = f_t
         pair_ft[a, b] = ft_el
-        stored_t = 0.5 * ft_el * ft_el / k_t
-        energy_acc[E_TANGENTIAL] += (0.5 * (mem[MEM_FT] + f_t) * v_t * dt
-                                     - (stored_t - mem[MEM_ELASTIC_T]))
-        mem[MEM_ELASTIC_T] = stored_t
-        mem[MEM_FT] = f_t
+        # tangential dissipation = work of F_T (booked in contact_power) - change of spring energy
+        energy_acc[E_TANGENTIAL] -= 0.5 * (ft_el * ft_el - ft_old * ft_old) / k_t
+        mem = pair_memory[a, b]
+        mem[MEM_ACTIVE] = 1.0
+        mem[MEM_CX] = cx
+        mem[MEM_CY] = cy
+        mem[MEM_MX] = mx
+        mem[MEM_MY] = my
+        mem[MEM_NX] = nx
+        mem[MEM_NY] = ny
+        mem[MEM_F_DAMP] = f_damp
+        mem[MEM_M_DAMP] = m_damp
+        mem[MEM_F_T] = f_t
+        if want_energy:
+            stored += 0.5 * k_n * winkler_integral(out_x, out_y, n_over, tx, ty, nx, ny)
+            stored += 0.5 * ft_el * ft_el / k_t
 
         # forces on b (a receives the opposite): at C elastic normal + tangential, at M damping
         fcx = f_el * nx - f_t * tx
@@ -207,5 +268,32 @@ def contact_forces(
         apply_force(a, b, body_x, body_y, mx, my, fmx, fmy, force_x, force_y, torque)
         torque[b] += m_damp
         torque[a] -= m_damp
-    return n_contact
+    return n_contact, stored
 
+
+
+@njit(**JIT_OPTIONS)
+def contact_power(pair_a, pair_b, pair_memory, body_x, body_y, body_vx, body_vy, body_omega):
+    """(dashpot power, tangential work rate) [W] of this step's contact forces at the given velocities.
+
+    Called with the velocities at t_n (the mean of the two half-step velocities), the same
+    ones whose kinetic energy the samples report, so the booking matches the integrator.
+    """
+    p_damp = 0.0
+    p_tan = 0.0
+    for p in range(pair_a.shape[0]):
+        a = pair_a[p]
+        b = pair_b[p]
+        mem = pair_memory[a, b]
+        if mem[MEM_ACTIVE] == 0.0:
+            continue
+        nx = mem[MEM_NX]
+        ny = mem[MEM_NY]
+        v_nm, _ = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                    mem[MEM_MX], mem[MEM_MY], nx, ny, ny, -nx)
+        _, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                   mem[MEM_CX], mem[MEM_CY], nx, ny, ny, -nx)
+        spin = body_omega[b] - body_omega[a]
+        p_damp += mem[MEM_F_DAMP] * v_nm - mem[MEM_M_DAMP] * spin
+        p_tan += mem[MEM_F_T] * v_t
+    return p_damp, p_tan

@@ -17,7 +17,7 @@ from numba import njit
 
 from dem.kernels import JIT_OPTIONS
 from dem.kernels.broad_phase import body_bounds, find_candidate_pairs
-from dem.kernels.contact import E_BASE_WORK, MEM_ELASTIC_N, MEM_ELASTIC_T, contact_forces
+from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, contact_forces, contact_power
 from dem.kernels.excitation import base_motion
 from dem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES
@@ -33,8 +33,7 @@ ENERGY_ELASTIC = 2
 ENERGY_DAMPING = 3
 ENERGY_TANGENTIAL = 4
 ENERGY_BASE_WORK = 5
-ENERGY_RESIDUAL = 6
-N_ENERGY = 7
+N_ENERGY = 6
 
 
 @njit(**JIT_OPTIONS)
@@ -72,7 +71,7 @@ def run(
     v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
     dt, step_start, step_stop, n_steps, out_every, margin, sweep_axis, stop_on_collapse,
     body_x, body_y, body_theta, body_vx, body_vy, body_omega,
-    pair_ft, pair_memory, base_force_prev, energy_acc,
+    pair_ft, pair_memory, energy_acc,
     out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
 ):
     """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
@@ -101,6 +100,9 @@ def run(
     torque = np.zeros(n_body)
     base_force_x = np.zeros(n_body)
     base_force_y = np.zeros(n_body)
+    vel_x = np.zeros(n_body)
+    vel_y = np.zeros(n_body)
+    vel_om = np.zeros(n_body)
     scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
     sweep_x = np.empty(n_body)
     sweep_y = np.empty(n_body)
@@ -141,25 +143,31 @@ def run(
         torque[:] = 0.0
         base_force_x[:] = 0.0
         base_force_y[:] = 0.0
-        n_contact = contact_forces(
+        sample = n % out_every == 0 or n == n_steps
+        n_contact, elastic = contact_forces(
             pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
             body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
             k_n, c_n, k_t, c_t, dt, frame_rule, pair_ft, pair_memory,
-            force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch,
+            force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, sample,
         )
-        # work of the base over the last step, trapezoidal like the contact energies
-        if n > 0:
-            d_h_prev = base_motion(t - dt, h_kind, h_params, h_accel, h_vel, h_disp, h_dt)[0]
-            d_v_prev = base_motion(t - dt, v_kind, v_params, v_accel, v_vel, v_disp, v_dt)[0]
-            for b in range(n_body):
-                energy_acc[E_BASE_WORK] += 0.5 * (
-                    (base_force_prev[b, 0] + base_force_x[b]) * (d_h - d_h_prev)
-                    + (base_force_prev[b, 1] + base_force_y[b]) * (d_v - d_v_prev))
+        # velocities at t_n: half a kick on from v_{n-1/2} (the start holds v_0 itself)
+        half = 0.0 if n == 0 else 0.5 * dt
         for b in range(n_body):
-            base_force_prev[b, 0] = base_force_x[b]
-            base_force_prev[b, 1] = base_force_y[b]
+            if body_driven[b]:
+                vel_x[b] = body_vx[b]
+                vel_y[b] = body_vy[b]
+                vel_om[b] = 0.0
+            else:
+                vel_x[b] = body_vx[b] + half * force_x[b] / body_mass[b]
+                vel_y[b] = body_vy[b] + half * (force_y[b] / body_mass[b] - gravity)
+                vel_om[b] = body_omega[b] + half * torque[b] / body_inertia[b]
+        # powers at t_n; each covers [t_n - dt/2, t_n + dt/2] (the first step only its second half)
+        p_damp, p_tan = contact_power(pair_a, pair_b, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
+        p_base = 0.0
+        for b in range(n_body):
+            p_base += base_force_x[b] * vel_h + base_force_y[b] * vel_v
 
-        if n % out_every == 0 or n == n_steps:
+        if sample:
             out_step[n_sample] = n
             kinetic = 0.0
             potential = 0.0
@@ -170,28 +178,22 @@ def run(
                 out_theta[n_sample, b] = body_theta[b]
                 if body_driven[b]:
                     continue
-                # velocity at t_n: half a kick on from v_{n-1/2} (the start holds v_0 itself)
-                h = 0.0 if n == 0 else 0.5 * dt
-                vx = body_vx[b] + h * force_x[b] / body_mass[b]
-                vy = body_vy[b] + h * (force_y[b] / body_mass[b] - gravity)
-                om = body_omega[b] + h * torque[b] / body_inertia[b]
+                vx = vel_x[b]
+                vy = vel_y[b]
+                om = vel_om[b]
                 kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
                 kinetic += 0.5 * body_inertia[b] * om * om
                 potential += body_mass[b] * gravity * body_y[b]
                 if not (np.isfinite(body_x[b]) and np.isfinite(body_y[b])
                         and np.isfinite(body_theta[b]) and np.isfinite(om)):
                     finite = False
-            elastic = 0.0
-            for p in range(pair_a.shape[0]):
-                elastic += (pair_memory[pair_a[p], pair_b[p], MEM_ELASTIC_N]
-                            + pair_memory[pair_a[p], pair_b[p], MEM_ELASTIC_T])
             out_energy[n_sample, ENERGY_KINETIC] = kinetic
             out_energy[n_sample, ENERGY_POTENTIAL] = potential
             out_energy[n_sample, ENERGY_ELASTIC] = elastic
-            out_energy[n_sample, ENERGY_DAMPING] = energy_acc[0]
-            out_energy[n_sample, ENERGY_TANGENTIAL] = energy_acc[1]
-            out_energy[n_sample, ENERGY_BASE_WORK] = energy_acc[2]
-            out_energy[n_sample, ENERGY_RESIDUAL] = energy_acc[3]
+            # accumulated up to t_n: the running sums plus the first half of this step's power
+            out_energy[n_sample, ENERGY_DAMPING] = energy_acc[E_DAMPING] + half * p_damp
+            out_energy[n_sample, ENERGY_TANGENTIAL] = energy_acc[E_TANGENTIAL] + half * p_tan
+            out_energy[n_sample, ENERGY_BASE_WORK] = energy_acc[E_BASE_WORK] + half * p_base
             out_n_contact[n_sample] = n_contact
             n_sample += 1
             if not finite:
@@ -209,6 +211,9 @@ def run(
             break
         # the first kick is a half step, so velocities sit at t + dt/2 from then on
         kick = 0.5 * dt if n == 0 else dt
+        energy_acc[E_DAMPING] += kick * p_damp
+        energy_acc[E_TANGENTIAL] += kick * p_tan
+        energy_acc[E_BASE_WORK] += kick * p_base
         central_difference_step(n_body, body_driven, body_mass, body_inertia, gravity, kick, dt,
                                 force_x, force_y, torque,
                                 body_x, body_y, body_theta, body_vx, body_vy, body_omega)

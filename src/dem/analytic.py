@@ -290,7 +290,6 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=9.81, theta0=
             state = np.array([0.0, 0.0])
             continue
         hit_zero.direction = -1 if side > 0 else 1
-        evals = t[(t > t_now) & (t <= t[-1])]
         sol = solve_ivp(rhs, (t_now, t[-1]), state, args=(side,), events=(hit_zero, topple),
                         dense_output=True, rtol=1e-10, atol=1e-12, max_step=max_step)
         t_end = sol.t[-1]
@@ -313,5 +312,4 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=9.81, theta0=
             state = np.array([0.0, w])
             continue
         break
-    del evals
     return RockingResponse(theta, omega, overturned, impacts)

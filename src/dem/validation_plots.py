@@ -68,8 +68,15 @@ def _sliding(ds, ax):
 
 
 def _rocking(ds, ax):
-    ax.plot(ds.time, ds.theta_rigid, "-", label="rigid rocking equation, r = %.3f" % ds.attrs["restitution_r"])
-    ax.plot(ds.time, ds.theta_engine, ":", lw=2, label="engine")
+    scale = ds.attrs["case_scale"]
+    ax.plot(ds.time, ds.theta_rigid, "-", label="rigid rocking equation, r = %.3f, scale %g" % (ds.attrs["restitution_r"], scale))
+    ax.plot(ds.time, ds.theta_engine, ":", lw=2, label="engine, scale %g" % scale)
+    inset = ax.inset_axes([0.68, 0.08, 0.3, 0.3])
+    inset.plot(ds.scale, 100 * ds.peak_relative_error, "o-")
+    inset.axhspan(-100 * ds.attrs["tolerance"], 100 * ds.attrs["tolerance"], color="0.9")
+    inset.set_xlabel("scale", fontsize=7)
+    inset.set_ylabel("peak error [%]", fontsize=7)
+    inset.tick_params(labelsize=6)
     ax.set_xlabel(label(ds.time))
     ax.set_ylabel(label(ds.theta_engine))
     ax.legend()

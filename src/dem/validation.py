@@ -162,13 +162,17 @@ def measured_restitution(c_n, width, height, mass, theta0, n_impacts=6, k_n=1e9)
 
 
 def calibrate_restitution(target_r, width, height, mass, theta0, n_impacts=6, k_n=1e9,
-                          c_bounds=(1e2, 1e6)):
+                          c_bounds=None):
     """Normal dashpot c_n [N s m-1] that gives energy ratio ``target_r`` per impact (thesis 5.1.2).
 
     Calibrated on the problem with a known solution: the free rocking of the block from
     theta0; r is the geometric mean over ``n_impacts`` impacts of the ratio implied by
-    thesis Eq. 5.3. Solved by Brent's method on log(c_n).
+    thesis Eq. 5.3. Solved by Brent's method on log(c_n), by default between 0.01 and 3
+    times the critical damping 2 sqrt(k_n width m) of the block on its base.
     """
+    if c_bounds is None:
+        critical = 2.0 * math.sqrt(k_n * width * mass)
+        c_bounds = (0.01 * critical, 3.0 * critical)
     def miss(log_c):
         _, r, _ = measured_restitution(math.exp(log_c), width, height, mass, theta0, n_impacts, k_n)
         return (r if np.isfinite(r) else 0.0) - target_r
@@ -318,8 +322,7 @@ def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKI
     mass = density * width * height
     alpha = math.atan(width / height)
     r_target = analytic.housner_restitution(width, height)
-    c_n = calibrate_restitution(r_target, width, height, mass, 0.5 * alpha, n_impacts=4, k_n=k_n,
-                                c_bounds=(1e4, 1e10))
+    c_n = calibrate_restitution(r_target, width, height, mass, 0.5 * alpha, n_impacts=4, k_n=k_n)
     t_rec, a_rec, rec_attrs = _record_arrays(record)
     scales = tuple(sorted(set(scales) | {case_scale}))
     peaks_sim, peaks_ref, histories = [], [], {}

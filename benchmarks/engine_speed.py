@@ -82,13 +82,21 @@ def timed(scene):
     return result, total, contacts, ns
 
 
-def response(result):
-    """Response measures compared between dt and dt/2 for scene (b)."""
-    free = slice(1, None)
-    return {"max_abs_theta_top": float(np.abs(result.theta[:, -1]).max()),
-            "max_rel_x_top": float(np.abs(result.x[:, -1] - result.x[0, -1]
-                                          - (result.x[:, 0] - result.x[0, 0])).max()),
-            "final_mean_abs_theta": float(np.abs(result.theta[-1, free]).mean())}
+def response(scene, result):
+    """Response measures compared between dt and dt/2 for scene (b).
+
+    The column collapses (0.25 m at 0.5 Hz is 1.5 g tan(alpha)); after the first rocking
+    cycles the motion is chaotic, so pointwise measures over the whole run cannot converge.
+    Compared: the verdict, the first two seconds (first cycle), and the collapse time.
+    """
+    first = result.time <= 2.0
+    drums = slice(1, None)
+    rocking = np.abs(result.theta[:, drums]).mean(axis=1)
+    collapsed = result.collapse_sample >= 0
+    return {"collapsed": float(collapsed),
+            "max_rocking_first_2s": float(rocking[first].max()),
+            "max_top_rotation_first_2s": float(np.abs(result.theta[first, -1]).max()),
+            "collapse_time": float(result.time[result.collapse_sample]) if collapsed else float("nan")}
 
 
 def main(argv=None):
@@ -114,10 +122,11 @@ def main(argv=None):
     # (b) at dt/2: how much does the answer move?
     base = simulate(scenes["b_8_drum_column_harmonic"])
     half = simulate(column_scene(dt=base.dt / 2))
-    r1, r2 = response(base), response(half)
+    r1 = response(scenes["b_8_drum_column_harmonic"], base)
+    r2 = response(scenes["b_8_drum_column_harmonic"], half)
     change = {k: abs(r1[k] - r2[k]) / max(abs(r2[k]), 1e-12) for k in r1}
     for k in r1:
-        print(f"  (b) {k:22s} dt: {r1[k]:.5g}  dt/2: {r2[k]:.5g}  change {100 * change[k]:.3f} %")
+        print(f"  (b) {k:26s} dt: {r1[k]:.5g}  dt/2: {r2[k]:.5g}  change {100 * change[k]:.3f} %")
     ds = xr.Dataset(
         {key: ("scene", np.array([r[key] for r in rows]),
                {"units": unit, "long_name": long})
@@ -131,6 +140,9 @@ def main(argv=None):
         coords={"scene": ("scene", [r["scene"] for r in rows], {"units": "1", "long_name": "benchmark scene"})},
         attrs={"title": "dem engine speed benchmark", "source": code_version(),
                "machine": f"{os.cpu_count()} cores, {sys.platform}",
+               "b_dt": base.dt,
+               **{f"b_{k}_dt": v for k, v in r1.items()},
+               **{f"b_{k}_dt_half": v for k, v in r2.items()},
                **{f"b_dt_half_change_{k}": v for k, v in change.items()}},
     )
     write_dataset(ds, args.out / "engine_speed.nc")

@@ -58,10 +58,10 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
     # KIND_TABLE
     n = table_accel.shape[0]
     h = table_dt
-    i = int(t / h)
-    if i >= n - 1:
-        t_end = (n - 1) * h
+    t_end = (n - 1) * h
+    if t > t_end:
         return table_disp[n - 1] + table_vel[n - 1] * (t - t_end), table_vel[n - 1], 0.0
+    i = min(int(t / h), n - 2)
     s = t - i * h
     a0 = table_accel[i]
     slope = (table_accel[i + 1] - a0) / h

@@ -48,7 +48,7 @@ def test_sliding_under_northridge_against_exact_rigid_plastic_block():
     assert abs(result.summary["peak_error"]) <= 0.02
     # the Bouc-Wen form (Eq. 5.6-5.7) is a smoothed rigid-plastic block: same peak to 5 %
     ds = result.dataset
-    assert np.abs(ds.sliding_bouc_wen).max() == pytest.approx(np.abs(ds.sliding_exact).max(), rel=0.05)
+    assert float(np.abs(ds.sliding_bouc_wen).max()) == pytest.approx(float(np.abs(ds.sliding_exact).max()), rel=0.05)
 
 
 def test_rocking_of_monolithic_column_under_northridge():

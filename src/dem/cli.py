@@ -52,7 +52,7 @@ def command_run(args) -> int:
     from dem.simulate import run_scene
 
     scene = load_scene(args.scene, args.overrides)
-    ds = run_scene(scene, progress=not args.quiet)
+    ds = run_scene(scene, progress=not args.quiet and sys.stderr.isatty())
     write_dataset(ds, args.output)
     if not args.quiet:
         print(f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "

@@ -204,6 +204,9 @@ class RunResult:
 def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResult:
     """Run a scene to its duration (or its collapse) and return the samples."""
     dt, limit = choose_time_step(scene)
+    if scene.dt is None:
+        # round the automatic step down so samples fall exactly every output interval
+        dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
     arrays = pack_scene(scene)
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))

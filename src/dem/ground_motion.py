@@ -5,8 +5,10 @@ linear acceleration ramp; thesis 5.1.3, 5.1.5, 6.3) and recorded accelerograms s
 interface, so the engine never cares where motion comes from. Records are read from plain
 text (two columns time, acceleration; or one column with ``dt``) or NetCDF (``acceleration``
 on ``time``), checked, scaled by a factor or to a target PGA, and tabulated for exact
-piecewise-linear integration (:mod:`dem.kernels.excitation`). No baseline correction or
-resampling is done here.
+piecewise-linear integration (:mod:`dem.kernels.excitation`). Records are baseline
+corrected by default (``baseline: false`` keeps them as recorded; :mod:`dem.records`).
+The engine reads a record linearly between samples, which is how it is upsampled to the
+solver's step.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ KIND_KEYS = {
     "rect_pulse": {"accel": "m s-2", "duration": "s"},
     "sine_pulse": {"accel": "m s-2", "frequency": "Hz"},
     "ramp": {"rate": "m s-3"},
-    "record": {"file": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s"},
+    "record": {"file": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
 }
 
 
@@ -164,7 +166,14 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     if units is not None and units not in UNIT_FACTORS:
         raise InputError(f"{field}.units", f"unknown units {units!r}", f"use one of {', '.join(UNIT_FACTORS)}")
     dt = _num(spec, "dt", field, positive=True, required=False)
+    baseline = spec.get("baseline", True)
+    if not isinstance(baseline, bool):
+        raise InputError(f"{field}.baseline", "expected true or false", "write baseline: true")
     time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt)
+    if baseline:
+        from dem.records import baseline_correct
+
+        accel = baseline_correct(time, accel)
     pga_raw = float(np.abs(accel).max())
     if "pga" in spec:
         target = _num(spec, "pga", field, positive=True)
@@ -175,7 +184,8 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
         scale = _num(spec, "scale", field, required=False, default=1.0)
     accel = accel * scale
     table_a, table_v, table_d, h = record_to_table(time, accel)
-    description = {"kind": "record", "file": str(path), "scale": scale, "pga": float(np.abs(accel).max()),
+    description = {"kind": "record", "file": str(path), "scale": scale, "baseline_corrected": int(baseline),
+                   "pga": float(np.abs(accel).max()),
                    "pga_units": "m s-2", "record_pga": pga_raw, "record_dt": h,
                    "record_duration": float(time[-1] - time[0]), **meta}
     return BaseMotion(kx.KIND_TABLE, np.zeros(4), table_a, table_v, table_d, h, description)
@@ -184,7 +194,7 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
 def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     """A record path: as given, relative to the scene, or by name in the repository's records/."""
     candidates = [Path(name), base_dir / name, RECORDS_DIR / name]
-    for ext in (".nc", ".txt", ".csv", ".dat"):
+    for ext in (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat"):
         candidates.append(RECORDS_DIR / f"{name}{ext}")
     for path in candidates:
         if path.is_file():
@@ -195,7 +205,13 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
 def read_record(path: Path, field: str, units: str | None = None, dt: float | None = None):
     """(time [s] from 0, acceleration [m s-2], metadata) of a NetCDF or text record, checked."""
     meta: dict = {}
-    if path.suffix == ".nc":
+    if path.suffix.lower() == ".at2":
+        from dem.records import read_at2
+
+        rec = read_at2(path, field)
+        time, accel, units = rec.time, rec.acceleration, "m/s2"
+        meta = {"title": rec.meta.get("title", "")}
+    elif path.suffix == ".nc":
         import xarray as xr
 
         with xr.open_dataset(path) as ds:

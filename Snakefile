@@ -1,0 +1,18 @@
+# The study workflow: config -> cases -> simulations -> cubes -> tables and figures.
+# Stages live in workflow/rules/*.smk; all science is in the dem package.
+from snakemake.utils import min_version
+
+min_version("8.0")
+
+
+configfile: "config/config.yaml"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/records.smk"
+
+
+rule all:
+    input:
+        expand("records/{name}.nc", name=RECORD_NAMES),
+    default_target: True

@@ -1,0 +1,12 @@
+"""Snakemake script: one FEMA P695 record -> records/<name>.nc (dem.fema_p695)."""
+
+import sys
+
+from dem.dataset import write_dataset
+from dem.fema_p695 import extract_record
+
+sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+spec = dict(snakemake.params.record)  # noqa: F821
+ds = extract_record(spec.pop("set"), spec.pop("id"), spec.pop("component"),
+                    name=snakemake.wildcards.name, extra_attrs=spec)  # noqa: F821
+write_dataset(ds, snakemake.output[0])  # noqa: F821

@@ -123,16 +123,18 @@ def baseline_correct(time, accel, degree: int = 6):
     coef, *_ = np.linalg.lstsq(basis, disp, rcond=None)
     second = (powers * (powers - 1))[None, :] * x[:, None] ** (powers - 2)[None, :]
     a = a - (second @ coef) / span**2
-    # end at rest: on [t1, T] add a(t) = c0 + c1 (t - t1) chosen so v(T) = d(T) = 0
+    # end at rest: over the last 10 % add c0 + c1 (t - t1), with c0, c1 solved so that the
+    # (exactly integrated) velocity and displacement are zero at the end
     vel, disp = integrate(t, a)
-    t1 = t[0] + 0.9 * span
-    L = t[-1] - t1
-    mask = t >= t1
-    s = np.where(mask, t - t1, 0.0)
-    # contributions of unit c0, c1 to v(T), d(T) from an acceleration active on [t1, T]
-    m = np.array([[L, L**2 / 2], [L**2 / 2, L**3 / 6]])
+    i1 = int(0.9 * (len(t) - 1))
+    ramp = np.where(np.arange(len(t)) >= i1, 1.0, 0.0)
+    basis0 = ramp
+    basis1 = ramp * (t - t[i1])
+    v0, d0 = integrate(t, basis0)
+    v1, d1 = integrate(t, basis1)
+    m = np.array([[v0[-1], v1[-1]], [d0[-1], d1[-1]]])
     c0, c1 = np.linalg.solve(m, [-vel[-1], -disp[-1]])
-    return a + np.where(mask, c0 + c1 * s, 0.0)
+    return a + c0 * basis0 + c1 * basis1
 
 
 def resample(time, accel, dt_new: float):

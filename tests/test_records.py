@@ -1,0 +1,153 @@
+"""Records: AT2 parsing, baseline correction, resampling, spectra and scaling."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from dem import records
+from dem.errors import InputError
+from dem.ground_motion import excitation_from_spec
+
+AT2_NEW = """PEER NGA STRONG MOTION DATABASE RECORD
+Test event 2000, Some Station, 090
+ACCELERATION TIME SERIES IN UNITS OF G
+NPTS=    7, DT=   .0100 SEC
+  .1000000E-01  .2000000E-01 -.1000000E-01  .0000000E+00  .5000000E-01
+ -.2500000E-01  .1000000E-01
+"""
+AT2_OLD = """PACIFIC ENGINEERING AND ANALYSIS STRONG-MOTION DATA
+ TEST 01/01/00, STATION, 090
+ ACCELERATION TIME HISTORY IN UNITS OF G
+   7   0.0100   NPTS, DT
+  .1000000E-01  .2000000E-01 -.1000000E-01  .0000000E+00  .5000000E-01
+ -.2500000E-01  .1000000E-01
+"""
+
+
+def write(tmp_path, text, name="rec.AT2"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("text", [AT2_NEW, AT2_OLD])
+def test_at2_both_header_styles(tmp_path, text):
+    rec = records.read_at2(write(tmp_path, text))
+    assert rec.dt == pytest.approx(0.01) and len(rec.time) == 7
+    assert rec.acceleration[4] == pytest.approx(0.05 * 9.80665, rel=1e-15), "g = 9.80665"
+
+
+@pytest.mark.parametrize("mutate, message", [
+    (lambda t: t.replace("NPTS=    7", "NPTS=    8"), "NPTS = 8 but 7 values"),
+    (lambda t: t.replace("-.2500000E-01", "    "), "NPTS = 7 but 6 values"),
+    (lambda t: t.replace("UNITS OF G", "UNITS OF CM/S/S"), "units of g"),
+    (lambda t: t.replace("NPTS=    7, DT=   .0100 SEC", "SEVEN POINTS"), "no NPTS and DT"),
+    (lambda t: t.replace(".5000000E-01", "abc"), "non-numeric"),
+    (lambda t: "\n".join(t.splitlines()[:3]), "4 header lines"),
+])
+def test_malformed_at2_gives_one_line(tmp_path, mutate, message):
+    path = write(tmp_path, mutate(AT2_NEW))
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": str(path)})
+    assert message in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+def test_at2_record_drives_a_scene(tmp_path):
+    path = write(tmp_path, AT2_NEW)
+    motion = excitation_from_spec({"kind": "record", "file": str(path), "baseline": False})
+    assert motion.pga == pytest.approx(0.05 * 9.80665)
+
+
+def test_baseline_correction_removes_a_known_offset():
+    t = np.arange(0, 40.0001, 0.01)
+    # a ground motion that starts and ends at rest: d = 0.1 sin(3 pi t) exp(-((t - 10) / 4)^2)
+    w = 3 * np.pi
+    env = np.exp(-((t - 10) / 4) ** 2)
+    denv = -2 * (t - 10) / 16 * env
+    ddenv = (-2 / 16 + (2 * (t - 10) / 16) ** 2) * env
+    disp_clean = 0.1 * np.sin(w * t) * env
+    clean = 0.1 * (-w * w * np.sin(w * t) * env + 2 * w * np.cos(w * t) * denv + np.sin(w * t) * ddenv)
+    offset = clean + 0.02  # a constant 0.02 m/s2 error: 16 m of drift after 40 s
+    _, drift = records.integrate(t, offset)
+    corrected = records.baseline_correct(t, offset)
+    vel, disp = records.integrate(t, corrected)
+    assert abs(drift[-1]) > 15.0
+    assert abs(disp[-1]) < 1e-9 and abs(vel[-1]) < 1e-9, "ends at rest"
+    error = np.abs(disp - disp_clean).max() / np.abs(disp_clean).max()
+    assert error < 0.05, f"the true displacement is recovered to {100 * error:.2f} %, tol 5 %"
+
+
+def harmonic_sdof_peak(t, amplitude, forcing_w, w, z):
+    """Closed-form response from rest of u'' + 2 z w u' + w^2 u = -A sin(W t)."""
+    k = w * w - forcing_w**2
+    c = 2 * z * w * forcing_w
+    # particular C sin + D cos: k C - c D = -A, k D + c C = 0
+    C = -amplitude * k / (k * k + c * c)
+    D = amplitude * c / (k * k + c * c)
+    wd = w * np.sqrt(1 - z * z)
+    E = -D
+    F = (z * w * E - C * forcing_w) / wd
+    u = (C * np.sin(forcing_w * t) + D * np.cos(forcing_w * t)
+         + np.exp(-z * w * t) * (E * np.cos(wd * t) + F * np.sin(wd * t)))
+    return np.abs(u).max()
+
+
+@pytest.mark.parametrize("period", [0.1, 0.5, 0.77, 2.0, 4.0])
+@pytest.mark.parametrize("damping", [0.05, 0.10])
+def test_spectrum_of_a_harmonic_against_the_closed_form(period, damping):
+    t = np.arange(0, 30.0, 0.002)
+    W = 2 * np.pi * 1.3
+    psa = records.response_spectrum(t, 3.0 * np.sin(W * t), [period], damping)[0]
+    w = 2 * np.pi / period
+    ref = w * w * harmonic_sdof_peak(t, 3.0, W, w, damping)
+    assert psa == pytest.approx(ref, rel=2e-3), "exact recurrence vs closed form; the input is sampled"
+
+
+def test_predominant_frequency_of_a_sine_burst():
+    t = np.arange(0, 40, 0.01)
+    a = np.sin(2 * np.pi * 2.5 * t) * np.exp(-((t - 20) / 6) ** 2)
+    assert records.predominant_frequency(t, a) == pytest.approx(2.5, rel=0.03)
+
+
+def test_resampling_does_not_alias():
+    t = np.arange(0, 20, 0.001)
+    low = np.sin(2 * np.pi * 2 * t)
+    high = 0.5 * np.sin(2 * np.pi * 90 * t)  # above the 50 Hz Nyquist of dt = 0.01
+    t2, a2 = records.resample(t, low + high, 0.01)
+    assert np.abs(a2 - np.sin(2 * np.pi * 2 * t2))[200:-200].max() < 0.02, "90 Hz removed, not folded to 10 Hz"
+
+
+def test_pga_scaling_is_exact():
+    a = np.array([0.1, -0.7, 0.3])
+    assert np.abs(records.scale_to_pga(a, 9.81)).max() == 9.81
+
+
+def test_committed_records_are_self_describing():
+    for name in ("athens_standin_kocaeli_arc000", "kalamata_standin_izmit_izt270",
+                 "mexico_standin_chichi_tcu102", "northridge_1994_mul009"):
+        with xr.open_dataset(f"records/{name}.nc") as ds:
+            for var in list(ds.data_vars) + list(ds.coords):
+                assert ds[var].attrs.get("units") and ds[var].attrs.get("long_name"), (name, var)
+            for key in ("event", "station", "component", "source", "licence", "pga", "predominant_frequency"):
+                assert key in ds.attrs, (name, key)
+            assert abs(float(ds.displacement[-1])) < 1e-6
+
+
+def test_stand_ins_fall_in_the_thesis_frequency_order():
+    f = {n: xr.open_dataset(f"records/{n}.nc").attrs["predominant_frequency"]
+         for n in ("athens_standin_kocaeli_arc000", "kalamata_standin_izmit_izt270", "mexico_standin_chichi_tcu102")}
+    assert 4.1 <= f["athens_standin_kocaeli_arc000"] <= 8.3
+    assert 2.9 <= f["kalamata_standin_izmit_izt270"] <= 3.5
+    assert 0.35 <= f["mexico_standin_chichi_tcu102"] <= 0.53
+
+
+def test_record_info_command(tmp_path):
+    plot = tmp_path / "s.png"
+    proc = subprocess.run([sys.executable, "-m", "dem", "record", "info", "northridge_1994_mul009",
+                           "--plot", str(plot)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "PGA                 4.077" in proc.stdout and "predominant" in proc.stdout
+    assert plot.stat().st_size > 1000

@@ -1,0 +1,37 @@
+"""The Snakemake workflow: lint clean, config validated, committed records up to date."""
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def snakemake(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "snakemake", *args], cwd=cwd, capture_output=True, text=True)
+
+
+def test_lint_is_clean():
+    proc = snakemake("--lint")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_committed_records_need_no_rerun():
+    proc = snakemake("-n", "--quiet", "rules")
+    assert proc.returncode == 0, proc.stderr
+    assert "extract_record" not in proc.stdout, proc.stdout
+
+
+def test_bad_config_is_refused(tmp_path):
+    for item in ("Snakefile", "workflow", "records"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "config.yaml").write_text(
+        "records:\n  x: {set: farfield, id: 0, component: c}\n")
+    proc = snakemake("-n", cwd=tmp_path)
+    assert proc.returncode != 0
+    assert "ValidationError" in proc.stdout + proc.stderr or "validat" in (proc.stdout + proc.stderr).lower()

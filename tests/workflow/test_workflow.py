@@ -15,14 +15,21 @@ def snakemake(*args, cwd=ROOT):
 
 
 def test_lint_is_clean():
-    proc = snakemake("--lint")
-    assert proc.returncode == 0, proc.stdout + proc.stderr
+    for args in ((), ("--config", "extract_records=true")):
+        proc = snakemake("--lint", *args)
+        assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
 def test_committed_records_need_no_rerun():
-    proc = snakemake("-n", "--quiet", "rules")
+    proc = snakemake("-n")
     assert proc.returncode == 0, proc.stderr
-    assert "extract_record" not in proc.stdout, proc.stdout
+    assert "Nothing to be done" in proc.stdout + proc.stderr, proc.stdout
+
+
+def test_extraction_rule_on_request():
+    proc = snakemake("-n", "--config", "extract_records=true", "--forcerun", "extract_record")
+    assert proc.returncode == 0, proc.stderr
+    assert "extract_record" in proc.stdout
 
 
 def test_bad_config_is_refused(tmp_path):

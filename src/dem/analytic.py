@@ -122,7 +122,7 @@ def rigid_plastic_sliding(time, ground_accel, mu, g=9.81) -> SlidingResponse:
     v_out = np.zeros_like(t)
     u, v, s = 0.0, 0.0, 0  # s = sliding direction, 0 when stuck
     for i in range(len(t) - 1):
-        t0, h = t[i], t[i + 1] - t[i]
+        h = t[i + 1] - t[i]
         a0, k = a[i], (a[i + 1] - a[i]) / h
         tau = 0.0
         while tau < h:
@@ -132,21 +132,17 @@ def rigid_plastic_sliding(time, ground_accel, mu, g=9.81) -> SlidingResponse:
                 if abs(ag) > limit:
                     s = -1 if ag > 0 else 1
                     continue
-                times = [x for x in _linear_roots(a0, k, limit, tau, h)]
+                times = _linear_roots(a0, k, limit, tau, h)
                 if not times:
-                    tau = h
                     break
-                tau_start = min(times)
-                tau = tau_start
-                ag = a0 + k * tau
-                s = -1 if ag > 0 else 1
-                # if exactly at the limit and moving away from it, the next pass starts sliding
-                tau = max(tau, np.nextafter(tau, h))
+                # |a_g| reaches mu g here and grows: sliding starts from rest
+                tau = min(times)
+                s = -1 if a0 + k * tau > 0 else 1
                 continue
             # sliding with direction s: v(x) = v + c1 x + c2 x^2 with x = tau' - tau
             b0 = -(a0 + k * tau) - limit * s
             c2 = -0.5 * k
-            stop = _first_root_quadratic(v, b0, c2, h - tau, s)
+            stop = _first_root_quadratic(v, b0, c2, h - tau)
             step = (h - tau) if stop is None else stop
             u += v * step + 0.5 * b0 * step**2 - k * step**3 / 6.0
             v += b0 * step + c2 * step**2
@@ -155,7 +151,8 @@ def rigid_plastic_sliding(time, ground_accel, mu, g=9.81) -> SlidingResponse:
                 v = 0.0
                 ag = a0 + k * tau
                 # restart the other way at once if the ground still overcomes friction
-                s = (-1 if ag > 0 else 1) if abs(ag) > limit and (-1 if ag > 0 else 1) != s else 0
+                reverse = -1 if ag > 0 else 1
+                s = reverse if abs(ag) > limit and reverse != s else 0
         u_out[i + 1] = u
         v_out[i + 1] = v
     return SlidingResponse(u_out, v_out)
@@ -172,8 +169,8 @@ def _linear_roots(a0, k, limit, lo, hi):
     return out
 
 
-def _first_root_quadratic(v0, b, c, length, s):
-    """First x in (0, length] where v0 + b x + c x^2 reaches 0 from the side of sign s."""
+def _first_root_quadratic(v0, b, c, length):
+    """First x in (0, length] where v0 + b x + c x^2 = 0, or None."""
     roots = []
     if c == 0.0:
         if b != 0.0:
@@ -186,9 +183,6 @@ def _first_root_quadratic(v0, b, c, length, s):
             q = -0.5 * (b + math.copysign(sq, b)) if b != 0.0 else 0.5 * sq
             roots = [q / c] + ([v0 / q] if q != 0.0 else [])
     roots = sorted(x for x in roots if 1e-15 < x <= length)
-    if v0 == 0.0:
-        # starting from rest: the velocity must first move in direction s
-        return roots[0] if roots else None
     return roots[0] if roots else None
 
 

@@ -16,3 +16,28 @@ class InputError(ValueError):
         if fix:
             message += f"; {fix}"
         super().__init__(message)
+
+
+def check_number(value, field: str, positive: bool = False, nonnegative: bool = False) -> float:
+    """A finite float from a YAML value, or an InputError naming ``field``.
+
+    YAML 1.1 reads ``1.0e9`` (no sign in the exponent) as a string, so numeric strings
+    are accepted.
+    """
+    import math
+
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            pass
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(field, f"expected a number, got {value!r}", "give a number in SI units")
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(field, f"{value} is not finite", "give a finite number")
+    if positive and value <= 0.0:
+        raise InputError(field, f"must be > 0, got {value}", "give a positive value")
+    if nonnegative and value < 0.0:
+        raise InputError(field, f"must be >= 0, got {value}", "give a non-negative value")
+    return value

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-G = 9.80665  # standard gravity [m s-2], PEER convention
+from dem.records import G_STANDARD as G  # standard gravity, PEER convention
 
 RECORD_SETS = ("farfield", "nearfield_pulse", "nearfield_no_pulse")
 

@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from dem.errors import InputError
+from dem.errors import InputError, check_number
 from dem.kernels import excitation as kx
+from dem.records import G_STANDARD
 
-G_STANDARD = 9.80665  # [m s-2], for records given in g
 RECORDS_DIR = Path(__file__).resolve().parents[2] / "records"
 UNIT_FACTORS = {"m/s2": 1.0, "m s-2": 1.0, "m/s^2": 1.0, "g": G_STANDARD, "cm/s2": 0.01,
                 "cm s-2": 0.01, "gal": 0.01}
@@ -86,17 +86,7 @@ def _num(spec, key, where, positive=False, required=True, default=None):
         if required:
             raise InputError(f"{where}.{key}", "missing", f"give {key} [{KIND_KEYS_UNITS.get(key, '')}]")
         return default
-    value = spec[key]
-    if isinstance(value, str):
-        try:
-            value = float(value)
-        except ValueError:
-            pass
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}.{key}", f"expected a finite number, got {value!r}", "give a number in SI units")
-    if positive and value <= 0:
-        raise InputError(f"{where}.{key}", f"must be > 0, got {value}", "give a positive value")
-    return float(value)
+    return check_number(spec[key], f"{where}.{key}", positive=positive)
 
 
 KIND_KEYS_UNITS = {k: u for keys in KIND_KEYS.values() for k, u in keys.items()}
@@ -299,16 +289,10 @@ def _check_record(time, accel, field, path):
 
 
 def record_to_table(time, accel):
-    """Acceleration samples -> (accel, exact node velocity, exact node displacement, step [s]).
+    """Acceleration samples -> (accel, exact node velocity, exact node displacement, step [s])."""
+    from dem.records import integrate
 
-    The acceleration is linear between samples; integrating that exactly,
-    v_{i+1} = v_i + h (a_i + a_{i+1}) / 2 and d_{i+1} = d_i + h v_i + h^2 (2 a_i + a_{i+1}) / 6.
-    """
     accel = np.ascontiguousarray(accel, dtype=float)
     h = float((time[-1] - time[0]) / (len(time) - 1))
-    vel = np.zeros_like(accel)
-    disp = np.zeros_like(accel)
-    vel[1:] = np.cumsum(0.5 * h * (accel[:-1] + accel[1:]))
-    incr = h * vel[:-1] + h * h * (2.0 * accel[:-1] + accel[1:]) / 6.0
-    disp[1:] = np.cumsum(incr)
+    vel, disp = integrate(np.arange(len(accel)) * h, accel)
     return accel, vel, disp, h

@@ -15,6 +15,13 @@ import numpy as np
 from dem.scene import Scene, posed_vertices
 
 
+def bottom_centre(vertices: np.ndarray) -> np.ndarray:
+    """Middle of a polygon's lowest vertices (the centre of a drum's bottom face) [m]."""
+    bottom = vertices[:, 1].min()
+    low = vertices[vertices[:, 1] <= bottom + 1e-9 * max(1.0, np.ptp(vertices))]
+    return np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), bottom])
+
+
 def supports(scene: Scene) -> list[int]:
     """Index of the body each body rests on at t = 0 (the one just below its bottom centre), or -1."""
     posed = [posed_vertices(b) for b in scene.bodies]
@@ -23,9 +30,7 @@ def supports(scene: Scene) -> list[int]:
         if scene.bodies[i].driven:
             out.append(-1)
             continue
-        bottom = verts[:, 1].min()
-        low = verts[verts[:, 1] <= bottom + 1e-9 * max(1.0, np.ptp(verts))]
-        probe = np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), bottom - 1e-6])
+        probe = bottom_centre(verts) - [0.0, 1e-6]
         found = -1
         for j, other in enumerate(posed):
             if j != i and _contains(other, probe):
@@ -52,10 +57,7 @@ def relative_sliding(scene: Scene, x, y, theta, support: list[int]) -> np.ndarra
     for i, s in enumerate(support):
         if s < 0:
             continue
-        verts = posed_vertices(scene.bodies[i])
-        bottom = verts[:, 1].min()
-        low = verts[verts[:, 1] <= bottom + 1e-9 * max(1.0, np.ptp(verts))]
-        point = np.array([0.5 * (low[:, 0].min() + low[:, 0].max()), bottom])
+        point = bottom_centre(posed_vertices(scene.bodies[i]))
         p_i = _follow(point, x[:, i], y[:, i], theta[:, i])
         p_s = _follow(point, x[:, s], y[:, s], theta[:, s])
         tangent = np.stack([np.cos(theta[:, s]), np.sin(theta[:, s])], axis=1)

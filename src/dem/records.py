@@ -12,7 +12,6 @@ smoothed Fourier amplitude) and pseudo-acceleration response spectra at any damp
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -97,7 +96,10 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
 # --- processing ----------------------------------------------------------------------------
 
 def integrate(time, accel):
-    """Velocity [m s-1] and displacement [m] of an acceleration linear between samples (exact)."""
+    """Velocity [m s-1] and displacement [m] of an acceleration linear between samples (exact).
+
+    v_{i+1} = v_i + h (a_i + a_{i+1}) / 2 and d_{i+1} = d_i + h v_i + h^2 (2 a_i + a_{i+1}) / 6.
+    """
     h = np.diff(time)
     vel = np.concatenate([[0.0], np.cumsum(0.5 * h * (accel[:-1] + accel[1:]))])
     disp = np.concatenate([[0.0], np.cumsum(h * vel[:-1] + h * h * (2.0 * accel[:-1] + accel[1:]) / 6.0)])

@@ -11,7 +11,6 @@ stiffness k_n = 1e8 N/m2 and damping c_n = 1e3 N s/m (thesis 3.8, 5.1.2), stone 
 from __future__ import annotations
 
 import copy
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import numpy as np
 import yaml
 
 from dem import geometry
-from dem.errors import InputError
+from dem.errors import InputError, check_number
 from dem.ground_motion import BaseMotion, excitation_pair
 
 TOP_KEYS = {
@@ -170,33 +169,14 @@ def _check_keys(mapping, allowed, where: str) -> None:
                              f"allowed keys: {', '.join(allowed)}")
 
 
-def _number(value, where: str, positive=False, nonnegative=False) -> float:
-    if isinstance(value, str):
-        # YAML 1.1 reads 1.0e9 (no sign in the exponent) as a string
-        try:
-            value = float(value)
-        except ValueError:
-            pass
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(where, f"expected a number, got {value!r}", "give a number in SI units")
-    value = float(value)
-    if not math.isfinite(value):
-        raise InputError(where, f"{value} is not finite", "give a finite number")
-    if positive and value <= 0.0:
-        raise InputError(where, f"must be > 0, got {value}", "give a positive value")
-    if nonnegative and value < 0.0:
-        raise InputError(where, f"must be >= 0, got {value}", "give a non-negative value")
-    return value
-
-
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
     spec = copy.deepcopy(spec)
     _check_keys(spec, TOP_KEYS, "")
-    depth = _number(spec.get("depth", 1.0), "depth", positive=True)
-    density = _number(spec.get("density", 2000.0), "density", positive=True)
-    gravity = _number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
-    friction = _number(spec.get("friction", 0.5), "friction", nonnegative=True)
+    depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
+    density = check_number(spec.get("density", 2000.0), "density", positive=True)
+    gravity = check_number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
+    friction = check_number(spec.get("friction", 0.5), "friction", nonnegative=True)
 
     body_specs = list(spec.get("bodies") or [])
     if "structure" in spec:
@@ -215,11 +195,11 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
 
     contact_spec = dict(spec.get("contact") or {})
     _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t", "frame"), "contact")
-    k_n = _number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
-    c_n = _number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
+    k_n = check_number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
+    c_n = check_number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
     # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
-    k_t = _number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
-    c_t = _number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
+    k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
+    c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
     frame = contact_spec.get("frame", "boundary")
     if frame not in ("boundary", "thesis"):
         raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
@@ -236,15 +216,15 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
             if name not in names:
                 raise InputError(f"{where}.bodies", f"no body named '{name}'",
                                  f"known bodies: {', '.join(names)}")
-        pair_friction[tuple(sorted(pair))] = _number(item.get("mu"), f"{where}.mu", nonnegative=True)
+        pair_friction[tuple(sorted(pair))] = check_number(item.get("mu"), f"{where}.mu", nonnegative=True)
 
     solver = {**SOLVER_DEFAULTS, **(spec.get("solver") or {})}
     _check_keys(solver, SOLVER_DEFAULTS, "solver")
     if solver["duration"] is None:
         raise InputError("solver.duration", "missing", "give the simulated time in s")
-    duration = _number(solver["duration"], "solver.duration", positive=True)
-    dt = None if solver["dt"] in ("auto", None) else _number(solver["dt"], "solver.dt", positive=True)
-    dt_safety = _number(solver["dt_safety"], "solver.dt_safety", positive=True)
+    duration = check_number(solver["duration"], "solver.duration", positive=True)
+    dt = None if solver["dt"] in ("auto", None) else check_number(solver["dt"], "solver.dt", positive=True)
+    dt_safety = check_number(solver["dt_safety"], "solver.dt_safety", positive=True)
     if dt_safety > 1.0:
         raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
                          "use a fraction of the limit, e.g. 0.25")
@@ -252,7 +232,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("solver.stop_on_collapse", "expected true or false", "write true or false")
     output = {**OUTPUT_DEFAULTS, **(spec.get("output") or {})}
     _check_keys(output, OUTPUT_DEFAULTS, "output")
-    every = _number(output["every"], "output.every", positive=True)
+    every = check_number(output["every"], "output.every", positive=True)
 
     horizontal, vertical = excitation_pair(spec.get("excitation") or {"kind": "none"}, Path(base_dir))
 
@@ -277,13 +257,13 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     if "box" in spec:
         box = spec["box"]
         _check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
-        width = _number(box.get("width"), f"{where}.box.width", positive=True)
-        height = _number(box.get("height"), f"{where}.box.height", positive=True)
+        width = check_number(box.get("width"), f"{where}.box.width", positive=True)
+        height = check_number(box.get("height"), f"{where}.box.height", positive=True)
         center = box.get("center", [0.0, 0.0])
         if not isinstance(center, (list, tuple)) or len(center) != 2:
             raise InputError(f"{where}.box.center", "expected [x, y]", "write center: [x, y]")
-        center = [_number(c, f"{where}.box.center") for c in center]
-        angle = _number(box.get("angle", 0.0), f"{where}.box.angle")
+        center = [check_number(c, f"{where}.box.center") for c in center]
+        angle = check_number(box.get("angle", 0.0), f"{where}.box.angle")
         vertices = geometry.box_vertices(width, height, center, angle)
     else:
         poly = spec["polygon"]
@@ -320,9 +300,9 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     if "mass" in spec and "density" in spec:
         raise InputError(where, "give mass or density, not both", "remove one")
     if "mass" in spec:
-        mass = _number(spec["mass"], f"{where}.mass", positive=True)
+        mass = check_number(spec["mass"], f"{where}.mass", positive=True)
     else:
-        mass = _number(spec.get("density", density), f"{where}.density", positive=True) * area
+        mass = check_number(spec.get("density", density), f"{where}.density", positive=True) * area
     inertia = mass * polar / area  # uniform distribution over the polygon
 
     driven = spec.get("driven", False)
@@ -334,13 +314,13 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     column = int(spec.get("column", -1))
     tier = int(spec.get("tier", 0))
     mu = spec.get("friction")
-    mu = None if mu is None else _number(mu, f"{where}.friction", nonnegative=True)
+    mu = None if mu is None else check_number(mu, f"{where}.friction", nonnegative=True)
 
     tilt_angle, tilt_pivot = 0.0, geometry.centroid(vertices)
     if "tilt" in spec:
         tilt = spec["tilt"]
         _check_keys(tilt, ("angle", "about"), f"{where}.tilt")
-        angle = _number(tilt.get("angle"), f"{where}.tilt.angle")
+        angle = check_number(tilt.get("angle"), f"{where}.tilt.angle")
         tilt_angle, tilt_pivot = _tilt(vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about")
         if driven:
             raise InputError(f"{where}.tilt", "a driven body cannot be tilted", "remove tilt:")
@@ -349,7 +329,7 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         if not isinstance(velocity, (list, tuple)) or len(velocity) != 3:
             raise InputError(f"{where}.velocity", "expected [vx, vy, omega]",
                              "give [m/s, m/s, rad/s]")
-        velocity = tuple(_number(v, f"{where}.velocity") for v in velocity)
+        velocity = tuple(check_number(v, f"{where}.velocity") for v in velocity)
     return Body(name=name, vertices=vertices, mass=mass, inertia=inertia, driven=driven,
                 role=role, column=column, tier=tier, friction=mu, tilt_angle=tilt_angle,
                 tilt_pivot=tilt_pivot, velocity=velocity)
@@ -363,7 +343,7 @@ def _tilt(vertices: np.ndarray, angle: float, about, where: str):
     counter-clockwise by ``angle``.
     """
     if isinstance(about, (list, tuple)) and len(about) == 2:
-        return angle, np.array([_number(about[0], where), _number(about[1], where)])
+        return angle, np.array([check_number(about[0], where), check_number(about[1], where)])
     if about not in TILT_PIVOTS:
         raise InputError(where, f"unknown pivot '{about}'",
                          f"use one of {', '.join(TILT_PIVOTS)} or [x, y]")

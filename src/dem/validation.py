@@ -30,7 +30,7 @@ from scipy.optimize import brentq
 from dem import analytic
 from dem.dataset import code_version, write_dataset
 from dem.scene import scene_from_dict
-from dem.simulate import simulate
+from dem.simulate import run_scene, simulate
 
 G = 9.81
 RECORD_NORTHRIDGE = Path(__file__).resolve().parents[2] / "records" / "northridge_1994_mul009.nc"
@@ -409,18 +409,13 @@ def two_blocks(theta0s=(0.10, 0.15), duration=6.0, k_n=1e8, c_n=1e3):
             "output": {"every": 0.001},
         }
         scene = scene_from_dict(spec)
-        r = simulate(scene)
-        e = r.energy
-        from dem.kernels import step
-
+        ds_run = run_scene(scene)
         masses = np.array([b.mass for b in scene.bodies])
         rest_potential = G * (masses[1] * h1 / 2 + masses[2] * (h1 + h2 / 2))
-        e_input = e[0, step.ENERGY_POTENTIAL] - rest_potential
-        balance = (e[:, step.ENERGY_KINETIC] + e[:, step.ENERGY_POTENTIAL] - e[0, step.ENERGY_POTENTIAL]
-                   + e[:, step.ENERGY_ELASTIC] + e[:, step.ENERGY_DAMPING] + e[:, step.ENERGY_TANGENTIAL]
-                   - e[:, step.ENERGY_BASE_WORK]
-                   - e[0, step.ENERGY_KINETIC] - e[0, step.ENERGY_ELASTIC])
-        histories.append((r.time, -r.theta[:, 1], -r.theta[:, 2], balance / e_input))
+        e_input = G * float(np.sum(masses[1:] * ds_run.y.values[0, 1:])) - rest_potential
+        balance = ds_run.energy_balance_error.values
+        theta = ds_run.theta.values
+        histories.append((ds_run.time.values, -theta[:, 1], -theta[:, 2], balance / e_input))
         errors.append(float(np.abs(balance).max() / e_input))
     n = min(len(hh[0]) for hh in histories)
     ds = xr.Dataset(

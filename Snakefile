@@ -10,9 +10,14 @@ configfile: "config/config.yaml"
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/records.smk"
+include: "workflow/rules/simulate.smk"
+include: "workflow/rules/combine.smk"
+include: "workflow/rules/reduce.smk"
 
 
 rule all:
     input:
         expand("records/{name}.nc", name=RECORD_NAMES),
+        expand("results/cubes/{study}.nc", study=STUDIES),
+        "results/tables/table_7_1.csv",
     default_target: True

@@ -184,8 +184,9 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
 def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     """A record path: as given, relative to the scene, or by name in the repository's records/."""
     candidates = [Path(name), base_dir / name, RECORDS_DIR / name]
-    for ext in (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat"):
-        candidates.append(RECORDS_DIR / f"{name}{ext}")
+    for folder in (base_dir, RECORDS_DIR):
+        for ext in (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat"):
+            candidates.append(folder / f"{name}{ext}")
     for path in candidates:
         if path.is_file():
             return path

@@ -15,3 +15,30 @@ wildcard_constraints:
 
 def record_params(wildcards):
     return RECORDS[wildcards.name]
+
+
+import dem.study
+
+STUDIES = {
+    name: {case.id: case for case in dem.study.case_table(name, spec, config.get("defaults"))}
+    for name, spec in config["studies"].items()
+}
+
+
+wildcard_constraints:
+    study="|".join(STUDIES),
+    case="[A-Za-z0-9_.+-]+",
+
+
+def case_files(wildcards):
+    return [f"results/cases/{wildcards.study}/{case}.nc" for case in STUDIES[wildcards.study]]
+
+
+def case_record(wildcards):
+    record = STUDIES[wildcards.study][wildcards.case].params.get("record")
+    return [f"records/{record}.nc"] if record else []
+
+
+def case_of(wildcards):
+    case = STUDIES[wildcards.study][wildcards.case]
+    return {"study": case.study, "id": case.id, "params": case.params, "scene": case.scene}

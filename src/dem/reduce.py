@@ -1,0 +1,71 @@
+"""Reductions of study cubes into the thesis' tables (chapter 7) as CSV."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from dem.study import minimum_collapse
+
+# thesis Table 7.1: acceleration required to cause failure [m/s2]
+THESIS_TABLE_7_1 = {
+    ("colonnade", 1): {"mexico": 1.39, "kalamata": 16.02, "athens": 27.69},
+    ("single column", 1): {"mexico": 1.15, "kalamata": 8.94, "athens": 20.77},
+    ("colonnade", 2): {"mexico": 1.42, "kalamata": 16.42, "athens": 28.60},
+    ("single column", 2): {"mexico": 1.15, "kalamata": 9.01, "athens": 21.37},
+    ("colonnade", 3): {"mexico": 1.42, "kalamata": 17.30, "athens": 31.91},
+    ("single column", 3): {"mexico": 1.15, "kalamata": 9.28, "athens": 24.98},
+}
+
+
+def thesis_record(name: str) -> str:
+    """'mexico' for 'mexico_standin_chichi_tcu102', etc.; '' for records that stand in for none."""
+    head = name.split("_")[0]
+    return head if head in ("mexico", "kalamata", "athens") else ""
+
+
+def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
+    """Rows of Table 7.1: smallest PGA of the grid that collapses, ours beside the thesis'.
+
+    Our records are stand-ins, so absolute values differ; the grid brackets each value
+    (``pga_grid_below`` is the largest PGA tried that did not collapse, when there is one).
+    """
+    rows = []
+    for system, cube in (("colonnade", colonnade), ("single column", standalone)):
+        first = minimum_collapse(cube, "pga")
+        for n in cube["n_drums"].values:
+            for record in cube["record"].values:
+                value = float(first.sel(n_drums=n, record=record))
+                collapsed = cube["collapsed"].sel(n_drums=n, record=record).fillna(0).values > 0
+                pgas = cube["pga"].values
+                below = pgas[(pgas < value) & ~collapsed] if np.isfinite(value) else pgas[~collapsed]
+                key = thesis_record(str(record))
+                thesis = THESIS_TABLE_7_1.get((system, int(n)), {}).get(key, float("nan"))
+                rows.append({
+                    "system": system, "n_drums": int(n), "record": str(record), "thesis_record": key,
+                    "collapse_pga_m_s2": value,
+                    "pga_grid_below_m_s2": float(below.max()) if len(below) else float("nan"),
+                    "collapse_map": " ".join(f"{p:g}:{'X' if c else '.'}" for p, c in zip(pgas, collapsed)),
+                    "thesis_accel_to_failure_m_s2": thesis,
+                })
+    return rows
+
+
+def write_csv(rows: list[dict], path: str | Path) -> Path:
+    """Write rows atomically (temporary file, then rename)."""
+    import os
+    import tempfile
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    with os.fdopen(fd, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    os.chmod(tmp, 0o644)
+    os.replace(tmp, path)
+    return path

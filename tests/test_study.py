@@ -1,0 +1,71 @@
+"""Study grids: case tables, stable ids, cubes and the Table 7.1 reduction."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from dem.errors import InputError
+from dem.reduce import table_7_1
+from dem.study import case_id, case_table, combine_cases, minimum_collapse, run_case
+
+STUDY = {
+    "structure": {"kind": "column", "height": 6.0, "width": 1.0},
+    "friction": 0.5,
+    "excitation": {"kind": "harmonic", "amplitude": 0.05},
+    "solver": {"duration": 0.5},
+    "grid": {"n_drums": [1, 2], "frequency": [0.5, 2.0]},
+}
+
+
+def test_case_table_is_the_grid_product_with_stable_ids():
+    cases = case_table("s", STUDY, {"contact": {"k_n": 1e9}})
+    assert [c.id for c in cases] == ["drums-1_f-0.5", "drums-1_f-2", "drums-2_f-0.5", "drums-2_f-2"]
+    assert cases[3].scene["structure"]["n_drums"] == 2 and cases[3].scene["excitation"]["frequency"] == 2.0
+    assert cases[0].scene["contact"] == {"k_n": 1e9}, "defaults carried into every case"
+    assert case_table("s", STUDY)[1].id == cases[1].id, "ids depend only on the parameters"
+    assert case_id({"record": "athens_x", "pga": 2.5}) == "rec-athens_x_pga-2.5"
+
+
+@pytest.mark.parametrize("grid, field", [
+    ({"bogus": [1]}, "grid.bogus"),
+    ({"n_drums": []}, "grid.n_drums"),
+    ({"n_drums": 3}, "grid.n_drums"),
+])
+def test_bad_grids_name_the_field(grid, field):
+    with pytest.raises(InputError, match=field.replace(".", r"\.")):
+        case_table("s", {**STUDY, "grid": grid})
+
+
+def test_cases_combine_into_a_cube_with_parameter_dimensions(tmp_path):
+    from dem.dataset import write_dataset
+
+    paths = []
+    for case in case_table("s", STUDY, {"contact": {"k_n": 1e9, "c_n": 1e4}}):
+        ds = run_case(case)
+        assert float(ds["n_drums"]) == case.params["n_drums"] and ds["frequency"].attrs["units"] == "Hz"
+        paths.append(write_dataset(ds, tmp_path / f"{case.id}.nc"))
+    cube = combine_cases(paths)
+    assert dict(cube.sizes) == {"n_drums": 2, "frequency": 2}
+    assert cube["max_rocking"].attrs["units"] == "rad" and cube["n_drums"].attrs["long_name"]
+    assert np.all(np.isfinite(cube["max_rocking"].values))
+
+
+def synthetic_cube(collapsed):
+    pga = [1.0, 2.0, 4.0, 8.0]
+    return xr.Dataset(
+        {"collapsed": (("record", "n_drums", "pga"), np.array(collapsed, dtype=float))},
+        coords={"record": ["mexico_x", "athens_y"], "n_drums": [1], "pga": ("pga", pga, {"units": "m s-2"})},
+    )
+
+
+def test_minimum_collapse_and_table_7_1_rows():
+    # not monotonic: mexico collapses at 2, survives 4, collapses 8; athens never
+    cube = synthetic_cube([[[0, 1, 0, 1]], [[0, 0, 0, 0]]])
+    first = minimum_collapse(cube, "pga")
+    assert float(first.sel(record="mexico_x", n_drums=1)) == 2.0
+    assert np.isnan(float(first.sel(record="athens_y", n_drums=1)))
+    rows = table_7_1(cube, cube)
+    mex = [r for r in rows if r["record"] == "mexico_x" and r["system"] == "single column"][0]
+    assert mex["collapse_pga_m_s2"] == 2.0 and mex["pga_grid_below_m_s2"] == 1.0
+    assert mex["collapse_map"] == "1:. 2:X 4:. 8:X", "the whole collapse map is kept"
+    assert mex["thesis_accel_to_failure_m_s2"] == 1.15

@@ -20,4 +20,7 @@ rule all:
         expand("records/{name}.nc", name=RECORD_NAMES),
         expand("results/cubes/{study}.nc", study=STUDIES),
         "results/tables/table_7_1.csv",
+        "results/tables/thesis_fig_6_10.csv",
+        "results/tables/thesis_fig_6_13.csv",
+        "results/tables/thesis_fig_6_5.csv",
     default_target: True

@@ -69,3 +69,48 @@ def write_csv(rows: list[dict], path: str | Path) -> Path:
     os.chmod(tmp, 0o644)
     os.replace(tmp, path)
     return path
+
+
+def _excitation(cube: xr.Dataset) -> dict:
+    import json
+
+    return json.loads(cube.attrs.get("excitation", "{}"))
+
+
+def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
+    """PGA to initiate rocking and to overturn under a linear acceleration ramp (thesis Fig. 6.10, 6.13).
+
+    The ramp's acceleration at time t is rate x t, so the thresholds are rate times the
+    rocking onset time (mean rotation > theta_cr / 30) and the collapse time.
+    """
+    rate = _excitation(cube).get("rate")
+    if rate is None:
+        raise ValueError("the cube's cases share no ramp rate (excitation attribute)")
+    rows = []
+    for value in cube[along].values:
+        case = cube.sel({along: value})
+        rows.append({along: value.item() if hasattr(value, "item") else value,
+                     "rocking_onset_pga_m_s2": rate * float(case["rocking_onset_time"]),
+                     "overturning_pga_m_s2": rate * float(case["collapse_time"]),
+                     "static_rocking_pga_m_s2": 9.81 * float(np.tan(case["theta_cr"])),
+                     "ramp_rate_m_s3": rate})
+    return rows
+
+
+def frequency_response(cube: xr.Dataset) -> list[dict]:
+    """Total sliding and rocking vs harmonic frequency and amplitude (thesis Fig. 6.1, 6.5, 6.6).
+
+    ``sliding_to_base_ratio`` is the maximum total sliding over the displacement amplitude
+    of the base: near 1 when the base slides under a column that stays put (high frequency).
+    """
+    rows = []
+    for amplitude in cube["amplitude"].values:
+        for frequency in cube["frequency"].values:
+            case = cube.sel(amplitude=amplitude, frequency=frequency)
+            sliding = float(case["max_total_sliding"])
+            rows.append({"amplitude_m": float(amplitude), "frequency_hz": float(frequency),
+                         "pga_m_s2": float(amplitude * (2 * np.pi * frequency) ** 2),
+                         "max_total_sliding_m": sliding, "sliding_to_base_ratio": sliding / float(amplitude),
+                         "max_rocking_rad": float(case["max_rocking"]),
+                         "collapsed": int(case["collapsed"])})
+    return rows

@@ -131,6 +131,8 @@ def _natural_duration(scene_spec: dict, base_dir) -> float:
     return horizontal.duration + 2.0
 
 
+# case attributes a cube keeps when every case agrees on them
+SHARED_ATTRS = ("source", "study", "k_n", "c_n", "k_t", "c_t", "friction", "excitation", "contact_frame")
 CUBE_VARIABLES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding",
                   "residual_total_sliding", "rocking_onset_time", "max_epistyle_displacement", "theta_cr")
 
@@ -138,14 +140,17 @@ CUBE_VARIABLES = ("collapsed", "collapse_time", "max_rocking", "max_total_slidin
 def combine_cases(paths) -> xr.Dataset:
     """Study cube: the scalar measures of every case on dimensions named by the swept parameters."""
     pieces = []
-    attrs = {}
+    shared = None
     for path in paths:
         with xr.open_dataset(path) as ds:
             params = [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
             small = ds[[v for v in CUBE_VARIABLES if v in ds]].load()
             small = small.reset_coords([c for c in small.coords if c not in params], drop=True)
             pieces.append(small.expand_dims(params))
-            attrs = {k: ds.attrs[k] for k in ("source", "study", "k_n", "c_n", "k_t", "c_t") if k in ds.attrs}
+            case_attrs = {k: ds.attrs[k] for k in SHARED_ATTRS if k in ds.attrs}
+            shared = case_attrs if shared is None else {
+                k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+    attrs = shared or {}
     cube = xr.combine_by_coords(pieces, combine_attrs="drop_conflicts")
     for name in list(cube.coords):
         if name in PARAMETERS:

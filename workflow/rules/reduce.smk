@@ -10,3 +10,31 @@ rule table_7_1:
         "../envs/dem.yaml"
     script:
         "../scripts/table_7_1.py"
+
+
+rule ramp_thresholds:
+    input:
+        drums="results/cubes/ramp_drums.nc",
+        taper="results/cubes/ramp_taper.nc",
+    output:
+        drums="results/tables/thesis_fig_6_10.csv",
+        taper="results/tables/thesis_fig_6_13.csv",
+    log:
+        "results/logs/tables/ramp_thresholds.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/ramp_thresholds.py"
+
+
+rule frequency_response:
+    input:
+        "results/cubes/harmonic_frequency.nc",
+    output:
+        "results/tables/thesis_fig_6_5.csv",
+    log:
+        "results/logs/tables/frequency_response.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/frequency_response.py"

@@ -5,7 +5,8 @@ and no integration error enters through the base (thesis 6.3 harmonic and ramp m
 5.1.3 rectangular pulses, 5.1.5 one-sine pulses, 5.1.4 recorded accelerograms):
 
 - KIND_NONE: at rest.
-- KIND_HARMONIC: params [A m, omega rad/s]: d = A sin(omega t).
+- KIND_HARMONIC: params [A m, omega rad/s]: d = A (1 - cos(omega t)): the base starts at
+  rest (no velocity jump, so no spurious sliding at low frequency) with acceleration A omega^2.
 - KIND_RECT_PULSE: params [a_p m/s2, T_p s]: a = a_p for 0 <= t < T_p, then 0.
 - KIND_SINE_PULSE: params [a_p, omega, T = 2 pi / omega]: a = a_p sin(omega t) for one cycle.
 - KIND_RAMP: params [rate m/s3]: a = rate t.
@@ -36,8 +37,8 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
     if kind == KIND_HARMONIC:
         amp = params[0]
         w = params[1]
-        s = np.sin(w * t)
-        return amp * s, amp * w * np.cos(w * t), -amp * w * w * s
+        c = np.cos(w * t)
+        return amp * (1.0 - c), amp * w * np.sin(w * t), amp * w * w * c
     if kind == KIND_RECT_PULSE:
         a_p = params[0]
         t_p = params[1]

@@ -48,7 +48,7 @@ class Case:
 
 def _label(value) -> str:
     if isinstance(value, float):
-        text = f"{value:.4g}"
+        text = f"{value:.6g}"
     else:
         text = str(value)
     return text.replace("/", "-").replace(" ", "")

@@ -28,7 +28,7 @@ UNIT_FACTORS = {"m/s2": 1.0, "m s-2": 1.0, "m/s^2": 1.0, "g": G_STANDARD, "cm/s2
                 "cm s-2": 0.01, "gal": 0.01}
 KIND_KEYS = {
     "none": {},
-    "harmonic": {"frequency": "Hz", "amplitude": "m"},
+    "harmonic": {"frequency": "Hz", "amplitude": "m", "ramp_cycles": "1"},
     "rect_pulse": {"accel": "m s-2", "duration": "s"},
     "sine_pulse": {"accel": "m s-2", "frequency": "Hz"},
     "ramp": {"rate": "m s-3"},
@@ -122,9 +122,12 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
     if kind == "harmonic":
         f = _num(spec, "frequency", field, positive=True)
         amp = _num(spec, "amplitude", field)
-        params[:2] = amp, 2 * math.pi * f
+        cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
+        if cycles < 0:
+            raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")
+        params[:3] = amp, 2 * math.pi * f, cycles / f
         description.update(frequency=f, frequency_units="Hz", amplitude=amp, amplitude_units="m",
-                           pga=amp * (2 * math.pi * f) ** 2)
+                           ramp_cycles=cycles, pga=amp * (2 * math.pi * f) ** 2)
         return BaseMotion(kx.KIND_HARMONIC, params, description=description)
     if kind == "rect_pulse":
         a_p = _num(spec, "accel", field)

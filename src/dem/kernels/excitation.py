@@ -5,8 +5,11 @@ and no integration error enters through the base (thesis 6.3 harmonic and ramp m
 5.1.3 rectangular pulses, 5.1.5 one-sine pulses, 5.1.4 recorded accelerograms):
 
 - KIND_NONE: at rest.
-- KIND_HARMONIC: params [A m, omega rad/s]: d = A (1 - cos(omega t)): the base starts at
-  rest (no velocity jump, so no spurious sliding at low frequency) with acceleration A omega^2.
+- KIND_HARMONIC: params [A m, omega rad/s, T_r s]: d = A e(t) sin(omega t), the amplitude
+  eased in over T_r by the quintic e = 10 s^3 - 15 s^4 + 6 s^5 (s = t / T_r): the base
+  starts at rest with no jump in velocity or acceleration (a jump would excite the contact
+  springs and make a column slide or rock at low frequency, against thesis 6.1). T_r = 0
+  gives the abrupt d = A sin(omega t).
 - KIND_RECT_PULSE: params [a_p m/s2, T_p s]: a = a_p for 0 <= t < T_p, then 0.
 - KIND_SINE_PULSE: params [a_p, omega, T = 2 pi / omega]: a = a_p sin(omega t) for one cycle.
 - KIND_RAMP: params [rate m/s3]: a = rate t.
@@ -37,8 +40,17 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
     if kind == KIND_HARMONIC:
         amp = params[0]
         w = params[1]
-        c = np.cos(w * t)
-        return amp * (1.0 - c), amp * w * np.sin(w * t), amp * w * w * c
+        t_ramp = params[2]
+        sn = np.sin(w * t)
+        cs = np.cos(w * t)
+        e, de, dde = 1.0, 0.0, 0.0
+        if t < t_ramp:
+            x = t / t_ramp
+            e = x * x * x * (10.0 - 15.0 * x + 6.0 * x * x)
+            de = 30.0 * x * x * (1.0 - x) * (1.0 - x) / t_ramp
+            dde = 60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (t_ramp * t_ramp)
+        return (amp * e * sn, amp * (de * sn + e * w * cs),
+                amp * (dde * sn + 2.0 * de * w * cs - e * w * w * sn))
     if kind == KIND_RECT_PULSE:
         a_p = params[0]
         t_p = params[1]

@@ -23,4 +23,5 @@ rule all:
         "results/tables/thesis_fig_6_10.csv",
         "results/tables/thesis_fig_6_13.csv",
         "results/tables/thesis_fig_6_5.csv",
+        expand("results/tables/epistyle_{study}.csv", study=EPISTYLE_STUDIES),
     default_target: True

@@ -114,3 +114,18 @@ def frequency_response(cube: xr.Dataset) -> list[dict]:
                          "max_rocking_rad": float(case["max_rocking"]),
                          "collapsed": int(case["collapsed"])})
     return rows
+
+
+def epistyle_response(cube: xr.Dataset) -> list[dict]:
+    """Maximum epistyle displacement relative to the base, and collapse, for every case of a
+    colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
+    dims = [d for d in cube["max_epistyle_displacement"].dims]
+    rows = []
+    stacked = cube[["max_epistyle_displacement", "collapsed", "max_rocking"]].stack(case=dims)
+    for i in range(stacked.sizes["case"]):
+        case = stacked.isel(case=i)
+        row = {d: (v.item() if hasattr(v, "item") else v) for d, v in ((d, case[d].values) for d in dims)}
+        row.update(max_epistyle_displacement_m=float(case["max_epistyle_displacement"]),
+                   max_rocking_rad=float(case["max_rocking"]), collapsed=int(case["collapsed"]))
+        rows.append(row)
+    return rows

@@ -66,3 +66,9 @@ def test_tiny_study_runs_end_to_end_and_is_deterministic(tmp_path):
     with xr.open_dataset(tmp_path / "results/cubes/colonnade_records.nc") as cube:
         for name in first.data_vars:
             assert np.array_equal(cube[name].values, first[name].values, equal_nan=True), name
+
+
+def test_slurm_profile_dry_run():
+    proc = snakemake("-n", "--profile", "config/profiles/slurm", "--configfile", "tests/workflow/config.yaml")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "dry-run" in proc.stdout + proc.stderr

@@ -34,8 +34,13 @@ def case_files(wildcards):
     return [f"results/cases/{wildcards.study}/{case}.nc" for case in STUDIES[wildcards.study]]
 
 
+# colonnade studies that vary one parameter at a time (thesis 7.3-7.8)
+EPISTYLE_STUDIES = [s for s in STUDIES if s.startswith("colonnade_") and s != "colonnade_records"]
+
+
 def case_record(wildcards):
-    record = STUDIES[wildcards.study][wildcards.case].params.get("record")
+    case = STUDIES[wildcards.study][wildcards.case]
+    record = case.params.get("record") or case.scene.get("excitation", {}).get("file")
     return [f"records/{record}.nc"] if record else []
 
 

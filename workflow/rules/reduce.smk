@@ -38,3 +38,16 @@ rule frequency_response:
         "../envs/dem.yaml"
     script:
         "../scripts/frequency_response.py"
+
+
+rule epistyle_response:
+    input:
+        "results/cubes/{study}.nc",
+    output:
+        "results/tables/epistyle_{study}.csv",
+    log:
+        "results/logs/tables/epistyle_{study}.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/epistyle_response.py"

@@ -13,6 +13,7 @@ include: "workflow/rules/records.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/combine.smk"
 include: "workflow/rules/reduce.smk"
+include: "workflow/rules/figures.smk"
 
 
 rule all:
@@ -24,4 +25,5 @@ rule all:
         "results/tables/thesis_fig_6_13.csv",
         "results/tables/thesis_fig_6_5.csv",
         expand("results/tables/epistyle_{study}.csv", study=EPISTYLE_STUDIES),
+        expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
     default_target: True

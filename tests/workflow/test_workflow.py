@@ -59,6 +59,8 @@ def test_tiny_study_runs_end_to_end_and_is_deterministic(tmp_path):
         assert dict(cube.sizes) == {"record": 1, "n_drums": 1, "pga": 2}
         first = cube.load()
     assert (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
+    figures = sorted(p.name for p in (tmp_path / "results/figures").glob("*.png"))
+    assert figures == ["table_7_1.png", "thesis_fig_6_10.png", "thesis_fig_6_13.png", "thesis_fig_6_5.png"]
     # rerun from scratch: bit-identical cube values
     shutil.rmtree(tmp_path / "results")
     proc = snakemake("-j2", "--configfile", "tiny.yaml", cwd=tmp_path)

@@ -17,7 +17,10 @@ def record_params(wildcards):
     return RECORDS[wildcards.name]
 
 
+import dem.figures
 import dem.study
+
+FIGURE_NAMES = list(dem.figures.FIGURES)
 
 STUDIES = {
     name: {case.id: case for case in dem.study.case_table(name, spec, config.get("defaults"))}
@@ -27,6 +30,7 @@ STUDIES = {
 
 wildcard_constraints:
     study="|".join(STUDIES),
+    figure="|".join(dem.figures.FIGURES),
     case="[A-Za-z0-9_.+-]+",
 
 
@@ -47,3 +51,8 @@ def case_record(wildcards):
 def case_of(wildcards):
     case = STUDIES[wildcards.study][wildcards.case]
     return {"study": case.study, "id": case.id, "params": case.params, "scene": case.scene}
+
+
+
+def figure_input(wildcards):
+    return dem.figures.FIGURES[wildcards.figure][1]

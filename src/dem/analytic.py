@@ -1,308 +1,622 @@
-"""Reference solutions of thesis 5.1: rigid-block rocking and sliding, slow and exact.
+"""Reference solutions for the analytical validation of thesis section 5.1, slow and exact.
 
-Plain NumPy/SciPy (no Numba): Housner's free-rocking period (Eq. 5.1) and the exact
-rigid-block period, impact energy loss (Eq. 5.2-5.4), Newmark's sliding under a
-rectangular pulse (Eq. 5.5), the rigid-plastic sliding block integrated exactly under a
-piecewise-linear accelerogram, its Bouc-Wen approximation (Eq. 5.6-5.7), and the rigid
-rocking equation with impacts under base acceleration (Housner; Zhang and Makris, 5.1.5).
-
-Conventions: a rectangular block of full width ``width`` (2b) and height ``height`` (2h);
+Plain NumPy/SciPy (no Numba), written to be obviously correct rather than fast. It covers
+Housner's free-rocking period of a slender block (5.1.1, Eq. 5.1) and the exact period of
+the rigid rocking equation; energy loss at impact, the peak angles and half periods that
+follow from it (5.1.2, Eq. 5.2-5.4) and the inverse problem (energy ratio from measured
+peaks); Newmark's maximum sliding under a rectangular pulse (5.1.3, Eq. 5.5); the
+rigid-plastic sliding block integrated exactly under a piecewise-linear accelerogram and
+its Bouc-Wen approximation (5.1.4, Eq. 5.6-5.7); and the rigid rocking equation with
+impacts under ground acceleration (Housner; Zhang and Makris, 5.1.5). Geometry follows
+Housner: a rectangle of full width ``width`` = 2b and full height ``height`` = 2h,
 R = sqrt(b^2 + h^2), alpha = atan(b/h), I_O = 4/3 m R^2 about a base corner,
-p^2 = m g R / I_O = 3 g / (4 R). Rotations here are positive when the block leans onto
-its right corner (towards +x); the engine's counter-clockwise angle is the negative.
+p = sqrt(m g R / I_O) = sqrt(3 g / (4 R)). Sign convention for rotations: theta > 0
+means the block stands on its RIGHT bottom corner and leans towards +x (clockwise when
+x points right and y up); the engine measures angles counter-clockwise, so its angle is
+-theta. Sliding: u = x_block - x_ground, and a positive ground acceleration drives u
+negative.
 """
 
 from __future__ import annotations
 
+import bisect
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import quad, solve_ivp
 
+G = 9.81  # default gravitational acceleration [m s-2]
+
+
+# --- geometry ----------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
-class RockingBlock:
+class RockingProperties:
+    """Rocking constants of a rectangular block (thesis Figure 5.1)."""
+
     alpha: float  # slenderness atan(b/h) [rad]
-    radius: float  # half diagonal R [m]
+    radius: float  # half diagonal R = sqrt(b^2 + h^2) [m]
+    inertia_corner: float  # moment of inertia about a base corner I_O = 4/3 m R^2 [kg m2]
     p: float  # frequency parameter sqrt(m g R / I_O) [rad s-1]
-    inertia_corner: float  # I_O about a base corner [kg m2]
 
 
-def rectangle_rocking_properties(width, height, mass=1.0, g=9.81) -> RockingBlock:
-    radius = 0.5 * math.hypot(width, height)
-    inertia = 4.0 / 3.0 * mass * radius**2
-    return RockingBlock(math.atan(width / height), radius, math.sqrt(mass * g * radius / inertia), inertia)
+def rectangle_rocking_properties(width, height, mass=1.0, g=G) -> RockingProperties:
+    """Slenderness, half diagonal, corner inertia and frequency parameter of a rectangle.
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    mass: mass m of the block [kg]; alpha, R and p do not depend on it
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    RockingProperties with alpha [rad], radius R [m], inertia_corner I_O [kg m2], p [rad s-1].
+    """
+    if not (width > 0.0 and height > 0.0 and mass > 0.0 and g > 0.0):
+        raise ValueError(f"width, height, mass and g must be positive, got {width}, {height}, {mass}, {g}")
+    b, h = 0.5 * width, 0.5 * height
+    radius = math.hypot(b, h)
+    inertia = 4.0 / 3.0 * mass * radius**2  # rectangle: I_G = m R^2 / 3, plus m R^2 (parallel axes)
+    return RockingProperties(alpha=math.atan(b / h), radius=radius, inertia_corner=inertia,
+                             p=math.sqrt(mass * g * radius / inertia))
 
 
-def housner_period_slender(width, height, theta0, g=9.81):
-    """Free-rocking period [s] of a slender block, thesis Eq. 5.1: T = 4/p acosh(1 / (1 - theta0/alpha))."""
-    blk = rectangle_rocking_properties(width, height, g=g)
-    return 4.0 / blk.p * np.arccosh(1.0 / (1.0 - np.asarray(theta0) / blk.alpha))
+# --- 5.1.1 free rocking period -------------------------------------------------------------
 
 
-def rocking_period_exact(width, height, theta0, g=9.81):
-    """Free-rocking period [s] of the exact rigid rocking equation I_O theta'' = -m g R sin(alpha - theta).
+def housner_period_slender(width, height, theta0, g=G):
+    """Full-cycle free-rocking period of a slender block without energy loss, thesis Eq. 5.1.
 
-    T = 4 int_0^theta0 dtheta / theta', with theta'^2 = 2 p^2 [cos(alpha - theta0) - cos(alpha - theta)];
-    the substitution theta = theta0 (1 - s^2) removes the endpoint singularity.
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    theta0: initial rotation amplitude, scalar or array; its sign is ignored [rad]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    T = 4/p acosh(1 / (1 - theta0/alpha)) [s], same shape as theta0; inf where |theta0| >= alpha.
     """
     blk = rectangle_rocking_properties(width, height, g=g)
-    a, th0 = blk.alpha, float(theta0)
+    ratio = np.abs(np.asarray(theta0, dtype=float)) / blk.alpha
+    with np.errstate(divide="ignore", invalid="ignore"):
+        period = 4.0 / blk.p * np.arccosh(1.0 / (1.0 - ratio))  # thesis Eq. 5.1
+    period = np.where(ratio >= 1.0, np.inf, period)
+    return period[()] if period.ndim == 0 else period
+
+
+def _exact_period_scalar(blk: RockingProperties, theta0: float) -> float:
+    """Exact free-rocking period [s] for one amplitude theta0 [rad] (see rocking_period_exact)."""
+    a, th0 = blk.alpha, abs(theta0)
+    if th0 == 0.0:
+        return 0.0
+    if th0 >= a:
+        return math.inf
 
     def integrand(s):
+        # theta = th0 (1 - s^2), dtheta = -2 th0 s ds: the 1/sqrt endpoint singularity at
+        # theta = th0 (s = 0) becomes a finite limit
         theta = th0 * (1.0 - s * s)
-        # cos(a - th0) - cos(a - theta) = 2 sin(a - (th0 + theta)/2) sin((th0 - theta)/2), no cancellation
+        # cos(a - th0) - cos(a - theta) = 2 sin(a - (th0 + theta)/2) sin((th0 - theta)/2),
+        # written as a product to avoid cancellation near the turning point
         gap = 2.0 * math.sin(a - 0.5 * (th0 + theta)) * math.sin(0.5 * th0 * s * s)
+        if s == 0.0:
+            # limit s -> 0: gap ~ sin(a - th0) th0 s^2 / 2
+            return 2.0 * th0 / math.sqrt(blk.p**2 * math.sin(a - th0) * th0)
+        # theta'^2 = 2 p^2 gap (energy: 1/2 I_O theta'^2 = m g R [cos(a - th0) - cos(a - theta)])
         return 2.0 * th0 * s / math.sqrt(2.0 * blk.p**2 * gap)
 
-    quarter, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-11, limit=200)
+    quarter, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-12, limit=200)
     return 4.0 * quarter
 
 
+def rocking_period_exact(width, height, theta0, g=G):
+    """Full-cycle period of free rocking governed by the exact (not linearised) rigid equation.
+
+    I_O theta'' = -m g R sin(alpha - theta) for theta > 0 (mirror image for theta < 0), no
+    energy loss. By energy conservation 1/2 I_O theta'^2 = m g R [cos(alpha - theta0) -
+    cos(alpha - theta)], and T = 4 int_0^theta0 dtheta / theta'. The integral is evaluated
+    with scipy.integrate.quad (relative tolerance 1e-12) after the substitution
+    theta = theta0 (1 - s^2), which removes the inverse square root at theta = theta0. It
+    tends to Eq. 5.1 as alpha -> 0.
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    theta0: initial rotation amplitude (released at rest), scalar or array; sign ignored [rad]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    T [s], same shape as theta0; 0 for theta0 = 0 and inf where |theta0| >= alpha.
+    """
+    blk = rectangle_rocking_properties(width, height, g=g)
+    th = np.asarray(theta0, dtype=float)
+    out = np.array([_exact_period_scalar(blk, float(x)) for x in th.ravel()]).reshape(th.shape)
+    return out[()] if out.ndim == 0 else out
+
+
+# --- 5.1.2 energy loss at impact -----------------------------------------------------------
+
+
 def rocking_peak_angles_eq53(width, height, theta0, r, n_impacts):
-    """Peak angles theta_0..theta_n [rad] after each impact, thesis Eq. 5.3."""
-    alpha = math.atan(width / height)
+    """Peak rotation after each of n impacts of a freely rocking slender block, thesis Eq. 5.3.
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    theta0: initial rotation, released at rest [rad]
+    r: kinetic energy ratio after/before each impact, thesis Eq. 5.2 [-]
+    n_impacts: number of impacts n [-]
+
+    Returns
+    -------
+    Array of n_impacts + 1 peak angles theta_0 .. theta_n [rad].
+    """
+    alpha = rectangle_rocking_properties(width, height).alpha
     n = np.arange(n_impacts + 1)
+    # thesis Eq. 5.3: theta_n = alpha (1 - sqrt(1 - r^n [1 - (1 - theta0/alpha)^2]))
     return alpha * (1.0 - np.sqrt(1.0 - r**n * (1.0 - (1.0 - theta0 / alpha) ** 2)))
 
 
-def rocking_half_periods_eq54(width, height, theta0, r, n_impacts, g=9.81):
-    """Half-cycle durations [s] after impacts 0..n, thesis Eq. 5.4."""
+def rocking_half_periods_eq54(width, height, theta0, r, n_impacts, g=G):
+    """Half-cycle durations of a freely rocking slender block losing energy at impact, Eq. 5.4.
+
+    The value for index n is the duration of the half cycle whose amplitude is the peak
+    theta_n of Eq. 5.3 (from the impact that starts it to the next impact).
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    theta0: initial rotation, released at rest [rad]
+    r: kinetic energy ratio after/before each impact, thesis Eq. 5.2 [-]
+    n_impacts: number of impacts n [-]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    Array of n_impacts + 1 half periods T_n / 2 [s].
+    """
     blk = rectangle_rocking_properties(width, height, g=g)
     n = np.arange(n_impacts + 1)
+    # thesis Eq. 5.4: T/2 = 2 sqrt(I_O / (W R)) atanh(sqrt(r^n [1 - (1 - theta0/alpha)^2]))
     return 2.0 / blk.p * np.arctanh(np.sqrt(r**n * (1.0 - (1.0 - theta0 / blk.alpha) ** 2)))
 
 
 def restitution_from_peaks(width, height, peaks):
-    """Energy ratio of each impact implied by successive peaks through Eq. 5.3."""
-    alpha = math.atan(width / height)
-    e = 1.0 - (1.0 - np.asarray(peaks) / alpha) ** 2
-    return e[1:] / e[:-1]
+    """Energy ratio of each impact implied by successive peak angles through Eq. 5.3.
+
+    r_i = [1 - (1 - theta_i/alpha)^2] / [1 - (1 - theta_{i-1}/alpha)^2], the inverse of
+    thesis Eq. 5.3 between consecutive peaks (slender-block approximation).
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    peaks: successive peak rotation magnitudes theta_0, theta_1, ... [rad]
+
+    Returns
+    -------
+    Array of len(peaks) - 1 energy ratios r_i [-].
+    """
+    alpha = rectangle_rocking_properties(width, height).alpha
+    level = 1.0 - (1.0 - np.abs(np.asarray(peaks, dtype=float)) / alpha) ** 2  # thesis Eq. 5.3
+    return level[1:] / level[:-1]
 
 
 def restitution_from_peaks_exact(width, height, peaks):
-    """Energy ratio of each impact from the exact potential energy at successive peaks."""
-    alpha = math.atan(width / height)
-    e = np.cos(alpha - np.asarray(peaks)) - math.cos(alpha)
-    return e[1:] / e[:-1]
+    """Energy ratio of each impact from the exact potential energy at successive peaks.
+
+    At a peak the energy is all potential, m g R [cos(alpha - theta) - cos(alpha)], and none
+    is lost between impacts, so r_i = [cos(alpha - theta_i) - cos alpha] /
+    [cos(alpha - theta_{i-1}) - cos alpha] is exactly the kinetic energy ratio of Eq. 5.2.
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    peaks: successive peak rotation magnitudes theta_0, theta_1, ... [rad]
+
+    Returns
+    -------
+    Array of len(peaks) - 1 energy ratios r_i [-].
+    """
+    alpha = rectangle_rocking_properties(width, height).alpha
+    energy = np.cos(alpha - np.abs(np.asarray(peaks, dtype=float))) - math.cos(alpha)
+    return energy[1:] / energy[:-1]  # thesis Eq. 5.2 with the kinetic energy at theta = 0
 
 
 def housner_restitution(width, height):
-    """Housner's energy ratio of a rigid block impact, (1 - 3/2 sin^2 alpha)^2 (angular momentum)."""
-    alpha = math.atan(width / height)
+    """Housner's kinetic energy ratio of a rigid-block impact, r = (1 - 3/2 sin^2 alpha)^2.
+
+    From conservation of angular momentum about the new pivot corner (rectangle,
+    I_O = 4/3 m R^2); for reference with thesis Eq. 5.2.
+
+    Parameters
+    ----------
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+
+    Returns
+    -------
+    r [-].
+    """
+    alpha = rectangle_rocking_properties(width, height).alpha
     return (1.0 - 1.5 * math.sin(alpha) ** 2) ** 2
 
 
-def newmark_pulse_max_sliding(a_p, T_p, mu, g=9.81):
-    """Maximum sliding [m] under a rectangular pulse, thesis Eq. 5.5 (0 when a_p <= mu g)."""
+# --- 5.1.3 sliding under a rectangular pulse -----------------------------------------------
+
+
+def newmark_pulse_max_sliding(a_p, T_p, mu, g=G):
+    """Maximum sliding of a rigid block under a rectangular acceleration pulse, thesis Eq. 5.5.
+
+    Parameters
+    ----------
+    a_p: pulse amplitude [m s-2]
+    T_p: pulse duration [s]
+    mu: Coulomb friction coefficient, scalar or array [-]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    u_max = a_p T_p^2 / 2 (a_p / (mu g) - 1) [m] where a_p > mu g, else 0; shape of mu.
+    """
     mu = np.asarray(mu, dtype=float)
-    u = a_p * T_p**2 / 2.0 * (a_p / (mu * g) - 1.0)
-    return np.where(a_p > mu * g, u, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u_max = a_p * T_p**2 / 2.0 * (a_p / (mu * g) - 1.0)  # thesis Eq. 5.5
+    out = np.where(a_p > mu * g, u_max, 0.0)
+    return out[()] if out.ndim == 0 else out
+
+
+# --- 5.1.4 sliding under an accelerogram ---------------------------------------------------
 
 
 @dataclass
 class SlidingResponse:
-    u: np.ndarray  # relative displacement, block minus ground [m]
+    """Sliding of a block relative to the ground, sampled on the input time grid."""
+
+    u: np.ndarray  # relative displacement x_block - x_ground [m]
     v: np.ndarray  # relative velocity [m s-1]
 
 
-def rigid_plastic_sliding(time, ground_accel, mu, g=9.81) -> SlidingResponse:
-    """Exact sliding of a rigid block on a rigid plane (Coulomb mu) under piecewise-linear a_g.
-
-    Relative motion u = x_block - x_ground: while sliding with direction s,
-    u'' = -a_g(t) - mu g s; while stuck, u' = 0 until |a_g| exceeds mu g. Within each
-    sample interval a_g is linear, so v is quadratic and u cubic: stop and start instants
-    are found as roots, not by stepping.
-    """
+def _series(time, ground_accel, strictly_increasing):
+    """(t, a) as float arrays, checked: same length >= 2, finite, time increasing."""
     t = np.asarray(time, dtype=float)
     a = np.asarray(ground_accel, dtype=float)
-    limit = mu * g
+    if t.ndim != 1 or t.shape != a.shape or len(t) < 2:
+        raise ValueError(f"time and ground_accel must be 1-D of equal length >= 2, got {t.shape}, {a.shape}")
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
+        raise ValueError("time and ground_accel must be finite")
+    steps = np.diff(t)
+    if strictly_increasing and np.any(steps <= 0.0):
+        raise ValueError("time must be strictly increasing")
+    if np.any(steps < 0.0):
+        raise ValueError("time must be non-decreasing")
+    return t, a
+
+
+def _slip_onset(a0, slope, limit, x, h, now_allowed=True):
+    """First instant in [x, h] at which a stuck block starts to slide, and its direction.
+
+    The ground acceleration is a0 + slope s on the interval 0 <= s <= h; sliding starts
+    where |a_g| > limit = mu g, decided from the exact crossing instants of the line with
+    +-limit (not from re-evaluating a_g, which rounding could put on either side).
+    ``now_allowed=False`` refuses a start at x inside a band the line is leaving (used
+    after a start that rounding made void).
+
+    Returns (direction, instant): direction -1 when a_g > mu g (the block lags, u decreases),
+    +1 when a_g < -mu g; (0, h) when it stays stuck up to h.
+    """
+    best = (0, h)
+    for sense in (1.0, -1.0):
+        level, rate = sense * a0, sense * slope  # outside the band: level + rate s > limit
+        if rate == 0.0:
+            start = x if (level > limit and now_allowed) else None
+        elif rate > 0.0:  # outside for s > cross
+            cross = (limit - level) / rate
+            start = max(x, cross) if cross < h else None
+        else:  # outside for s < cross, i.e. leaving the region
+            cross = (limit - level) / rate
+            start = x if (x < cross and now_allowed) else None
+        if start is not None and (best[0] == 0 or start < best[1]):
+            best = (int(-sense), start)
+    return best
+
+
+def _first_zero_of_quadratic(v0, b, c, length):
+    """Smallest s in (0, length] with v0 + b s + c s^2 = 0 (v0 != 0), or None."""
+    if c == 0.0:
+        roots = [-v0 / b] if b != 0.0 else []
+    else:
+        disc = b * b - 4.0 * c * v0
+        if disc < 0.0:
+            return None
+        q = -0.5 * (b + math.copysign(math.sqrt(disc), b))  # stable pair q/c, v0/q
+        roots = [q / c] + ([v0 / q] if q != 0.0 else [])
+    roots = [s for s in roots if 0.0 < s <= length]
+    return min(roots) if roots else None
+
+
+def rigid_plastic_sliding(time, ground_accel, mu, g=G) -> SlidingResponse:
+    """Exact sliding of a rigid block on a rigid plane with Coulomb friction (thesis 5.1.4).
+
+    Static and kinetic friction coefficients are both mu. The ground acceleration a_g is
+    linear between samples. Relative motion u = x_block - x_ground obeys, while sliding with
+    direction s = sign(v), u'' = -a_g(t) - mu g s; while stuck u' = 0, until |a_g| exceeds
+    mu g, when sliding starts in direction -sign(a_g) (a positive ground acceleration drives u
+    negative). Within each sample interval a_g is linear, so v is quadratic and u cubic in
+    time: the stop instants (v = 0, root of a quadratic) and the start instants (|a_g| = mu g,
+    root of a line) are found exactly and the motion is summed in closed form, with no time
+    step. After a stop the block sticks unless |a_g| > mu g there, in which case it slides
+    back at once.
+
+    Parameters
+    ----------
+    time: sample instants, non-decreasing; a repeated instant is a jump of a_g [s]
+    ground_accel: horizontal ground acceleration a_g at those instants [m s-2]
+    mu: Coulomb friction coefficient [-]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    SlidingResponse with u [m] and v [m s-1] at the sample instants; the block starts at rest.
+    """
+    t, a = _series(time, ground_accel, strictly_increasing=False)
+    if not mu >= 0.0:
+        raise ValueError(f"mu must be >= 0, got {mu}")
+    limit = mu * g  # friction force per unit mass [m s-2]
     u_out = np.zeros_like(t)
     v_out = np.zeros_like(t)
-    u, v, s = 0.0, 0.0, 0  # s = sliding direction, 0 when stuck
+    u, v, direction = 0.0, 0.0, 0  # direction = sign of sliding, 0 when stuck
     for i in range(len(t) - 1):
         h = t[i + 1] - t[i]
-        a0, k = a[i], (a[i + 1] - a[i]) / h
-        tau = 0.0
-        while tau < h:
-            ag = a0 + k * tau
-            if s == 0:
-                # stuck: find when |a_g| first exceeds mu g in [tau, h]
-                if abs(ag) > limit:
-                    s = -1 if ag > 0 else 1
-                    continue
-                times = _linear_roots(a0, k, limit, tau, h)
-                if not times:
+        if h > 0.0:
+            a0, slope = a[i], (a[i + 1] - a[i]) / h
+            x, now_allowed = 0.0, True
+            for _ in range(10_000):  # a handful of stops and starts per interval at most
+                if x >= h:
                     break
-                # |a_g| reaches mu g here and grows: sliding starts from rest
-                tau = min(times)
-                s = -1 if a0 + k * tau > 0 else 1
-                continue
-            # sliding with direction s: v(x) = v + c1 x + c2 x^2 with x = tau' - tau
-            b0 = -(a0 + k * tau) - limit * s
-            c2 = -0.5 * k
-            stop = _first_root_quadratic(v, b0, c2, h - tau)
-            step = (h - tau) if stop is None else stop
-            u += v * step + 0.5 * b0 * step**2 - k * step**3 / 6.0
-            v += b0 * step + c2 * step**2
-            tau += step
-            if stop is not None:
-                v = 0.0
-                ag = a0 + k * tau
-                # restart the other way at once if the ground still overcomes friction
-                reverse = -1 if ag > 0 else 1
-                s = reverse if abs(ag) > limit and reverse != s else 0
+                if direction == 0:
+                    direction, x = _slip_onset(a0, slope, limit, x, h, now_allowed)
+                    now_allowed = True
+                    continue
+                # sliding: relative acceleration -a_g - mu g s, linear in the local time s
+                b = -(a0 + slope * x) - limit * direction  # u'' at s = 0
+                c = -0.5 * slope  # v(s) = v + b s + c s^2
+                if direction * v <= 0.0:
+                    # sliding from rest: u'' has the sign of s away from rounding at a start instant
+                    v = 0.0
+                    b = direction * max(direction * b, 0.0)
+                    if b == 0.0 and direction * c <= 0.0:
+                        direction, now_allowed = 0, False  # touched mu g and turned back: no slip
+                        continue
+                    stop = -b / c if b * c < 0.0 else None
+                    if stop is not None and stop > h - x:
+                        stop = None
+                else:
+                    stop = _first_zero_of_quadratic(v, b, c, h - x)
+                step = h - x if stop is None else stop
+                u += v * step + 0.5 * b * step**2 + c * step**3 / 3.0  # exact cubic
+                v += b * step + c * step**2
+                x = h if stop is None else x + step
+                if stop is not None:
+                    v, direction = 0.0, 0  # stopped; the next pass decides whether it restarts
+            else:
+                raise RuntimeError(f"rigid_plastic_sliding: no progress in interval {i} at t = {t[i]}")
         u_out[i + 1] = u
         v_out[i + 1] = v
     return SlidingResponse(u_out, v_out)
 
 
-def _linear_roots(a0, k, limit, lo, hi):
-    """Instants x in (lo, hi] where a0 + k x = +-limit."""
-    out = []
-    if k != 0.0:
-        for target in (limit, -limit):
-            x = (target - a0) / k
-            if lo < x <= hi:
-                out.append(x)
-    return out
+class _PiecewiseLinear:
+    """Scalar evaluation of a piecewise-linear function given by samples (constant outside)."""
+
+    def __init__(self, t, a):
+        self.t = [float(x) for x in t]
+        self.a = [float(x) for x in a]
+
+    def __call__(self, x):
+        t, a = self.t, self.a
+        if x <= t[0]:
+            return a[0]
+        if x >= t[-1]:
+            return a[-1]
+        j = bisect.bisect_right(t, x) - 1
+        return a[j] + (a[j + 1] - a[j]) * (x - t[j]) / (t[j + 1] - t[j])
 
 
-def _first_root_quadratic(v0, b, c, length):
-    """First x in (0, length] where v0 + b x + c x^2 = 0, or None."""
-    roots = []
-    if c == 0.0:
-        if b != 0.0:
-            roots = [-v0 / b]
-    else:
-        disc = b * b - 4.0 * c * v0
-        if disc >= 0.0:
-            sq = math.sqrt(disc)
-            # numerically stable pair
-            q = -0.5 * (b + math.copysign(sq, b)) if b != 0.0 else 0.5 * sq
-            roots = [q / c] + ([v0 / q] if q != 0.0 else [])
-    roots = sorted(x for x in roots if 1e-15 < x <= length)
-    return roots[0] if roots else None
+def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=G) -> SlidingResponse:
+    """Sliding block with Bouc-Wen hysteretic friction, thesis Eq. 5.6-5.7.
 
+    u''(t) + mu g z(t) = -a_g(t) and u_y z' + gamma |u'| |z|^(n-1) z + beta u' |z|^n - u' = 0,
+    with u = x_block - x_ground and z the dimensionless hysteretic variable (|z| <= 1). As
+    u_y -> 0 this tends to the rigid-plastic block of :func:`rigid_plastic_sliding`. The
+    ground acceleration is interpolated linearly between samples. The system is stiff
+    (elastic frequency sqrt(mu g / u_y)): integrated with LSODA, max_step = sample spacing.
 
-def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=9.81) -> SlidingResponse:
-    """Sliding block with the Bouc-Wen hysteretic friction of thesis Eq. 5.6-5.7.
+    Parameters
+    ----------
+    time: sample instants, strictly increasing [s]
+    ground_accel: horizontal ground acceleration a_g at those instants [m s-2]
+    mu: Coulomb friction coefficient [-]
+    u_y: yield displacement of the rigid-plastic limit [m]
+    gamma: Bouc-Wen shape parameter [-]
+    beta: Bouc-Wen shape parameter [-]
+    n: Bouc-Wen sharpness exponent [-]
+    g: gravitational acceleration [m s-2]
 
-    u'' + mu g z = -a_g and u_y z' + gamma |u'| |z|^(n-1) z + beta u' |z|^n - u' = 0. The
-    printed Eq. 5.6 reads "mu gamma z'"; the force term is mu g z (Konstantinidis and
-    Makris), as implemented here. Stiff: integrated with LSODA.
+    Returns
+    -------
+    SlidingResponse with u [m] and v [m s-1] at the sample instants; starts at rest, z = 0.
     """
-    t = np.asarray(time, dtype=float)
-    a = np.asarray(ground_accel, dtype=float)
+    t, a = _series(time, ground_accel, strictly_increasing=True)
+    accel = _PiecewiseLinear(t, a)
 
     def rhs(tt, y):
         _, v, z = y
-        ag = np.interp(tt, t, a)
         az = abs(z)
+        # thesis Eq. 5.7: u_y z' = u' - gamma |u'| |z|^(n-1) z - beta u' |z|^n
         dz = (v - gamma * abs(v) * az ** (n - 1) * z - beta * v * az**n) / u_y
-        return [v, -ag - mu * g * z, dz]
+        # thesis Eq. 5.6 as printed reads "u'' + mu gamma z' = -a_g", a garbled transcription;
+        # the Konstantinidis and Makris model is u'' + mu g z = -a_g, implemented here
+        return [v, -accel(tt) - mu * g * z, dz]
 
     sol = solve_ivp(rhs, (t[0], t[-1]), [0.0, 0.0, 0.0], method="LSODA", t_eval=t,
                     rtol=1e-8, atol=[1e-10, 1e-10, 1e-8], max_step=float(np.min(np.diff(t))))
+    if not sol.success:
+        raise RuntimeError(f"bouc_wen_sliding: {sol.message}")
     return SlidingResponse(sol.y[0], sol.y[1])
+
+
+# --- 5.1.5 rigid rocking under ground acceleration -----------------------------------------
 
 
 @dataclass
 class RockingResponse:
-    theta: np.ndarray  # rotation, positive leaning right [rad]; NaN after overturning
-    omega: np.ndarray  # [rad s-1]
-    overturned: bool
-    impact_times: list
+    """Rocking of a rigid block, sampled on the input time grid."""
+
+    theta: np.ndarray  # rotation, > 0 on the right corner leaning to +x [rad]; NaN after overturning
+    omega: np.ndarray  # angular velocity d theta / dt [rad s-1]; NaN after overturning
+    overturned: bool  # |theta| reached pi/2
+    impact_times: list = field(default_factory=list)  # instants of theta = 0 crossings [s]
 
 
-def rigid_rocking_response(time, ground_accel, width, height, r, g=9.81, theta0=0.0, omega0=0.0,
+def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0, omega0=0.0,
                            rest_omega=1e-8) -> RockingResponse:
-    """Rocking of a rigid block that cannot slide under horizontal ground acceleration a_g.
+    """Rocking of a rigid block that cannot slide, under horizontal ground acceleration.
 
-    theta > 0 (pivot on the right corner): theta'' = -p^2 [sin(alpha - theta) + a_g/g cos(alpha - theta)];
-    theta < 0: theta'' = p^2 [sin(alpha + theta) - a_g/g cos(alpha + theta)]. A ground
-    acceleration towards -x pushes the block onto its right corner. From rest, rocking
-    starts when |a_g| > g tan(alpha). At each impact (theta = 0) the angular velocity is
-    multiplied by sqrt(r), r being the kinetic energy ratio of thesis Eq. 5.2.
+    Housner / Zhang and Makris rigid rocking equation (thesis 5.1.5), with theta > 0 the
+    block standing on its right corner and leaning to +x (the engine's angle is -theta):
+
+        theta > 0:  I_O theta'' = -m g R sin(alpha - theta) - m a_g R cos(alpha - theta)
+        theta < 0:  I_O theta'' = +m g R sin(alpha + theta) - m a_g R cos(alpha + theta)
+
+    Derivation: relative to the pivot the centre of mass is at R(-sin(alpha - theta),
+    cos(alpha - theta)); weight and the d'Alembert force -m a_g of the accelerating ground
+    give these moments, so a negative a_g (ground accelerating to -x) tips the block onto its
+    right corner. From rest, rocking starts when |a_g| > g tan(alpha), towards theta > 0 if
+    a_g < 0; while at rest it stays there. At each impact (theta = 0) theta' is multiplied by
+    sqrt(r), r being the kinetic energy ratio of thesis Eq. 5.2, and the pivot switches
+    corner; impacts are located with solve_ivp terminal events and the integration restarted.
+    When theta' after an impact is below ``rest_omega`` (chattering) the block is put at rest.
+    Integration: DOP853, rtol 1e-10, atol 1e-12, max_step = smallest sample spacing, a_g
+    linear between samples.
+
+    Parameters
+    ----------
+    time: sample instants, strictly increasing [s]
+    ground_accel: horizontal ground acceleration a_g at those instants [m s-2]
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    r: kinetic energy ratio after/before impact, thesis Eq. 5.2 [-]
+    g: gravitational acceleration [m s-2]
+    theta0: rotation at time[0] [rad]
+    omega0: angular velocity at time[0] [rad s-1]
+    rest_omega: |theta'| after an impact below which the block settles to rest [rad s-1]
+
+    Returns
+    -------
+    RockingResponse with theta [rad] and omega [rad s-1] at the sample instants (NaN after
+    overturning, i.e. once |theta| reaches pi/2), overturned, and the impact instants [s].
     """
-    t = np.asarray(time, dtype=float)
-    a = np.asarray(ground_accel, dtype=float)
+    t, a = _series(time, ground_accel, strictly_increasing=True)
+    if not 0.0 <= r <= 1.0:
+        raise ValueError(f"r must be in [0, 1], got {r}")
     blk = rectangle_rocking_properties(width, height, g=g)
-    alpha, p2 = blk.alpha, blk.p**2
-    onset = g * math.tan(alpha)
+    alpha, p2 = blk.alpha, blk.p**2  # p^2 = m g R / I_O
+    onset = g * math.tan(alpha)  # uplift threshold |a_g| > g tan(alpha)
+    accel = _PiecewiseLinear(t, a)
     theta = np.full_like(t, np.nan)
     omega = np.full_like(t, np.nan)
     impacts: list = []
-
-    def ag(tt):
-        return np.interp(tt, t, a)
+    max_step = float(np.min(np.diff(t)))
 
     def rhs(tt, y, side):
         th = y[0]
-        if side > 0:
-            acc = -p2 * (math.sin(alpha - th) + ag(tt) / g * math.cos(alpha - th))
-        else:
-            acc = p2 * (math.sin(alpha + th) - ag(tt) / g * math.cos(alpha + th))
+        ag = accel(tt)
+        if side > 0:  # pivot on the right corner
+            acc = -p2 * (math.sin(alpha - th) + ag / g * math.cos(alpha - th))
+        else:  # pivot on the left corner
+            acc = p2 * (math.sin(alpha + th) - ag / g * math.cos(alpha + th))
         return [y[1], acc]
 
-    def hit_zero(tt, y, side):
+    def impact(tt, y, side):
         return y[0]
 
     def topple(tt, y, side):
         return abs(y[0]) - 0.5 * math.pi
 
-    hit_zero.terminal = True
+    impact.terminal = True
     topple.terminal = True
+
+    def rest_until(t_from):
+        """First instant >= t_from at which |a_g| > g tan(alpha), and the side; (None, 0) if never."""
+        j0 = bisect.bisect_right(accel.t, t_from)  # first sample strictly after t_from
+        a_from = accel(t_from)
+        if abs(a_from) > onset:
+            return t_from, (1 if a_from < 0.0 else -1)
+        t_prev, a_prev = t_from, a_from
+        for j in range(j0, len(t)):
+            if abs(a[j]) > onset:
+                target = math.copysign(onset, a[j])
+                t_start = t_prev + (target - a_prev) / (a[j] - a_prev) * (t[j] - t_prev)
+                return min(max(t_start, t_prev), t[j]), (1 if a[j] < 0.0 else -1)
+            t_prev, a_prev = t[j], a[j]
+        return None, 0
+
+    t_now = float(t[0])
     state = np.array([theta0, omega0], dtype=float)
-    t_now = t[0]
-    side = 0 if theta0 == 0.0 and omega0 == 0.0 else (1 if (theta0 > 0 or (theta0 == 0 and omega0 > 0)) else -1)
-    i_next = 0
+    if theta0 == 0.0 and omega0 == 0.0:
+        side = 0
+    elif theta0 > 0.0 or (theta0 == 0.0 and omega0 > 0.0):
+        side = 1
+    else:
+        side = -1
     overturned = False
-    max_step = float(np.min(np.diff(t)))
     while t_now < t[-1]:
         if side == 0:
-            # at rest: find the first instant |a_g| > g tan(alpha)
-            idx = np.flatnonzero((np.abs(a) > onset) & (t >= t_now))
-            while i_next < len(t) and t[i_next] <= t_now:
-                theta[i_next], omega[i_next] = 0.0, 0.0
-                i_next += 1
-            if len(idx) == 0:
-                theta[i_next:], omega[i_next:] = 0.0, 0.0
+            t_start, side = rest_until(t_now)
+            resting = (t >= t_now) & ((t < t_start) if t_start is not None else True)
+            theta[resting], omega[resting] = 0.0, 0.0
+            if t_start is None:
                 break
-            j = idx[0]
-            if j > 0 and t[j - 1] >= t_now:
-                target = math.copysign(onset, a[j])
-                t_start = t[j - 1] + (target - a[j - 1]) / (a[j] - a[j - 1]) * (t[j] - t[j - 1])
-            else:
-                t_start = max(t[j], t_now)
-            while i_next < len(t) and t[i_next] < t_start:
-                theta[i_next], omega[i_next] = 0.0, 0.0
-                i_next += 1
-            t_now = t_start
-            side = 1 if a[j] < 0 else -1
-            state = np.array([0.0, 0.0])
+            t_now, state = t_start, np.array([0.0, 0.0])
+            if t_now >= t[-1]:
+                break
             continue
-        hit_zero.direction = -1 if side > 0 else 1
-        sol = solve_ivp(rhs, (t_now, t[-1]), state, args=(side,), events=(hit_zero, topple),
-                        dense_output=True, rtol=1e-10, atol=1e-12, max_step=max_step)
-        t_end = sol.t[-1]
-        mask = (t >= t_now) & (t <= t_end)
-        if np.any(mask):
-            y = sol.sol(t[mask])
-            theta[mask], omega[mask] = y[0], y[1]
-        i_next = int(np.searchsorted(t, t_end, side="right"))
+        # impact when theta returns to 0 from the current side
+        impact.direction = -1.0 if side > 0 else 1.0
+        sol = solve_ivp(rhs, (t_now, t[-1]), state, method="DOP853", args=(side,),
+                        events=(impact, topple), dense_output=True, rtol=1e-10, atol=1e-12,
+                        max_step=max_step)
+        if not sol.success:
+            raise RuntimeError(f"rigid_rocking_response: {sol.message}")
+        t_end = float(sol.t[-1])
+        inside = (t >= t_now) & (t <= t_end)
+        if np.any(inside):
+            theta[inside], omega[inside] = sol.sol(t[inside])
         if sol.status == 1 and len(sol.t_events[1]):
             overturned = True
+            theta[t > t_end], omega[t > t_end] = np.nan, np.nan
             break
         if sol.status == 1 and len(sol.t_events[0]):
-            impacts.append(float(t_end))
-            w = sol.y_events[0][0][1] * math.sqrt(r)
+            impacts.append(t_end)
+            w = float(sol.y_events[0][0][1]) * math.sqrt(r)  # thesis Eq. 5.2: r = (w_after / w_before)^2
+            theta[t == t_end], omega[t == t_end] = 0.0, w
             t_now = t_end
             if abs(w) < rest_omega:
-                side = 0
+                side = 0  # chattering has died out
                 continue
-            side = -side
+            side = -side  # pivot switches corner, rotation continues in the same sense
             state = np.array([0.0, w])
             continue
         break

@@ -1,0 +1,302 @@
+"""Reference solutions of thesis 5.1 (dem.analytic) checked against closed forms and fine ODE solves."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from dem import analytic
+
+G = 9.81
+SLENDER = (0.25, 1.0)  # width x height [m], alpha = 0.245 rad
+
+
+def _alpha(width, height):
+    return analytic.rectangle_rocking_properties(width, height).alpha
+
+
+# --- geometry ----------------------------------------------------------------------------
+
+
+def test_rectangle_rocking_properties():
+    blk = analytic.rectangle_rocking_properties(0.5, 2.0, mass=3.0)
+    radius = math.hypot(0.25, 1.0)
+    assert blk.alpha == pytest.approx(math.atan(0.25)), f"alpha {blk.alpha} vs atan(b/h), tol 1e-12"
+    assert blk.radius == pytest.approx(radius), f"R {blk.radius} vs {radius}, tol 1e-12"
+    assert blk.inertia_corner == pytest.approx(4.0 / 3.0 * 3.0 * radius**2), "I_O = 4/3 m R^2, tol 1e-12"
+    assert blk.p == pytest.approx(math.sqrt(3.0 * G / (4.0 * radius))), "p = sqrt(3g/4R), tol 1e-12"
+    with pytest.raises(ValueError):
+        analytic.rectangle_rocking_properties(-1.0, 1.0)
+
+
+# --- 5.1.1 -------------------------------------------------------------------------------
+
+
+def test_housner_period_slender_eq51_scalar_and_array():
+    w, h = SLENDER
+    blk = analytic.rectangle_rocking_properties(w, h)
+    ratios = np.array([0.1, 0.5, 0.9])
+    periods = analytic.housner_period_slender(w, h, ratios * blk.alpha)
+    ref = 4.0 / blk.p * np.arccosh(1.0 / (1.0 - ratios))
+    assert periods.shape == (3,)
+    np.testing.assert_allclose(periods, ref, rtol=1e-14, err_msg="Eq. 5.1, tol 1e-14")
+    single = analytic.housner_period_slender(w, h, -0.5 * blk.alpha)
+    assert np.ndim(single) == 0 and single == pytest.approx(ref[1], rel=1e-14), "Eq. 5.1 is even in theta0"
+    assert analytic.housner_period_slender(w, h, blk.alpha) == np.inf, "Eq. 5.1 at theta0 = alpha: inf"
+
+
+@pytest.mark.parametrize("width, height", [(0.25, 1.0), (1.0, 1.0), (1.0, 6.0)])
+def test_rocking_period_exact_vs_ode_quarter_period(width, height):
+    blk = analytic.rectangle_rocking_properties(width, height)
+    ratios = np.array([0.05, 0.5, 0.95])
+    periods = analytic.rocking_period_exact(width, height, ratios * blk.alpha)
+    assert periods.shape == (3,)
+
+    def reach_zero(t, y):
+        return y[0]
+
+    reach_zero.terminal = True
+    for theta0, period in zip(ratios * blk.alpha, periods):
+        sol = solve_ivp(lambda t, y: [y[1], -blk.p**2 * math.sin(blk.alpha - y[0])], (0.0, 100.0),
+                        [theta0, 0.0], method="DOP853", events=reach_zero, rtol=1e-12, atol=1e-14)
+        quarter = sol.t_events[0][0]
+        assert period == pytest.approx(4.0 * quarter, rel=1e-6), (
+            f"exact period {period} vs 4 x ODE quarter period {4 * quarter}, tol 1e-6")
+
+
+def test_rocking_period_exact_tends_to_eq51_for_slender_blocks():
+    ratios = np.array([0.01, 0.3, 0.6, 0.9])
+    misfit = {}
+    for width in (0.04, 0.02):  # alpha = 0.02, 0.01 rad
+        alpha = _alpha(width, 2.0)
+        exact = analytic.rocking_period_exact(width, 2.0, ratios * alpha)
+        slender = analytic.housner_period_slender(width, 2.0, ratios * alpha)
+        misfit[width] = np.abs(exact / slender - 1.0).max()
+        assert misfit[width] < alpha**2 / 10.0, f"exact vs Eq. 5.1: {misfit[width]}, tol alpha^2/10"
+    ratio = misfit[0.04] / misfit[0.02]
+    assert 3.5 < ratio < 4.5, f"exact vs Eq. 5.1 misfit should scale as alpha^2, ratio {ratio}, tol 4 +- 0.5"
+    assert analytic.rocking_period_exact(0.25, 1.0, 0.0) == 0.0
+
+
+# --- 5.1.2 -------------------------------------------------------------------------------
+
+
+def test_eq53_eq54_and_their_inverse_are_consistent():
+    w, h = SLENDER
+    alpha = _alpha(w, h)
+    theta0, r = 0.6 * alpha, 0.85
+    peaks = analytic.rocking_peak_angles_eq53(w, h, theta0, r, 6)
+    assert peaks.shape == (7,) and peaks[0] == pytest.approx(theta0, rel=1e-14), "Eq. 5.3 at n = 0"
+    assert np.all(np.diff(peaks) < 0.0), "Eq. 5.3 peaks must decrease"
+    np.testing.assert_allclose(analytic.restitution_from_peaks(w, h, peaks), r, rtol=1e-12,
+                               err_msg="inverse of Eq. 5.3, tol 1e-12")
+    # Eq. 5.4: a half cycle of amplitude theta_n lasts half the Eq. 5.1 period at theta_n
+    half = analytic.rocking_half_periods_eq54(w, h, theta0, r, 6)
+    np.testing.assert_allclose(half, analytic.housner_period_slender(w, h, peaks) / 2.0, rtol=1e-12,
+                               err_msg="Eq. 5.4 vs Eq. 5.1 / 2 at the Eq. 5.3 peaks, tol 1e-12")
+    # the exact energy ratio of the Eq. 5.3 peaks is r up to the slender-block approximation
+    exact_r = analytic.restitution_from_peaks_exact(w, h, peaks)
+    assert np.abs(exact_r - r).max() < alpha**2 / 20.0, f"exact energy ratio {exact_r} vs {r}, tol alpha^2/20"
+
+
+def test_housner_restitution():
+    assert analytic.housner_restitution(1.0, 1.0) == pytest.approx(0.0625, rel=1e-12), (
+        "square block: (1 - 3/2 * 1/2)^2, tol 1e-12")
+    alpha = _alpha(1.0, 6.0)
+    ref = (1.0 - 1.5 * math.sin(alpha) ** 2) ** 2
+    assert analytic.housner_restitution(1.0, 6.0) == pytest.approx(ref, rel=1e-14), "Housner r, tol 1e-14"
+
+
+# --- 5.1.3 -------------------------------------------------------------------------------
+
+
+def test_newmark_pulse_max_sliding_eq55_vectorised():
+    mus = np.array([0.1, 0.5, 0.8, 1.0])
+    u = analytic.newmark_pulse_max_sliding(0.8 * G, 1.5, mus)
+    ref = 0.8 * G * 1.5**2 / 2.0 * (0.8 / mus - 1.0)
+    np.testing.assert_allclose(u[:2], ref[:2], rtol=1e-14, err_msg="Eq. 5.5, tol 1e-14")
+    assert np.all(u[2:] == 0.0), f"Eq. 5.5: no sliding when a_p <= mu g, got {u[2:]}"
+    assert analytic.newmark_pulse_max_sliding(0.8 * G, 1.5, 0.0) == np.inf
+
+
+@pytest.mark.parametrize("mu", [0.1, 0.3, 0.5, 0.7])
+def test_rigid_plastic_sliding_rectangular_pulse_eq55(mu):
+    a_p, t_p = 0.8 * G, 1.5
+    ref = analytic.newmark_pulse_max_sliding(a_p, t_p, mu)
+    t_end = t_p * a_p / (mu * G) + 1.0
+    # (a) a jump: repeated instants; (b) 1 ns linear ramps; (c) 1 ms samples
+    jump = analytic.rigid_plastic_sliding([0.0, 0.0, t_p, t_p, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu)
+    ramp = analytic.rigid_plastic_sliding([0.0, 1e-9, t_p, t_p + 1e-9, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu)
+    assert np.abs(jump.u).max() == pytest.approx(ref, rel=1e-12), f"Eq. 5.5: {np.abs(jump.u).max()} vs {ref}, tol 1e-12"
+    assert np.abs(ramp.u).max() == pytest.approx(ref, rel=1e-6), f"Eq. 5.5: {np.abs(ramp.u).max()} vs {ref}, tol 1e-6"
+    assert jump.u[-1] < 0.0 and jump.v[-1] == 0.0, "positive ground pulse drives u negative, block stops"
+    # velocity at the end of the pulse: -(a_p - mu g) T_p
+    assert jump.v[2] == pytest.approx(-(a_p - mu * G) * t_p, rel=1e-12), "v(T_p) closed form, tol 1e-12"
+    t = np.linspace(0.0, t_end, 3001)
+    sampled = analytic.rigid_plastic_sliding(t, np.where(t <= t_p, a_p, 0.0), mu)
+    tol = 2.0 * (t[1] - t[0]) / t_p  # one sample of ramp at each pulse edge
+    assert np.abs(sampled.u).max() == pytest.approx(ref, rel=tol), f"Eq. 5.5 sampled, tol {tol}"
+
+
+def test_rigid_plastic_sliding_stuck_below_friction_and_antisymmetric():
+    t = np.linspace(0.0, 2.0, 2001)
+    a = 0.29 * G * np.sin(2 * np.pi * 1.5 * t)
+    stuck = analytic.rigid_plastic_sliding(t, a, 0.3)
+    assert np.all(stuck.u == 0.0) and np.all(stuck.v == 0.0), "|a_g| < mu g: no sliding, exact zero"
+    a = 0.6 * G * np.sin(2 * np.pi * 1.5 * t) + 0.1 * G * np.sin(2 * np.pi * 4.0 * t)
+    plus = analytic.rigid_plastic_sliding(t, a, 0.3)
+    minus = analytic.rigid_plastic_sliding(t, -a, 0.3)
+    np.testing.assert_allclose(minus.u, -plus.u, rtol=0, atol=1e-14, err_msg="odd in a_g, tol 1e-14 m")
+    assert plus.u[100] < 0.0, "a_g > mu g first: u decreases"
+
+
+def test_rigid_plastic_sliding_sine_vs_hand_solution_and_smoothed_ode():
+    mu, amp, omega = 0.2, 0.5 * G, 2 * np.pi * 2.0
+    t = np.linspace(0.0, 3.0, 30001)
+    a = amp * np.sin(omega * t) * (t <= 2.0)
+    res = analytic.rigid_plastic_sliding(t, a, mu)
+    # by hand, first excursion: slip at t1 where amp sin(omega t1) = mu g, then
+    # v = amp/omega (cos(omega t) - cos(omega t1)) + mu g (t - t1) until v(t2) = 0
+    t1 = math.asin(mu * G / amp) / omega
+
+    def v_hand(tt):
+        return amp / omega * (math.cos(omega * tt) - math.cos(omega * t1)) + mu * G * (tt - t1)
+
+    def u_hand(tt):
+        return (amp / omega**2 * (math.sin(omega * tt) - math.sin(omega * t1))
+                - amp / omega * math.cos(omega * t1) * (tt - t1) + 0.5 * mu * G * (tt - t1) ** 2)
+
+    t2 = brentq(v_hand, t1 + 1e-6, 0.5 / 2.0 + 0.2)
+    inside = (t > t1) & (t < t2)
+    u_ref = np.array([u_hand(x) for x in t[inside]])
+    scale = abs(u_hand(t2))
+    err = np.abs(res.u[inside] - u_ref).max() / scale
+    assert err < 1e-6, f"first excursion vs hand solution: {err}, tol 1e-6 of its size"
+    assert np.all(res.u[t <= t1] == 0.0), "stuck before |a_g| = mu g"
+    # whole history vs a fine solve_ivp with the friction sign smoothed by tanh(v / 1e-6 m/s)
+    eps = 1e-6
+
+    def rhs(tt, y):
+        return [y[1], -amp * math.sin(omega * tt) * (tt <= 2.0) - mu * G * math.tanh(y[1] / eps)]
+
+    sol = solve_ivp(rhs, (0.0, 3.0), [0.0, 0.0], method="LSODA", t_eval=t, rtol=1e-10, atol=1e-12,
+                    max_step=1e-3)
+    peak = np.abs(res.u).max()
+    err = np.abs(sol.y[0] - res.u).max() / peak
+    assert err < 1e-3, f"rigid-plastic vs smoothed-sign ODE: {err} of peak, tol 1e-3"
+
+
+def test_bouc_wen_sliding_close_to_rigid_plastic():
+    mu = 0.3
+    t = np.linspace(0.0, 3.0, 1501)
+    a = (0.7 * G * np.sin(2 * np.pi * 2.0 * t) + 0.2 * G * np.sin(2 * np.pi * 5.0 * t)) * (t <= 2.0)
+    exact = analytic.rigid_plastic_sliding(t, a, mu)
+    bw = analytic.bouc_wen_sliding(t, a, mu)
+    peak = np.abs(exact.u).max()
+    err = np.abs(bw.u - exact.u).max() / peak
+    assert peak > 0.01 and err < 0.02, f"Eq. 5.6-5.7 vs rigid-plastic: {err} of peak {peak} m, tol 0.02"
+
+
+# --- 5.1.5 -------------------------------------------------------------------------------
+
+
+def _peaks_from_energy(res, width, height):
+    """Peak |theta| of each half cycle, from the free-rocking energy at the sample nearest the peak."""
+    blk = analytic.rectangle_rocking_properties(width, height)
+    th, om = res.theta, res.omega
+    j = np.flatnonzero(np.sign(om[:-1]) * np.sign(om[1:]) < 0)  # theta' changes sign: a peak
+    # free rocking: cos(alpha - theta_peak) = cos(alpha - |theta|) + theta'^2 / (2 p^2)
+    level = np.cos(blk.alpha - np.abs(th[j])) + om[j] ** 2 / (2.0 * blk.p**2)
+    return blk.alpha - np.arccos(level)
+
+
+def test_rigid_rocking_free_period_matches_exact():
+    w, h = SLENDER
+    alpha = _alpha(w, h)
+    t = np.arange(0.0, 6.0, 1e-3)
+    res = analytic.rigid_rocking_response(t, np.zeros_like(t), w, h, 1.0, theta0=0.5 * alpha)
+    period = analytic.rocking_period_exact(w, h, 0.5 * alpha)
+    om, th = res.omega, res.theta
+    i = np.flatnonzero((om[:-1] > 0.0) & (om[1:] <= 0.0) & (th[:-1] > 0.0))  # positive peaks
+    t_peak = t[i] + om[i] / (om[i] - om[i + 1]) * (t[i + 1] - t[i])
+    assert len(t_peak) >= 3
+    err = np.abs(np.diff(t_peak) / period - 1.0).max()
+    assert err < 1e-5, f"peak-to-peak vs rocking_period_exact {period} s: {err}, tol 1e-5"
+    impacts = np.array(res.impact_times)
+    np.testing.assert_allclose(impacts[2:] - impacts[:-2], period, rtol=1e-8,
+                               err_msg="impact-to-impact vs rocking_period_exact, tol 1e-8")
+    assert impacts[0] == pytest.approx(period / 4.0, rel=1e-8), "first impact at T/4, tol 1e-8"
+    assert not res.overturned and np.nanmax(np.abs(th)) == pytest.approx(0.5 * alpha, rel=1e-9)
+
+
+def test_rigid_rocking_impact_energy_ratio():
+    w, h = SLENDER
+    alpha = _alpha(w, h)
+    t = np.arange(0.0, 6.0, 1e-3)
+    res = analytic.rigid_rocking_response(t, np.zeros_like(t), w, h, 0.85, theta0=0.5 * alpha)
+    peaks = _peaks_from_energy(res, w, h)
+    assert len(peaks) >= 10
+    r = analytic.restitution_from_peaks_exact(w, h, np.r_[0.5 * alpha, peaks])
+    np.testing.assert_allclose(r, 0.85, rtol=0, atol=1e-6, err_msg="exact energy ratio per impact, tol 1e-6")
+    # Eq. 5.4 half periods hold up to the slender-block approximation
+    half = analytic.rocking_half_periods_eq54(w, h, 0.5 * alpha, 0.85, 4)[1:]
+    measured = np.diff(res.impact_times)[:4]
+    err = np.abs(measured / half - 1.0).max()
+    assert err < alpha**2 / 5.0, f"half periods vs Eq. 5.4: {err}, tol alpha^2/5"
+
+
+def test_rigid_rocking_settles_after_chattering():
+    w, h = SLENDER
+    t = np.arange(0.0, 5.0, 1e-3)
+    res = analytic.rigid_rocking_response(t, np.zeros_like(t), w, h, 0.6, theta0=0.5 * _alpha(w, h))
+    assert res.impact_times[-1] < 4.0, "impacts accumulate in finite time"
+    late = t > res.impact_times[-1]
+    assert np.all(res.theta[late] == 0.0) and np.all(res.omega[late] == 0.0), "block at rest after chattering"
+
+
+def test_rigid_rocking_constant_acceleration_below_uplift_stays_at_rest():
+    w, h = SLENDER
+    t = np.arange(0.0, 3.0, 1e-3)
+    threshold = G * math.tan(_alpha(w, h))
+    for sign in (1.0, -1.0):
+        res = analytic.rigid_rocking_response(t, np.full_like(t, 0.99 * sign * threshold), w, h, 0.85)
+        assert np.all(res.theta == 0.0) and np.all(res.omega == 0.0), "|a_g| < g tan(alpha): theta = 0"
+        assert not res.overturned and res.impact_times == []
+
+
+def test_rigid_rocking_constant_acceleration_above_uplift_overturns():
+    w, h = SLENDER
+    t = np.arange(0.0, 3.0, 1e-3)
+    res = analytic.rigid_rocking_response(t, np.full_like(t, -1.01 * G * math.tan(_alpha(w, h))), w, h, 0.85)
+    assert res.overturned, "a_g = -1.01 g tan(alpha) held: overturns"
+    finite = np.isfinite(res.theta)
+    assert np.all(res.theta[finite] >= 0.0), "a_g < 0 tips the block onto its right corner (theta > 0)"
+    assert np.isnan(res.theta[-1]) and np.nanmax(res.theta) <= 0.5 * math.pi
+
+
+def test_rigid_rocking_one_sine_pulse_sign():
+    w, h = SLENDER
+    alpha = _alpha(w, h)
+    f, amp = 2.0, 3.0 * G * math.tan(alpha)
+    t = np.arange(0.0, 3.0, 1e-3)
+    a = np.where(t <= 1.0 / f, amp * np.sin(2 * np.pi * f * t), 0.0)
+    res = analytic.rigid_rocking_response(t, a, w, h, 0.85)
+    moving = np.flatnonzero(res.theta != 0.0)
+    assert len(moving), "3 g tan(alpha) one-sine pulse must uplift the block"
+    t_uplift = math.asin(1.0 / 3.0) / (2 * np.pi * f)  # a_g = g tan(alpha)
+    assert t[moving[0] - 1] <= t_uplift < t[moving[0]], "uplift when a_g first exceeds g tan(alpha)"
+    assert res.theta[moving[0]] < 0.0, "positive a_g tips the block onto its left corner (theta < 0)"
+    mirror = analytic.rigid_rocking_response(t, -a, w, h, 0.85)
+    np.testing.assert_allclose(mirror.theta, -res.theta, rtol=0, atol=1e-9, equal_nan=True,
+                               err_msg="rocking is odd in a_g, tol 1e-9 rad")
+
+
+def test_input_checks():
+    with pytest.raises(ValueError):
+        analytic.rigid_plastic_sliding([0.0, 1.0, 0.5], [0.0, 1.0, 0.0], 0.3)
+    with pytest.raises(ValueError):
+        analytic.rigid_rocking_response([0.0, 0.0, 1.0], [0.0, 0.0, 0.0], 0.25, 1.0, 0.85)
+    with pytest.raises(ValueError):
+        analytic.rigid_rocking_response([0.0, 1.0], [0.0, 0.0], 0.25, 1.0, 1.5)

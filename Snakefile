@@ -8,6 +8,9 @@ min_version("8.0")
 configfile: "config/config.yaml"
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/records.smk"
 include: "workflow/rules/simulate.smk"
@@ -20,10 +23,6 @@ rule all:
     input:
         expand("records/{name}.nc", name=RECORD_NAMES),
         expand("results/cubes/{study}.nc", study=STUDIES),
-        "results/tables/table_7_1.csv",
-        "results/tables/thesis_fig_6_10.csv",
-        "results/tables/thesis_fig_6_13.csv",
-        "results/tables/thesis_fig_6_5.csv",
-        expand("results/tables/epistyle_{study}.csv", study=EPISTYLE_STUDIES),
+        TABLES,
         expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
     default_target: True

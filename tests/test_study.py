@@ -45,9 +45,29 @@ def test_cases_combine_into_a_cube_with_parameter_dimensions(tmp_path):
         assert float(ds["n_drums"]) == case.params["n_drums"] and ds["frequency"].attrs["units"] == "Hz"
         paths.append(write_dataset(ds, tmp_path / f"{case.id}.nc"))
     cube = combine_cases(paths)
-    assert dict(cube.sizes) == {"n_drums": 2, "frequency": 2}
+    assert dict(cube.sizes) == {"n_drums": 2, "frequency": 2, "time": 501}
     assert cube["max_rocking"].attrs["units"] == "rad" and cube["n_drums"].attrs["long_name"]
     assert np.all(np.isfinite(cube["max_rocking"].values))
+    assert set(cube["rocking"].dims) == {"n_drums", "frequency", "time"}, "histories keep the time axis"
+    for case, path in zip(case_table("s", STUDY), paths):
+        with xr.open_dataset(path) as ds:
+            along = cube["rocking"].sel(n_drums=case.params["n_drums"], frequency=case.params["frequency"])
+            assert np.array_equal(along.values[: ds.sizes["time"]], ds["rocking"].values), case.id
+
+
+def test_listed_cases_and_weak_joint():
+    study = {"structure": {"kind": "column", "n_drums": 4}, "friction": 0.48,
+             "excitation": {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.3},
+             "grid": {"weak_joint": [0, 2]}, "weak_joint": {"mu": 0.05},
+             "cases": [{"weak_joint": 3, "weak_joint_mu": 0.2}]}
+    cases = case_table("fl", study)
+    assert [c.id for c in cases] == ["joint-0", "joint-2", "joint-3_muj-0.2"]
+    assert cases[0].scene["interface_friction"] == [{"bodies": ["base", "c0_d0"], "mu": 0.05}]
+    assert cases[2].scene["interface_friction"] == [{"bodies": ["c0_d2", "c0_d3"], "mu": 0.2}]
+    with pytest.raises(InputError, match="weak_joint.joint"):
+        case_table("fl", {**study, "cases": [{"weak_joint": 4}]})
+    with pytest.raises(InputError, match=r"cases\[0\]\.speed"):
+        case_table("fl", {**study, "cases": [{"speed": 1}]})
 
 
 def synthetic_cube(collapsed):

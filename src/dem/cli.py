@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from dem import snapshots
 from dem.errors import InputError
 
 
@@ -43,12 +44,15 @@ def build_parser() -> argparse.ArgumentParser:
                       help="spectrum plot to write (default results/records/<name>_spectrum.png)")
     info.add_argument("--damping", type=float, nargs="+", default=[0.05, 0.10],
                       help="damping ratios of the response spectra (default 0.05 0.10)")
+    snapshots.add_parser(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
+        if hasattr(args, "handler"):
+            return args.handler(args)
         if args.command == "run":
             return command_run(args)
         if args.command == "validate":

@@ -28,7 +28,7 @@ UNIT_FACTORS = {"m/s2": 1.0, "m s-2": 1.0, "m/s^2": 1.0, "g": G_STANDARD, "cm/s2
                 "cm s-2": 0.01, "gal": 0.01}
 KIND_KEYS = {
     "none": {},
-    "harmonic": {"frequency": "Hz", "amplitude": "m", "ramp_cycles": "1"},
+    "harmonic": {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"},
     "rect_pulse": {"accel": "m s-2", "duration": "s"},
     "sine_pulse": {"accel": "m s-2", "frequency": "Hz"},
     "ramp": {"rate": "m s-3"},
@@ -121,7 +121,13 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
         return BaseMotion(kx.KIND_NONE, params, description=description)
     if kind == "harmonic":
         f = _num(spec, "frequency", field, positive=True)
-        amp = _num(spec, "amplitude", field)
+        if ("amplitude" in spec) == ("pga" in spec):
+            raise InputError(f"{field}.amplitude", "give exactly one of amplitude [m] and pga [m s-2]",
+                             "write amplitude: 0.25 or pga: 2.15")
+        if "pga" in spec:  # thesis 6.1 sweeps frequency at a fixed peak acceleration: A = PGA / w^2
+            amp = _num(spec, "pga", field, positive=True) / (2 * math.pi * f) ** 2
+        else:
+            amp = _num(spec, "amplitude", field)
         cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
         if cycles < 0:
             raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")

@@ -97,35 +97,49 @@ def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
     return rows
 
 
+def case_rows(cube: xr.Dataset, names) -> list[dict]:
+    """One row per case of a cube: its swept parameters, then ``names`` (scalar variables)."""
+    dims = [d for d in cube[names[0]].dims if d != "time"]
+    stacked = cube[list(names)].stack(case=dims) if dims else cube[list(names)].expand_dims(case=[0])
+    rows = []
+    for i in range(stacked.sizes["case"]):
+        case = stacked.isel(case=i)
+        row = {d: _plain(case[d].values) for d in dims}
+        row.update({n: _plain(case[n].values) for n in names})
+        rows.append(row)
+    return rows
+
+
+def _plain(value):
+    value = value.item() if hasattr(value, "item") else value
+    return value
+
+
 def frequency_response(cube: xr.Dataset) -> list[dict]:
-    """Total sliding and rocking vs harmonic frequency and amplitude (thesis Fig. 6.1, 6.5, 6.6).
+    """Total sliding and rocking vs harmonic frequency (thesis Fig. 6.1, 6.5, 6.6), one row per case.
 
     ``sliding_to_base_ratio`` is the maximum total sliding over the displacement amplitude
-    of the base: near 1 when the base slides under a column that stays put (high frequency).
+    of the base (from the base history): near 1 when the base slides under a column that
+    stays put (high frequency).
     """
+    base_amplitude = np.abs(cube["base_displacement"]).max("time")
+    pga = np.abs(cube["base_acceleration"]).max("time")
+    cube = cube.assign(base_amplitude=base_amplitude, base_pga=pga)
     rows = []
-    for amplitude in cube["amplitude"].values:
-        for frequency in cube["frequency"].values:
-            case = cube.sel(amplitude=amplitude, frequency=frequency)
-            sliding = float(case["max_total_sliding"])
-            rows.append({"amplitude_m": float(amplitude), "frequency_hz": float(frequency),
-                         "pga_m_s2": float(amplitude * (2 * np.pi * frequency) ** 2),
-                         "max_total_sliding_m": sliding, "sliding_to_base_ratio": sliding / float(amplitude),
-                         "max_rocking_rad": float(case["max_rocking"]),
-                         "collapsed": int(case["collapsed"])})
+    for row in case_rows(cube, ["max_total_sliding", "max_rocking", "collapsed", "base_amplitude", "base_pga"]):
+        rows.append({**{k: v for k, v in row.items() if k not in ("max_total_sliding", "max_rocking", "collapsed",
+                                                                   "base_amplitude", "base_pga")},
+                     "base_amplitude_m": row["base_amplitude"], "pga_m_s2": row["base_pga"],
+                     "max_total_sliding_m": row["max_total_sliding"],
+                     "sliding_to_base_ratio": row["max_total_sliding"] / row["base_amplitude"],
+                     "max_rocking_rad": row["max_rocking"], "collapsed": int(row["collapsed"])})
     return rows
 
 
 def epistyle_response(cube: xr.Dataset) -> list[dict]:
-    """Maximum epistyle displacement relative to the base, and collapse, for every case of a
-    colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
-    dims = [d for d in cube["max_epistyle_displacement"].dims]
-    rows = []
-    stacked = cube[["max_epistyle_displacement", "collapsed", "max_rocking"]].stack(case=dims)
-    for i in range(stacked.sizes["case"]):
-        case = stacked.isel(case=i)
-        row = {d: (v.item() if hasattr(v, "item") else v) for d, v in ((d, case[d].values) for d in dims)}
-        row.update(max_epistyle_displacement_m=float(case["max_epistyle_displacement"]),
-                   max_rocking_rad=float(case["max_rocking"]), collapsed=int(case["collapsed"]))
-        rows.append(row)
-    return rows
+    """Maximum epistyle displacement relative to the base, rocking and collapse for every case of
+    a colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
+    rows = case_rows(cube, ["max_epistyle_displacement", "max_rocking", "collapsed"])
+    return [{**{k: v for k, v in r.items() if k not in ("max_epistyle_displacement", "max_rocking", "collapsed")},
+             "max_epistyle_displacement_m": r["max_epistyle_displacement"], "max_rocking_rad": r["max_rocking"],
+             "collapsed": int(r["collapsed"]) if np.isfinite(r["collapsed"]) else -1} for r in rows]

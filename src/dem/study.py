@@ -33,9 +33,14 @@ PARAMETERS = {
     "epistyle_density": ("structure.epistyle_density", "kg m-3", "epistyle density", "rhoe"),
     "taper": ("structure.taper", "1", "base / top width of the shaft", "taper"),
     "friction": ("friction", "1", "friction coefficient", "mu"),
+    # thesis 6.5: one joint of a standalone column with a lower friction coefficient
+    "weak_joint": ("weak_joint.joint", "1", "joint with the lower friction, from the base (0: base / drum 0)", "joint"),
+    "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
 }
 STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "grid",
-              "interface_friction")
+              "interface_friction", "weak_joint", "cases", "description")
+SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
+              "weak_joint")
 
 
 @dataclass(frozen=True)
@@ -68,39 +73,79 @@ def _set(spec: dict, dotted: str, value) -> None:
 
 
 def case_table(name: str, study: dict, defaults: dict | None = None) -> list[Case]:
-    """All cases of one study: the Cartesian product of its grid over its base scene."""
+    """All cases of one study: the Cartesian product of its ``grid`` plus its listed ``cases``.
+
+    ``cases:`` is a list of parameter mappings for studies that are not a full grid (e.g. one
+    PGA per record for the snapshot figures); a study may have both.
+    """
     if not isinstance(study, dict):
         raise InputError(f"studies.{name}", "expected a mapping", "give structure:, excitation:, grid:")
     for key in study:
         if key not in STUDY_KEYS:
             raise InputError(f"studies.{name}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}")
     grid = study.get("grid") or {}
+    listed = study.get("cases") or []
+    if not grid and not listed:
+        raise InputError(f"studies.{name}", "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
     for key, values in grid.items():
-        if key not in PARAMETERS:
-            raise InputError(f"studies.{name}.grid.{key}", "unknown parameter",
-                             f"sweepable: {', '.join(PARAMETERS)}")
+        _check_parameter(f"studies.{name}.grid.{key}", key)
         if not isinstance(values, list) or not values:
             raise InputError(f"studies.{name}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]")
+    if not isinstance(listed, list):
+        raise InputError(f"studies.{name}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]")
+    for i, params in enumerate(listed):
+        if not isinstance(params, dict) or not params:
+            raise InputError(f"studies.{name}.cases[{i}]", "expected a mapping of parameters",
+                             "write {record: ..., pga: ...}")
+        for key in params:
+            _check_parameter(f"studies.{name}.cases[{i}].{key}", key)
     base = {k: copy.deepcopy(v) for k, v in (defaults or {}).items()}
-    for key in ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction"):
+    for key in SCENE_KEYS:
         if key in study:
             if isinstance(study[key], dict) and isinstance(base.get(key), dict):
                 base[key] = {**base[key], **copy.deepcopy(study[key])}
             else:
                 base[key] = copy.deepcopy(study[key])
-    cases = []
     keys = list(grid)
-    for combo in itertools.product(*(grid[k] for k in keys)):
-        params = dict(zip(keys, combo))
-        scene = copy.deepcopy(base)
-        scene["name"] = f"{name}/{case_id(params)}"
-        for k, v in params.items():
-            _set(scene, PARAMETERS[k][0], v)
-        cases.append(Case(name, case_id(params) or "base", params, scene))
+    combos = [dict(zip(keys, combo)) for combo in itertools.product(*(grid[k] for k in keys))] if grid else []
+    cases = [_case(name, base, params) for params in combos + [dict(p) for p in listed]]
     ids = [c.id for c in cases]
     if len(set(ids)) != len(ids):
-        raise InputError(f"studies.{name}.grid", "two cases share an id", "remove duplicate grid values")
+        raise InputError(f"studies.{name}", "two cases share an id", "remove duplicate grid values or cases")
     return cases
+
+
+def _check_parameter(field: str, key: str) -> None:
+    if key not in PARAMETERS:
+        raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
+
+
+def _case(study: str, base: dict, params: dict) -> Case:
+    scene = copy.deepcopy(base)
+    scene["name"] = f"{study}/{case_id(params)}"
+    for k, v in params.items():
+        _set(scene, PARAMETERS[k][0], v)
+    _apply_weak_joint(scene, f"studies.{study}")
+    return Case(study, case_id(params) or "base", params, scene)
+
+
+def _apply_weak_joint(scene: dict, where: str) -> None:
+    """``weak_joint: {joint: j, mu: m}`` -> the per-interface friction of joint j of column 0 (thesis 6.5).
+
+    Joint 0 is between the base and the bottom drum, joint j between drums j-1 and j.
+    """
+    weak = scene.pop("weak_joint", None)
+    if weak is None:
+        return
+    if not isinstance(weak, dict) or set(weak) != {"joint", "mu"}:
+        raise InputError(f"{where}.weak_joint", "expected {joint, mu}", "write weak_joint: {joint: 0, mu: 0.05}")
+    joint = weak["joint"]
+    n_drums = int((scene.get("structure") or {}).get("n_drums", 1))
+    if not isinstance(joint, int) or not 0 <= joint < n_drums:
+        raise InputError(f"{where}.weak_joint.joint", f"{joint!r} is not a joint of a {n_drums}-drum column",
+                         f"give an integer 0 ... {n_drums - 1}")
+    lower = "base" if joint == 0 else f"c0_d{joint - 1}"
+    scene.setdefault("interface_friction", []).append({"bodies": [lower, f"c0_d{joint}"], "mu": weak["mu"]})
 
 
 def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
@@ -135,29 +180,44 @@ def _natural_duration(scene_spec: dict, base_dir) -> float:
 SHARED_ATTRS = ("source", "study", "k_n", "c_n", "k_t", "c_t", "friction", "excitation", "contact_frame")
 CUBE_VARIABLES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding",
                   "residual_total_sliding", "rocking_onset_time", "max_epistyle_displacement", "theta_cr")
+# time histories a cube keeps (NaN after a case stopped at collapse or ended)
+HISTORY_VARIABLES = ("rocking", "total_sliding", "epistyle_displacement", "base_displacement",
+                     "base_acceleration")
 
 
-def combine_cases(paths) -> xr.Dataset:
-    """Study cube: the scalar measures of every case on dimensions named by the swept parameters."""
+def combine_cases(paths, description: str = "") -> xr.Dataset:
+    """Study cube: each case's measures and histories on dimensions named by the swept parameters.
+
+    Cases are merged by coordinates with an outer join, so a study of listed cases (not a
+    full grid) gives a cube with NaN where a combination was not run.
+    """
     pieces = []
     shared = None
     for path in paths:
         with xr.open_dataset(path) as ds:
             params = [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
-            small = ds[[v for v in CUBE_VARIABLES if v in ds]].load()
-            small = small.reset_coords([c for c in small.coords if c not in params], drop=True)
+            names = [v for v in CUBE_VARIABLES + HISTORY_VARIABLES if v in ds]
+            small = ds[names].load()
+            small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
             pieces.append(small.expand_dims(params))
             case_attrs = {k: ds.attrs[k] for k in SHARED_ATTRS if k in ds.attrs}
             shared = case_attrs if shared is None else {
                 k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+    if not pieces:
+        raise InputError("cases", "no case files to combine", "run the study's cases first")
     attrs = shared or {}
-    cube = xr.combine_by_coords(pieces, combine_attrs="drop_conflicts")
+    cube = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop")
     for name in list(cube.coords):
         if name in PARAMETERS:
             _, units, long_name, _ = PARAMETERS[name]
             cube[name].attrs.update(units=units, long_name=long_name)
+    with xr.open_dataset(paths[0]) as first:
+        for name in cube.variables:
+            if name in first.variables and name not in PARAMETERS:
+                cube[name].attrs = dict(first[name].attrs)
     # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
-    cube.attrs = {**attrs, "title": f"dem study cube: {attrs.get('study', '')}", "n_cases": len(pieces)}
+    cube.attrs = {**attrs, "title": f"dem study cube: {attrs.get('study', '')}", "n_cases": len(pieces),
+                  "description": description}
     return cube
 
 

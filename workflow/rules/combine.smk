@@ -3,6 +3,8 @@ rule combine_cube:
         case_files,
     output:
         "results/cubes/{study}.nc",
+    params:
+        description=study_description,
     log:
         "results/logs/cubes/{study}.log",
     conda:

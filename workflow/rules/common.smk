@@ -20,17 +20,18 @@ def record_params(wildcards):
 import dem.figures
 import dem.study
 
-FIGURE_NAMES = list(dem.figures.FIGURES)
-
 STUDIES = {
     name: {case.id: case for case in dem.study.case_table(name, spec, config.get("defaults"))}
     for name, spec in config["studies"].items()
 }
+# figures whose cases are in the configured grids (a reduced profile draws fewer)
+FIGURES = dem.figures.figure_table(STUDIES, config)
+FIGURE_NAMES = list(FIGURES)
 
 
 wildcard_constraints:
     study="|".join(STUDIES),
-    figure="|".join(dem.figures.FIGURES),
+    figure="|".join(FIGURES),
     case="[A-Za-z0-9_.+-]+",
 
 
@@ -40,6 +41,21 @@ def case_files(wildcards):
 
 # colonnade studies that vary one parameter at a time (thesis 7.3-7.8)
 EPISTYLE_STUDIES = [s for s in STUDIES if s.startswith("colonnade_") and s != "colonnade_records"]
+# harmonic studies reduced to sliding and rocking vs frequency (thesis Fig. 6.1, 6.5, 6.6)
+FREQUENCY_STUDIES = [s for s in ("harmonic_frequency", "small_column_friction", "small_column_pga") if s in STUDIES]
+
+
+def _tables():
+    tables = [f"results/tables/epistyle_{s}.csv" for s in EPISTYLE_STUDIES]
+    tables += [f"results/tables/frequency_response_{s}.csv" for s in FREQUENCY_STUDIES]
+    if {"standalone_records", "colonnade_records"} <= set(STUDIES):
+        tables.append("results/tables/table_7_1.csv")
+    if {"ramp_drums", "ramp_taper"} <= set(STUDIES):
+        tables += ["results/tables/thesis_fig_6_10.csv", "results/tables/thesis_fig_6_13.csv"]
+    return tables
+
+
+TABLES = _tables()
 
 
 def case_record(wildcards):
@@ -55,4 +71,17 @@ def case_of(wildcards):
 
 
 def figure_input(wildcards):
-    return dem.figures.FIGURES[wildcards.figure][1]
+    return list(FIGURES[wildcards.figure].inputs)
+
+
+def figure_caption(wildcards):
+    return FIGURES[wildcards.figure].caption
+
+
+def figure_category(wildcards):
+    number = FIGURES[wildcards.figure].thesis
+    return "Chapter " + number.split(".")[0].replace("Table 7", "7")
+
+
+def study_description(wildcards):
+    return config["studies"][wildcards.study].get("description", "")

@@ -2,7 +2,14 @@ rule plot_figure:
     input:
         figure_input,
     output:
-        "results/figures/{figure}.png",
+        report(
+            "results/figures/{figure}.png",
+            caption="../report/figure.rst",
+            category="Thesis figures",
+            labels={"figure": "{figure}"},
+        ),
+    params:
+        caption=figure_caption,
     log:
         "results/logs/figures/{figure}.log",
     conda:

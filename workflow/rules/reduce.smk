@@ -29,11 +29,11 @@ rule ramp_thresholds:
 
 rule frequency_response:
     input:
-        "results/cubes/harmonic_frequency.nc",
+        "results/cubes/{study}.nc",
     output:
-        "results/tables/thesis_fig_6_5.csv",
+        "results/tables/frequency_response_{study}.csv",
     log:
-        "results/logs/tables/frequency_response.log",
+        "results/logs/tables/frequency_response_{study}.log",
     conda:
         "../envs/dem.yaml"
     script:

@@ -6,4 +6,5 @@ from dem.dataset import write_dataset
 from dem.study import combine_cases
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
-write_dataset(combine_cases(snakemake.input), snakemake.output[0])  # noqa: F821
+cube = combine_cases(list(snakemake.input), snakemake.params.description)  # noqa: F821
+write_dataset(cube, snakemake.output[0])  # noqa: F821

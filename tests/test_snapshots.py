@@ -1,0 +1,180 @@
+"""Snapshot strips and GIFs drawn from a case dataset alone (dem.snapshots)."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from PIL import Image
+
+from dem import geometry, snapshots
+from dem.dataset import write_dataset
+from dem.errors import InputError
+from dem.scene import posed_vertices, scene_from_dict
+from dem.simulate import run_scene
+
+ROCKING_BLOCK = Path(__file__).parent / "data" / "scenes" / "rocking_block.yaml"
+HARMONIC = {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25}
+COLUMN = {  # collapses at about 2.5 s and the run stops there
+    "name": "column-4-drums",
+    "structure": {"kind": "column", "n_drums": 4, "height": 6.0, "width": 1.0},
+    "excitation": HARMONIC,
+    "solver": {"duration": 4.0},
+    "output": {"every": 0.01},
+}
+COLONNADE = {  # stands through 3 s: 301 samples
+    "name": "colonnade",
+    "structure": {"kind": "colonnade", "n_columns": 3, "n_drums": 2, "clear_distance": 2.0,
+                  "epistyle_type": "a", "capital": {"height": 0.6, "width": 1.4}},
+    "excitation": HARMONIC,
+    "solver": {"duration": 3.0},
+    "output": {"every": 0.01},
+}
+
+
+def simulated_case(spec, folder, name):
+    """Run a scene, write its dataset like dem run does, read it back from the file."""
+    path = write_dataset(run_scene(scene_from_dict(spec)), folder / f"{name}.nc")
+    with xr.open_dataset(path) as ds:
+        return path, ds.load()
+
+
+@pytest.fixture(scope="module")
+def column_case(tmp_path_factory):
+    return simulated_case(COLUMN, tmp_path_factory.mktemp("column"), "column")
+
+
+@pytest.fixture(scope="module")
+def colonnade_case(tmp_path_factory):
+    return simulated_case(COLONNADE, tmp_path_factory.mktemp("colonnade"), "colonnade")
+
+
+def pose(ds, i):
+    """x, y, theta of every body at sample i."""
+    return tuple(ds[v].isel(time=i).values for v in ("x", "y", "theta"))
+
+
+def shoelace_area(vertices):
+    return abs(geometry.signed_area(vertices))
+
+
+def test_polygons_from_dataset_have_the_scene_areas(colonnade_case):
+    _, ds = colonnade_case
+    polygons = snapshots.body_polygons(ds)
+    assert len(polygons) == ds.sizes["body"]
+    # by hand: columns 3 m apart (1 m shafts, 2 m clear), capitals 1.4 m wide, so the type a
+    # epistyle spans 7.4 m and the base 7.4 + 2 x 2 m margin; base 0.5 m, epistyle 0.8 m high
+    expected = 11.4 * 0.5 + 3 * 6.0 * 1.0 + 3 * 0.6 * 1.4 + 7.4 * 0.8
+    total = sum(shoelace_area(p) for p in polygons)
+    assert abs(total - expected) < 1e-9 * expected, f"total area {total} m2, scene {expected} m2"
+    # each stone body: its mass over density x depth (2000 kg/m3, 1 m)
+    bodies = zip(ds.body.values, ds.body_role.values, ds.body_mass.values, polygons)
+    for name, role, mass, poly in bodies:
+        if role != "base":
+            area, drawn = mass / 2000.0, shoelace_area(poly)
+            assert abs(drawn - area) < 1e-9 * area, f"{name}: {drawn} m2, scene {area} m2"
+
+
+def test_posed_polygon_centroid_is_the_body_position(column_case):
+    _, ds = column_case
+    local = snapshots.body_polygons(ds)
+    i = ds.sizes["time"] // 2  # mid-run: drums rocking and sliding
+    x, y, theta = pose(ds, i)
+    assert np.abs(theta).max() > 1e-3, "the pose should include a rotation"
+    for k, poly in enumerate(snapshots.posed_polygons(local, x, y, theta)):
+        centroid = geometry.centroid(poly)
+        assert np.abs(centroid - [x[k], y[k]]).max() < 1e-9, f"{ds.body.values[k]}: {centroid}"
+
+
+def test_pose_at_t0_is_the_tilted_scene_outline(tmp_path):
+    # the rocking block starts leaning clockwise onto its right corner: checks the sense of theta
+    spec = yaml.safe_load(open(ROCKING_BLOCK))
+    spec["solver"]["duration"] = 0.01
+    _, ds = simulated_case(spec, tmp_path, "rocking")
+    first = snapshots.posed_polygons(snapshots.body_polygons(ds), *pose(ds, 0))
+    for body, poly in zip(scene_from_dict(spec).bodies, first):
+        expected = posed_vertices(body)
+        assert np.abs(poly - expected).max() < 1e-9, f"{body.name}: {poly} vs {expected}"
+
+
+def test_default_panels_end_at_the_collapse(column_case):
+    _, ds = column_case
+    assert int(ds.collapsed) == 1
+    samples = snapshots.snapshot_samples(ds, n=5)
+    times = ds.time.values[samples]
+    assert len(samples) == 5 and times[0] == 0.0
+    assert times[-1] == pytest.approx(float(ds.collapse_time), abs=1e-12)
+    with pytest.raises(InputError, match="--times"):
+        snapshots.snapshot_samples(ds, times=[0.0, 99.0])
+
+
+def test_strip_png_is_written(column_case, tmp_path):
+    _, ds = column_case
+    out = snapshots.snapshot_strip(ds, tmp_path / "strip.png", n=4)
+    with Image.open(out) as im:
+        assert im.format == "PNG"
+        width, height = im.size
+        assert width > 2 * height, "one row of panels"
+        pixels = np.asarray(im.convert("RGB")).reshape(-1, 3)
+    stone = np.array([0xE3, 0xD3, 0xB0])
+    stone_pixels = (np.abs(pixels.astype(int) - stone).sum(axis=1) < 6).sum()
+    assert stone_pixels > 1000, "drums drawn in stone colour"
+    assert [p.name for p in tmp_path.iterdir()] == ["strip.png"], "no temporary file left"
+
+
+def test_gif_has_the_expected_frames(colonnade_case, tmp_path):
+    _, ds = colonnade_case
+    assert ds.sizes["time"] == 301
+    # at most 31 frames of 301 samples: every 10th sample, 0 to 300
+    out = snapshots.animate(ds, tmp_path / "movie.gif", fps=10, max_frames=31, progress=False)
+    with Image.open(out) as im:
+        assert im.format == "GIF" and im.n_frames == 31
+        assert im.info["duration"] == 100, "10 frames per second"
+    # a frame every 0.5 s of simulated time: 0, 0.5, ..., 3 s
+    out = snapshots.animate(ds, tmp_path / "coarse.gif", every=0.5, progress=False)
+    with Image.open(out) as im:
+        assert im.n_frames == 7
+
+
+def test_frame_samples_keep_the_last_sample_and_the_cap():
+    for n_time in (1, 2, 7, 250, 301, 1000):
+        for cap in (1, 2, 5, 31, 300):
+            frames = snapshots.frame_samples(n_time, cap)
+            assert 1 <= len(frames) <= cap and frames[0] == 0
+            assert frames[-1] == n_time - 1 or cap == 1
+            assert np.all(np.diff(frames) > 0)
+
+
+def test_cli_writes_beside_the_case(column_case, tmp_path):
+    src, _ = column_case
+    case = tmp_path / "case.nc"
+    case.write_bytes(src.read_bytes())
+    assert snapshots.main(["snapshots", str(case), "--times", "0", "1", "2"]) == 0
+    assert (tmp_path / "case_snapshots.png").is_file()
+    assert snapshots.main_animate([str(case), "--max-frames", "5"]) == 0
+    with Image.open(tmp_path / "case.gif") as im:
+        assert im.n_frames == 5
+
+
+def test_cli_bad_input_exits_2_and_writes_nothing(column_case, tmp_path, capsys):
+    src, ds = column_case
+    not_dem = tmp_path / "other.nc"
+    xr.Dataset({"t": ("time", np.zeros(3))}).to_netcdf(not_dem)
+    no_scene = tmp_path / "no_scene.nc"
+    stripped = ds.copy()
+    stripped.attrs = {}
+    stripped.to_netcdf(no_scene)
+    cases = [
+        (["animate", str(tmp_path / "missing.nc")], "not found"),
+        (["animate", str(not_dem), "-o", str(tmp_path / "out.gif")], "x: missing"),
+        (["snapshots", str(no_scene), "-o", str(tmp_path / "out.png")], "attrs.scene"),
+        (["snapshots", str(src), "-o", str(tmp_path / "out.png"), "--times", "50"], "--times"),
+        (["animate", str(src), "-o", str(tmp_path / "out.mp4")], ".gif"),
+    ]
+    before = sorted(tmp_path.iterdir())
+    for argv, field in cases:
+        assert snapshots.main(argv) == 2, argv
+        lines = capsys.readouterr().err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("error: ") and field in lines[0], lines
+        assert sorted(tmp_path.iterdir()) == before, f"{argv} left a file behind"

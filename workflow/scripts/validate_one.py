@@ -1,0 +1,42 @@
+"""Snakemake script of workflow/rules/validation.smk, one branch per rule.
+
+validate_one        one dem.validation.VALIDATIONS entry -> its dataset (write_result: atomic)
+validation_figure   a validation dataset -> one thesis figure (draw_thesis_figure: atomic)
+validation_summary  every validation dataset -> name, error, tolerance, passed (atomic)
+
+A validation that fails its check still writes its dataset (attribute passed = 0, the
+figure says FAILED in red, the summary row has passed = 0); `dem validate` is the command
+whose exit status reflects the verdicts.
+"""
+
+import sys
+
+from dem import validation, validation_plots
+
+sm = snakemake  # noqa: F821 - provided by Snakemake
+sys.stderr = open(sm.log[0], "w")
+
+
+def validate_one():
+    name = sm.wildcards.validation
+    kwargs = {"record": sm.input.record} if "record" in sm.input.keys() else {}
+    result = validation.VALIDATIONS[name](**kwargs)
+    validation.write_result(result, sm.output[0])
+    verdict = "ok" if result.passed else "FAILED"
+    print(f"{name}: {verdict}: " + ", ".join(f"{k} = {v:.4g}" for k, v in result.summary.items()),
+          file=sys.stderr)
+
+
+def validation_figure():
+    validation_plots.draw_thesis_figure(sm.wildcards.validation_fig, sm.input[0], sm.output[0])
+
+
+def validation_summary():
+    table = validation.summary_table(sm.input)
+    validation.write_text_atomic(table, sm.output[0])
+    failed = [row.split(",")[0] for row in table.splitlines()[1:] if row.endswith(",0")]
+    print(f"failed: {', '.join(failed) or 'none'}", file=sys.stderr)
+
+
+{"validate_one": validate_one, "validation_figure": validation_figure,
+ "validation_summary": validation_summary}[sm.rule]()

@@ -45,6 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
     info.add_argument("--damping", type=float, nargs="+", default=[0.05, 0.10],
                       help="damping ratios of the response spectra (default 0.05 0.10)")
     snapshots.add_parser(sub)
+    from dem.wall.cli import add_parser as add_wall_parser
+
+    add_wall_parser(sub)
     return parser
 
 
@@ -53,6 +56,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if hasattr(args, "handler"):
             return args.handler(args)
+        if args.command == "wall":
+            return args.func(args)
         if args.command == "run":
             return command_run(args)
         if args.command == "validate":

@@ -46,28 +46,97 @@ def test_bad_config_is_refused(tmp_path):
     assert "ValidationError" in proc.stdout + proc.stderr or "validat" in (proc.stdout + proc.stderr).lower()
 
 
-def test_tiny_study_runs_end_to_end_and_is_deterministic(tmp_path):
-    for item in ("Snakefile", "workflow", "records", "config"):
+def _tiny_copy(tmp_path):
+    for item in ("Snakefile", "workflow", "records", "config", "profiles"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
     shutil.copy(ROOT / "tests" / "workflow" / "config.yaml", tmp_path / "tiny.yaml")
+
+
+def _cube_values(path):
+    import xarray as xr
+
+    with xr.open_dataset(path) as cube:
+        return {name: cube[name].values.copy() for name in cube.data_vars}
+
+
+def _expected_figures():
+    import yaml
+    from snakemake.utils import update_config
+
+    from dem.figures import figure_table
+    from dem.study import case_table
+
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    update_config(config, yaml.safe_load((ROOT / "tests" / "workflow" / "config.yaml").read_text()))
+    studies = {n: {c.id: c for c in case_table(n, s, config["defaults"])} for n, s in config["studies"].items()}
+    return sorted(f"{name}.png" for name in figure_table(studies, config))
+
+
+def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
+    _tiny_copy(tmp_path)
     proc = snakemake("-j2", "--configfile", "tiny.yaml", cwd=tmp_path)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "results/cubes/colonnade_records.nc") as cube:
-        assert dict(cube.sizes) == {"record": 1, "n_drums": 1, "pga": 2}
-        first = cube.load()
+        assert dict(cube.sizes)["pga"] == 2 and cube["epistyle_displacement"].dims[-1] == "time"
     assert (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
     figures = sorted(p.name for p in (tmp_path / "results/figures").glob("*.png"))
-    assert figures == ["table_7_1.png", "thesis_fig_6_10.png", "thesis_fig_6_13.png", "thesis_fig_6_5.png"]
-    # rerun from scratch: bit-identical cube values
+    expected = _expected_figures()
+    assert len(expected) >= 25 and figures == expected, set(expected) ^ set(figures)
+
+    # the HTML report: every figure, with its caption
+    proc = snakemake("--configfile", "tiny.yaml", "--report", "report.zip", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    import zipfile
+
+    with zipfile.ZipFile(tmp_path / "report.zip") as archive:
+        names = archive.namelist()
+        pngs = [n for n in names if n.endswith(".png") and "figures" in n]
+        assert len(pngs) >= len(expected), f"report holds {len(pngs)} of {len(expected)} figures"
+        text = "".join(archive.read(n).decode("utf-8", "ignore") for n in names if n.endswith((".html", ".js")))
+        assert "Regenerates thesis Fig. 6.10" in text, "the report carries the figure captions"
+
+
+KILL_TARGETS = ("results/cubes/friction_levels.nc", "results/cubes/ramp_drums.nc",
+                "results/cubes/colonnade_records.nc", "results/cubes/harmonic_frequency.nc")
+
+
+def test_a_killed_run_reruns_to_bit_identical_cubes(tmp_path):
+    import os
+    import signal
+    import time
+
+    import xarray as xr
+
+    _tiny_copy(tmp_path)
+    proc = snakemake("-j2", "--configfile", "tiny.yaml", *KILL_TARGETS, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    first = {p: _cube_values(tmp_path / p) for p in KILL_TARGETS}
+    n_cases = len(list((tmp_path / "results").glob("cases/*/*.nc")))
+
+    # kill the whole run (SIGKILL: no clean-up) once some cases are written, then rerun
     shutil.rmtree(tmp_path / "results")
-    proc = snakemake("-j2", "--configfile", "tiny.yaml", cwd=tmp_path)
-    assert proc.returncode == 0
-    with xr.open_dataset(tmp_path / "results/cubes/colonnade_records.nc") as cube:
-        for name in first.data_vars:
-            assert np.array_equal(cube[name].values, first[name].values, equal_nan=True), name
+    killed = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--configfile", "tiny.yaml", *KILL_TARGETS],
+                              cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                              start_new_session=True)
+    deadline = time.time() + 120
+    while time.time() < deadline and len(list((tmp_path / "results").glob("cases/*/*.nc"))) < 2:
+        time.sleep(0.1)
+    os.killpg(killed.pid, signal.SIGKILL)
+    killed.wait()
+    written = list((tmp_path / "results").glob("cases/*/*.nc"))
+    assert 2 <= len(written) < n_cases, f"the kill came after {len(written)} of {n_cases} cases"
+    for path in written:  # whatever a killed run leaves under a case's name is a whole dataset
+        with xr.open_dataset(path) as ds:
+            assert "collapsed" in ds and ds.sizes["time"] > 1, path
+    proc = snakemake("-j2", "--configfile", "tiny.yaml", *KILL_TARGETS, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    for target, values in first.items():
+        again = _cube_values(tmp_path / target)
+        for name, data in values.items():
+            assert np.array_equal(again[name], data, equal_nan=True), f"{target}:{name} differs after the kill"
 
 
 def test_slurm_profile_dry_run():

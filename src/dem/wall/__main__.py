@@ -1,0 +1,3 @@
+from dem.wall.cli import main
+
+raise SystemExit(main())

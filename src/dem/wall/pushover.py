@@ -1,0 +1,294 @@
+"""Incremental-iterative pushover under displacement control (manuscript 2.3).
+
+F_ext = F_D + lambda F_L. The dead load is applied first (Newton, load control); then the
+out-of-plane displacement of a control DOF grows step by step while lambda is an unknown
+(bordered Newton: K dq = lambda-term - R, dq_c prescribed), so the path passes the peak and
+follows the plateau or the softening branch. Each iteration rebuilds the panel stiffness
+H^T K-bar H from the interface damage (Eq. 13-14), sparse, and checks the residual.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from dem.wall.compatibility import panel_compatibility
+from dem.wall.constitutive import ELASTIC, JointStrength, return_map
+from dem.wall.panel import Panel
+from dem.wall.stiffness import local_stiffness, sections, to_global_order, to_local_order
+
+
+@dataclass
+class SolverSettings:
+    tolerance: float = 1e-5          # residual norm / reference load norm
+    max_iterations: int = 60
+    max_steps: int = 400
+    max_displacement: float = 0.0    # control displacement at which to stop [m]; 0: s/10
+    first_step: float = 0.0          # first control increment [m]; 0: automatic
+    growth: float = 1.3              # step growth after an easy step
+    max_failures: int = 4            # consecutive failed (halved) steps before accepting/giving up
+    accept_tolerance: float = 1e-3   # residual accepted after max_failures (recorded per step)
+    consistent: float = 1.0          # 1: consistent (return-map derivative) tangent, 0: Eq. 13-14 secant
+    residual_stiffness: float = 0.05  # fraction of K-bar kept on yielded components (iteration matrix only)
+    drop_ratio: float = 0.5          # stop when lambda falls below this x lambda_max
+    plateau_steps: int = 12          # stop after this many steps without a new lambda_max ...
+    plateau_tolerance: float = 1e-3  # ... within this relative change
+
+    def as_dict(self):
+        return dict(self.__dict__)
+
+
+@dataclass
+class WallModel:
+    """Everything the solver needs: geometry, compatibility, stiffness, strength, loads."""
+
+    panel: Panel
+    k_n: np.ndarray
+    k_t: np.ndarray
+    strength: JointStrength
+    dead_load: np.ndarray            # (6 nb,) F_D
+    live_load: np.ndarray            # (6 nb,) F_L
+    fixed: np.ndarray                # (6 nb,) bool: restrained DOF under the live load
+    fixed_dead: np.ndarray = None    # (6 nb,) bool: restrained while the dead load is applied
+    H: sp.csr_matrix = field(init=False)
+
+    def __post_init__(self):
+        self.H = panel_compatibility(self.panel)
+        self.sec = sections(self.panel)
+        self.k_local = local_stiffness(self.sec, self.k_n, self.k_t)
+        if self.fixed_dead is None:
+            self.fixed_dead = self.fixed
+        self.use(self.fixed)
+
+    def use(self, fixed):
+        """Select the free DOFs (restraints of the current phase)."""
+        self.free = np.flatnonzero(~fixed)
+        self.Hf = self.H[:, self.free].tocsr()
+
+    def local_deformation(self, q):
+        d = (self.H @ q).reshape(-1, 6)
+        return to_local_order(d, self.sec.perm)
+
+    def internal(self, q, plastic, cracked):
+        """Internal forces on the free DOFs for the full displacement vector ``q``."""
+        rm = return_map(self.local_deformation(q), plastic, cracked, self.k_local, self.sec,
+                        self.strength)
+        f_glob = to_global_order(rm.forces, self.sec.perm).ravel()
+        return self.Hf.T @ f_glob, rm
+
+    def tangent(self, rm, eps):
+        factor = np.maximum(rm.tangent, eps)
+        kd = to_global_order(self.k_local * factor, self.sec.perm).ravel()
+        return (self.Hf.T @ sp.diags(kd) @ self.Hf).tocsc()
+
+    def consistent_tangent(self, q, plastic, cracked, rm, eps):
+        """H^T D H with D the 6 x 6 per-interface derivative of the return map (forward
+        differences, vectorised over the interfaces) plus eps K-bar on yielded components."""
+        d = self.local_deformation(q)
+        ni = len(d)
+        scale = np.abs(d).max(axis=0) + 1e-6
+        D = np.empty((ni, 6, 6))
+        for j in range(6):
+            h = 1e-7 * scale[j] * (-1.0 if j == 2 else 1.0)  # normal: towards contact
+            dp = d.copy()
+            dp[:, j] += h
+            fp = return_map(dp, plastic, cracked, self.k_local, self.sec, self.strength).forces
+            D[:, :, j] = (fp - rm.forces) / h
+        diag = D[:, np.arange(6), np.arange(6)]
+        D[:, np.arange(6), np.arange(6)] = np.maximum(diag, eps * self.k_local)
+        # local -> global component order
+        P = self.sec.perm
+        G = np.zeros_like(D)
+        ii = np.arange(ni)[:, None, None]
+        G[ii, P[:, :, None], P[:, None, :]] = D
+        rows = (6 * np.arange(ni))[:, None, None] + np.arange(6)[None, :, None]
+        cols = (6 * np.arange(ni))[:, None, None] + np.arange(6)[None, None, :]
+        rows, cols = np.broadcast_arrays(rows, cols)
+        Dg = sp.csr_matrix((G.ravel(), (rows.ravel(), cols.ravel())), shape=(6 * ni, 6 * ni))
+        return (self.Hf.T @ Dg @ self.Hf).tocsc()
+
+
+@dataclass
+class PushoverResult:
+    lam: np.ndarray                  # (steps,)
+    control: np.ndarray              # (steps,) control displacement [m]
+    state: np.ndarray                # (steps, ni) damage state
+    q: np.ndarray                    # (steps, 6 nb) block displacements
+    iterations: np.ndarray
+    residual: np.ndarray
+    control_dof: int
+    lambda_max: float
+    step_max: int
+    status: str
+    wall_seconds: float
+    dead_state: np.ndarray
+    interface_forces_at_max: np.ndarray
+    settings: dict
+
+
+class ConvergenceError(RuntimeError):
+    def __init__(self, message, state=None):
+        super().__init__(message)
+        self.state = state  # (q, lam, rm, iterations, residual) of the last iterate
+
+
+def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target=None):
+    """Residual iterations at fixed lambda (control None) or fixed control displacement.
+
+    ``q`` is the full DOF vector; ``control`` a global DOF index. Returns q, lambda, the
+    return map, iterations and the relative residual.
+    """
+    free = model.free
+    F_D = model.dead_load[free]
+    F_L = model.live_load[free]
+    eps = settings.residual_stiffness
+    q = q.copy()
+    c = None if control is None else int(np.searchsorted(free, control))
+    res = np.inf
+    fint, rm = model.internal(q, plastic, cracked)
+    R = F_D + lam * F_L - fint
+    res = np.linalg.norm(R) / ref
+    for it in range(1, settings.max_iterations + 1):
+        on_target = control is None or abs(q[control] - target) <= 1e-9 * max(abs(target), 1e-12)
+        if res < settings.tolerance and on_target and it > 1:
+            return q, lam, rm, it, res
+        if settings.consistent:
+            K = model.consistent_tangent(q, plastic, cracked, rm, eps)
+        else:
+            K = model.tangent(rm, eps)
+        lu = spla.splu(K)
+        dq = lu.solve(R)
+        dlam = 0.0
+        if control is not None:
+            dq_l = lu.solve(F_L)
+            if abs(dq_l[c]) < 1e-300:
+                raise ConvergenceError("control DOF does not respond to the live load")
+            # the constraint part of the step is kept whole; the residual part is line-searched
+            dlam_c = (target - q[control]) / dq_l[c]
+            dlam_r = -dq[c] / dq_l[c]
+        # backtracking line search on the residual norm breaks contact/slip chattering
+        best = None
+        for step in (1.0, 0.5, 0.25, 0.125):
+            qt = q.copy()
+            if control is None:
+                qt[free] += step * dq
+                lt = lam
+            else:
+                dlam = dlam_c + step * dlam_r
+                qt[free] += step * dq + dlam * dq_l
+                lt = lam + dlam
+            ft, rt = model.internal(qt, plastic, cracked)
+            Rt = F_D + lt * F_L - ft
+            rest = np.linalg.norm(Rt) / ref
+            if best is None or rest < best[0]:
+                best = (rest, qt, lt, rt, Rt)
+            if rest < res:
+                break
+        res, q, lam, rm, R = best
+        if not np.all(np.isfinite(q)):
+            raise ConvergenceError("non-finite displacements")
+    raise ConvergenceError(f"no convergence in {settings.max_iterations} iterations (residual {res:.2e})",
+                           (q, lam, rm, settings.max_iterations, res))
+
+
+def choose_control_dof(model, q, plastic, cracked, settings):
+    """The free DOF moving most under the live load, in the state after the dead load."""
+    _, rm = model.internal(q, plastic, cracked)
+    K = model.tangent(rm, settings.residual_stiffness)
+    q_l = spla.spsolve(K, model.live_load[model.free])
+    direction = np.flatnonzero(model.live_load != 0)
+    comp = direction[0] % 6 if len(direction) else 2
+    cand = np.flatnonzero((model.free % 6) == comp)
+    c = cand[np.argmax(np.abs(q_l[cand]))]
+    return int(model.free[c]), float(q_l[c])
+
+
+def pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
+             progress=None) -> PushoverResult:
+    """Dead load, then displacement-controlled live load to the limit and beyond."""
+    settings = settings or SolverSettings()
+    t0 = time.perf_counter()
+    ni = model.panel.n_interfaces
+    q = np.zeros(model.fixed.size)
+    plastic = np.zeros((ni, 6))
+    cracked = np.zeros(ni, dtype=bool)
+    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
+
+    # dead load (lambda = 0), load control, with the restraints that carry the self-weight
+    model.use(model.fixed_dead)
+    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    plastic, cracked = rm.plastic, rm.cracked
+    dead_state = rm.state.copy()
+    # the remaining restraints hold the blocks where the dead load left them
+    model.use(model.fixed)
+    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    plastic, cracked = rm.plastic, rm.cracked
+
+    control, unit = choose_control_dof(model, q, plastic, cracked, settings)
+    if control_block is not None:
+        control = 6 * int(control_block) + int(control % 6)
+        if model.fixed[control]:
+            raise ConvergenceError(f"control block {control_block} is restrained")
+    sign = 1.0 if unit >= 0 else -1.0
+    s = float(model.panel.block["s"])
+    u_max = settings.max_displacement or s / 10.0
+    du = settings.first_step or max(abs(unit) * 1e-3, u_max * 1e-7)
+    failures = 0
+    u0 = q[control]
+
+    lam = 0.0
+    lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
+    lam_max, step_max, since_max, status = 0.0, 0, 0, "reached maximum control displacement"
+    f_at_max = rm.forces.copy()
+    steps = 0
+    while steps < settings.max_steps:
+        target = q[control] + sign * du
+        try:
+            q_new, lam_new, rm, it, res = _newton(model, q, plastic, cracked, lam, settings, ref,
+                                                  control, target)
+        except ConvergenceError as err:
+            if progress:
+                progress(steps, lam, float("nan"), str(err))
+            failures += 1
+            if failures < settings.max_failures:
+                du *= 0.5
+                continue
+            # after repeated halving, accept a nearly converged iterate (its residual is recorded)
+            if err.state is None or not err.state[4] < settings.accept_tolerance:
+                status = "stopped: no convergence after repeated step halving"
+                break
+            q_new, lam_new, rm, it, res = err.state
+        steps += 1
+        failures = 0
+        q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
+        u = (q[control] - u0) * sign
+        lams.append(lam), ctrl.append(u), states.append(rm.state.copy())
+        qs.append(q.copy()), its.append(it), ress.append(res)
+        since_max = 0 if lam > lam_max * (1 + settings.plateau_tolerance) else since_max + 1
+        u_at_max = ctrl[step_max]
+        if lam > lam_max:
+            lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
+        if progress:
+            progress(steps, lam, u)
+        if u >= u_max:
+            break
+        if lam_max > 0 and lam < settings.drop_ratio * lam_max:
+            status = "stopped: lambda dropped below drop_ratio x lambda_max"
+            break
+        if since_max >= settings.plateau_steps and u > 4 * u_at_max:
+            status = "stopped: plateau (no increase of lambda)"
+            break
+        if it <= settings.max_iterations // 4:
+            du *= settings.growth
+        du = min(du, u_max / 20)
+    else:
+        status = "stopped: max_steps"
+
+    return PushoverResult(np.array(lams), np.array(ctrl), np.array(states), np.array(qs),
+                          np.array(its), np.array(ress), int(control), float(lam_max),
+                          int(step_max), status, time.perf_counter() - t0, dead_state, f_at_max,
+                          settings.as_dict())

@@ -12,22 +12,21 @@ VALIDATION_NAMES = list(dem.validation.VALIDATIONS)
 VALIDATION_FIGURES = list(dem.validation_plots.THESIS_FIGURES)
 
 
-def validation_inputs(wildcards):
-    """The committed record a validation reads, if it takes one (``record=`` argument)."""
-    func = dem.validation.VALIDATIONS[wildcards.validation]
-    record = inspect.signature(func).parameters.get("record")
-    return {"record": f"records/{record.default.name}"} if record else {}
-
-
-def validation_dataset(wildcards):
-    """The validation dataset a thesis figure is drawn from (THESIS_FIGURES)."""
-    name, _ = dem.validation_plots.THESIS_FIGURES[wildcards.validation_fig]
-    return f"results/validation/{name}.nc"
+# the committed record each validation reads (its ``record=`` argument), as a named input
+VALIDATION_RECORDS = {
+    name: {"record": f"records/{param.default.name}"}
+    for name, func in dem.validation.VALIDATIONS.items()
+    if (param := inspect.signature(func).parameters.get("record"))
+}
+# the validation dataset each thesis figure is drawn from
+VALIDATION_FIGURE_INPUT = {
+    fig: f"results/validation/{name}.nc" for fig, (name, _) in dem.validation_plots.THESIS_FIGURES.items()
+}
 
 
 rule validate_one:
     input:
-        unpack(validation_inputs),
+        unpack(lambda wildcards: VALIDATION_RECORDS.get(wildcards.validation, {})),
     output:
         "results/validation/{validation}.nc",
     log:
@@ -42,7 +41,7 @@ rule validate_one:
 
 rule validation_figure:
     input:
-        validation_dataset,
+        lambda wildcards: VALIDATION_FIGURE_INPUT[wildcards.validation_fig],
     output:
         "results/figures/{validation_fig}.png",
     log:

@@ -79,8 +79,12 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
     w_eff = np.where(no_tension, np.clip(sec.width - 2 * np.abs(f[:, 4]) / n_abs, 0, None), sec.width)
     s_eff = np.where(no_tension, np.clip(sec.depth - 2 * np.abs(f[:, 3]) / n_abs, 0, None), sec.depth)
     import os
-    if os.environ.get("NOBEND"):
+    if os.environ.get("NOBEND") == "1":
         w_eff, s_eff = sec.width, sec.depth
+    if os.environ.get("NOBEND") == "w":
+        w_eff = sec.width
+    if os.environ.get("NOBEND") == "s":
+        s_eff = sec.depth
     m3u = torsion_constant(w_eff, s_eff) * f_su
     with np.errstate(divide="ignore", invalid="ignore"):
         a = np.where(m3u > 0, (np.abs(trial[:, 5]) / m3u) ** strength.alpha, np.inf)

@@ -8,14 +8,14 @@ JSON in ``attrs["scene"]``, solver settings and the code version in attrs.
 from __future__ import annotations
 
 import json
-import os
 import platform
-import tempfile
 from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+
+from dem.atomic import write_atomically
 
 import dem
 
@@ -204,19 +204,6 @@ def missing_metadata(ds: xr.Dataset) -> list[str]:
 
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write NetCDF atomically: to a temporary file beside ``path``, then rename over it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
                 if v.dtype.kind == "f" and v.ndim > 0}
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))

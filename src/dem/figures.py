@@ -23,6 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from dem.atomic import write_atomically  # noqa: E402
 from dem.reduce import frequency_response, ramp_thresholds  # noqa: E402
 from dem.study import case_id  # noqa: E402
 
@@ -53,22 +54,11 @@ def case_path(study: str, params: dict) -> str:
 
 
 def _save(fig, path) -> Path:
-    """Write a PNG atomically (temporary file in the same folder, then rename)."""
-    import os
-    import tempfile
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".png", dir=path.parent)
-    os.close(fd)
+    """Write a PNG atomically (dem.atomic) and close the figure."""
     try:
-        fig.savefig(tmp, dpi=110)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
+        return write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110))
     finally:
         plt.close(fig)
-        Path(tmp).unlink(missing_ok=True)
-    return path
 
 
 def _label(da) -> str:

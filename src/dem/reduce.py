@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from dem.atomic import write_atomically
 from dem.study import minimum_collapse
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
@@ -55,20 +56,14 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
 
 
 def write_csv(rows: list[dict], path: str | Path) -> Path:
-    """Write rows atomically (temporary file, then rename)."""
-    import os
-    import tempfile
+    """Write rows atomically (dem.atomic)."""
+    def write(tmp):
+        with open(tmp, "w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
-    return path
+    return write_atomically(path, write)
 
 
 def _excitation(cube: xr.Dataset) -> dict:

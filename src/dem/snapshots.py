@@ -19,14 +19,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
 import textwrap
 from pathlib import Path
 
 import numpy as np
 
+from dem.atomic import write_atomically
 from dem.errors import InputError
 
 ROLE_COLOURS = {
@@ -386,7 +385,7 @@ def snapshot_strip(ds, path, times=None, n: int = 6, title: str | None = None) -
         ax.set_title(panel_label(time, base, i, end), fontsize=9)
     axes[0].set_ylabel("y [m]")
     _suptitle(fig, title if title is not None else default_title(ds), fontsize=10)
-    _write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png",
+    write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png",
                                                     bbox_inches="tight"))  # trim spare margin
     return path
 
@@ -435,7 +434,7 @@ def animate(ds, path, fps: float = 20, max_frames: int = 300, every: float | Non
         if show:
             print(file=sys.stderr)
 
-    _write_atomically(path, write)
+    write_atomically(path, write)
     return path
 
 
@@ -464,24 +463,6 @@ def _output_path(path, suffix: str, field: str) -> Path:
     if path.suffix.lower() != suffix:
         raise InputError(field, f"'{path}' does not end in {suffix}", f"name the output *{suffix}")
     return path
-
-
-def _write_atomically(path: Path, write) -> None:
-    """Call write(tmp) on a temporary file beside path, then rename it over path."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # the temporary name keeps the real suffix: matplotlib and Pillow pick the format from it
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}",
-                               dir=path.parent)
-    os.close(fd)
-    try:
-        write(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def _positive(value, field: str) -> float:

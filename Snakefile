@@ -17,6 +17,8 @@ include: "workflow/rules/simulate.smk"
 include: "workflow/rules/combine.smk"
 include: "workflow/rules/reduce.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/validation.smk"
+include: "workflow/rules/walls.smk"
 
 
 rule all:
@@ -25,4 +27,5 @@ rule all:
         expand("results/cubes/{study}.nc", study=STUDIES),
         TABLES,
         expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
+        VALIDATION_TARGETS,
     default_target: True

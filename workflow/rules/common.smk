@@ -56,6 +56,8 @@ def _tables():
 
 
 TABLES = _tables()
+# the chapter-5 validations (workflow/rules/validation.smk); off in the workflow tests' tiny config
+RUN_VALIDATION = str(config.get("run_validation", True)).lower() == "true"
 
 
 def case_record(wildcards):
@@ -76,11 +78,6 @@ def figure_input(wildcards):
 
 def figure_caption(wildcards):
     return FIGURES[wildcards.figure].caption
-
-
-def figure_category(wildcards):
-    number = FIGURES[wildcards.figure].thesis
-    return "Chapter " + number.split(".")[0].replace("Table 7", "7")
 
 
 def study_description(wildcards):

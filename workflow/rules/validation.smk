@@ -10,6 +10,11 @@ import dem.validation_plots
 
 VALIDATION_NAMES = list(dem.validation.VALIDATIONS)
 VALIDATION_FIGURES = list(dem.validation_plots.THESIS_FIGURES)
+VALIDATION_TARGETS = (
+    [f"results/figures/{fig}.png" for fig in VALIDATION_FIGURES] + ["results/tables/validation_summary.csv"]
+    if RUN_VALIDATION
+    else []
+)
 
 
 # the committed record each validation reads (its ``record=`` argument), as a named input
@@ -43,7 +48,14 @@ rule validation_figure:
     input:
         lambda wildcards: VALIDATION_FIGURE_INPUT[wildcards.validation_fig],
     output:
-        "results/figures/{validation_fig}.png",
+        report(
+            "results/figures/{validation_fig}.png",
+            caption="../report/validation_figure.rst",
+            category="Thesis figures",
+            labels={"figure": "{validation_fig}"},
+        ),
+    params:
+        caption=lambda wildcards: dem.validation_plots.CAPTIONS[wildcards.validation_fig],
     log:
         "results/logs/validation/{validation_fig}.log",
     wildcard_constraints:
@@ -65,3 +77,10 @@ rule validation_summary:
         "../envs/dem.yaml"
     script:
         "../scripts/validate_one.py"
+
+
+# `snakemake -j2 validation_all`: the validations, their thesis figures and the summary only
+rule validation_all:
+    input:
+        expand("results/figures/{validation_fig}.png", validation_fig=VALIDATION_FIGURES),
+        "results/tables/validation_summary.csv",

@@ -77,10 +77,23 @@ def _value_label(name: str, value) -> str:
 
 
 def _finish(fig, title: str, verdict: str = "") -> None:
+    """Title, and the ordering verdict in a strip kept free under the axes."""
     fig.suptitle(title, fontsize=9)
     if verdict:
+        lines = sum(1 + len(line) // 170 for line in verdict.splitlines())
+        strip = (0.16 * lines + 0.05) / fig.get_figheight()
+        fig.get_layout_engine().set(rect=(0, strip, 1, 1 - strip))
         fig.text(0.01, 0.005, verdict, fontsize=7.5, ha="left", va="bottom", wrap=True,
                  color="darkred" if "does NOT hold" in verdict else "darkgreen")
+
+
+def _log_frequency_axis(ax) -> None:
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+    ax.set_xscale("log")
+    ax.xaxis.set_major_formatter(ScalarFormatter())
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_xlabel("harmonic frequency [Hz]")
 
 
 def _sel(cube: xr.Dataset, select: dict, keep=()) -> xr.Dataset:
@@ -117,7 +130,7 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
             if float(case["collapsed"]) > 0:
                 ax1.axvline(float(case["collapse_time"]), color=ax1.lines[-1].get_color(), ls=":", lw=0.8)
         ax1.set_xlabel(_label(cube["time"]))
-        ax1.set_ylabel(_label(cube[variable]))
+        ax1.set_ylabel(_label(cube[variable]), fontsize=8)
         ax1.legend(fontsize=7, ncol=2)
         xs = np.arange(len(values)) if values.dtype.kind in "OUS" else values
         ax2.plot(xs, peaks, "o-")
@@ -277,8 +290,7 @@ def _frequency_figure(variable, ylabel, title, per="friction"):
             ax.plot([r["frequency"] for r in fell], [r[variable] for r in fell], "x", color="r", ms=9)
         if variable == "sliding_to_base_ratio":
             ax.axhline(1.0, color="k", ls=":", lw=0.8, label="thesis: -> 1 at high frequency")
-        ax.set_xscale("log")
-        ax.set_xlabel("harmonic frequency [Hz]")
+        _log_frequency_axis(ax)
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7, title="red x: collapsed", title_fontsize=7)
         _finish(fig, title, rocking_then_sliding(cube))
@@ -301,14 +313,13 @@ def _small_column_figure(inputs, path):
             axes[1, col].plot(case["frequency"], case["max_rocking"], "o-", label=label)
         for row, name in enumerate(("total sliding [cm]", "rocking (max mean drum rotation) [rad]")):
             ax = axes[row, col]
-            ax.set_xscale("log")
-            ax.set_xlabel("harmonic frequency [Hz]")
+            _log_frequency_axis(ax)
             ax.set_ylabel(name)
             ax.legend(fontsize=7)
         axes[0, col].set_title("(a) PGA 2.15 m/s2, per friction" if col == 0 else "(b) mu = 0.68, per PGA",
                                fontsize=9)
         cube.attrs["column_height"] = 0.203
-        verdicts.append(rocking_then_sliding(cube))
+        verdicts.append(("(a) " if col == 0 else "(b) ") + rocking_then_sliding(cube))
     _finish(fig, "Thesis Fig. 6.1: small-scale 7-block column (48 x 29 mm blocks) under harmonic base motion",
             "\n".join(verdicts))
     return _save(fig, path)

@@ -111,14 +111,14 @@ def test_a_killed_run_reruns_to_bit_identical_cubes(tmp_path):
     import xarray as xr
 
     _tiny_copy(tmp_path)
-    proc = snakemake("-j2", "--configfile", "tiny.yaml", *KILL_TARGETS, cwd=tmp_path)
+    proc = snakemake("-j2", *KILL_TARGETS, "--configfile", "tiny.yaml", cwd=tmp_path)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     first = {p: _cube_values(tmp_path / p) for p in KILL_TARGETS}
     n_cases = len(list((tmp_path / "results").glob("cases/*/*.nc")))
 
     # kill the whole run (SIGKILL: no clean-up) once some cases are written, then rerun
     shutil.rmtree(tmp_path / "results")
-    killed = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", "--configfile", "tiny.yaml", *KILL_TARGETS],
+    killed = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", *KILL_TARGETS, "--configfile", "tiny.yaml"],
                               cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                               start_new_session=True)
     deadline = time.time() + 120
@@ -131,7 +131,7 @@ def test_a_killed_run_reruns_to_bit_identical_cubes(tmp_path):
     for path in written:  # whatever a killed run leaves under a case's name is a whole dataset
         with xr.open_dataset(path) as ds:
             assert "collapsed" in ds and ds.sizes["time"] > 1, path
-    proc = snakemake("-j2", "--configfile", "tiny.yaml", *KILL_TARGETS, cwd=tmp_path)
+    proc = snakemake("-j2", *KILL_TARGETS, "--configfile", "tiny.yaml", cwd=tmp_path)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     for target, values in first.items():
         again = _cube_values(tmp_path / target)

@@ -173,8 +173,7 @@ def geometry_figure(thesis, study, cases, title, caption):
         for ax, file, params in zip(np.atleast_1d(axes), inputs, cases):
             with xr.open_dataset(file) as ds:
                 local = body_polygons(ds)
-                polys = [posed_polygons(p, float(ds.x[0, i]), float(ds.y[0, i]), float(ds.theta[0, i]))
-                         for i, p in enumerate(local)]
+                polys = posed_polygons(local, ds.x[0].values, ds.y[0].values, ds.theta[0].values)
                 roles = [str(r) for r in ds["body_role"].values]
             colours = ["0.6" if r == "base" else "tan" if r == "epistyle" else "wheat" for r in roles]
             ax.add_collection(PolyCollection(polys, facecolors=colours, edgecolors="k", linewidths=0.5))

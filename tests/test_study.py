@@ -89,3 +89,15 @@ def test_minimum_collapse_and_table_7_1_rows():
     assert mex["collapse_pga_m_s2"] == 2.0 and mex["pga_grid_below_m_s2"] == 1.0
     assert mex["collapse_map"] == "1:. 2:X 4:. 8:X", "the whole collapse map is kept"
     assert mex["thesis_accel_to_failure_m_s2"] == 1.15
+
+
+def test_string_parameters_keep_their_full_names(tmp_path):
+    from dem.dataset import write_dataset
+
+    paths = []
+    for kind in ("a", "per_span"):
+        ds = xr.Dataset({"collapsed": ((), 0.0, {"units": "1", "long_name": "collapsed"})},
+                        coords={"epistyle_type": ((), kind, {"units": "1", "long_name": "epistyle type"})})
+        paths.append(write_dataset(ds, tmp_path / f"{kind}.nc"))
+    cube = combine_cases(paths)
+    assert sorted(cube["epistyle_type"].values) == ["a", "per_span"], cube["epistyle_type"].values

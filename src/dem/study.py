@@ -199,7 +199,10 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
             names = [v for v in CUBE_VARIABLES + HISTORY_VARIABLES if v in ds]
             small = ds[names].load()
             small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
-            pieces.append(small.expand_dims(params))
+            small = small.expand_dims(params)
+            # strings as objects: merging fixed-width unicode truncates 'per_span' to the width of 'a'
+            small = small.assign_coords({k: small[k].astype(object) for k in params if small[k].dtype.kind == "U"})
+            pieces.append(small)
             case_attrs = {k: ds.attrs[k] for k in SHARED_ATTRS if k in ds.attrs}
             shared = case_attrs if shared is None else {
                 k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}

@@ -101,3 +101,19 @@ def test_string_parameters_keep_their_full_names(tmp_path):
         paths.append(write_dataset(ds, tmp_path / f"{kind}.nc"))
     cube = combine_cases(paths)
     assert sorted(cube["epistyle_type"].values) == ["a", "per_span"], cube["epistyle_type"].values
+
+
+def test_histories_align_on_times_that_differ_by_rounding(tmp_path):
+    from dem.dataset import write_dataset
+
+    paths = []
+    for k, jitter in ((1, 0.0), (2, 3.5e-18)):
+        time = np.arange(5) * 0.01 + jitter * np.arange(5)
+        ds = xr.Dataset({"collapsed": ((), 0.0, {"units": "1", "long_name": "collapsed"}),
+                         "rocking": (("time",), np.full(5, float(k)), {"units": "rad", "long_name": "rocking"})},
+                        coords={"time": ("time", time, {"units": "s", "long_name": "time"}),
+                                "n_drums": ((), k, {"units": "1", "long_name": "drums"})})
+        paths.append(write_dataset(ds, tmp_path / f"{k}.nc"))
+    cube = combine_cases(paths)
+    assert cube.sizes["time"] == 5, f"{cube.sizes['time']} samples: the two time axes did not align"
+    assert not np.isnan(cube["rocking"].values).any()

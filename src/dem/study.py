@@ -15,6 +15,7 @@ import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
 from dem.errors import InputError
@@ -199,6 +200,8 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
             names = [v for v in CUBE_VARIABLES + HISTORY_VARIABLES if v in ds]
             small = ds[names].load()
             small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
+            # cases of different dt sample the same output times to within rounding: align them
+            small = small.assign_coords(time=np.round(small["time"].values, 9))
             small = small.expand_dims(params)
             # strings as objects: merging fixed-width unicode truncates 'per_span' to the width of 'a'
             small = small.assign_coords({k: small[k].astype(object) for k in params if small[k].dtype.kind == "U"})

@@ -25,3 +25,30 @@ def test_free_standing_wall_slides_at_mu():
     case = case_from_dict(wall(mu=0.05))
     r = pushover(case.model, case.settings)
     assert r.lambda_max == pytest.approx(0.05, rel=0.02), f"lambda_max {r.lambda_max:.4f} vs mu = 0.05 (2 %)"
+
+
+def test_mortar_joint_is_perfectly_plastic_in_tension():
+    """Manuscript 2.2: past f_t the normal force stays at f_t (Eq. 13: stiffness zero), the joint
+    does not lose its strength (no brittle crack) unless asked to."""
+    import numpy as np
+
+    from dem.wall.constitutive import DETACHED, JointStrength, return_map
+    from dem.wall.panel import build_panel
+    from dem.wall.stiffness import local_stiffness, sections
+
+    p = build_panel(0.036, 0.112, 0.053, 2, 2, joint_thickness=0.01)
+    sec = sections(p)
+    ni = p.n_interfaces
+    k = local_stiffness(sec, 2.5e10, 1.05e11)
+    sig_t = 0.35e6
+    strength = JointStrength(np.full(ni, 0.57), np.full(ni, sig_t), np.full(ni, 0.57 * sig_t), np.full(ni, 1.5))
+    d = np.zeros((ni, 6))
+    d[:, 2] = 10 * sig_t / 2.5e10      # ten times the elastic limit in tension
+    d[:, 3] = 1e-3
+    rm = return_map(d, np.zeros((ni, 6)), np.zeros(ni, bool), k, sec, strength)
+    assert np.all(rm.state == DETACHED)
+    assert np.allclose(rm.forces[:, 2], sig_t * sec.area), "normal force capped at f_t = sigma_t S"
+    assert np.allclose(rm.forces[:, [0, 1, 3, 4, 5]], 0.0), "the other caps vanish at f_n = f_t"
+    assert not rm.cracked.any(), "elastic-perfectly plastic: strength kept"
+    brittle = JointStrength(strength.mu, strength.tensile_strength, strength.cohesion, strength.alpha, True)
+    assert return_map(d, np.zeros((ni, 6)), np.zeros(ni, bool), k, sec, brittle).cracked.all()

@@ -1,8 +1,10 @@
 """Interface return mapping: elastic-perfectly-plastic actions (manuscript Eq. 9, 10, 12-14).
 
 Local order (t1, t2, n, b1, b2, tor). Forces are K-bar (d - d_p); d_p is the plastic part.
-- detachment: f_n > f_t -> all actions zero (Eq. 13); a mortar joint loses its tensile
-  strength and cohesion for good (it has cracked) and from then on behaves as a dry joint.
+- detachment: f_n > f_t -> all stiffness zero (Eq. 13). Elastic-perfectly plastic (manuscript
+  2.2): the normal force stays at the tensile strength f_t, every other action at zero (their
+  caps vanish at f_n = f_t). With ``brittle`` set, a mortar joint instead loses its tensile
+  strength and cohesion for good (it cracks) and from then on behaves as a dry joint.
 - rotation: |m_i| <= (f_t - f_n) l_ci (Eq. 9) -> capped, k_r = 0 (Eq. 13).
 - shear and torsion: (|m3|/m3u)^alpha + (f1^2 + f2^2)/f_su^2 <= 1 with f_su = c S - mu f_n
   (Eq. 10 with c = mu sigma_t by default) and m3u = c_T f_su (Eq. 12), c_T of the compressed
@@ -30,6 +32,7 @@ class JointStrength:
     tensile_strength: np.ndarray   # sigma_t [Pa]
     cohesion: np.ndarray           # c [Pa]
     alpha: np.ndarray              # exponent of Eq. 14
+    brittle: bool = False          # True: tensile strength lost at detachment (not the manuscript)
 
 
 @dataclass
@@ -63,7 +66,7 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
     f_t = sig_t * area
     N = trial[:, 2]
     detached = N > f_t
-    cracked = cracked_old | (detached & (strength.tensile_strength > 0))
+    cracked = cracked_old | (detached & (strength.tensile_strength > 0) & bool(strength.brittle))
 
     # rotation conditions, Eq. 9
     reserve = np.maximum(f_t - N, 0.0)
@@ -78,13 +81,6 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
     n_abs = np.maximum(-N, 1e-300)
     w_eff = np.where(no_tension, np.clip(sec.width - 2 * np.abs(f[:, 4]) / n_abs, 0, None), sec.width)
     s_eff = np.where(no_tension, np.clip(sec.depth - 2 * np.abs(f[:, 3]) / n_abs, 0, None), sec.depth)
-    import os
-    if os.environ.get("NOBEND") == "1":
-        w_eff, s_eff = sec.width, sec.depth
-    if os.environ.get("NOBEND") == "w":
-        w_eff = sec.width
-    if os.environ.get("NOBEND") == "s":
-        s_eff = sec.depth
     m3u = torsion_constant(w_eff, s_eff) * f_su
     with np.errstate(divide="ignore", invalid="ignore"):
         a = np.where(m3u > 0, (np.abs(trial[:, 5]) / m3u) ** strength.alpha, np.inf)
@@ -101,6 +97,7 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
 
     # detachment, Eq. 13: everything released
     f[detached] = 0.0
+    f[detached, 2] = f_t[detached]
     tangent[detached] = 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         plastic = np.where(k > 0, d - f / k, plastic_old)

@@ -108,8 +108,9 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         "control_block": result.control_dof // 6,
         "status": result.status,
         "wall_seconds": result.wall_seconds,
-        "solver": "displacement control, bordered Newton with damaged stiffness (manuscript Eq. 13-14) "
-                  "and residual line search; sparse LU (scipy.sparse.linalg.splu)",
+        "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
+                  "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
+                  "residual line search; sparse LU (scipy.sparse.linalg.splu)",
         "solver_settings": json.dumps(result.settings, sort_keys=True),
         "damage_codes": json.dumps(STATE_NAMES),
         "interface_kinds": json.dumps(KIND_NAMES),

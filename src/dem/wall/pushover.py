@@ -1,10 +1,12 @@
-"""Incremental-iterative pushover under displacement control (manuscript 2.3).
+"""Incremental-iterative pushover under generalized displacement control (manuscript 2.3).
 
-F_ext = F_D + lambda F_L. The dead load is applied first (Newton, load control); then the
-out-of-plane displacement of a control DOF grows step by step while lambda is an unknown
-(bordered Newton: K dq = lambda-term - R, dq_c prescribed), so the path passes the peak and
-follows the plateau or the softening branch. Each iteration rebuilds the panel stiffness
-H^T K-bar H from the interface damage (Eq. 13-14), sparse, and checks the residual.
+F_ext = F_D + lambda F_L. The dead load is applied first (Newton, load control, damaged secant
+stiffness of Eq. 13-14); then the load-weighted mean displacement g = c . q (c = F_L / |F_L|_1,
+``work_control``; or one control DOF) grows step by step while lambda is an unknown (bordered
+Newton: K dq = lambda-term - R with c . dq prescribed), so the path passes the peak whatever
+part of the panel forms the mechanism. The iteration matrix is H^T D H with D the consistent
+6 x 6 derivative of each interface's return map (forward differences, ``consistent``), plus
+``residual_stiffness`` x K-bar on yielded components; sparse LU.
 """
 
 from __future__ import annotations
@@ -32,11 +34,13 @@ class SolverSettings:
     growth: float = 1.3              # step growth after an easy step
     max_failures: int = 4            # consecutive failed (halved) steps before accepting/giving up
     accept_tolerance: float = 1e-3   # residual accepted after max_failures (recorded per step)
+    work_control: float = 1.0        # 1: step the load-weighted mean displacement, 0: the control DOF
     consistent: float = 1.0          # 1: consistent (return-map derivative) tangent, 0: Eq. 13-14 secant
-    residual_stiffness: float = 0.05  # fraction of K-bar kept on yielded components (iteration matrix only)
+    residual_stiffness: float = 0.001  # fraction of K-bar kept on yielded components (iteration matrix only)
     drop_ratio: float = 0.5          # stop when lambda falls below this x lambda_max
     plateau_steps: int = 12          # stop after this many steps without a new lambda_max ...
     plateau_tolerance: float = 1e-3  # ... within this relative change
+    max_seconds: float = 0.0         # wall-clock budget of the live-load phase; 0: none
 
     def as_dict(self):
         return dict(self.__dict__)
@@ -147,29 +151,43 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
     F_L = model.live_load[free]
     eps = settings.residual_stiffness
     q = q.copy()
-    c = None if control is None else int(np.searchsorted(free, control))
+    # the constraint c . q = target: a unit vector on one DOF, or a weight vector (full length)
+    if control is None:
+        cf = None
+    elif np.ndim(control) == 0:
+        cf = np.zeros(len(free))
+        cf[int(np.searchsorted(free, int(control)))] = 1.0
+    else:
+        cf = np.asarray(control)[free]
     res = np.inf
     fint, rm = model.internal(q, plastic, cracked)
     R = F_D + lam * F_L - fint
     res = np.linalg.norm(R) / ref
+    history = []
     for it in range(1, settings.max_iterations + 1):
-        on_target = control is None or abs(q[control] - target) <= 1e-9 * max(abs(target), 1e-12)
+        history.append(res)
+        # stagnation (active-set chattering) below the accept tolerance: keep this iterate
+        if (it > 10 and res < settings.accept_tolerance and cf is not None
+                and min(history[-8:]) > 0.5 * history[-9]):
+            return q, lam, rm, it, res
+        on_target = cf is None or abs(cf @ q[free] - target) <= 1e-9 * max(abs(target), 1e-12)
         if res < settings.tolerance and on_target and it > 1:
             return q, lam, rm, it, res
-        if settings.consistent:
+        if settings.consistent and cf is not None:   # load-controlled dead load: secant (robust)
             K = model.consistent_tangent(q, plastic, cracked, rm, eps)
         else:
-            K = model.tangent(rm, eps)
+            K = model.tangent(rm, eps if cf is not None else max(eps, 0.05))
         lu = spla.splu(K)
         dq = lu.solve(R)
         dlam = 0.0
         if control is not None:
             dq_l = lu.solve(F_L)
-            if abs(dq_l[c]) < 1e-300:
-                raise ConvergenceError("control DOF does not respond to the live load")
+            cl = cf @ dq_l
+            if abs(cl) < 1e-300:
+                raise ConvergenceError("the controlled displacement does not respond to the live load")
             # the constraint part of the step is kept whole; the residual part is line-searched
-            dlam_c = (target - q[control]) / dq_l[c]
-            dlam_r = -dq[c] / dq_l[c]
+            dlam_c = (target - cf @ q[free]) / cl
+            dlam_r = -(cf @ dq) / cl
         # backtracking line search on the residual norm breaks contact/slip chattering
         best = None
         for step in (1.0, 0.5, 0.25, 0.125):
@@ -236,9 +254,25 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     sign = 1.0 if unit >= 0 else -1.0
     s = float(model.panel.block["s"])
     u_max = settings.max_displacement or s / 10.0
+    # the stepped quantity g = c . q: the load-weighted mean displacement (work control, passes
+    # limit points whatever part of the panel forms the mechanism) or the control DOF
+    cvec = np.zeros(model.fixed.size)
+    if settings.work_control:
+        w = np.where(model.fixed, 0.0, model.live_load)
+        cvec = w / np.abs(w).sum()
+        _, rm0 = model.internal(q, plastic, cracked)
+        q_l = spla.spsolve(model.tangent(rm0, settings.residual_stiffness), model.live_load[model.free])
+        ratio = abs(cvec[model.free] @ q_l) / abs(unit)
+    else:
+        cvec[control] = sign
+        ratio = 1.0
     du = settings.first_step or max(abs(unit) * 1e-3, u_max * 1e-7)
+    du *= ratio
+    g_max = u_max * ratio
     failures = 0
     u0 = q[control]
+    g0 = cvec @ q
+    g_hist = [0.0]
 
     lam = 0.0
     lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
@@ -246,11 +280,17 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     f_at_max = rm.forces.copy()
     steps = 0
     while steps < settings.max_steps:
-        target = q[control] + sign * du
+        if settings.max_seconds and time.perf_counter() - t0 > settings.max_seconds:
+            status = "stopped: max_seconds"
+            break
+        target = cvec @ q + du
+        err = None
         try:
             q_new, lam_new, rm, it, res = _newton(model, q, plastic, cracked, lam, settings, ref,
-                                                  control, target)
-        except ConvergenceError as err:
+                                                  cvec, target)
+        except ConvergenceError as first:
+            err = first
+        if err is not None:
             if progress:
                 progress(steps, lam, float("nan"), str(err))
             failures += 1
@@ -266,25 +306,27 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         failures = 0
         q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
         u = (q[control] - u0) * sign
+        g = cvec @ q - g0
+        g_hist.append(g)
         lams.append(lam), ctrl.append(u), states.append(rm.state.copy())
         qs.append(q.copy()), its.append(it), ress.append(res)
         since_max = 0 if lam > lam_max * (1 + settings.plateau_tolerance) else since_max + 1
-        u_at_max = ctrl[step_max]
+        g_at_max = g_hist[step_max]
         if lam > lam_max:
             lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
         if progress:
             progress(steps, lam, u)
-        if u >= u_max:
+        if u >= u_max or g >= g_max:
             break
         if lam_max > 0 and lam < settings.drop_ratio * lam_max:
             status = "stopped: lambda dropped below drop_ratio x lambda_max"
             break
-        if since_max >= settings.plateau_steps and u > 4 * u_at_max:
+        if since_max >= settings.plateau_steps and g > 4 * g_at_max:
             status = "stopped: plateau (no increase of lambda)"
             break
         if it <= settings.max_iterations // 4:
             du *= settings.growth
-        du = min(du, u_max / 20)
+        du = min(du, g_max / 20)
     else:
         status = "stopped: max_steps"
 

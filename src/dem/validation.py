@@ -24,9 +24,7 @@ is the one way a result is written (``dem validate`` and the Snakemake rule ``va
 from __future__ import annotations
 
 import math
-import os
 import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +33,7 @@ import xarray as xr
 from scipy.optimize import brentq
 
 from dem import analytic
+from dem.atomic import write_atomically
 from dem.dataset import code_version, write_dataset
 from dem.scene import scene_from_dict
 from dem.simulate import run_scene, simulate
@@ -667,19 +666,8 @@ def write_result(result: ValidationResult, path: Path) -> Path:
 
 
 def write_text_atomic(text: str, path: Path) -> Path:
-    """Write a text file atomically: a temporary file beside ``path``, then rename over it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Write a text file atomically (dem.atomic)."""
+    return write_atomically(path, lambda tmp: Path(tmp).write_text(text))
 
 
 SUMMARY_COLUMNS = ("name", "error", "tolerance", "passed")

@@ -9,8 +9,6 @@ datasets' ``long_name`` and ``units`` attributes (the xarray rule) where they fi
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -19,6 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
+
+from dem.atomic import write_atomically  # noqa: E402
 
 
 def label(da):
@@ -309,19 +309,11 @@ def _verdict(ds) -> str:
 
 
 def _save(fig, path) -> Path:
-    """Write a PNG atomically (temporary file in the same folder, then rename)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".png", dir=path.parent)
-    os.close(fd)
+    """Write a PNG atomically (dem.atomic) and close the figure."""
     try:
-        fig.savefig(tmp, dpi=120)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
+        return write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=120))
     finally:
         plt.close(fig)
-        Path(tmp).unlink(missing_ok=True)
-    return path
 
 
 def draw_thesis_figure(name: str, dataset, path) -> Path:

@@ -21,15 +21,15 @@ import yaml
 
 from dem.errors import InputError, check_number
 from dem.wall.constitutive import JointStrength
-from dem.wall.panel import EDGES, KIND_SUPPORT, build_panel
+from dem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, build_panel
 from dem.wall.pushover import SolverSettings, WallModel
 
 TOP_KEYS = {"name", "description", "panel", "joints", "restraints", "load", "solver", "reference"}
 PANEL_KEYS = {"block", "blocks_per_course", "courses", "unit_weight", "joint_thickness",
-              "first_course_offset", "openings"}
+              "first_course_offset", "openings", "lintel_strength"}
 BLOCK_KEYS = {"a", "b", "s"}
 JOINT_KEYS = {"kind", "mu", "k_n", "k_t", "tensile_strength", "cohesion", "alpha"}
-RESTRAINT_KEYS = {"edge", "fix", "support", "joint"}
+RESTRAINT_KEYS = {"edge", "fix", "support", "joint", "dead_load"}
 LOAD_KEYS = {"kind", "direction", "extra_vertical", "extra_in_live_load"}
 EXTRA_KEYS = {"count", "force", "edge"}
 SOLVER_KEYS = set(SolverSettings().as_dict()) | {"control_block"}
@@ -124,7 +124,7 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
     restraints = spec["restraints"]
     if not isinstance(restraints, list) or not restraints:
         raise InputError("restraints", "expected a non-empty list", "e.g. [{edge: base, fix: all}]")
-    support_edges, block_fix, support_joint = [], {}, {}
+    support_edges, block_fix, support_joint, dead_fix = [], {}, {}, set()
     for k, r in enumerate(restraints):
         f = f"restraints[{k}]"
         _keys(r, RESTRAINT_KEYS, f, required=("edge", "fix"))
@@ -144,6 +144,9 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
             if "joint" in r:
                 raise InputError(f"{f}.joint", "only for support: joint", "remove it or set support: joint")
             block_fix.setdefault(edge, set()).update(FIX_DOFS[fix])
+            # dead_load: true -> this restraint also acts while the self-weight is applied
+            if r.get("dead_load", False):
+                dead_fix.add(edge)
 
     ld = spec["load"]
     _keys(ld, LOAD_KEYS, "load", required=("kind",))
@@ -186,6 +189,22 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
         sel = (panel.kind == KIND_SUPPORT) & (panel.edge == edge)
         for key in jp:
             props[key][sel] = jp[key]
+    # lintels: the head joints of the course just above each opening carry tension (a lintel
+    # beam bearing on the jambs), otherwise a dry course over an opening cannot stand
+    lintel = check_number(p.get("lintel_strength", 0.0), "panel.lintel_strength", nonnegative=True)
+    if lintel and openings:
+        for box in openings:
+            above = panel.centre[:, 1] - panel.size[:, 1] / 2 > box["y"][1] - 1e-9
+            if not above.any():
+                continue
+            c_above = panel.course[above].min()
+            x_lo = panel.centre[:, 0] - panel.size[:, 0] / 2
+            x_hi = panel.centre[:, 0] + panel.size[:, 0] / 2
+            beam = (panel.course == c_above) & (x_hi > box["x"][0] + 1e-9) & (x_lo < box["x"][1] - 1e-9)
+            sel = (panel.kind == KIND_HEAD) & (panel.first >= 0) & (panel.second >= 0)
+            sel &= np.isin(panel.first, np.flatnonzero(beam)) & np.isin(panel.second, np.flatnonzero(beam))
+            props["tensile_strength"][sel] = lintel
+            props["cohesion"][sel] = props["mu"][sel] * lintel
     strength = JointStrength(props["mu"], props["tensile_strength"], props["cohesion"], props["alpha"])
 
     nb = panel.n_blocks
@@ -218,6 +237,9 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
     fixed_dead = np.zeros_like(fixed)
     for blk in panel.edge_blocks("base"):
         fixed_dead[blk] = fixed[blk] if "base" in block_fix else False
+    for edge in dead_fix:
+        for blk in panel.edge_blocks(edge):
+            fixed_dead[blk] |= fixed[blk]
     if not support_edges and not fixed_dead.any():
         fixed_dead = fixed
     model = WallModel(panel, props["k_n"], props["k_t"], strength, dead.ravel(), live.ravel(),

@@ -41,6 +41,14 @@ class SolverSettings:
     plateau_steps: int = 12          # stop after this many steps without a new lambda_max ...
     plateau_tolerance: float = 1e-3  # ... within this relative change
     max_seconds: float = 0.0         # wall-clock budget of the live-load phase; 0: none
+    # manuscript 2.3 scheme (``secant`` = 1): load increments, stiffness of step i from the
+    # interface damage of step i-1 (Eq. 13-14), residual iterations with that matrix; the
+    # limit load is where the step no longer converges or the displacement grows unboundedly
+    secant: float = 0.0              # 1: manuscript load-controlled secant scheme, 0: displacement control
+    load_step: float = 0.0           # first load increment (lambda units); 0: 1/50 of the elastic-limit estimate
+    min_load_step: float = 1e-3      # stop refining when the increment falls below this x the first one
+    singular_ratio: float = 1e3      # "unbounded": incremental flexibility > this x the initial one
+    secant_refresh: float = 0.0      # >0: also rebuild the secant matrix every this many iterations
 
     def as_dict(self):
         return dict(self.__dict__)
@@ -225,10 +233,128 @@ def choose_control_dof(model, q, plastic, cracked, settings):
     return int(model.free[c]), float(q_l[c])
 
 
+def _apply_dead_load(model, settings, ref):
+    ni = model.panel.n_interfaces
+    q = np.zeros(model.fixed.size)
+    plastic = np.zeros((ni, 6))
+    cracked = np.zeros(ni, dtype=bool)
+    model.use(model.fixed_dead)
+    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    plastic, cracked = rm.plastic, rm.cracked
+    dead_state = rm.state.copy()
+    model.use(model.fixed)
+    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    return q, rm, dead_state
+
+
+def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
+    """Residual iterations at load ``lam`` with a fixed (previous-step secant) matrix.
+
+    Returns q, return map, iterations, relative residual; raises ConvergenceError.
+    """
+    free = model.free
+    F = model.dead_load[free] + lam * model.live_load[free]
+    q = q.copy()
+    fint, rm = model.internal(q, plastic, cracked)
+    R = F - fint
+    res = np.linalg.norm(R) / ref
+    refresh = int(settings.secant_refresh)
+    for it in range(1, settings.max_iterations + 1):
+        if refresh and it > 1 and (it - 1) % refresh == 0:
+            K_lu = spla.splu(model.tangent(rm, settings.residual_stiffness))
+        dq = K_lu.solve(R)
+        if not np.all(np.isfinite(dq)):
+            raise ConvergenceError("singular stiffness matrix")
+        q[free] += dq
+        fint, rm = model.internal(q, plastic, cracked)
+        R = F - fint
+        res = np.linalg.norm(R) / ref
+        if res < settings.tolerance:
+            return q, rm, it, res
+    raise ConvergenceError(f"no convergence in {settings.max_iterations} iterations (residual {res:.2e})",
+                           (q, lam, rm, settings.max_iterations, res))
+
+
+def secant_pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
+                    progress=None) -> PushoverResult:
+    """Manuscript 2.3: load increments dF = d(lambda) F_L; the panel stiffness of step i is
+    H^T K-bar(damage of step i-1) H (Eq. 13-14: yielded components at zero, plus
+    ``residual_stiffness`` x K-bar so that the LU exists); residual iterations with that
+    matrix at fixed load. The limit load is the last converged load when the increment has
+    been halved down to ``min_load_step`` x the first one, or when the incremental
+    flexibility (load-weighted mean displacement per unit lambda) exceeds ``singular_ratio``
+    x the initial one (the stiffness matrix is singular: the displacement grows unboundedly).
+    """
+    settings = settings or SolverSettings()
+    t0 = time.perf_counter()
+    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
+    q, rm, dead_state = _apply_dead_load(model, settings, ref)
+    plastic, cracked = rm.plastic, rm.cracked
+    control, unit = choose_control_dof(model, q, plastic, cracked, settings)
+    if control_block is not None:
+        control = 6 * int(control_block) + int(control % 6)
+    sign = 1.0 if unit >= 0 else -1.0
+    w = np.where(model.fixed, 0.0, model.live_load)
+    cvec = w / np.abs(w).sum()
+    eps = settings.residual_stiffness
+    K_lu = spla.splu(model.tangent(rm, eps))
+    flex0 = abs(cvec[model.free] @ K_lu.solve(model.live_load[model.free]))
+    # first increment: 1/50 of the overturning load of the free-standing wall (lambda = s/H for
+    # a load proportional to the weight), unless the case gives one
+    weight = -model.dead_load[1::6].sum()
+    dlam0 = settings.load_step or (float(model.panel.block["s"]) / model.panel.height * weight
+                                   / max(np.abs(model.live_load).sum(), 1e-300) / 50.0)
+    dlam = dlam0
+    u0 = q[control]
+    g0 = cvec @ q
+    lam = 0.0
+    lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
+    lam_max, step_max, status = 0.0, 0, "stopped: max_steps"
+    f_at_max = rm.forces.copy()
+    steps = 0
+    while steps < settings.max_steps:
+        if settings.max_seconds and time.perf_counter() - t0 > settings.max_seconds:
+            status = "stopped: max_seconds"
+            break
+        g_prev = cvec @ q
+        try:
+            q_new, rm_new, it, res = _secant_step(model, q, plastic, cracked, K_lu, lam + dlam, settings, ref)
+            flex = abs(cvec @ q_new - g_prev) / dlam
+            if flex > settings.singular_ratio * flex0:
+                raise ConvergenceError("unbounded displacement")
+        except ConvergenceError as err:
+            if progress:
+                progress(steps, lam + dlam, float("nan"), str(err))
+            dlam *= 0.5
+            if dlam < settings.min_load_step * dlam0:
+                status = f"limit load: {err} at the smallest load increment"
+                break
+            continue
+        steps += 1
+        lam += dlam
+        q, rm, plastic, cracked = q_new, rm_new, rm_new.plastic, rm_new.cracked
+        lams.append(lam), ctrl.append((q[control] - u0) * sign), states.append(rm.state.copy())
+        qs.append(q.copy()), its.append(it), ress.append(res)
+        lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
+        if progress:
+            progress(steps, lam, ctrl[-1])
+        # stiffness of the next step from the damage of this one (manuscript 2.3)
+        K_lu = spla.splu(model.tangent(rm, eps))
+        if it <= max(settings.max_iterations // 10, 2):
+            dlam = min(dlam * settings.growth, dlam0)
+    return PushoverResult(np.array(lams), np.array(ctrl), np.array(states), np.array(qs),
+                          np.array(its), np.array(ress), int(control), float(lam_max),
+                          int(step_max), status, time.perf_counter() - t0, dead_state, f_at_max,
+                          settings.as_dict())
+
+
 def pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
              progress=None) -> PushoverResult:
-    """Dead load, then displacement-controlled live load to the limit and beyond."""
+    """Dead load, then displacement-controlled live load to the limit and beyond
+    (``settings.secant``: the manuscript's load-controlled secant scheme instead)."""
     settings = settings or SolverSettings()
+    if settings.secant:
+        return secant_pushover(model, settings, control_block, progress)
     t0 = time.perf_counter()
     ni = model.panel.n_interfaces
     q = np.zeros(model.fixed.size)

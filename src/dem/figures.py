@@ -369,15 +369,15 @@ def _standalone_vs_colonnade(inputs, path):
     both = (row["collapsed"].sel(record=record, n_drums=n) == 0) & (single["collapsed"].sel(record=record, n_drums=n) >= 0)
     pgas = row["pga"].values[both.values]
     pga = float(pgas.max()) if len(pgas) else float(row["pga"].values.min())
-    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(9, 4.2), constrained_layout=True)
     for cube, label in ((single, "standalone column"), (row, "colonnade with epistyle")):
         case = cube.sel(record=record, n_drums=n, pga=pga)
         ax.plot(case["time"], case["rocking"], lw=0.8, label=f"{label} (collapsed: {bool(case['collapsed'] > 0)})")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel(_label(single["rocking"]))
+    ax.set_ylabel(_label(single["rocking"]), fontsize=8)
     ax.legend(fontsize=8)
-    _finish(fig, f"Thesis Fig. 7.22: {n}-drum column alone and in a colonnade, {RECORD_LABEL.get(record, record)} "
-                 f"at PGA {pga:g} m/s2 (largest grid PGA the colonnade survives)")
+    _finish(fig, f"Thesis Fig. 7.22: {n}-drum column alone and in a colonnade, {RECORD_LABEL.get(record, record)},\n"
+                 f"PGA {pga:g} m/s2 (the largest grid PGA the colonnade survives)")
     return _save(fig, path)
 
 

@@ -30,13 +30,20 @@ def torsion_constant(l1, l2):
     """c_T: mean distance of the l1 x l2 rectangle from its centroid.
 
     Replaces the garbled manuscript Eq. 11 (reference YAML note); 0.0968 m for 0.3 x 0.2.
+    Continuous as a side shrinks to zero: a segment of length l gives l/4 (edge contact).
     """
     l1 = np.asarray(l1, dtype=float)
     l2 = np.asarray(l2, dtype=float)
     ok = (l1 > 0) & (l2 > 0)
     p, q = np.where(ok, l1, 1.0), np.where(ok, l2, 1.0)
     c = np.hypot(p, q)
-    out = np.where(ok, (2 * c + p**2 / q * np.log((q + c) / p) + q**2 / p * np.log((p + c) / q)) / 12, 0.0)
+    # log((p + c) / q) = log1p((p + c - q) / q) with c - q = p^2 / (c + q): accurate for p << q
+    # (plain log loses every digit there, and c_T of a thin compressed strip jumps)
+    t1 = p**2 / q * np.log1p((q + q**2 / (c + p)) / p)
+    t2 = q**2 / p * np.log1p((p + p**2 / (c + q)) / q)
+    out = np.where(ok, (2 * c + t1 + t2) / 12, 0.0)
+    # a degenerate rectangle is a segment: mean distance l/4 (the limit, so c_T is continuous)
+    out = np.where(ok, out, np.maximum(np.maximum(l1, 0.0), np.maximum(l2, 0.0)) / 4)
     return float(out) if out.ndim == 0 else out
 
 

@@ -19,7 +19,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from dem.wall.compatibility import panel_compatibility
-from dem.wall.constitutive import ELASTIC, JointStrength, return_map
+from dem.wall.constitutive import JointStrength, return_map
 from dem.wall.panel import Panel
 from dem.wall.stiffness import local_stiffness, sections, to_global_order, to_local_order
 
@@ -234,6 +234,8 @@ def choose_control_dof(model, q, plastic, cracked, settings):
 
 
 def _apply_dead_load(model, settings, ref):
+    """Self-weight at lambda = 0 under load control with the restraints that carry it, then the
+    remaining restraints hold the blocks where the dead load left them."""
     ni = model.panel.n_interfaces
     q = np.zeros(model.fixed.size)
     plastic = np.zeros((ni, 6))
@@ -306,7 +308,6 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
                                    / max(np.abs(model.live_load).sum(), 1e-300) / 50.0)
     dlam = dlam0
     u0 = q[control]
-    g0 = cvec @ q
     lam = 0.0
     lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
     lam_max, step_max, status = 0.0, 0, "stopped: max_steps"
@@ -356,20 +357,8 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     if settings.secant:
         return secant_pushover(model, settings, control_block, progress)
     t0 = time.perf_counter()
-    ni = model.panel.n_interfaces
-    q = np.zeros(model.fixed.size)
-    plastic = np.zeros((ni, 6))
-    cracked = np.zeros(ni, dtype=bool)
     ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
-
-    # dead load (lambda = 0), load control, with the restraints that carry the self-weight
-    model.use(model.fixed_dead)
-    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
-    plastic, cracked = rm.plastic, rm.cracked
-    dead_state = rm.state.copy()
-    # the remaining restraints hold the blocks where the dead load left them
-    model.use(model.fixed)
-    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    q, rm, dead_state = _apply_dead_load(model, settings, ref)
     plastic, cracked = rm.plastic, rm.cracked
 
     control, unit = choose_control_dof(model, q, plastic, cracked, settings)

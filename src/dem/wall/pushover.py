@@ -148,11 +148,13 @@ class ConvergenceError(RuntimeError):
         self.state = state  # (q, lam, rm, iterations, residual) of the last iterate
 
 
-def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target=None):
+def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target=None,
+            stagnation_ok=True):
     """Residual iterations at fixed lambda (control None) or fixed control displacement.
 
     ``q`` is the full DOF vector; ``control`` a global DOF index. Returns q, lambda, the
-    return map, iterations and the relative residual.
+    return map, iterations and the relative residual. ``stagnation_ok`` False: a chattering
+    iterate below ``accept_tolerance`` is not kept (the caller cuts the step back instead).
     """
     free = model.free
     F_D = model.dead_load[free]
@@ -175,7 +177,7 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
     for it in range(1, settings.max_iterations + 1):
         history.append(res)
         # stagnation (active-set chattering) below the accept tolerance: keep this iterate
-        if (it > 10 and res < settings.accept_tolerance and cf is not None
+        if (stagnation_ok and it > 10 and res < settings.accept_tolerance and cf is not None
                 and min(history[-8:]) > 0.5 * history[-9]):
             return q, lam, rm, it, res
         on_target = cf is None or abs(cf @ q[free] - target) <= 1e-9 * max(abs(target), 1e-12)
@@ -401,8 +403,11 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         target = cvec @ q + du
         err = None
         try:
-            q_new, lam_new, rm, it, res = _newton(model, q, plastic, cracked, lam, settings, ref,
-                                                  cvec, target)
+            # a chattering iterate is kept only on the last attempt: cutting the step back
+            # first avoids carrying a ~1e-3 residual into the next steps (S11 stalled on it)
+            q_new, lam_new, rm, it, res = _newton(
+                model, q, plastic, cracked, lam, settings, ref, cvec, target,
+                stagnation_ok=failures >= settings.max_failures - 1)
         except ConvergenceError as first:
             err = first
         if err is not None:

@@ -92,22 +92,23 @@ def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
     return rows
 
 
-def case_rows(cube: xr.Dataset, names) -> list[dict]:
-    """One row per case of a cube: its swept parameters, then ``names`` (scalar variables)."""
+def case_rows(cube: xr.Dataset, columns: dict) -> list[dict]:
+    """One row per case of a cube: its swept parameters, then each scalar variable of
+    ``columns`` ({variable: column name}) under its column name, in that order."""
+    names = list(columns)
     dims = [d for d in cube[names[0]].dims if d != "time"]
-    stacked = cube[list(names)].stack(case=dims) if dims else cube[list(names)].expand_dims(case=[0])
+    stacked = cube[names].stack(case=dims) if dims else cube[names].expand_dims(case=[0])
     rows = []
     for i in range(stacked.sizes["case"]):
         case = stacked.isel(case=i)
         row = {d: _plain(case[d].values) for d in dims}
-        row.update({n: _plain(case[n].values) for n in names})
+        row.update({columns[n]: _plain(case[n].values) for n in names})
         rows.append(row)
     return rows
 
 
 def _plain(value):
-    value = value.item() if hasattr(value, "item") else value
-    return value
+    return value.item() if hasattr(value, "item") else value
 
 
 def frequency_response(cube: xr.Dataset) -> list[dict]:
@@ -117,24 +118,23 @@ def frequency_response(cube: xr.Dataset) -> list[dict]:
     of the base (from the base history): near 1 when the base slides under a column that
     stays put (high frequency).
     """
-    base_amplitude = np.abs(cube["base_displacement"]).max("time")
-    pga = np.abs(cube["base_acceleration"]).max("time")
-    cube = cube.assign(base_amplitude=base_amplitude, base_pga=pga)
-    rows = []
-    for row in case_rows(cube, ["max_total_sliding", "max_rocking", "collapsed", "base_amplitude", "base_pga"]):
-        rows.append({**{k: v for k, v in row.items() if k not in ("max_total_sliding", "max_rocking", "collapsed",
-                                                                   "base_amplitude", "base_pga")},
-                     "base_amplitude_m": row["base_amplitude"], "pga_m_s2": row["base_pga"],
-                     "max_total_sliding_m": row["max_total_sliding"],
-                     "sliding_to_base_ratio": row["max_total_sliding"] / row["base_amplitude"],
-                     "max_rocking_rad": row["max_rocking"], "collapsed": int(row["collapsed"])})
+    amplitude = np.abs(cube["base_displacement"]).max("time")
+    cube = cube.assign(base_amplitude=amplitude, base_pga=np.abs(cube["base_acceleration"]).max("time"),
+                       sliding_to_base_ratio=cube["max_total_sliding"] / amplitude)
+    rows = case_rows(cube, {"base_amplitude": "base_amplitude_m", "base_pga": "pga_m_s2",
+                            "max_total_sliding": "max_total_sliding_m",
+                            "sliding_to_base_ratio": "sliding_to_base_ratio",
+                            "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
+    for row in rows:
+        row["collapsed"] = int(row["collapsed"])
     return rows
 
 
 def epistyle_response(cube: xr.Dataset) -> list[dict]:
     """Maximum epistyle displacement relative to the base, rocking and collapse for every case of
     a colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
-    rows = case_rows(cube, ["max_epistyle_displacement", "max_rocking", "collapsed"])
-    return [{**{k: v for k, v in r.items() if k not in ("max_epistyle_displacement", "max_rocking", "collapsed")},
-             "max_epistyle_displacement_m": r["max_epistyle_displacement"], "max_rocking_rad": r["max_rocking"],
-             "collapsed": int(r["collapsed"]) if np.isfinite(r["collapsed"]) else -1} for r in rows]
+    rows = case_rows(cube, {"max_epistyle_displacement": "max_epistyle_displacement_m",
+                            "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
+    for row in rows:  # -1: a combination a sparse cube of listed cases did not run
+        row["collapsed"] = int(row["collapsed"]) if np.isfinite(row["collapsed"]) else -1
+    return rows

@@ -279,6 +279,19 @@ def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
                            (q, lam, rm, settings.max_iterations, res))
 
 
+def _dead_load_and_control(model, settings, control_block):
+    """The start both schemes share: the dead-load state, and the control DOF with its unit
+    displacement (``control_block``: that block's DOF in the chosen direction)."""
+    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
+    q, rm, dead_state = _apply_dead_load(model, settings, ref)
+    control, unit = choose_control_dof(model, q, rm.plastic, rm.cracked, settings)
+    if control_block is not None:
+        control = 6 * int(control_block) + int(control % 6)
+        if model.fixed[control]:
+            raise ConvergenceError(f"control block {control_block} is restrained")
+    return ref, q, rm, dead_state, control, unit
+
+
 def secant_pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
                     progress=None) -> PushoverResult:
     """Manuscript 2.3: load increments dF = d(lambda) F_L; the panel stiffness of step i is
@@ -291,12 +304,8 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
     """
     settings = settings or SolverSettings()
     t0 = time.perf_counter()
-    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
-    q, rm, dead_state = _apply_dead_load(model, settings, ref)
+    ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
     plastic, cracked = rm.plastic, rm.cracked
-    control, unit = choose_control_dof(model, q, plastic, cracked, settings)
-    if control_block is not None:
-        control = 6 * int(control_block) + int(control % 6)
     sign = 1.0 if unit >= 0 else -1.0
     w = np.where(model.fixed, 0.0, model.live_load)
     cvec = w / np.abs(w).sum()
@@ -359,15 +368,8 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     if settings.secant:
         return secant_pushover(model, settings, control_block, progress)
     t0 = time.perf_counter()
-    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
-    q, rm, dead_state = _apply_dead_load(model, settings, ref)
+    ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
     plastic, cracked = rm.plastic, rm.cracked
-
-    control, unit = choose_control_dof(model, q, plastic, cracked, settings)
-    if control_block is not None:
-        control = 6 * int(control_block) + int(control % 6)
-        if model.fixed[control]:
-            raise ConvergenceError(f"control block {control_block} is restrained")
     sign = 1.0 if unit >= 0 else -1.0
     s = float(model.panel.block["s"])
     u_max = settings.max_displacement or s / 10.0

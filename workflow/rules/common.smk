@@ -4,8 +4,14 @@ from snakemake.utils import validate
 validate(config, schema="../schemas/config.schema.yaml")
 
 RECORDS = config["records"]
-# --config extract_records=true arrives as a string
-EXTRACT_RECORDS = str(config.get("extract_records", False)).lower() == "true"
+
+
+def config_flag(key, default):
+    """A true/false switch of the config: --config key=true arrives as a string."""
+    return str(config.get(key, default)).lower() == "true"
+
+
+EXTRACT_RECORDS = config_flag("extract_records", False)
 RECORD_NAMES = list(RECORDS)
 
 
@@ -57,7 +63,7 @@ def _tables():
 
 TABLES = _tables()
 # the chapter-5 validations (workflow/rules/validation.smk); off in the workflow tests' tiny config
-RUN_VALIDATION = str(config.get("run_validation", True)).lower() == "true"
+RUN_VALIDATION = config_flag("run_validation", True)
 
 
 def case_record(wildcards):

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dem.wall.interface import torsion_constant
+from dem.wall import return_map_kernel as kernel
+from dem.wall.return_map_kernel import DETACHED, ELASTIC, FLEXURAL, SHEAR, SHEAR_FLEXURAL
 
-ELASTIC, SHEAR, FLEXURAL, SHEAR_FLEXURAL, DETACHED = 0, 1, 2, 3, 4
 STATE_NAMES = {ELASTIC: "elastic", SHEAR: "shear", FLEXURAL: "flexural",
                SHEAR_FLEXURAL: "shear and flexural", DETACHED: "detached"}
 
@@ -47,20 +47,23 @@ class ReturnMap:
     tangent: np.ndarray      # (ni, 6) factors on K-bar: 1 elastic, 0 yielded (Eq. 13-14)
 
 
+def _flat(*arrays):
+    """Broadcast to one shape; returns the shape and contiguous 1-D float copies."""
+    b = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays))
+    return b[0].shape, [np.ascontiguousarray(x).ravel() for x in b]
+
+
 def smooth_plus(x, eps):
     """C1 positive part: 0 for x <= 0, x^2 / (2 eps) up to eps, x - eps/2 beyond (eps = 0: max(x, 0)).
 
     Regularises the capacities of an interface near zero compression (N_eps): the friction,
     bending and torsion caps then vanish smoothly, without a kink, as a joint opens.
     """
-    x = np.asarray(x, dtype=float)
-    eps = np.broadcast_to(np.asarray(eps, dtype=float), x.shape)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        quad = np.where(eps > 0, x * x / (2 * eps), 0.0)
-    return np.where(x <= 0, 0.0, np.where(x < eps, quad, x - eps / 2))
+    shape, (x, eps) = _flat(x, eps)
+    return kernel.smooth_plus_array(x, eps).reshape(shape)
 
 
-def project_shear_torsion(r, s, F, M, alpha, k_s, k_m, iterations=56):
+def project_shear_torsion(r, s, F, M, alpha, k_s, k_m):
     """Closest point of (r, s) >= 0 on the domain (y/M)^alpha + (x/F)^2 <= 1 (Eq. 14).
 
     Distance in the elastic energy metric (x - r)^2 / k_s + (y - s)^2 / k_m, i.e. Euclidean in
@@ -70,36 +73,25 @@ def project_shear_torsion(r, s, F, M, alpha, k_s, k_m, iterations=56):
     stationary point is found by bisection. M = 0 (torsion strength lost, e.g. edge contact)
     degenerates continuously to x = min(r, F), y = 0; F = 0 to the origin.
     """
-    r, s, F, M = (np.asarray(v, dtype=float) for v in (r, s, F, M))
-    alpha = np.broadcast_to(np.asarray(alpha, dtype=float), r.shape)
-    k_s = np.broadcast_to(np.asarray(k_s, dtype=float), r.shape)
-    k_m = np.broadcast_to(np.asarray(k_m, dtype=float), r.shape)
-    Fs = np.where(F > 0, F, 1.0)
-    Ms = np.where(M > 0, M, 1.0)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        ratio = np.where(M > 0, s / Ms, np.inf)
-        x_lo = np.where(ratio < 1, Fs * np.sqrt(np.clip(1 - ratio**alpha, 0, 1)), 0.0)
-    x_hi = np.minimum(r, Fs)
-    x_lo = np.minimum(x_lo, x_hi)
-    lo, hi = x_lo.copy(), x_hi.copy()
-    for _ in range(iterations):
-        x = 0.5 * (lo + hi)
-        u = x / Fs
-        w = np.clip(1 - u * u, 0.0, 1.0)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            y = M * w ** (1 / alpha)
-            dy = -np.where(M > 0, 2 * M * u / (alpha * Fs) * w ** (1 / alpha - 1), 0.0)
-            g = (x - r) / k_s + (y - s) * dy / k_m
-        g = np.where(np.isfinite(g), g, np.inf)   # vertical tangent at the pure-shear corner
-        up = g > 0
-        hi = np.where(up, x, hi)
-        lo = np.where(up, lo, x)
-    x = 0.5 * (lo + hi)
-    x = np.where(M > 0, x, x_hi)
-    y = np.where(M > 0, M * np.clip(1 - (x / Fs) ** 2, 0.0, 1.0) ** (1 / alpha), 0.0)
-    y = np.minimum(y, s)
-    ok = F > 0
-    return np.where(ok, x, 0.0), np.where(ok, y, 0.0)
+    shape, arrays = _flat(r, s, F, M, alpha, k_s, k_m)
+    x, y = kernel.closest_points_shear_torsion(*arrays)
+    return x.reshape(shape), y.reshape(shape)
+
+
+def _state_arguments(d, plastic_old, cracked_old, k):
+    return (np.ascontiguousarray(d, dtype=float), np.ascontiguousarray(plastic_old, dtype=float),
+            np.ascontiguousarray(cracked_old, dtype=np.bool_), np.ascontiguousarray(k, dtype=float))
+
+
+def _section_arguments(sec, strength: JointStrength, ni):
+    """Per-interface geometry and strength in the order of ``kernel.interface_actions``."""
+    def per_interface(v):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), (ni,)))
+
+    return (per_interface(sec.area), np.ascontiguousarray(sec.lever, dtype=float),
+            per_interface(sec.width), per_interface(sec.depth), per_interface(strength.mu),
+            per_interface(strength.tensile_strength), per_interface(strength.cohesion),
+            per_interface(strength.alpha), bool(strength.brittle), per_interface(strength.n_eps))
 
 
 def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> ReturnMap:
@@ -109,67 +101,16 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
     with the plastic state of the last converged step, so the result does not depend on the
     iteration path (fully implicit in the normal force).
     """
-    trial = k * (d - plastic_old)
-    f = trial.copy()
-    tangent = np.ones_like(f)
-    area = sec.area
-    sig_t = np.where(cracked_old, 0.0, strength.tensile_strength)
-    coh = np.where(cracked_old, 0.0, strength.cohesion)
-    f_t = sig_t * area
-    N = trial[:, 2]
-    detached = N > f_t
-    cracked = cracked_old | (detached & (strength.tensile_strength > 0) & bool(strength.brittle))
-    n_eps = np.broadcast_to(np.asarray(strength.n_eps, dtype=float), N.shape)
-    # compressive reserve f_t - f_n, smoothed over n_eps near zero (N_eps regularisation)
-    reserve = smooth_plus(f_t - N, n_eps)
-
-    # rotation conditions, Eq. 9
-    cap = reserve[:, None] * sec.lever
-    over_b = np.abs(trial[:, 3:5]) > cap
-    f[:, 3:5] = np.where(over_b, np.sign(trial[:, 3:5]) * cap, trial[:, 3:5])
-    tangent[:, 3:5] = np.where(over_b, 0.0, 1.0)
-
-    # shear and torsion, Eq. 10, 12, 14: f_su = c S - mu f_n (= mu (f_t - f_n) for c = mu sigma_t)
-    f_su = smooth_plus(coh * area - strength.mu * N, strength.mu * n_eps)
-    no_tension = f_t <= 0.0
-    # Fig. 10: compressed rectangle of a no-tension joint under bending (eccentricity |m| / N <= l_c)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        e = np.where(reserve[:, None] > 0, np.abs(f[:, 3:5]) / reserve[:, None], 0.0)
-    w_eff = np.where(no_tension, np.clip(sec.width - 2 * e[:, 1], 0, None), sec.width)
-    s_eff = np.where(no_tension, np.clip(sec.depth - 2 * e[:, 0], 0, None), sec.depth)
-    m3u = torsion_constant(w_eff, s_eff) * f_su
-    alpha = np.broadcast_to(np.asarray(strength.alpha, dtype=float), N.shape)
-    r = np.hypot(trial[:, 0], trial[:, 1])
-    s = np.abs(trial[:, 5])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(s > 0, (s / np.where(m3u > 0, m3u, 1.0)) ** alpha, 0.0)
-        a = np.where((s > 0) & ~(m3u > 0), np.inf, a)
-        b = np.where(r > 0, (r / np.where(f_su > 0, f_su, 1.0)) ** 2, 0.0)
-        b = np.where((r > 0) & ~(f_su > 0), np.inf, b)
-    over_s = a + b > 1.0
-    if over_s.any():
-        i = np.flatnonzero(over_s)
-        x, y = project_shear_torsion(r[i], s[i], f_su[i], m3u[i], alpha[i], k[i, 0], k[i, 5])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            scale = np.where(r[i] > 0, x / np.where(r[i] > 0, r[i], 1.0), 0.0)
-        f[i, 0] = trial[i, 0] * scale
-        f[i, 1] = trial[i, 1] * scale
-        f[i, 5] = np.sign(trial[i, 5]) * y
-    tangent[:, [0, 1, 5]] = np.where(over_s[:, None], 0.0, 1.0)
-
-    # detachment, Eq. 13: everything released
-    f[detached] = 0.0
-    f[detached, 2] = f_t[detached]
-    tangent[detached] = 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        plastic = np.where(k > 0, d - f / k, plastic_old)
-    # a detached joint keeps no normal plastic gap: it recloses where it opened
-    plastic[:, 2] = np.where(detached, plastic_old[:, 2], plastic[:, 2])
-
-    state = np.full(len(d), ELASTIC, dtype=np.int8)
-    flex = over_b.any(axis=1)
-    state[over_s & ~flex] = SHEAR
-    state[flex & ~over_s] = FLEXURAL
-    state[flex & over_s] = SHEAR_FLEXURAL
-    state[detached] = DETACHED
+    f, plastic, tangent, state, cracked = kernel.interface_actions(
+        *_state_arguments(d, plastic_old, cracked_old, k), *_section_arguments(sec, strength, len(d)))
     return ReturnMap(f, plastic, state, cracked, tangent)
+
+
+def return_map_derivative(d, forces, plastic_old, cracked_old, k, sec, strength: JointStrength,
+                          eps) -> np.ndarray:
+    """(ni, 6, 6) derivative of ``return_map`` forces at ``d`` (forward differences, normal
+    perturbed towards contact), each diagonal term at least ``eps`` x K-bar."""
+    d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
+    sec_args = _section_arguments(sec, strength, len(d))
+    return kernel.interface_tangents(d, np.ascontiguousarray(forces, dtype=float), p, c, k,
+                                     *sec_args, float(eps))

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dem.wall.return_map_kernel import torsion_constant_array
+
 # manuscript Table A1: l1/l2, alpha (f1 only), alpha (f2 only), alpha (f1 = f2)
 TABLE_A1 = np.array([
     [0.1, 1.00, 2.56, 2.00],
@@ -32,19 +34,9 @@ def torsion_constant(l1, l2):
     Replaces the garbled manuscript Eq. 11 (reference YAML note); 0.0968 m for 0.3 x 0.2.
     Continuous as a side shrinks to zero: a segment of length l gives l/4 (edge contact).
     """
-    l1 = np.asarray(l1, dtype=float)
-    l2 = np.asarray(l2, dtype=float)
-    ok = (l1 > 0) & (l2 > 0)
-    p, q = np.where(ok, l1, 1.0), np.where(ok, l2, 1.0)
-    c = np.hypot(p, q)
-    # log((p + c) / q) = log1p((p + c - q) / q) with c - q = p^2 / (c + q): accurate for p << q
-    # (plain log loses every digit there, and c_T of a thin compressed strip jumps)
-    t1 = p**2 / q * np.log1p((q + q**2 / (c + p)) / p)
-    t2 = q**2 / p * np.log1p((p + p**2 / (c + q)) / q)
-    out = np.where(ok, (2 * c + t1 + t2) / 12, 0.0)
-    # a degenerate rectangle is a segment: mean distance l/4 (the limit, so c_T is continuous)
-    out = np.where(ok, out, np.maximum(np.maximum(l1, 0.0), np.maximum(l2, 0.0)) / 4)
-    return float(out) if out.ndim == 0 else out
+    a, b = np.broadcast_arrays(np.asarray(l1, dtype=float), np.asarray(l2, dtype=float))
+    out = torsion_constant_array(np.ascontiguousarray(a).ravel(), np.ascontiguousarray(b).ravel())
+    return float(out[0]) if a.ndim == 0 else out.reshape(a.shape)
 
 
 def shear_strength(normal_force, mu, tensile_force=0.0):

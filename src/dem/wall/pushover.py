@@ -19,7 +19,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from dem.wall.compatibility import panel_compatibility
-from dem.wall.constitutive import JointStrength, return_map
+from dem.wall.constitutive import JointStrength, return_map, return_map_derivative
 from dem.wall.panel import Panel
 from dem.wall.stiffness import local_stiffness, sections, to_global_order, to_local_order
 
@@ -102,16 +102,8 @@ class WallModel:
         differences, vectorised over the interfaces) plus eps K-bar on yielded components."""
         d = self.local_deformation(q)
         ni = len(d)
-        scale = np.abs(d).max(axis=0) + 1e-6
-        D = np.empty((ni, 6, 6))
-        for j in range(6):
-            h = 1e-7 * scale[j] * (-1.0 if j == 2 else 1.0)  # normal: towards contact
-            dp = d.copy()
-            dp[:, j] += h
-            fp = return_map(dp, plastic, cracked, self.k_local, self.sec, self.strength).forces
-            D[:, :, j] = (fp - rm.forces) / h
-        diag = D[:, np.arange(6), np.arange(6)]
-        D[:, np.arange(6), np.arange(6)] = np.maximum(diag, eps * self.k_local)
+        D = return_map_derivative(d, rm.forces, plastic, cracked, self.k_local, self.sec,
+                                  self.strength, eps)
         # local -> global component order
         P = self.sec.perm
         G = np.zeros_like(D)

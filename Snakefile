@@ -28,4 +28,5 @@ rule all:
         TABLES,
         expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
         VALIDATION_TARGETS,
+        WALL_OUTPUTS,
     default_target: True

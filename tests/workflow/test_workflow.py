@@ -83,8 +83,11 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
         assert dict(cube.sizes)["pga"] == 2 and cube["epistyle_displacement"].dims[-1] == "time"
     assert (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
     figures = sorted(p.name for p in (tmp_path / "results/figures").glob("*.png"))
-    expected = _expected_figures()
+    walls = ["manuscript_fig_21.png", "manuscript_fig_22.png"]   # the tiny config's one wall case
+    expected = sorted(_expected_figures() + walls)
     assert len(expected) >= 25 and figures == expected, set(expected) ^ set(figures)
+    wall_table = (tmp_path / "results/tables/manuscript_table_3.csv").read_text().splitlines()
+    assert len(wall_table) == 2 and "within_tolerance" in wall_table[0] and "10-11" in wall_table[1]
 
     # the HTML report: every figure, with its caption
     proc = snakemake("--configfile", "tiny.yaml", "--report", "report.zip", cwd=tmp_path)

@@ -88,3 +88,47 @@ def figure_caption(wildcards):
 
 def study_description(wildcards):
     return config["studies"][wildcards.study].get("description", "")
+
+
+# 3D rigid-block walls (manuscript Tables 1-3, A1), rules in walls.smk
+WALL_TABLES = {
+    "1": ["orduna_case1", "orduna_case2"],
+    "2": ["s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s5", "s32", "s23", "s34"],
+    "3": ["chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15", "chee_liang_4_5",
+          "chee_liang_9_13", "chee_liang_10_11"],
+}
+WALL_CASES = [c for cases in WALL_TABLES.values() for c in cases] + ["free_standing"]
+# manuscript figure -> cases drawn (damage maps; 22 is the pushover curves)
+WALL_FIGURES = {
+    "13": WALL_TABLES["1"],
+    "15": ["s11", "s12", "s13", "s15"],
+    "16": ["s6", "s1_s2_s3", "s5"],
+    "17": ["s32"],
+    "18": ["s23", "s34"],
+    "20": ["chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15"],
+    "21": ["chee_liang_4_5", "chee_liang_9_13", "chee_liang_10_11"],
+    "22": WALL_TABLES["3"],
+}
+# config wall_cases (default: all): the cases run with the study; each table and figure is
+# drawn from its selected cases, and left out when none is selected
+WALL_SELECTED = [c for c in WALL_CASES if c in config.get("wall_cases", WALL_CASES)]
+
+
+def selected(cases):
+    """The cases of a wall table or figure that the config selects."""
+    return [c for c in cases if c in WALL_SELECTED]
+
+
+WALL_OUTPUTS = (
+    [f"results/walls/{c}.nc" for c in WALL_SELECTED]
+    + [f"results/tables/manuscript_table_{t}.csv" for t in WALL_TABLES if selected(WALL_TABLES[t])]
+    + (["results/tables/manuscript_table_a1.csv"] if WALL_SELECTED else [])
+    + [f"results/figures/manuscript_fig_{n}.png" for n in WALL_FIGURES if selected(WALL_FIGURES[n])]
+)
+
+
+def wall_figure_caption(wildcards):
+    kind = "Pushover curves" if wildcards.wall_figure == "22" else "Damage maps at the limit load"
+    cases = ", ".join(selected(WALL_FIGURES[wildcards.wall_figure]))
+    return (f"Regenerates manuscript Fig. {wildcards.wall_figure}: {kind.lower()} of {cases} "
+            "(interfaces: elastic, shear, flexural, shear and flexural, detached).")

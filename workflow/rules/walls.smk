@@ -1,27 +1,5 @@
 # 3D rigid-block walls (manuscript Tables 1-3, A1): one pushover per case file in config/walls/.
-WALL_TABLES = {
-    "1": ["orduna_case1", "orduna_case2"],
-    "2": ["s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s5", "s32", "s23", "s34"],
-    "3": ["chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15", "chee_liang_4_5",
-          "chee_liang_9_13", "chee_liang_10_11"],
-}
-WALL_CASES = [c for cases in WALL_TABLES.values() for c in cases] + ["free_standing"]
-# manuscript figure -> cases drawn (damage maps; 22 is the pushover curves)
-WALL_FIGURES = {
-    "13": WALL_TABLES["1"],
-    "15": ["s11", "s12", "s13", "s15"],
-    "16": ["s6", "s1_s2_s3", "s5"],
-    "17": ["s32"],
-    "18": ["s23", "s34"],
-    "20": ["chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15"],
-    "21": ["chee_liang_4_5", "chee_liang_9_13", "chee_liang_10_11"],
-    "22": WALL_TABLES["3"],
-}
-WALL_OUTPUTS = (
-    [f"results/walls/{c}.nc" for c in WALL_CASES]
-    + [f"results/tables/manuscript_table_{t}.csv" for t in ["1", "2", "3", "a1"]]
-    + [f"results/figures/manuscript_fig_{n}.png" for n in WALL_FIGURES]
-)
+# The case lists (WALL_*) live in common.smk.
 
 
 wildcard_constraints:
@@ -45,7 +23,7 @@ rule wall_case:
 
 rule wall_table:
     input:
-        lambda wc: expand("results/walls/{c}.nc", c=WALL_TABLES[wc.wall_table]),
+        lambda wc: expand("results/walls/{c}.nc", c=selected(WALL_TABLES[wc.wall_table])),
     output:
         "results/tables/manuscript_table_{wall_table}.csv",
     log:
@@ -69,11 +47,17 @@ rule wall_table_a1:
 
 rule wall_figure:
     input:
-        lambda wc: expand("results/walls/{c}.nc", c=WALL_FIGURES[wc.wall_figure]),
+        lambda wc: expand("results/walls/{c}.nc", c=selected(WALL_FIGURES[wc.wall_figure])),
     output:
-        "results/figures/manuscript_fig_{wall_figure}.png",
+        report(
+            "results/figures/manuscript_fig_{wall_figure}.png",
+            caption="../report/wall_figure.rst",
+            category="Manuscript figures (walls)",
+            labels={"figure": "manuscript Fig. {wall_figure}"},
+        ),
     params:
         kind=lambda wc: "pushover" if wc.wall_figure == "22" else "damage",
+        caption=wall_figure_caption,
     log:
         "results/logs/walls/fig_{wall_figure}.log",
     conda:

@@ -106,11 +106,12 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> 
     return ReturnMap(f, plastic, state, cracked, tangent)
 
 
-def return_map_derivative(d, forces, plastic_old, cracked_old, k, sec, strength: JointStrength,
-                          eps) -> np.ndarray:
-    """(ni, 6, 6) derivative of ``return_map`` forces at ``d`` (forward differences, normal
-    perturbed towards contact), each diagonal term at least ``eps`` x K-bar."""
+def return_map_derivative(d, rm: ReturnMap, plastic_old, cracked_old, k, sec,
+                          strength: JointStrength, eps) -> np.ndarray:
+    """(ni, 6, 6) derivative of the forces of ``rm`` (the return map at ``d``): K-bar on elastic
+    interfaces, forward differences elsewhere (normal perturbed towards contact), each
+    diagonal term at least ``eps`` x K-bar."""
     d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
     sec_args = _section_arguments(sec, strength, len(d))
-    return kernel.interface_tangents(d, np.ascontiguousarray(forces, dtype=float), p, c, k,
-                                     *sec_args, float(eps))
+    return kernel.interface_tangents(d, np.ascontiguousarray(rm.forces, dtype=float),
+                                     np.ascontiguousarray(rm.state), p, c, k, *sec_args, float(eps))

@@ -27,19 +27,22 @@ from dem.wall.stiffness import local_stiffness, sections, to_global_order, to_lo
 @dataclass
 class SolverSettings:
     tolerance: float = 1e-5          # residual norm / reference load norm
-    max_iterations: int = 60
-    max_steps: int = 400
+    max_iterations: int = 25         # a step that has not converged by then is halved (fails fast)
+    dead_load_iterations: int = 100  # the dead load (load control, secant matrix) converges slower
+    max_steps: int = 1000
     max_displacement: float = 0.0    # control displacement at which to stop [m]; 0: s/10
     first_step: float = 0.0          # first control increment [m]; 0: automatic
-    growth: float = 1.3              # step growth after an easy step
+    growth: float = 1.3              # step growth after an easy step ...
+    easy_iterations: int = 6         # ... one that converged within this many iterations
     max_failures: int = 4            # consecutive failed (halved) steps before accepting/giving up
     accept_tolerance: float = 1e-3   # residual accepted after max_failures (recorded per step)
     work_control: float = 1.0        # 1: step the load-weighted mean displacement, 0: the control DOF
     consistent: float = 1.0          # 1: consistent (return-map derivative) tangent, 0: Eq. 13-14 secant
     residual_stiffness: float = 0.001  # fraction of K-bar kept on yielded components (iteration matrix only)
+    reuse_ratio: float = 0.25        # keep the LU while an iteration cuts the residual below this x; 0: refactor always
     drop_ratio: float = 0.5          # stop when lambda falls below this x lambda_max
-    plateau_steps: int = 12          # stop after this many steps without a new lambda_max ...
-    plateau_tolerance: float = 1e-3  # ... within this relative change
+    plateau_steps: int = 12          # stop after this many steps (and twice the displacement) ...
+    plateau_tolerance: float = 1e-3  # ... in which lambda rose by less than this fraction
     max_seconds: float = 0.0         # wall-clock budget of the live-load phase; 0: none
     # manuscript 2.3 scheme (``secant`` = 1): load increments, stiffness of step i from the
     # interface damage of step i-1 (Eq. 13-14), residual iterations with that matrix; the
@@ -102,7 +105,7 @@ class WallModel:
         differences, vectorised over the interfaces) plus eps K-bar on yielded components."""
         d = self.local_deformation(q)
         ni = len(d)
-        D = return_map_derivative(d, rm.forces, plastic, cracked, self.k_local, self.sec,
+        D = return_map_derivative(d, rm, plastic, cracked, self.k_local, self.sec,
                                   self.strength, eps)
         # local -> global component order
         P = self.sec.perm
@@ -166,7 +169,9 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
     R = F_D + lam * F_L - fint
     res = np.linalg.norm(R) / ref
     history = []
-    for it in range(1, settings.max_iterations + 1):
+    refactor = True
+    n_iter = settings.max_iterations if control is not None else settings.dead_load_iterations
+    for it in range(1, n_iter + 1):
         history.append(res)
         # stagnation (active-set chattering) below the accept tolerance: keep this iterate
         if (stagnation_ok and it > 10 and res < settings.accept_tolerance and cf is not None
@@ -175,15 +180,17 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
         on_target = cf is None or abs(cf @ q[free] - target) <= 1e-9 * max(abs(target), 1e-12)
         if res < settings.tolerance and on_target and it > 1:
             return q, lam, rm, it, res
-        if settings.consistent and cf is not None:   # load-controlled dead load: secant (robust)
-            K = model.consistent_tangent(q, plastic, cracked, rm, eps)
-        else:
-            K = model.tangent(rm, eps if cf is not None else max(eps, 0.05))
-        lu = spla.splu(K)
+        if refactor:
+            if settings.consistent and cf is not None:   # load-controlled dead load: secant (robust)
+                K = model.consistent_tangent(q, plastic, cracked, rm, eps)
+            else:
+                K = model.tangent(rm, eps if cf is not None else max(eps, 0.05))
+            lu = spla.splu(K)
+            if control is not None:
+                dq_l = lu.solve(F_L)
         dq = lu.solve(R)
         dlam = 0.0
         if control is not None:
-            dq_l = lu.solve(F_L)
             cl = cf @ dq_l
             if abs(cl) < 1e-300:
                 raise ConvergenceError("the controlled displacement does not respond to the live load")
@@ -208,11 +215,13 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
                 best = (rest, qt, lt, rt, Rt)
             if rest < res:
                 break
+        # the factorization is kept while it still cuts the residual fast (modified Newton)
+        refactor = best[0] > settings.reuse_ratio * res or step < 1.0
         res, q, lam, rm, R = best
         if not np.all(np.isfinite(q)):
             raise ConvergenceError("non-finite displacements")
-    raise ConvergenceError(f"no convergence in {settings.max_iterations} iterations (residual {res:.2e})",
-                           (q, lam, rm, settings.max_iterations, res))
+    raise ConvergenceError(f"no convergence in {n_iter} iterations (residual {res:.2e})",
+                           (q, lam, rm, n_iter, res))
 
 
 def choose_control_dof(model, q, plastic, cracked, settings):
@@ -383,11 +392,11 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     failures = 0
     u0 = q[control]
     g0 = cvec @ q
-    g_hist = [0.0]
 
     lam = 0.0
     lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
     lam_max, step_max, since_max, status = 0.0, 0, 0, "reached maximum control displacement"
+    lam_rise, g_rise = 0.0, 0.0
     f_at_max = rm.forces.copy()
     steps = 0
     while steps < settings.max_steps:
@@ -421,11 +430,13 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
         u = (q[control] - u0) * sign
         g = cvec @ q - g0
-        g_hist.append(g)
         lams.append(lam), ctrl.append(u), states.append(rm.state.copy())
         qs.append(q.copy()), its.append(it), ress.append(res)
-        since_max = 0 if lam > lam_max * (1 + settings.plateau_tolerance) else since_max + 1
-        g_at_max = g_hist[step_max]
+        # plateau: lambda has not risen by plateau_tolerance since the step at g_rise
+        if lam > lam_rise * (1 + settings.plateau_tolerance):
+            since_max, lam_rise, g_rise = 0, lam, g
+        else:
+            since_max += 1
         if lam > lam_max:
             lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
         if progress:
@@ -435,10 +446,10 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         if lam_max > 0 and lam < settings.drop_ratio * lam_max:
             status = "stopped: lambda dropped below drop_ratio x lambda_max"
             break
-        if since_max >= settings.plateau_steps and g > 4 * g_at_max:
+        if since_max >= settings.plateau_steps and g > 2 * g_rise:
             status = "stopped: plateau (no increase of lambda)"
             break
-        if it <= settings.max_iterations // 4:
+        if it <= settings.easy_iterations:
             du *= settings.growth
         du = min(du, g_max / 20)
     else:

@@ -162,10 +162,11 @@ def interface_actions(d, p_old, cracked_old, k, area, lever, width, depth, mu, s
 
 
 @njit(cache=True, error_model="numpy")
-def interface_tangents(d, f0, p_old, cracked_old, k, area, lever, width, depth, mu, sigma_t,
-                       cohesion, alpha, brittle, n_eps, eps):
+def interface_tangents(d, f0, state, p_old, cracked_old, k, area, lever, width, depth, mu,
+                       sigma_t, cohesion, alpha, brittle, n_eps, eps):
     """6 x 6 derivative of each interface's return map by forward differences (normal
-    perturbed towards contact), diagonal kept >= eps K-bar so the iteration matrix factors."""
+    perturbed towards contact), diagonal kept >= eps K-bar so the iteration matrix factors.
+    An elastic interface (no cap active) has the exact derivative K-bar: no differences."""
     ni = d.shape[0]
     D = np.empty((ni, 6, 6))
     scale = np.empty(6)
@@ -179,6 +180,12 @@ def interface_tangents(d, f0, p_old, cracked_old, k, area, lever, width, depth, 
     pp = np.empty(6)
     tp = np.empty(6)
     for i in range(ni):
+        if state[i] == ELASTIC:
+            for j in range(6):
+                for m in range(6):
+                    D[i, m, j] = 0.0
+                D[i, j, j] = k[i, j]
+            continue
         for j in range(6):
             h = 1e-7 * scale[j] * (-1.0 if j == 2 else 1.0)
             for m in range(6):

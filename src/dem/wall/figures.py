@@ -31,15 +31,31 @@ def damage_map(ax, ds, scale=None):
     ax.set_aspect("equal")
     ax.set_xlim(-0.02, float(ds.attrs["panel_length"]) + 0.02)
     ax.set_ylim(-0.02, float(ds.attrs["panel_height"]) + 0.02)
-    ax.set_title(f"{ds.attrs['case_name']}: lambda_max = {float(ds.lambda_max):.4g}", fontsize=8)
+    ax.set_title(limit_label(ds), fontsize=7)
     ax.set_xticks([]), ax.set_yticks([])
+
+
+def limit_label(ds):
+    """'<case>: ours <value> vs manuscript DEM <value> (<error>)', in kPa for a pressure."""
+    import json
+
+    pressure = ds.attrs["load_kind"] == "pressure"
+    scale, unit = (1e-3, " kPa") if pressure else (1.0, "")
+    ours = float(ds.lambda_max) * scale
+    ref = json.loads(ds.attrs["case"]).get("reference", {})
+    dem = ref.get("p_dem", ref.get("lambda_dem"))
+    text = f"{ds.attrs['case_name']}: ours {ours:.4g}{unit}"
+    if dem:
+        dem *= scale
+        text += f" vs manuscript DEM {dem:.4g}{unit} ({(ours - dem) / dem:+.0%})"
+    return text
 
 
 def damage_figure(datasets, path, ncols=3):
     n = len(datasets)
     ncols = min(ncols, n)
     nrows = int(np.ceil(n / ncols))
-    fig, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 3.6 * nrows), squeeze=False)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(max(3.4 * ncols, 6.0), 3.4 * nrows), squeeze=False)
     for ax, ds in zip(axes.ravel(), datasets):
         damage_map(ax, ds)
     for ax in axes.ravel()[n:]:
@@ -54,11 +70,11 @@ def damage_figure(datasets, path, ncols=3):
 
 
 def pushover_figure(datasets, path):
-    fig, ax = plt.subplots(figsize=(5, 3.5))
+    fig, ax = plt.subplots(figsize=(6, 4))
     for ds in datasets:
         pressure = ds.attrs["load_kind"] == "pressure"
         lam = ds["lambda"].values * (1e-3 if pressure else 1.0)
-        ax.plot(ds.control_displacement.values * 1e3, lam, label=ds.attrs["case_name"])
+        ax.plot(ds.control_displacement.values * 1e3, lam, label=limit_label(ds))
         ax.set_ylabel("pressure p [kPa]" if pressure else "load multiplier lambda")
     ax.set_xlabel("out-of-plane displacement of the control block [mm]")
     ax.legend(fontsize=7)

@@ -39,6 +39,7 @@ class SolverSettings:
     work_control: float = 1.0        # 1: step the load-weighted mean displacement, 0: the control DOF
     consistent: float = 1.0          # 1: consistent (return-map derivative) tangent, 0: Eq. 13-14 secant
     residual_stiffness: float = 0.001  # fraction of K-bar kept on yielded components (iteration matrix only)
+    extrapolate: float = 1.0         # 1: start each step from the last increment, scaled; 0: from the last state
     reuse_ratio: float = 0.25        # keep the LU while an iteration cuts the residual below this x; 0: refactor always
     drop_ratio: float = 0.5          # stop when lambda falls below this x lambda_max
     plateau_steps: int = 12          # stop after this many steps (and twice the displacement) ...
@@ -387,6 +388,7 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         cvec[control] = sign
         ratio = 1.0
     du = settings.first_step or max(abs(unit) * 1e-3, u_max * 1e-7)
+    last = None   # (dq, dlambda, dg) of the last converged step
     du *= ratio
     g_max = u_max * ratio
     failures = 0
@@ -404,12 +406,17 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
             status = "stopped: max_seconds"
             break
         target = cvec @ q + du
+        # predictor: the last converged increment, scaled to this one (secant extrapolation)
+        q_guess, lam_guess = q, lam
+        if settings.extrapolate and last is not None:
+            scale = du / last[2]
+            q_guess, lam_guess = q + scale * last[0], lam + scale * last[1]
         err = None
         try:
             # a chattering iterate is kept only on the last attempt: cutting the step back
             # first avoids carrying a ~1e-3 residual into the next steps (S11 stalled on it)
             q_new, lam_new, rm, it, res = _newton(
-                model, q, plastic, cracked, lam, settings, ref, cvec, target,
+                model, q_guess, plastic, cracked, lam_guess, settings, ref, cvec, target,
                 stagnation_ok=failures >= settings.max_failures - 1)
         except ConvergenceError as first:
             err = first
@@ -427,6 +434,7 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
             q_new, lam_new, rm, it, res = err.state
         steps += 1
         failures = 0
+        last = (q_new - q, lam_new - lam, du)
         q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
         u = (q[control] - u0) * sign
         g = cvec @ q - g0

@@ -1,0 +1,46 @@
+"""Manuscript Tables 1-3 (limit loads): every case file of config/walls/ against the manuscript's
+DEM column, 10 % tolerance. Cases we miss are strict xfails carrying the measured value; the
+same numbers are in results/tables/manuscript_table_*.csv (within_tolerance per case) and
+benchmarks/wall_tables.py."""
+
+from pathlib import Path
+
+import pytest
+
+from dem.wall.case import load_case
+from dem.wall.pushover import pushover
+from dem.wall.validation import LIMIT_TOLERANCE
+
+CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
+WITHIN = ["s11", "s12", "s13", "s15", "s6", "s32", "chee_liang_10_11"]
+MISSES = {   # measured on this machine; reasons in README "Masonry walls"
+    "orduna_case1": "0.283 vs 0.175 (+61 %)",
+    "orduna_case2": "0.307 vs 0.215 (+43 %)",
+    "s1_s2_s3": "0.200 vs 0.225 (-11 %)",
+    "s5": "0.289 vs 0.350 (-18 %)",
+    "s23": "0.112 vs 0.130 (-14 %)",
+    "s34": "0.110 vs 0.140 (-21 %)",
+    "chee_liang_2_3": "20.1 vs 13.0 kPa (+55 %)",
+    "chee_liang_8_12": "37.8 vs 25.0 kPa (+51 %)",
+    "chee_liang_14_15": "29.1 vs 18.0 kPa (+61 %)",
+    "chee_liang_4_5": "13.5 vs 10.0 kPa (+35 %)",
+    "chee_liang_9_13": "30.2 vs 20.0 kPa (+51 %)",
+}
+
+
+@pytest.mark.parametrize("name", WITHIN + [
+    pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=f"measured {why}"))
+    for name, why in MISSES.items()])
+def test_limit_load_within_10_percent_of_manuscript_dem(name):
+    case = load_case(CASES / f"{name}.yaml")
+    ref = case.spec["reference"]
+    expected = ref.get("lambda_dem", ref.get("p_dem"))
+    r = pushover(case.model, case.settings, case.control_block)
+    assert r.residual.max() < case.settings.accept_tolerance
+    assert r.lambda_max == pytest.approx(expected, rel=LIMIT_TOLERANCE), \
+        f"{name}: lambda_max {r.lambda_max:.4g} vs manuscript DEM {expected:.4g} ({LIMIT_TOLERANCE:.0%})"
+
+
+def test_every_table_case_is_tested():
+    tables = {p.stem for p in CASES.glob("*.yaml")} - {"free_standing"}
+    assert tables == set(WITHIN) | set(MISSES)

@@ -30,7 +30,7 @@ class SolverSettings:
     max_iterations: int = 25         # a step that has not converged by then is halved (fails fast)
     dead_load_iterations: int = 100  # the dead load (load control, secant matrix) converges slower
     max_steps: int = 1000
-    max_displacement: float = 0.0    # control displacement at which to stop [m]; 0: s/10
+    max_displacement: float = 0.0    # control displacement at which to stop [m]; 0: s (the plateau stop ends most runs first)
     first_step: float = 0.0          # first control increment [m]; 0: automatic
     growth: float = 1.3              # step growth after an easy step ...
     easy_iterations: int = 6         # ... one that converged within this many iterations
@@ -374,7 +374,9 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
     s = float(model.panel.block["s"])
-    u_max = settings.max_displacement or s / 10.0
+    # small-displacement limit analysis: lambda approaches its plateau asymptotically (S5: 3 %
+    # below it at s/10, on it by s/2), so the path runs up to s unless the plateau stop ends it
+    u_max = settings.max_displacement or s
     # the stepped quantity g = c . q: the load-weighted mean displacement (work control, passes
     # limit points whatever part of the panel forms the mechanism) or the control DOF
     cvec = np.zeros(model.fixed.size)

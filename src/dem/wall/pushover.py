@@ -178,6 +178,15 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
         if (stagnation_ok and it > 10 and res < settings.accept_tolerance and cf is not None
                 and min(history[-8:]) > 0.5 * history[-9]):
             return q, lam, rm, it, res
+        # a period-2 cycle between two active sets never converges: give up at once
+        # (the caller halves the step) instead of spending the remaining iterations on it
+        if (cf is not None and it >= 7 and res >= settings.tolerance
+                and abs(history[-1] - history[-3]) <= 0.02 * history[-1]
+                and abs(history[-2] - history[-4]) <= 0.02 * history[-2]):
+            if stagnation_ok and res < settings.accept_tolerance:
+                return q, lam, rm, it, res
+            raise ConvergenceError(f"residual cycles between {history[-1]:.2e} and {history[-2]:.2e}",
+                                   (q, lam, rm, it, res))
         on_target = cf is None or abs(cf @ q[free] - target) <= 1e-9 * max(abs(target), 1e-12)
         if res < settings.tolerance and on_target and it > 1:
             return q, lam, rm, it, res

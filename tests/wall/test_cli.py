@@ -39,9 +39,9 @@ def test_issue_case_runs_and_is_self_describing(issue_case):
     assert '"mu": 0.7' in ds.attrs["case"] and "solver_tolerance" in ds.attrs and "dem" in ds.attrs["source"]
 
 
-@pytest.mark.xfail(strict=True, reason="measured lambda_max 0.283 at u_max = s/10 vs manuscript DEM 0.175 "
-                                       "(+61 %; Orduna & Lourenco's FEM 0.210): the curve levels off near "
-                                       "0.28, bed-joint torsion carries the load to the restrained column")
+@pytest.mark.xfail(strict=True, reason="measured lambda_max 0.283 (plateau) vs manuscript DEM 0.175 "
+                                       "(+61 %; Orduna & Lourenco's FEM 0.210): our curve passes 0.175 at "
+                                       "u = 0.57 mm and levels off at 0.283 by 3.2 mm")
 def test_issue_case_is_table1_case1(issue_case):
     lam = float(issue_case.lambda_max)
     assert lam == pytest.approx(0.175, rel=0.10), f"Table 1 case 1: {lam:.4f} vs 0.175 (10 %)"

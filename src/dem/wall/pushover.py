@@ -6,7 +6,12 @@ stiffness of Eq. 13-14); then the load-weighted mean displacement g = c . q (c =
 Newton: K dq = lambda-term - R with c . dq prescribed), so the path passes the peak whatever
 part of the panel forms the mechanism. The iteration matrix is H^T D H with D the consistent
 6 x 6 derivative of each interface's return map (forward differences, ``consistent``), plus
-``residual_stiffness`` x K-bar on yielded components; sparse LU.
+``residual_stiffness`` x K-bar on yielded components; sparse LU, kept across iterations while
+it still cuts the residual ``reuse_ratio``-fold. Each step starts from the last converged
+increment, scaled (``extrapolate``); a step that does not converge in ``max_iterations`` or
+whose residual cycles between two active sets is halved. The run ends on the plateau of the
+lambda-displacement curve (the limit load of the small-displacement model) or at a control
+displacement of ``max_displacement`` (default: the wall thickness s).
 """
 
 from __future__ import annotations

@@ -52,6 +52,10 @@ def test_issue_case_is_table1_case1(issue_case):
     (("a: 0.081", "a: -0.081"), "panel.block.a"),
     (("kind: dry, ", ""), "joints.kind"),
     (("edge: left", "edge: middle"), "restraints[1].edge"),
+    (("blocks_per_course: 3", "blocks_per_course: 3.3"), "panel.blocks_per_course"),   # does not tile
+    (("k_n: 2.4e9", "k_n: -2.4e9"), "joints.k_n"),
+    (("mu: 0.7", "mu: 0"), "joints.mu"),
+    (("{edge: base, fix: all}, ", ""), "restraints"),   # a mechanism at lambda = 0
 ])
 def test_bad_input_one_line_exit_2_no_output(tmp_path, edit, field):
     (tmp_path / "bad.yaml").write_text(CASE.replace(*edit))

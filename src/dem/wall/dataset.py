@@ -132,10 +132,15 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
 def run_case_file(path, output=None, progress=None) -> xr.Dataset:
     """Load a case YAML, run the pushover, optionally write the NetCDF atomically."""
     from dem.wall.case import load_case
-    from dem.wall.pushover import pushover
+    from dem.errors import InputError
+    from dem.wall.pushover import DeadLoadError, pushover
 
     case = load_case(path)
-    result = pushover(case.model, case.settings, case.control_block, progress=progress)
+    try:
+        result = pushover(case.model, case.settings, case.control_block, progress=progress)
+    except DeadLoadError as err:
+        raise InputError("restraints", f"leave a mechanism at lambda = 0: {err}",
+                         "hold the wall from below, e.g. add {edge: base, fix: all}") from err
     ds = wall_dataset(case, result)
     if output is not None:
         write_dataset(ds, output)

@@ -149,6 +149,10 @@ class ConvergenceError(RuntimeError):
         self.state = state  # (q, lam, rm, iterations, residual) of the last iterate
 
 
+class DeadLoadError(ConvergenceError):
+    """The restraints leave a mechanism at lambda = 0: the self-weight cannot be carried."""
+
+
 def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target=None,
             stagnation_ok=True):
     """Residual iterations at fixed lambda (control None) or fixed control displacement.
@@ -258,12 +262,15 @@ def _apply_dead_load(model, settings, ref):
     q = np.zeros(model.fixed.size)
     plastic = np.zeros((ni, 6))
     cracked = np.zeros(ni, dtype=bool)
-    model.use(model.fixed_dead)
-    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
-    plastic, cracked = rm.plastic, rm.cracked
-    dead_state = rm.state.copy()
-    model.use(model.fixed)
-    q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    try:
+        model.use(model.fixed_dead)
+        q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+        plastic, cracked = rm.plastic, rm.cracked
+        dead_state = rm.state.copy()
+        model.use(model.fixed)
+        q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+    except (ConvergenceError, RuntimeError) as err:   # splu: "Factor is exactly singular"
+        raise DeadLoadError(f"the self-weight cannot be carried ({err})") from err
     return q, rm, dead_state
 
 

@@ -65,3 +65,19 @@ def test_bad_input_one_line_exit_2_no_output(tmp_path, edit, field):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {field}"), proc.stderr
     assert not out.exists() and not list(tmp_path.glob(".*.tmp"))
+
+
+def test_case_dataset_carries_its_verdict(tmp_path):
+    """A case with a manuscript reference says in its own attrs whether it meets the tolerance."""
+    from pathlib import Path
+
+    from dem.wall.dataset import run_case_file
+
+    case = Path(__file__).resolve().parents[2] / "config" / "walls" / "s15.yaml"
+    ds = run_case_file(case, tmp_path / "s15.nc")
+    with xr.open_dataset(tmp_path / "s15.nc") as back:
+        assert back.attrs["manuscript_dem"] == 0.25
+        err = float(back.lambda_max) / 0.25 - 1
+        assert back.attrs["error_vs_manuscript_dem"] == pytest.approx(err, abs=1e-12)
+        assert back.attrs["within_tolerance"] == ("yes" if abs(err) <= 0.10 else "no")
+    assert missing_metadata(ds) == []

@@ -11,6 +11,7 @@ import xarray as xr
 from dem.dataset import code_version, write_dataset  # noqa: F401 - atomic writer re-exported
 from dem.wall.constitutive import STATE_NAMES
 from dem.wall.panel import KIND_NAMES
+from dem.wall.validation import LIMIT_TOLERANCE
 
 VARIABLES = {
     "step": ("1", "load step (0: dead load only)"),

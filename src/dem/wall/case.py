@@ -169,8 +169,7 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
     for key, val in sol.items():
         if key == "control_block":
             continue
-        conv = int if key in ("max_iterations", "max_steps", "plateau_steps", "max_failures", "easy_iterations",
-                                   "dead_load_iterations") else float
+        conv = type(getattr(settings, key))   # int for counts, float otherwise (the defaults say which)
         setattr(settings, key, conv(check_number(val, f"solver.{key}", nonnegative=True)))
     control_block = sol.get("control_block")
 

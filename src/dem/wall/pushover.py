@@ -143,6 +143,28 @@ class PushoverResult:
     settings: dict
 
 
+class PathRecord:
+    """The converged steps of a pushover (both schemes) and its highest load so far."""
+
+    def __init__(self, q, rm):
+        self.lam, self.control, self.state = [0.0], [0.0], [rm.state.copy()]
+        self.q, self.iterations, self.residual = [q.copy()], [0], [0.0]
+        self.lam_max, self.step_max, self.forces_at_max = 0.0, 0, rm.forces.copy()
+
+    def add(self, lam, u, q, rm, iterations, residual):
+        self.lam.append(lam), self.control.append(u), self.state.append(rm.state.copy())
+        self.q.append(q.copy()), self.iterations.append(iterations), self.residual.append(residual)
+        if lam > self.lam_max:
+            self.lam_max, self.step_max, self.forces_at_max = lam, len(self.lam) - 1, rm.forces.copy()
+
+    def result(self, control, status, t0, dead_state, settings) -> PushoverResult:
+        return PushoverResult(np.array(self.lam), np.array(self.control), np.array(self.state),
+                              np.array(self.q), np.array(self.iterations), np.array(self.residual),
+                              int(control), float(self.lam_max), int(self.step_max), status,
+                              time.perf_counter() - t0, dead_state, self.forces_at_max,
+                              settings.as_dict())
+
+
 class ConvergenceError(RuntimeError):
     def __init__(self, message, state=None):
         super().__init__(message)
@@ -174,7 +196,6 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
         cf[int(np.searchsorted(free, int(control)))] = 1.0
     else:
         cf = np.asarray(control)[free]
-    res = np.inf
     fint, rm = model.internal(q, plastic, cracked)
     R = F_D + lam * F_L - fint
     res = np.linalg.norm(R) / ref
@@ -343,9 +364,8 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
     dlam = dlam0
     u0 = q[control]
     lam = 0.0
-    lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
-    lam_max, step_max, status = 0.0, 0, "stopped: max_steps"
-    f_at_max = rm.forces.copy()
+    path = PathRecord(q, rm)
+    status = "stopped: max_steps"
     steps = 0
     while steps < settings.max_steps:
         if settings.max_seconds and time.perf_counter() - t0 > settings.max_seconds:
@@ -368,19 +388,14 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
         steps += 1
         lam += dlam
         q, rm, plastic, cracked = q_new, rm_new, rm_new.plastic, rm_new.cracked
-        lams.append(lam), ctrl.append((q[control] - u0) * sign), states.append(rm.state.copy())
-        qs.append(q.copy()), its.append(it), ress.append(res)
-        lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
+        path.add(lam, (q[control] - u0) * sign, q, rm, it, res)   # lambda only grows here
         if progress:
-            progress(steps, lam, ctrl[-1])
+            progress(steps, lam, path.control[-1])
         # stiffness of the next step from the damage of this one (manuscript 2.3)
         K_lu = spla.splu(model.tangent(rm, eps))
         if it <= max(settings.max_iterations // 10, 2):
             dlam = min(dlam * settings.growth, dlam0)
-    return PushoverResult(np.array(lams), np.array(ctrl), np.array(states), np.array(qs),
-                          np.array(its), np.array(ress), int(control), float(lam_max),
-                          int(step_max), status, time.perf_counter() - t0, dead_state, f_at_max,
-                          settings.as_dict())
+    return path.result(control, status, t0, dead_state, settings)
 
 
 def pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
@@ -419,10 +434,9 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     g0 = cvec @ q
 
     lam = 0.0
-    lams, ctrl, states, qs, its, ress = [0.0], [0.0], [rm.state.copy()], [q.copy()], [0], [0.0]
-    lam_max, step_max, since_max, status = 0.0, 0, 0, "reached maximum control displacement"
+    path = PathRecord(q, rm)
+    since_max, status = 0, "reached maximum control displacement"
     lam_rise, g_rise = 0.0, 0.0
-    f_at_max = rm.forces.copy()
     steps = 0
     while steps < settings.max_steps:
         if settings.max_seconds and time.perf_counter() - t0 > settings.max_seconds:
@@ -461,20 +475,17 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
         u = (q[control] - u0) * sign
         g = cvec @ q - g0
-        lams.append(lam), ctrl.append(u), states.append(rm.state.copy())
-        qs.append(q.copy()), its.append(it), ress.append(res)
+        path.add(lam, u, q, rm, it, res)
         # plateau: lambda has not risen by plateau_tolerance since the step at g_rise
         if lam > lam_rise * (1 + settings.plateau_tolerance):
             since_max, lam_rise, g_rise = 0, lam, g
         else:
             since_max += 1
-        if lam > lam_max:
-            lam_max, step_max, f_at_max = lam, len(lams) - 1, rm.forces.copy()
         if progress:
             progress(steps, lam, u)
         if u >= u_max or g >= g_max:
             break
-        if lam_max > 0 and lam < settings.drop_ratio * lam_max:
+        if path.lam_max > 0 and lam < settings.drop_ratio * path.lam_max:
             status = "stopped: lambda dropped below drop_ratio x lambda_max"
             break
         if since_max >= settings.plateau_steps and g > 2 * g_rise:
@@ -485,8 +496,4 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         du = min(du, g_max / 20)
     else:
         status = "stopped: max_steps"
-
-    return PushoverResult(np.array(lams), np.array(ctrl), np.array(states), np.array(qs),
-                          np.array(its), np.array(ress), int(control), float(lam_max),
-                          int(step_max), status, time.perf_counter() - t0, dead_state, f_at_max,
-                          settings.as_dict())
+    return path.result(control, status, t0, dead_state, settings)

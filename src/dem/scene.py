@@ -33,7 +33,7 @@ TOP_KEYS = {
     "interface_friction": "per-interface friction [{bodies: [a, b], mu}]",
     "contact": "contact law {k_n, c_n, k_t, c_t}",
     "excitation": "base motion",
-    "solver": "{duration, dt, dt_safety, stop_on_collapse}",
+    "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet}",
     "output": "{every}",
 }
 BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "velocity",
@@ -41,7 +41,8 @@ BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "vel
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
 CONTACT_DEFAULTS = {"k_n": 1.0e8, "c_n": 1.0e3}
-SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": 0.25, "stop_on_collapse": True}
+SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": 0.25, "stop_on_collapse": True,
+                   "skip_quiet": True}
 OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
 # bodies may touch at t = 0 but not overlap by more than this share of the smaller area
@@ -97,6 +98,7 @@ class Scene:
     dt: float | None  # None = choose automatically
     dt_safety: float
     stop_on_collapse: bool
+    skip_quiet: bool  # skip where the base is too quiet to move anything (dem.simulate.quiet_steps)
     output_every: float
     spec: dict = field(repr=False)  # the fully defaulted input, for provenance
 
@@ -228,8 +230,9 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if dt_safety > 1.0:
         raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
                          "use a fraction of the limit, e.g. 0.25")
-    if not isinstance(solver["stop_on_collapse"], bool):
-        raise InputError("solver.stop_on_collapse", "expected true or false", "write true or false")
+    for key in ("stop_on_collapse", "skip_quiet"):
+        if not isinstance(solver[key], bool):
+            raise InputError(f"solver.{key}", "expected true or false", "write true or false")
     output = {**OUTPUT_DEFAULTS, **(spec.get("output") or {})}
     _check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
@@ -242,7 +245,8 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
                   gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,
                   duration=duration, dt=dt, dt_safety=dt_safety,
-                  stop_on_collapse=solver["stop_on_collapse"], output_every=every, spec=spec)
+                  stop_on_collapse=solver["stop_on_collapse"], skip_quiet=solver["skip_quiet"],
+                  output_every=every, spec=spec)
     check_initial_overlaps(scene)
     return scene
 

@@ -17,7 +17,7 @@ import numpy as np
 from dem import geometry
 from dem.errors import InputError
 from dem.kernels import step
-from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY
+from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
 from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 from dem.scene import Scene, initial_pose, posed_vertices
 
@@ -169,6 +169,91 @@ def stability_limit(scene: Scene) -> float:
     return limit
 
 
+QUIET_MARGIN = 0.5  # the base counts as quiet below half the smallest acceleration that could move a body
+REST_SPEED = 1e-3  # [m s-1] a body slower than this relative to the base is at rest
+REST_SECONDS = 0.5  # [s] ... for this long in a row, with the base quiet for good: the run ends
+
+
+def quiet_threshold(scene: Scene) -> float:
+    """Base acceleration over gravity below which no body can slide or rock: a lower bound [1].
+
+    A body slides only if a/g exceeds the smallest friction coefficient; an assembly above
+    a joint rocks only if a/g exceeds (half the joint width) / (height of its centroid above
+    the joint), which is at least (narrowest free body) / (2 x height of the free structure).
+    Halved (QUIET_MARGIN), so the soft contacts' own vibration has no part in it either.
+    """
+    free = [posed_vertices(b) for b in scene.bodies if not b.driven]
+    mu = [b.friction if b.friction is not None else scene.friction for b in scene.bodies]
+    mu_min = min(min(mu), *scene.pair_friction.values()) if scene.pair_friction else min(mu)
+    width = min(float(np.ptp(v[:, 0])) for v in free)
+    height = float(np.ptp(np.vstack(free)[:, 1]))
+    return QUIET_MARGIN * min(mu_min, width / (2.0 * height))
+
+
+def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[int, int]:
+    """(first step to integrate, step from which the base is quiet for good).
+
+    Quiet: |a_h| < threshold x (g - |a_v|) and |a_v| < g / 2 (:func:`quiet_threshold`). A
+    scene released at rest in its reference pose moves rigidly with the base through a
+    quiet lead, so the run starts at the sample before the first loud instant; a scene with
+    a tilt or an initial velocity starts at 0, and so does one whose base is never loud
+    (it still settles on its contacts). Checked on a grid no coarser than the
+    record's samples (between which a record is linear) or 1 ms.
+    """
+    if not scene.skip_quiet:
+        return 0, n_steps + 1
+    h, v = scene.horizontal, scene.vertical
+    spacing = min(scene.output_every, 1e-3, *(m.table_dt for m in (h, v) if m.table_dt > 0))
+    grid = np.arange(0.0, scene.duration + spacing, spacing)
+    _, _, a_h = h.evaluate(grid)
+    _, _, a_v = v.evaluate(grid)
+    ratio = quiet_threshold(scene)
+    loud = (np.abs(a_h) >= ratio * (scene.gravity - np.abs(a_v))) | (np.abs(a_v) >= 0.5 * scene.gravity)
+    if not loud.any():
+        first_loud, last_loud = 0.0, 0.0  # nothing to skip but the settled rest at the end
+    else:
+        first_loud, last_loud = grid[np.argmax(loud)], grid[len(loud) - 1 - np.argmax(loud[::-1])]
+    at_rest = all(b.driven or (b.tilt_angle == 0.0 and b.velocity is None) for b in scene.bodies)
+    n_first = 0
+    if at_rest:
+        n_first = max(0, int((first_loud - spacing) / dt)) // out_every * out_every
+        n_first = min(n_first, n_steps // out_every * out_every)
+    n_rest = max(n_first, int(math.ceil((last_loud + spacing) / dt)))
+    return n_first, n_rest
+
+
+def rigid_motion(scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_from, theta_from,
+                 energy_from=None):
+    """(x, y, theta (n_time, n_body), energy (n_time, N_ENERGY)) of the scene carried by the base.
+
+    From the poses at t_from [s], free bodies translate with the base displacement and keep
+    their rotation; driven bodies follow the base. Stored and dissipated energies stay at
+    energy_from's; the base's work is what changes the kinetic and potential energy. With
+    energy_from None, the base work column is left 0 (the state at t_from is the origin).
+    """
+    h, v = scene.horizontal, scene.vertical
+    times = np.asarray(times, dtype=float)
+    d_h, v_h, _ = h.evaluate(times)
+    d_v, v_v, _ = v.evaluate(times)
+    d_h0, _, _ = h.evaluate(np.array([t_from]))
+    d_v0, _, _ = v.evaluate(np.array([t_from]))
+    free = ~arrays.body_driven
+    x = np.where(free, x_from[None, :] + (d_h - d_h0[0])[:, None], arrays.ref_x[None, :] + d_h[:, None])
+    y = np.where(free, y_from[None, :] + (d_v - d_v0[0])[:, None], arrays.ref_y[None, :] + d_v[:, None])
+    theta = np.where(free, theta_from[None, :], arrays.ref_theta[None, :])
+    mass = np.where(free, arrays.body_mass, 0.0)
+    energy = np.zeros((len(times), step.N_ENERGY))
+    energy[:, step.ENERGY_KINETIC] = 0.5 * mass.sum() * (v_h**2 + v_v**2)
+    energy[:, step.ENERGY_POTENTIAL] = scene.gravity * (y * mass[None, :]).sum(axis=1)
+    if energy_from is not None:
+        for col in (step.ENERGY_ELASTIC, step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL):
+            energy[:, col] = energy_from[col]
+        gained = (energy[:, step.ENERGY_KINETIC] + energy[:, step.ENERGY_POTENTIAL]
+                  - energy_from[step.ENERGY_KINETIC] - energy_from[step.ENERGY_POTENTIAL])
+        energy[:, step.ENERGY_BASE_WORK] = energy_from[step.ENERGY_BASE_WORK] + gained
+    return x, y, theta, energy
+
+
 def choose_time_step(scene: Scene) -> tuple[float, float]:
     """(dt, stability limit) [s]: the given dt if stable, else dt_safety x the limit when auto."""
     limit = stability_limit(scene)
@@ -197,17 +282,26 @@ class RunResult:
     dt_limit: float
     out_every: int
     n_steps: int
-    steps_run: int
+    steps_run: int  # steps integrated (the quiet lead and tail are not)
     wall_seconds: float
+    quiet_lead: float = 0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
+    rest_time: float = math.nan  # [s] at rest on a quiet base from here on (not integrated), NaN if never
 
 
 def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResult:
-    """Run a scene to its duration (or its collapse) and return the samples."""
+    """Run a scene to its duration (or its collapse) and return the samples.
+
+    With ``skip_quiet`` (:func:`quiet_steps`): the scene first settles on its contacts from
+    t = 0 until at rest; the settled state is then carried rigidly by the base over the rest
+    of the quiet lead (samples filled, nothing integrated) and integration resumes at the
+    sample before the first loud instant; once the base is quiet for good and every body is
+    at rest on it, the remaining samples are filled the same way.
+    """
     dt, limit = choose_time_step(scene)
     if scene.dt is None:
         # round the automatic step down so samples fall exactly every output interval
         dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
-    arrays = pack_scene(scene)
+    arrays = a = pack_scene(scene)
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))
     n_out = n_steps // out_every + 2
@@ -218,45 +312,114 @@ def simulate(scene: Scene, progress: bool = False, chunks: int = 20) -> RunResul
     out_energy = np.full((n_out, step.N_ENERGY), np.nan)
     out_n_contact = np.zeros(n_out, dtype=np.int64)
     out_step = np.zeros(n_out, dtype=np.int64)
+    n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
     bx, by, bth = arrays.init_x.copy(), arrays.init_y.copy(), arrays.init_theta.copy()
     bvx, bvy, bom = arrays.init_vx.copy(), arrays.init_vy.copy(), arrays.init_omega.copy()
     pair_ft = np.zeros((n_body, n_body))
     pair_memory = np.zeros((n_body, n_body, N_MEMORY))
     energy_acc = np.zeros(N_ENERGY_ACC)
     h, v = scene.horizontal, scene.vertical
-    a = arrays
-    n_sample, collapse_sample, status = 0, -1, step.STATUS_OK
-    bounds = np.linspace(0, n_steps + 1, max(1, chunks) + 1).astype(np.int64)
-    start = wallclock.perf_counter()
-    for k in range(len(bounds) - 1):
-        status, n_sample, collapse_sample = step.run(
-            a.vert_start, a.local_x, a.local_y, a.body_mass, a.body_inertia, a.body_driven,
-            a.body_radius, a.ref_x, a.ref_y, a.ref_theta, a.pair_mu,
-            scene.contact.k_n, scene.contact.c_n, scene.contact.k_t, scene.contact.c_t,
-            FRAME_RULES[scene.contact.frame], scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
-            h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt,
-            v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
-            dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
-            scene.stop_on_collapse, bx, by, bth, bvx, bvy, bom,
-            pair_ft, pair_memory, energy_acc,
-            out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
-        )
-        if progress:
-            done = (k + 1) / (len(bounds) - 1)
-            print(f"\r  {100 * done:5.1f} %  t = {bounds[k + 1] * dt:8.3f} s  "
-                  f"wall {wallclock.perf_counter() - start:7.1f} s", end="", file=sys.stderr)
-        if status != step.STATUS_OK:
-            break
-    wall = wallclock.perf_counter() - start
+    rest_samples = max(1, int(math.ceil(REST_SECONDS / (out_every * dt))))
+    state = {"n_sample": 0, "collapse": -1, "wall": 0.0, "steps": 0}
+
+    def integrate(n_start, n_stop, step_first, rest_from, n_chunks):
+        """Compiled loop over steps n_start..n_stop-1 in chunks; returns its status."""
+        rest_count = np.zeros(1, dtype=np.int64)
+        bounds = np.linspace(n_start, n_stop, max(1, n_chunks) + 1).astype(np.int64)
+        status = step.STATUS_OK
+        for k in range(len(bounds) - 1):
+            start = wallclock.perf_counter()
+            status, state["n_sample"], state["collapse"] = step.run(
+                a.vert_start, a.local_x, a.local_y, a.body_mass, a.body_inertia, a.body_driven,
+                a.body_radius, a.ref_x, a.ref_y, a.ref_theta, a.pair_mu,
+                scene.contact.k_n, scene.contact.c_n, scene.contact.k_t, scene.contact.c_t,
+                FRAME_RULES[scene.contact.frame], scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
+                h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt,
+                v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
+                dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
+                scene.stop_on_collapse, step_first, rest_from, REST_SPEED, rest_samples, rest_count,
+                bx, by, bth, bvx, bvy, bom, pair_ft, pair_memory, energy_acc,
+                out_step, out_x, out_y, out_theta, out_energy, out_n_contact,
+                state["n_sample"], state["collapse"],
+            )
+            state["wall"] += wallclock.perf_counter() - start
+            last = int(out_step[state["n_sample"] - 1]) if state["n_sample"] else n_start
+            state["steps"] += (last if status != step.STATUS_OK else int(bounds[k + 1])) - int(bounds[k])
+            if progress:
+                print(f"\r  t = {bounds[k + 1] * dt:8.3f} s of {n_steps * dt:.3f} s  "
+                      f"wall {state['wall']:7.1f} s", end="", file=sys.stderr)
+            if status != step.STATUS_OK:
+                break
+        return status
+
+    def carry_to(n_to):
+        """Fill the samples after the last one up to (not including) step n_to, carried by the base."""
+        k = state["n_sample"] - 1
+        last = int(out_step[k])
+        steps = list(range(last + out_every, n_to, out_every))
+        if steps:
+            m = len(steps)
+            out_step[k + 1: k + 1 + m] = steps
+            filled = rigid_motion(scene, arrays, np.array(steps) * dt, last * dt, out_x[k], out_y[k],
+                                  out_theta[k], out_energy[k])
+            out_x[k + 1: k + 1 + m], out_y[k + 1: k + 1 + m], out_theta[k + 1: k + 1 + m] = filled[:3]
+            out_energy[k + 1: k + 1 + m] = filled[3]
+            out_n_contact[k + 1: k + 1 + m] = out_n_contact[k]
+            state["n_sample"] += m
+        return k, last
+
+    n_start, step_first, quiet_lead = 0, 0, 0.0
+    status = step.STATUS_OK
+    if n_first > 0:
+        # settle from t = 0 (the contacts take up the weight), at most until the first loud sample
+        status = integrate(0, n_first, 0, 0, 1)
+        if status == step.STATUS_AT_REST:
+            k, last = carry_to(n_first)
+            # the settled state at n_first: shifted with the base, moving with it; the
+            # contacts' memory (in their own frames) and the dissipated energy are kept
+            free = ~arrays.body_driven
+            x, y, th, energy = rigid_motion(scene, arrays, np.array([n_first * dt]), last * dt,
+                                            out_x[k], out_y[k], out_theta[k], out_energy[k])
+            bx[free], by[free], bth[free] = x[0, free], y[0, free], th[0, free]
+            _, v_h, _ = h.evaluate(np.array([n_first * dt]))
+            _, v_v, _ = v.evaluate(np.array([n_first * dt]))
+            bvx[free], bvy[free], bom[free] = v_h[0], v_v[0], 0.0
+            energy_acc[E_DAMPING] = energy[0, step.ENERGY_DAMPING]
+            energy_acc[E_TANGENTIAL] = energy[0, step.ENERGY_TANGENTIAL]
+            energy_acc[E_BASE_WORK] = energy[0, step.ENERGY_BASE_WORK]
+            n_start, step_first = n_first, n_first
+            quiet_lead = (n_first - last) * dt
+            status = step.STATUS_OK
+        elif status == step.STATUS_OK:
+            n_start = n_first  # still settling at the first loud sample: carry straight on
+            step_first = 0
+    if status == step.STATUS_OK:
+        status = integrate(n_start, n_steps + 1, step_first, max(n_rest, n_start), chunks)
     if progress:
         print(file=sys.stderr)
-    steps_run = int(out_step[n_sample - 1]) if n_sample else 0
+    rest_time = math.nan
+    if status == step.STATUS_AT_REST:
+        # the quiet tail: at rest on a base that can no longer move anything
+        k, last = carry_to(n_steps)
+        rest_time = last * dt
+        if int(out_step[state["n_sample"] - 1]) != n_steps:
+            carry_to_end = rigid_motion(scene, arrays, np.array([n_steps * dt]), last * dt, out_x[k],
+                                        out_y[k], out_theta[k], out_energy[k])
+            j = state["n_sample"]
+            out_step[j] = n_steps
+            out_x[j], out_y[j], out_theta[j] = (q[0] for q in carry_to_end[:3])
+            out_energy[j] = carry_to_end[3][0]
+            out_n_contact[j] = out_n_contact[k]
+            state["n_sample"] += 1
+        status = step.STATUS_OK
+    n_sample = state["n_sample"]
     return RunResult(
         time=out_step[:n_sample] * dt, x=out_x[:n_sample], y=out_y[:n_sample],
         theta=out_theta[:n_sample], energy=out_energy[:n_sample],
         n_contact=out_n_contact[:n_sample], status=int(status),
-        collapse_sample=int(collapse_sample), dt=dt, dt_limit=limit, out_every=out_every,
-        n_steps=n_steps, steps_run=int(steps_run), wall_seconds=wall,
+        collapse_sample=int(state["collapse"]), dt=dt, dt_limit=limit, out_every=out_every,
+        n_steps=n_steps, steps_run=int(state["steps"]), wall_seconds=state["wall"],
+        quiet_lead=quiet_lead, rest_time=rest_time,
     )
 
 

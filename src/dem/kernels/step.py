@@ -25,6 +25,7 @@ from dem.kernels.overlap import MAX_OVERLAP_VERTICES
 STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
 STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
+STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
 
 # columns of the sampled energy array
 ENERGY_KINETIC = 0
@@ -63,6 +64,18 @@ def collapse_state(n_body, body_driven, body_group, n_group, group_theta_cr, bod
 
 
 @njit(**JIT_OPTIONS)
+def at_rest(n_body, body_driven, body_radius, vel_x, vel_y, vel_om, vel_h, vel_v, rest_speed):
+    """True when every free body moves slower than rest_speed [m s-1] relative to the base."""
+    for b in range(n_body):
+        if body_driven[b]:
+            continue
+        speed = abs(vel_x[b] - vel_h) + abs(vel_y[b] - vel_v) + body_radius[b] * abs(vel_om[b])
+        if speed > rest_speed:
+            return False
+    return True
+
+
+@njit(**JIT_OPTIONS)
 def run(
     vert_start, local_x, local_y, body_mass, body_inertia, body_driven, body_radius,
     ref_x, ref_y, ref_theta, pair_mu, k_n, c_n, k_t, c_t, frame_rule, gravity,
@@ -70,6 +83,7 @@ def run(
     h_kind, h_params, h_accel, h_vel, h_disp, h_dt,
     v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
     dt, step_start, step_stop, n_steps, out_every, margin, sweep_axis, stop_on_collapse,
+    step_first, rest_from_step, rest_speed, rest_samples, rest_count,
     body_x, body_y, body_theta, body_vx, body_vy, body_omega,
     pair_ft, pair_memory, energy_acc,
     out_step, out_x, out_y, out_theta, out_energy, out_n_contact, n_sample, collapse_sample,
@@ -85,6 +99,11 @@ def run(
     out_*: preallocated samples (n_sample, n_body) and (n_sample, N_ENERGY), taken every
     out_every steps and at the last step; out_step holds each sample's step number.
     Samples are written from index n_sample on. collapse_sample is the first collapsed sample, or -1.
+    step_first: the step the run starts from (its kick is a half step; body_* hold the
+    velocities at that instant). From step rest_from_step on (the base motion is quiet for
+    good), rest_samples samples in a row at which every free body moves slower than
+    rest_speed [m s-1] relative to the base (rotation times bounding radius included) end
+    the run with STATUS_AT_REST; rest_count (1,) int64 carries the run of them across calls.
     """
     n_body = body_mass.shape[0]
     n_group = group_theta_cr.shape[0]
@@ -151,7 +170,7 @@ def run(
             force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, sample,
         )
         # velocities at t_n: half a kick on from v_{n-1/2} (the start holds v_0 itself)
-        half = 0.0 if n == 0 else 0.5 * dt
+        half = 0.0 if n == step_first else 0.5 * dt
         for b in range(n_body):
             if body_driven[b]:
                 vel_x[b] = body_vx[b]
@@ -199,6 +218,14 @@ def run(
             if not finite:
                 status = STATUS_NONFINITE
                 break
+            if n >= rest_from_step and at_rest(n_body, body_driven, body_radius, vel_x, vel_y,
+                                               vel_om, vel_h, vel_v, rest_speed):
+                rest_count[0] += 1
+                if rest_count[0] >= rest_samples:
+                    status = STATUS_AT_REST
+                    break
+            else:
+                rest_count[0] = 0
             if collapse_sample < 0 and collapse_state(
                 n_body, body_driven, body_group, n_group, group_theta_cr, body_theta,
                 body_y, ref_y, fall_depth, d_v,
@@ -210,7 +237,7 @@ def run(
         if n == n_steps:
             break
         # the first kick is a half step, so velocities sit at t + dt/2 from then on
-        kick = 0.5 * dt if n == 0 else dt
+        kick = 0.5 * dt if n == step_first else dt
         energy_acc[E_DAMPING] += kick * p_damp
         energy_acc[E_TANGENTIAL] += kick * p_tan
         energy_acc[E_BASE_WORK] += kick * p_base

@@ -19,6 +19,7 @@ include: "workflow/rules/reduce.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/walls.smk"
+include: "workflow/rules/bench.smk"
 
 
 rule all:

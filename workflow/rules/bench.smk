@@ -1,0 +1,77 @@
+# Benchmarks (issue 6): run time against error beside pymunk and MuJoCo, cost per contact,
+# the stability map and the skips, each a dataset in results/bench/ and figures in
+# results/figures/. Not part of `all` (timings want a quiet machine): `snakemake bench -j1`.
+# config bench_profile: full (the sweeps) or quick (a few points per engine: CI).
+BENCH_QUICK = config.get("bench_profile", "full") == "quick"
+BENCH_OUTPUTS = {
+    "bench_work_precision": ["results/bench/work_precision.nc"]
+    + [f"results/figures/work_precision_{scene}.png" for scene in "abc"],
+    "bench_contact_cost": ["results/bench/contact_cost.nc", "results/figures/contact_cost.png"],
+    "bench_stability": [
+        "results/bench/stability_map.nc",
+        "results/bench/auto_dt_margin.nc",
+        "results/figures/stability_map.png",
+    ],
+    "bench_skipping": ["results/bench/skipping.nc"],
+}
+
+
+rule bench_work_precision:
+    output:
+        BENCH_OUTPUTS["bench_work_precision"],
+    params:
+        quick=BENCH_QUICK,
+    log:
+        "results/logs/bench/work_precision.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/bench.py"
+
+
+rule bench_contact_cost:
+    output:
+        BENCH_OUTPUTS["bench_contact_cost"],
+    params:
+        quick=BENCH_QUICK,
+    log:
+        "results/logs/bench/contact_cost.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/bench.py"
+
+
+rule bench_stability:
+    output:
+        BENCH_OUTPUTS["bench_stability"],
+    params:
+        quick=BENCH_QUICK,
+    log:
+        "results/logs/bench/stability.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/bench.py"
+
+
+rule bench_skipping:
+    input:
+        expand("records/{name}.nc", name=RECORD_NAMES),
+    output:
+        BENCH_OUTPUTS["bench_skipping"],
+    params:
+        quick=BENCH_QUICK,
+        config="config/quick.yaml" if BENCH_QUICK else "config/config.yaml",
+    log:
+        "results/logs/bench/skipping.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/bench.py"
+
+
+# `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)
+rule bench:
+    input:
+        [path for outputs in BENCH_OUTPUTS.values() for path in outputs],

@@ -378,6 +378,19 @@ def posed_vertices(body: Body) -> np.ndarray:
     return geometry.rotate_about(body.vertices, body.tilt_angle, body.tilt_pivot)
 
 
+def box_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> list[tuple[int, int]]:
+    """Pairs (i < j) whose bounds (n, 2) [m], inflated by ``margin``, overlap: the engine's
+    sort-and-sweep (:func:`dem.kernels.broad_phase.find_candidate_pairs`), so set-up is O(N)."""
+    from dem.kernels.broad_phase import find_candidate_pairs
+
+    n = len(lo)
+    axis = int(np.ptp(hi[:, 1]) + np.ptp(lo[:, 1]) >= np.ptp(hi[:, 0]) + np.ptp(lo[:, 0]))
+    pa, pb = find_candidate_pairs(n, np.zeros(n, dtype=np.bool_), np.ascontiguousarray(lo[:, 0]),
+                                  np.ascontiguousarray(lo[:, 1]), np.ascontiguousarray(hi[:, 0]),
+                                  np.ascontiguousarray(hi[:, 1]), float(margin), axis)
+    return list(zip(pa.tolist(), pb.tolist()))
+
+
 def check_initial_overlaps(scene: Scene) -> None:
     """Refuse bodies that overlap at t = 0 by more than a touching tolerance."""
     from dem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid
@@ -386,19 +399,16 @@ def check_initial_overlaps(scene: Scene) -> None:
     lo = np.array([p.min(axis=0) for p in posed])
     hi = np.array([p.max(axis=0) for p in posed])
     scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
-    for i in range(len(posed)):
-        for j in range(i + 1, len(posed)):
-            if np.any(lo[i] > hi[j]) or np.any(lo[j] > hi[i]):
-                continue
-            a, b = posed[i], posed[j]
-            n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
-                                     scratch[0], scratch[1], scratch[2], scratch[3])
-            if n < 3:
-                continue
-            area = polygon_area_centroid(scratch[0], scratch[1], n)[0]
-            smaller = min(geometry.signed_area(a), geometry.signed_area(b))
-            if area > INITIAL_OVERLAP_TOLERANCE * smaller:
-                bi, bj = scene.bodies[i].name, scene.bodies[j].name
-                raise InputError(f"bodies ({bi}, {bj})",
-                                 f"overlap by {area:.3g} m2 at t = 0",
-                                 "place bodies so they touch without overlapping")
+    for i, j in box_pairs(lo, hi, 0.0):
+        a, b = posed[i], posed[j]
+        n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
+                                 scratch[0], scratch[1], scratch[2], scratch[3])
+        if n < 3:
+            continue
+        area = polygon_area_centroid(scratch[0], scratch[1], n)[0]
+        smaller = min(geometry.signed_area(a), geometry.signed_area(b))
+        if area > INITIAL_OVERLAP_TOLERANCE * smaller:
+            bi, bj = scene.bodies[i].name, scene.bodies[j].name
+            raise InputError(f"bodies ({bi}, {bj})",
+                             f"overlap by {area:.3g} m2 at t = 0",
+                             "place bodies so they touch without overlapping")

@@ -19,7 +19,7 @@ from dem.errors import InputError
 from dem.kernels import step
 from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
 from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
-from dem.scene import Scene, initial_pose, posed_vertices
+from dem.scene import Scene, box_pairs, initial_pose, posed_vertices
 
 
 FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS}
@@ -135,6 +135,12 @@ def stability_limit(scene: Scene) -> float:
     lo = np.array([p.min(axis=0) for p in posed])
     hi = np.array([p.max(axis=0) for p in posed])
     size = np.maximum(hi - lo, 1e-12)
+    # candidate neighbours from the broad phase (a superset of the touching ones), each
+    # body's in ascending order as a full scan would visit them
+    neighbours = [[] for _ in posed]
+    for i, j in box_pairs(lo, hi, 0.5e-3 * float(size.max())):
+        neighbours[i].append(j)
+        neighbours[j].append(i)
     limit = math.inf
     for i, body in enumerate(scene.bodies):
         if body.driven:
@@ -143,9 +149,7 @@ def stability_limit(scene: Scene) -> float:
         k_rot = 0.0
         n_touch = 0
         centre = geometry.centroid(posed[i])
-        for j in range(len(posed)):
-            if j == i:
-                continue
+        for j in sorted(neighbours[i]):
             tol = 1e-3 * np.minimum(size[i], size[j])
             overlap = np.minimum(hi[i], hi[j]) - np.maximum(lo[i], lo[j])
             if np.any(overlap < -tol):

@@ -62,7 +62,8 @@ rule bench_skipping:
         BENCH_OUTPUTS["bench_skipping"],
     params:
         quick=BENCH_QUICK,
-        config="config/quick.yaml" if BENCH_QUICK else "config/config.yaml",
+        # the quick study's record and ramp cases (33; the quick profile takes 4 of them)
+        config="config/quick.yaml",
     log:
         "results/logs/bench/skipping.log",
     conda:

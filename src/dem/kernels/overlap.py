@@ -44,41 +44,48 @@ def clip_convex_polygons(ax, ay, bx, by, out_x, out_y, tmp_x, tmp_y):
     Pseudocode: poly <- a; for every edge (p, q) of b: keep the part of poly on the
     left of p->q (cross(q - p, v - p) >= 0), inserting the crossing points.
     """
+    # ping-pong between the two buffers (src -> dst per clipping edge), no copies
     n = ax.shape[0]
     for i in range(n):
-        out_x[i] = ax[i]
-        out_y[i] = ay[i]
+        tmp_x[i] = ax[i]
+        tmp_y[i] = ay[i]
+    src_x, src_y, dst_x, dst_y = tmp_x, tmp_y, out_x, out_y
     nb = bx.shape[0]
     for e in range(nb):
         px = bx[e]
         py = by[e]
-        qx = bx[(e + 1) % nb]
-        qy = by[(e + 1) % nb]
-        ex = qx - px
-        ey = qy - py
+        e1 = e + 1 if e + 1 < nb else 0
+        ex = bx[e1] - px
+        ey = by[e1] - py
         m = 0
+        sx = src_x[0]
+        sy = src_y[0]
+        side_s = ex * (sy - py) - ey * (sx - px)
         for i in range(n):
-            tmp_x[i] = out_x[i]
-            tmp_y[i] = out_y[i]
-        for i in range(n):
-            sx = tmp_x[i]
-            sy = tmp_y[i]
-            fx = tmp_x[(i + 1) % n]
-            fy = tmp_y[(i + 1) % n]
-            side_s = ex * (sy - py) - ey * (sx - px)
+            i1 = i + 1 if i + 1 < n else 0
+            fx = src_x[i1]
+            fy = src_y[i1]
             side_f = ex * (fy - py) - ey * (fx - px)
             if side_s >= 0.0:
-                out_x[m] = sx
-                out_y[m] = sy
+                dst_x[m] = sx
+                dst_y[m] = sy
                 m += 1
             if (side_s >= 0.0) != (side_f >= 0.0):
                 s = side_s / (side_s - side_f)
-                out_x[m] = sx + s * (fx - sx)
-                out_y[m] = sy + s * (fy - sy)
+                dst_x[m] = sx + s * (fx - sx)
+                dst_y[m] = sy + s * (fy - sy)
                 m += 1
+            sx = fx
+            sy = fy
+            side_s = side_f
         n = m
         if n < 3:
             return 0
+        src_x, src_y, dst_x, dst_y = dst_x, dst_y, src_x, src_y
+    if src_x is not out_x:
+        for i in range(n):
+            out_x[i] = src_x[i]
+            out_y[i] = src_y[i]
     # merge duplicate consecutive vertices
     m = 0
     for i in range(n):
@@ -117,8 +124,9 @@ def polygon_area_centroid(x, y, n):
     for i in range(n):
         xi = x[i] - x0
         yi = y[i] - y0
-        xj = x[(i + 1) % n] - x0
-        yj = y[(i + 1) % n] - y0
+        i1 = i + 1 if i + 1 < n else 0
+        xj = x[i1] - x0
+        yj = y[i1] - y0
         cross = xi * yj - xj * yi
         area2 += cross
         cx += (xi + xj) * cross
@@ -160,8 +168,9 @@ def on_boundary(px, py, vx, vy, tol):
     """True when point p lies on an edge of the polygon (vx, vy), within distance tol [m]."""
     n = vx.shape[0]
     for k in range(n):
-        ex = vx[(k + 1) % n] - vx[k]
-        ey = vy[(k + 1) % n] - vy[k]
+        k1 = k + 1 if k + 1 < n else 0
+        ex = vx[k1] - vx[k]
+        ey = vy[k1] - vy[k]
         length = np.sqrt(ex * ex + ey * ey)
         if length <= 0.0:
             continue
@@ -187,8 +196,9 @@ def boundary_normal(x, y, n, ax, ay, bx, by, tol):
     for k in range(n):
         x0 = x[k]
         y0 = y[k]
-        x1 = x[(k + 1) % n]
-        y1 = y[(k + 1) % n]
+        k1 = k + 1 if k + 1 < n else 0
+        x1 = x[k1]
+        y1 = y[k1]
         mx = 0.5 * (x0 + x1)
         my = 0.5 * (y0 + y1)
         on_a = on_boundary(mx, my, ax, ay, tol)

@@ -55,7 +55,8 @@ def run_ways(case, base_dir="records"):
         ds = run_case(type(case)(case.study, case.id, case.params, scene), base_dir=base_dir)
         out[way] = (float(ds.attrs["wall_seconds"]), int(ds.attrs["steps_run"]),
                     {m: float(ds[m].max()) if m in ds else np.nan for m in MEASURES},
-                    float(ds.attrs["duration"]))
+                    float(ds.attrs["duration"]), float(ds.attrs["quiet_lead_skipped"]),
+                    float(ds.attrs["at_rest_from"]))
     return out
 
 
@@ -71,6 +72,10 @@ def skipping_dataset(cases, results) -> xr.Dataset:
         "steps": (("case", "way"), steps, {"units": "1", "long_name": "time steps integrated"}),
         "duration": ("case", np.array([results[i][ways[0]][3] for i in range(n)]),
                      {"units": "s", "long_name": "simulated duration of the case"}),
+        "quiet_lead_skipped": ("case", np.array([results[i][ways[-1]][4] for i in range(n)]),
+                               {"units": "s", "long_name": "start carried by the base, not integrated (skip_quiet)"}),
+        "at_rest_from": ("case", np.array([results[i][ways[-1]][5] for i in range(n)]),
+                         {"units": "s", "long_name": "at rest on a quiet base from here, not integrated (NaN: never)"}),
     }
     units = {"collapsed": "1", "collapse_time": "s", "max_rocking": "rad", "max_total_sliding": "m",
              "residual_total_sliding": "m", "max_epistyle_displacement": "m"}
@@ -101,6 +106,8 @@ def skipping_dataset(cases, results) -> xr.Dataset:
     diff = abs(ds.collapse_time.sel(way="stop_and_skip_quiet") - ds.collapse_time.sel(way="everything")).where(fell)
     ds.attrs["max_change_collapse_time_collapsed_cases"] = float(diff.max()) if fell.any() else np.nan
     ds.attrs["n_standing_cases"] = int(standing.sum())
+    ds.attrs["n_cases_with_quiet_lead_skipped"] = int((ds.quiet_lead_skipped > 0).sum())
+    ds.attrs["n_cases_with_rest_tail_skipped"] = int(np.isfinite(ds.at_rest_from).sum())
     ds.attrs["n_collapsed_cases"] = int(fell.sum())
     return ds
 
@@ -126,7 +133,7 @@ def main(argv=None) -> int:
     ds = skipping_dataset(cases, results)
     write_dataset(ds, args.out / "skipping.nc")
     for key, value in ds.attrs.items():
-        if key.startswith(("total_", "max_change", "collapse_verdicts")):
+        if key.startswith(("total_", "max_change", "collapse_verdicts", "n_")):
             print(f"{key}: {value:.4g}")
     print(f"wrote {args.out / 'skipping.nc'} in {time.perf_counter() - start:.0f} s")
     return 0

@@ -103,3 +103,14 @@ def test_unstable_dt_message_names_the_limit():
     with pytest.raises(InputError, match=f"{limit:.3g}"):
         choose_time_step(scene)
     assert 1e-5 < limit < 1e-2 and np.isfinite(limit)
+
+
+def test_an_overlap_far_along_a_row_of_bodies_is_found():
+    from dem.bench.contact_cost import drum_wall_scene
+    from dem.errors import InputError
+
+    spec = drum_wall_scene(30, 2)
+    last = spec["bodies"][-1]
+    last["box"]["center"][1] -= 0.01  # the top drum of the last column sinks 1 cm into the one below
+    with pytest.raises(InputError, match="overlap"):
+        scene_from_dict(spec)

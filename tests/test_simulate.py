@@ -98,3 +98,15 @@ def test_initial_velocity_is_used():
     # Coulomb deceleration mu g: stops after v^2 / (2 mu g)
     travel = float(ds.x.sel(body="slab")[-1] - ds.x.sel(body="slab")[0])
     assert travel == pytest.approx(2.0**2 / (2 * 0.5 * 9.81), rel=0.01)
+
+
+def test_stability_limit_from_broad_phase_pairs_equals_the_all_pairs_scan(monkeypatch):
+    import itertools
+
+    import dem.simulate as sim
+    from dem.bench.contact_cost import drum_wall_scene
+
+    scene = scene_from_dict(drum_wall_scene(6, 4))  # 24 drums in 6 columns, gaps between them
+    fast = sim.stability_limit(scene)
+    monkeypatch.setattr(sim, "box_pairs", lambda lo, hi, margin: list(itertools.combinations(range(len(lo)), 2)))
+    assert sim.stability_limit(scene) == fast, "the broad phase must not miss a touching neighbour"

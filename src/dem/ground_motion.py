@@ -50,11 +50,9 @@ class BaseMotion:
 
     def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Displacement [m], velocity [m s-1], acceleration [m s-2] at times t [s]."""
-        t = np.atleast_1d(np.asarray(t, dtype=float))
-        out = np.empty((3, len(t)))
-        for i, ti in enumerate(t):
-            out[:, i] = kx.base_motion(ti, self.kind, self.params, self.table_accel,
-                                       self.table_vel, self.table_disp, self.table_dt)
+        t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        out = kx.base_motion_many(t, self.kind, self.params, self.table_accel,
+                                  self.table_vel, self.table_disp, self.table_dt)
         return out[0], out[1], out[2]
 
     @property

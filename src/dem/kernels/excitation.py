@@ -81,3 +81,16 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
     v = table_vel[i] + a0 * s + 0.5 * slope * s * s
     d = table_disp[i] + table_vel[i] * s + 0.5 * a0 * s * s + slope * s * s * s / 6.0
     return d, v, a0 + slope * s
+
+
+@njit(**JIT_OPTIONS)
+def base_motion_many(times, kind, params, table_accel, table_vel, table_disp, table_dt):
+    """(d, v, a) rows (3, n) of :func:`base_motion` at every time in ``times`` [s], compiled:
+    set-up evaluates whole records on fine grids, where a Python loop took ~2 us a point."""
+    out = np.empty((3, times.shape[0]))
+    for i in range(times.shape[0]):
+        d, v, a = base_motion(times[i], kind, params, table_accel, table_vel, table_disp, table_dt)
+        out[0, i] = d
+        out[1, i] = v
+        out[2, i] = a
+    return out

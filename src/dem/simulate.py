@@ -351,8 +351,13 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
                 state["n_sample"], state["collapse"],
             )
             state["wall"] += wallclock.perf_counter() - start
-            last = int(out_step[state["n_sample"] - 1]) if state["n_sample"] else n_start
-            state["steps"] += (last if status != step.STATUS_OK else int(bounds[k + 1])) - int(bounds[k])
+            # steps integrated: up to the sample that stopped the run, else the chunk's end
+            # (step n_steps is sampled, not integrated)
+            if status != step.STATUS_OK:
+                end = int(out_step[state["n_sample"] - 1])
+            else:
+                end = min(int(bounds[k + 1]), n_steps)
+            state["steps"] += end - int(bounds[k])
             if progress:
                 print(f"\r  t = {bounds[k + 1] * dt:8.3f} s of {n_steps * dt:.3f} s  "
                       f"wall {state['wall']:7.1f} s", end="", file=sys.stderr)
@@ -360,11 +365,11 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
                 break
         return status
 
-    def carry_to(n_to):
-        """Fill the samples after the last one up to (not including) step n_to, carried by the base."""
+    def carry_to(n_to, including=False):
+        """Fill the samples after the last one up to step n_to (``including`` it), carried by the base."""
         k = state["n_sample"] - 1
         last = int(out_step[k])
-        steps = list(range(last + out_every, n_to, out_every))
+        steps = list(range(last + out_every, n_to, out_every)) + ([n_to] if including and n_to > last else [])
         if steps:
             m = len(steps)
             out_step[k + 1: k + 1 + m] = steps
@@ -408,17 +413,8 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     rest_time = math.nan
     if status == step.STATUS_AT_REST:
         # the quiet tail: at rest on a base that can no longer move anything
-        k, last = carry_to(n_steps)
+        _, last = carry_to(n_steps, including=True)  # the kernel samples the last step too
         rest_time = last * dt
-        if int(out_step[state["n_sample"] - 1]) != n_steps:
-            carry_to_end = rigid_motion(scene, arrays, np.array([n_steps * dt]), last * dt, out_x[k],
-                                        out_y[k], out_theta[k], out_energy[k])
-            j = state["n_sample"]
-            out_step[j] = n_steps
-            out_x[j], out_y[j], out_theta[j] = (q[0] for q in carry_to_end[:3])
-            out_energy[j] = carry_to_end[3][0]
-            out_n_contact[j] = out_n_contact[k]
-            state["n_sample"] += 1
         status = step.STATUS_OK
     n_sample = state["n_sample"]
     return RunResult(

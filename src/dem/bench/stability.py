@@ -27,11 +27,12 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
+from dem.bench.ours import critical_damping as critical_damping_of
 from dem.dataset import code_version, write_dataset
+from dem.kernels import step
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons
-from dem.scene import Scene, scene_from_dict
+from dem.scene import Scene, box_pairs, scene_from_dict
 from dem.simulate import RunResult, choose_time_step, simulate, stability_limit
 from dem.validation import block_scene
 
@@ -75,8 +76,7 @@ def critical_damping(scene: Scene) -> float:
     """2 sqrt(k_n width m) [N s m-1] of the lightest free body (width: its horizontal extent)."""
     free = [b for b in scene.bodies if not b.driven]
     body = min(free, key=lambda b: b.mass)
-    width = float(np.ptp(body.vertices[:, 0]))
-    return 2.0 * math.sqrt(scene.contact.k_n * width * body.mass)
+    return critical_damping_of(scene.contact.k_n, float(np.ptp(body.vertices[:, 0])), body.mass)
 
 
 def map_scene(kind: str, k_n: float, damping: float, duration: float = DURATION) -> Scene:
@@ -106,11 +106,14 @@ def energy_drift(result: RunResult) -> dict:
     initial kinetic + potential energy (datum: the base's top). All NaN if not finite.
     """
     e = result.energy
-    balance = e[:, 0] + e[:, 1] + e[:, 2] + e[:, 3] + e[:, 4] - e[:, 5]
+    kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
+    work = e[:, step.ENERGY_BASE_WORK]
+    balance = (kinetic + potential + e[:, step.ENERGY_ELASTIC] + e[:, step.ENERGY_DAMPING]
+               + e[:, step.ENERGY_TANGENTIAL] - work)
     if len(balance) == 0 or not np.all(np.isfinite(balance)):
         return {"energy_error": math.nan, "energy_created": math.nan, "energy_error_total": math.nan}
-    total = abs(e[0, 0]) + abs(e[0, 1])
-    moved = e[:, 0].max() + np.abs(e[:, 1] - e[0, 1]).max() + np.abs(e[:, 5]).max()
+    total = abs(kinetic[0]) + abs(potential[0])
+    moved = kinetic.max() + np.abs(potential - potential[0]).max() + np.abs(work).max()
     moved = max(moved, ENERGY_FLOOR * total)
     drift = balance - balance[0]
     return {"energy_error": float(np.abs(drift).max() / moved), "energy_created": float(drift.max() / moved),
@@ -146,20 +149,17 @@ def overlap_depths(scene: Scene, result: RunResult) -> np.ndarray:
             continue
         lo = np.array([[w[0].min(), w[1].min()] for w in world])
         hi = np.array([[w[0].max(), w[1].max()] for w in world])
-        for i in range(n):
-            for j in range(i + 1, n):
-                if np.any(lo[i] > hi[j]) or np.any(lo[j] > hi[i]):
-                    continue
-                k = clip_convex_polygons(world[i][0], world[i][1], world[j][0], world[j][1],
-                                         scratch[0], scratch[1], scratch[2], scratch[3])
-                if k >= 3:
-                    depth[s] = max(depth[s], min_width(scratch[0, :k].copy(), scratch[1, :k].copy()))
+        for i, j in box_pairs(lo, hi, 0.0):
+            k = clip_convex_polygons(world[i][0], world[i][1], world[j][0], world[j][1],
+                                     scratch[0], scratch[1], scratch[2], scratch[3])
+            if k >= 3:
+                depth[s] = max(depth[s], min_width(scratch[0, :k].copy(), scratch[1, :k].copy()))
     return depth
 
 
 def assess(scene: Scene, result: RunResult, tolerance: float = ENERGY_TOLERANCE) -> dict:
     """Stability measures of one run."""
-    finite = result.status != 2 and np.all(np.isfinite(result.energy))  # 2: STATUS_NONFINITE
+    finite = result.status != step.STATUS_NONFINITE and np.all(np.isfinite(result.energy))
     energy = energy_drift(result)
     depths = overlap_depths(scene, result)
     return {"stable": bool(finite and energy["energy_error"] < tolerance), "finite": bool(finite), **energy,
@@ -238,12 +238,11 @@ def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS
 
 def study_scenes(config_path=ROOT / "config" / "config.yaml", duration: float = DURATION) -> dict:
     """{study: Scene}: the first case of every study in the config, shortened to ``duration``."""
-    from dem.study import case_table
+    from dem.study import config_cases, load_config
 
-    config = yaml.safe_load(Path(config_path).read_text())
     scenes = {}
-    for name, study in (config.get("studies") or {}).items():
-        spec = copy.deepcopy(case_table(name, study, config.get("defaults"))[0].scene)
+    for name, cases in config_cases(load_config(config_path)).items():
+        spec = copy.deepcopy(cases[0].scene)
         spec.setdefault("solver", {}).update(duration=duration, stop_on_collapse=False)
         spec["solver"].pop("dt", None)  # the automatic step is what is measured
         spec.pop("name", None)

@@ -117,3 +117,21 @@ def test_histories_align_on_times_that_differ_by_rounding(tmp_path):
     cube = combine_cases(paths)
     assert cube.sizes["time"] == 5, f"{cube.sizes['time']} samples: the two time axes did not align"
     assert not np.isnan(cube["rocking"].values).any()
+
+
+def test_load_config_merges_a_profile_key_by_key_as_snakemake_does(tmp_path):
+    from dem.study import config_cases, load_config
+
+    base = tmp_path / "config.yaml"
+    base.write_text("defaults: {contact: {k_n: 1.0e10}}\n"
+                    "studies:\n  s: {structure: {kind: column, n_drums: 2}, friction: 0.5,\n"
+                    "      excitation: {kind: harmonic, amplitude: 0.1}, solver: {duration: 1.0},\n"
+                    "      grid: {frequency: [1.0, 2.0, 4.0]}}\n")
+    quick = tmp_path / "quick.yaml"
+    quick.write_text("studies: {s: {grid: {frequency: [2.0]}}}\nbench_profile: quick\n")
+    config = load_config(base, quick)
+    assert config["studies"]["s"]["friction"] == 0.5, "keys the profile does not name are kept"
+    assert config["studies"]["s"]["grid"] == {"frequency": [2.0]}, "lists are replaced"
+    assert config["bench_profile"] == "quick"
+    cases = config_cases(config)["s"]
+    assert [c.params for c in cases] == [{"frequency": 2.0}]

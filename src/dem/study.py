@@ -52,6 +52,32 @@ class Case:
     scene: dict  # the full scene mapping
 
 
+def load_config(*paths) -> dict:
+    """A workflow config from YAML files, each merged into the ones before key by key
+    (nested mappings merged, lists replaced), as ``snakemake --configfile`` merges a
+    profile such as config/quick.yaml into config/config.yaml."""
+    import yaml
+
+    def merge(base: dict, extra: dict) -> dict:
+        for key, value in extra.items():
+            if isinstance(value, dict) and isinstance(base.get(key), dict):
+                merge(base[key], value)
+            else:
+                base[key] = copy.deepcopy(value)
+        return base
+
+    config: dict = {}
+    for path in paths:
+        merge(config, yaml.safe_load(Path(path).read_text()) or {})
+    return config
+
+
+def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
+    """{study: its case table} for the named studies of a config (all when None)."""
+    names = list(config.get("studies") or {}) if studies is None else studies
+    return {name: case_table(name, config["studies"][name], config.get("defaults")) for name in names}
+
+
 def _label(value) -> str:
     if isinstance(value, float):
         text = f"{value:.6g}"

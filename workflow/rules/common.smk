@@ -27,8 +27,7 @@ import dem.figures
 import dem.study
 
 STUDIES = {
-    name: {case.id: case for case in dem.study.case_table(name, spec, config.get("defaults"))}
-    for name, spec in config["studies"].items()
+    name: {case.id: case for case in cases} for name, cases in dem.study.config_cases(config).items()
 }
 # figures whose cases are in the configured grids (a reduced profile draws fewer)
 FIGURES = dem.figures.figure_table(STUDIES, config)

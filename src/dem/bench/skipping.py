@@ -20,9 +20,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
-import yaml
 
-from dem.study import case_table, run_case
+from dem.study import config_cases, load_config, run_case
 
 WAYS = {"everything": {"stop_on_collapse": False, "skip_quiet": False},
         "stop_at_collapse": {"stop_on_collapse": True, "skip_quiet": False},
@@ -33,17 +32,9 @@ STUDIES = ("standalone_records", "colonnade_records", "small_column_pga", "ramp_
 
 
 def study_cases(config_path: Path, studies=STUDIES):
-    """The cases of ``studies`` as the workflow builds them from a config file."""
-    with open(config_path) as f:
-        config = yaml.safe_load(f)
-    with open(Path(config_path).parent / "config.yaml") as f:
-        base = yaml.safe_load(f)
-    cases = []
-    for name in studies:
-        spec = copy.deepcopy(base["studies"][name])
-        spec.update((config.get("studies") or {}).get(name, {}))
-        cases += case_table(name, spec, base.get("defaults"))
-    return cases
+    """The cases of ``studies`` as the workflow builds them from a config file (over config.yaml)."""
+    config = load_config(Path(config_path).parent / "config.yaml", config_path)
+    return [case for cases in config_cases(config, studies).values() for case in cases]
 
 
 def run_ways(case, base_dir="records"):

@@ -176,7 +176,11 @@ def scene_dataset(scene, result) -> xr.Dataset:
         "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,
         "dt_mode": "auto" if scene.dt is None else "given",
         "output_interval": result.out_every * result.dt,
+        "contact_model": law.model,
+        "contact_law": ("point contacts at the contact face's end vertices, k_n per unit contact length"
+                        if law.model == "point" else "overlap area, thesis Eq. 3.4-3.6"),
         "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
+        "contact_damping": law.damping, "contact_damping_units": "1", "contact_impact": law.impact if law.model == "point" else "none",
         "k_t": law.k_t, "k_t_units": "N m-1",
         "c_t": law.c_t, "c_t_units": "N s m-1",
         "friction": scene.friction, "gravity": scene.gravity, "depth": scene.depth,

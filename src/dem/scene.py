@@ -40,7 +40,10 @@ BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "vel
              "friction", "role", "column", "tier")
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
-CONTACT_DEFAULTS = {"k_n": 1.0e8, "c_n": 1.0e3}
+CONTACT_MODELS = ("point", "area")
+# per model; the point law's damping is a fraction of critical (README "Contact law")
+CONTACT_DEFAULTS = {"model": "point", "point": {"k_n": 1.0e10, "damping": 0.05, "impact": "plastic"},
+                    "area": {"k_n": 1.0e8, "c_n": 1.0e3}}
 SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": 0.25, "stop_on_collapse": True,
                    "skip_quiet": True}
 OUTPUT_DEFAULTS = {"every": 0.001}
@@ -75,11 +78,14 @@ class Body:
 class ContactLaw:
     """Soft contact law (thesis Eq. 3.4-3.6)."""
 
-    k_n: float  # normal stiffness per unit overlap area [N m-2]
-    c_n: float  # normal dashpot [N s m-1]
+    k_n: float  # normal stiffness per unit overlap area (area) or contact length (point) [N m-2]
+    c_n: float  # normal dashpot of the area law [N s m-1]
     k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
     frame: str = "boundary"  # contact frame rule: boundary | thesis (dem.kernels.overlap)
+    model: str = "point"  # point (dem.kernels.point_contact) | area (thesis, dem.kernels.contact)
+    damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
+    impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
 
 
 @dataclass(frozen=True)
@@ -195,17 +201,37 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
-    contact_spec = dict(spec.get("contact") or {})
-    _check_keys(contact_spec, ("k_n", "c_n", "k_t", "c_t", "frame"), "contact")
-    k_n = check_number(contact_spec.get("k_n", CONTACT_DEFAULTS["k_n"]), "contact.k_n", positive=True)
-    c_n = check_number(contact_spec.get("c_n", CONTACT_DEFAULTS["c_n"]), "contact.c_n", nonnegative=True)
+    contact_spec = spec.get("contact") or {}
+    if not isinstance(contact_spec, dict):
+        raise InputError("contact", "expected a mapping", "write contact: {model: point, k_n: 1.0e9}")
+    contact_spec = dict(contact_spec)
+    _check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
+    model = contact_spec.get("model", CONTACT_DEFAULTS["model"])
+    if model not in CONTACT_MODELS:
+        raise InputError("contact.model", f"unknown contact model {model!r}",
+                         "use point (vertex contacts, default) or area (thesis overlap area)")
+    defaults = CONTACT_DEFAULTS[model]
+    for key in ("c_n", "damping", "impact"):
+        if key in contact_spec and key not in defaults:
+            other = "area" if key == "c_n" else "point"
+            raise InputError(f"contact.{key}", f"not used by the {model} model",
+                             f"drop it, or set contact.model: {other}")
+    k_n = check_number(contact_spec.get("k_n", defaults["k_n"]), "contact.k_n", positive=True)
+    c_n = check_number(contact_spec.get("c_n", defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True)
+    damping = check_number(contact_spec.get("damping", defaults.get("damping", 0.0)),
+                           "contact.damping", nonnegative=True)
     # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
     k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
     frame = contact_spec.get("frame", "boundary")
     if frame not in ("boundary", "thesis"):
         raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
-    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame)
+    impact = contact_spec.get("impact", defaults.get("impact", "none"))
+    if impact not in ("plastic", "none"):
+        raise InputError("contact.impact", f"unknown impact rule {impact!r}",
+                         "use plastic (a landing point stops, Housner) or none (dashpots only)")
+    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model,
+                         damping=damping, impact=impact)
 
     pair_friction = {}
     for i, item in enumerate(spec.get("interface_friction") or []):
@@ -240,7 +266,9 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     horizontal, vertical = excitation_pair(spec.get("excitation") or {"kind": "none"}, Path(base_dir))
 
     spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
-                contact={"k_n": k_n, "c_n": c_n, "k_t": k_t, "c_t": c_t, "frame": frame},
+                contact={"model": model, "k_n": k_n,
+                         **({"c_n": c_n} if model == "area" else {"damping": damping, "impact": impact}),
+                         "k_t": k_t, "c_t": c_t, "frame": frame},
                 solver=solver, output=output)
     scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
                   gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,

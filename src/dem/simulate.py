@@ -23,6 +23,12 @@ from dem.scene import Scene, box_pairs, initial_pose, posed_vertices
 
 
 FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS}
+CONTACT_MODELS = {"area": step.CONTACT_AREA, "point": step.CONTACT_POINT}
+
+
+def contact_damping(law) -> float:
+    """The kernel's damping argument: c_n [N s m-1] (area law) or zeta [1] (point law)."""
+    return law.damping if law.model == "point" else law.c_n
 
 
 @dataclass(frozen=True)
@@ -130,7 +136,10 @@ def stability_limit(scene: Scene) -> float:
     dashpots on that stiffness (explicit-integration limit with damping).
     """
     law = scene.contact
-    c = max(law.c_n, law.c_t)
+    point = law.model == "point"
+    # rotational stiffness of a face contact of length l about its middle: k l^2 / 12 for
+    # the Winkler layer (area law), k l^2 / 4 for two end points (point law)
+    arm2 = 0.25 if point else 1.0 / 12.0
     posed = [posed_vertices(b) for b in scene.bodies]
     lo = np.array([p.min(axis=0) for p in posed])
     hi = np.array([p.max(axis=0) for p in posed])
@@ -147,7 +156,7 @@ def stability_limit(scene: Scene) -> float:
             continue
         k_trans = 0.0
         k_rot = 0.0
-        n_touch = 0
+        c_sum = 0.0
         centre = geometry.centroid(posed[i])
         for j in sorted(neighbours[i]):
             tol = 1e-3 * np.minimum(size[i], size[j])
@@ -159,18 +168,26 @@ def stability_limit(scene: Scene) -> float:
             d2 = float(np.sum((patch - centre) ** 2))
             k_pair = max(law.k_n * length, law.k_t)
             k_trans += k_pair
-            k_rot += k_pair * (length**2 / 12.0 + d2)
-            n_touch += 1
-        if n_touch == 0:
+            k_rot += k_pair * (arm2 * length**2 + d2)
+            c_sum += max(_pair_dashpot(law, length, body.mass), law.c_t)
+        if k_trans == 0.0:
             # a body touching nothing at rest: bound by a contact as long as its own size
             length = float(size[i].max())
             k_trans = max(law.k_n * length, law.k_t)
-            k_rot = k_trans * (length**2 / 12.0 + float(np.sum(size[i] ** 2)) / 4.0)
-            n_touch = 1
+            k_rot = k_trans * (arm2 * length**2 + float(np.sum(size[i] ** 2)) / 4.0)
+            c_sum = max(_pair_dashpot(law, length, body.mass), law.c_t)
         omega = math.sqrt(2.0 * (k_trans / body.mass + k_rot / body.inertia))
-        zeta = n_touch * c / (2.0 * math.sqrt(k_trans * body.mass))
+        zeta = c_sum / (2.0 * math.sqrt(k_trans * body.mass))
         limit = min(limit, 2.0 / omega * (math.sqrt(1.0 + zeta**2) - zeta))
     return limit
+
+
+def _pair_dashpot(law, length: float, mass: float) -> float:
+    """Normal dashpot [N s m-1] of a face contact of the given length on a body of this mass."""
+    if law.model == "point":
+        # two end points, each 2 zeta sqrt(K m) with K = k_n l / 2
+        return 2.0 * 2.0 * law.damping * math.sqrt(0.5 * law.k_n * length * mass)
+    return law.c_n
 
 
 QUIET_MARGIN = 0.5  # the base counts as quiet below half the smallest acceleration that could move a body
@@ -340,7 +357,9 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
             status, state["n_sample"], state["collapse"] = step.run(
                 a.vert_start, a.local_x, a.local_y, a.body_mass, a.body_inertia, a.body_driven,
                 a.body_radius, a.ref_x, a.ref_y, a.ref_theta, a.pair_mu,
-                scene.contact.k_n, scene.contact.c_n, scene.contact.k_t, scene.contact.c_t,
+                CONTACT_MODELS[scene.contact.model], scene.contact.k_n, contact_damping(scene.contact),
+                scene.contact.impact == "plastic",
+                scene.contact.k_t, scene.contact.c_t,
                 FRAME_RULES[scene.contact.frame], scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
                 h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt,
                 v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,

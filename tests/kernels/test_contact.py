@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from dem import geometry
-from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY, contact_forces, winkler_integral
+from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY, winkler_integral
+from dem.kernels.contact import area_contact_forces as contact_forces
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES
 
 

@@ -43,24 +43,36 @@ E_BASE_WORK = 2  # work done by driven bodies on the others [J] (booked by the t
 N_ENERGY_ACC = 3
 
 # per-pair memory slots besides the elastic tangential force: the current step's forces
-# and points, for booking dissipation with the velocities at t_n (contact_power)
+# and points, for booking dissipation with the velocities at t_n (contact_power). Both
+# laws book their dashpots as up to two point forces along their own normals plus a
+# moment; the tangential force acts at C along the frame's tangent.
 MEM_ACTIVE = 0  # 1 while the pair is in contact
-MEM_CX = 1  # area centroid C [m]
+MEM_CX = 1  # point of the tangential force C [m]
 MEM_CY = 2
-MEM_MX = 3  # chord midpoint M [m]
-MEM_MY = 4
-MEM_NX = 5  # normal, from a to b
-MEM_NY = 6
-MEM_F_DAMP = 7  # dashpot resultant at M, along n [N]
-MEM_M_DAMP = 8  # dashpot moment on b [N m]
-MEM_F_T = 9  # tangential force at C, F_T (b receives -F_T t) [N]
-N_MEMORY = 10
+MEM_NX = 3  # frame normal, from a to b (the tangent is n turned clockwise)
+MEM_NY = 4
+MEM_F_T = 5  # tangential force at C, F_T (b receives -F_T t) [N]
+MEM_M_DAMP = 6  # dashpot moment on b [N m]
+MEM_DAMPER = 7  # first of two point-force records: point x, y, normal x, y [m, m, 1, 1],
+# normal dashpot force and tangential force F_T (b receives -F_T t, t = n turned clockwise) [N]
+DAMPER_SLOTS = 6
+N_DAMPERS = 2
+# point law only: per contact end, whether it touched at the last step, which vertex
+# carried it (body a: index + 1, body b: -(index + 1)), its plastic offset [m] and the
+# elastic part of its own tangential spring [N] (stiffness k_t / 2)
+MEM_END = MEM_DAMPER + N_DAMPERS * DAMPER_SLOTS
+END_SLOTS = 4
+END_FT = 3
+N_MEMORY = MEM_END + 2 * END_SLOTS
 
 
 @njit(**JIT_OPTIONS)
 def release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc):
     """Forget the stored state of pair (a, b) once it has separated; its spring energy is lost."""
     energy_acc[E_TANGENTIAL] += 0.5 * pair_ft[a, b] ** 2 / k_t
+    for end in range(2):
+        # the point law's end springs, k_t / 2 each (zero under the area law)
+        energy_acc[E_TANGENTIAL] += pair_memory[a, b, MEM_END + end * END_SLOTS + END_FT] ** 2 / k_t
     pair_ft[a, b] = 0.0
     for k in range(N_MEMORY):
         pair_memory[a, b, k] = 0.0
@@ -137,14 +149,94 @@ def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
 
 
 @njit(**JIT_OPTIONS)
-def contact_forces(
+def overlap_contact(a, b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y, body_x, body_y,
+                    frame_rule, pair_ft, pair_memory, k_t, energy_acc, scratch):
+    """Narrow phase of pair (a, b): (area, cx, cy, n_over, nx, ny, tx, ty); area 0 if apart.
+
+    The overlap polygon is left in scratch[0], scratch[1]; a pair that has separated is
+    released (:func:`release_contact`).
+    """
+    if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
+        if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+            release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
+        return 0.0, 0.0, 0.0, 0, 0.0, 1.0, 1.0, 0.0
+    sa = vert_start[a]
+    ea = vert_start[a + 1]
+    sb = vert_start[b]
+    eb = vert_start[b + 1]
+    out_x = scratch[0]
+    out_y = scratch[1]
+    n_over = clip_convex_polygons(world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+                                  out_x, out_y, scratch[2], scratch[3])
+    area = 0.0
+    cx = 0.0
+    cy = 0.0
+    if n_over >= 3:
+        area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
+    if area <= 0.0:
+        if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+            release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
+        return 0.0, 0.0, 0.0, 0, 0.0, 1.0, 1.0, 0.0
+    nx, ny, tx, ty, _ = contact_frame(
+        out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+        body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
+    )
+    return area, cx, cy, n_over, nx, ny, tx, ty
+
+
+@njit(**JIT_OPTIONS)
+def set_damper(mem, k, px, py, nx, ny, force, f_t=0.0):
+    """Record point force k of a pair on b at (px, py) [m]: normal dashpot force [N] along
+    (nx, ny) and tangential force F_T [N] (b receives -F_T t), for :func:`contact_power`."""
+    base = MEM_DAMPER + k * DAMPER_SLOTS
+    mem[base] = px
+    mem[base + 1] = py
+    mem[base + 2] = nx
+    mem[base + 3] = ny
+    mem[base + 4] = force
+    mem[base + 5] = f_t
+
+
+@njit(**JIT_OPTIONS)
+def tangential_force(ft_old, mu, f_n, v_t, k_t, c_t, dt, energy_acc):
+    """Thesis Eq. 3.5-3.6: (F_T, elastic part) of a tangential spring after this step [N].
+
+    The elastic part ft_old is updated incrementally and capped by Coulomb mu F_N (on slip
+    it is set to the cap); the change of its spring energy is taken from the tangential
+    dissipation, whose work of F_T is booked in :func:`contact_power`.
+    """
+    ft_el = ft_old + k_t * v_t * dt
+    f_t = ft_el + c_t * v_t
+    cap = mu * f_n
+    if abs(f_t) > cap:
+        f_t = cap if f_t > 0.0 else -cap
+        ft_el = f_t
+    energy_acc[E_TANGENTIAL] -= 0.5 * (ft_el * ft_el - ft_old * ft_old) / k_t
+    return f_t, ft_el
+
+
+@njit(**JIT_OPTIONS)
+def push_pair(a, b, body_x, body_y, body_driven, px, py, fx, fy, force_x, force_y, torque,
+              base_force_x, base_force_y):
+    """Force (fx, fy) on b at p and its opposite on a; booked as base force if the other is driven."""
+    if body_driven[a]:
+        base_force_x[b] += fx
+        base_force_y[b] += fy
+    if body_driven[b]:
+        base_force_x[a] -= fx
+        base_force_y[a] -= fy
+    apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque)
+
+
+@njit(**JIT_OPTIONS)
+def area_contact_forces(
     pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
     k_n, c_n, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
     force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, want_energy,
 ):
-    """Add the contact forces of all candidate pairs to force_x, force_y, torque.
+    """The thesis' overlap-area law (``contact.model: area``): add every pair's forces.
 
     Returns (n_contact, stored elastic energy [J]); the energy is evaluated only when
     want_energy is true (sample steps), else 0.
@@ -159,7 +251,7 @@ def contact_forces(
     c_n, c_t: dashpot coefficients [N s m-1];  dt: time step [s]
     frame_rule: contact frame, FRAME_BOUNDARY or FRAME_THESIS (:mod:`dem.kernels.overlap`)
     pair_ft: stored elastic tangential force, in the contact frame (n_body, n_body) [N]
-    pair_memory: per-pair contact flag and previous dissipation powers, slots MEM_* (n_body, n_body, N_MEMORY)
+    pair_memory: per-pair contact flag and this step's forces, slots MEM_* (n_body, n_body, N_MEMORY)
     force_x, force_y, torque: accumulators (n_body,) [N], [N m]
     base_force_x, base_force_y: accumulators of the force from driven bodies (n_body,) [N]
     energy_acc: accumulators, slots E_* (N_ENERGY_ACC,) [J]
@@ -169,35 +261,15 @@ def contact_forces(
     stored = 0.0
     out_x = scratch[0]
     out_y = scratch[1]
-    tmp_x = scratch[2]
-    tmp_y = scratch[3]
     for p in range(pair_a.shape[0]):
         a = pair_a[p]
         b = pair_b[p]
-        if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
-            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
-                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
-            continue
-        sa = vert_start[a]
-        ea = vert_start[a + 1]
-        sb = vert_start[b]
-        eb = vert_start[b + 1]
-        n_over = clip_convex_polygons(
-            world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-            out_x, out_y, tmp_x, tmp_y,
-        )
-        area = 0.0
-        if n_over >= 3:
-            area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
+        area, cx, cy, n_over, nx, ny, tx, ty = overlap_contact(
+            a, b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y, body_x, body_y,
+            frame_rule, pair_ft, pair_memory, k_t, energy_acc, scratch)
         if area <= 0.0:
-            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
-                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
         n_contact += 1
-        nx, ny, tx, ty, _ = contact_frame(
-            out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-            body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
-        )
         # the contact chord: the overlap's extent along the tangent, and its midpoint M
         proj_lo = np.inf
         proj_hi = -np.inf
@@ -210,8 +282,8 @@ def contact_forces(
         my = cy + 0.5 * (proj_lo + proj_hi) * ty
 
         # relative velocity of b with respect to a at C and at M
-        v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                     cx, cy, nx, ny, tx, ty)
+        _, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                   cx, cy, nx, ny, tx, ty)
         v_nm, _ = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
                                     mx, my, nx, ny, tx, ty)
         spin = body_omega[b] - body_omega[a]
@@ -225,51 +297,31 @@ def contact_forces(
             scale = f_el / -f_damp
             f_damp *= scale
             m_damp *= scale
-        f_n = f_el + f_damp
-
-        # thesis Eq. 3.5-3.6, at C
-        ft_old = pair_ft[a, b]
-        ft_el = ft_old + k_t * v_t * dt
-        f_t = ft_el + c_t * v_t
-        cap = pair_mu[a, b] * f_n
-        if abs(f_t) > cap:
-            f_t = cap if f_t > 0.0 else -cap
-            ft_el = f_t
+        f_t, ft_el = tangential_force(pair_ft[a, b], pair_mu[a, b], f_el + f_damp, v_t, k_t, c_t,
+                                      dt, energy_acc)
         pair_ft[a, b] = ft_el
-        # tangential dissipation = work of F_T (booked in contact_power) - change of spring energy
-        energy_acc[E_TANGENTIAL] -= 0.5 * (ft_el * ft_el - ft_old * ft_old) / k_t
         mem = pair_memory[a, b]
         mem[MEM_ACTIVE] = 1.0
         mem[MEM_CX] = cx
         mem[MEM_CY] = cy
-        mem[MEM_MX] = mx
-        mem[MEM_MY] = my
         mem[MEM_NX] = nx
         mem[MEM_NY] = ny
-        mem[MEM_F_DAMP] = f_damp
-        mem[MEM_M_DAMP] = m_damp
         mem[MEM_F_T] = f_t
+        mem[MEM_M_DAMP] = m_damp
+        set_damper(mem, 0, mx, my, nx, ny, f_damp)
+        set_damper(mem, 1, mx, my, nx, ny, 0.0)
         if want_energy:
             stored += 0.5 * k_n * winkler_integral(out_x, out_y, n_over, tx, ty, nx, ny)
             stored += 0.5 * ft_el * ft_el / k_t
 
         # forces on b (a receives the opposite): at C elastic normal + tangential, at M damping
-        fcx = f_el * nx - f_t * tx
-        fcy = f_el * ny - f_t * ty
-        fmx = f_damp * nx
-        fmy = f_damp * ny
-        if body_driven[a]:
-            base_force_x[b] += fcx + fmx
-            base_force_y[b] += fcy + fmy
-        if body_driven[b]:
-            base_force_x[a] -= fcx + fmx
-            base_force_y[a] -= fcy + fmy
-        apply_force(a, b, body_x, body_y, cx, cy, fcx, fcy, force_x, force_y, torque)
-        apply_force(a, b, body_x, body_y, mx, my, fmx, fmy, force_x, force_y, torque)
+        push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_el * nx - f_t * tx,
+                  f_el * ny - f_t * ty, force_x, force_y, torque, base_force_x, base_force_y)
+        push_pair(a, b, body_x, body_y, body_driven, mx, my, f_damp * nx, f_damp * ny,
+                  force_x, force_y, torque, base_force_x, base_force_y)
         torque[b] += m_damp
         torque[a] -= m_damp
     return n_contact, stored
-
 
 
 @njit(**JIT_OPTIONS)
@@ -289,11 +341,19 @@ def contact_power(pair_a, pair_b, pair_memory, body_x, body_y, body_vx, body_vy,
             continue
         nx = mem[MEM_NX]
         ny = mem[MEM_NY]
-        v_nm, _ = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                    mem[MEM_MX], mem[MEM_MY], nx, ny, ny, -nx)
         _, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
                                    mem[MEM_CX], mem[MEM_CY], nx, ny, ny, -nx)
-        spin = body_omega[b] - body_omega[a]
-        p_damp += mem[MEM_F_DAMP] * v_nm - mem[MEM_M_DAMP] * spin
         p_tan += mem[MEM_F_T] * v_t
+        p_damp -= mem[MEM_M_DAMP] * (body_omega[b] - body_omega[a])
+        for k in range(N_DAMPERS):
+            base = MEM_DAMPER + k * DAMPER_SLOTS
+            force = mem[base + 4]
+            f_t = mem[base + 5]
+            if force != 0.0 or f_t != 0.0:
+                dnx = mem[base + 2]
+                dny = mem[base + 3]
+                v_n, v_tk = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                              mem[base], mem[base + 1], dnx, dny, dny, -dnx)
+                p_damp += force * v_n
+                p_tan += f_t * v_tk
     return p_damp, p_tan

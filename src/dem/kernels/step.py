@@ -17,7 +17,8 @@ from numba import njit
 
 from dem.kernels import JIT_OPTIONS
 from dem.kernels.broad_phase import body_bounds, find_candidate_pairs
-from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, contact_forces, contact_power
+from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, area_contact_forces, contact_power
+from dem.kernels.point_contact import point_contact_forces
 from dem.kernels.excitation import base_motion
 from dem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from dem.kernels.overlap import MAX_OVERLAP_VERTICES
@@ -26,6 +27,9 @@ STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
 STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
 STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
+
+CONTACT_AREA = 0  # thesis overlap-area law (dem.kernels.contact)
+CONTACT_POINT = 1  # point contacts at the face ends (dem.kernels.point_contact)
 
 # columns of the sampled energy array
 ENERGY_KINETIC = 0
@@ -78,7 +82,7 @@ def at_rest(n_body, body_driven, body_radius, vel_x, vel_y, vel_om, vel_h, vel_v
 @njit(**JIT_OPTIONS)
 def run(
     vert_start, local_x, local_y, body_mass, body_inertia, body_driven, body_radius,
-    ref_x, ref_y, ref_theta, pair_mu, k_n, c_n, k_t, c_t, frame_rule, gravity,
+    ref_x, ref_y, ref_theta, pair_mu, contact_model, k_n, c_n, impact, k_t, c_t, frame_rule, gravity,
     body_group, group_theta_cr, fall_depth,
     h_kind, h_params, h_accel, h_vel, h_disp, h_dt,
     v_kind, v_params, v_accel, v_vel, v_disp, v_dt,
@@ -163,12 +167,20 @@ def run(
         base_force_x[:] = 0.0
         base_force_y[:] = 0.0
         sample = n % out_every == 0 or n == n_steps
-        n_contact, elastic = contact_forces(
-            pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
-            body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-            k_n, c_n, k_t, c_t, dt, frame_rule, pair_ft, pair_memory,
-            force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, sample,
-        )
+        if contact_model == CONTACT_POINT:
+            n_contact, elastic = point_contact_forces(
+                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
+                pair_mu, k_n, c_n, impact, k_t, c_t, dt, frame_rule, pair_ft, pair_memory,
+                force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, sample,
+            )
+        else:
+            n_contact, elastic = area_contact_forces(
+                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
+                k_n, c_n, k_t, c_t, dt, frame_rule, pair_ft, pair_memory,
+                force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, sample,
+            )
         # velocities at t_n: half a kick on from v_{n-1/2} (the start holds v_0 itself)
         half = 0.0 if n == step_first else 0.5 * dt
         for b in range(n_body):

@@ -42,7 +42,7 @@ ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
 CONTACT_MODELS = ("point", "area")
 # per model; the point law's damping is a fraction of critical (README "Contact law")
-CONTACT_DEFAULTS = {"model": "point", "point": {"k_n": 1.0e10, "damping": 0.05, "impact": "plastic"},
+CONTACT_DEFAULTS = {"model": "area", "point": {"k_n": 1.0e10, "damping": 0.05, "impact": "plastic"},
                     "area": {"k_n": 1.0e8, "c_n": 1.0e3}}
 SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": 0.25, "stop_on_collapse": True,
                    "skip_quiet": True}
@@ -83,7 +83,7 @@ class ContactLaw:
     k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
     frame: str = "boundary"  # contact frame rule: boundary | thesis (dem.kernels.overlap)
-    model: str = "point"  # point (dem.kernels.point_contact) | area (thesis, dem.kernels.contact)
+    model: str = "area"  # area (thesis, dem.kernels.contact) | point (dem.kernels.point_contact)
     damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
     impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
 
@@ -209,7 +209,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     model = contact_spec.get("model", CONTACT_DEFAULTS["model"])
     if model not in CONTACT_MODELS:
         raise InputError("contact.model", f"unknown contact model {model!r}",
-                         "use point (vertex contacts, default) or area (thesis overlap area)")
+                         "use area (thesis overlap area, default) or point (vertex contacts)")
     defaults = CONTACT_DEFAULTS[model]
     for key in ("c_n", "damping", "impact"):
         if key in contact_spec and key not in defaults:

@@ -134,6 +134,8 @@ def _pena(ds, ax):
     ax.legend(fontsize=7)
 
 
+# the point-law variants of the 5.1 validations (dem.validation.VALIDATIONS) draw alike
+DRAWERS.update({f"{name}_point": draw for name, draw in list(DRAWERS.items())})
 DRAWERS["pena_block"] = _pena
 
 

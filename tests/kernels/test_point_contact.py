@@ -1,0 +1,84 @@
+"""Point contacts at the contact face's end vertices (dem.kernels.point_contact)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from dem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
+from dem.kernels.point_contact import plastic_impulse, point_contact_forces
+
+K_N = 1e9
+
+
+def box(cx, cy, w, h, angle=0.0):
+    c, s = math.cos(angle), math.sin(angle)
+    local = np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
+    return local @ np.array([[c, s], [-s, c]]) + [cx, cy]
+
+
+def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=False, memory=None):
+    """(force_x, force_y, torque, n_contact, stored, memory) of a driven base (body 0) and a block (body 1)."""
+    verts = np.vstack([base, block])
+    wx, wy = verts[:, 0].copy(), verts[:, 1].copy()
+    lo = np.array([base.min(0), block.min(0)])
+    hi = np.array([base.max(0), block.max(0)])
+    bx = np.array([base[:, 0].mean(), block[:, 0].mean()])
+    by = np.array([base[:, 1].mean(), block[:, 1].mean()])
+    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
+    memory = np.zeros((2, 2, N_MEMORY)) if memory is None else memory
+    n, stored = point_contact_forces(
+        np.array([0]), np.array([1]), np.array([0, 4, 8]), wx, wy, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
+        bx, by, np.array([0.0, vel[0]]), np.array([0.0, vel[1]]), np.array([0.0, vel[2]]),
+        np.array([True, False]), np.array([1e9, mass]), np.array([1e9, mass / 6.0]),
+        np.full((2, 2), 10.0), K_N, damping, impact, K_N, 0.0, 1e-4, 0, np.zeros((2, 2)), memory,
+        fx, fy, tq, np.zeros(2), np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, 64)), True)
+    return fx, fy, tq, n, stored, memory
+
+
+def test_flat_block_is_carried_by_its_two_corners_like_a_face():
+    depth = 1e-5
+    fx, fy, tq, n, stored, _ = forces(box(0, -0.25, 4, 0.5), box(0, 0.5 - depth, 1.0, 1.0))
+    # two ends, each k_n (L/2) depth: the face's k_n L depth in all, no moment, no double count
+    assert n == 1 and fy[1] == pytest.approx(K_N * 1.0 * depth, rel=1e-9)
+    assert abs(fx[1]) < 1e-9 * fy[1] and abs(tq[1]) < 1e-9 * fy[1]
+    assert stored == pytest.approx(2 * 0.5 * (K_N * 0.5) * depth**2, rel=1e-9)
+
+
+def test_flush_drums_of_equal_width_share_their_corners_once():
+    depth = 1e-5
+    fx, fy, tq, n, _, _ = forces(box(0, -0.5, 1.0, 1.0), box(0, 0.5 - depth, 1.0, 1.0))
+    assert fy[1] == pytest.approx(K_N * 1.0 * depth, rel=1e-9) and abs(tq[1]) < 1e-6
+
+
+def test_pivoting_block_is_pushed_at_its_corner_whatever_the_stiffness():
+    # a 1 x 1 block tilted onto its right corner, sunk 0.1 mm: the reaction acts at the corner
+    theta, sink = 0.05, 1e-4
+    block = box(0, 0, 1.0, 1.0, angle=theta)
+    corner = block[np.argmin(block[:, 1])]
+    block = block - [0.0, corner[1] + sink]
+    corner = block[np.argmin(block[:, 1])]
+    fx, fy, tq, n, _, _ = forces(box(0, -0.25, 4, 0.5), block)
+    centre = block.mean(0)
+    # moment about the centroid equals that of the force at the corner: lever = corner - centroid
+    assert fy[1] > 0 and tq[1] == pytest.approx((corner[0] - centre[0]) * fy[1] - (corner[1] - centre[1]) * fx[1],
+                                                rel=1e-9)
+
+
+def test_plastic_impulse_stops_the_landing_corner_and_books_the_loss():
+    bx, by = np.array([0.0, 0.0]), np.array([-0.25, 0.5])
+    vx, vy, om = np.array([0.0, 0.0]), np.array([0.0, -0.2]), np.array([0.0, 1.0])
+    mass, inertia = np.array([1e9, 100.0]), np.array([1e9, 100.0 / 6.0])
+    driven = np.array([True, False])
+    acc = np.zeros(N_ENERGY_ACC)
+    ke0 = 0.5 * mass[1] * (vx[1] ** 2 + vy[1] ** 2) + 0.5 * inertia[1] * om[1] ** 2
+    px, py = -0.5, 0.0  # the landing corner
+    plastic_impulse(0, 1, px, py, 0.0, 1.0, 10.0, bx, by, vx, vy, om, mass, inertia, driven, acc)
+    v_corner = (vx[1] - om[1] * (py - by[1]), vy[1] + om[1] * (px - bx[1]))
+    assert np.allclose(v_corner, 0.0, atol=1e-12)  # sticks: no bounce, no slip (Housner)
+    ke1 = 0.5 * mass[1] * (vx[1] ** 2 + vy[1] ** 2) + 0.5 * inertia[1] * om[1] ** 2
+    assert acc[E_DAMPING] == pytest.approx(ke0 - ke1, rel=1e-12) and acc[E_BASE_WORK] == 0.0
+    # angular momentum about the landing corner is conserved (Housner 1963)
+    def h_corner(v_x, v_y, w):
+        return inertia[1] * w + mass[1] * ((bx[1] - px) * v_y - (by[1] - py) * v_x)
+    assert h_corner(vx[1], vy[1], om[1]) == pytest.approx(h_corner(0.0, -0.2, 1.0), rel=1e-12)

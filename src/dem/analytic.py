@@ -6,8 +6,10 @@ the rigid rocking equation; energy loss at impact, the peak angles and half peri
 follow from it (5.1.2, Eq. 5.2-5.4) and the inverse problem (energy ratio from measured
 peaks); Newmark's maximum sliding under a rectangular pulse (5.1.3, Eq. 5.5); the
 rigid-plastic sliding block integrated exactly under a piecewise-linear accelerogram and
-its Bouc-Wen approximation (5.1.4, Eq. 5.6-5.7); and the rigid rocking equation with
-impacts under ground acceleration (Housner; Zhang and Makris, 5.1.5). Geometry follows
+its Bouc-Wen approximation (5.1.4, Eq. 5.6-5.7); the rigid rocking equation with impacts
+under ground acceleration (Housner; Zhang and Makris, 5.1.5), and under the engine's one-sine
+pulse the overturning verdict, minimum overturning amplitude and overturning spectrum,
+integrated exactly without sampling the pulse (5.1.5). Geometry follows
 Housner: a rectangle of full width ``width`` = 2b and full height ``height`` = 2h,
 R = sqrt(b^2 + h^2), alpha = atan(b/h), I_O = 4/3 m R^2 about a base corner,
 p = sqrt(m g R / I_O) = sqrt(3 g / (4 R)). Sign convention for rotations: theta > 0
@@ -22,6 +24,7 @@ from __future__ import annotations
 import bisect
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import quad, solve_ivp
@@ -621,3 +624,318 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0
             continue
         break
     return RockingResponse(theta, omega, overturned, impacts)
+
+
+# --- 5.1.5 one-sine pulse: exact overturning spectrum (Zhang and Makris 2001) -------------
+#
+# The pulse is the engine's ``excitation: {kind: sine_pulse, accel: a_p, frequency: f}``,
+# a_g(t) = a_p sin(omega_p t) for 0 <= t < T = 2 pi / omega_p and 0 after, with the base at
+# rest at t = 0. Zhang and Makris (2001) instead shift the phase of their pulse so that it
+# starts at the uplift instant, a_g = a_p sin(omega_p t + psi) with psi = asin(g tan(alpha) /
+# a_p); here the block rests until a_g first exceeds g tan(alpha) and the pulse still ends at
+# T, so the engine and this reference see the same input (its spectra need not match theirs).
+# Energies below are per m g R, so the kinetic energy is 1/2 theta'^2 / p^2 (I_O = m g R /
+# p^2) and the potential energy on a pivot is cos(alpha - |theta|), 1 at the crest.
+
+ONE_SINE_MODES = ("none", "impact", "no_impact")  # codes 0, 1, 2 of OneSineSpectrum.mode
+
+
+class OneSineOutcome(NamedTuple):
+    """Fate of a block under one sine pulse; see rigid_one_sine_response."""
+
+    overturned: bool  # |theta| reached pi/2
+    mode: str  # "none", "impact" (overturned after >= 1 impact) or "no_impact"
+    peak: float  # max |theta| / alpha [-]; pi / (2 alpha) when overturned
+
+
+def _one_sine_uplift(phase, level):
+    """First phase >= ``phase`` of a sine at which |sin| > level (0 < level < 1) within one cycle.
+
+    The block at rest uplifts where |a_g| > g tan(alpha), i.e. |sin(omega_p t)| > level =
+    g tan(alpha) / |a_p|: inside (phi1, pi - phi1) (sin > 0) or (pi + phi1, 2 pi - phi1)
+    (sin < 0), phi1 = asin(level). Returns (phase of uplift, phase at which that window
+    closes [rad], sign of sin there), or (None, None, 0) when |sin| stays below level up to 2 pi.
+    """
+    phi1 = math.asin(level)
+    for start, end, sign in ((phi1, math.pi - phi1, 1), (math.pi + phi1, 2.0 * math.pi - phi1, -1)):
+        if phase < end:
+            return max(phase, start), end, sign
+    return None, None, 0
+
+
+def _free_rocking_outcome(theta, omega, alpha, p):
+    """Free rocking (a_g = 0) from (theta, omega) up to its first impact, decided by energy.
+
+    The pivot is the corner on the side of theta (of omega when theta = 0). Per m g R the
+    energy 1/2 theta'^2 / p^2 + cos(alpha - |theta|) is conserved until the next impact
+    (Housner 1963; thesis Eq. 5.2), and the potential has its crest, 1, at |theta| = alpha.
+
+    Returns (topples, k0, peak): topples is True when the block falls before returning to
+    theta = 0; otherwise k0 is its kinetic energy per m g R on reaching theta = 0 (before the
+    impact) and peak the largest |theta| [rad] on the way.
+    """
+    side = math.copysign(1.0, theta) if theta != 0.0 else math.copysign(1.0, omega)
+    a, u = abs(theta), side * omega  # |theta| [rad] and its rate, > 0 outwards [rad s-1]
+    k = 0.5 * u * u / p**2  # kinetic energy per m g R [-]
+    level = math.cos(alpha - a)  # potential energy per m g R, crest 1 at |theta| = alpha
+    excess = k + level - 1.0  # energy above the crest [-]
+    if a >= alpha:  # past the crest: falls unless it moves back over it
+        if u >= 0.0 or excess <= 0.0:
+            return True, 0.0, 0.5 * math.pi
+        peak = a
+    elif u > 0.0:  # moving outwards: over the crest iff its energy exceeds the crest
+        if excess > 0.0:
+            return True, 0.0, 0.5 * math.pi
+        peak = alpha - math.acos(min(1.0, level + k))  # theta' = 0: cos(alpha - peak) = level + k
+    else:
+        peak = a
+    return False, k + level - math.cos(alpha), peak  # energy at theta = 0
+
+
+def _one_sine_after_pulse(theta, omega, alpha, p, r):
+    """Exact fate of a block rocking freely from (theta, omega) after the pulse, by energy.
+
+    Without input, energy is conserved between impacts and each impact keeps a fraction r
+    of the kinetic energy (thesis Eq. 5.2). If the block does not fall before its next impact
+    it leaves theta = 0 on the other corner with kinetic energy r k0 and falls iff r k0 > 1 -
+    cos(alpha), the climb to the crest; if not, the energy at theta = 0 only shrinks (r^n k0)
+    and it never falls.
+
+    Returns (topples, after_impact, peak [rad]).
+    """
+    topples, k0, peak = _free_rocking_outcome(theta, omega, alpha, p)
+    if topples:
+        return True, False, peak
+    k1 = r * k0  # thesis Eq. 5.2: kinetic energy kept by the impact
+    if k1 > 1.0 - math.cos(alpha):
+        return True, True, 0.5 * math.pi
+    return False, False, max(peak, alpha - math.acos(min(1.0, math.cos(alpha) + k1)))
+
+
+def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=True,
+                            rest_omega=None, free_time=None) -> OneSineOutcome:
+    """Whether a rigid block overturns under one sine acceleration pulse, exactly.
+
+    The rigid rocking equation of :func:`rigid_rocking_response` (same sign convention:
+    theta > 0 on the right corner; Housner 1963, Zhang and Makris 2001) with the pulse
+    a_g = a_p sin(omega_p t) for 0 <= t < T = 2 pi / omega_p, 0 after (the engine's
+    ``sine_pulse``), the block at rest at t = 0. It stays at rest until |a_g| > g tan(alpha),
+    tipping towards theta < 0 when a_g > 0. Integrated with solve_ivp DOP853 (rtol 1e-10,
+    atol 1e-12) between events: impact (theta = 0; theta' times sqrt(r), pivot switches),
+    topple (|theta| = pi/2), turning points (theta' = 0, for the peak) and the end of the
+    pulse, a breakpoint the integrator never steps across. After an impact with |theta'| <
+    ``rest_omega`` the block is put at rest and uplifts again where |a_g| > g tan(alpha): the
+    chattering it cuts short (impacts accumulating while |a_g| < g tan(alpha)) would end within
+    about 2 rest_omega / (p^2 alpha (1 - sqrt(r))), some 1e-4 / p for the default.
+
+    With ``early_stop`` the free rocking after the pulse is not integrated: its outcome
+    follows from energy (see _one_sine_after_pulse). Otherwise it is integrated until the
+    block falls, settles (rest_omega) or ``free_time`` has passed (default 200 / p).
+
+    Parameters
+    ----------
+    a_p: pulse amplitude, either sign [m s-2]
+    omega_p: pulse circular frequency 2 pi f [rad s-1]
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    r: kinetic energy ratio after/before impact, thesis Eq. 5.2 [-]
+    g: gravitational acceleration [m s-2]
+    early_stop: decide the free rocking after the pulse by energy instead of integrating it
+    rest_omega: |theta'| after an impact below which the block settles to rest; default
+        1e-6 p, so that the result does not depend on the block's size [rad s-1]
+    free_time: duration of free rocking integrated after the pulse without early_stop [s]
+
+    Returns
+    -------
+    OneSineOutcome (a tuple) overturned, mode and peak: mode "none" when it does not
+    overturn, "impact" when it overturns after at least one impact, "no_impact" when
+    without any; peak = max |theta| / alpha [-], pi / (2 alpha) when overturned.
+    """
+    if not 0.0 <= r <= 1.0:
+        raise ValueError(f"r must be in [0, 1], got {r}")
+    if not (omega_p > 0.0 and math.isfinite(a_p)):
+        raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
+    blk = rectangle_rocking_properties(width, height, g=g)
+    alpha, p, p2 = blk.alpha, blk.p, blk.p**2
+    onset = g * math.tan(alpha)  # uplift threshold |a_g| > g tan(alpha)
+    period = 2.0 * math.pi / omega_p
+    rest_omega = 1e-6 * p if rest_omega is None else rest_omega
+    if abs(a_p) <= onset:
+        return OneSineOutcome(False, "none", 0.0)
+
+    def rhs(tt, y, side, pulse):
+        th = y[0]
+        ag = a_p * math.sin(omega_p * tt) if pulse else 0.0
+        if side > 0:  # as in rigid_rocking_response: pivot on the right corner
+            return [y[1], -p2 * (math.sin(alpha - th) + ag / g * math.cos(alpha - th))]
+        return [y[1], p2 * (math.sin(alpha + th) - ag / g * math.cos(alpha + th))]
+
+    def impact(tt, y, side, pulse):
+        return y[0]
+
+    def topple(tt, y, side, pulse):
+        return abs(y[0]) - 0.5 * math.pi
+
+    def turn(tt, y, side, pulse):
+        return y[1]
+
+    impact.terminal = topple.terminal = True
+    t_now, state, side, pulse = 0.0, [0.0, 0.0], 0, True
+    t_stop = math.inf if early_stop else period + (200.0 / p if free_time is None else free_time)
+    n_impacts, peak, first_step = 0, 0.0, None
+    for _ in range(100_000):
+        if pulse and t_now >= period:
+            pulse = False  # the pulse is over: free rocking (a_g = 0) from here
+            if side != 0 and early_stop:
+                falls, after_impact, last = _one_sine_after_pulse(*state, alpha, p, r)
+                if not falls:
+                    return OneSineOutcome(False, "none", max(peak, last) / alpha)
+                mode = "impact" if n_impacts or after_impact else "no_impact"
+                return OneSineOutcome(True, mode, 0.5 * math.pi / alpha)
+        if (side == 0 and not pulse) or t_now >= t_stop:
+            return OneSineOutcome(False, "none", peak / alpha)  # at rest for good, or out of time
+        if side == 0:  # at rest during the pulse: wait for |a_g| > g tan(alpha)
+            phase, closes, sign = _one_sine_uplift(omega_p * t_now, onset / abs(a_p))
+            if phase is None:
+                return OneSineOutcome(False, "none", peak / alpha)
+            t_now, state = phase / omega_p, [0.0, 0.0]
+            side = -int(math.copysign(1.0, a_p)) * sign  # a_g > 0 tips the block to theta < 0
+            # it cannot come back while |a_g| > g tan(alpha): a first step inside the window
+            first_step = 0.1 * (closes - phase) / omega_p
+        elif state[0] == 0.0:  # leaving theta = 0 after an impact, at speed |w|
+            acc = rhs(t_now, state, side, pulse)[1]
+            first_step = 0.1 * abs(state[1] / acc) if acc * side < 0.0 else 1e-3 * period
+        t_end = period if pulse else t_stop
+        # leaving theta = 0, the first step must end on the block's side: a return within it
+        # would put the event's root at the start (where theta = 0 too), not at the return
+        first_step = None if first_step is None else min(first_step, 0.5 * (t_end - t_now))
+        impact.direction = -1.0 if side > 0 else 1.0  # theta returns to 0 from its side
+        turn.direction = impact.direction  # theta' changes from outwards to inwards: a peak
+        sol = solve_ivp(rhs, (t_now, t_end), state, method="DOP853", args=(side, pulse),
+                        events=(impact, topple, turn), rtol=1e-10, atol=1e-12,
+                        first_step=first_step)
+        if not sol.success:
+            raise RuntimeError(f"rigid_one_sine_response: {sol.message}")
+        turns = np.reshape(sol.y_events[2], (-1, 2))[:, 0]  # theta at the peaks of this leg
+        peak = max(peak, float(np.abs(sol.y[0]).max()), float(np.abs(turns).max(initial=0.0)))
+        t_now, first_step = float(sol.t[-1]), None
+        if len(sol.t_events[1]):
+            mode = "impact" if n_impacts else "no_impact"
+            return OneSineOutcome(True, mode, 0.5 * math.pi / alpha)
+        if len(sol.t_events[0]):
+            n_impacts += 1
+            w = float(sol.y_events[0][0][1]) * math.sqrt(r)  # thesis Eq. 5.2: r = (w+ / w-)^2
+            side = 0 if abs(w) < rest_omega else -side  # settled, or the pivot switches corner
+            state = [0.0, w if side else 0.0]
+        else:  # end of the pulse or of free_time
+            state, t_now = [float(sol.y[0, -1]), float(sol.y[1, -1])], t_end
+    raise RuntimeError(f"rigid_one_sine_response: no end after 100000 legs, a_p {a_p}, "
+                       f"omega_p {omega_p}")
+
+
+class OverturningThreshold(NamedTuple):
+    """Minimum overturning one-sine pulse; see rigid_one_sine_min_overturning."""
+
+    amplitude: float  # smallest a_p / (g tan alpha) that overturns [-]; inf if none up to the cap
+    mode: str  # "impact" or "no_impact" at that amplitude; "none" if not found
+
+
+def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1e-4, step=1.01,
+                                   cap=50.0) -> OverturningThreshold:
+    """Smallest one-sine pulse amplitude that overturns a rigid block (Zhang and Makris 2001).
+
+    Overturning is not monotonic in the amplitude: above the band of overturning after an
+    impact there is a safe band before overturning without impact sets in (the two modes of
+    Zhang and Makris), and for omega_p / p <~ 1 the lower boundary breaks into narrow
+    overturning tongues (0.1 - 1 % of the amplitude wide). So no bisection on [1, cap]
+    directly: a hunt A_k = step^k (k = 1, 2, ...) up to ``cap`` finds the first amplitude
+    that overturns, then bisection on (A_{k-1}, A_k], whose lower end does not, narrows it
+    to rel_tol. A_0 = 1 is safe by construction (no uplift). A tongue narrower than the hunt
+    step can be stepped over, and inside the bracket bisection finds one boundary, not
+    necessarily the lowest: the result is the minimum as resolved by the hunt grid.
+
+    Parameters
+    ----------
+    omega_ratio: omega_p / p, pulse circular frequency over the block's frequency parameter [-]
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    r: kinetic energy ratio after/before impact, thesis Eq. 5.2 [-]
+    g: gravitational acceleration [m s-2]
+    rel_tol: relative width of the final bracket [-]
+    step: ratio of successive amplitudes in the hunt (> 1) [-]
+    cap: largest amplitude a_p / (g tan alpha) tried [-]
+
+    Returns
+    -------
+    OverturningThreshold (a tuple) amplitude, the upper end of the final bracket as a_p /
+    (g tan alpha) [-] (inf when nothing up to cap overturns), and the mode there.
+    """
+    if not (omega_ratio > 0.0 and step > 1.0 and rel_tol > 0.0):
+        raise ValueError(f"omega_ratio, step - 1 and rel_tol must be positive, got "
+                         f"{omega_ratio}, {step}, {rel_tol}")
+    blk = rectangle_rocking_properties(width, height, g=g)
+    onset, omega_p = g * math.tan(blk.alpha), omega_ratio * blk.p
+
+    def outcome(amplitude):
+        return rigid_one_sine_response(amplitude * onset, omega_p, width, height, r, g=g)
+
+    lo, hi, found = 1.0, 1.0, None
+    while found is None and hi < cap:  # hunt: first overturning amplitude on the geometric grid
+        lo, hi = hi, min(hi * step, cap)
+        res = outcome(hi)
+        found = res if res.overturned else None
+    if found is None:
+        return OverturningThreshold(math.inf, "none")
+    while hi - lo > rel_tol * hi:  # bisection on (lo, hi]: lo safe, hi overturns
+        mid = 0.5 * (lo + hi)
+        res = outcome(mid)
+        if res.overturned:
+            hi, found = mid, res
+        else:
+            lo = mid
+    return OverturningThreshold(hi, found.mode)
+
+
+@dataclass
+class OneSineSpectrum:
+    """Overturning of a rigid block on a grid of one-sine pulses (frequency x amplitude)."""
+
+    omega_ratios: np.ndarray  # omega_p / p [-], shape (n,)
+    amplitudes: np.ndarray  # a_p / (g tan alpha) [-], shape (m,)
+    overturned: np.ndarray  # bool, shape (n, m)
+    mode: np.ndarray  # int8 index into ONE_SINE_MODES: 0 none, 1 impact, 2 no_impact; (n, m)
+    peak: np.ndarray  # max |theta| / alpha [-], pi / (2 alpha) where overturned; (n, m)
+
+
+def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G) -> OneSineSpectrum:
+    """Overturning map of a rigid block under one-sine pulses, for the overturning spectrum.
+
+    Each grid point is one :func:`rigid_one_sine_response` (with early stop), with
+    omega_p = omega_ratio p and a_p = amplitude g tan(alpha). The map shows both overturning
+    modes and the safe band between them (as in Zhang and Makris 2001, for their pulse).
+
+    Parameters
+    ----------
+    omega_ratios: omega_p / p values [-]
+    width: full width 2b of the block [m]
+    height: full height 2h of the block [m]
+    r: kinetic energy ratio after/before impact, thesis Eq. 5.2 [-]
+    amplitudes: a_p / (g tan alpha) values [-]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    OneSineSpectrum with arrays of shape (len(omega_ratios), len(amplitudes)).
+    """
+    ratios = np.atleast_1d(np.asarray(omega_ratios, dtype=float))
+    amps = np.atleast_1d(np.asarray(amplitudes, dtype=float))
+    blk = rectangle_rocking_properties(width, height, g=g)
+    onset = g * math.tan(blk.alpha)
+    shape = (len(ratios), len(amps))
+    overturned, mode, peak = np.zeros(shape, bool), np.zeros(shape, np.int8), np.zeros(shape)
+    for i, ratio in enumerate(ratios):
+        for j, amp in enumerate(amps):
+            res = rigid_one_sine_response(amp * onset, ratio * blk.p, width, height, r, g=g)
+            overturned[i, j], peak[i, j] = res.overturned, res.peak
+            mode[i, j] = ONE_SINE_MODES.index(res.mode)
+    return OneSineSpectrum(ratios, amps, overturned, mode, peak)

@@ -264,11 +264,29 @@ def area_contact_forces(
     for p in range(pair_a.shape[0]):
         a = pair_a[p]
         b = pair_b[p]
-        area, cx, cy, n_over, nx, ny, tx, ty = overlap_contact(
-            a, b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y, body_x, body_y,
-            frame_rule, pair_ft, pair_memory, k_t, energy_acc, scratch)
-        if area <= 0.0:
+        # narrow phase written out here rather than called (overlap_contact): measured 1.6x
+        # slower per step as a call on an 8-drum column (LLVM does not inline it well)
+        if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
+        sa = vert_start[a]
+        ea = vert_start[a + 1]
+        sb = vert_start[b]
+        eb = vert_start[b + 1]
+        n_over = clip_convex_polygons(world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+                                      out_x, out_y, scratch[2], scratch[3])
+        area = 0.0
+        if n_over >= 3:
+            area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
+        if area <= 0.0:
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
+            continue
+        nx, ny, tx, ty, _ = contact_frame(
+            out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+            body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
+        )
         n_contact += 1
         # the contact chord: the overlap's extent along the tangent, and its midpoint M
         proj_lo = np.inf
@@ -315,10 +333,18 @@ def area_contact_forces(
             stored += 0.5 * ft_el * ft_el / k_t
 
         # forces on b (a receives the opposite): at C elastic normal + tangential, at M damping
-        push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_el * nx - f_t * tx,
-                  f_el * ny - f_t * ty, force_x, force_y, torque, base_force_x, base_force_y)
-        push_pair(a, b, body_x, body_y, body_driven, mx, my, f_damp * nx, f_damp * ny,
-                  force_x, force_y, torque, base_force_x, base_force_y)
+        fcx = f_el * nx - f_t * tx
+        fcy = f_el * ny - f_t * ty
+        fmx = f_damp * nx
+        fmy = f_damp * ny
+        if body_driven[a]:
+            base_force_x[b] += fcx + fmx
+            base_force_y[b] += fcy + fmy
+        if body_driven[b]:
+            base_force_x[a] -= fcx + fmx
+            base_force_y[a] -= fcy + fmy
+        apply_force(a, b, body_x, body_y, cx, cy, fcx, fcy, force_x, force_y, torque)
+        apply_force(a, b, body_x, body_y, mx, my, fmx, fmy, force_x, force_y, torque)
         torque[b] += m_damp
         torque[a] -= m_damp
     return n_contact, stored

@@ -57,6 +57,8 @@ class Trajectory:
        base, from its start [m]
     wall_seconds: wall time of the stepping only (no set-up, no compile) [s]
     steps: number of time steps taken
+    status: run status of our engine (:mod:`dem.kernels.step`: 0 ok, 2 non-finite); 0 for
+       the other engines
     """
 
     time: np.ndarray
@@ -64,6 +66,7 @@ class Trajectory:
     x: np.ndarray
     wall_seconds: float
     steps: int
+    status: int = 0
 
 
 # --- (a) free rocking ---------------------------------------------------------------------

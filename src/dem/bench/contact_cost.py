@@ -2,7 +2,10 @@
 
 The scene is a row of free-standing multi-drum columns side by side with small gaps (a
 "wall of drums") on one driven base, under a harmonic base motion strong enough to rock
-them, so contacts open and close and the broad phase re-sweeps. For each size we report
+them, so contacts open and close and the broad phase re-sweeps. The contact law is the
+point law with its scene defaults (point contacts at the face ends with Housner's plastic
+landing, ``contact.model: point``, k_n = 1e10 N/m2, zeta = 0.05); ``--model area`` times the
+thesis' overlap-area law instead (k_n = 1e8 N/m2, c_n = 5e4 N s/m). For each size we report
 
 * steps, mean contacts, the kernel wall time (:attr:`dem.simulate.RunResult.wall_seconds`)
   and the wall time of the whole :func:`dem.simulate.simulate` call, so the single-core
@@ -15,7 +18,7 @@ them, so contacts open and close and the broad phase re-sweeps. For each size we
   every one of the n(n-1)/2 pairs through the narrow phase's AABB rejection (O(N^2)), each
   per call (= per step if it ran every step; the engine's Verlet list sweeps far less often).
 
-    python -m dem.bench.contact_cost [--quick] [--out results]
+    python -m dem.bench.contact_cost [--quick] [--model point|area] [--out results]
 
 writes results/bench/contact_cost.nc and results/figures/contact_cost.png.
 """
@@ -44,12 +47,20 @@ DRUM_WIDTH = 0.5  # [m]
 COLUMN_HEIGHT = 3.0  # [m], shared by all columns; drum height = COLUMN_HEIGHT / n_drums
 GAP = 0.05  # between neighbouring columns [m]
 PRELOAD = 1.0e-7  # initial overlap of stacked faces [m], under the scene check's tolerance,
-# so every resting contact has area > 0 and counts from step 0 (static overlap is ~1e-4 m)
+# so every resting contact has area > 0 and counts from step 0 (static overlap: ~1e-6 m with
+# the point law at 1e10 N/m2, ~1e-4 m with the area law at 1e8 N/m2)
 FRICTION = 0.5
 FREQUENCY = 2.0  # [Hz] of the harmonic base motion
-K_N = 1.0e8  # normal stiffness per unit overlap area [N m-2] (the scene default)
-C_N = 5.0e4  # normal dashpot [N s m-1], ~0.2 of critical for a drum, so the drums settle
-# without bouncing off each other at the start (every resting contact stays closed)
+CONTACT_MODELS = ("point", "area")
+MODEL = "point"  # contact law timed by default (the scene default is dem.scene.CONTACT_DEFAULTS["model"])
+# point law: its scene defaults; the plastic landing keeps every resting contact closed
+K_N_POINT = 1.0e10  # normal stiffness per unit contact length [N m-2]
+ZETA = 0.05  # damping ratio of each contact point [1]
+# area law: stiffness per unit overlap area [N m-2] and a dashpot [N s m-1] of ~0.2 of
+# critical for a drum, so the drums settle without bouncing off each other at the start
+K_N_AREA = 1.0e8
+C_N = 5.0e4
+K_N = {"point": K_N_POINT, "area": K_N_AREA}
 WIDTH_SPREAD = 0.1  # column widths vary by up to this fraction, so columns rock out of step
 PGA = 5.0  # [m s-2]: > g tan(alpha) = 1.64 m/s2, so the columns rock; ~ mu g, so bases slip
 DURATION = 1.0  # simulated time of each timed run [s]: rocking from rest and first impacts
@@ -70,7 +81,8 @@ def drum_wall_size(n_body: int, max_drums: int = MAX_DRUMS) -> tuple[int, int]:
 
 def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WIDTH,
                     column_height: float = COLUMN_HEIGHT, gap: float = GAP, preload: float = PRELOAD,
-                    width_spread: float = WIDTH_SPREAD, k_n: float = K_N, c_n: float = C_N,
+                    width_spread: float = WIDTH_SPREAD, model: str = MODEL, k_n: float | None = None,
+                    damping: float = ZETA, c_n: float = C_N,
                     frequency: float = FREQUENCY, pga: float = PGA, friction: float = FRICTION,
                     duration: float = 0.1, every: float | None = None,
                     stop_on_collapse: bool = False) -> dict:
@@ -83,8 +95,15 @@ def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WI
     one drum is a single block. Stacked faces overlap by ``preload`` [m] at t = 0, so every
     resting contact counts from the first step. Column c is narrower by a fraction
     width_spread x ((3 c) mod 5) / 4 (centres stay drum_width + gap apart), so neighbours have
-    different slenderness, rock out of step and knock into each other.
+    different slenderness, rock out of step and knock into each other. The contact is
+    ``model`` point (k_n, zeta = damping, plastic landing) or area (k_n, c_n); k_n defaults
+    to K_N[model].
     """
+    if model not in CONTACT_MODELS:
+        raise ValueError(f"unknown contact model {model!r}; use one of {CONTACT_MODELS}")
+    k_n = K_N[model] if k_n is None else float(k_n)
+    contact = ({"model": "point", "k_n": k_n, "damping": damping, "impact": "plastic"} if model == "point"
+               else {"model": "area", "k_n": k_n, "c_n": c_n})
     drum_height = column_height / n_drums
     pitch = drum_width + gap
     span = n_columns * pitch - gap
@@ -104,7 +123,7 @@ def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WI
         "name": f"drum_wall_{n_columns}x{n_drums}",
         "bodies": bodies,
         "friction": friction,
-        "contact": {"k_n": k_n, "c_n": c_n},
+        "contact": contact,
         "excitation": {"kind": "harmonic", "frequency": frequency, "pga": pga, "ramp_cycles": 0},
         "solver": {"duration": duration, "dt": "auto", "stop_on_collapse": stop_on_collapse},
         "output": {"every": every if every is not None else duration / N_SAMPLES},
@@ -248,11 +267,11 @@ def with_duration(scene, duration: float, n_samples: int = N_SAMPLES, dt: float 
     return dataclasses.replace(scene, **changes)
 
 
-def warm_up() -> None:
+def warm_up(model: str = MODEL) -> None:
     """Compile (or load from the numba cache) the engine's loop once in this process."""
     from dem.simulate import simulate
 
-    simulate(with_duration(drum_wall(1), 1e-3, 2))
+    simulate(with_duration(drum_wall(1, model=model), 1e-3, 2))
 
 
 def measure(scene, duration: float | None = None, *, target_seconds: float = TARGET_SECONDS,
@@ -369,7 +388,7 @@ VARIABLES = {
     "ns_per_body_step": ("ns", "kernel time per body per step"),
     "fit_per_step": ("s", "fitted kernel time per step, intercept + slope x mean contacts"),
     "max_abs_theta": ("rad", "largest absolute rotation of a free body in the timed run"),
-    "pair_array_mb": ("MiB", "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x 12 x 8 bytes"),
+    "pair_array_mb": ("MiB", "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x (N_MEMORY + 2) x 8 bytes"),
     "peak_rss_mb": ("MiB", "peak resident memory of the process after the run"),
     "sweep_pairs": ("1", "candidate pairs from sort-and-sweep at rest"),
     "all_pairs_tested": ("1", "pairs an all-pairs broad phase sends to the AABB test, n(n-1)/2 less driven-driven"),
@@ -380,8 +399,8 @@ VARIABLES = {
 
 
 def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: float = TARGET_SECONDS,
-                  broad_min_seconds: float = 0.2, progress: bool = True):
-    """Measure every size; returns an xarray Dataset on dim n_body (free bodies)."""
+                  broad_min_seconds: float = 0.2, progress: bool = True, model: str = MODEL):
+    """Measure every size with the ``model`` contact law; returns an xarray Dataset on dim n_body (free bodies)."""
     import xarray as xr
 
     from dem.dataset import code_version
@@ -389,12 +408,12 @@ def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: fl
     log = (lambda msg: print(msg, file=sys.stderr, flush=True)) if progress else (lambda msg: None)
     start = time.perf_counter()
     log("compiling / loading the engine ...")
-    warm_up()
+    warm_up(model)
     rows = []
     for n in sizes:
         n_columns, n_drums = drum_wall_size(n)
         t0 = time.perf_counter()
-        scene = drum_wall(n)
+        scene = drum_wall(n, model=model)
         build = time.perf_counter() - t0
         row = {"n_columns": n_columns, "n_drums": n_drums, "build_seconds": build}
         row.update(measure(scene, duration, target_seconds=target_seconds))
@@ -420,8 +439,10 @@ def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: fl
         "column_height": (COLUMN_HEIGHT, "m", "column height (drum height = column height / drums)"),
         "gap": (GAP, "m", "gap between neighbouring columns (widest columns)"),
         "width_spread": (WIDTH_SPREAD, "1", "largest fractional narrowing of a column"),
-        "k_n": (K_N, "N m-2", "normal contact stiffness per unit overlap area"),
-        "c_n": (C_N, "N s m-1", "normal contact dashpot"),
+        **({"k_n": (K_N_POINT, "N m-2", "normal contact stiffness per unit contact length (point law)"),
+            "zeta": (ZETA, "1", "damping ratio of each contact point (point law)")} if model == "point" else
+           {"k_n": (K_N_AREA, "N m-2", "normal contact stiffness per unit overlap area (area law)"),
+            "c_n": (C_N, "N s m-1", "normal contact dashpot (area law)")}),
         "friction": (FRICTION, "1", "friction coefficient"),
         "frequency": (FREQUENCY, "Hz", "frequency of the harmonic base motion"),
         "pga": (PGA, "m s-2", "peak base acceleration"),
@@ -430,6 +451,9 @@ def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: fl
     coords.update({k: ((), v, {"units": u, "long_name": ln}) for k, (v, u, ln) in params.items()})
     ds = xr.Dataset(data, coords=coords, attrs={
         "title": "dem cost per contact per step: walls of drums, 1 to 1,000 bodies",
+        "contact_model": model,
+        "contact_law": ("point contacts at the contact face's end vertices, Housner's plastic landing"
+                        if model == "point" else "overlap area, thesis Eq. 3.4-3.6"),
         "source": code_version(),
         "machine": f"{os.cpu_count()} cores, {sys.platform}",
         "numba_num_threads": os.environ.get("NUMBA_NUM_THREADS", "unset"),
@@ -471,7 +495,8 @@ def print_table(ds, file=sys.stdout) -> None:
           f"{100 * a['fit_max_relative_residual']:.0f} % off)", file=file)
     print(f"fit (absolute residuals): {1e9 * a['plain_fit_intercept_s']:.0f} ns + "
           f"{a['plain_fit_slope_ns_per_contact']:.1f} ns x contacts  (R^2 = {a['plain_fit_r2']:.4f})", file=file)
-    print(f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = {a['sweep_fit_r2']:.4f}); "
+    print(f"contact law: {a.get('contact_model', 'area')}; "
+          f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = {a['sweep_fit_r2']:.4f}); "
           f"{a['machine']}, NUMBA_NUM_THREADS={a['numba_num_threads']}, {a['source']}", file=file)
 
 
@@ -531,13 +556,15 @@ def main(argv=None) -> int:
     parser.add_argument("--duration", type=float, help=f"simulated seconds per timed run (default {DURATION})")
     parser.add_argument("--target", type=float, help=f"kernel wall seconds aimed at per size, "
                         f"repeating short runs (default {TARGET_SECONDS})")
+    parser.add_argument("--model", choices=CONTACT_MODELS, default=MODEL,
+                        help=f"contact law (default {MODEL})")
     parser.add_argument("--out", type=Path, default=ROOT / "results")
     args = parser.parse_args(argv)
     sizes = tuple(args.sizes or (QUICK_SIZES if args.quick else SIZES))
     duration = args.duration or (0.05 if args.quick else DURATION)
     target = args.target or (0.05 if args.quick else TARGET_SECONDS)
     ds = run_benchmark(sizes, duration=duration, target_seconds=target,
-                       broad_min_seconds=0.02 if args.quick else 0.2)
+                       broad_min_seconds=0.02 if args.quick else 0.2, model=args.model)
     from dem.dataset import write_dataset
 
     nc = write_dataset(ds, args.out / "bench" / "contact_cost.nc")

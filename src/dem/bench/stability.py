@@ -9,6 +9,12 @@ scene's initial energy. :func:`auto_dt_margin` measures, for one scene of every 
 unstable. ``python -m dem.bench.stability`` writes both to ``results/bench/`` and draws
 ``results/figures/stability_map.png``.
 
+The contact law is the point law, point contacts at the face ends with Housner's plastic
+landing (``contact.model: point``, ``impact: plastic``), whose damping is the damping ratio zeta of each
+contact point, so the map's damping levels are zeta itself. ``model="area"`` (``--model
+area``) maps the thesis' overlap-area law instead, with c_n = damping x critical
+(:func:`critical_damping`).
+
 The normal path (:func:`dem.simulate.choose_time_step`) refuses dt > limit, so probes past
 the limit ask for it as an "automatic" step of ``dt_safety = ratio`` on a copy of the
 scene (scene validation, which caps dt_safety at 1, is not rerun on a copy); the sample
@@ -39,25 +45,39 @@ from dem.validation import block_scene
 ROOT = Path(__file__).resolve().parents[3]
 K_N_VALUES = (1e7, 1e8, 1e9, 1e10)  # [N m-2]
 DT_RATIOS = (0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0)  # dt / stability limit
-DAMPING_FRACTIONS = (0.0, 0.05, 0.5)  # c_n / (2 sqrt(k_n width m)) of the lightest free body
+# point law: zeta of each contact point; area law: c_n / (2 sqrt(k_n width m)) of the lightest free body
+DAMPING_FRACTIONS = (0.0, 0.05, 0.5)
+CONTACT_MODELS = ("point", "area")
 SCENE_KINDS = ("block", "column", "colonnade")
 DURATION = 0.5  # [s] of each run of the map
 SAMPLE_EVERY = 1e-3  # [s] between samples (energy and overlap are checked on samples)
 # Stable = finite and |energy balance drift| < this share of the energy the run moves
-# (:func:`energy_drift`). Measured on the default map: every run at dt <= limit stays below
-# 6.1e-3 (error ~ dt^2: ~1e-4 at 0.25 x limit); runs that go unstable jump to 2e-2 ... 9.
+# (:func:`energy_drift`). Measured on the default map with the area law: every run at
+# dt <= limit stays below 6.1e-3 (error ~ dt^2: ~1e-4 at 0.25 x limit); runs that go
+# unstable jump to 2e-2 ... 9.
 ENERGY_TOLERANCE = 0.01
 ENERGY_FLOOR = 1e-3  # smallest energy scale of energy_error, x initial kinetic + potential energy
 HARMONIC = {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.1}  # PGA 15.8 m s-2
 
 
-def scene_spec(kind: str, k_n: float, c_n: float = 0.0, duration: float = DURATION) -> dict:
-    """Scene mapping of one map scene kind (block, column, colonnade)."""
-    contact = {"k_n": k_n, "c_n": c_n}
+def contact_spec(model: str, k_n: float, damping: float = 0.0) -> dict:
+    """``contact:`` mapping of the map: point law with zeta = damping [1] (plastic landing,
+    its scene default) or area law with c_n = c_t = damping [N s m-1]."""
+    if model == "point":
+        return {"model": "point", "k_n": k_n, "damping": damping}
+    if model == "area":
+        return {"model": "area", "k_n": k_n, "c_n": damping}
+    raise ValueError(f"unknown contact model {model!r}; use one of {CONTACT_MODELS}")
+
+
+def scene_spec(kind: str, k_n: float, damping: float = 0.0, duration: float = DURATION,
+               model: str = "point") -> dict:
+    """Scene mapping of one map scene kind (block, column, colonnade); damping as in :func:`contact_spec`."""
+    contact = contact_spec(model, k_n, damping)
     solver = {"duration": duration, "stop_on_collapse": False}
     if kind == "block":
         # free rocking of a 0.25 x 1 m block released at half its slenderness angle
-        spec = block_scene(0.25, 1.0, tilt=0.5 * math.atan(0.25 / 1.0), k_n=k_n, c_n=c_n,
+        spec = block_scene(0.25, 1.0, tilt=0.5 * math.atan(0.25 / 1.0), contact=contact,
                            duration=duration, every=SAMPLE_EVERY)
         spec["solver"]["stop_on_collapse"] = False
         return spec
@@ -79,10 +99,21 @@ def critical_damping(scene: Scene) -> float:
     return critical_damping_of(scene.contact.k_n, float(np.ptp(body.vertices[:, 0])), body.mass)
 
 
-def map_scene(kind: str, k_n: float, damping: float, duration: float = DURATION) -> Scene:
-    """Scene of the map with c_n (and c_t) at ``damping`` x critical."""
-    undamped = scene_from_dict(scene_spec(kind, k_n, 0.0, duration))
-    return scene_from_dict(scene_spec(kind, k_n, damping * critical_damping(undamped), duration))
+def map_scene(kind: str, k_n: float, damping: float, duration: float = DURATION,
+              model: str = "point") -> Scene:
+    """Scene of the map: point law with zeta = ``damping``, or area law with c_n (and c_t) at
+    ``damping`` x critical."""
+    if model == "point":
+        return scene_from_dict(scene_spec(kind, k_n, damping, duration, model))
+    undamped = scene_from_dict(scene_spec(kind, k_n, 0.0, duration, model))
+    return scene_from_dict(scene_spec(kind, k_n, damping * critical_damping(undamped), duration, model))
+
+
+def damping_long_name(model: str) -> str:
+    """What the map's damping coordinate means for a contact model."""
+    if model == "point":
+        return "damping ratio zeta of each contact point (point law), fraction of critical"
+    return "c_n / critical 2 sqrt(k_n width m) of the lightest free body (area law)"
 
 
 def run_at_ratio(scene: Scene, ratio: float, sample_every: float = SAMPLE_EVERY) -> RunResult:
@@ -180,26 +211,26 @@ VARIABLES = {  # name: (units, long name)
 
 
 def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS, duration=DURATION,
-                  damping_fractions=DAMPING_FRACTIONS, progress: bool = True) -> xr.Dataset:
+                  damping_fractions=DAMPING_FRACTIONS, progress: bool = True, model: str = "point") -> xr.Dataset:
     """Stability of short runs over k_n x dt/limit x damping x scene kind (see module doc)."""
     shape = (len(k_n_values), len(dt_ratios), len(damping_fractions), len(scenes))
     data = {name: np.full(shape, np.nan) for name in VARIABLES}
     limit = np.full((shape[0], shape[2], shape[3]), np.nan)
-    c_n = np.full_like(limit, np.nan)
+    law_damping = np.full_like(limit, np.nan)
     total, done, start = int(np.prod(shape)), 0, wallclock.perf_counter()
     for i, k_n in enumerate(k_n_values):
         for d, frac in enumerate(damping_fractions):
             for s, kind in enumerate(scenes):
-                scene = map_scene(kind, k_n, frac, duration)
+                scene = map_scene(kind, k_n, frac, duration, model)
                 limit[i, d, s] = stability_limit(scene)
-                c_n[i, d, s] = scene.contact.c_n
+                law_damping[i, d, s] = scene.contact.c_n if model == "area" else scene.contact.damping
                 for r, ratio in enumerate(dt_ratios):
                     m = assess(scene, run_at_ratio(scene, ratio))
                     for name in VARIABLES:
                         data[name][i, r, d, s] = float(m[name])
                     done += 1
                     if progress:
-                        print(f"\r  stability map {done}/{total}  {kind} k_n {k_n:.0e} c {frac:g} "
+                        print(f"\r  stability map {done}/{total}  {model} {kind} k_n {k_n:.0e} damping {frac:g} "
                               f"dt {ratio:g} x limit: {'stable' if m['stable'] else 'UNSTABLE'} "
                               f"(err {m['energy_error']:.1e})   wall {wallclock.perf_counter() - start:6.1f} s",
                               end="", file=sys.stderr)
@@ -214,22 +245,27 @@ def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS
         {name: var(dims, data[name], *meta) for name, meta in VARIABLES.items()},
         coords={
             "k_n": var("k_n", np.array(k_n_values, float), "N m-2",
-                       "normal contact stiffness per unit overlap area"),
+                       "normal contact stiffness per unit " + ("contact length (point law)" if model == "point"
+                                                                else "overlap area (area law)")),
             "dt_ratio": var("dt_ratio", np.array(dt_ratios, float), "1",
                             "time step / stability limit (dem.simulate.stability_limit)"),
-            "damping": var("damping", np.array(damping_fractions, float), "1",
-                           "c_n / critical 2 sqrt(k_n width m) of the lightest free body"),
+            "damping": var("damping", np.array(damping_fractions, float), "1", damping_long_name(model)),
             "scene": var("scene", list(scenes), "1",
                          "scene kind: block 0.25 x 1 m free rocking from 0.5 atan(b/h); column of "
                          "8 drums 6 x 1 m; colonnade of 3 columns of 2 drums + epistyle (both harmonic)"),
         },
-        attrs={"source": code_version(), "energy_tolerance": ENERGY_TOLERANCE, "energy_floor": ENERGY_FLOOR,
+        attrs={"source": code_version(), "contact_model": model,
+               "contact_impact": "plastic (Housner's landing)" if model == "point" else "none",
+               "energy_tolerance": ENERGY_TOLERANCE, "energy_floor": ENERGY_FLOOR,
                "duration": duration, "sample_every": SAMPLE_EVERY, "harmonic": str(HARMONIC),
                "description": "short runs at dt = dt_ratio x stability limit; stable = finite and "
                               "energy_error < energy_tolerance (dem.bench.stability.energy_drift)"},
     )
     ds["dt_limit"] = var(per_scene, limit, "s", "stability limit (dem.simulate.stability_limit)")
-    ds["c_n"] = var(per_scene, c_n, "N s m-1", "normal (and tangential) contact dashpot")
+    if model == "point":
+        ds["zeta"] = var(per_scene, law_damping, "1", "damping ratio of each contact point (contact.damping)")
+    else:
+        ds["c_n"] = var(per_scene, law_damping, "N s m-1", "normal (and tangential) contact dashpot")
     ds["auto_dt_ratio"] = var((), 0.25, "1", "automatic dt / stability limit (solver.dt_safety default)")
     for name in ("stable", "finite"):
         ds[name] = ds[name].astype(np.int8)
@@ -279,7 +315,8 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
     """Automatic dt, stability limit and measured critical dt of one scene per study."""
     scenes = study_scenes() if scenes is None else scenes
     names = list(scenes)
-    rows = {k: np.full(len(names), np.nan) for k in ("dt_auto", "dt_limit", "dt_critical", "margin", "k_n", "c_n")}
+    rows = {k: np.full(len(names), np.nan)
+            for k in ("dt_auto", "dt_limit", "dt_critical", "margin", "k_n", "c_n", "zeta")}
     for i, name in enumerate(names):
         scene = scenes[name]
         dt, limit = choose_time_step(scene)
@@ -287,7 +324,9 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
         rows["dt_auto"][i], rows["dt_limit"][i] = dt, limit
         rows["dt_critical"][i] = ratio * limit
         rows["margin"][i] = ratio * limit / dt
-        rows["k_n"][i], rows["c_n"][i] = scene.contact.k_n, scene.contact.c_n
+        law = scene.contact
+        rows["k_n"][i] = law.k_n
+        rows["c_n" if law.model == "area" else "zeta"][i] = law.c_n if law.model == "area" else law.damping
         if progress:
             print(f"  auto dt {i + 1}/{len(names)} {name}: auto {dt:.3g} s, limit {limit:.3g} s, "
                   f"critical {ratio * limit:.3g} s ({runs} runs)", file=sys.stderr)
@@ -295,9 +334,13 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
             "dt_limit": ("s", "stability limit (dem.simulate.stability_limit)"),
             "dt_critical": ("s", "smallest measured dt whose short run is unstable (bisection on dt / limit)"),
             "margin": ("1", "dt_critical / dt_auto"),
-            "k_n": ("N m-2", "normal contact stiffness"), "c_n": ("N s m-1", "normal contact dashpot")}
+            "k_n": ("N m-2", "normal contact stiffness"),
+            "c_n": ("N s m-1", "normal contact dashpot (area law; NaN: point law)"),
+            "zeta": ("1", "damping ratio of each contact point (point law; NaN: area law)")}
+    models = [scenes[name].contact.model for name in names]
     return xr.Dataset(
-        {k: ("study", v, {"units": meta[k][0], "long_name": meta[k][1]}) for k, v in rows.items()},
+        {**{k: ("study", v, {"units": meta[k][0], "long_name": meta[k][1]}) for k, v in rows.items()},
+         "contact_model": ("study", models, {"units": "1", "long_name": "contact law of the study (point or area)"})},
         coords={"study": ("study", names, {"units": "1", "long_name": "study of config/config.yaml (its first case)"})},
         attrs={"source": code_version(), "energy_tolerance": ENERGY_TOLERANCE, "duration": DURATION,
                "description": "unstable = non-finite or energy_error >= energy_tolerance in a short "
@@ -322,15 +365,16 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
             kn, ratio = np.meshgrid(ds.k_n.values * shift, ds.dt_ratio.values, indexing="ij")
             ok = sub.stable.values.astype(bool)
             color = f"C{d}"
+            what = "zeta" if ds.attrs.get("contact_model", "area") == "point" else "c / crit"
             ax.scatter(kn[ok], ratio[ok], marker="o", facecolors="none", edgecolors=color, s=22,
-                       label=f"stable, c = {frac:g} crit")
-            ax.scatter(kn[~ok], ratio[~ok], marker="x", color=color, s=22, label=f"unstable, c = {frac:g} crit")
+                       label=f"stable, {what} = {frac:g}")
+            ax.scatter(kn[~ok], ratio[~ok], marker="x", color=color, s=22, label=f"unstable, {what} = {frac:g}")
         ax.axhline(float(ds.auto_dt_ratio), color="k", ls="--", lw=1, label="automatic dt")
         ax.axhline(1.0, color="0.5", ls=":", lw=1, label="stability limit")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("k_n [N m-2]")
-        ax.set_title(str(scene))
+        ax.set_title(f"{scene} ({ds.attrs.get('contact_model', 'area')} law)")
     axes[0][0].set_ylabel("dt / stability limit")
     axes[0][-1].legend(fontsize=6, loc="lower right", ncol=1)
     fig.tight_layout()
@@ -366,12 +410,15 @@ def main(argv=None) -> int:
     parser.add_argument("--duration", type=float, default=DURATION)
     parser.add_argument("--quick", action="store_true",
                         help="two stiffnesses, three step ratios, no damping sweep, three studies (CI)")
+    parser.add_argument("--model", choices=CONTACT_MODELS, default="point",
+                        help="contact law of the map (default: point; the "
+                             "auto-dt margins use each study's own law)")
     args = parser.parse_args(argv)
     if args.quick:
         ds = stability_map(k_n_values=(1e8, 1e10), dt_ratios=(0.25, 1.0, 2.0), damping_fractions=(0.05,),
-                           duration=0.2)
+                           duration=0.2, model=args.model)
     else:
-        ds = stability_map(duration=args.duration)
+        ds = stability_map(duration=args.duration, model=args.model)
     write_dataset(ds, Path(args.out) / "stability_map.nc")
     print(table(ds))
     plot_stability_map(ds, args.figure)

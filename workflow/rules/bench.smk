@@ -13,6 +13,7 @@ BENCH_OUTPUTS = {
         "results/figures/stability_map.png",
     ],
     "bench_skipping": ["results/bench/skipping.nc"],
+    "bench_restitution": ["results/bench/restitution.nc"],
 }
 
 
@@ -70,6 +71,24 @@ rule bench_skipping:
         "../envs/dem.yaml"
     script:
         "../scripts/bench.py"
+
+
+# energy ratio per impact of the study's columns under each contact law (README "Impact
+# loss"); quick: the monolith and the 2-drum column (~20 s), full: every column (~2 min)
+rule bench_restitution:
+    input:
+        "config/config.yaml",
+    output:
+        BENCH_OUTPUTS["bench_restitution"],
+    params:
+        quick="--quick" if BENCH_QUICK else "",
+    log:
+        "results/logs/bench/restitution.log",
+    conda:
+        "../envs/dem.yaml"
+    shell:
+        "NUMBA_NUM_THREADS=1 python -m dem.bench.restitution {params.quick} --config {input} "
+        "--out {output} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

@@ -15,6 +15,7 @@ a figure. ``dem validate`` runs them all and writes ``<out>/<name>.nc``, ``<name
 | two_blocks           | 5.1.6  | energy balance of two rocking blocks              | 1 %       |
 | energy_conservation  | 3.9    | total energy, c_n = 0, no slip, 10 s              | 0.5 %     |
 | pena_block           | 5.2.1  | rigid rocking equation, r of the first impact     | 2 %       |
+| one_sine_overturning | 5.1.5  | exact rigid block, one-sine pulse, same r         | 1 %       |
 
 Each dataset also carries what the thesis chapter-5 figures plot (histories, normalised
 quantities); :data:`dem.validation_plots.THESIS_FIGURES` draws them. :func:`write_result`
@@ -596,6 +597,261 @@ def energy_conservation(duration=10.0, k_n=1e9, contact=None):
                              "tolerance": tol}, error=final)
 
 
+# --- 5.1.5 one-sine pulses ---------------------------------------------------------------
+
+ONE_SINE_RATIOS = (1.5, 2.0, 3.0, 5.0, 8.0)  # omega_p / p
+ONE_SINE_BLOCKS = ((0.5, 2.0), (1.0, 6.0))  # width x height [m]
+ONE_SINE_K_N = 1.0e10  # area law: the study's normal stiffness [N m-2]
+ONE_SINE_DENSITY = 2700.0  # [kg m-3]
+ONE_SINE_MAP_RATIOS = tuple(float(x) for x in np.round(np.linspace(1.5, 8.0, 12), 4))
+ONE_SINE_MAP_AMPLITUDES = tuple(float(x) for x in np.round(np.geomspace(1.1, 25.0, 16), 4))
+ONE_SINE_FALLEN = 0.5 * math.pi - 0.05  # |rotation| [rad] at which the block lies on its side
+ONE_SINE_IMPACT_EPS = 0.005  # a side counts once |theta| > this x alpha (impact = change of side)
+ONE_SINE_FREE_TIME = 1.0  # free rocking run after the pulse, x 1/p (x 4, twice, if undecided)
+
+
+def one_sine_run(amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE_SINE_K_N, c_n=0.0,
+                 free_time=ONE_SINE_FREE_TIME):
+    """Engine run of one block under the one-sine pulse a_p sin(omega_p t), 0 <= t < 2 pi / omega_p.
+
+    ``amplitude`` is a_p / (g tan alpha), ``omega_ratio`` omega_p / p (the engine's
+    ``sine_pulse``: the pulse of :func:`dem.analytic.rigid_one_sine_response`, base at rest
+    at t = 0). Friction 10 (no sliding, as the rigid model), no stop at the engine's
+    collapse angle alpha (the pulse can bring a block back from beyond it), a base wide
+    enough to carry the fallen block; the run lasts the pulse plus ``free_time`` / p.
+    Returns (RunResult, pulse duration [s]).
+    """
+    blk = analytic.rectangle_rocking_properties(width, height, g=G)
+    omega_p = omega_ratio * blk.p
+    period = 2.0 * math.pi / omega_p
+    spec = block_scene(width, height, density=ONE_SINE_DENSITY, k_n=k_n, c_n=c_n,
+                       excitation={"kind": "sine_pulse", "accel": amplitude * G * math.tan(blk.alpha),
+                                   "frequency": omega_p / (2.0 * math.pi)},
+                       duration=period + free_time / blk.p, every=min(1e-3, period / 400.0),
+                       base_width=2.0 * (width + height) + 2.0, contact=contact)
+    return simulate(scene_from_dict(spec)), period
+
+
+def side_changes(theta, eps):
+    """Number of changes of side of a rotation history: impacts (|theta| <= eps is neither side)."""
+    s = np.sign(np.asarray(theta)[np.abs(theta) > eps])
+    return int(np.count_nonzero(s[1:] != s[:-1]))
+
+
+def one_sine_classify(time, theta, alpha, p, pulse_end):
+    """Fate of the engine's block from its rotation history: (overturned, mode, impacts).
+
+    Overturned once |theta| reaches ONE_SINE_FALLEN (the block lies on its side); mode
+    "impact" if the rotation changed side (an impact) before, else "no_impact"
+    (:data:`dem.analytic.ONE_SINE_MODES`). Otherwise, once the pulse is over (time >
+    ``pulse_end`` [s]) the block rocks freely and its last state decides by energy, as in
+    :func:`dem.analytic.rigid_one_sine_response`: per m g R, E = 1/2 (theta'/p)^2 +
+    cos(alpha - |theta|) has its crest at 1 (|theta| = alpha). Short of the crest, with an
+    energy below it (by more than 1 % of the climb 1 - cos alpha), the block can never fall
+    (free rocking only loses energy): mode "none"; above it (by as much) and moving
+    outwards, it falls without another impact; beyond the crest it falls unless it moves
+    back with an energy above the crest. Anything else (near the crest, or above it on the
+    way to an impact) is undecided: overturned is None, for a longer run to settle.
+    """
+    theta = np.nan_to_num(np.asarray(theta, dtype=float), nan=0.5 * math.pi)
+    fallen = np.flatnonzero(np.abs(theta) >= ONE_SINE_FALLEN)
+    end = int(fallen[0]) if len(fallen) else len(theta)
+    impacts = side_changes(theta[:end], ONE_SINE_IMPACT_EPS * alpha)
+    mode = "impact" if impacts else "no_impact"
+    if len(fallen):
+        return True, mode, impacts
+    if time[-3] <= pulse_end:
+        return None, mode, impacts
+    angle = abs(theta[-2])
+    rate = (theta[-1] - theta[-3]) / (time[-1] - time[-3])  # central, at time[-2]
+    energy = 0.5 * (rate / p) ** 2 + math.cos(alpha - min(angle, 0.5 * math.pi))
+    excess = (energy - 1.0) / (1.0 - math.cos(alpha))  # above the crest, per climb from rest
+    outwards = rate * theta[-2] > 0.0
+    if angle >= alpha:  # beyond the crest: falls unless it has the energy to come back over it
+        return (True, mode, impacts) if outwards or excess < -0.01 else (None, mode, impacts)
+    if excess < -0.01:
+        return False, "none", impacts
+    if excess > 0.01 and outwards:
+        return True, mode, impacts
+    return None, mode, impacts
+
+
+def one_sine_engine_outcome(amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE_SINE_K_N,
+                            c_n=0.0):
+    """(overturned, mode) of the engine's block under one one-sine pulse (:func:`one_sine_run`).
+
+    Run for the pulse and ONE_SINE_FREE_TIME / p; a run whose end leaves the fate undecided
+    (:func:`one_sine_classify`) is repeated with 4 and 16 times that free time; if still
+    undecided, the block is taken to overturn (its energy is at or above the crest).
+    """
+    blk = analytic.rectangle_rocking_properties(width, height, g=G)
+    free = ONE_SINE_FREE_TIME
+    for _ in range(3):
+        run, period = one_sine_run(amplitude, omega_ratio, width, height, contact=contact, k_n=k_n,
+                                   c_n=c_n, free_time=free)
+        over, mode, _ = one_sine_classify(run.time, run.theta[:, 1], blk.alpha, blk.p, period)
+        if over is not None:
+            return over, mode
+        free *= 4.0
+    return True, mode
+
+
+def engine_min_overturning(overturns, guess, step=1.01, rel_tol=1e-3, cap=50.0):
+    """Smallest amplitude a_p / (g tan alpha) for which ``overturns(amplitude)`` -> (bool, mode).
+
+    As :func:`dem.analytic.rigid_one_sine_min_overturning`, a hunt on a geometric grid then a
+    bisection, but started at 0.9 x ``guess`` (the exact threshold) to save runs: upwards by
+    ``step`` until the block overturns, or downwards until it does not (1, no uplift, is
+    safe); beyond 10 % from ``guess`` the hunt strides by step^4. Then bisection of (lo, hi]
+    to ``rel_tol``. Returns (the upper end of the bracket, inf if nothing up to ``cap``
+    overturns; mode there; number of runs).
+    """
+    runs = {}
+
+    def over(a):
+        if a not in runs:
+            runs[a] = overturns(a)
+        return runs[a]
+
+    lo = max(1.0, 0.9 * guess)
+    if lo > 1.0 and over(lo)[0]:
+        hi = lo
+        while True:
+            lo = max(1.0, hi / (step if hi > guess / 1.1 else step**4))
+            if lo == 1.0 or not over(lo)[0]:
+                break
+            hi = lo
+    else:
+        hi = lo
+        while True:
+            lo, hi = hi, hi * (step if hi < 1.1 * guess else step**4)
+            if hi > cap:
+                return math.inf, "none", len(runs)
+            if over(hi)[0]:
+                break
+    while hi - lo > rel_tol * hi:
+        mid = 0.5 * (lo + hi)
+        if over(mid)[0]:
+            hi = mid
+        else:
+            lo = mid
+    return hi, over(hi)[1], len(runs)
+
+
+MODE_FLAGS = {"flag_values": np.arange(len(analytic.ONE_SINE_MODES), dtype=np.int8),
+              "flag_meanings": " ".join(analytic.ONE_SINE_MODES)}
+
+
+def one_sine_overturning(omega_ratios=ONE_SINE_RATIOS, blocks=ONE_SINE_BLOCKS, contact=None,
+                         rel_tol=1e-3, k_n=ONE_SINE_K_N, map_block=0,
+                         map_ratios=ONE_SINE_MAP_RATIOS, map_amplitudes=ONE_SINE_MAP_AMPLITUDES):
+    """Smallest overturning one-sine pulse vs the exact rigid block with the same restitution (5.1.5).
+
+    For each block and omega_p / p the engine's smallest overturning amplitude a_p / (g tan
+    alpha) (:func:`engine_min_overturning`, to ``rel_tol``) against the exact event-driven
+    rigid solution :func:`dem.analytic.rigid_one_sine_min_overturning` (1e-4), within 1 %.
+    The same restitution: the point law's plastic impact is Housner's, so its reference
+    takes Housner's r (the engine's r, measured on free rocking from alpha/2 over four
+    impacts, is stored); the area law (k_n) has its c_n calibrated per block to Housner's r
+    and its reference takes the engine's measured r. Also the overturning map (safe /
+    overturned after an impact / without one, :data:`dem.analytic.ONE_SINE_MODES`) of block
+    ``map_block`` on ``map_ratios`` x ``map_amplitudes`` (None: no map), engine and exact.
+    """
+    tol = 0.01
+    shape = (len(blocks), len(omega_ratios))
+    thr_engine, thr_exact = np.empty(shape), np.empty(shape)
+    mode_engine, mode_exact = np.zeros(shape, np.int8), np.zeros(shape, np.int8)
+    n_runs = np.zeros(shape, np.int64)
+    r_ref, r_measured, r_housner, c_ns, alphas, ps = [], [], [], [], [], []
+    for i, (w, h) in enumerate(blocks):
+        blk = analytic.rectangle_rocking_properties(w, h, g=G)
+        mass = ONE_SINE_DENSITY * w * h
+        r_h = analytic.housner_restitution(w, h)
+        c_n = (calibrate_restitution(r_h, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n)
+               if contact is None else float("nan"))
+        _, r_m, _ = measured_restitution(c_n, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n,
+                                         contact=contact)
+        r = r_m if contact is None else r_h
+        for values, value in ((r_ref, r), (r_measured, r_m), (r_housner, r_h), (c_ns, c_n),
+                              (alphas, blk.alpha), (ps, blk.p)):
+            values.append(value)
+        overturns = partial(one_sine_engine_outcome, width=w, height=h, contact=contact, k_n=k_n,
+                            c_n=0.0 if contact is not None else c_n)
+        for j, ratio in enumerate(omega_ratios):
+            exact = analytic.rigid_one_sine_min_overturning(ratio, w, h, r, g=G)
+            amp, mode, n = engine_min_overturning(partial(overturns, omega_ratio=ratio),
+                                                  exact.amplitude, rel_tol=rel_tol)
+            thr_exact[i, j], thr_engine[i, j], n_runs[i, j] = exact.amplitude, amp, n
+            mode_exact[i, j] = analytic.ONE_SINE_MODES.index(exact.mode)
+            mode_engine[i, j] = analytic.ONE_SINE_MODES.index(mode)
+    err = thr_engine / thr_exact - 1.0
+    labels = [f"{w:g} x {h:g} m" for w, h in blocks]
+    data = {
+        "threshold_engine": (("block", "omega_ratio"), thr_engine,
+                             _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), engine")),
+        "threshold_exact": (("block", "omega_ratio"), thr_exact,
+                            _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), exact rigid block")),
+        "relative_error": (("block", "omega_ratio"), err, _attrs("1", "engine / exact - 1")),
+        "mode_engine": (("block", "omega_ratio"), mode_engine,
+                        {**_attrs("1", "overturning mode at the threshold, engine"), **MODE_FLAGS}),
+        "mode_exact": (("block", "omega_ratio"), mode_exact,
+                       {**_attrs("1", "overturning mode at the threshold, exact rigid block"), **MODE_FLAGS}),
+        "engine_runs": (("block", "omega_ratio"), n_runs, _attrs("1", "engine runs of the hunt and bisection")),
+        "restitution": ("block", r_ref, _attrs("1", "kinetic energy ratio per impact r of the exact rigid block")),
+        "restitution_engine": ("block", r_measured,
+                               _attrs("1", "engine's energy ratio per impact, free rocking from alpha/2, 4 impacts")),
+        "restitution_housner": ("block", r_housner, _attrs("1", "Housner's r = (1 - 3/2 sin^2 alpha)^2")),
+        "calibrated_c_n": ("block", c_ns, _attrs("N s m-1", "area law c_n calibrated to Housner's r (NaN: point law)")),
+        "alpha": ("block", alphas, _attrs("rad", "slenderness angle atan(b/h)")),
+        "p": ("block", ps, _attrs("rad s-1", "rocking frequency parameter p = sqrt(W R / I_O)")),
+    }
+    coords = {"block": ("block", labels, _attrs("1", "block width x height")),
+              "width": ("block", [w for w, _ in blocks], _attrs("m", "block width")),
+              "height": ("block", [h for _, h in blocks], _attrs("m", "block height")),
+              "omega_ratio": ("omega_ratio", np.array(omega_ratios, dtype=float),
+                              _attrs("1", "pulse circular frequency over the block's p, omega_p / p"))}
+    agreement = float("nan")
+    if map_block is not None:
+        w, h = blocks[map_block]
+        c_n = 0.0 if contact is not None else c_ns[map_block]
+        exact_map = analytic.rigid_one_sine_spectrum(map_ratios, w, h, r_ref[map_block], map_amplitudes,
+                                                     g=G)
+        engine_map = np.zeros_like(exact_map.mode)
+        for i, ratio in enumerate(map_ratios):
+            for j, amp in enumerate(map_amplitudes):
+                _, mode = one_sine_engine_outcome(amp, ratio, w, h, contact=contact, k_n=k_n, c_n=c_n)
+                engine_map[i, j] = analytic.ONE_SINE_MODES.index(mode)
+        agreement = float(np.mean(engine_map == exact_map.mode))
+        data["map_engine"] = (("map_omega_ratio", "amplitude"), engine_map,
+                              {**_attrs("1", f"overturning mode of the {labels[map_block]} block, engine"),
+                               **MODE_FLAGS})
+        data["map_exact"] = (("map_omega_ratio", "amplitude"), exact_map.mode,
+                             {**_attrs("1", f"overturning mode of the {labels[map_block]} block, exact rigid block"),
+                              **MODE_FLAGS})
+        coords["map_omega_ratio"] = ("map_omega_ratio", np.array(map_ratios, dtype=float),
+                                     _attrs("1", "omega_p / p of the overturning map"))
+        coords["amplitude"] = ("amplitude", np.array(map_amplitudes, dtype=float),
+                               _attrs("1", "pulse amplitude a_p / (g tan alpha) of the overturning map"))
+    if contact is None:
+        reference = "exact rigid block with the engine's measured r (area law, c_n calibrated to Housner's r)"
+    else:
+        reference = "exact rigid block with Housner's r (the point law's plastic impact)"
+    ds = xr.Dataset(data, coords=coords, attrs={
+        "tolerance": tol, **contact_attrs(contact, k_n=k_n, c_n="calibrated per block: calibrated_c_n"),
+        "friction": 10.0, "density": ONE_SINE_DENSITY, "restitution_reference": reference,
+        "pulse": "a_g = a_p sin(omega_p t) for 0 <= t < 2 pi / omega_p (sine_pulse), block at rest at t = 0",
+        "threshold_rel_tol_engine": rel_tol, "threshold_rel_tol_exact": 1e-4, "hunt_step": 1.01,
+        "map_block": labels[map_block] if map_block is not None else "none", "map_agreement": agreement,
+        "impact": f"a change of side of the rotation (|theta| > {ONE_SINE_IMPACT_EPS:g} alpha) before it falls"})
+    worst = float(np.abs(err).max())
+    i, j = np.unravel_index(int(np.argmax(np.abs(err))), err.shape)
+    return ValidationResult(variant_name("one_sine_overturning", contact), ds, worst <= tol,
+                            {"max_abs_error": worst, "worst_omega_ratio": float(omega_ratios[j]),
+                             "worst_block_height": float(blocks[i][1]),
+                             "modes_differ": int(np.sum(mode_engine != mode_exact)),
+                             "map_agreement": agreement, "tolerance": tol}, error=worst)
+
+
 # --- 5.2.1 -------------------------------------------------------------------------------
 
 PENA_BLOCK = {"width": 0.25, "height": 1.0, "mass": 503.0, "theta0": 0.05236}  # thesis 5.2.1 (Pena et al. granite)
@@ -715,6 +971,7 @@ THESIS_5_1 = {
     "record_rocking": record_rocking,
     "two_blocks": two_blocks,
     "energy_conservation": energy_conservation,
+    "one_sine_overturning": one_sine_overturning,
 }
 # each thesis 5.1 validation with the thesis' overlap-area law (its own name) and with the
 # engine's default point law (name_point); the Pena block (5.2.1) checks the thesis' c_n

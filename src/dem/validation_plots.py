@@ -107,6 +107,69 @@ def _energy(ds, ax):
     ax.set_ylabel("energy change / rocking energy [%]")
 
 
+MODE_COLOURS = ("#f2f2f2", "#f4a259", "#bc4b51")  # safe, overturned after an impact, without one
+
+
+def _mode_map(ax, ds, name, title):
+    """One overturning map (mode codes of dem.analytic.ONE_SINE_MODES) as coloured cells."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    codes = ds[name]
+    ax.pcolormesh(ds.map_omega_ratio, ds.amplitude, codes.T, shading="nearest",
+                  cmap=ListedColormap(MODE_COLOURS), norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3))
+    _log_amplitude_axis(ax)
+    ax.set_xlabel(label(ds.map_omega_ratio))
+    ax.set_title(title, fontsize=8)
+
+
+def _log_amplitude_axis(ax):
+    from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
+
+    ax.set_yscale("log")
+    ax.yaxis.set_major_locator(FixedLocator([1, 1.5, 2, 3, 5, 8, 12, 20, 30]))
+    ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.yaxis.set_minor_locator(NullLocator())
+
+
+def _one_sine(ds, ax):
+    """Thresholds (engine markers over the exact line, both blocks) and the maps, exact and engine."""
+    from matplotlib.patches import Patch
+
+    fig = ax.figure
+    fig.set_size_inches(13, 4.6)
+    grid = fig.add_gridspec(1, 3, width_ratios=[1.2, 1, 1])
+    ax.set_subplotspec(grid[0])  # ax (whose title plot() sets) takes the curves, the maps beside it
+    curves = ax
+    for i, block in enumerate(ds.block.values):
+        r = float(ds.restitution[i])
+        line, = curves.plot(ds.omega_ratio, ds.threshold_exact[i], "-", label=f"{block}: exact rigid, r = {r:.4f}")
+        curves.plot(ds.omega_ratio, ds.threshold_engine[i], "o", color=line.get_color(),
+                    label=f"{block}: engine (worst {100 * float(np.abs(ds.relative_error[i]).max()):.2g} %)")
+    _log_amplitude_axis(curves)
+    curves.set_xlabel(label(ds.omega_ratio))
+    curves.set_ylabel("smallest overturning a_p / (g tan alpha) [1]")
+    curves.legend(fontsize=7)
+    if "map_engine" not in ds:
+        return
+    exact_ax = fig.add_subplot(grid[1])
+    engine_ax = fig.add_subplot(grid[2], sharex=exact_ax, sharey=exact_ax)
+    _mode_map(exact_ax, ds, "map_exact", f"exact rigid block, {ds.attrs['map_block']}")
+    _mode_map(engine_ax, ds, "map_engine", f"engine, {ds.attrs['map_block']}: "
+              f"{100 * ds.attrs['map_agreement']:.0f} % of cells agree (x: differ)")
+    differ = (ds.map_engine != ds.map_exact).values
+    rr, aa = np.meshgrid(ds.map_omega_ratio.values, ds.amplitude.values, indexing="ij")
+    engine_ax.plot(rr[differ], aa[differ], "x", color="k", ms=5)
+    i = list(ds.block.values).index(ds.attrs["map_block"]) if ds.attrs["map_block"] in ds.block.values else None
+    if i is not None:
+        for a in (exact_ax, engine_ax):
+            a.plot(ds.omega_ratio, ds.threshold_exact[i], "-", color="k", lw=0.8)
+            a.plot(ds.omega_ratio, ds.threshold_engine[i], "o", color="k", mfc="none", ms=4)
+    exact_ax.set_ylabel(f"pulse amplitude a_p / (g tan alpha) [{ds.amplitude.attrs['units']}]")
+    names = ("safe", "overturns after an impact", "overturns without impact")
+    engine_ax.legend(handles=[Patch(color=c, label=n) for c, n in zip(MODE_COLOURS, names)],
+                     fontsize=7, loc="lower right")
+
+
 DRAWERS = {
     "housner_period": _housner,
     "impact_restitution": _impact,
@@ -115,6 +178,7 @@ DRAWERS = {
     "record_rocking": _rocking,
     "two_blocks": _two_blocks,
     "energy_conservation": _energy,
+    "one_sine_overturning": _one_sine,
 }
 
 

@@ -1,6 +1,7 @@
 """Run one scene: pack it into kernel arrays, choose or check dt, call the compiled loop, write.
 
-Python sets up (:func:`pack_scene`, :func:`stability_limit`), Numba runs
+Python sets up (:func:`pack_scene`, :func:`stability_limit`) and bundles the kernel's inputs
+(:func:`kernel_model` and the other named tuples of :mod:`dem.kernels.step`), Numba runs
 (:func:`dem.kernels.step.run`, called in a few chunks so long runs can show progress), and
 Python turns the samples into a self-describing dataset (:mod:`dem.dataset`).
 """
@@ -17,7 +18,7 @@ import numpy as np
 from dem import geometry
 from dem.errors import InputError
 from dem.kernels import step
-from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
+from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 from dem.scene import Scene, box_pairs, initial_pose, posed_vertices
 
@@ -123,6 +124,29 @@ def pack_scene(scene: Scene) -> SceneArrays:
         init_vx=init[:, 3].copy(), init_vy=init[:, 4].copy(), init_omega=init[:, 5].copy(),
         sweep_axis=int(extent[1] >= extent[0]),
         margin=0.1 * float(free_sizes.min()),
+    )
+
+
+def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
+    """The read-only bundle :func:`dem.kernels.step.run` reads: arrays, contact law, gravity, base motion."""
+    law = scene.contact
+
+    def excitation(motion):
+        return step.Excitation(kind=int(motion.kind), params=motion.params, table_accel=motion.table_accel,
+                               table_vel=motion.table_vel, table_disp=motion.table_disp,
+                               table_dt=float(motion.table_dt))
+
+    return step.Model(
+        vert_start=arrays.vert_start, local_x=arrays.local_x, local_y=arrays.local_y,
+        body_mass=arrays.body_mass, body_inertia=arrays.body_inertia, body_driven=arrays.body_driven,
+        body_radius=arrays.body_radius, ref_x=arrays.ref_x, ref_y=arrays.ref_y, ref_theta=arrays.ref_theta,
+        pair_mu=arrays.pair_mu, body_group=arrays.body_group, group_theta_cr=arrays.group_theta_cr,
+        fall_depth=arrays.fall_depth, margin=arrays.margin, sweep_axis=arrays.sweep_axis,
+        gravity=scene.gravity,
+        law=step.Law(kind=CONTACT_MODELS[law.model], k_n=law.k_n, damping=contact_damping(law),
+                     impact=law.impact == "plastic", k_t=law.k_t, c_t=law.c_t,
+                     frame_rule=FRAME_RULES[law.frame]),
+        horizontal=excitation(scene.horizontal), vertical=excitation(scene.vertical),
     )
 
 
@@ -326,78 +350,70 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     if scene.dt is None:
         # round the automatic step down so samples fall exactly every output interval
         dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
-    arrays = a = pack_scene(scene)
+    arrays = pack_scene(scene)
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))
     n_out = n_steps // out_every + 2
     n_body = len(scene.bodies)
-    out_x = np.full((n_out, n_body), np.nan)
-    out_y = np.full((n_out, n_body), np.nan)
-    out_theta = np.full((n_out, n_body), np.nan)
-    out_energy = np.full((n_out, step.N_ENERGY), np.nan)
-    out_n_contact = np.zeros(n_out, dtype=np.int64)
-    out_step = np.zeros(n_out, dtype=np.int64)
+    model = kernel_model(scene, arrays)
+    settings = step.Settings(
+        dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=scene.stop_on_collapse,
+        rest_speed=REST_SPEED, rest_samples=max(1, int(math.ceil(REST_SECONDS / (out_every * dt)))),
+    )
+    state = step.State(
+        body_x=arrays.init_x.copy(), body_y=arrays.init_y.copy(), body_theta=arrays.init_theta.copy(),
+        body_vx=arrays.init_vx.copy(), body_vy=arrays.init_vy.copy(), body_omega=arrays.init_omega.copy(),
+        pair_ft=np.zeros((n_body, n_body)), pair_memory=np.zeros((n_body, n_body, N_MEMORY)),
+        energy_acc=np.zeros(N_ENERGY_ACC), rest_count=np.zeros(1, dtype=np.int64),
+    )
+    samples = step.Samples(
+        step=np.zeros(n_out, dtype=np.int64), x=np.full((n_out, n_body), np.nan),
+        y=np.full((n_out, n_body), np.nan), theta=np.full((n_out, n_body), np.nan),
+        energy=np.full((n_out, step.N_ENERGY), np.nan), n_contact=np.zeros(n_out, dtype=np.int64),
+    )
     n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
-    bx, by, bth = arrays.init_x.copy(), arrays.init_y.copy(), arrays.init_theta.copy()
-    bvx, bvy, bom = arrays.init_vx.copy(), arrays.init_vy.copy(), arrays.init_omega.copy()
-    pair_ft = np.zeros((n_body, n_body))
-    pair_memory = np.zeros((n_body, n_body, N_MEMORY))
-    energy_acc = np.zeros(N_ENERGY_ACC)
     h, v = scene.horizontal, scene.vertical
-    rest_samples = max(1, int(math.ceil(REST_SECONDS / (out_every * dt))))
-    state = {"n_sample": 0, "collapse": -1, "wall": 0.0, "steps": 0}
+    tally = {"n_sample": 0, "collapse": -1, "wall": 0.0, "steps": 0}
 
     def integrate(n_start, n_stop, step_first, rest_from, n_chunks):
         """Compiled loop over steps n_start..n_stop-1 in chunks; returns its status."""
-        rest_count = np.zeros(1, dtype=np.int64)
+        state.rest_count[0] = 0
         bounds = np.linspace(n_start, n_stop, max(1, n_chunks) + 1).astype(np.int64)
         status = step.STATUS_OK
         for k in range(len(bounds) - 1):
             start = wallclock.perf_counter()
-            status, state["n_sample"], state["collapse"] = step.run(
-                a.vert_start, a.local_x, a.local_y, a.body_mass, a.body_inertia, a.body_driven,
-                a.body_radius, a.ref_x, a.ref_y, a.ref_theta, a.pair_mu,
-                CONTACT_MODELS[scene.contact.model], scene.contact.k_n, contact_damping(scene.contact),
-                scene.contact.impact == "plastic",
-                scene.contact.k_t, scene.contact.c_t,
-                FRAME_RULES[scene.contact.frame], scene.gravity, a.body_group, a.group_theta_cr, a.fall_depth,
-                h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt,
-                v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt,
-                dt, int(bounds[k]), int(bounds[k + 1]), n_steps, out_every, a.margin, a.sweep_axis,
-                scene.stop_on_collapse, step_first, rest_from, REST_SPEED, rest_samples, rest_count,
-                bx, by, bth, bvx, bvy, bom, pair_ft, pair_memory, energy_acc,
-                out_step, out_x, out_y, out_theta, out_energy, out_n_contact,
-                state["n_sample"], state["collapse"],
+            status, tally["n_sample"], tally["collapse"] = step.run(
+                model, settings, state, samples, int(bounds[k]), int(bounds[k + 1]),
+                step_first, rest_from, tally["n_sample"], tally["collapse"],
             )
-            state["wall"] += wallclock.perf_counter() - start
+            tally["wall"] += wallclock.perf_counter() - start
             # steps integrated: up to the sample that stopped the run, else the chunk's end
             # (step n_steps is sampled, not integrated)
             if status != step.STATUS_OK:
-                end = int(out_step[state["n_sample"] - 1])
+                end = int(samples.step[tally["n_sample"] - 1])
             else:
                 end = min(int(bounds[k + 1]), n_steps)
-            state["steps"] += end - int(bounds[k])
+            tally["steps"] += end - int(bounds[k])
             if progress:
                 print(f"\r  t = {bounds[k + 1] * dt:8.3f} s of {n_steps * dt:.3f} s  "
-                      f"wall {state['wall']:7.1f} s", end="", file=sys.stderr)
+                      f"wall {tally['wall']:7.1f} s", end="", file=sys.stderr)
             if status != step.STATUS_OK:
                 break
         return status
 
     def carry_to(n_to, including=False):
         """Fill the samples after the last one up to step n_to (``including`` it), carried by the base."""
-        k = state["n_sample"] - 1
-        last = int(out_step[k])
+        k = tally["n_sample"] - 1
+        last = int(samples.step[k])
         steps = list(range(last + out_every, n_to, out_every)) + ([n_to] if including and n_to > last else [])
         if steps:
-            m = len(steps)
-            out_step[k + 1: k + 1 + m] = steps
-            filled = rigid_motion(scene, arrays, np.array(steps) * dt, last * dt, out_x[k], out_y[k],
-                                  out_theta[k], out_energy[k])
-            out_x[k + 1: k + 1 + m], out_y[k + 1: k + 1 + m], out_theta[k + 1: k + 1 + m] = filled[:3]
-            out_energy[k + 1: k + 1 + m] = filled[3]
-            out_n_contact[k + 1: k + 1 + m] = out_n_contact[k]
-            state["n_sample"] += m
+            fill = slice(k + 1, k + 1 + len(steps))
+            samples.step[fill] = steps
+            filled = rigid_motion(scene, arrays, np.array(steps) * dt, last * dt, samples.x[k], samples.y[k],
+                                  samples.theta[k], samples.energy[k])
+            samples.x[fill], samples.y[fill], samples.theta[fill], samples.energy[fill] = filled
+            samples.n_contact[fill] = samples.n_contact[k]
+            tally["n_sample"] += len(steps)
         return k, last
 
     n_start, step_first, quiet_lead = 0, 0, 0.0
@@ -411,14 +427,14 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
             # contacts' memory (in their own frames) and the dissipated energy are kept
             free = ~arrays.body_driven
             x, y, th, energy = rigid_motion(scene, arrays, np.array([n_first * dt]), last * dt,
-                                            out_x[k], out_y[k], out_theta[k], out_energy[k])
-            bx[free], by[free], bth[free] = x[0, free], y[0, free], th[0, free]
+                                            samples.x[k], samples.y[k], samples.theta[k], samples.energy[k])
+            state.body_x[free], state.body_y[free] = x[0, free], y[0, free]
+            state.body_theta[free] = th[0, free]
             _, v_h, _ = h.evaluate(np.array([n_first * dt]))
             _, v_v, _ = v.evaluate(np.array([n_first * dt]))
-            bvx[free], bvy[free], bom[free] = v_h[0], v_v[0], 0.0
-            energy_acc[E_DAMPING] = energy[0, step.ENERGY_DAMPING]
-            energy_acc[E_TANGENTIAL] = energy[0, step.ENERGY_TANGENTIAL]
-            energy_acc[E_BASE_WORK] = energy[0, step.ENERGY_BASE_WORK]
+            state.body_vx[free], state.body_vy[free], state.body_omega[free] = v_h[0], v_v[0], 0.0
+            # the accumulators are the accumulated energy columns (step.ENERGY_ACCUMULATED on)
+            state.energy_acc[:] = energy[0, step.ENERGY_ACCUMULATED:]
             n_start, step_first = n_first, n_first
             quiet_lead = (n_first - last) * dt
             status = step.STATUS_OK
@@ -435,13 +451,13 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
         _, last = carry_to(n_steps, including=True)  # the kernel samples the last step too
         rest_time = last * dt
         status = step.STATUS_OK
-    n_sample = state["n_sample"]
+    n_sample = tally["n_sample"]
     return RunResult(
-        time=out_step[:n_sample] * dt, x=out_x[:n_sample], y=out_y[:n_sample],
-        theta=out_theta[:n_sample], energy=out_energy[:n_sample],
-        n_contact=out_n_contact[:n_sample], status=int(status),
-        collapse_sample=int(state["collapse"]), dt=dt, dt_limit=limit, out_every=out_every,
-        n_steps=n_steps, steps_run=int(state["steps"]), wall_seconds=state["wall"],
+        time=samples.step[:n_sample] * dt, x=samples.x[:n_sample], y=samples.y[:n_sample],
+        theta=samples.theta[:n_sample], energy=samples.energy[:n_sample],
+        n_contact=samples.n_contact[:n_sample], status=int(status),
+        collapse_sample=int(tally["collapse"]), dt=dt, dt_limit=limit, out_every=out_every,
+        n_steps=n_steps, steps_run=int(tally["steps"]), wall_seconds=tally["wall"],
         quiet_lead=quiet_lead, rest_time=rest_time,
     )
 

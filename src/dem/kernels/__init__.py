@@ -1,10 +1,16 @@
 """Numba-compiled physics kernels of the 2D rigid-block engine (thesis chapter 3).
 
 Everything here is ``@njit(cache=True)`` with fastmath off (reassociation would break
-determinism and the energy balance). Kernels take flat structure-of-arrays inputs, never
-allocate per step, never print and never raise for physics: they return status codes
-that :mod:`dem.simulate` turns into one-line errors. Only :mod:`dem.simulate` imports
-:mod:`dem.kernels.step`.
+determinism and the energy balance). Kernels take structure-of-arrays inputs (flat arrays;
+the time loop :func:`dem.kernels.step.run` takes named tuples of them), never allocate per
+step, never print and never raise for physics: they return status codes that
+:mod:`dem.simulate` turns into one-line errors.
+
+Who imports what: :mod:`dem.simulate` is the only caller of :func:`dem.kernels.step.run`;
+:mod:`dem.dataset`, :mod:`dem.validation` and benchmarks of :mod:`dem.bench` read its
+ENERGY_* columns and STATUS_* codes. Outside the time loop, :mod:`dem.ground_motion`
+evaluates base motion with :mod:`dem.kernels.excitation`, and :mod:`dem.scene` and
+benchmarks of :mod:`dem.bench` call the broad phase and overlap kernels directly.
 
 Numba checks a cached function against its own source file only, so a cached time loop
 would keep running an old copy of a changed kernel it calls. The cache therefore lives in

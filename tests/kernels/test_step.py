@@ -1,0 +1,127 @@
+"""The staged time loop (dem.kernels.step): its bundles, energy columns and stage functions."""
+
+import numpy as np
+import pytest
+
+from dem.kernels import step
+from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
+from dem.kernels.excitation import KIND_NONE
+from dem.kernels.overlap import FRAME_BOUNDARY
+
+G = 9.81
+
+
+def test_accumulated_energy_columns_are_the_accumulator_slots():
+    assert (step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL, step.ENERGY_BASE_WORK) == tuple(
+        step.ENERGY_ACCUMULATED + slot for slot in (E_DAMPING, E_TANGENTIAL, E_BASE_WORK))
+    columns = [step.ENERGY_KINETIC, step.ENERGY_POTENTIAL, step.ENERGY_ELASTIC,
+               step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL, step.ENERGY_BASE_WORK]
+    assert sorted(columns) == list(range(step.N_ENERGY))
+    assert step.N_ENERGY == step.ENERGY_ACCUMULATED + N_ENERGY_ACC
+
+
+def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
+    """One free 1 x 1 m box of 1 kg in flight, nothing to touch: (model, settings, state, samples)."""
+    still = step.Excitation(kind=KIND_NONE, params=np.zeros(4), table_accel=np.zeros(1),
+                            table_vel=np.zeros(1), table_disp=np.zeros(1), table_dt=1.0)
+    model = step.Model(
+        vert_start=np.array([0, 4]), local_x=np.array([-0.5, 0.5, 0.5, -0.5]),
+        local_y=np.array([-0.5, -0.5, 0.5, 0.5]), body_mass=np.ones(1), body_inertia=np.full(1, 1 / 6),
+        body_driven=np.zeros(1, dtype=np.bool_), body_radius=np.full(1, np.sqrt(0.5)),
+        ref_x=np.zeros(1), ref_y=np.zeros(1), ref_theta=np.zeros(1), pair_mu=np.full((1, 1), 0.5),
+        body_group=np.zeros(1, dtype=np.int64), group_theta_cr=np.full(1, np.pi / 4),
+        fall_depth=np.full(1, 1e9), margin=0.1, sweep_axis=1, gravity=G,
+        law=step.Law(kind=step.CONTACT_AREA, k_n=1e8, damping=0.0, impact=False, k_t=1e6, c_t=0.0,
+                     frame_rule=FRAME_BOUNDARY),
+        horizontal=still, vertical=still,
+    )
+    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=False,
+                             rest_speed=1e-3, rest_samples=1)
+    state = step.State(
+        body_x=np.zeros(1), body_y=np.zeros(1), body_theta=np.zeros(1),
+        body_vx=np.array([v0[0]]), body_vy=np.array([v0[1]]), body_omega=np.array([v0[2]]),
+        pair_ft=np.zeros((1, 1)), pair_memory=np.zeros((1, 1, N_MEMORY)), energy_acc=np.zeros(N_ENERGY_ACC),
+        rest_count=np.zeros(1, dtype=np.int64),
+    )
+    n_out = n_steps // out_every + 2
+    samples = step.Samples(step=np.zeros(n_out, dtype=np.int64), x=np.zeros((n_out, 1)),
+                           y=np.zeros((n_out, 1)), theta=np.zeros((n_out, 1)),
+                           energy=np.zeros((n_out, step.N_ENERGY)), n_contact=np.zeros(n_out, dtype=np.int64))
+    return model, settings, state, samples
+
+
+def test_run_flies_a_free_box_exactly_and_samples_every_out_every_steps():
+    n_steps, dt = 1000, 1e-3
+    model, settings, state, samples = box_bundles(n_steps, dt)
+    status, n_sample, collapse_sample = step.run(model, settings, state, samples, 0, n_steps + 1, 0,
+                                                 n_steps + 1, 0, -1)
+    assert (status, n_sample, collapse_sample) == (step.STATUS_OK, 101, -1)
+    t = samples.step[:n_sample] * dt
+    assert np.array_equal(samples.step[:n_sample], np.arange(0, n_steps + 1, 10))
+    # leapfrog is exact under a constant force
+    assert np.allclose(samples.x[:n_sample, 0], t, rtol=1e-12, atol=1e-12)
+    assert np.allclose(samples.y[:n_sample, 0], 2.0 * t - 0.5 * G * t**2, rtol=1e-10, atol=1e-12)
+    assert np.allclose(samples.theta[:n_sample, 0], 0.5 * t, rtol=1e-12, atol=1e-12)
+    # kinetic + potential energy from the velocities at t_n is constant; nothing else moves
+    e = samples.energy[:n_sample]
+    total = e[:, step.ENERGY_KINETIC] + e[:, step.ENERGY_POTENTIAL]
+    assert np.allclose(total, total[0], rtol=1e-12, atol=1e-9)
+    assert not e[:, step.ENERGY_ELASTIC:].any() and not samples.n_contact[:n_sample].any()
+
+
+def test_run_split_into_calls_equals_one_call():
+    n_steps, dt = 1000, 1e-3
+    whole = box_bundles(n_steps, dt)
+    step.run(*whole, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+    parts = box_bundles(n_steps, dt)
+    n_sample, collapse_sample = 0, -1
+    for start, stop in ((0, 333), (333, 700), (700, n_steps + 1)):
+        _, n_sample, collapse_sample = step.run(*parts, start, stop, 0, n_steps + 1,
+                                                n_sample, collapse_sample)
+    for a, b in zip(whole[2] + whole[3], parts[2] + parts[3]):
+        assert np.array_equal(a, b)
+
+
+def test_run_stops_when_the_box_comes_to_rest_and_on_nan():
+    model, settings, state, samples = box_bundles(100, 1e-3, v0=(0.0, 0.0, 0.0))
+    # weightless and still: at rest at the first sample
+    model = model._replace(gravity=0.0)
+    assert step.run(model, settings, state, samples, 0, 101, 0, 0, 0, -1)[:2] == (step.STATUS_AT_REST, 1)
+    model, settings, state, samples = box_bundles(100, 1e-3, v0=(0.0, 0.0, np.nan))
+    assert step.run(model, settings, state, samples, 0, 101, 0, 101, 0, -1)[:2] == (step.STATUS_NONFINITE, 1)
+
+
+def test_collapsed_by_mean_rotation_of_a_group_or_by_a_fall():
+    model, _, state, _ = box_bundles(10, 1e-3)
+    work = step.allocate_work(model)
+    state.body_theta[0] = 0.9 * np.pi / 4
+    assert not step.collapsed(model, state, work, 0.0)
+    state.body_theta[0] = -1.1 * np.pi / 4
+    assert step.collapsed(model, state, work, 0.0)
+    state.body_theta[0] = 0.0
+    model = model._replace(fall_depth=np.full(1, 0.3))
+    assert not step.collapsed(model, state, work, -0.25), "the base went down with the box"
+    state.body_y[0] = -0.31
+    assert step.collapsed(model, state, work, 0.0)
+
+
+def test_resweep_once_moved_half_the_margin():
+    model, _, state, _ = box_bundles(10, 1e-3)
+    work = step.allocate_work(model)
+    step.sweep(model, state, work)
+    state.body_x[0] = 0.02
+    state.body_theta[0] = 0.02 / model.body_radius[0]
+    assert not step.needs_resweep(model, state, work), "0.04 m of 0.05 m"
+    state.body_y[0] = 0.011
+    assert step.needs_resweep(model, state, work)
+
+
+def test_power_booking_takes_the_base_work_from_the_driven_bodies_force():
+    model, _, state, _ = box_bundles(10, 1e-3)
+    work = step.allocate_work(model)
+    work.base_force_x[0], work.base_force_y[0] = 2.0, 3.0
+    step.book_power(work, 5.0, 7.0, 0.5, -1.0)
+    assert work.power[E_DAMPING] == 5.0 and work.power[E_TANGENTIAL] == 7.0
+    assert work.power[E_BASE_WORK] == pytest.approx(2.0 * 0.5 - 3.0)
+    step.book_energy(state, work, 0.1)
+    assert state.energy_acc == pytest.approx([0.5, 0.7, -0.2])

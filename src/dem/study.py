@@ -204,7 +204,8 @@ def _natural_duration(scene_spec: dict, base_dir) -> float:
 
 
 # case attributes a cube keeps when every case agrees on them
-SHARED_ATTRS = ("source", "study", "k_n", "c_n", "k_t", "c_t", "friction", "excitation", "contact_frame")
+SHARED_ATTRS = ("source", "study", "contact_model", "contact_law", "k_n", "c_n", "contact_damping",
+                "contact_impact", "k_t", "c_t", "friction", "excitation", "contact_frame")
 CUBE_VARIABLES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding",
                   "residual_total_sliding", "rocking_onset_time", "max_epistyle_displacement", "theta_cr")
 # time histories a cube keeps (NaN after a case stopped at collapse or ended)

@@ -114,7 +114,7 @@ def test_dataset_is_self_describing(small_table, tmp_path):
 def test_study_columns_and_contact_come_from_the_config():
     config = load_config(ROOT / "config" / "config.yaml")
     contact = rs.study_contact(config)
-    assert contact == {"model": "area", "k_n": 1.0e10, "c_n": 1.0e4}
+    assert contact == {"model": "point", "k_n": 1.0e10}
     columns = rs.study_columns(config)
     plain = sorted(c.n_drums for c in columns if c.capital is None)
     capped = sorted(c.n_drums for c in columns if c.capital)

@@ -39,7 +39,7 @@ from dem.kernels.overlap import clip_convex_polygons, contact_frame, polygon_are
 # energy accumulator slots
 E_DAMPING = 0  # normal dashpot dissipation [J]
 E_TANGENTIAL = 1  # friction slip + tangential dashpot dissipation [J]
-E_BASE_WORK = 2  # work done by driven bodies on the others [J] (booked by the time loop)
+E_BASE_WORK = 2  # work done by driven bodies on the others [J] (booked by the time loop and point_contact.plastic_impulse)
 N_ENERGY_ACC = 3
 
 # per-pair memory slots besides the elastic tangential force: the current step's forces
@@ -149,42 +149,6 @@ def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
 
 
 @njit(**JIT_OPTIONS)
-def overlap_contact(a, b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y, body_x, body_y,
-                    frame_rule, pair_ft, pair_memory, k_t, energy_acc, scratch):
-    """Narrow phase of pair (a, b): (area, cx, cy, n_over, nx, ny, tx, ty); area 0 if apart.
-
-    The overlap polygon is left in scratch[0], scratch[1]; a pair that has separated is
-    released (:func:`release_contact`).
-    """
-    if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
-        if pair_memory[a, b, MEM_ACTIVE] != 0.0:
-            release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
-        return 0.0, 0.0, 0.0, 0, 0.0, 1.0, 1.0, 0.0
-    sa = vert_start[a]
-    ea = vert_start[a + 1]
-    sb = vert_start[b]
-    eb = vert_start[b + 1]
-    out_x = scratch[0]
-    out_y = scratch[1]
-    n_over = clip_convex_polygons(world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-                                  out_x, out_y, scratch[2], scratch[3])
-    area = 0.0
-    cx = 0.0
-    cy = 0.0
-    if n_over >= 3:
-        area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
-    if area <= 0.0:
-        if pair_memory[a, b, MEM_ACTIVE] != 0.0:
-            release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
-        return 0.0, 0.0, 0.0, 0, 0.0, 1.0, 1.0, 0.0
-    nx, ny, tx, ty, _ = contact_frame(
-        out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-        body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
-    )
-    return area, cx, cy, n_over, nx, ny, tx, ty
-
-
-@njit(**JIT_OPTIONS)
 def set_damper(mem, k, px, py, nx, ny, force, f_t=0.0):
     """Record point force k of a pair on b at (px, py) [m]: normal dashpot force [N] along
     (nx, ny) and tangential force F_T [N] (b receives -F_T t), for :func:`contact_power`."""
@@ -264,8 +228,8 @@ def area_contact_forces(
     for p in range(pair_a.shape[0]):
         a = pair_a[p]
         b = pair_b[p]
-        # narrow phase written out here rather than called (overlap_contact): measured 1.6x
-        # slower per step as a call on an 8-drum column (LLVM does not inline it well)
+        # narrow phase: bounds, overlap polygon, area, frame; written out here (and in the
+        # point law) rather than called: as a call it made the step 1.6x slower (8-drum column)
         if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)

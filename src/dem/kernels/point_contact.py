@@ -35,8 +35,9 @@ from numba import njit
 from dem.kernels import JIT_OPTIONS
 from dem.kernels.contact import (
     E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_CX, MEM_CY, MEM_END, MEM_F_T, MEM_M_DAMP,
-    MEM_NX, MEM_NY, overlap_contact, push_pair, relative_velocity, set_damper, tangential_force,
+    MEM_NX, MEM_NY, push_pair, relative_velocity, release_contact, set_damper, tangential_force,
 )
+from dem.kernels.overlap import clip_convex_polygons, contact_frame, polygon_area_centroid
 
 # an end counts as shared by both bodies' vertices when they lie this close along the
 # tangent, relative to the contact length
@@ -176,14 +177,32 @@ def point_contact_forces(
     """
     n_contact = 0
     stored = 0.0
+    out_x = scratch[0]
+    out_y = scratch[1]
     for p in range(pair_a.shape[0]):
         a = pair_a[p]
         b = pair_b[p]
-        area, cx, cy, n_over, nx, ny, tx, ty = overlap_contact(
-            a, b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y, body_x, body_y,
-            frame_rule, pair_ft, pair_memory, k_t, energy_acc, scratch)
-        if area <= 0.0:
+        if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
+        sa = vert_start[a]
+        ea = vert_start[a + 1]
+        sb = vert_start[b]
+        eb = vert_start[b + 1]
+        n_over = clip_convex_polygons(world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+                                      out_x, out_y, scratch[2], scratch[3])
+        area = 0.0
+        if n_over >= 3:
+            area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
+        if area <= 0.0:
+            if pair_memory[a, b, MEM_ACTIVE] != 0.0:
+                release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
+            continue
+        nx, ny, tx, ty, _ = contact_frame(
+            out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
+            body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
+        )
         n_contact += 1
         sa = vert_start[a]
         na = vert_start[a + 1] - sa

@@ -1,4 +1,4 @@
-"""Point contacts at the vertices (``contact.model: point``; the default is still ``area``): UDEC-style.
+"""Point contacts at the vertices (``contact.model: point``, the default): UDEC-style.
 
 The overlap polygon (:mod:`dem.kernels.overlap`) only detects the contact and gives its
 frame; the force is carried by the two end points of the contact face, as in UDEC/3DEC's

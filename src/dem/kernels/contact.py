@@ -44,23 +44,19 @@ N_ENERGY_ACC = 3
 
 # per-pair memory slots besides the elastic tangential force: the current step's forces
 # and points, for booking dissipation with the velocities at t_n (contact_power). Both
-# laws book their dashpots as up to two point forces along their own normals plus a
-# moment; the tangential force acts at C along the frame's tangent.
+# laws book them as up to two point forces, each with its own normal, dashpot force and
+# tangential force, plus a dashpot moment (area law: dashpots at M, F_T at C; point law:
+# one per contact end).
 MEM_ACTIVE = 0  # 1 while the pair is in contact
-MEM_CX = 1  # point of the tangential force C [m]
-MEM_CY = 2
-MEM_NX = 3  # frame normal, from a to b (the tangent is n turned clockwise)
-MEM_NY = 4
-MEM_F_T = 5  # tangential force at C, F_T (b receives -F_T t) [N]
-MEM_M_DAMP = 6  # dashpot moment on b [N m]
-MEM_DAMPER = 7  # first of two point-force records: point x, y, normal x, y [m, m, 1, 1],
+MEM_M_DAMP = 1  # dashpot moment on b [N m]
+MEM_POINT_FORCE = 2  # first of two point-force records: point x, y, normal x, y [m, m, 1, 1],
 # normal dashpot force and tangential force F_T (b receives -F_T t, t = n turned clockwise) [N]
-DAMPER_SLOTS = 6
-N_DAMPERS = 2
+POINT_FORCE_SLOTS = 6
+N_POINT_FORCES = 2
 # point law only: per contact end, whether it touched at the last step, which vertex
 # carried it (body a: index + 1, body b: -(index + 1)), its plastic offset [m] and the
 # elastic part of its own tangential spring [N] (stiffness k_t / 2)
-MEM_END = MEM_DAMPER + N_DAMPERS * DAMPER_SLOTS
+MEM_END = MEM_POINT_FORCE + N_POINT_FORCES * POINT_FORCE_SLOTS
 END_SLOTS = 4
 END_FT = 3
 N_MEMORY = MEM_END + 2 * END_SLOTS
@@ -149,10 +145,10 @@ def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
 
 
 @njit(**JIT_OPTIONS)
-def set_damper(mem, k, px, py, nx, ny, force, f_t=0.0):
+def record_point_force(mem, k, px, py, nx, ny, force, f_t=0.0):
     """Record point force k of a pair on b at (px, py) [m]: normal dashpot force [N] along
     (nx, ny) and tangential force F_T [N] (b receives -F_T t), for :func:`contact_power`."""
-    base = MEM_DAMPER + k * DAMPER_SLOTS
+    base = MEM_POINT_FORCE + k * POINT_FORCE_SLOTS
     mem[base] = px
     mem[base + 1] = py
     mem[base + 2] = nx
@@ -284,14 +280,9 @@ def area_contact_forces(
         pair_ft[a, b] = ft_el
         mem = pair_memory[a, b]
         mem[MEM_ACTIVE] = 1.0
-        mem[MEM_CX] = cx
-        mem[MEM_CY] = cy
-        mem[MEM_NX] = nx
-        mem[MEM_NY] = ny
-        mem[MEM_F_T] = f_t
         mem[MEM_M_DAMP] = m_damp
-        set_damper(mem, 0, mx, my, nx, ny, f_damp)
-        set_damper(mem, 1, mx, my, nx, ny, 0.0)
+        record_point_force(mem, 0, mx, my, nx, ny, f_damp)
+        record_point_force(mem, 1, cx, cy, nx, ny, 0.0, f_t)
         if want_energy:
             stored += 0.5 * k_n * winkler_integral(out_x, out_y, n_over, tx, ty, nx, ny)
             stored += 0.5 * ft_el * ft_el / k_t
@@ -329,14 +320,9 @@ def contact_power(pair_a, pair_b, pair_memory, body_x, body_y, body_vx, body_vy,
         mem = pair_memory[a, b]
         if mem[MEM_ACTIVE] == 0.0:
             continue
-        nx = mem[MEM_NX]
-        ny = mem[MEM_NY]
-        _, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                   mem[MEM_CX], mem[MEM_CY], nx, ny, ny, -nx)
-        p_tan += mem[MEM_F_T] * v_t
         p_damp -= mem[MEM_M_DAMP] * (body_omega[b] - body_omega[a])
-        for k in range(N_DAMPERS):
-            base = MEM_DAMPER + k * DAMPER_SLOTS
+        for k in range(N_POINT_FORCES):
+            base = MEM_POINT_FORCE + k * POINT_FORCE_SLOTS
             force = mem[base + 4]
             f_t = mem[base + 5]
             if force != 0.0 or f_t != 0.0:

@@ -34,8 +34,8 @@ from numba import njit
 
 from dem.kernels import JIT_OPTIONS
 from dem.kernels.contact import (
-    E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_CX, MEM_CY, MEM_END, MEM_F_T, MEM_M_DAMP,
-    MEM_NX, MEM_NY, push_pair, relative_velocity, release_contact, set_damper, tangential_force,
+    E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_END, MEM_M_DAMP, push_pair,
+    record_point_force, relative_velocity, release_contact, tangential_force,
 )
 from dem.kernels.overlap import clip_convex_polygons, contact_frame, polygon_area_centroid
 
@@ -302,7 +302,7 @@ def point_contact_forces(
             f_t, ft_el = tangential_force(mem[slot + END_FT], pair_mu[a, b], f_end, v_t, k_end_t,
                                           c_end_t, dt, energy_acc)
             mem[slot + END_FT] = ft_el
-            set_damper(mem, n_end, px, py, enx, eny, f_damp, f_t)
+            record_point_force(mem, n_end, px, py, enx, eny, f_damp, f_t)
             n_end += 1
             # force on b: f_end n - F_T t with t = n turned clockwise
             push_pair(a, b, body_x, body_y, body_driven, px, py,
@@ -317,12 +317,7 @@ def point_contact_forces(
             push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_fallback * nx, f_fallback * ny,
                       force_x, force_y, torque, base_force_x, base_force_y)
         for k in range(n_end, 2):
-            set_damper(mem, k, 0.0, 0.0, nx, ny, 0.0, 0.0)
+            record_point_force(mem, k, 0.0, 0.0, nx, ny, 0.0, 0.0)
         mem[MEM_ACTIVE] = 1.0
-        mem[MEM_CX] = cx
-        mem[MEM_CY] = cy
-        mem[MEM_NX] = nx
-        mem[MEM_NY] = ny
-        mem[MEM_F_T] = 0.0
         mem[MEM_M_DAMP] = 0.0
     return n_contact, stored

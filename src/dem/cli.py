@@ -1,24 +1,51 @@
-"""Command line: ``dem run SCENE.yaml -o OUT.nc``, ``dem validate``, ``dem record info FILE``.
+"""Command line of dem: rigid-block simulations of ancient columns and masonry walls.
 
 Bad input prints one line, ``error: <field>: <problem>; <fix>``, exits with status 2 and
-leaves no output file behind (outputs are written atomically after the run).
+leaves no output file behind (outputs are written atomically after the run). SIGINT and
+SIGTERM stop any command within a second, exit 130 / 143 and leave no output
+(:mod:`dem.entry`).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
 import numpy as np
 
+import dem
 from dem import snapshots
+from dem.entry import check_output_path, guarded
 from dem.errors import InputError
+
+DESCRIPTION = "dem: rigid-block simulations of ancient columns, colonnades and masonry walls."
+EPILOG = """examples:
+  dem run scene.yaml -o out.nc        simulate one scene (format: README "Scene files")
+  dem validate --list                 the thesis 5.1 validations
+  dem record info athens_standin_kocaeli_arc000
+  dem wall config/walls/<case>.yaml -o wall.nc
+  dem snapshots out.nc                draw a run at six times
+  dem <command> --help                that command's options
+
+exit status: 0 done, 1 a validation failed, 2 bad input (one line names the field),
+130 / 143 stopped by SIGINT / SIGTERM (nothing written)."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (exit 2), like every other input error."""
+
+    def error(self, message):
+        self.exit(2, f"error: {self.prog}: {message}; see {self.prog} --help\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="dem", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser = Parser(prog="dem", description=DESCRIPTION, epilog=EPILOG,
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"dem {dem.__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="command",
+                                title="commands")
 
     run = sub.add_parser("run", help="simulate one scene file and write a NetCDF dataset")
     run.add_argument("scene", type=Path, help="scene YAML file (format: README)")
@@ -53,7 +80,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    try:
+
+    def command():
         if hasattr(args, "handler"):
             return args.handler(args)
         if args.command == "wall":
@@ -64,19 +92,39 @@ def main(argv: list[str] | None = None) -> int:
             return command_validate(args)
         if args.command == "record":
             return command_record_info(args)
-    except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
-    return 1
+        return 1
+
+    status = guarded(command)
+    from dem import atomic
+
+    if atomic.abandoned:
+        # a writer thread was interrupted mid-file (its temporary file is already gone):
+        # end now rather than wait for it at interpreter exit
+        sys.stderr.flush()
+        os._exit(status)
+    return status
+
+
+def scene_inputs(scene_path: Path, scene) -> list[Path]:
+    """The files a scene reads: itself and its record, if any (outputs must not overwrite them)."""
+    inputs = [scene_path]
+    for motion in (scene.horizontal, scene.vertical):
+        source = motion.description.get("path") or motion.description.get("file")
+        if source:
+            inputs.append(Path(str(source)))
+    return inputs
 
 
 def command_run(args) -> int:
     from dem.dataset import write_dataset
     from dem.scene import load_scene
-    from dem.simulate import run_scene
+    from dem.simulate import preflight, run_scene
 
+    check_output_path(args.output, "-o/--output", inputs=[args.scene], suffixes=(".nc", ".nc4"))
     scene = load_scene(args.scene, args.overrides)
-    ds = run_scene(scene, progress=not args.quiet and sys.stderr.isatty())
+    check_output_path(args.output, "-o/--output", inputs=scene_inputs(args.scene, scene))
+    preflight(scene)
+    ds = run_scene(scene, progress=not args.quiet)
     write_dataset(ds, args.output)
     if not args.quiet:
         print(f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "

@@ -81,8 +81,11 @@ def code_version() -> str:
     return f"dem {dem.__version__}"
 
 
-def scene_dataset(scene, result) -> xr.Dataset:
-    """Dataset of one simulated scene: histories, energies, response measures, provenance."""
+def scene_dataset(scene, result, checks: dict | None = None) -> xr.Dataset:
+    """Dataset of one simulated scene: histories, energies, response measures, provenance.
+
+    ``checks``: :func:`dem.simulate.run_checks` (computed here when not given); a penetrated
+    run is never reported as a collapse."""
     from dem import measures
     from dem.kernels import step
     from dem.simulate import pack_scene
@@ -113,7 +116,11 @@ def scene_dataset(scene, result) -> xr.Dataset:
     base_work = e[:, step.ENERGY_BASE_WORK]
     balance = kinetic + potential + elastic + diss_n + diss_t - base_work
     balance = balance - (kinetic[0] + elastic[0])
-    collapsed = result.collapse_sample >= 0
+    if checks is None:
+        from dem.simulate import run_checks
+
+        checks = run_checks(scene, result)
+    collapsed = result.collapse_sample >= 0 and checks["status"] != "penetrated"
     collapse_time = float(time[result.collapse_sample]) if collapsed else float("nan")
 
     def var(name, dims, data):
@@ -189,12 +196,24 @@ def scene_dataset(scene, result) -> xr.Dataset:
         "skip_quiet": int(scene.skip_quiet),
         "quiet_lead_skipped": result.quiet_lead, "quiet_lead_skipped_units": "s",
         "at_rest_from": result.rest_time, "at_rest_from_units": "s",
-        "status": ["completed", "stopped at collapse", "diverged"][result.status],
+        "status": checks["status"],
+        "energy_error": checks["energy_error"],
+        "energy_error_definition": "max |energy balance drift| / energy the run moves (dem.simulate.energy_drift)",
+        "energy_error_limit": _limit("ENERGY_TOLERANCE"),
+        "penetration": checks["penetration"],
+        "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
+        "penetration_limit": _limit("PENETRATION_LIMIT"),
         "wall_seconds": result.wall_seconds,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
         "contact_frame": law.frame,
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _limit(name: str) -> float:
+    import dem.simulate
+
+    return float(getattr(dem.simulate, name))
 
 
 def _numba_version() -> str:
@@ -203,14 +222,41 @@ def _numba_version() -> str:
     return numba.__version__
 
 
+CONVENTIONS = "CF-1.10"
+
+
+def _is_text(var) -> bool:
+    return var.dtype.kind in "OUS"
+
+
 def missing_metadata(ds: xr.Dataset) -> list[str]:
-    """Names of variables or coordinates lacking ``units`` or ``long_name`` (empty = self-describing)."""
+    """Names of variables or coordinates lacking ``long_name``, or ``units`` on a numeric
+    one (CF: text variables carry no units); empty = self-describing."""
     return [name for name in list(ds.data_vars) + list(ds.coords)
-            if not ds[name].attrs.get("units") or not ds[name].attrs.get("long_name")]
+            if not ds[name].attrs.get("long_name")
+            or (not _is_text(ds[name]) and not ds[name].attrs.get("units"))]
+
+
+def cf_conventions(ds: xr.Dataset) -> xr.Dataset:
+    """The dataset as CF-1.10 wants it: ``Conventions``, a ``time`` coordinate with
+    ``standard_name``/``axis``, no ``units`` on text variables (a copy; data shared)."""
+    ds = ds.copy()
+    ds.attrs["Conventions"] = CONVENTIONS
+    if "time" in ds.coords and ds["time"].dtype.kind == "f":
+        ds["time"].attrs.update(standard_name="time", axis="T")
+    for name in list(ds.data_vars) + list(ds.coords):
+        if _is_text(ds[name]) and ds[name].attrs.get("units") in ("1", ""):
+            ds[name].attrs = {k: v for k, v in ds[name].attrs.items() if k != "units"}
+    return ds
 
 
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write NetCDF atomically: to a temporary file beside ``path``, then rename over it."""
+    """Write NetCDF atomically (a temporary file beside ``path``, renamed over it), CF-1.10:
+    coordinates without a fill value, float data compressed."""
+    ds = cf_conventions(ds)
     encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
                 if v.dtype.kind == "f" and v.ndim > 0}
+    for name in ds.coords:
+        if ds[name].dtype.kind == "f":
+            encoding[name] = {"_FillValue": None}
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))

@@ -43,10 +43,60 @@ def _on_signal(signum, frame):
     raise Interrupted(signum)
 
 
-def install_signal_handlers() -> None:
-    """SIGINT and SIGTERM raise :class:`Interrupted` in the main thread."""
+# the main thread gets this long to act on a signal itself (exception, temporary files
+# removed on the way out) before the watchdog ends the process; a Python handler waits
+# for the interpreter, which a long C call (LLVM compiling the time loop) can hold ~1 s
+GRACE_SECONDS = 0.5
+
+
+def _watchdog(sock) -> None:
+    """Wake on every signal (written by C to the wakeup socket at once, whatever the main
+    thread is doing); if the process is still alive GRACE_SECONDS later, remove the
+    temporary files in progress and end it with 128 + signum."""
+    import time
+
+    from dem import atomic
+
+    while True:
+        try:
+            data = sock.recv(1)
+        except OSError:
+            return
+        if not data or data[0] not in (signal.SIGINT, signal.SIGTERM):
+            continue
+        time.sleep(GRACE_SECONDS)
+        atomic.remove_in_progress()
+        try:
+            os.write(2, b"interrupted\n")
+        finally:
+            os._exit(128 + data[0])
+
+
+def install_signal_handlers() -> Callable[[], None]:
+    """SIGINT and SIGTERM raise :class:`Interrupted` in the main thread, and a watchdog
+    thread makes sure the process ends within about a second even when the main thread is
+    inside a long C call. Returns a function that puts the previous handling back."""
+    import socket
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return lambda: None
+    previous = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
     signal.signal(signal.SIGINT, _on_signal)
     signal.signal(signal.SIGTERM, _on_signal)
+    read_end, write_end = socket.socketpair()
+    write_end.setblocking(False)
+    previous_fd = signal.set_wakeup_fd(write_end.fileno(), warn_on_full_buffer=False)
+    threading.Thread(target=_watchdog, args=(read_end,), name="dem-signal-watchdog", daemon=True).start()
+
+    def restore():
+        signal.set_wakeup_fd(previous_fd)
+        signal.signal(signal.SIGINT, previous[0])
+        signal.signal(signal.SIGTERM, previous[1])
+        write_end.close()
+        read_end.close()
+
+    return restore
 
 
 def interrupted() -> bool:
@@ -56,7 +106,7 @@ def interrupted() -> bool:
 
 def guarded(command: Callable[[], int]) -> int:
     """Run ``command`` with the shared exit conventions; returns the exit status."""
-    install_signal_handlers()
+    restore = install_signal_handlers()
     try:
         status = command()
         sys.stdout.flush()
@@ -75,6 +125,8 @@ def guarded(command: Callable[[], int]) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    finally:
+        restore()
 
 
 def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Path] = (),

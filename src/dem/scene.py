@@ -52,6 +52,12 @@ SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": "auto", "stop_on
 DT_SAFETY = {"area": 0.25, "point": 0.5}
 OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
+# a scene of more bodies is refused: the contact memory is n^2 x 20 doubles (160 MB at 1000)
+MAX_BODIES = 1000
+# masses outside this range are taken for a units mistake (a 1 mm pebble of stone is 1e-6 kg
+# per m of depth; 1e9 kg is a 400 000 m3 block); they would also make the step absurd
+MIN_MASS = 1e-6
+MAX_MASS = 1e9
 # bodies may touch at t = 0 but not overlap by more than this share of the smaller area
 INITIAL_OVERLAP_TOLERANCE = 1e-6
 
@@ -181,6 +187,26 @@ def _check_keys(mapping, allowed, where: str) -> None:
                              f"allowed keys: {', '.join(allowed)}")
 
 
+def _mapping(spec: dict, key: str, fix: str) -> dict:
+    """spec[key] as a (copied) mapping; absent or null: {}."""
+    value = spec.get(key)
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise InputError(key, f"expected a mapping, got {type(value).__name__} {value!r:.40}", fix)
+    return dict(value)
+
+
+def _is_auto(value) -> bool:
+    return value is None or (isinstance(value, str) and value == "auto")
+
+
+def _integer(value, field: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise InputError(field, f"expected an integer >= {minimum}, got {value!r}", f"give e.g. {minimum}")
+    return int(value)
+
+
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
     spec = copy.deepcopy(spec)
@@ -190,13 +216,19 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     gravity = check_number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
     friction = check_number(spec.get("friction", 0.5), "friction", nonnegative=True)
 
-    body_specs = list(spec.get("bodies") or [])
+    body_specs = spec.get("bodies") or []
+    if not isinstance(body_specs, list):
+        raise InputError("bodies", f"expected a list of bodies, got {type(body_specs).__name__}",
+                         "write bodies: [{name: block, box: {width: 1, height: 2}}, ...]")
     if "structure" in spec:
         from dem.structures import build_structure
 
-        body_specs = build_structure(dict(spec["structure"])) + body_specs
-    if not isinstance(body_specs, list) or not body_specs:
+        body_specs = build_structure(spec["structure"]) + body_specs
+    if not body_specs:
         raise InputError("bodies", "the scene has no bodies", "list bodies: or give a structure:")
+    if len(body_specs) > MAX_BODIES:
+        raise InputError("bodies", f"{len(body_specs)} bodies exceed the limit {MAX_BODIES}",
+                         "split the scene; contact memory grows as the square of the body count")
     bodies = tuple(_body(b, i, density, depth) for i, b in enumerate(body_specs))
     names = [b.name for b in bodies]
     for i, name in enumerate(names):
@@ -205,15 +237,12 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
-    contact_spec = spec.get("contact") or {}
-    if not isinstance(contact_spec, dict):
-        raise InputError("contact", "expected a mapping", "write contact: {model: point, k_n: 1.0e9}")
-    contact_spec = dict(contact_spec)
+    contact_spec = _mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e10}")
     _check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
     # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
     # for the thesis' law before the point law became the default keeps its meaning)
     model = contact_spec.get("model", "area" if "c_n" in contact_spec else CONTACT_DEFAULTS["model"])
-    if model not in CONTACT_MODELS:
+    if not isinstance(model, str) or model not in CONTACT_MODELS:
         raise InputError("contact.model", f"unknown contact model {model!r}",
                          "use point (vertex contacts, default) or area (thesis overlap area)")
     defaults = CONTACT_DEFAULTS[model]
@@ -230,35 +259,39 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
     frame = contact_spec.get("frame", "boundary")
-    if frame not in ("boundary", "thesis"):
+    if not isinstance(frame, str) or frame not in ("boundary", "thesis"):
         raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
     impact = contact_spec.get("impact", defaults.get("impact", "none"))
-    if impact not in ("plastic", "none"):
+    if not isinstance(impact, str) or impact not in ("plastic", "none"):
         raise InputError("contact.impact", f"unknown impact rule {impact!r}",
                          "use plastic (a landing point stops, Housner) or none (dashpots only)")
     contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model,
                          damping=damping, impact=impact)
 
     pair_friction = {}
-    for i, item in enumerate(spec.get("interface_friction") or []):
+    interface_friction = spec.get("interface_friction") or []
+    if not isinstance(interface_friction, list):
+        raise InputError("interface_friction", f"expected a list, got {type(interface_friction).__name__}",
+                         "write interface_friction: [{bodies: [a, b], mu: 0.6}]")
+    for i, item in enumerate(interface_friction):
         where = f"interface_friction[{i}]"
         _check_keys(item, ("bodies", "mu"), where)
         pair = item.get("bodies")
         if not isinstance(pair, list) or len(pair) != 2:
             raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
         for name in pair:
-            if name not in names:
+            if not isinstance(name, str) or name not in names:
                 raise InputError(f"{where}.bodies", f"no body named '{name}'",
                                  f"known bodies: {', '.join(names)}")
         pair_friction[tuple(sorted(pair))] = check_number(item.get("mu"), f"{where}.mu", nonnegative=True)
 
-    solver = {**SOLVER_DEFAULTS, **(spec.get("solver") or {})}
+    solver = {**SOLVER_DEFAULTS, **_mapping(spec, "solver", "write solver: {duration: 10}")}
     _check_keys(solver, SOLVER_DEFAULTS, "solver")
     if solver["duration"] is None:
         raise InputError("solver.duration", "missing", "give the simulated time in s")
     duration = check_number(solver["duration"], "solver.duration", positive=True)
-    dt = None if solver["dt"] in ("auto", None) else check_number(solver["dt"], "solver.dt", positive=True)
-    dt_safety = DT_SAFETY[model] if solver["dt_safety"] in ("auto", None) else check_number(
+    dt = None if _is_auto(solver["dt"]) else check_number(solver["dt"], "solver.dt", positive=True)
+    dt_safety = DT_SAFETY[model] if _is_auto(solver["dt_safety"]) else check_number(
         solver["dt_safety"], "solver.dt_safety", positive=True)
     if dt_safety > 1.0:
         raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
@@ -266,11 +299,15 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     for key in ("stop_on_collapse", "skip_quiet"):
         if not isinstance(solver[key], bool):
             raise InputError(f"solver.{key}", "expected true or false", "write true or false")
-    output = {**OUTPUT_DEFAULTS, **(spec.get("output") or {})}
+    output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
     _check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
 
-    horizontal, vertical = excitation_pair(spec.get("excitation") or {"kind": "none"}, Path(base_dir))
+    excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
+    if not isinstance(excitation.get("kind", "none"), str):
+        raise InputError("excitation.kind", f"expected a name, got {excitation['kind']!r}",
+                         "use e.g. harmonic, one_sine, ramp, record or none")
+    horizontal, vertical = excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
 
     spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
                 contact={"model": model, "k_n": k_n,
@@ -289,7 +326,9 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
 def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     where = f"bodies[{index}]"
     _check_keys(spec, BODY_KEYS, where)
-    name = str(spec.get("name", f"body{index}"))
+    name = spec.get("name", f"body{index}")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"{where}.name", f"expected a name, got {name!r}", "give a short text name")
     where = f"bodies[{index}] ({name})"
     if ("box" in spec) == ("polygon" in spec):
         raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
@@ -342,16 +381,19 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         mass = check_number(spec["mass"], f"{where}.mass", positive=True)
     else:
         mass = check_number(spec.get("density", density), f"{where}.density", positive=True) * area
-    inertia = mass * polar / area  # uniform distribution over the polygon
+    inertia = mass * polar / area if area > 0.0 else 0.0  # uniform distribution over the polygon
+    if not (MIN_MASS <= mass <= MAX_MASS and inertia > 0.0 and np.isfinite(inertia)):
+        raise InputError(f"{where}.mass", f"{mass:.3g} kg (inertia {inertia:.3g} kg m2) is outside "
+                         f"{MIN_MASS:g}..{MAX_MASS:g} kg", "check mass, density, depth and the body's size (SI units)")
 
     driven = spec.get("driven", False)
     if not isinstance(driven, bool):
         raise InputError(f"{where}.driven", "expected true or false", "write true or false")
     role = spec.get("role", "base" if driven else "block")
-    if role not in ROLES:
+    if not isinstance(role, str) or role not in ROLES:
         raise InputError(f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}")
-    column = int(spec.get("column", -1))
-    tier = int(spec.get("tier", 0))
+    column = _integer(spec.get("column", -1), f"{where}.column", -1)
+    tier = _integer(spec.get("tier", 0), f"{where}.tier", 0)
     mu = spec.get("friction")
     mu = None if mu is None else check_number(mu, f"{where}.friction", nonnegative=True)
 

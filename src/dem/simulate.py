@@ -17,6 +17,7 @@ import numpy as np
 
 from dem import geometry
 from dem.errors import InputError
+from dem.kernels import excitation as kx
 from dem.kernels import step
 from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
@@ -311,6 +312,56 @@ def choose_time_step(scene: Scene) -> tuple[float, float]:
     return scene.dt, limit
 
 
+# the compiled loop runs in chunks of about this much wall time: a signal is handled
+# between chunks, and each call costs ~20 us of dispatch (0.01 % at 0.2 s)
+CHUNK_SECONDS = 0.2
+FIRST_CHUNK_STEPS = 2000
+
+
+class Progress:
+    """Progress of a run on stderr: a line redrawn twice a second on a terminal, else a log
+    line every LOG_SECONDS (nothing for a run shorter than that)."""
+
+    LOG_SECONDS = 5.0
+
+    COMPILE_NOTICE_SECONDS = 2.0
+
+    def __init__(self, stream=None):
+        import threading
+
+        self.stream = stream or sys.stderr
+        self.tty = getattr(self.stream, "isatty", lambda: False)()
+        self.last = 0.0
+        self.drawn = False
+        # the first call of the compiled loop compiles it (or loads it from the cache):
+        # say so when that takes a while, rather than sit silent
+        self.notice = threading.Timer(self.COMPILE_NOTICE_SECONDS, self._compiling)
+        self.notice.daemon = True
+        self.notice.start()
+
+    def _compiling(self):
+        print("  compiling the time loop (first run after install or an edit: about 1 min; "
+              "cached after that)", file=self.stream, flush=True)
+
+    def __call__(self, t, t_end, wall):
+        self.notice.cancel()
+        every = 0.5 if self.tty else self.LOG_SECONDS
+        if wall - self.last < every:
+            return
+        self.last = wall
+        line = f"  t = {t:8.3f} s of {t_end:.3f} s  ({100 * t / t_end:3.0f} %)  wall {wall:7.1f} s"
+        if self.tty:
+            print("\r" + line, end="", file=self.stream, flush=True)
+            self.drawn = True
+        else:
+            print(line.strip(), file=self.stream, flush=True)
+
+    def finish(self):
+        self.notice.cancel()
+        if self.drawn:
+            print(file=self.stream, flush=True)
+
+
 @dataclass
 class RunResult:
     """Raw samples of one run, before they become a dataset."""
@@ -345,7 +396,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     ~20 us of dispatch, which a benchmark of short runs would see).
     """
     if chunks is None:
-        chunks = 20 if progress else 1
+        chunks = 1
     dt, limit = choose_time_step(scene)
     if scene.dt is None:
         # round the automatic step down so samples fall exactly every output interval
@@ -376,27 +427,38 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     tally = {"n_sample": 0, "collapse": -1, "wall": 0.0, "steps": 0}
 
     def integrate(n_start, n_stop, step_first, rest_from, n_chunks):
-        """Compiled loop over steps n_start..n_stop-1 in chunks; returns its status."""
+        """Compiled loop over steps n_start..n_stop-1 in chunks; returns its status.
+
+        Chunks are sized to take about CHUNK_SECONDS each, so a signal (Ctrl-C) is
+        handled within a second and progress can be shown; ``n_chunks`` > 1 forces at
+        least that many (tests compare chunkings)."""
         state.rest_count[0] = 0
-        bounds = np.linspace(n_start, n_stop, max(1, n_chunks) + 1).astype(np.int64)
         status = step.STATUS_OK
-        for k in range(len(bounds) - 1):
+        n = n_start
+        size = max(1, (n_stop - n_start) // max(1, n_chunks)) if n_chunks > 1 else FIRST_CHUNK_STEPS
+        while n < n_stop:
+            stop = min(n_stop, n + size)
             start = wallclock.perf_counter()
             status, tally["n_sample"], tally["collapse"] = step.run(
-                model, settings, state, samples, int(bounds[k]), int(bounds[k + 1]),
+                model, settings, state, samples, int(n), int(stop),
                 step_first, rest_from, tally["n_sample"], tally["collapse"],
             )
-            tally["wall"] += wallclock.perf_counter() - start
+            elapsed = wallclock.perf_counter() - start
+            tally["wall"] += elapsed
             # steps integrated: up to the sample that stopped the run, else the chunk's end
             # (step n_steps is sampled, not integrated)
             if status != step.STATUS_OK:
                 end = int(samples.step[tally["n_sample"] - 1])
             else:
-                end = min(int(bounds[k + 1]), n_steps)
-            tally["steps"] += end - int(bounds[k])
-            if progress:
-                print(f"\r  t = {bounds[k + 1] * dt:8.3f} s of {n_steps * dt:.3f} s  "
-                      f"wall {tally['wall']:7.1f} s", end="", file=sys.stderr)
+                end = min(int(stop), n_steps)
+            tally["steps"] += end - int(n)
+            n = stop
+            if n_chunks <= 1:
+                # next chunk: about CHUNK_SECONDS of work at the rate just measured
+                rate = (stop - (stop - size)) / max(elapsed, 1e-6)
+                size = int(min(max(FIRST_CHUNK_STEPS, rate * CHUNK_SECONDS), 4 * size))
+            if reporter is not None:
+                reporter(n * dt, n_steps * dt, tally["wall"])
             if status != step.STATUS_OK:
                 break
         return status
@@ -416,35 +478,38 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
             tally["n_sample"] += len(steps)
         return k, last
 
-    n_start, step_first, quiet_lead = 0, 0, 0.0
-    status = step.STATUS_OK
-    if n_first > 0:
-        # settle from t = 0 (the contacts take up the weight), at most until the first loud sample
-        status = integrate(0, n_first, 0, 0, 1)
-        if status == step.STATUS_AT_REST:
-            k, last = carry_to(n_first)
-            # the settled state at n_first: shifted with the base, moving with it; the
-            # contacts' memory (in their own frames) and the dissipated energy are kept
-            free = ~arrays.body_driven
-            x, y, th, energy = rigid_motion(scene, arrays, np.array([n_first * dt]), last * dt,
-                                            samples.x[k], samples.y[k], samples.theta[k], samples.energy[k])
-            state.body_x[free], state.body_y[free] = x[0, free], y[0, free]
-            state.body_theta[free] = th[0, free]
-            _, v_h, _ = h.evaluate(np.array([n_first * dt]))
-            _, v_v, _ = v.evaluate(np.array([n_first * dt]))
-            state.body_vx[free], state.body_vy[free], state.body_omega[free] = v_h[0], v_v[0], 0.0
-            # the accumulators are the accumulated energy columns (step.ENERGY_ACCUMULATED on)
-            state.energy_acc[:] = energy[0, step.ENERGY_ACCUMULATED:]
-            n_start, step_first = n_first, n_first
-            quiet_lead = (n_first - last) * dt
-            status = step.STATUS_OK
-        elif status == step.STATUS_OK:
-            n_start = n_first  # still settling at the first loud sample: carry straight on
-            step_first = 0
-    if status == step.STATUS_OK:
-        status = integrate(n_start, n_steps + 1, step_first, max(n_rest, n_start), chunks)
-    if progress:
-        print(file=sys.stderr)
+    reporter = Progress() if progress else None
+    try:
+        n_start, step_first, quiet_lead = 0, 0, 0.0
+        status = step.STATUS_OK
+        if n_first > 0:
+            # settle from t = 0 (the contacts take up the weight), at most until the first loud sample
+            status = integrate(0, n_first, 0, 0, 1)
+            if status == step.STATUS_AT_REST:
+                k, last = carry_to(n_first)
+                # the settled state at n_first: shifted with the base, moving with it; the
+                # contacts' memory (in their own frames) and the dissipated energy are kept
+                free = ~arrays.body_driven
+                x, y, th, energy = rigid_motion(scene, arrays, np.array([n_first * dt]), last * dt,
+                                                samples.x[k], samples.y[k], samples.theta[k], samples.energy[k])
+                state.body_x[free], state.body_y[free] = x[0, free], y[0, free]
+                state.body_theta[free] = th[0, free]
+                _, v_h, _ = h.evaluate(np.array([n_first * dt]))
+                _, v_v, _ = v.evaluate(np.array([n_first * dt]))
+                state.body_vx[free], state.body_vy[free], state.body_omega[free] = v_h[0], v_v[0], 0.0
+                # the accumulators are the accumulated energy columns (step.ENERGY_ACCUMULATED on)
+                state.energy_acc[:] = energy[0, step.ENERGY_ACCUMULATED:]
+                n_start, step_first = n_first, n_first
+                quiet_lead = (n_first - last) * dt
+                status = step.STATUS_OK
+            elif status == step.STATUS_OK:
+                n_start = n_first  # still settling at the first loud sample: carry straight on
+                step_first = 0
+        if status == step.STATUS_OK:
+            status = integrate(n_start, n_steps + 1, step_first, max(n_rest, n_start), chunks)
+    finally:
+        if reporter is not None:
+            reporter.finish()
     rest_time = math.nan
     if status == step.STATUS_AT_REST:
         # the quiet tail: at rest on a base that can no longer move anything
@@ -462,13 +527,146 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     )
 
 
+# a run whose energy balance drifts by more than this share of the energy it moves says so
+# (status and stderr); measured: every run at dt <= the stability limit stays under it
+# (README "Stability"), so a larger drift flags a contact or step problem
+ENERGY_TOLERANCE = 0.01
+ENERGY_FLOOR = 1e-3  # smallest energy scale of energy_error, x initial kinetic + potential energy
+# an overlap of two bodies beyond this share of the smaller one's area is not a contact
+# but a body sinking into another (a contact too soft for its load, or a sliver body)
+PENETRATION_LIMIT = 0.05
+
+
+def energy_drift(result: RunResult) -> dict:
+    """Drift of the energy balance from its start, relative to two energy scales [1].
+
+    Balance = kinetic + potential + elastic + damping + tangential - base work; it stays
+    constant in an exact integration, and a positive drift is energy created.
+    energy_error: max |drift| / the energy the run moves around, max kinetic + max |change
+    of potential| + max |base work|, but at least ENERGY_FLOOR x the initial energy (a
+    free-rocking block moves 2 % of its potential energy above the base, so the initial
+    energy would hide large errors; a column settling before a record starts moves only a
+    few J). energy_created: max drift on the same scale. energy_error_total: max |drift| /
+    initial kinetic + potential energy (datum: the base's top). All NaN if not finite.
+    """
+    e = result.energy
+    kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
+    work = e[:, step.ENERGY_BASE_WORK]
+    balance = (kinetic + potential + e[:, step.ENERGY_ELASTIC] + e[:, step.ENERGY_DAMPING]
+               + e[:, step.ENERGY_TANGENTIAL] - work)
+    if len(balance) == 0 or not np.all(np.isfinite(balance)):
+        return {"energy_error": math.nan, "energy_created": math.nan, "energy_error_total": math.nan}
+    total = abs(kinetic[0]) + abs(potential[0])
+    moved = kinetic.max() + np.abs(potential - potential[0]).max() + np.abs(work).max()
+    moved = max(moved, ENERGY_FLOOR * total)
+    drift = balance - balance[0]
+    return {"energy_error": float(np.abs(drift).max() / moved), "energy_created": float(drift.max() / moved),
+            "energy_error_total": float(np.abs(drift).max() / total)}
+
+
+
+def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str]:
+    """(deepest overlap / smaller body's area [1], its time [s], the two body names) over the samples."""
+    from dem.kernels.penetration import deepest_overlap
+
+    arrays = pack_scene(scene)
+    areas = np.array([geometry.signed_area(b.vertices) for b in scene.bodies])
+    share, s, a, b = deepest_overlap(arrays.vert_start, arrays.local_x, arrays.local_y, areas,
+                                     np.ascontiguousarray(result.x), np.ascontiguousarray(result.y),
+                                     np.ascontiguousarray(result.theta))
+    if s < 0:
+        return 0.0, math.nan, "", ""
+    names = scene.body_names
+    return float(share), float(result.time[s]), names[a], names[b]
+
+
+def run_checks(scene: Scene, result: RunResult) -> dict:
+    """What a finished run says of itself: energy drift and deepest penetration, and the
+    status they give ("penetrated" > "energy balance error" > collapse or completed)."""
+    energy = energy_drift(result)
+    share, when, a, b = penetration(scene, result)
+    status = ["completed", "stopped at collapse", "diverged"][result.status]
+    warnings = []
+    if share > PENETRATION_LIMIT:
+        status = "penetrated"
+        warnings.append(f"bodies {a} and {b} overlap by {100 * share:.3g} % of the smaller one's area at "
+                        f"t = {when:.4g} s (limit {100 * PENETRATION_LIMIT:g} %): the contact is too soft for "
+                        "the load or a body is a sliver; raise contact.k_n or thicken the body")
+    elif energy["energy_error"] > ENERGY_TOLERANCE:
+        status = "energy balance error"
+        warnings.append(f"the energy balance drifted by {100 * energy['energy_error']:.3g} % of the energy the "
+                        f"run moves (limit {100 * ENERGY_TOLERANCE:g} %); lower solver.dt_safety")
+    return {"status": status, "warnings": warnings, "penetration": share, "penetration_time": when, **energy}
+
+
 def run_scene(scene: Scene, progress: bool = False):
-    """Simulate a scene and return its self-describing xarray Dataset (see :mod:`dem.dataset`)."""
+    """Simulate a scene and return its self-describing xarray Dataset (see :mod:`dem.dataset`).
+
+    Refused before computing: :func:`preflight`. After it: a diverged run is an error; a
+    penetration or energy drift past its limit is the dataset's ``status`` and a warning.
+    """
     from dem.dataset import scene_dataset
 
+    preflight(scene)
     result = simulate(scene, progress=progress)
     if result.status == step.STATUS_NONFINITE:
         t = result.time[-1] if len(result.time) else 0.0
         raise InputError("solver.dt", f"the simulation diverged (NaN) near t = {t:.4g} s",
                          f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
-    return scene_dataset(scene, result)
+    checks = run_checks(scene, result)
+    for line in checks["warnings"]:
+        print(f"warning: {line}", file=sys.stderr)
+    return scene_dataset(scene, result, checks)
+
+
+# resources a run may ask for; above them it is refused before computing (README "Limits")
+MAX_STEPS = 2e8  # ~50x the study's longest case; 3-30 min of kernel time at 1-10 us/step
+MAX_SAMPLE_BYTES = 2 * 2**30  # sampled positions and energies held in memory
+# the step must resolve the excitation: at least this many steps per period of its highest
+# frequency (harmonic, one-sine pulse), per rectangular pulse and per record sample interval x 2
+MIN_STEPS_PER_PERIOD = 20
+
+
+def excitation_period(motion) -> float:
+    """Shortest time scale [s] the step must resolve in a base motion (inf: none)."""
+    p = motion.params
+    if motion.kind in (kx.KIND_HARMONIC, kx.KIND_SINE_PULSE) and p[1] > 0.0:
+        return 2.0 * math.pi / p[1]
+    if motion.kind == kx.KIND_RECT_PULSE:
+        return float(p[1])
+    if motion.kind == kx.KIND_TABLE:
+        return 2.0 * motion.table_dt  # the Nyquist period of the record's sampling
+    return math.inf
+
+
+def preflight(scene: Scene) -> tuple[float, float, int]:
+    """(dt, stability limit [s], steps) of a scene, or an InputError before any computing.
+
+    Refused: a stability limit that is not a positive finite time, more than MAX_STEPS
+    steps, more than MAX_SAMPLE_BYTES of samples, and a step that resolves the excitation's
+    shortest period in fewer than MIN_STEPS_PER_PERIOD steps (it would read an 8 kHz
+    harmonic at its zeros).
+    """
+    dt, limit = choose_time_step(scene)
+    if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
+        raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",
+                         "check masses and contact stiffness (SI units)")
+    n_steps = scene.duration / dt
+    if n_steps > MAX_STEPS:
+        raise InputError("solver.duration", f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "
+                         f"over the limit {MAX_STEPS:.0e}",
+                         f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften contact.k_n")
+    n_out = n_steps / max(1.0, round(scene.output_every / dt)) + 2
+    sample_bytes = 8.0 * n_out * (3 * len(scene.bodies) + step.N_ENERGY + 2)
+    if sample_bytes > MAX_SAMPLE_BYTES:
+        raise InputError("output.every", f"{n_out:.3g} samples of {len(scene.bodies)} bodies need "
+                         f"{sample_bytes / 2**30:.3g} GiB, over the limit {MAX_SAMPLE_BYTES / 2**30:g} GiB",
+                         "sample less often (a larger output.every) or shorten the run")
+    for name, motion in (("excitation", scene.horizontal), ("excitation.vertical", scene.vertical)):
+        period = excitation_period(motion)
+        if period / dt < MIN_STEPS_PER_PERIOD:
+            raise InputError(
+                "solver.dt", f"dt = {dt:.3g} s resolves the {name}'s shortest period {period:.3g} s "
+                f"in {period / dt:.3g} steps, fewer than {MIN_STEPS_PER_PERIOD}",
+                f"use solver.dt <= {period / MIN_STEPS_PER_PERIOD:.3g} s, or a slower excitation")
+    return dt, limit, int(math.ceil(n_steps - 1e-9))

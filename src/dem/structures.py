@@ -11,16 +11,28 @@ the epistyle of a lower one (7.9).
 from __future__ import annotations
 
 import inspect
+import math
 
 from dem.errors import InputError
 
 EPISTYLE_TYPES = ("a", "b", "c", "d", "per_span")
+# a structure of more bodies is refused before it is built (dem.scene.MAX_BODIES is the
+# scene's limit; the pair memory grows as n^2)
+MAX_COUNT = 1000
 
 
 def _positive(value, field):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-        raise InputError(field, f"must be a positive number, got {value!r}", "give a value > 0")
+    if (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
+            or not math.isfinite(value)):
+        raise InputError(field, f"must be a positive finite number, got {value!r}", "give a value > 0 in SI units")
     return float(value)
+
+
+def _count(value, field):
+    """An integer count 1..MAX_COUNT."""
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_COUNT:
+        raise InputError(field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ...")
+    return value
 
 
 def _box(name, width, height, cx, y_bottom, density, **extra):
@@ -53,8 +65,7 @@ def column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=No
     taper: bottom / top width of the shaft (1 = rectangular drums); capital: None or
     {height, width} [m], a box on the top drum.
     """
-    if isinstance(n_drums, bool) or not isinstance(n_drums, int) or n_drums < 1:
-        raise InputError("structure.n_drums", f"must be an integer >= 1, got {n_drums!r}", "give 1, 2, 3, ...")
+    _count(n_drums, "structure.n_drums")
     height = _positive(height, "structure.height")
     width = _positive(width, "structure.width")
     density = _positive(density, "structure.density")
@@ -115,9 +126,12 @@ def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=
     d: two epistyles between those centre lines, jointed as in b;
     per_span: one epistyle per span, centre line to centre line (the input file of Fig. 4.6).
     """
-    if isinstance(n_columns, bool) or not isinstance(n_columns, int) or n_columns < 1:
-        raise InputError("structure.n_columns", f"must be an integer >= 1, got {n_columns!r}", "give 1, 2, 3, ...")
-    if epistyle_type not in EPISTYLE_TYPES:
+    _count(n_columns, "structure.n_columns")
+    _count(n_drums, "structure.n_drums")
+    if n_columns * n_drums > MAX_COUNT:
+        raise InputError("structure.n_columns", f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
+                         "use fewer columns or drums")
+    if not isinstance(epistyle_type, str) or epistyle_type not in EPISTYLE_TYPES:
         raise InputError("structure.epistyle_type", f"unknown type {epistyle_type!r}",
                          f"use one of {', '.join(EPISTYLE_TYPES)} (thesis Table 7.2)")
     clear_distance = _positive(clear_distance, "structure.clear_distance")
@@ -175,6 +189,14 @@ def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
     Defaults: lower 3 columns of 6 m x 1 m with a type a epistyle; upper 3 columns of
     3 m x 0.6 m with a type a epistyle of 0.4 m.
     """
+    for name, tier in (("lower", lower), ("upper", upper)):
+        if tier is not None and not isinstance(tier, dict):
+            raise InputError(f"structure.{name}", f"expected a mapping, got {type(tier).__name__}",
+                             "write e.g. {n_columns: 3, n_drums: 2}")
+        allowed = list(inspect.signature(colonnade_row).parameters)
+        for key in tier or {}:
+            if key not in allowed:
+                raise InputError(f"structure.{name}.{key}", "unknown key", f"allowed keys: {', '.join(allowed)}")
     lower = {"n_columns": 3, "epistyle_type": "a", **(lower or {})}
     upper = {"n_columns": lower["n_columns"], "height": 3.0, "width": 0.6, "epistyle_height": 0.4,
              "epistyle_type": "a", **(upper or {})}
@@ -205,15 +227,22 @@ BUILDERS = {"column": standalone_column, "colonnade": colonnade, "two_tier_colon
 
 def build_structure(spec: dict) -> list[dict]:
     """Bodies of ``{kind: column | colonnade | two_tier_colonnade, ...keyword arguments}``."""
-    if not isinstance(spec, dict) or "kind" not in spec:
+    if not isinstance(spec, dict):
+        raise InputError("structure", f"expected a mapping, got {type(spec).__name__}",
+                         "write structure: {kind: column, n_drums: 4}")
+    if "kind" not in spec:
         raise InputError("structure.kind", "missing", f"use one of {', '.join(BUILDERS)}")
     spec = dict(spec)
     kind = spec.pop("kind")
-    if kind not in BUILDERS:
+    if not isinstance(kind, str) or kind not in BUILDERS:
         raise InputError("structure.kind", f"unknown kind {kind!r}", f"use one of {', '.join(BUILDERS)}")
     builder = BUILDERS[kind]
     allowed = list(inspect.signature(builder).parameters)
     for key in spec:
         if key not in allowed:
             raise InputError(f"structure.{key}", f"unknown key for {kind}", f"allowed keys: {', '.join(allowed)}")
+    missing = [name for name, par in inspect.signature(builder).parameters.items()
+               if par.default is inspect.Parameter.empty and name not in spec]
+    if missing:
+        raise InputError(f"structure.{missing[0]}", "missing", f"give it, e.g. {missing[0]}: 4")
     return builder(**spec)

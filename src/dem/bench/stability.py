@@ -55,8 +55,7 @@ SAMPLE_EVERY = 1e-3  # [s] between samples (energy and overlap are checked on sa
 # (:func:`energy_drift`). Measured on the default map with the area law: every run at
 # dt <= limit stays below 6.1e-3 (error ~ dt^2: ~1e-4 at 0.25 x limit); runs that go
 # unstable jump to 2e-2 ... 9.
-ENERGY_TOLERANCE = 0.01
-ENERGY_FLOOR = 1e-3  # smallest energy scale of energy_error, x initial kinetic + potential energy
+from dem.simulate import ENERGY_FLOOR, ENERGY_TOLERANCE, energy_drift  # noqa: E402  (shared with every run)
 HARMONIC = {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.1}  # PGA 15.8 m s-2
 
 
@@ -122,33 +121,6 @@ def run_at_ratio(scene: Scene, ratio: float, sample_every: float = SAMPLE_EVERY)
     every = max(1, round(sample_every / dt)) * dt
     probe = dataclasses.replace(scene, dt=None, dt_safety=ratio, output_every=every, stop_on_collapse=False)
     return simulate(probe)
-
-
-def energy_drift(result: RunResult) -> dict:
-    """Drift of the energy balance from its start, relative to two energy scales [1].
-
-    Balance = kinetic + potential + elastic + damping + tangential - base work; it stays
-    constant in an exact integration, and a positive drift is energy created.
-    energy_error: max |drift| / the energy the run moves around, max kinetic + max |change
-    of potential| + max |base work|, but at least ENERGY_FLOOR x the initial energy (a
-    free-rocking block moves 2 % of its potential energy above the base, so the initial
-    energy would hide large errors; a column settling before a record starts moves only a
-    few J). energy_created: max drift on the same scale. energy_error_total: max |drift| /
-    initial kinetic + potential energy (datum: the base's top). All NaN if not finite.
-    """
-    e = result.energy
-    kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
-    work = e[:, step.ENERGY_BASE_WORK]
-    balance = (kinetic + potential + e[:, step.ENERGY_ELASTIC] + e[:, step.ENERGY_DAMPING]
-               + e[:, step.ENERGY_TANGENTIAL] - work)
-    if len(balance) == 0 or not np.all(np.isfinite(balance)):
-        return {"energy_error": math.nan, "energy_created": math.nan, "energy_error_total": math.nan}
-    total = abs(kinetic[0]) + abs(potential[0])
-    moved = kinetic.max() + np.abs(potential - potential[0]).max() + np.abs(work).max()
-    moved = max(moved, ENERGY_FLOOR * total)
-    drift = balance - balance[0]
-    return {"energy_error": float(np.abs(drift).max() / moved), "energy_created": float(drift.max() / moved),
-            "energy_error_total": float(np.abs(drift).max() / total)}
 
 
 def min_width(x: np.ndarray, y: np.ndarray) -> float:

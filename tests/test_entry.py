@@ -1,0 +1,247 @@
+"""Entry-point conventions (dem.entry, dem.cli): output paths refused before computing,
+real SIGINT / SIGTERM (exit 130 / 143 within a second, nothing left behind), broken pipes,
+--version and --help, and the checks a finished run makes of itself."""
+
+import os
+import re
+import select
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+import xarray as xr
+
+from dem.entry import check_output_path
+from dem.errors import InputError
+from dem.scene import scene_from_dict
+from dem.simulate import (ENERGY_TOLERANCE, MAX_STEPS, MIN_STEPS_PER_PERIOD, PENETRATION_LIMIT, preflight,
+                          run_checks, simulate)
+
+SCENE = "tests/data/scenes/rocking_block.yaml"
+# how long after the signal the process may take to end (measured 0.6-0.7 s; the issue
+# asks for 1 s, plus a margin for a loaded CI machine)
+SIGNAL_EXIT_SECONDS = 1.5
+
+
+def dem(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "dem", *args], capture_output=True, text=True, **kw)
+
+
+# --- output paths ---------------------------------------------------------------------
+
+def test_output_path_that_is_the_input_is_refused(tmp_path):
+    scene = tmp_path / "s.nc"
+    scene.write_text("x")
+    with pytest.raises(InputError, match="is the input file"):
+        check_output_path(scene, "-o", inputs=[scene])
+
+
+def test_output_path_refusals(tmp_path):
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(InputError, match="is a directory"):
+        check_output_path(tmp_path, "-o")
+    with pytest.raises(InputError, match="is a file, not a folder"):
+        check_output_path(tmp_path / "afile" / "out.nc", "-o")
+    with pytest.raises(InputError, match="does not end in .nc"):
+        check_output_path(tmp_path / "out.txt", "-o", suffixes=(".nc",))
+    assert check_output_path(tmp_path / "new" / "out.nc", "-o", suffixes=(".nc",)).parent.is_dir()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes anywhere")
+def test_read_only_folder_is_refused(tmp_path):
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    with pytest.raises(InputError, match="not writable"):
+        check_output_path(folder / "out.nc", "-o")
+
+
+def test_run_refuses_output_over_its_scene_before_computing(tmp_path):
+    scene = tmp_path / "s.nc"
+    scene.write_text(open(SCENE).read())
+    start = time.perf_counter()
+    proc = dem("run", str(scene), "-o", str(scene))
+    assert proc.returncode == 2 and "is the input file" in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert open(scene).read() == open(SCENE).read()
+    assert time.perf_counter() - start < 20  # refused at once, not after the run
+
+
+# --- conventions ----------------------------------------------------------------------
+
+def test_version_and_help_list_every_command():
+    proc = dem("--version")
+    assert proc.returncode == 0 and proc.stdout.startswith("dem ")
+    proc = dem("--help")
+    for command in ("run", "validate", "record", "snapshots", "animate", "wall"):
+        assert re.search(rf"^ +{command}\b", proc.stdout, re.M), command
+    assert "``" not in proc.stdout
+
+
+def test_usage_error_is_one_line_exit_2():
+    proc = dem("frobnicate")
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_closed_stdout_gives_no_traceback():
+    read, write = os.pipe()
+    os.close(read)
+    proc = subprocess.run([sys.executable, "-m", "dem", "validate", "--list"], stdout=write,
+                          stderr=subprocess.PIPE, text=True)
+    os.close(write)
+    assert "Traceback" not in proc.stderr and proc.returncode == 0
+
+
+# --- real signals -----------------------------------------------------------------------
+
+LONG_SCENE = """\
+structure: {kind: column, n_drums: 8}
+excitation: {kind: harmonic, amplitude: 0.02, frequency: 2.0}
+solver: {duration: 600.0, stop_on_collapse: false}
+output: {every: 0.01}
+"""
+
+
+def _wait_for(proc, text, timeout):
+    """Read the child's stderr until a line contains ``text``."""
+    end = time.monotonic() + timeout
+    seen = ""
+    while time.monotonic() < end:
+        ready, _, _ = select.select([proc.stderr], [], [], 0.5)
+        if ready:
+            line = proc.stderr.readline()
+            seen += line
+            if text in line:
+                return seen
+    raise AssertionError(f"no {text!r} within {timeout} s: {seen}")
+
+
+@pytest.mark.parametrize("signum, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_signal_during_the_compiled_loop(tmp_path, signum, status):
+    scene = tmp_path / "long.yaml"
+    scene.write_text(LONG_SCENE)
+    out = tmp_path / "long.nc"
+    proc = subprocess.Popen([sys.executable, "-m", "dem", "run", str(scene), "-o", str(out)],
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    try:
+        _wait_for(proc, "t = ", 300)  # a progress line: the time loop is running
+        sent = time.monotonic()
+        proc.send_signal(signum)
+        rc = proc.wait(timeout=30)
+        took = time.monotonic() - sent
+    finally:
+        proc.kill()
+    assert rc == status
+    assert took < SIGNAL_EXIT_SECONDS, took
+    assert list(tmp_path.iterdir()) == [scene], "no output and no temporary file"
+
+
+SLOW_WRITER = """\
+import sys, time
+from dem.atomic import write_atomically
+from dem.entry import guarded
+
+def slow(tmp):
+    with open(tmp, "w") as f:
+        print("writing", file=sys.stderr, flush=True)
+        for _ in range(600):
+            f.write("x" * 1000)
+            time.sleep(0.05)
+
+sys.exit(guarded(lambda: write_atomically(sys.argv[1], slow) and 0))
+"""
+
+
+def test_signal_during_the_write_leaves_nothing(tmp_path):
+    out = tmp_path / "out.nc"
+    proc = subprocess.Popen([sys.executable, "-c", SLOW_WRITER, str(out)], stderr=subprocess.PIPE, text=True)
+    try:
+        _wait_for(proc, "writing", 60)
+        assert len(list(tmp_path.iterdir())) == 1  # the temporary file
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        rc = proc.wait(timeout=30)
+        took = time.monotonic() - sent
+    finally:
+        proc.kill()
+    assert rc == 130 and took < SIGNAL_EXIT_SECONDS
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- refused before computing, and what a run says of itself ----------------------------
+
+def column(**changes):
+    spec = {"structure": {"kind": "column", "n_drums": 2}, "solver": {"duration": 1.0},
+            "output": {"every": 0.01}}
+    for key, value in changes.items():
+        spec[key] = {**spec.get(key, {}), **value}
+    return spec
+
+
+@pytest.mark.parametrize("changes, field", [
+    ({"solver": {"duration": 1e9}}, "solver.duration"),
+    ({"solver": {"dt_safety": 1e-9}}, "solver.duration"),
+    ({"excitation": {"kind": "harmonic", "amplitude": 1e-9, "frequency": 8000.0}}, "solver.dt"),
+    ({"output": {"every": 1e-5}, "solver": {"duration": 3000.0}}, "output.every"),
+])
+def test_preflight_refuses_absurd_requests(changes, field):
+    with pytest.raises(InputError, match=field.replace(".", r"\.")):
+        preflight(scene_from_dict(column(**changes)))
+
+
+def test_preflight_limits_are_stated():
+    assert MAX_STEPS == 2e8 and MIN_STEPS_PER_PERIOD == 20
+
+
+def test_tiny_mass_and_huge_scene_refused():
+    spec = yaml_block(mass=1e-30)
+    with pytest.raises(InputError, match="mass"):
+        scene_from_dict(spec)
+    with pytest.raises(InputError, match="n_drums"):
+        scene_from_dict(column(structure={"n_drums": 10**6}))
+
+
+def yaml_block(**body):
+    import yaml
+
+    spec = yaml.safe_load(open(SCENE))
+    spec["bodies"][1].update(body)
+    return spec
+
+
+def test_soft_contact_sinking_is_penetration_not_collapse():
+    scene = scene_from_dict(column(contact={"model": "point", "k_n": 1e5}, solver={"duration": 2.0}))
+    result = simulate(scene)
+    checks = run_checks(scene, result)
+    assert checks["status"] == "penetrated" and checks["penetration"] > PENETRATION_LIMIT
+    assert result.collapse_sample >= 0  # the kernel's fall criterion fired, but it is not reported
+
+
+def test_tall_undamped_stack_at_the_limit_reports_its_energy_drift():
+    # README "Stability": 30 undamped drums at dt_safety 1.0 drift 3.9 % (point law)
+    spec = column(structure={"n_drums": 30}, contact={"model": "point", "k_n": 1e10, "damping": 0.0,
+                                                      "impact": "none"},
+                  excitation={"kind": "harmonic", "amplitude": 0.05, "frequency": 1.5},
+                  solver={"duration": 4.0, "dt_safety": 1.0, "stop_on_collapse": False})
+    scene = scene_from_dict(spec)
+    checks = run_checks(scene, simulate(scene))
+    assert checks["energy_error"] > ENERGY_TOLERANCE and checks["status"] == "energy balance error"
+
+
+def test_written_dataset_follows_cf(tmp_path):
+    out = tmp_path / "rock.nc"
+    proc = dem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.2", "-q")
+    assert proc.returncode == 0, proc.stderr
+    import netCDF4
+
+    with netCDF4.Dataset(out) as nc:
+        assert nc.Conventions.startswith("CF-1.")
+        t = nc.variables["time"]
+        assert t.standard_name == "time" and t.axis == "T" and t.units == "s"
+        assert "_FillValue" not in t.ncattrs()
+        assert "units" not in nc.variables["body"].ncattrs()
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "completed" and ds.attrs["energy_error"] < ENERGY_TOLERANCE

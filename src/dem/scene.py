@@ -2,10 +2,13 @@
 
 A scene lists rigid convex polygons (explicit ``box``/``polygon`` bodies and/or a
 ``structure`` built by :mod:`dem.structures`), contact and friction parameters, the base
-excitation, solver and output settings. Every field is checked once here; a bad one raises
-:class:`dem.errors.InputError` naming its dotted path. Defaults follow the thesis: contact
-stiffness k_n = 1e8 N/m2 and damping c_n = 1e3 N s/m (thesis 3.8, 5.1.2), stone density
-2000 kg/m3 (thesis Fig. 4.6), unit out-of-plane depth.
+excitation, solver and output settings. Every field is checked once here, types strictly
+(no coercion of a string to a flag or a count), sizes against MAX_BODIES and the mass
+range; a bad one raises :class:`dem.errors.InputError` naming its dotted path. Defaults:
+the point contact law, k_n = 1e10 N/m2 per unit contact length, 5 % of critical damping per
+end and a plastic landing (README "Contact law"); with ``model: area`` the thesis' k_n =
+1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone density 2000 kg/m3 (thesis
+Fig. 4.6), unit out-of-plane depth.
 """
 
 from __future__ import annotations

@@ -458,11 +458,13 @@ def _gif_writer(fps: float):
 
 # --- files --------------------------------------------------------------------------------
 
-def _output_path(path, suffix: str, field: str) -> Path:
+def _output_path(path, suffix: str, field: str, case=None) -> Path:
+    from dem.entry import check_output_path
+
     path = Path(path)
     if path.suffix.lower() != suffix:
         raise InputError(field, f"'{path}' does not end in {suffix}", f"name the output *{suffix}")
-    return path
+    return check_output_path(path, field, inputs=[case] if case is not None else [])
 
 
 def _positive(value, field: str) -> float:
@@ -511,7 +513,7 @@ def add_parser(subparsers) -> None:
 
 def command_snapshots(args) -> int:
     out = args.output or args.case.with_name(f"{args.case.stem}_snapshots.png")
-    _output_path(out, ".png", "-o")  # refuse a bad name before reading the case
+    _output_path(out, ".png", "-o", args.case)  # refuse a bad name before reading the case
     ds = open_case(args.case)
     snapshot_strip(ds, out, times=args.times, n=args.n, title=args.title)
     print(f"wrote {out}", file=sys.stderr)
@@ -520,7 +522,7 @@ def command_snapshots(args) -> int:
 
 def command_animate(args) -> int:
     out = args.output or args.case.with_suffix(".gif")
-    _output_path(out, ".gif", "-o")
+    _output_path(out, ".gif", "-o", args.case)
     ds = open_case(args.case)
     animate(ds, out, fps=args.fps, max_frames=args.max_frames, every=args.every, title=args.title)
     print(f"wrote {out}", file=sys.stderr)
@@ -532,11 +534,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="dem", description="pictures of a dem case dataset")
     add_parser(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(argv)
-    try:
-        return args.handler(args)
-    except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
+    from dem.entry import guarded
+
+    return guarded(lambda: args.handler(args))
 
 
 def main_animate(argv: list[str] | None = None) -> int:

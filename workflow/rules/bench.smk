@@ -14,6 +14,7 @@ BENCH_OUTPUTS = {
     ],
     "bench_skipping": ["results/bench/skipping.nc"],
     "bench_restitution": ["results/bench/restitution.nc"],
+    "bench_fuzz": ["results/bench/fuzz.nc"],
 }
 
 
@@ -89,6 +90,20 @@ rule bench_restitution:
     shell:
         "NUMBA_NUM_THREADS=1 python -m dem.bench.restitution {params.quick} --config {input} "
         "--out {output} > {log} 2>&1"
+
+
+# the fuzz suites (tests/*fuzz*) at 10 000 examples per test (quick: 100), counts per test
+rule bench_fuzz:
+    output:
+        BENCH_OUTPUTS["bench_fuzz"],
+    params:
+        quick="--quick" if BENCH_QUICK else "",
+    log:
+        "results/logs/bench/fuzz.log",
+    conda:
+        "../envs/dem.yaml"
+    shell:
+        "python -m dem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

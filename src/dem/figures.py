@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
@@ -40,6 +40,9 @@ class Figure:
     inputs: tuple  # input paths, in the order draw() takes them
     draw: Callable  # draw(inputs: list[str], path) -> Path
     requires: tuple = field(default=())  # (study, params) cases that must be in the configured grids
+    # (study, params) of each case file in ``inputs``: figure_table names the file of the one
+    # configured case with these parameters (a grid may sweep more keys, in any order)
+    cases: tuple = field(default=())
 
 
 def cube_path(study: str) -> str:
@@ -158,7 +161,8 @@ def snapshot_figure(thesis, study, params, title, caption, n=6):
         with xr.open_dataset(inputs[0]) as ds:
             return snapshot_strip(ds.load(), path, n=n, title=title)
 
-    return Figure(thesis, caption, (case_path(study, params),), draw, requires=((study, params),))
+    return Figure(thesis, caption, (case_path(study, params),), draw, requires=((study, params),),
+                  cases=((study, params),))
 
 
 def geometry_figure(thesis, study, cases, title, caption):
@@ -189,7 +193,7 @@ def geometry_figure(thesis, study, cases, title, caption):
         return _save(fig, path)
 
     return Figure(thesis, caption, tuple(case_path(study, p) for p in cases), draw,
-                  requires=tuple((study, p) for p in cases))
+                  requires=tuple((study, p) for p in cases), cases=tuple((study, p) for p in cases))
 
 
 # --- orderings (issue 4: checked on the cube, verdict printed on the figure) -----------------
@@ -445,7 +449,28 @@ def figure_table(studies: dict, config: dict | None = None) -> dict[str, Figure]
     config = config or {}
     snap = config.get("snapshot_pgas", {})
     candidates = dict(_chapter_6(snap)) | dict(_chapter_7(snap))
-    return {name: fig for name, fig in candidates.items() if _available(fig, studies)}
+    table = {}
+    for name, fig in candidates.items():
+        if not _available(fig, studies):
+            continue
+        if fig.cases:
+            # the file of the case the figure names, by its configured id (not by the figure's
+            # own parameters: a grid key added to the study is part of the id); left out
+            # when no case or several match
+            found = [_one_case(studies[study], params) for study, params in fig.cases]
+            if any(case is None for case in found):
+                continue
+            fig = replace(fig, inputs=tuple(f"results/cases/{case.study}/{case.id}.nc" for case in found))
+        table[name] = fig
+    return table
+
+
+def _one_case(cases: dict, params: dict):
+    """The one case of {id: Case} whose parameters include ``params`` (None: any value), or None."""
+    fixed = {k: v for k, v in params.items() if v is not None}
+    found = [c for c in cases.values()
+             if set(params) <= set(c.params) and all(c.params[k] == v for k, v in fixed.items())]
+    return found[0] if len(found) == 1 else None
 
 
 def _available(fig: Figure, studies: dict) -> bool:

@@ -622,6 +622,7 @@ def run_scene(scene: Scene, progress: bool = False):
 # resources a run may ask for; above them it is refused before computing (README "Limits")
 MAX_STEPS = 2e8  # ~50x the study's longest case; 3-30 min of kernel time at 1-10 us/step
 MAX_SAMPLE_BYTES = 2 * 2**30  # sampled positions and energies held in memory
+MAX_DURATION = 3600.0  # [s] simulated; the quiet-base scan holds ~8 doubles per ms of it
 # the step must resolve the excitation: at least this many steps per period of its highest
 # frequency (harmonic, one-sine pulse), per rectangular pulse and per record sample interval x 2
 MIN_STEPS_PER_PERIOD = 20
@@ -648,9 +649,14 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
     harmonic at its zeros).
     """
     dt, limit = choose_time_step(scene)
+    if scene.dt is None and dt > 0.0:  # as simulate(): rounded down so samples fall on the output times
+        dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
         raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",
                          "check masses and contact stiffness (SI units)")
+    if scene.duration > MAX_DURATION:
+        raise InputError("solver.duration", f"{scene.duration:.3g} s is over the limit {MAX_DURATION:g} s",
+                         "simulate at most an hour; split a longer run")
     n_steps = scene.duration / dt
     if n_steps > MAX_STEPS:
         raise InputError("solver.duration", f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import copy
 import itertools
+import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from dem.errors import InputError
+from dem.structures import EPISTYLE_TYPES
 
 # name: (scene field, units, long name, id label)
 PARAMETERS = {
@@ -42,6 +45,31 @@ STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "outpu
               "interface_friction", "weak_joint", "cases", "description")
 SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
               "weak_joint")
+# study (and defaults) keys whose value must be a mapping before a case is built from it
+MAPPING_KEYS = ("structure", "contact", "excitation", "solver", "output", "weak_joint")
+# keys ``defaults:`` may set: scene keys (dem.scene.TOP_KEYS) and weak_joint, not a scene's name
+DEFAULT_KEYS = ("description", "bodies", "structure", "depth", "density", "gravity", "friction",
+                "interface_friction", "contact", "excitation", "solver", "output", "weak_joint")
+# study and record names are file names and Snakemake wildcard alternatives (common.smk);
+# case ids are file names and the {case} wildcard
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
+CASE_ID_PATTERN = re.compile(r"[A-Za-z0-9_.+-]+")
+
+# Limits of a study config (check_config): past them a grid is a typo, not a study.
+MAX_CASES_PER_STUDY = 2000  # cases of one study (config/config.yaml: 99 at most)
+MAX_CASES = 10_000  # cases of all studies together (config/config.yaml: 507)
+MAX_DRUMS = 100  # drums per column (the thesis: 8)
+MAX_COLUMNS = 50  # columns per row (the thesis: 5)
+MAX_DURATION = 3600.0  # [s] simulated time of one case (config/config.yaml: 92 s at most)
+MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.every (config: 9200)
+# bodies, steps and sample memory of each case: dem.scene.MAX_BODIES, dem.simulate.MAX_STEPS
+# and MAX_SAMPLE_BYTES (dem.simulate.preflight, as dem run refuses them)
+
+# the values of each swept parameter (check_value); record: a name under the config's records:
+POSITIVE = ("pga", "pga_scale", "frequency", "amplitude", "clear_distance", "epistyle_density", "taper")
+NONNEGATIVE = ("friction", "weak_joint_mu")
+COUNTS = {"n_drums": (1, MAX_DRUMS), "n_columns": (1, MAX_COLUMNS), "weak_joint": (0, MAX_DRUMS - 1)}
+CHOICES = {"epistyle_type": EPISTYLE_TYPES}
 
 
 @dataclass(frozen=True)
@@ -103,29 +131,69 @@ def case_table(name: str, study: dict, defaults: dict | None = None) -> list[Cas
     """All cases of one study: the Cartesian product of its ``grid`` plus its listed ``cases``.
 
     ``cases:`` is a list of parameter mappings for studies that are not a full grid (e.g. one
-    PGA per record for the snapshot figures); a study may have both.
+    PGA per record for the snapshot figures); a study may have both. Grid keys may be added
+    or removed freely: ids are built from whatever keys a case has. Every swept value is
+    checked (:func:`check_value`), so a bad one raises an InputError naming its config path.
     """
+    return [case for case, _ in _case_rows(name, study, defaults)]
+
+
+def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Case, dict]]:
+    """(case, {parameter: config path of its value}) of every case of one study; ``exact``:
+    a weak joint out of range is named by its grid or case entry (else weak_joint.joint)."""
+    where = f"studies.{name}"
     if not isinstance(study, dict):
-        raise InputError(f"studies.{name}", "expected a mapping", "give structure:, excitation:, grid:")
+        raise InputError(where, f"expected a mapping, got {type(study).__name__}",
+                         "give structure:, excitation:, grid:")
     for key in study:
         if key not in STUDY_KEYS:
-            raise InputError(f"studies.{name}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}")
-    grid = study.get("grid") or {}
-    listed = study.get("cases") or []
-    if not grid and not listed:
-        raise InputError(f"studies.{name}", "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
-    for key, values in grid.items():
-        _check_parameter(f"studies.{name}.grid.{key}", key)
-        if not isinstance(values, list) or not values:
-            raise InputError(f"studies.{name}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]")
+            raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}")
+    if defaults is not None and not isinstance(defaults, dict):
+        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
+                         "write defaults: {contact: {...}, solver: {...}}")
+    for source, path in ((study, where), (defaults or {}, "defaults")):
+        for key in MAPPING_KEYS:
+            if key in source and not isinstance(source[key], dict):
+                raise InputError(f"{path}.{key}", f"expected a mapping, got {source[key]!r}",
+                                 f"write {key}: {{...}}")
+        if "interface_friction" in source and not isinstance(source["interface_friction"], list):
+            raise InputError(f"{path}.interface_friction", "expected a list",
+                             "write interface_friction: [{bodies: [a, b], mu: 0.3}]")
+    grid = study.get("grid")
+    grid = {} if grid is None else grid
+    if not isinstance(grid, dict):
+        raise InputError(f"{where}.grid", f"expected a mapping, got {type(grid).__name__}",
+                         "write grid: {parameter: [values]}")
+    listed = study.get("cases")
+    listed = [] if listed is None else listed
     if not isinstance(listed, list):
-        raise InputError(f"studies.{name}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]")
+        raise InputError(f"{where}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]")
+    if not grid and not listed:
+        raise InputError(where, "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
+    n_grid = 1 if grid else 0
+    for key, values in grid.items():
+        _check_parameter(f"{where}.grid.{key}", key)
+        if not isinstance(values, list) or not values:
+            raise InputError(f"{where}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]")
+        seen = {}
+        for i, value in enumerate(values):
+            check_value(f"{where}.grid.{key}[{i}]", key, value)
+            if _label(value) in seen:
+                raise InputError(f"{where}.grid.{key}[{i}]", f"{value!r} repeats {key}[{seen[_label(value)]}]",
+                                 "remove the duplicate")
+            seen[_label(value)] = i
+        n_grid *= len(values)
     for i, params in enumerate(listed):
         if not isinstance(params, dict) or not params:
-            raise InputError(f"studies.{name}.cases[{i}]", "expected a mapping of parameters",
+            raise InputError(f"{where}.cases[{i}]", "expected a mapping of parameters",
                              "write {record: ..., pga: ...}")
-        for key in params:
-            _check_parameter(f"studies.{name}.cases[{i}].{key}", key)
+        for key, value in params.items():
+            _check_parameter(f"{where}.cases[{i}].{key}", key)
+            check_value(f"{where}.cases[{i}].{key}", key, value)
+    if n_grid + len(listed) > MAX_CASES_PER_STUDY:
+        raise InputError(f"{where}.grid" if grid else f"{where}.cases",
+                         f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
+                         "thin the grid or split the study (dem.study.MAX_CASES_PER_STUDY)")
     base = {k: copy.deepcopy(v) for k, v in (defaults or {}).items()}
     for key in SCENE_KEYS:
         if key in study:
@@ -134,29 +202,77 @@ def case_table(name: str, study: dict, defaults: dict | None = None) -> list[Cas
             else:
                 base[key] = copy.deepcopy(study[key])
     keys = list(grid)
-    combos = [dict(zip(keys, combo)) for combo in itertools.product(*(grid[k] for k in keys))] if grid else []
-    cases = [_case(name, base, params) for params in combos + [dict(p) for p in listed]]
-    ids = [c.id for c in cases]
-    if len(set(ids)) != len(ids):
-        raise InputError(f"studies.{name}", "two cases share an id", "remove duplicate grid values or cases")
+    rows = [({k: grid[k][i] for k, i in zip(keys, index)},
+             {k: f"{where}.grid.{k}[{i}]" for k, i in zip(keys, index)}, f"{where}.grid")
+            for index in itertools.product(*(range(len(grid[k])) for k in keys))] if grid else []
+    rows += [(dict(params), {k: f"{where}.cases[{i}].{k}" for k in params}, f"{where}.cases[{i}]")
+             for i, params in enumerate(listed)]
+    cases = []
+    ids = set()
+    for params, origin, container in rows:
+        case = _case(name, base, params, origin if exact else None)
+        if case.id in ids:
+            raise InputError(container, f"case {case.id} is given twice", "remove the duplicate grid value or case")
+        if not CASE_ID_PATTERN.fullmatch(case.id):  # values are checked: a guard for new parameters
+            raise InputError(container, f"case id {case.id!r} is not a file name and {{case}} wildcard",
+                             "use letters, digits, _ . + - in string values")
+        ids.add(case.id)
+        cases.append((case, origin))
     return cases
 
 
-def _check_parameter(field: str, key: str) -> None:
+def _check_parameter(field: str, key) -> None:
     if key not in PARAMETERS:
         raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
 
 
-def _case(study: str, base: dict, params: dict) -> Case:
+def check_value(field: str, key: str, value):
+    """One value of swept parameter ``key``, or an InputError naming ``field`` (its config path)."""
+    if key == "record":
+        if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
+            raise InputError(field, f"expected a record name, got {value!r}", "give a name listed under records:")
+        return value
+    if key in CHOICES:
+        if not isinstance(value, str) or value not in CHOICES[key]:
+            raise InputError(field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}")
+        return value
+    units = PARAMETERS[key][1]
+    if key in COUNTS:
+        low, high = COUNTS[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise InputError(field, f"expected an integer, got {value!r}", f"give an integer {low} ... {high}")
+        if not low <= value <= high:
+            raise InputError(field, f"must be {low} ... {high}, got {value}",
+                             f"give an integer {low} ... {high} (dem.study.COUNTS)")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        fix = "give a number"
+        if isinstance(value, str):
+            try:
+                float(value)
+                fix = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
+            except ValueError:
+                pass
+        raise InputError(field, f"expected a number [{units}], got {value!r}", fix)
+    if not math.isfinite(value):
+        raise InputError(field, f"{value} is not finite", "give a finite number")
+    if key in POSITIVE and not value > 0:
+        raise InputError(field, f"must be > 0, got {value}", f"give a positive {PARAMETERS[key][2]} [{units}]")
+    if key in NONNEGATIVE and not value >= 0:
+        raise InputError(field, f"must be >= 0, got {value}", f"give a non-negative {PARAMETERS[key][2]}")
+    return value
+
+
+def _case(study: str, base: dict, params: dict, origin: dict | None = None) -> Case:
     scene = copy.deepcopy(base)
     scene["name"] = f"{study}/{case_id(params)}"
     for k, v in params.items():
         _set(scene, PARAMETERS[k][0], v)
-    _apply_weak_joint(scene, f"studies.{study}")
+    _apply_weak_joint(scene, f"studies.{study}", (origin or {}).get("weak_joint"))
     return Case(study, case_id(params) or "base", params, scene)
 
 
-def _apply_weak_joint(scene: dict, where: str) -> None:
+def _apply_weak_joint(scene: dict, where: str, joint_field: str | None = None) -> None:
     """``weak_joint: {joint: j, mu: m}`` -> the per-interface friction of joint j of column 0 (thesis 6.5).
 
     Joint 0 is between the base and the bottom drum, joint j between drums j-1 and j.
@@ -167,12 +283,257 @@ def _apply_weak_joint(scene: dict, where: str) -> None:
     if not isinstance(weak, dict) or set(weak) != {"joint", "mu"}:
         raise InputError(f"{where}.weak_joint", "expected {joint, mu}", "write weak_joint: {joint: 0, mu: 0.05}")
     joint = weak["joint"]
-    n_drums = int((scene.get("structure") or {}).get("n_drums", 1))
-    if not isinstance(joint, int) or not 0 <= joint < n_drums:
-        raise InputError(f"{where}.weak_joint.joint", f"{joint!r} is not a joint of a {n_drums}-drum column",
+    n_drums = (scene.get("structure") or {}).get("n_drums", 1)
+    if isinstance(n_drums, bool) or not isinstance(n_drums, int):
+        return  # the scene refuses it (structure.n_drums)
+    if isinstance(joint, bool) or not isinstance(joint, int) or not 0 <= joint < n_drums:
+        raise InputError(joint_field or f"{where}.weak_joint.joint",
+                         f"{joint!r} is not a joint of a {n_drums}-drum column",
                          f"give an integer 0 ... {n_drums - 1}")
     lower = "base" if joint == 0 else f"c0_d{joint - 1}"
     scene.setdefault("interface_friction", []).append({"bodies": [lower, f"c0_d{joint}"], "mu": weak["mu"]})
+
+
+# --- the whole config, as `snakemake -n` sees it (workflow/rules/common.smk) -----------------
+
+
+def check_config(config: dict, records_dir: Path | str = "records", extract_records: bool = False,
+                 schema: Path | str | None = None) -> dict[str, list[Case]]:
+    """{study: case table} of a workflow config, or the first InputError naming its config path.
+
+    Every case's scene is built through the validation ``dem run`` uses
+    (:func:`dem.scene.scene_from_dict`, the excitation, the time step of
+    :func:`dem.simulate.choose_time_step`), so a case that would fail in its job fails here;
+    a record must be a name under ``records:`` whose ``records_dir/<name>.nc`` exists (or is
+    extracted, ``extract_records``); sizes past the module's limits (MAX_*) are refused.
+    ``schema``: the config's JSON schema: its other keys are checked first, studies and
+    defaults after the cases (whose messages are the more precise).
+    Scenes that differ only in their excitation are built once, and so is each excitation:
+    on config/config.yaml (507 cases, 179 scenes, 88 excitations) this adds ~1.5 s of CPU
+    to ``snakemake -n``.
+    """
+    if not isinstance(config, dict):
+        raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
+    if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
+        check_schema(config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults"))
+    records = config.get("records")
+    records = {} if records is None else records
+    if not isinstance(records, dict):
+        raise InputError("records", f"expected a mapping, got {type(records).__name__}",
+                         "write records: {name: {set: ..., id: ..., component: ...}}")
+    records_dir = Path(records_dir)
+    for name in records:
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(f"records.{name}", "a record name is a file name and a Snakemake wildcard",
+                             "use letters, digits, _ and -")
+        if not extract_records and not (records_dir / f"{name}.nc").is_file():
+            raise InputError(f"records.{name}", f"{records_dir / name}.nc not found",
+                             "restore it (git checkout records/), or extract it: snakemake -j1 --config "
+                             "extract_records=true --forcerun extract_record")
+    defaults = config.get("defaults")
+    defaults = {} if defaults is None else defaults
+    if not isinstance(defaults, dict):
+        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
+                         "write defaults: {contact: {...}, solver: {...}}")
+    for key in defaults:
+        if key not in DEFAULT_KEYS:
+            raise InputError(f"defaults.{key}", "unknown key", f"allowed keys: {', '.join(DEFAULT_KEYS)}")
+    studies = config.get("studies")
+    if not isinstance(studies, dict) or not studies:
+        raise InputError("studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}")
+    checker = _CaseChecker(records, records_dir)
+    tables = {}
+    total = 0
+    for name, study in studies.items():
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(f"studies.{name}", "a study name is a file name and a Snakemake wildcard",
+                             "use letters, digits, _ and -")
+        rows = _case_rows(name, study, defaults, exact=True)
+        total += len(rows)
+        if total > MAX_CASES:
+            raise InputError(f"studies.{name}", f"the studies up to this one have {total} cases, more than "
+                             f"the limit of {MAX_CASES}", "thin the grids (dem.study.MAX_CASES)")
+        with np.errstate(all="ignore"):  # a degenerate body's NaN: the scene refuses it by name
+            for case, origin in rows:
+                checker.check(case, study, defaults, origin, len(rows))
+        tables[name] = [case for case, _ in rows]
+    if schema is not None:
+        check_schema(config, schema)
+    return tables
+
+
+def check_schema(config: dict, schema: Path | str, where=None) -> None:
+    """The config against its JSON schema; the most relevant error as one InputError line.
+    ``where(path)``: only errors at config paths (tuples of keys) it accepts."""
+    import jsonschema
+    import yaml
+
+    validator = jsonschema.Draft202012Validator(yaml.safe_load(Path(schema).read_text()))
+    errors = (e for e in validator.iter_errors(config) if where is None or where(tuple(e.absolute_path)))
+    error = jsonschema.exceptions.best_match(errors)
+    if error is None:
+        return
+    field = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path).lstrip(".")
+    message = error.message if len(error.message) <= 200 else error.message[:197] + "..."
+    raise InputError(field or "config", message, f"see {Path(schema).name}")
+
+
+class _CaseChecker:
+    """Builds each case's scene as its job would (run_case: scene_from_dict, then
+    dem.simulate.preflight), the scene once per distinct scene without its excitation and
+    each excitation once."""
+
+    def __init__(self, records: dict, records_dir: Path):
+        self.records = records
+        self.records_dir = records_dir
+        self.excitations = {}  # excitation key -> (horizontal, vertical) BaseMotion | InputError
+        self.scenes = {}  # scene key (no excitation, no name) -> Scene | InputError
+
+    def check(self, case: Case, study: dict, defaults: dict, origin: dict, n_cases: int = 1) -> None:
+        """Raise the InputError the case's job would raise (or a limit's), at its config path."""
+        from dataclasses import replace
+
+        from dem.simulate import preflight
+
+        def fail(error: InputError):
+            raise _located(error, case, study, defaults, origin, n_cases) from None
+
+        scene = dict(case.scene)
+        if not any(key in source for source in (study, defaults) for key in ("structure", "bodies")):
+            raise InputError(f"studies.{case.study}.structure", "missing",
+                             "give structure: {kind: column, n_drums: ..., height: ..., width: ...}")
+        try:
+            _check_structure_size(scene.get("structure"))
+        except InputError as error:
+            fail(error)
+        excitation = scene.get("excitation") or {"kind": "none"}
+        readable = True
+        for field, spec in (("excitation", excitation), ("excitation.vertical", excitation.get("vertical"))):
+            if isinstance(spec, dict) and spec.get("kind") == "record" and "file" in spec:
+                name = spec["file"]
+                if not isinstance(name, str) or name not in self.records:
+                    known = ", ".join(self.records) or "none"
+                    fail(InputError(f"{field}.file", f"unknown record {name!r}",
+                                    f"use a name listed under records: ({known})"))
+                readable &= (self.records_dir / f"{name}.nc").is_file()
+        motions = None
+        if readable:  # else extracted by the workflow before its cases run (extract_records)
+            motions = self._excitation(excitation)
+            if isinstance(motions, InputError):
+                fail(motions)
+        solver = dict(scene.get("solver") or {})
+        if solver.get("duration") is None:  # as run_case: the record's length + 2 s
+            natural = motions[0].duration if motions else None
+            if natural is None and readable:
+                fail(InputError("solver.duration", "missing and the excitation has no natural length",
+                                "give solver: {duration: ...} in the study"))
+            solver["duration"] = natural + 2.0 if natural is not None else 1.0
+        scene["solver"] = solver
+        built = self._scene(scene)
+        if isinstance(built, InputError):
+            fail(built)
+        if built.duration > MAX_DURATION:
+            fail(InputError("solver.duration", f"{built.duration:g} s exceeds the limit of {MAX_DURATION:g} s",
+                            "simulate less time (dem.study.MAX_DURATION)"))
+        if built.duration / built.output_every > MAX_OUTPUT_SAMPLES:
+            fail(InputError("output.every", f"{built.output_every:g} s gives {built.duration / built.output_every:.3g}"
+                            f" samples over {built.duration:g} s, more than the limit of {MAX_OUTPUT_SAMPLES:.0e}",
+                            "sample less often (dem.study.MAX_OUTPUT_SAMPLES)"))
+        if motions is not None:
+            try:  # steps, memory, the excitation resolved by the step: what run_scene refuses first
+                preflight(replace(built, horizontal=motions[0], vertical=motions[1]))
+            except InputError as error:
+                fail(error)
+            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+                fail(InputError("", f"checking a case's scene: {type(error).__name__}: {error}", "fix the study"))
+
+    def _excitation(self, excitation: dict):
+        from dem.ground_motion import excitation_pair
+
+        key = _key(excitation)
+        if key not in self.excitations:
+            try:
+                self.excitations[key] = excitation_pair(excitation, self.records_dir)
+            except InputError as error:
+                self.excitations[key] = error
+            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+                self.excitations[key] = InputError("excitation", f"{type(error).__name__}: {error}",
+                                                   "fix the excitation")
+        return self.excitations[key]
+
+    def _scene(self, scene: dict):
+        from dem.scene import scene_from_dict
+
+        spec = {k: v for k, v in scene.items() if k not in ("excitation", "name")}
+        key = _key(spec)
+        if key not in self.scenes:
+            try:
+                self.scenes[key] = scene_from_dict({**spec, "excitation": {"kind": "none"}},
+                                                   base_dir=self.records_dir)
+            except InputError as error:
+                self.scenes[key] = error
+            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+                self.scenes[key] = InputError("", f"building a case's scene: {type(error).__name__}: {error}",
+                                              "fix the study")
+        return self.scenes[key]
+
+
+def _key(spec) -> str:
+    import json
+
+    return json.dumps(spec, sort_keys=True, default=repr)
+
+
+def _check_structure_size(structure) -> None:
+    """n_drums and n_columns of a structure (and its rows) within the limits, before it is built."""
+    if not isinstance(structure, dict):
+        return  # the scene refuses it
+    for prefix, spec in (("structure", structure), ("structure.lower", structure.get("lower")),
+                         ("structure.upper", structure.get("upper"))):
+        if not isinstance(spec, dict):
+            continue
+        for key in ("n_drums", "n_columns"):
+            value = spec.get(key)
+            low, high = COUNTS[key]
+            if isinstance(value, int) and not isinstance(value, bool) and value > high:
+                raise InputError(f"{prefix}.{key}", f"must be {low} ... {high}, got {value}",
+                                 f"give an integer {low} ... {high} (dem.study.COUNTS)")
+
+
+def _located(error: InputError, case: Case, study: dict, defaults: dict, origin: dict,
+             n_cases: int = 1) -> InputError:
+    """A scene's error, named by the config path its value came from: a grid or case entry,
+    the study, or the defaults."""
+    field = error.field
+    prefix = f"studies.{case.study}."
+    if field.startswith(prefix):
+        field = field[len(prefix):]
+    for key, path in origin.items():
+        target = PARAMETERS[key][0]
+        if field == target or field.startswith((target + ".", target + "[")):
+            return InputError(path, error.problem, error.fix)
+    parts = [p for p in re.split(r"[.\[\] (]+", field) if p]
+    problem = error.problem
+    if parts and parts[0] == "bodies" and "bodies" not in study and "bodies" not in defaults:
+        problem = f"{field}: {problem}"  # a built body: the structure made it
+        field, parts = "structure", ["structure"]
+    if n_cases > 1 and any(PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params):
+        problem = f"{problem} (case {case.id})"  # the swept parameters may be part of it
+
+    def depth(source) -> int:
+        node, n = source, 0
+        for part in parts:
+            if isinstance(node, dict) and part in node:
+                node, n = node[part], n + 1
+            elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
+                node, n = node[int(part)], n + 1
+            else:
+                break
+        return n
+
+    in_study, in_defaults = depth(study), depth(defaults)
+    where = "defaults" if in_defaults > in_study else f"studies.{case.study}"
+    return InputError(f"{where}.{field}" if field else where, problem, error.fix)
 
 
 def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:

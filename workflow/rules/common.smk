@@ -1,9 +1,10 @@
+import sys
+from pathlib import Path
+
 from snakemake.utils import validate
 
-
-validate(config, schema="../schemas/config.schema.yaml")
-
-RECORDS = config["records"]
+import dem.study
+from dem.errors import InputError
 
 
 def config_flag(key, default):
@@ -12,6 +13,23 @@ def config_flag(key, default):
 
 
 EXTRACT_RECORDS = config_flag("extract_records", False)
+# The config is refused here, at DAG time (snakemake -n), when any case would fail in its job:
+# every value of every grid, every study and the defaults are built into each case's scene
+# through dem run's validation; records must be listed under records: and be on disk; sizes
+# past dem.study.MAX_* are refused. One line names the config path (dem.study.check_config).
+# Checked once, by the main process (not again in each cluster job, which re-reads this file).
+if getattr(workflow, "is_main_process", True):
+    try:
+        dem.study.check_config(config, records_dir="records", extract_records=EXTRACT_RECORDS,
+                               schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml")
+    except InputError as error:
+        # one line, the last one printed, and dem's exit code for bad input (dem.entry); a
+        # WorkflowError would add Snakemake's header and a traceback line after it
+        print(f"Bad config: {error}", file=sys.stderr)
+        sys.exit(2)
+validate(config, schema="../schemas/config.schema.yaml")  # fills the schema's defaults
+
+RECORDS = config["records"]
 RECORD_NAMES = list(RECORDS)
 
 

@@ -74,3 +74,204 @@ def test_one_column_record_with_dt_header(tmp_path):
 def test_bad_excitation_specs(spec, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         excitation_from_spec(spec)
+
+
+# --- hostile record files (issue 13): one line naming the field, or a sane record ------------
+
+def _refused(path, message, field="excitation.file", **spec):
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": str(path), **spec})
+    text = str(err.value)
+    assert err.value.field == field and message in text, text
+    assert all(ch.isprintable() for ch in text), repr(text)
+    return text
+
+
+def _netcdf(path, accel=(0.0, 0.3, -0.2, 0.1), time=None, name="acceleration", dims=("time",),
+            units="m s-2", time_units="s", **encoding):
+    import xarray as xr
+
+    accel = np.asarray(accel)
+    time = np.arange(len(accel)) * 0.01 if time is None else np.asarray(time)
+    attrs = {} if units is None else {"units": units}
+    coords = {"time": ("time", time, {} if time_units is None else {"units": time_units})} if "time" in dims else {}
+    xr.Dataset({name: (dims, accel, attrs)}, coords=coords).to_netcdf(path, encoding={name: encoding})
+    return path
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"\x00\x01\x02garbage\xff\n", "binary file"),
+    (b"0 0.1\n0.01 0.2\xe9\n", "not UTF-8"),
+    (b"0 0.1\n" + b"9" * 20000 + b"\n", "longer than"),
+    (b"0 0.1\n", "fewer than 2 samples"),
+    (b"dt = 1e-7\n0.1\n0.2\n", "outside [0.0001, 1] s"),
+    (b"dt = 5\n0.1\n0.2\n", "outside [0.0001, 1] s"),
+    (b"dt = abc\n0.1\n0.2\n", "bad dt header"),
+    (b"0 0.1\n0.01 2000\n", "above the 100 g limit"),
+    (b"0 0.1\n0.01 1e308\n", "above the 100 g limit"),
+    (b"# dt = 0.01\n# dt = 0.02\n0.1\n0.2\n", "a second dt header"),
+])
+def test_hostile_text_records(tmp_path, content, message):
+    path = tmp_path / "bad.txt"
+    path.write_bytes(content)
+    _refused(path, message)
+
+
+def test_file_names_in_messages_are_one_line(tmp_path):
+    path = tmp_path / "two\nlines\x1b[31m.txt"
+    path.write_bytes(b"\xff\xfe")
+    text = _refused(path, "not UTF-8")
+    assert "two\\nlines\\x1b[31m.txt" in text
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda p: p.write_bytes(b"this is not netcdf"), "not a readable NetCDF file"),
+    (lambda p: p.write_bytes(b""), "not a readable NetCDF file"),
+    (lambda p: p.write_bytes(_netcdf(p).read_bytes()[:300]), "not a readable NetCDF file"),
+    (lambda p: _netcdf(p, name="accel"), "no variable 'acceleration' (it has: accel, time)"),
+    (lambda p: _netcdf(p, accel=np.zeros((4, 2)), dims=("time", "component")), "dimensions"),
+    (lambda p: _netcdf(p, dims=("t",)), "dimensions"),
+    (lambda p: _netcdf(p, accel=[0.1, np.nan, 0.2]), "NaN or infinite"),
+    (lambda p: _netcdf(p, accel=[0.1, np.inf, 0.2]), "NaN or infinite"),
+    (lambda p: _netcdf(p, time=[0.0, 0.02, 0.01, 0.03]), "time not increasing"),
+    (lambda p: _netcdf(p, time=[0.0, 0.01, 0.03, 0.04]), "non-uniform time step"),
+    (lambda p: _netcdf(p, accel=[0.3]), "fewer than 2 samples"),
+    (lambda p: _netcdf(p, units="furlong/fortnight2"), "unknown acceleration units"),
+    (lambda p: _netcdf(p, time_units="days"), "time units 'days'"),
+    (lambda p: _netcdf(p, time_units="seconds since 2000-01-01"), "time units"),
+    (lambda p: _netcdf(p, accel=np.array([b"a", b"b"])), "not real numbers"),
+])
+def test_hostile_netcdf_records(tmp_path, make, message):
+    path = tmp_path / "bad.nc"
+    make(path)
+    _refused(path, message)
+
+
+def test_netcdf_without_a_time_coordinate_is_refused(tmp_path):
+    import xarray as xr
+
+    path = tmp_path / "no_time.nc"
+    xr.Dataset({"acceleration": ("time", np.array([0.1, 0.2, 0.3]))}).to_netcdf(path)
+    _refused(path, "no 'time' coordinate")
+
+
+def test_netcdf_units_are_its_own(tmp_path):
+    path = _netcdf(tmp_path / "r.nc", units="m s-2")
+    text = _refused(path, "carries its own", field="excitation.units", units="g")
+    assert "declares its acceleration in 'm s-2'" in text
+    same = excitation_from_spec({"kind": "record", "file": str(path), "units": "m/s2", "baseline": False})
+    assert same.pga == pytest.approx(0.3)
+    in_g = excitation_from_spec({"kind": "record", "file": str(_netcdf(tmp_path / "g.nc", units="g")),
+                                 "baseline": False})
+    assert in_g.pga == pytest.approx(0.3 * 9.80665)
+    no_units = _netcdf(tmp_path / "plain.nc", units=None)  # no attribute: units: applies
+    assert excitation_from_spec({"kind": "record", "file": str(no_units), "units": "g",
+                                 "baseline": False}).pga == pytest.approx(0.3 * 9.80665)
+
+
+def test_a_conflicting_dt_is_refused(tmp_path):
+    _refused(REC, "dt gives 0.02 s", field="excitation.dt", dt=0.02)
+    one = tmp_path / "one.txt"
+    one.write_text("dt = 0.01\n0.1\n0.2\n0.3\n")
+    _refused(one, "declares dt = 0.01 s, dt gives 0.02 s", field="excitation.dt", dt=0.02)
+    assert excitation_from_spec({"kind": "record", "file": str(one), "dt": 0.01}).duration == pytest.approx(0.02)
+
+
+@pytest.mark.parametrize("value, message", [
+    (None, "expected a file name or path"), (["a"], "expected a file name or path"),
+    (True, "expected a file name or path"), ("", "empty record name"), ("a\x00b", "NUL character"),
+    ("x" * 5000, "over 4096 characters"),
+])
+def test_bad_record_names(value, message):
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": value})
+    assert err.value.field == "excitation.file" and message in str(err.value), str(err.value)
+
+
+def test_a_folder_is_not_a_record(tmp_path):
+    _refused(tmp_path, "(a folder)")
+
+
+@pytest.mark.parametrize("spec, field, message", [
+    ({"units": ["g"]}, "excitation.units", "unknown units"),
+    ({"units": "furlong"}, "excitation.units", "unknown units"),
+    ({"pga": 5000.0}, "excitation.pga", "above the 100 g limit"),
+    ({"scale": 1e300}, "excitation.scale", "above the 100 g limit"),
+    ({"dt": 0.02}, "excitation.dt", "has a time step of 0.01 s, dt gives 0.02 s"),
+])
+def test_bad_record_keys(spec, field, message):
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": "northridge_1994_mul009", **spec})
+    assert err.value.field == field and message in str(err.value), str(err.value)
+
+
+def test_sample_limit_is_checked_before_reading(tmp_path, monkeypatch):
+    from dem import records
+
+    big = _netcdf(tmp_path / "long.nc", accel=np.zeros(records.MAX_RECORD_SAMPLES + 1), zlib=True)
+    _refused(big, f"more than {records.MAX_RECORD_SAMPLES} samples")
+    monkeypatch.setattr(records, "MAX_RECORD_SAMPLES", 5)
+    text = tmp_path / "t.txt"
+    text.write_text("".join(f"{i * 0.01} 0.1\n" for i in range(6)))
+    _refused(text, "more than 5 samples")
+
+
+def test_file_size_limit(tmp_path):
+    from dem import records
+
+    path = tmp_path / "huge.txt"
+    with open(path, "wb") as f:  # sparse: instant, no disk used
+        f.truncate(records.MAX_RECORD_BYTES + 1)
+    _refused(path, "MB limit")
+
+
+def test_a_special_file_is_not_a_record(tmp_path):
+    import os
+
+    fifo = tmp_path / "pipe.txt"
+    os.mkfifo(fifo)
+    _refused(fifo, "not a record file")
+
+
+def test_records_resolve_from_the_installed_package_data(tmp_path, monkeypatch):
+    import shutil
+
+    from dem import ground_motion
+
+    installed = tmp_path / "site" / "dem" / "_records"
+    installed.mkdir(parents=True)
+    shutil.copy("records/northridge_1994_mul009.nc", installed)
+    monkeypatch.setattr(ground_motion, "checkout_records_dir", lambda: None)
+    monkeypatch.setattr(ground_motion, "packaged_records_dir", lambda: installed)
+    monkeypatch.chdir(tmp_path)
+    path = ground_motion.resolve_record("northridge_1994_mul009", "excitation.file", tmp_path)
+    assert path == installed / "northridge_1994_mul009.nc"
+    with pytest.raises(InputError) as err:
+        ground_motion.resolve_record("nope", "excitation.file", tmp_path)
+    assert str(installed) in str(err.value) and "northridge_1994_mul009" in str(err.value)
+
+
+def test_the_package_ships_the_records():
+    import tomllib
+    from pathlib import Path
+
+    config = tomllib.loads(Path("pyproject.toml").read_text())["tool"]["setuptools"]
+    assert config["package-dir"] == {"": "src", "dem._records": "records"}
+    assert "*.nc" in config["package-data"]["dem._records"]
+    assert Path("src/dem/_records/__init__.py").is_file(), "lets package discovery find dem._records"
+    assert len(list(Path("records").glob("*.nc"))) >= 4
+
+
+def test_records_that_broke_the_baseline_correction(tmp_path):
+    # found by tests/test_fuzz_records.py: subnormal samples overflowed the baseline fit to
+    # inf (it now works on acc / 2^k)
+    tiny = tmp_path / "tiny.txt"
+    tiny.write_text("0 0\n0.005 2.2e-313\n")
+    motion = excitation_from_spec({"kind": "record", "file": str(tiny)})
+    assert np.all(np.isfinite(motion.table_accel)) and np.all(np.isfinite(motion.table_disp))
+    # a 9-sample, 30 g record: its correction is 3x its peak; named as the file's, not scale's
+    short = tmp_path / "short.txt"
+    short.write_text("0.0 2.0\n0.005 0.0\n0.01 -13.0\n0.015 0.0\n0.02 30.0\n0.025 0\n0.03 0\n0.035 0\n0.04 0\n")
+    _refused(short, "baseline correction raises the peak to 987.3 m/s2", units="g")
+    assert excitation_from_spec({"kind": "record", "file": str(short), "units": "g",
+                                 "baseline": False}).pga == pytest.approx(30 * 9.80665)

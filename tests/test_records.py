@@ -151,3 +151,111 @@ def test_record_info_command(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "PGA                 4.077" in proc.stdout and "predominant" in proc.stdout
     assert plot.stat().st_size > 1000
+
+
+# --- hostile input (issue 13) -----------------------------------------------------------------
+
+@pytest.mark.parametrize("mutate, message", [
+    (lambda t: t.replace(".0100", "1e-"), "no NPTS and DT"),
+    (lambda t: t.replace(".0100", "."), "no NPTS and DT"),
+    (lambda t: t.replace(".0100", "1e999"), "not a positive finite time step"),
+    (lambda t: t.replace(".0100", "0.0000001"), "outside [0.0001, 1] s"),
+    (lambda t: t.replace("NPTS=    7", "NPTS= 99999999999999999999"), "more than 500000 samples"),
+    (lambda t: t.replace("NPTS=    7", "NPTS=    1"), "NPTS = 1"),
+    (lambda t: t.replace(".5000000E-01", "nan"), "NaN or infinite value at sample 4"),
+    (lambda t: t.replace(".5000000E-01", "1.0E+03"), "above the 100 g limit"),
+    (lambda t: t.replace("Test event", "Test\x1b[2J event"), None),
+])
+def test_hostile_at2(tmp_path, mutate, message):
+    path = write(tmp_path, mutate(AT2_NEW))
+    if message is None:  # control characters in the title are escaped, not printed raw
+        assert records.read_at2(path).meta["title"].startswith("Test\\x1b[2J event")
+        return
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": str(path)})
+    assert message in str(err.value) and str(err.value).isprintable(), str(err.value)
+
+
+def test_at2_units_are_its_own(tmp_path):
+    path = write(tmp_path, AT2_NEW)
+    with pytest.raises(InputError) as err:
+        excitation_from_spec({"kind": "record", "file": str(path), "units": "cm/s2"})
+    assert err.value.field == "excitation.units" and "in g" in str(err.value)
+    assert excitation_from_spec({"kind": "record", "file": str(path), "units": "g",
+                                 "baseline": False}).pga == pytest.approx(0.05 * 9.80665)
+
+
+def test_at2_not_utf8_or_binary(tmp_path):
+    path = tmp_path / "bad.AT2"
+    path.write_bytes(AT2_NEW.encode().replace(b"Some Station", b"Some \xff Station"))
+    with pytest.raises(InputError, match=r"line 2: byte \d+ is not UTF-8"):
+        records.read_at2(path)
+    path.write_bytes(b"\x00" * 100)
+    with pytest.raises(InputError, match="binary file"):
+        records.read_at2(path)
+
+
+@pytest.mark.parametrize("accel", [np.zeros(500), np.full(500, 0.7)])
+def test_a_constant_record_has_no_predominant_frequency(accel):
+    assert np.isnan(records.predominant_frequency(np.arange(500) * 0.01, accel))
+
+
+def run_info(*argv):
+    """(status, stdout, stderr) of ``dem record info`` in-process through dem.record_cli."""
+    import contextlib
+    import io
+
+    from dem.entry import guarded
+    from dem.record_cli import build_parser
+
+    args = build_parser().parse_args(["record", "info", *map(str, argv)])
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = guarded(lambda: args.handler(args))
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_record_info_in_process(tmp_path):
+    plot = tmp_path / "s.svg"
+    status, out, err = run_info("northridge_1994_mul009", "--plot", plot, "--damping", "0.05")
+    assert status == 0, err
+    assert "PGA                 4.077" in out and "predominant freq.   1.06 Hz" in out
+    assert plot.stat().st_size > 1000 and list(tmp_path.iterdir()) == [plot], "no temporary left"
+
+
+def test_record_info_of_an_all_zero_record(tmp_path):
+    path = tmp_path / "zeros.txt"
+    path.write_text("".join(f"{i * 0.01:.2f} 0\n" for i in range(100)))
+    status, out, err = run_info(path, "--plot", tmp_path / "z.png")
+    assert status == 0, err
+    assert "predominant freq.   none (the record is all zeros)" in out and "0 m/s2 (no response)" in out
+
+
+@pytest.mark.parametrize("argv, field", [
+    (["northridge_1994_mul009", "--units", "g"], "error: --units: northridge_1994_mul009.nc declares"),
+    (["northridge_1994_mul009", "--units", "furlong"], "error: --units: unknown units"),
+    (["no_such_record", "--damping", "1.5"], "error: --damping: 1.5 is not a damping ratio"),
+    (["no_such_record", "--damping", *["0.05"] * 11], "error: --damping: 11 values"),
+    (["no_such_record", "--dt", "abc"], "error: --dt: expected a number"),
+    (["no_such_record", "--dt", "nan"], "error: --dt"),
+    (["no_such_record", "--dt", "1e-9"], "error: --dt: time step 1e-09 s is outside"),
+    (["no_such_record"], "error: file: record 'no_such_record' not found"),
+    (["northridge_1994_mul009", "--plot", "PLOT/x.txt"], "error: --plot: "),
+    (["northridge_1994_mul009", "--plot", "PLOT"], "error: --plot: "),
+    (["northridge_1994_mul009", "--plot", ""], "error: --plot: empty path"),
+])
+def test_record_info_refuses_before_computing(tmp_path, argv, field):
+    argv = [str(tmp_path) if a == "PLOT" else a.replace("PLOT", str(tmp_path)) for a in argv]
+    status, out, err = run_info(*argv)
+    assert status == 2 and err.startswith(field) and err.count("\n") == 1 and out == "", err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_record_info_never_overwrites_its_input(tmp_path):
+    path = tmp_path / "rec.txt"
+    path.write_text("0 0.1\n0.01 0.2\n0.02 -0.1\n")
+    path_png = tmp_path / "rec.png"
+    path_png.write_bytes(b"x")
+    status, out, err = run_info(path_png, "--plot", path_png)
+    assert status == 2 and err.startswith("error: --plot: ") and "is the input file" in err, err
+    assert path_png.read_bytes() == b"x"

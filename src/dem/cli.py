@@ -13,7 +13,6 @@ import os
 import sys
 from pathlib import Path
 
-import numpy as np
 
 import dem
 from dem import snapshots
@@ -61,16 +60,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="run only these validations (repeatable); see --list")
     val.add_argument("--list", action="store_true", help="list the validations and exit")
 
-    rec = sub.add_parser("record", help="ground-motion records")
-    rec_sub = rec.add_subparsers(dest="record_command", required=True)
-    info = rec_sub.add_parser("info", help="PGA, duration, dt, predominant frequency; writes a spectrum plot")
-    info.add_argument("file", help="record file (.AT2, text, NetCDF) or a name in records/")
-    info.add_argument("--units", default=None, help="acceleration units of a text record: m/s2 (default), g, cm/s2")
-    info.add_argument("--dt", type=float, default=None, help="time step of a one-column text record [s]")
-    info.add_argument("--plot", type=Path, default=None,
-                      help="spectrum plot to write (default results/records/<name>_spectrum.png)")
-    info.add_argument("--damping", type=float, nargs="+", default=[0.05, 0.10],
-                      help="damping ratios of the response spectra (default 0.05 0.10)")
+    from dem.record_cli import add_parser as add_record_parser
+
+    add_record_parser(sub)
     snapshots.add_parser(sub)
     from dem.wall.cli import add_parser as add_wall_parser
 
@@ -90,8 +82,6 @@ def main(argv: list[str] | None = None) -> int:
             return command_run(args)
         if args.command == "validate":
             return command_validate(args)
-        if args.command == "record":
-            return command_record_info(args)
         return 1
 
     status = guarded(command)
@@ -149,49 +139,3 @@ def command_validate(args) -> int:
                          f"choose from {', '.join(validation.VALIDATIONS)}")
     failed = validation.run_all(args.output, names=args.only or None)
     return 1 if failed else 0
-
-
-def command_record_info(args) -> int:
-    from dem import records
-    from dem.ground_motion import read_record, resolve_record
-
-    path = resolve_record(args.file, "file", Path("."))
-    time, accel, meta = read_record(path, "file", units=args.units, dt=args.dt)
-    for z in args.damping:
-        if not 0 < z < 1:
-            raise InputError("--damping", f"{z} is not a damping ratio", "give values between 0 and 1, e.g. 0.05")
-    f_p = records.predominant_frequency(time, accel)
-    _, disp = records.integrate(time, accel)
-    print(f"record              {path}")
-    if meta.get("title"):
-        print(f"title               {meta['title']}")
-    print(f"PGA                 {np.abs(accel).max():.4g} m/s2 ({np.abs(accel).max() / records.G_STANDARD:.4g} g)")
-    print(f"duration            {time[-1]:.4g} s")
-    print(f"dt                  {time[1] - time[0]:.4g} s ({len(time)} samples)")
-    print(f"predominant freq.   {f_p:.3g} Hz (smoothed Fourier amplitude peak)")
-    print(f"end displacement    {disp[-1]:.4g} m as recorded (baseline correction is applied when simulating)")
-    periods = records.SPECTRUM_PERIODS
-    plot = args.plot or Path("results/records") / f"{path.stem}_spectrum.png"
-    plot.parent.mkdir(parents=True, exist_ok=True)
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
-    ax1.plot(time, accel, lw=0.6)
-    ax1.set_xlabel("time [s]")
-    ax1.set_ylabel("ground acceleration [m s-2]")
-    for z in args.damping:
-        psa = records.response_spectrum(time, accel, periods, z)
-        ax2.plot(periods, psa, label=f"{100 * z:g} % damping")
-        print(f"PSA peak ({100 * z:g} %)     {psa.max():.4g} m/s2 at T = {periods[np.argmax(psa)]:.3g} s")
-    ax2.set_xscale("log")
-    ax2.set_xlabel("period [s]")
-    ax2.set_ylabel("pseudo-acceleration [m s-2]")
-    ax2.legend()
-    fig.suptitle(f"{path.name}: PGA {np.abs(accel).max():.3g} m/s2, predominant {f_p:.3g} Hz", fontsize=10)
-    fig.savefig(plot, dpi=110)
-    plt.close(fig)
-    print(f"spectrum plot       {plot}")
-    return 0

@@ -19,13 +19,60 @@ from pathlib import Path
 
 import numpy as np
 
+import re
+from array import array
+
 from dem.errors import InputError, check_number
 from dem.kernels import excitation as kx
-from dem.records import G_STANDARD
+from dem.records import (G_STANDARD, MAX_RECORD_PGA, _reason, check_dt, check_pga, check_record_file,
+                         check_samples, shown, text_lines)
 
-RECORDS_DIR = Path(__file__).resolve().parents[2] / "records"
 UNIT_FACTORS = {"m/s2": 1.0, "m s-2": 1.0, "m/s^2": 1.0, "g": G_STANDARD, "cm/s2": 0.01,
                 "cm s-2": 0.01, "gal": 0.01}
+RECORD_SUFFIXES = (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat")
+TIME_UNITS = ("s", "sec", "second", "seconds")  # accepted units of a NetCDF record's time
+
+
+def checkout_records_dir() -> Path | None:
+    """The top-level ``records/`` of a source checkout this module runs from (editable install)."""
+    here = Path(__file__).resolve()
+    root = here.parents[2]
+    if here.parents[1].name == "src" and (root / "pyproject.toml").is_file() and (root / "records").is_dir():
+        return root / "records"
+    return None
+
+
+def packaged_records_dir() -> Path | None:
+    """The records installed as package data ``dem._records`` (``pip install .``), if any.
+
+    pyproject.toml maps the package ``dem._records`` onto the top-level ``records/`` folder
+    and ships its ``*.nc``; found through the import system (importlib), so it is wherever
+    ``dem`` was installed. None in a checkout (there ``dem._records`` is a placeholder).
+    """
+    import importlib.util
+
+    try:
+        spec = importlib.util.find_spec("dem._records")
+    except (ImportError, ValueError):
+        return None
+    for location in (spec.submodule_search_locations or []) if spec else []:
+        folder = Path(location)
+        if folder.is_dir() and any(folder.glob("*.nc")):
+            return folder
+    return None
+
+
+def record_folders() -> list[Path]:
+    """Where record names are looked up: the checkout's records/, then the installed records."""
+    folders = []
+    for folder in (checkout_records_dir(), packaged_records_dir()):
+        if folder is not None and folder not in folders:
+            folders.append(folder)
+    return folders
+
+
+_folders = record_folders()
+RECORDS_DIR = _folders[0] if _folders else Path(__file__).resolve().parents[2] / "records"
 KIND_KEYS = {
     "none": {},
     "harmonic": {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"},
@@ -90,6 +137,19 @@ def _num(spec, key, where, positive=False, required=True, default=None):
 KIND_KEYS_UNITS = {k: u for keys in KIND_KEYS.values() for k, u in keys.items()}
 
 
+# a base motion faster than this is taken for a units mistake (kHz for Hz); the step must
+# also resolve it (dem.simulate.MIN_STEPS_PER_PERIOD)
+MAX_EXCITATION_FREQUENCY = 1000.0  # [Hz]
+
+
+def _frequency(spec: dict, field: str) -> float:
+    f = _num(spec, "frequency", field, positive=True)
+    if f > MAX_EXCITATION_FREQUENCY:
+        raise InputError(f"{field}.frequency", f"{f:g} Hz is above the limit {MAX_EXCITATION_FREQUENCY:g} Hz",
+                         "give the frequency in Hz")
+    return f
+
+
 def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[BaseMotion, BaseMotion]:
     """(horizontal, vertical) base motions of an ``excitation:`` mapping; vertical from its ``vertical:`` key."""
     spec = dict(spec or {"kind": "none"})
@@ -118,7 +178,7 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
     if kind == "none":
         return BaseMotion(kx.KIND_NONE, params, description=description)
     if kind == "harmonic":
-        f = _num(spec, "frequency", field, positive=True)
+        f = _frequency(spec, field)
         if ("amplitude" in spec) == ("pga" in spec):
             raise InputError(f"{field}.amplitude", "give exactly one of amplitude [m] and pga [m s-2]",
                              "write amplitude: 0.25 or pga: 2.15")
@@ -129,6 +189,9 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
         cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
         if cycles < 0:
             raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")
+        if not math.isfinite(amp * (2 * math.pi * f) ** 2):
+            raise InputError(f"{field}.amplitude", f"{amp:g} m at {f:g} Hz is not a finite acceleration",
+                             "give an amplitude in m")
         params[:3] = amp, 2 * math.pi * f, cycles / f
         description.update(frequency=f, frequency_units="Hz", amplitude=amp, amplitude_units="m",
                            ramp_cycles=cycles, pga=amp * (2 * math.pi * f) ** 2)
@@ -141,7 +204,7 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
         return BaseMotion(kx.KIND_RECT_PULSE, params, description=description)
     if kind == "sine_pulse":
         a_p = _num(spec, "accel", field)
-        f = _num(spec, "frequency", field, positive=True)
+        f = _frequency(spec, field)
         params[:3] = a_p, 2 * math.pi * f, 1.0 / f
         description.update(accel=a_p, accel_units="m s-2", frequency=f, frequency_units="Hz")
         return BaseMotion(kx.KIND_SINE_PULSE, params, description=description)
@@ -158,142 +221,294 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
         raise InputError(f"{field}.file", "missing", "give the record file (path or name in records/)")
     if "scale" in spec and "pga" in spec:
         raise InputError(field, "give scale or pga, not both", "remove one of them")
-    path = resolve_record(str(spec["file"]), f"{field}.file", base_dir)
-    units = spec.get("units")
-    if units is not None and units not in UNIT_FACTORS:
-        raise InputError(f"{field}.units", f"unknown units {units!r}", f"use one of {', '.join(UNIT_FACTORS)}")
+    name = spec["file"]
+    if isinstance(name, bool) or not isinstance(name, (str, int, Path)):
+        raise InputError(f"{field}.file", f"expected a file name or path, got {shown(repr(name))}",
+                         "write file: northridge_1994_mul009 or file: path/to/record.AT2")
+    units = check_units(spec.get("units"), f"{field}.units")
     dt = _num(spec, "dt", field, positive=True, required=False)
     baseline = spec.get("baseline", True)
     if not isinstance(baseline, bool):
         raise InputError(f"{field}.baseline", "expected true or false", "write baseline: true")
-    time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt)
+    target = _num(spec, "pga", field, positive=True) if "pga" in spec else None
+    if target is not None and target > MAX_RECORD_PGA:
+        raise InputError(f"{field}.pga", f"{target:g} m/s2 is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit",
+                         "give a ground acceleration in m/s2")
+    scale = _num(spec, "scale", field, required=False, default=1.0)
+    path = resolve_record(str(name), f"{field}.file", base_dir)
+    time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
+                                    units_field=f"{field}.units", dt_field=f"{field}.dt")
     if baseline:
         from dem.records import baseline_correct
 
         accel = baseline_correct(time, accel)
     pga_raw = float(np.abs(accel).max())
-    if "pga" in spec:
-        target = _num(spec, "pga", field, positive=True)
+    if target is not None:
         if pga_raw == 0.0:
-            raise InputError(f"{field}.pga", "the record is all zeros", "use a record with motion")
+            raise InputError(f"{field}.pga", "the record is all zeros" + (" after baseline correction" if baseline else ""),
+                             "use a record with motion")
         scale = target / pga_raw
-    else:
-        scale = _num(spec, "scale", field, required=False, default=1.0)
     accel = accel * scale
+    pga = float(np.abs(accel).max())
+    if not pga <= MAX_RECORD_PGA:
+        limit = f"{MAX_RECORD_PGA / G_STANDARD:g} g limit (dem.records.MAX_RECORD_PGA)"
+        if "scale" in spec:
+            raise InputError(f"{field}.scale", f"the scaled record's peak {pga:.4g} m/s2 is above the {limit}",
+                             "give a smaller scale")
+        raise InputError(f"{field}.file", f"{shown(path.name)}: baseline correction raises the peak to "
+                         f"{pga:.4g} m/s2, above the {limit}", "give baseline: false, or a longer record")
     table_a, table_v, table_d, h = record_to_table(time, accel)
     description = {"kind": "record", "file": str(path), "scale": scale, "baseline_corrected": int(baseline),
-                   "pga": float(np.abs(accel).max()),
-                   "pga_units": "m s-2", "record_pga": pga_raw, "record_dt": h,
+                   "pga": pga, "pga_units": "m s-2", "record_pga": pga_raw, "record_dt": h,
                    "record_duration": float(time[-1] - time[0]), **meta}
     return BaseMotion(kx.KIND_TABLE, np.zeros(4), table_a, table_v, table_d, h, description)
 
 
+MAX_NAME_CHARS = 4096
+
+
 def resolve_record(name: str, field: str, base_dir: Path) -> Path:
-    """A record path: as given, relative to the scene, or by name in the repository's records/."""
-    candidates = [Path(name), base_dir / name, RECORDS_DIR / name]
-    for folder in (base_dir, RECORDS_DIR):
-        for ext in (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat"):
+    """A record path: as given, relative to the scene, or by name in a records folder.
+
+    Names are looked up (with or without a suffix of :data:`RECORD_SUFFIXES`) in the
+    checkout's ``records/`` and in the records installed with the package
+    (:func:`record_folders`), so ``athens_standin_kocaeli_arc000`` works from any install.
+    The path must be a regular file; anything else is a one-line InputError naming ``field``.
+    """
+    if isinstance(name, Path):
+        name = str(name)
+    if not isinstance(name, str):
+        raise InputError(field, f"expected a file name or path, got {shown(repr(name))}", "give a record file")
+    if not name.strip():
+        raise InputError(field, "empty record name", "give a path or a record name, e.g. northridge_1994_mul009")
+    if "\0" in name or len(name) > MAX_NAME_CHARS:
+        raise InputError(field, f"'{shown(name)}' is not a usable file name"
+                         + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
+                         "give a path or a record name")
+    folders = record_folders()
+    candidates = [Path(name), Path(base_dir) / name, *(folder / name for folder in folders)]
+    for folder in (Path(base_dir), *folders):
+        for ext in RECORD_SUFFIXES:
             candidates.append(folder / f"{name}{ext}")
+    not_files = []
     for path in candidates:
-        if path.is_file():
-            return path
-    raise InputError(field, f"record '{name}' not found", f"give a path or a name in {RECORDS_DIR}")
+        try:
+            if path.is_file():
+                return path
+            if path.exists():
+                not_files.append(path)
+        except (OSError, ValueError):
+            continue
+    if not_files:
+        raise InputError(field, f"{shown(not_files[0])} is not a record file"
+                         + (" (a folder)" if not_files[0].is_dir() else ""), "give a record file")
+    known = sorted({p.stem for folder in folders for p in folder.glob("*.nc")})
+    where = " or ".join(str(f) for f in folders) or "records/ (none installed)"
+    listing = f" ({', '.join(known[:8])}{', ...' if len(known) > 8 else ''})" if known else ""
+    raise InputError(field, f"record '{shown(name)}' not found", f"give a path or a name in {where}{listing}")
 
 
-def read_record(path: Path, field: str, units: str | None = None, dt: float | None = None):
-    """(time [s] from 0, acceleration [m s-2], metadata) of a NetCDF or text record, checked."""
+def check_units(units, field: str) -> str | None:
+    """The units name (stripped, lower case) when known, None when not given, else an InputError."""
+    if units is None:
+        return None
+    if not isinstance(units, str) or units.strip().lower() not in UNIT_FACTORS:
+        raise InputError(field, f"unknown units {shown(repr(units))}", f"use one of {', '.join(UNIT_FACTORS)}")
+    return units.strip().lower()
+
+
+def read_record(path: Path, field: str, units: str | None = None, dt: float | None = None, *,
+                units_field: str | None = None, dt_field: str | None = None):
+    """(time [s] from 0, acceleration [m s-2], metadata) of a NetCDF, .AT2 or text record, checked.
+
+    ``units`` and ``dt`` are for records that do not carry them (text); a NetCDF record with
+    a ``units`` attribute and an .AT2 (in g, DT in its header) carry their own, and a
+    conflicting ``units`` or ``dt`` is refused naming ``units_field`` / ``dt_field``
+    (default: the scene's keys beside ``field``). Limits: :mod:`dem.records` ``MAX_RECORD_*``.
+    """
+    path = Path(path)
+    base = field.rsplit(".", 1)[0] + "." if "." in field else ""
+    units_field = units_field or f"{base}units"
+    dt_field = dt_field or f"{base}dt"
+    units_label, dt_label = units_field.rsplit(".", 1)[-1], dt_field.rsplit(".", 1)[-1]  # key or --option
+    units = check_units(units, units_field)
+    if dt is not None:
+        dt = check_dt(check_number(dt, dt_field, positive=True), dt_field, "time step")
+    name = shown(path.name)
     meta: dict = {}
-    if path.suffix.lower() == ".at2":
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
         from dem.records import read_at2
 
         rec = read_at2(path, field)
-        time, accel, units = rec.time, rec.acceleration, "m/s2"
+        if units is not None and UNIT_FACTORS[units] != G_STANDARD:
+            raise InputError(units_field, f"{name} is a PEER .AT2 record in g, {units_label} gives '{units}'",
+                             "drop the units: an .AT2 record carries its own")
+        time, accel, file_units = rec.time, rec.acceleration, "m/s2"
         meta = {"title": rec.meta.get("title", "")}
-    elif path.suffix == ".nc":
-        import xarray as xr
-
-        with xr.open_dataset(path) as ds:
-            if "acceleration" not in ds:
-                raise InputError(field, f"{path.name} has no variable 'acceleration'", "store acceleration on time")
-            accel = ds["acceleration"].values.astype(float)
-            time = ds["acceleration"]["time"].values.astype(float)
-            units = units or ds["acceleration"].attrs.get("units", "m s-2")
-            meta = {k: str(v) for k, v in ds.attrs.items() if k in ("title", "event", "station", "component", "source")}
-            if units not in UNIT_FACTORS:
-                raise InputError(field, f"{path.name}: unknown acceleration units {units!r}",
-                                 f"use one of {', '.join(UNIT_FACTORS)}")
+    elif suffix == ".nc":
+        time, accel, file_units, meta = _read_netcdf(path, field, units, units_field)
     else:
         time, accel, header_dt = _read_text_record(path, field)
-        dt = dt or header_dt
         if time is None:
-            if dt is None:
-                raise InputError(field, f"{path.name} has one column and no time step",
+            if dt is not None and header_dt is not None and not _same_step(dt, header_dt):
+                raise InputError(dt_field, f"{name} declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
+                                 "drop one of them")
+            step = dt if dt is not None else header_dt
+            if step is None:
+                raise InputError(field, f"{name} has one column and no time step",
                                  "add a header line 'dt = 0.01' or the key dt:")
-            time = np.arange(len(accel)) * dt
-        units = units or "m/s2"
-    accel = accel * UNIT_FACTORS[units]
+            check_dt(step, dt_field if dt is not None else field, f"{name}: dt =")
+            time = np.arange(len(accel)) * step
+            dt = None  # used
+        file_units = units or "m/s2"
+    with np.errstate(over="ignore", invalid="ignore"):
+        accel = accel * UNIT_FACTORS[file_units]
     _check_record(time, accel, field, path)
+    file_dt = float((time[-1] - time[0]) / (len(time) - 1))
+    if dt is not None and not _same_step(dt, file_dt):
+        raise InputError(dt_field, f"{name} has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
+                         "drop dt: it is only for one-column text records")
     if time[0] != 0.0:
         meta["time_shift"] = float(-time[0])
         time = time - time[0]
     return time, accel, meta
 
 
+def _same_step(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-6 * max(abs(a), abs(b))
+
+
+def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
+    """(time, acceleration, units name, meta) of a NetCDF record, every failure an InputError."""
+    import warnings
+
+    import xarray as xr
+
+    name = shown(path.name)
+    check_record_file(path, field, max_bytes=2**62)  # regular file; size is bounded per variable below
+    fix = "store 'acceleration' [m s-2] on a 'time' coordinate [s] (see records/README.md)"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False, cache=False)
+    except Exception as err:  # netCDF4, h5netcdf and scipy raise many types on junk
+        raise InputError(field, f"{name} is not a readable NetCDF file ({_reason(err)})",
+                         "give a NetCDF record, or a text or .AT2 record with its own suffix") from None
+    with ds:
+        if "acceleration" not in ds.variables:
+            have = ", ".join(shown(v, 30) for v in list(ds.variables)[:6]) or "none"
+            raise InputError(field, f"{name} has no variable 'acceleration' (it has: {have})", fix)
+        var = ds.variables["acceleration"]
+        if tuple(var.dims) != ("time",):
+            raise InputError(field, f"{name}: 'acceleration' has dimensions {shown(tuple(var.dims))}, expected (time,)", fix)
+        if "time" not in ds.variables or tuple(ds.variables["time"].dims) != ("time",):
+            raise InputError(field, f"{name} has no 'time' coordinate for 'acceleration'", fix)
+        tvar = ds.variables["time"]
+        check_samples(int(var.size), field, path.name)
+        for label, v in (("acceleration", var), ("time", tvar)):
+            if v.dtype.kind not in "iuf":
+                raise InputError(field, f"{name}: '{label}' holds {shown(v.dtype)}, not real numbers", fix)
+        file_units = var.attrs.get("units")
+        if file_units is not None:
+            if not isinstance(file_units, str) or file_units.strip().lower() not in UNIT_FACTORS:
+                raise InputError(field, f"{name}: unknown acceleration units {shown(repr(file_units))}",
+                                 f"use one of {', '.join(UNIT_FACTORS)}")
+            file_units = file_units.strip().lower()
+            if units is not None and UNIT_FACTORS[units] != UNIT_FACTORS[file_units]:
+                raise InputError(units_field, f"{name} declares its acceleration in '{shown(file_units)}', "
+                                 f"{units_field.rsplit('.', 1)[-1]} gives '{units}'",
+                                 "drop the units: a NetCDF record carries its own")
+        else:
+            file_units = units or "m s-2"
+        time_units = tvar.attrs.get("units", "s")
+        if not isinstance(time_units, str) or time_units.strip().lower() not in TIME_UNITS:
+            raise InputError(field, f"{name}: time units {shown(repr(time_units))}, expected s",
+                             "store time in seconds (units: s)")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                accel = np.asarray(var.values, dtype=float)
+                time = np.asarray(tvar.values, dtype=float)
+        except Exception as err:
+            raise InputError(field, f"{name}: cannot read 'acceleration' ({_reason(err)})", fix) from None
+        meta = {k: shown(v, 200) for k, v in ds.attrs.items()
+                if k in ("title", "event", "station", "component", "source")}
+    return time, accel, file_units, meta
+
+
+_DT_HEADER = re.compile(r"^#*\s*dt\s*[=:]\s*(\S*)", re.IGNORECASE)
+
+
 def _read_text_record(path: Path, field: str):
-    rows, header_dt, n_cols = [], None, None
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
-        text = line.split("#", 1)[0].strip()
-        if line.lstrip().startswith("#") and "dt" in line and "=" in line:
+    """(time or None, acceleration, dt from a header line or None) of a text record."""
+    name = shown(path.name)
+    values = array("d")
+    header_dt, n_cols, n_rows = None, None, 0
+    for number, line in text_lines(path, field):
+        stripped = line.strip()
+        header = _DT_HEADER.match(stripped)
+        if header:
             try:
-                header_dt = float(line.split("=", 1)[1].split()[0])
-            except (ValueError, IndexError):
-                pass
+                value = float(header.group(1).rstrip(",;"))
+            except ValueError:
+                raise InputError(field, f"{name} line {number}: bad dt header '{shown(stripped, 40)}'",
+                                 "write dt = 0.01") from None
+            if header_dt is not None and value != header_dt:
+                raise InputError(field, f"{name} line {number}: a second dt header ({value:g} s after "
+                                 f"{header_dt:g} s)", "keep one dt header")
+            header_dt = value
+            continue
+        text = line.split("#", 1)[0].strip()
         if not text:
             continue
-        if text.lower().startswith("dt") and "=" in text:
-            try:
-                header_dt = float(text.split("=", 1)[1].split()[0])
-            except (ValueError, IndexError):
-                raise InputError(field, f"{path.name} line {number}: bad dt header", "write dt = 0.01") from None
-            continue
-        parts = text.replace(",", " ").split()
+        parts = text.replace(",", " ").replace(";", " ").split()
         try:
-            values = [float(p) for p in parts]
+            row = [float(p) for p in parts]
         except ValueError:
-            raise InputError(field, f"{path.name} line {number}: non-numeric value in '{text[:40]}'",
-                             "give numbers only (comments start with #)") from None
+            raise InputError(field, f"{name} line {number}: non-numeric value in '{shown(text, 40)}'",
+                             "give numbers only (comments start with #; a PEER record must end in .AT2)") from None
         if n_cols is None:
-            n_cols = len(values)
+            n_cols = len(row)
             if n_cols not in (1, 2):
-                raise InputError(field, f"{path.name} line {number}: {n_cols} columns",
+                raise InputError(field, f"{name} line {number}: {n_cols} columns",
                                  "give time and acceleration, or acceleration alone with dt")
-        elif len(values) != n_cols:
-            raise InputError(field, f"{path.name} line {number}: {len(values)} columns, expected {n_cols}",
+        elif len(row) != n_cols:
+            raise InputError(field, f"{name} line {number}: {len(row)} columns, expected {n_cols}",
                              "fix the row")
-        rows.append(values)
-    if not rows:
-        raise InputError(field, f"{path.name} holds no samples", "give at least two samples")
-    data = np.array(rows)
+        n_rows += 1
+        check_samples(n_rows, field, path.name)
+        values.extend(row)
+    if not n_rows:
+        raise InputError(field, f"{name} holds no samples", "give at least two samples")
+    data = np.frombuffer(values, dtype=float).reshape(n_rows, n_cols)
     if n_cols == 2:
-        return data[:, 0], data[:, 1], header_dt
-    return None, data[:, 0], header_dt
+        return data[:, 0].copy(), data[:, 1].copy(), header_dt
+    return None, data[:, 0].copy(), header_dt
 
 
 def _check_record(time, accel, field, path):
+    name = shown(path.name)
     if len(accel) < 2:
-        raise InputError(field, f"{path.name}: fewer than 2 samples", "give a longer record")
+        raise InputError(field, f"{name}: fewer than 2 samples", "give a longer record")
+    check_samples(len(accel), field, path.name)
     bad = np.flatnonzero(~np.isfinite(accel) | ~np.isfinite(time))
     if len(bad):
-        raise InputError(field, f"{path.name}: NaN or infinite value at sample {bad[0]}", "clean the record")
-    steps = np.diff(time)
+        raise InputError(field, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record")
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.diff(time)
+    if not np.all(np.isfinite(steps)):
+        raise InputError(field, f"{name}: time values too large to take differences", "give time in s from 0")
     if np.any(steps <= 0):
         i = int(np.flatnonzero(steps <= 0)[0])
-        raise InputError(field, f"{path.name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
+        raise InputError(field, f"{name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
                          "sort the samples and remove duplicates")
-    h = float(np.mean(steps))
+    h = float((time[-1] - time[0]) / (len(time) - 1))
     if np.ptp(steps) > 1e-6 * h:
-        raise InputError(field, f"{path.name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
+        raise InputError(field, f"{name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
                          "resample to a uniform step first (not done here)")
+    check_dt(h, field, f"{name}: time step")
+    check_pga(accel, field, path.name)
 
 
 def record_to_table(time, accel):

@@ -1,3 +1,3 @@
-from dem.cli import main
+from dem.cli import console
 
-raise SystemExit(main())
+console()

@@ -13,9 +13,12 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import signal
 import sys
+import threading
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterable
 
@@ -34,13 +37,69 @@ class Interrupted(KeyboardInterrupt):
         self.signum = signum
 
 
-# set by the signal handler; the compiled time loop runs in chunks and checks it between them
+# set by the signal handlers; loops that call compiled code check it between calls
 _pending: list[int] = []
+SIGNALS = (signal.SIGINT, signal.SIGTERM)
+_depth = [0]
 
 
 def _on_signal(signum, frame):
     _pending.append(signum)
     raise Interrupted(signum)
+
+
+def _record(signum, frame):
+    _pending.append(signum)
+
+
+def check_interrupt() -> None:
+    """Raise :class:`Interrupted` if SIGINT or SIGTERM arrived during a deferred section."""
+    if _pending:
+        signum = _pending[0]
+        _pending.clear()
+        raise Interrupted(signum)
+
+
+@contextmanager
+def deferred_signals():
+    """Within: SIGINT/SIGTERM handlers that raise are swapped for ones that only record, and
+    the loop calls :func:`check_interrupt` between compiled calls; on leaving, the handlers
+    are restored and a signal still pending is raised.
+
+    An exception raised by a handler while numba's dispatcher is inside a compiled call
+    corrupts the dispatcher (measured on the wall solver: ``SystemError: ... returned a
+    result with an exception set``, exit 1 instead of 130, and ``free(): double free`` under
+    an interrupt storm). Ignored and default dispositions are left alone.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {}
+    if _depth[0] == 0:
+        _pending.clear()
+        for signum in SIGNALS:
+            handler = signal.getsignal(signum)
+            if callable(handler):  # not SIG_IGN / SIG_DFL / None (set outside Python)
+                saved[signum] = handler
+                signal.signal(signum, _record)
+    _depth[0] += 1
+    try:
+        yield
+    finally:
+        _depth[0] -= 1
+        for signum, handler in saved.items():
+            signal.signal(signum, handler)
+    check_interrupt()
+
+
+def interruptible(func):
+    """Run ``func`` inside :func:`deferred_signals`."""
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        with deferred_signals():
+            return func(*args, **kwargs)
+    return wrapper
 
 
 # the main thread gets this long to act on a signal itself (exception, temporary files
@@ -77,7 +136,6 @@ def install_signal_handlers() -> Callable[[], None]:
     thread makes sure the process ends within about a second even when the main thread is
     inside a long C call. Returns a function that puts the previous handling back."""
     import socket
-    import threading
 
     if threading.current_thread() is not threading.main_thread():
         return lambda: None
@@ -99,9 +157,15 @@ def install_signal_handlers() -> Callable[[], None]:
     return restore
 
 
-def interrupted() -> bool:
-    """True once SIGINT or SIGTERM has arrived in this process."""
-    return bool(_pending)
+def exit_now(status: int) -> None:
+    """End a command-line process without the interpreter's teardown of numba, scipy and
+    xarray (~0.5-1.4 s on a loaded machine), once everything is written and flushed."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (BrokenPipeError, ValueError, OSError):
+            pass
+    os._exit(status)
 
 
 def guarded(command: Callable[[], int]) -> int:

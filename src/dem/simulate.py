@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from dem import geometry
+from dem.entry import check_interrupt, deferred_signals
 from dem.errors import InputError
 from dem.kernels import excitation as kx
 from dem.kernels import step
@@ -433,9 +434,12 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
         handled within a second and progress can be shown; ``n_chunks`` > 1 forces at
         least that many (tests compare chunkings)."""
         state.rest_count[0] = 0
+        with deferred_signals():  # a signal is raised between chunks, never inside the kernel
+            return chunked(n_start, n_stop, step_first, rest_from, n_chunks)
+
+    def chunked(n, n_stop, step_first, rest_from, n_chunks):
         status = step.STATUS_OK
-        n = n_start
-        size = max(1, (n_stop - n_start) // max(1, n_chunks)) if n_chunks > 1 else FIRST_CHUNK_STEPS
+        size = max(1, (n_stop - n) // n_chunks) if n_chunks > 1 else FIRST_CHUNK_STEPS
         while n < n_stop:
             stop = min(n_stop, n + size)
             start = wallclock.perf_counter()
@@ -455,12 +459,13 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
             n = stop
             if n_chunks <= 1:
                 # next chunk: about CHUNK_SECONDS of work at the rate just measured
-                rate = (stop - (stop - size)) / max(elapsed, 1e-6)
+                rate = size / max(elapsed, 1e-6)
                 size = int(min(max(FIRST_CHUNK_STEPS, rate * CHUNK_SECONDS), 4 * size))
             if reporter is not None:
                 reporter(n * dt, n_steps * dt, tally["wall"])
             if status != step.STATUS_OK:
                 break
+            check_interrupt()
         return status
 
     def carry_to(n_to, including=False):

@@ -8,7 +8,8 @@ Modules, one job each:
 - ``stiffness``      interface stiffness (Eq. 4-5), sparse panel stiffness H^T K H
 - ``constitutive``   interface return mapping (Eq. 9, 10, 12-14) and damage states
 - ``pushover``       incremental-iterative solver under displacement control
-- ``case``           YAML case files: parsing and validation
+- ``settings``       the solver settings (``solver:`` of a case file)
+- ``case``           YAML case files: reading, strict validation, problem-size limits, building
 - ``dataset``        NetCDF output of one case
 - ``figures``        damage maps and pushover curves
 - ``validation``     manuscript Tables 1-3 and A1 beside the solver's numbers

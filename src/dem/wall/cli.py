@@ -1,24 +1,30 @@
 """Command line: ``dem wall CASE.yaml -o OUT.nc`` (also ``python3 -m dem.wall CASE.yaml -o OUT.nc``).
 
-Bad input prints one line ``error: <field>: <problem>; <fix>`` and exits with status 2,
-leaving no output file.
+Bad input (the case file, its fields, its size, the output path) prints one line
+``error: <field>: <problem>; <fix>`` and exits with status 2 before any computing, leaving no
+output file. SIGINT exits 130, SIGTERM 143, with no file under the output name
+(:func:`dem.entry.guarded`). A run longer than ``PROGRESS_SECONDS`` logs one line to stderr
+every ``PROGRESS_SECONDS`` (``pushover: step 120, lambda 0.31, u 1.2e-03 m, 4.2 s``) unless
+``--quiet``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 
-from dem.errors import InputError
-
 HELP = "pushover of a 3D rigid-block masonry wall (manuscript cases in config/walls/)"
+OUTPUT_SUFFIXES = (".nc", ".nc4")
+# progress: nothing for a run shorter than this, then one line at most this often [s]
+PROGRESS_SECONDS = 2.0
 
 
 def _arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("case", type=Path, help="wall case YAML file (schema: dem.wall.case)")
-    parser.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no summary line")
+    parser.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file (.nc)")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress lines and no summary line")
     return parser
 
 
@@ -29,12 +35,52 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return parser
 
 
-def command_wall(args) -> int:
-    from dem.wall.dataset import run_case_file
+class ProgressLog:
+    """Pushover progress callback: one stderr line every ``every`` seconds, the first after
+    ``every`` seconds (a short run prints nothing); works whether or not stderr is a terminal."""
 
-    if args.output.suffix not in (".nc", ".nc4"):
-        raise InputError("-o/--output", f"{args.output} is not a .nc file", "give an output path ending in .nc")
-    ds = run_case_file(args.case, args.output)
+    def __init__(self, stream=None, every: float = PROGRESS_SECONDS, units: str = ""):
+        self.stream = stream if stream is not None else sys.stderr
+        self.every = every
+        self.units = units
+        self.t0 = time.monotonic()
+        self.last = self.t0
+        self.lines = 0
+
+    def __call__(self, step, lam, u, message=None):
+        now = time.monotonic()
+        if now - self.last < self.every:
+            return
+        self.last = now
+        line = f"pushover: step {step}, lambda {lam:.4g}{self.units}"
+        if u == u:   # not NaN (a step being cut back)
+            line += f", u {u:.3g} m"
+        if message:
+            line += f" (cutting the step back: {message})"
+        if self.stream is None:
+            return
+        try:
+            print(f"{line}, {now - self.t0:.1f} s", file=self.stream, flush=True)
+        except (OSError, ValueError):   # stderr closed: progress is best effort, the run goes on
+            self.stream = None
+            return
+        self.lines += 1
+
+
+def command_wall(args) -> int:
+    """Check the case and the output path (exit 2 before any computing), run, write, summarise."""
+    from dem.entry import check_output_path
+    from dem.wall.case import build_case, check_case, read_case
+
+    checked = check_case(read_case(args.case), name=args.case.stem, where=str(args.case))
+    check_output_path(args.output, "-o/--output", inputs=[args.case], suffixes=OUTPUT_SUFFIXES)
+    from dem.wall.dataset import run_case   # xarray, numba, scipy: only once the input is valid
+
+    case = build_case(checked)
+    progress = None
+    if not args.quiet:
+        progress = ProgressLog(units=" Pa" if case.load_kind == "pressure" else "")
+    ds = run_case(case, args.output, progress=progress)
     if not args.quiet:
         print(f"wrote {args.output}: lambda_max = {float(ds.lambda_max):.4g} "
               f"({ds.attrs['status']}), {ds.sizes['step']} steps, {ds.attrs['n_blocks']} blocks, "
@@ -43,10 +89,9 @@ def command_wall(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """``python3 -m dem.wall``: the shared exit conventions of :func:`dem.entry.guarded`."""
+    from dem.entry import guarded
+
     parser = _arguments(argparse.ArgumentParser(prog="dem wall", description=HELP))
     args = parser.parse_args(argv)
-    try:
-        return command_wall(args)
-    except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
+    return guarded(lambda: command_wall(args))

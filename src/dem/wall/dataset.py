@@ -69,6 +69,8 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     }
     data["lambda"].attrs["units"] = lam_units
     data["lambda_max"].attrs["units"] = lam_units
+    if not result.limit_reached:
+        data["lambda_max"].attrs["comment"] = result.limit_note
     coords = {
         "step": _var("step", ("step",), np.arange(len(result.lam), dtype=np.int32)),
         "block": _var("block", ("block",), np.arange(nb, dtype=np.int32)),
@@ -107,7 +109,9 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         "panel_length": panel.length, "panel_height": panel.height,
         "control_dof": result.control_dof,
         "control_block": result.control_dof // 6,
-        "status": result.status,
+        # the status says when the path ended before a limit (max_steps, max_seconds, ...)
+        "status": result.status if result.limit_reached else f"{result.status}; {result.limit_note}",
+        "limit_reached": "yes" if result.limit_reached else "no",
         "wall_seconds": result.wall_seconds,
         "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
                   "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
@@ -125,24 +129,38 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
             err = float(result.lambda_max) / float(ref) - 1
             attrs["manuscript_dem"] = float(ref)
             attrs["error_vs_manuscript_dem"] = err
-            attrs["within_tolerance"] = "yes" if abs(err) <= LIMIT_TOLERANCE else "no"
+            attrs["within_tolerance"] = ("yes" if abs(err) <= LIMIT_TOLERANCE else "no") if result.limit_reached \
+                else "not determined: no limit load reached"
             attrs["tolerance"] = f"{LIMIT_TOLERANCE:.0%} of the manuscript DEM limit load"
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def run_case_file(path, output=None, progress=None) -> xr.Dataset:
-    """Load a case YAML, run the pushover, optionally write the NetCDF atomically."""
-    from dem.wall.case import load_case
+def run_case(case, output=None, progress=None) -> xr.Dataset:
+    """Run the pushover of a built case (:func:`dem.wall.case.build_case`), optionally write the
+    NetCDF atomically (a SIGINT/SIGTERM during the run or the write leaves no file)."""
     from dem.errors import InputError
-    from dem.wall.pushover import DeadLoadError, pushover
+    from dem.wall.pushover import ConvergenceError, DeadLoadError, pushover
 
-    case = load_case(path)
     try:
         result = pushover(case.model, case.settings, case.control_block, progress=progress)
     except DeadLoadError as err:
         raise InputError("restraints", f"leave a mechanism at lambda = 0: {err}",
                          "hold the wall from below, e.g. add {edge: base, fix: all}") from err
+    except ConvergenceError as err:   # the live load cannot be started from the dead-load state
+        raise InputError("restraints", f"the live load cannot be applied: {err}",
+                         "check the restraints and the load direction") from err
     ds = wall_dataset(case, result)
     if output is not None:
-        write_dataset(ds, output)
+        try:
+            write_dataset(ds, output)
+        except OSError as err:   # disk full, folder removed meanwhile, ...: one line, no file
+            raise InputError("-o/--output", f"cannot write {output} ({err.strerror or err})",
+                             "give a path on a writable disk with free space") from err
     return ds
+
+
+def run_case_file(path, output=None, progress=None) -> xr.Dataset:
+    """Load a case YAML, run the pushover, optionally write the NetCDF atomically."""
+    from dem.wall.case import load_case
+
+    return run_case(load_case(path), output, progress)

@@ -112,8 +112,13 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
             if abs(spans[i, 1] - spans[k, 0]) < _TOL:
                 add(i, k, (spans[i, 1], (j + 0.5) * p2, 0.0), 0, p2, KIND_HEAD)
         if j + 1 in by_course:  # bed joints: overlaps with the course above
+            above = by_course[j + 1]   # left to right, like every course
             for i in idx:
-                for k in by_course[j + 1]:
+                # only the blocks above whose span can overlap block i (linear, not quadratic, in
+                # the blocks per course): x1_k > x0_i and x0_k < x1_i
+                first_k = np.searchsorted(spans[above, 1], spans[i, 0] + _TOL, side="right")
+                last_k = np.searchsorted(spans[above, 0], spans[i, 1] - _TOL, side="left")
+                for k in above[first_k:last_k]:
                     lo, hi = max(spans[i, 0], spans[k, 0]), min(spans[i, 1], spans[k, 1])
                     if hi - lo > _TOL:
                         add(i, k, (0.5 * (lo + hi), (j + 1) * p2, 0.0), 1, hi - lo, KIND_BED)

@@ -25,42 +25,10 @@ import scipy.sparse.linalg as spla
 
 from dem.wall.compatibility import panel_compatibility
 from dem.wall.constitutive import JointStrength, return_map, return_map_derivative
+from dem.entry import check_interrupt, interruptible
 from dem.wall.panel import Panel
+from dem.wall.settings import SolverSettings  # noqa: F401 - the solver's settings, re-exported
 from dem.wall.stiffness import local_stiffness, sections, to_global_order, to_local_order
-
-
-@dataclass
-class SolverSettings:
-    tolerance: float = 1e-5          # residual norm / reference load norm
-    max_iterations: int = 25         # a step that has not converged by then is halved (fails fast)
-    dead_load_iterations: int = 100  # the dead load (load control, secant matrix) converges slower
-    max_steps: int = 1000
-    max_displacement: float = 0.0    # control displacement at which to stop [m]; 0: s (the plateau stop ends most runs first)
-    first_step: float = 0.0          # first control increment [m]; 0: automatic
-    growth: float = 1.3              # step growth after an easy step ...
-    easy_iterations: int = 6         # ... one that converged within this many iterations
-    max_failures: int = 4            # consecutive failed (halved) steps before accepting/giving up
-    accept_tolerance: float = 1e-3   # residual accepted after max_failures (recorded per step)
-    work_control: float = 1.0        # 1: step the load-weighted mean displacement, 0: the control DOF
-    consistent: float = 1.0          # 1: consistent (return-map derivative) tangent, 0: Eq. 13-14 secant
-    residual_stiffness: float = 0.001  # fraction of K-bar kept on yielded components (iteration matrix only)
-    extrapolate: float = 1.0         # 1: start each step from the last increment, scaled; 0: from the last state
-    reuse_ratio: float = 0.25        # keep the LU while an iteration cuts the residual below this x; 0: refactor always
-    drop_ratio: float = 0.5          # stop when lambda falls below this x lambda_max
-    plateau_steps: int = 12          # stop after this many steps (and twice the displacement) ...
-    plateau_tolerance: float = 1e-3  # ... in which lambda rose by less than this fraction
-    max_seconds: float = 0.0         # wall-clock budget of the live-load phase; 0: none
-    # manuscript 2.3 scheme (``secant`` = 1): load increments, stiffness of step i from the
-    # interface damage of step i-1 (Eq. 13-14), residual iterations with that matrix; the
-    # limit load is where the step no longer converges or the displacement grows unboundedly
-    secant: float = 0.0              # 1: manuscript load-controlled secant scheme, 0: displacement control
-    load_step: float = 0.0           # first load increment (lambda units); 0: 1/50 of the elastic-limit estimate
-    min_load_step: float = 1e-3      # stop refining when the increment falls below this x the first one
-    singular_ratio: float = 1e3      # "unbounded": incremental flexibility > this x the initial one
-    secant_refresh: float = 0.0      # >0: also rebuild the secant matrix every this many iterations
-
-    def as_dict(self):
-        return dict(self.__dict__)
 
 
 @dataclass
@@ -98,6 +66,7 @@ class WallModel:
         """Internal forces on the free DOFs for the full displacement vector ``q``."""
         rm = return_map(self.local_deformation(q), plastic, cracked, self.k_local, self.sec,
                         self.strength)
+        check_interrupt()   # a SIGINT/SIGTERM that arrived during the compiled call
         f_glob = to_global_order(rm.forces, self.sec.perm).ravel()
         return self.Hf.T @ f_glob, rm
 
@@ -113,6 +82,7 @@ class WallModel:
         ni = len(d)
         D = return_map_derivative(d, rm, plastic, cracked, self.k_local, self.sec,
                                   self.strength, eps)
+        check_interrupt()
         # local -> global component order
         P = self.sec.perm
         G = np.zeros_like(D)
@@ -141,6 +111,8 @@ class PushoverResult:
     dead_state: np.ndarray
     interface_forces_at_max: np.ndarray
     settings: dict
+    limit_reached: bool = True       # False: the path ended before a limit (lambda_max is not a limit load)
+    limit_note: str = ""             # why not, and what to raise
 
 
 class PathRecord:
@@ -158,11 +130,54 @@ class PathRecord:
             self.lam_max, self.step_max, self.forces_at_max = lam, len(self.lam) - 1, rm.forces.copy()
 
     def result(self, control, status, t0, dead_state, settings) -> PushoverResult:
+        reached, note = limit_verdict(status, np.array(self.lam), np.array(self.control), settings)
         return PushoverResult(np.array(self.lam), np.array(self.control), np.array(self.state),
                               np.array(self.q), np.array(self.iterations), np.array(self.residual),
                               int(control), float(self.lam_max), int(self.step_max), status,
                               time.perf_counter() - t0, dead_state, self.forces_at_max,
-                              settings.as_dict())
+                              settings.as_dict(), reached, note)
+
+
+# a path stopped at solver.max_displacement counts as having reached its limit when lambda rose
+# by less than this fraction over the last quarter of the push (the small-displacement limit is
+# approached asymptotically: the manuscript cases rise 0.0-2.9 % there, an elastic path 33 %)
+LEVEL_TOLERANCE = 0.05
+# a path that stopped without converging has passed its limit when lambda fell this far below
+# lambda_max after the peak
+DROP_TOLERANCE = 0.05
+
+
+def limit_verdict(status: str, lam: np.ndarray, control: np.ndarray, settings) -> tuple[bool, str]:
+    """Whether a path ended at a limit load, and if not a note saying why and what to change.
+
+    Limits: the plateau and drop stops, the secant scheme's limit load, and a push to
+    ``max_displacement`` on which lambda has levelled off. Not limits: ``max_steps``,
+    ``max_seconds``, a push to ``max_displacement`` with lambda still rising, and a run that
+    stopped converging before lambda fell after a peak.
+    """
+    lam_max = float(np.max(lam)) if len(lam) else 0.0
+    if status.startswith(("stopped: plateau", "stopped: lambda dropped", "limit load")):
+        return True, ""
+    if len(lam) < 2 or lam_max <= 0.0:
+        why = "no load step converged"
+    elif status == "reached maximum control displacement":
+        # lambda at 3/4 of the final control displacement (on its running maximum: monotone)
+        u = np.maximum.accumulate(np.asarray(control, dtype=float))
+        at = np.interp(0.75 * u[-1], u, lam) if u[-1] > 0 else lam[(3 * len(lam)) // 4]
+        rise = lam_max / at - 1.0 if at > 0 else np.inf
+        if rise <= LEVEL_TOLERANCE:
+            return True, ""
+        why = (f"lambda still rose {rise:.1%} over the last quarter of the push "
+               f"(raise solver.max_displacement)")
+    elif status == "stopped: max_steps":
+        why = f"the path stopped after solver.max_steps = {settings.max_steps} steps (raise it)"
+    elif status == "stopped: max_seconds":
+        why = f"the path stopped after solver.max_seconds = {settings.max_seconds:g} s (raise it)"
+    else:
+        if lam[-1] < (1.0 - DROP_TOLERANCE) * lam_max:
+            return True, ""
+        why = "the steps stopped converging before lambda fell after a peak"
+    return False, f"no limit load reached: {why}; lambda_max is the highest load of the path so far"
 
 
 class ConvergenceError(RuntimeError):
@@ -225,7 +240,7 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
                 K = model.consistent_tangent(q, plastic, cracked, rm, eps)
             else:
                 K = model.tangent(rm, eps if cf is not None else max(eps, 0.05))
-            lu = spla.splu(K)
+            lu = _factor(K)
             if control is not None:
                 dq_l = lu.solve(F_L)
         dq = lu.solve(R)
@@ -264,15 +279,33 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
                            (q, lam, rm, n_iter, res))
 
 
+def _factor(K, state=None):
+    """Sparse LU of K; a singular or non-finite matrix is a ConvergenceError, not a crash."""
+    if not np.all(np.isfinite(K.data)):
+        raise ConvergenceError("non-finite stiffness matrix", state)
+    try:
+        lu = spla.splu(K)
+    except RuntimeError as err:   # "Factor is exactly singular"
+        raise ConvergenceError(f"singular stiffness matrix ({err})", state) from err
+    check_interrupt()
+    return lu
+
+
 def choose_control_dof(model, q, plastic, cracked, settings):
     """The free DOF moving most under the live load, in the state after the dead load."""
     _, rm = model.internal(q, plastic, cracked)
     K = model.tangent(rm, settings.residual_stiffness)
-    q_l = spla.spsolve(K, model.live_load[model.free])
+    q_l = _factor(K).solve(model.live_load[model.free])
+    if not np.all(np.isfinite(q_l)):
+        raise ConvergenceError("the live load gives non-finite displacements")
     direction = np.flatnonzero(model.live_load != 0)
     comp = direction[0] % 6 if len(direction) else 2
     cand = np.flatnonzero((model.free % 6) == comp)
+    if not len(cand):
+        raise ConvergenceError("the live load acts only on restrained DOFs")
     c = cand[np.argmax(np.abs(q_l[cand]))]
+    if q_l[c] == 0.0:
+        raise ConvergenceError("the live load moves no free DOF in its direction")
     return int(model.free[c]), float(q_l[c])
 
 
@@ -309,7 +342,7 @@ def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
     refresh = int(settings.secant_refresh)
     for it in range(1, settings.max_iterations + 1):
         if refresh and it > 1 and (it - 1) % refresh == 0:
-            K_lu = spla.splu(model.tangent(rm, settings.residual_stiffness))
+            K_lu = _factor(model.tangent(rm, settings.residual_stiffness))
         dq = K_lu.solve(R)
         if not np.all(np.isfinite(dq)):
             raise ConvergenceError("singular stiffness matrix")
@@ -336,6 +369,7 @@ def _dead_load_and_control(model, settings, control_block):
     return ref, q, rm, dead_state, control, unit
 
 
+@interruptible
 def secant_pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
                     progress=None) -> PushoverResult:
     """Manuscript 2.3: load increments dF = d(lambda) F_L; the panel stiffness of step i is
@@ -349,12 +383,14 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
     settings = settings or SolverSettings()
     t0 = time.perf_counter()
     ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
+    if progress:
+        progress(0, 0.0, 0.0)   # the dead load is on (a slow one shows in the log)
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
     w = np.where(model.fixed, 0.0, model.live_load)
     cvec = w / np.abs(w).sum()
     eps = settings.residual_stiffness
-    K_lu = spla.splu(model.tangent(rm, eps))
+    K_lu = _factor(model.tangent(rm, eps))
     flex0 = abs(cvec[model.free] @ K_lu.solve(model.live_load[model.free]))
     # first increment: 1/50 of the overturning load of the free-standing wall (lambda = s/H for
     # a load proportional to the weight), unless the case gives one
@@ -392,21 +428,31 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
         if progress:
             progress(steps, lam, path.control[-1])
         # stiffness of the next step from the damage of this one (manuscript 2.3)
-        K_lu = spla.splu(model.tangent(rm, eps))
+        try:
+            K_lu = _factor(model.tangent(rm, eps))
+        except ConvergenceError as err:   # a mechanism: the displacement grows unboundedly
+            status = f"limit load: {err}"
+            break
         if it <= max(settings.max_iterations // 10, 2):
             dlam = min(dlam * settings.growth, dlam0)
     return path.result(control, status, t0, dead_state, settings)
 
 
+@interruptible
 def pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
              progress=None) -> PushoverResult:
     """Dead load, then displacement-controlled live load to the limit and beyond
-    (``settings.secant``: the manuscript's load-controlled secant scheme instead)."""
+    (``settings.secant``: the manuscript's load-controlled secant scheme instead).
+
+    SIGINT/SIGTERM raise :class:`dem.entry.Interrupted` between compiled calls, never inside
+    one (:func:`dem.entry.deferred_signals`)."""
     settings = settings or SolverSettings()
     if settings.secant:
         return secant_pushover(model, settings, control_block, progress)
     t0 = time.perf_counter()
     ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
+    if progress:
+        progress(0, 0.0, 0.0)   # the dead load is on (a slow one shows in the log)
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
     s = float(model.panel.block["s"])
@@ -420,7 +466,7 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         w = np.where(model.fixed, 0.0, model.live_load)
         cvec = w / np.abs(w).sum()
         _, rm0 = model.internal(q, plastic, cracked)
-        q_l = spla.spsolve(model.tangent(rm0, settings.residual_stiffness), model.live_load[model.free])
+        q_l = _factor(model.tangent(rm0, settings.residual_stiffness)).solve(model.live_load[model.free])
         ratio = abs(cvec[model.free] @ q_l) / abs(unit)
     else:
         cvec[control] = sign

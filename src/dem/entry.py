@@ -202,6 +202,9 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     not writable. The parent folder is created when missing.
     """
     path = Path(path)
+    if any(ord(c) < 32 for c in str(path)):
+        raise InputError(field, f"{str(path).encode('unicode_escape').decode()!s} contains control characters",
+                         "give a plain file name")
     if suffixes and path.suffix not in suffixes:
         raise InputError(field, f"{path} does not end in {' or '.join(suffixes)}",
                          f"give an output path ending in {suffixes[0]}")

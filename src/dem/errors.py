@@ -15,7 +15,15 @@ class InputError(ValueError):
         message = f"{field}: {problem}"
         if fix:
             message += f"; {fix}"
-        super().__init__(message)
+        super().__init__(one_line(message))
+
+
+def one_line(text: str, limit: int = 600) -> str:
+    """``text`` as one printable line: control characters escaped (a file name or a key
+    from hostile input may hold a newline or an ANSI escape), cut at ``limit`` characters."""
+    if not text.isprintable():
+        text = "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def check_number(value, field: str, positive: bool = False, nonnegative: bool = False) -> float:

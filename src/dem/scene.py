@@ -152,7 +152,12 @@ def apply_override(spec: dict, item: str) -> None:
     if "=" not in item:
         raise InputError("--set", f"'{item}' is not key=value", "write e.g. --set solver.duration=2")
     key, _, text = item.partition("=")
-    value = yaml.safe_load(text)
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        problem = str(getattr(err, "problem", None) or "invalid YAML").replace("\n", " ")
+        raise InputError(f"--set {key.strip()!r}", f"value is not YAML: {problem}",
+                         "quote text values, e.g. --set name='my scene'") from None
     parts = key.strip().split(".")
     node = spec
     for i, part in enumerate(parts[:-1]):
@@ -268,6 +273,11 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if not isinstance(impact, str) or impact not in ("plastic", "none"):
         raise InputError("contact.impact", f"unknown impact rule {impact!r}",
                          "use plastic (a landing point stops, Housner) or none (dashpots only)")
+    for key, value, top in (("k_n", k_n, 1e16), ("c_n", c_n, 1e16), ("damping", damping, 100.0),
+                            ("k_t", k_t, 1e18), ("c_t", c_t, 1e16)):
+        if value > top:
+            raise InputError(f"contact.{key}", f"{value:.3g} is above the limit {top:g}",
+                             "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)")
     contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model,
                          damping=damping, impact=impact)
 
@@ -330,8 +340,9 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     where = f"bodies[{index}]"
     _check_keys(spec, BODY_KEYS, where)
     name = spec.get("name", f"body{index}")
-    if not isinstance(name, str) or not name:
-        raise InputError(f"{where}.name", f"expected a name, got {name!r}", "give a short text name")
+    if not isinstance(name, str) or not name or not name.isprintable() or len(name) > 200:
+        raise InputError(f"{where}.name", f"expected a short printable name, got {name!r:.60}",
+                         "give a short text name")
     where = f"bodies[{index}] ({name})"
     if ("box" in spec) == ("polygon" in spec):
         raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")

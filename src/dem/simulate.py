@@ -401,7 +401,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     dt, limit = choose_time_step(scene)
     if scene.dt is None:
         # round the automatic step down so samples fall exactly every output interval
-        dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
+        dt = scene.output_every / max(1, math.ceil(scene.output_every / dt - 1e-9))
     arrays = pack_scene(scene)
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))
@@ -654,11 +654,11 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
     harmonic at its zeros).
     """
     dt, limit = choose_time_step(scene)
-    if scene.dt is None and dt > 0.0:  # as simulate(): rounded down so samples fall on the output times
-        dt = scene.output_every / math.ceil(scene.output_every / dt - 1e-9)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
         raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",
                          "check masses and contact stiffness (SI units)")
+    if scene.dt is None:  # as simulate(): rounded down so samples fall on the output times
+        dt = scene.output_every / max(1, math.ceil(scene.output_every / dt - 1e-9))
     if scene.duration > MAX_DURATION:
         raise InputError("solver.duration", f"{scene.duration:.3g} s is over the limit {MAX_DURATION:g} s",
                          "simulate at most an hour; split a longer run")

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import dem
 from dem import snapshots
-from dem.entry import check_output_path, exit_now, guarded
+from dem.entry import Parser, check_output_path, exit_now, guarded
 from dem.errors import InputError
 
 DESCRIPTION = "dem: rigid-block simulations of ancient columns, colonnades and masonry walls."
@@ -29,13 +29,6 @@ EPILOG = """examples:
 
 exit status: 0 done, 1 a validation failed, 2 bad input (one line names the field),
 130 / 143 stopped by SIGINT / SIGTERM (nothing written)."""
-
-
-class Parser(argparse.ArgumentParser):
-    """argparse with one-line usage errors (exit 2), like every other input error."""
-
-    def error(self, message):
-        self.exit(2, f"error: {self.prog}: {message}; see {self.prog} --help\n")
 
 
 def build_parser() -> argparse.ArgumentParser:

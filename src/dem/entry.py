@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import argparse
 import functools
 import os
 import signal
@@ -22,7 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterable
 
-from dem.errors import InputError
+from dem.errors import InputError, one_line
 
 EXIT_INPUT = 2
 EXIT_SIGINT = 128 + signal.SIGINT
@@ -155,6 +156,13 @@ def install_signal_handlers() -> Callable[[], None]:
         read_end.close()
 
     return restore
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (exit 2), like every other input error."""
+
+    def error(self, message):
+        self.exit(EXIT_INPUT, f"error: {self.prog}: {one_line(message)}; see {self.prog} --help\n")
 
 
 def exit_now(status: int) -> None:

@@ -531,7 +531,9 @@ def command_animate(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """``snapshots ...`` or ``animate ...`` on their own; errors as one line, exit 2."""
-    parser = argparse.ArgumentParser(prog="dem", description="pictures of a dem case dataset")
+    from dem.entry import Parser
+
+    parser = Parser(prog="dem", description="pictures of a dem case dataset")
     add_parser(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(argv)
     from dem.entry import guarded

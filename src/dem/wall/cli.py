@@ -92,6 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     """``python3 -m dem.wall``: the shared exit conventions of :func:`dem.entry.guarded`."""
     from dem.entry import guarded
 
-    parser = _arguments(argparse.ArgumentParser(prog="dem wall", description=HELP))
+    from dem.entry import Parser
+
+    parser = _arguments(Parser(prog="dem wall", description=HELP))
     args = parser.parse_args(argv)
     return guarded(lambda: command_wall(args))

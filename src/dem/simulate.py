@@ -321,7 +321,7 @@ FIRST_CHUNK_STEPS = 2000
 
 class Progress:
     """Progress of a run on stderr: a line redrawn twice a second on a terminal, else a log
-    line every LOG_SECONDS (nothing for a run shorter than that)."""
+    line after 1 s and then every LOG_SECONDS (nothing for a run shorter than 1 s)."""
 
     LOG_SECONDS = 5.0
 
@@ -346,7 +346,8 @@ class Progress:
 
     def __call__(self, t, t_end, wall):
         self.notice.cancel()
-        every = 0.5 if self.tty else self.LOG_SECONDS
+        # a log gets its first line after 1 s (the run has started), then every LOG_SECONDS
+        every = 0.5 if self.tty else (self.LOG_SECONDS if self.last > 0.0 else 1.0)
         if wall - self.last < every:
             return
         self.last = wall

@@ -4,17 +4,16 @@ real SIGINT / SIGTERM (exit 130 / 143 within a second, nothing left behind), bro
 
 import os
 import re
-import select
 import signal
 import subprocess
 import sys
-import textwrap
 import time
 
 import pytest
 import xarray as xr
 
 from dem.entry import check_output_path
+from tests.signals import interrupt_after_line
 from dem.errors import InputError
 from dem.scene import scene_from_dict
 from dem.simulate import (ENERGY_TOLERANCE, MAX_STEPS, MIN_STEPS_PER_PERIOD, PENETRATION_LIMIT, preflight,
@@ -105,35 +104,14 @@ output: {every: 0.01}
 """
 
 
-def _wait_for(proc, text, timeout):
-    """Read the child's stderr until a line contains ``text``."""
-    end = time.monotonic() + timeout
-    seen = ""
-    while time.monotonic() < end:
-        ready, _, _ = select.select([proc.stderr], [], [], 0.5)
-        if ready:
-            line = proc.stderr.readline()
-            seen += line
-            if text in line:
-                return seen
-    raise AssertionError(f"no {text!r} within {timeout} s: {seen}")
-
-
 @pytest.mark.parametrize("signum, status", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_signal_during_the_compiled_loop(tmp_path, signum, status):
     scene = tmp_path / "long.yaml"
     scene.write_text(LONG_SCENE)
     out = tmp_path / "long.nc"
-    proc = subprocess.Popen([sys.executable, "-m", "dem", "run", str(scene), "-o", str(out)],
-                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
-    try:
-        _wait_for(proc, "t = ", 300)  # a progress line: the time loop is running
-        sent = time.monotonic()
-        proc.send_signal(signum)
-        rc = proc.wait(timeout=30)
-        took = time.monotonic() - sent
-    finally:
-        proc.kill()
+    # a progress line: the time loop is running
+    rc, took, _ = interrupt_after_line([sys.executable, "-m", "dem", "run", str(scene), "-o", str(out)],
+                                       lambda line: "t = " in line, signum)
     assert rc == status
     assert took < SIGNAL_EXIT_SECONDS, took
     assert list(tmp_path.iterdir()) == [scene], "no output and no temporary file"
@@ -157,16 +135,12 @@ sys.exit(guarded(lambda: write_atomically(sys.argv[1], slow) and 0))
 
 def test_signal_during_the_write_leaves_nothing(tmp_path):
     out = tmp_path / "out.nc"
-    proc = subprocess.Popen([sys.executable, "-c", SLOW_WRITER, str(out)], stderr=subprocess.PIPE, text=True)
-    try:
-        _wait_for(proc, "writing", 60)
-        assert len(list(tmp_path.iterdir())) == 1  # the temporary file
-        sent = time.monotonic()
-        proc.send_signal(signal.SIGINT)
-        rc = proc.wait(timeout=30)
-        took = time.monotonic() - sent
-    finally:
-        proc.kill()
+
+    def one_temporary_file():
+        assert len(list(tmp_path.iterdir())) == 1
+
+    rc, took, _ = interrupt_after_line([sys.executable, "-c", SLOW_WRITER, str(out)],
+                                       lambda line: "writing" in line, signal.SIGINT, 60, one_temporary_file)
     assert rc == 130 and took < SIGNAL_EXIT_SECONDS
     assert list(tmp_path.iterdir()) == []
 

@@ -450,32 +450,30 @@ class _CaseChecker:
     def _excitation(self, excitation: dict):
         from dem.ground_motion import excitation_pair
 
-        key = _key(excitation)
-        if key not in self.excitations:
-            try:
-                self.excitations[key] = excitation_pair(excitation, self.records_dir)
-            except InputError as error:
-                self.excitations[key] = error
-            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
-                self.excitations[key] = InputError("excitation", f"{type(error).__name__}: {error}",
-                                                   "fix the excitation")
-        return self.excitations[key]
+        return _built(self.excitations, excitation, lambda: excitation_pair(excitation, self.records_dir),
+                      "excitation", "", "fix the excitation")
 
     def _scene(self, scene: dict):
         from dem.scene import scene_from_dict
 
         spec = {k: v for k, v in scene.items() if k not in ("excitation", "name")}
-        key = _key(spec)
-        if key not in self.scenes:
-            try:
-                self.scenes[key] = scene_from_dict({**spec, "excitation": {"kind": "none"}},
-                                                   base_dir=self.records_dir)
-            except InputError as error:
-                self.scenes[key] = error
-            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
-                self.scenes[key] = InputError("", f"building a case's scene: {type(error).__name__}: {error}",
-                                              "fix the study")
-        return self.scenes[key]
+        return _built(self.scenes, spec,
+                      lambda: scene_from_dict({**spec, "excitation": {"kind": "none"}}, base_dir=self.records_dir),
+                      "", "building a case's scene: ", "fix the study")
+
+
+def _built(cache: dict, spec, build, field: str, prefix: str, fix: str):
+    """``build()`` once per distinct ``spec``: the object, or the InputError it raised (an
+    unexpected exception, which would crash the job, becomes an InputError naming it)."""
+    key = _key(spec)
+    if key not in cache:
+        try:
+            cache[key] = build()
+        except InputError as error:
+            cache[key] = error
+        except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+            cache[key] = InputError(field, f"{prefix}{type(error).__name__}: {error}", fix)
+    return cache[key]
 
 
 def _key(spec) -> str:

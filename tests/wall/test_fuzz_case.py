@@ -8,12 +8,10 @@ second, no file), progress lines, and an honest status when no limit load was re
 from __future__ import annotations
 
 import math
-import queue
 import re
 import signal
 import subprocess
 import sys
-import threading
 import time
 
 import pytest
@@ -24,6 +22,7 @@ from dem.errors import InputError
 from dem.wall import case as wall_case
 from dem.wall.case import MAX_BLOCKS, MAX_MEMORY_BYTES, check_case, read_case
 from dem.wall.pushover import SolverSettings
+from tests.signals import interrupt_after_line
 from tests.wall import case_mutations as M
 
 FIELD = re.compile(r"[A-Za-z_][A-Za-z_0-9]*(\[\d+\])?(\.[A-Za-z_0-9]+(\[\d+\])?)*")
@@ -356,26 +355,10 @@ solver: {first_step: 1.0e-7, growth: 1.0, plateau_steps: 1000000, max_steps: 200
 def test_signal_during_pushover_exits_at_once_and_leaves_no_file(tmp_path, signum, status):
     (tmp_path / "long.yaml").write_text(LONG)
     out = tmp_path / "long.nc"
-    proc = subprocess.Popen([sys.executable, "-m", "dem.wall", "long.yaml", "-o", out.name], cwd=tmp_path,
-                            stderr=subprocess.PIPE, text=True)
-    lines = queue.Queue()
-    threading.Thread(target=lambda: [lines.put(x) for x in proc.stderr], daemon=True).start()
-    seen = []
-    try:
-        deadline = time.monotonic() + 60
-        while not any(x.startswith("pushover: step") for x in seen):   # stderr is a pipe, not a terminal
-            assert time.monotonic() < deadline and proc.poll() is None, seen
-            try:
-                seen.append(lines.get(timeout=0.1))
-            except queue.Empty:
-                pass
-        assert re.fullmatch(r"pushover: step \d+, lambda \S+, u \S+ m, \d+\.\d s\n", seen[-1]), seen
-        t0 = time.monotonic()
-        proc.send_signal(signum)
-        code = proc.wait(timeout=10)
-        elapsed = time.monotonic() - t0
-    finally:
-        proc.kill()
-        proc.wait()
+    # stderr is a pipe, not a terminal: the progress log must still come
+    code, elapsed, seen = interrupt_after_line(
+        [sys.executable, "-m", "dem.wall", "long.yaml", "-o", out.name],
+        lambda line: line.startswith("pushover: step"), signum, 60, cwd=tmp_path)
+    assert re.fullmatch(r"pushover: step \d+, lambda \S+, u \S+ m, \d+\.\d s\n", seen[-1]), seen
     assert code == status and elapsed < 1.0, (code, elapsed)
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["long.yaml"]

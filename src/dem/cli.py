@@ -15,7 +15,7 @@ from pathlib import Path
 
 import dem
 from dem import snapshots
-from dem.entry import Parser, check_output_path, exit_now, guarded
+from dem.entry import Parser, check_output_path, exit_now, guarded, progress_print
 from dem.errors import InputError
 
 DESCRIPTION = "dem: rigid-block simulations of ancient columns, colonnades and masonry walls."
@@ -115,9 +115,9 @@ def command_run(args) -> int:
     ds = run_scene(scene, progress=not args.quiet)  # refuses absurd requests first (preflight)
     write_dataset(ds, args.output)
     if not args.quiet:
-        print(f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "
-              f"dt = {ds.attrs['dt']:.3g} s, {ds.attrs['status']}, "
-              f"wall {ds.attrs['wall_seconds']:.2f} s", file=sys.stderr)
+        progress_print(sys.stderr, f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "
+                       f"dt = {ds.attrs['dt']:.3g} s, {ds.attrs['status']}, "
+                       f"wall {ds.attrs['wall_seconds']:.2f} s")
     return 0
 
 

@@ -165,6 +165,18 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"error: {self.prog}: {one_line(message)}; see {self.prog} --help\n")
 
 
+def progress_print(stream, text: str, end: str = "\n"):
+    """Write a progress line; returns the stream, or None once it is closed (progress is best
+    effort: a closed stderr must not end the run)."""
+    if stream is None:
+        return None
+    try:
+        print(text, end=end, file=stream, flush=True)
+    except (OSError, ValueError):
+        return None
+    return stream
+
+
 def exit_now(status: int) -> None:
     """End a command-line process without the interpreter's teardown of numba, scipy and
     xarray (~0.5-1.4 s on a loaded machine), once everything is written and flushed."""

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from dem import geometry
-from dem.entry import check_interrupt, deferred_signals
+from dem.entry import check_interrupt, deferred_signals, progress_print
 from dem.errors import InputError
 from dem.kernels import excitation as kx
 from dem.kernels import step
@@ -341,8 +341,8 @@ class Progress:
         self.notice.start()
 
     def _compiling(self):
-        print("  compiling the time loop (first run after install or an edit: about 1 min; "
-              "cached after that)", file=self.stream, flush=True)
+        self.stream = progress_print(self.stream, "  compiling the time loop (first run after install or an "
+                                     "edit: about 1 min; cached after that)")
 
     def __call__(self, t, t_end, wall):
         self.notice.cancel()
@@ -353,15 +353,15 @@ class Progress:
         self.last = wall
         line = f"  t = {t:8.3f} s of {t_end:.3f} s  ({100 * t / t_end:3.0f} %)  wall {wall:7.1f} s"
         if self.tty:
-            print("\r" + line, end="", file=self.stream, flush=True)
+            self.stream = progress_print(self.stream, "\r" + line, end="")
             self.drawn = True
         else:
-            print(line.strip(), file=self.stream, flush=True)
+            self.stream = progress_print(self.stream, line.strip())
 
     def finish(self):
         self.notice.cancel()
         if self.drawn:
-            print(file=self.stream, flush=True)
+            self.stream = progress_print(self.stream, "")
 
 
 @dataclass

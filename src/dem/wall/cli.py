@@ -15,6 +15,8 @@ import sys
 import time
 from pathlib import Path
 
+from dem.entry import progress_print
+
 HELP = "pushover of a 3D rigid-block masonry wall (manuscript cases in config/walls/)"
 OUTPUT_SUFFIXES = (".nc", ".nc4")
 # progress: nothing for a run shorter than this, then one line at most this often [s]
@@ -57,14 +59,9 @@ class ProgressLog:
             line += f", u {u:.3g} m"
         if message:
             line += f" (cutting the step back: {message})"
-        if self.stream is None:
-            return
-        try:
-            print(f"{line}, {now - self.t0:.1f} s", file=self.stream, flush=True)
-        except (OSError, ValueError):   # stderr closed: progress is best effort, the run goes on
-            self.stream = None
-            return
-        self.lines += 1
+        self.stream = progress_print(self.stream, f"{line}, {now - self.t0:.1f} s")
+        if self.stream is not None:
+            self.lines += 1
 
 
 def command_wall(args) -> int:

@@ -26,7 +26,7 @@ rule all:
     input:
         expand("records/{name}.nc", name=RECORD_NAMES),
         expand("results/cubes/{study}.nc", study=STUDIES),
-        TABLES,
+        expand("results/tables/{table}.csv", table=TABLES),
         expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
         VALIDATION_TARGETS,
         WALL_OUTPUTS,

@@ -7,7 +7,7 @@ missing structures, unknown records, added, removed and reordered grid keys. Eac
 config is either refused with one InputError line naming a path of the config, or accepted,
 and then every case's scene builds as its job builds it (``dem.study.run_case`` up to the
 simulation: natural duration, ``scene_from_dict``, the time step) and every input of every
-figure is made by a rule. ``HYPOTHESIS_PROFILE=fuzz`` runs 10 000 examples per test.
+figure and table is made by a rule. ``HYPOTHESIS_PROFILE=fuzz`` runs 10 000 examples per test.
 """
 
 from __future__ import annotations
@@ -155,34 +155,34 @@ def _assert_refused_cleanly(error: InputError, config: dict) -> None:
     assert _is_config_path(error.field, config), f"{error.field!r} is not a path of the config: {message}"
 
 
-def _outputs(config: dict, tables: dict) -> set:
+def _outputs(config: dict, tables: dict, catalogue_tables: dict) -> set:
     """Files some rule makes (workflow/rules/*.smk, common.smk), or on disk (records/)."""
     made = {f"records/{name}.nc" for name in config["records"]} | {f"records/{p.name}" for p in RECORDS.glob("*.nc")}
     made |= {f"results/cubes/{s}.nc" for s in tables}
     made |= {f"results/cases/{s}/{c.id}.nc" for s, cases in tables.items() for c in cases}
-    if {"standalone_records", "colonnade_records"} <= set(tables):
-        made.add("results/tables/table_7_1.csv")
-    if {"ramp_drums", "ramp_taper"} <= set(tables):
-        made |= {"results/tables/thesis_fig_6_10.csv", "results/tables/thesis_fig_6_13.csv"}
+    made |= {f"results/tables/{name}.csv" for name in catalogue_tables}
     return made
 
 
 def _assert_dag_builds(config: dict, tables: dict) -> None:
     """What common.smk derives from the cases: ids that fit {case}, record inputs that exist,
-    figure inputs that some rule makes."""
-    from dem.figures import figure_table
+    figure and table inputs that some rule makes."""
+    from dem.figures import figure_table, input_paths, reduction_table
+    from tests.workflow_files import catalogue_paths
 
-    made = _outputs(config, tables)
+    studies = {name: {c.id: c for c in cases} for name, cases in tables.items()}
+    catalogue_tables = reduction_table(studies)
+    made = _outputs(config, tables, catalogue_tables)
     for cases in tables.values():
         for case in cases:
             assert CASE_ID_PATTERN.fullmatch(case.id), case.id
             record = case.params.get("record") or (case.scene.get("excitation") or {}).get("file")
             if record:
                 assert record in config["records"] and (RECORDS / f"{record}.nc").is_file(), record
-    studies = {name: {c.id: c for c in cases} for name, cases in tables.items()}
-    for figure_name, figure in figure_table(studies, config).items():
-        for path in figure.inputs:
-            assert path in made, f"{figure_name} needs {path}, which no rule makes"
+    patterns = catalogue_paths()
+    for name, entry in {**catalogue_tables, **figure_table(studies, config)}.items():
+        for path in input_paths(entry.inputs, patterns):
+            assert path in made, f"{name} needs {path}, which no rule makes"
 
 
 def _assert_cases_run(tables: dict) -> None:

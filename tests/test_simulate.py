@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from dem.scene import load_scene, scene_from_dict
-from dem.simulate import run_scene, simulate
+from dem.dataset import run_scene
+from dem.simulate import simulate
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 
@@ -47,7 +48,7 @@ def test_eight_drum_column_stays_stable_without_excitation():
 
 
 def test_rocking_block_dataset_is_self_describing_and_balanced():
-    from dem.dataset import missing_metadata
+    from dem.schema import missing_metadata
 
     ds = run_scene(load_scene(SCENE, ["solver.duration=2.0"]))
     assert missing_metadata(ds) == []

@@ -9,10 +9,9 @@ import yaml
 from PIL import Image
 
 from dem import geometry, snapshots
-from dem.dataset import write_dataset
+from dem.dataset import run_scene, write_dataset
 from dem.errors import InputError
 from dem.scene import posed_vertices, scene_from_dict
-from dem.simulate import run_scene
 
 ROCKING_BLOCK = Path(__file__).parent / "data" / "scenes" / "rocking_block.yaml"
 HARMONIC = {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25}

@@ -6,7 +6,7 @@ import xarray as xr
 
 from dem.errors import InputError
 from dem.reduce import table_7_1
-from dem.study import case_id, case_table, combine_cases, minimum_collapse, run_case
+from dem.study import case_id, case_table, combine_cases, run_case
 
 STUDY = {
     "structure": {"kind": "column", "height": 6.0, "width": 1.0},
@@ -78,17 +78,30 @@ def synthetic_cube(collapsed):
     )
 
 
-def test_minimum_collapse_and_table_7_1_rows():
+def test_table_7_1_rows_bracket_the_first_collapse_and_report_resurrections():
     # not monotonic: mexico collapses at 2, survives 4, collapses 8; athens never
     cube = synthetic_cube([[[0, 1, 0, 1]], [[0, 0, 0, 0]]])
-    first = minimum_collapse(cube, "pga")
-    assert float(first.sel(record="mexico_x", n_drums=1)) == 2.0
-    assert np.isnan(float(first.sel(record="athens_y", n_drums=1)))
     rows = table_7_1(cube, cube)
     mex = [r for r in rows if r["record"] == "mexico_x" and r["system"] == "single column"][0]
-    assert mex["collapse_pga_m_s2"] == 2.0 and mex["pga_grid_below_m_s2"] == 1.0
+    assert mex["collapse_pga_m_s2"] == 2.0 and mex["survived_pga_m_s2"] == 1.0
+    assert mex["resurrections_m_s2"] == "4" and mex["monotonic"] == 0
     assert mex["collapse_map"] == "1:. 2:X 4:. 8:X", "the whole collapse map is kept"
     assert mex["thesis_accel_to_failure_m_s2"] == 1.15
+    ath = [r for r in rows if r["record"] == "athens_y" and r["system"] == "colonnade"][0]
+    assert np.isnan(ath["collapse_pga_m_s2"]) and ath["survived_pga_m_s2"] == 8.0
+
+
+def test_table_7_1_reads_a_search_cube_with_runs_padded_by_nan():
+    # two systems: 3 runs and 4 runs, the searched pga a coordinate on (record, n_drums, run)
+    pga = np.array([[[1.0, 1.8, 1.4, np.nan], [1.0, 1.8, 3.24, 2.4]]])
+    collapsed = np.array([[[0, 1, 0, np.nan], [0, 0, 1, 1]]], dtype=float)
+    cube = xr.Dataset({"collapsed": (("record", "n_drums", "run"), collapsed)},
+                      coords={"record": ["mexico_x"], "n_drums": [1, 2], "run": np.arange(4),
+                              "pga": (("record", "n_drums", "run"), pga)})
+    rows = [r for r in table_7_1(cube, cube) if r["system"] == "colonnade"]
+    assert [(r["n_drums"], r["survived_pga_m_s2"], r["collapse_pga_m_s2"], r["n_runs"]) for r in rows] == \
+        [(1, 1.4, 1.8, 3), (2, 1.8, 2.4, 4)]
+    assert rows[1]["collapse_map"] == "1:. 1.8:. 2.4:X 3.24:X"
 
 
 def test_string_parameters_keep_their_full_names(tmp_path):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dem import analytic, validation, validation_plots
-from dem.dataset import missing_metadata
+from dem.schema import missing_metadata
 
 # Each validation runs once per module; the number tests and the figure tests share it.
 

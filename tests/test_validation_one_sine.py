@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dem import analytic, validation, validation_plots
-from dem.dataset import missing_metadata
+from dem.schema import missing_metadata
 
 BLOCK = (0.5, 2.0)
 MAP_RATIOS = (2.0, 5.0)

@@ -7,8 +7,8 @@ import pytest
 
 from dem import analytic, validation
 from dem.scene import scene_from_dict
+from dem.schema import missing_metadata
 from dem.simulate import simulate
-from tests.test_dataset import missing_metadata
 
 POINT_VALIDATIONS = [name for name in validation.VALIDATIONS if name.endswith("_point")]
 # one_sine_overturning_point (30-60 s) is checked at two pulses by tests/test_validation_one_sine.py;

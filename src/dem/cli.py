@@ -105,9 +105,8 @@ def scene_inputs(scene_path: Path, scene) -> list[Path]:
 
 
 def command_run(args) -> int:
-    from dem.dataset import write_dataset
+    from dem.dataset import run_scene, write_dataset
     from dem.scene import load_scene
-    from dem.simulate import run_scene
 
     check_output_path(args.output, "-o/--output", inputs=[args.scene], suffixes=(".nc", ".nc4"))
     scene = load_scene(args.scene, args.overrides)

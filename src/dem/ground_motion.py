@@ -236,12 +236,7 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
                          "give a ground acceleration in m/s2")
     scale = _num(spec, "scale", field, required=False, default=1.0)
     path = resolve_record(str(name), f"{field}.file", base_dir)
-    time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
-                                    units_field=f"{field}.units", dt_field=f"{field}.dt")
-    if baseline:
-        from dem.records import baseline_correct
-
-        accel = baseline_correct(time, accel)
+    time, accel, meta = _corrected_record(path, field, units, dt, baseline)
     pga_raw = float(np.abs(accel).max())
     if target is not None:
         if pga_raw == 0.0:
@@ -262,6 +257,32 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
                    "pga": pga, "pga_units": "m s-2", "record_pga": pga_raw, "record_dt": h,
                    "record_duration": float(time[-1] - time[0]), **meta}
     return BaseMotion(kx.KIND_TABLE, np.zeros(4), table_a, table_v, table_d, h, description)
+
+
+# records read by this process: (path, size, mtime, units, dt, baseline) -> (time, accel, meta);
+# a study job runs many cases of the same few records, each read and corrected once
+_RECORD_MEMO: dict = {}
+RECORD_MEMO_SIZE = 8
+
+
+def _corrected_record(path: Path, field: str, units, dt, baseline: bool):
+    """read_record, then the baseline correction; once per file and settings per process."""
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns, units, dt, baseline)
+    if key not in _RECORD_MEMO:
+        time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
+                                        units_field=f"{field}.units", dt_field=f"{field}.dt")
+        if baseline:
+            from dem.records import baseline_correct
+
+            accel = baseline_correct(time, accel)
+        if len(_RECORD_MEMO) >= RECORD_MEMO_SIZE:
+            _RECORD_MEMO.pop(next(iter(_RECORD_MEMO)))
+        time.setflags(write=False)
+        accel.setflags(write=False)
+        _RECORD_MEMO[key] = (time, accel, meta)
+    time, accel, meta = _RECORD_MEMO[key]
+    return time, accel, dict(meta)
 
 
 MAX_NAME_CHARS = 4096

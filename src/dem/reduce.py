@@ -9,7 +9,6 @@ import numpy as np
 import xarray as xr
 
 from dem.atomic import write_atomically
-from dem.study import minimum_collapse
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
 THESIS_TABLE_7_1 = {
@@ -29,30 +28,61 @@ def thesis_record(name: str) -> str:
 
 
 def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
-    """Rows of Table 7.1: smallest PGA of the grid that collapses, ours beside the thesis'.
+    """Rows of Table 7.1: our collapse threshold of each system beside the thesis' value.
 
-    Our records are stand-ins, so absolute values differ; the grid brackets each value
-    (``pga_grid_below`` is the largest PGA tried that did not collapse, when there is one).
+    Our records are stand-ins, so absolute values differ. ``collapse_pga_m_s2`` is the
+    smallest PGA run that collapsed, ``survived_pga_m_s2`` the largest below it that did not
+    (:func:`collapse_brackets`); a threshold search's cube adds how it ended.
     """
     rows = []
     for system, cube in (("colonnade", colonnade), ("single column", standalone)):
-        first = minimum_collapse(cube, "pga")
-        for n in cube["n_drums"].values:
-            for record in cube["record"].values:
-                value = float(first.sel(n_drums=n, record=record))
-                collapsed = cube["collapsed"].sel(n_drums=n, record=record).fillna(0).values > 0
-                pgas = cube["pga"].values
-                below = pgas[(pgas < value) & ~collapsed] if np.isfinite(value) else pgas[~collapsed]
-                key = thesis_record(str(record))
-                thesis = THESIS_TABLE_7_1.get((system, int(n)), {}).get(key, float("nan"))
-                rows.append({
-                    "system": system, "n_drums": int(n), "record": str(record), "thesis_record": key,
-                    "collapse_pga_m_s2": value,
-                    "pga_grid_below_m_s2": float(below.max()) if len(below) else float("nan"),
-                    "collapse_map": " ".join(f"{p:g}:{'X' if c else '.'}" for p, c in zip(pgas, collapsed)),
-                    "thesis_accel_to_failure_m_s2": thesis,
-                })
+        for bracket in collapse_brackets(cube, "pga"):
+            key = thesis_record(bracket["record"])
+            thesis = THESIS_TABLE_7_1.get((system, bracket["n_drums"]), {}).get(key, float("nan"))
+            rows.append({"system": system, "n_drums": bracket["n_drums"], "record": bracket["record"],
+                         "thesis_record": key, "collapse_pga_m_s2": bracket["upper"],
+                         "survived_pga_m_s2": bracket["lower"], "bracket_width": bracket["width"],
+                         "n_runs": bracket["n_runs"], "monotonic": int(bracket["monotonic"]),
+                         "resurrections_m_s2": " ".join(f"{v:g}" for v in bracket["resurrections"]),
+                         "search_status": bracket["status"], "collapse_map": bracket["map"],
+                         "thesis_accel_to_failure_m_s2": thesis})
     return rows
+
+
+def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
+    """Per system (every combination of the other parameters) of a study cube: the smallest
+    value of ``along`` that collapsed (upper), the largest below it that survived (lower),
+    width = upper / lower - 1, the survivors above the first collapse (resurrections: collapse
+    not monotonic), the runs as a map ``"1:. 1.8:X"`` (X collapsed), and the search status.
+
+    Works on a grid cube (``along`` a dimension) and on a threshold-search cube (``along`` a
+    coordinate on a ``run`` dimension, NaN where a system ran fewer cases)."""
+    runs = "run" if "run" in cube["collapsed"].dims else along
+    collapsed = cube["collapsed"]
+    values = cube[along].broadcast_like(collapsed)
+    systems = [d for d in collapsed.dims if d != runs]
+    stacked_c = collapsed.stack(system=systems) if systems else collapsed.expand_dims(system=[0])
+    stacked_v = values.stack(system=systems) if systems else values.expand_dims(system=[0])
+    out = []
+    for i in range(stacked_c.sizes["system"]):
+        c = stacked_c.isel(system=i).values
+        v = stacked_v.isel(system=i).values
+        ran = np.isfinite(c) & np.isfinite(v)
+        order = np.argsort(v[ran], kind="stable")
+        v, hit = v[ran][order], c[ran][order] > 0
+        upper = float(v[hit].min()) if hit.any() else float("nan")
+        below = v[~hit & ~(v > upper)] if hit.any() else v[~hit]
+        lower = float(below.max()) if len(below) else float("nan")
+        resurrections = [float(x) for x in v[~hit & (v > upper)]]
+        row = {d: _plain(stacked_c["system"].values[i][k]) if len(systems) > 1 else
+               _plain(stacked_c["system"].values[i]) for k, d in enumerate(systems)}
+        status = ""
+        if "search_status" in cube:
+            status = str(cube["search_status"].sel({d: row[d] for d in systems}).values)
+        out.append({**row, "upper": upper, "lower": lower, "width": upper / lower - 1.0,
+                    "n_runs": int(len(v)), "resurrections": resurrections, "monotonic": not resurrections,
+                    "status": status, "map": " ".join(f"{x:g}:{'X' if h else '.'}" for x, h in zip(v, hit))})
+    return out
 
 
 def write_csv(rows: list[dict], path: str | Path) -> Path:

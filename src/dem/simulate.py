@@ -1,9 +1,11 @@
-"""Run one scene: pack it into kernel arrays, choose or check dt, call the compiled loop, write.
+"""Run one scene: pack it into kernel arrays, choose or check dt, call the compiled loop, check.
 
-Python sets up (:func:`pack_scene`, :func:`stability_limit`) and bundles the kernel's inputs
-(:func:`kernel_model` and the other named tuples of :mod:`dem.kernels.step`), Numba runs
-(:func:`dem.kernels.step.run`, called in a few chunks so long runs can show progress), and
-Python turns the samples into a self-describing dataset (:mod:`dem.dataset`).
+Python sets up (:func:`pack_scene`, :func:`stability_limit`, :func:`preflight`) and bundles
+the kernel's inputs (:func:`kernel_model` and the other named tuples of
+:mod:`dem.kernels.step`), Numba runs (:func:`dem.kernels.step.run`, called in a few chunks
+so long runs can show progress), and Python checks the samples (:func:`run_checks`). The
+computing side only: :mod:`dem.dataset` (run_scene) turns the samples into a dataset, and
+nothing here imports it or xarray.
 """
 
 from __future__ import annotations
@@ -603,26 +605,6 @@ def run_checks(scene: Scene, result: RunResult) -> dict:
         warnings.append(f"the energy balance drifted by {100 * energy['energy_error']:.3g} % of the energy the "
                         f"run moves (limit {100 * ENERGY_TOLERANCE:g} %); lower solver.dt_safety")
     return {"status": status, "warnings": warnings, "penetration": share, "penetration_time": when, **energy}
-
-
-def run_scene(scene: Scene, progress: bool = False):
-    """Simulate a scene and return its self-describing xarray Dataset (see :mod:`dem.dataset`).
-
-    Refused before computing: :func:`preflight`. After it: a diverged run is an error; a
-    penetration or energy drift past its limit is the dataset's ``status`` and a warning.
-    """
-    from dem.dataset import scene_dataset
-
-    preflight(scene)
-    result = simulate(scene, progress=progress)
-    if result.status == step.STATUS_NONFINITE:
-        t = result.time[-1] if len(result.time) else 0.0
-        raise InputError("solver.dt", f"the simulation diverged (NaN) near t = {t:.4g} s",
-                         f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
-    checks = run_checks(scene, result)
-    for line in checks["warnings"]:
-        print(f"warning: {line}", file=sys.stderr)
-    return scene_dataset(scene, result, checks)
 
 
 # resources a run may ask for; above them it is refused before computing (README "Limits")

@@ -14,14 +14,16 @@ import copy
 import itertools
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from dem.errors import InputError
+from dem.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from dem.structures import EPISTYLE_TYPES
+from dem.threshold_search import SearchSettings
 
 # name: (scene field, units, long name, id label)
 PARAMETERS = {
@@ -42,7 +44,7 @@ PARAMETERS = {
     "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
 }
 STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "grid",
-              "interface_friction", "weak_joint", "cases", "description")
+              "interface_friction", "weak_joint", "cases", "description", "search")
 SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
               "weak_joint")
 # study (and defaults) keys whose value must be a mapping before a case is built from it
@@ -74,10 +76,43 @@ CHOICES = {"epistyle_type": EPISTYLE_TYPES}
 
 @dataclass(frozen=True)
 class Case:
+    """One simulation of a study; or, with ``search``, one system whose collapse threshold
+    is searched over ``search.parameter`` (its scene holds the search's start value, its
+    id and params leave the parameter out: :func:`search_case` makes each run's case)."""
+
     study: str
     id: str
     params: dict  # swept parameter values
     scene: dict  # the full scene mapping
+    search: SearchSettings | None = None
+
+    def as_dict(self) -> dict:
+        """Plain data (Snakemake params, JSON): :meth:`from_dict` rebuilds the case."""
+        spec = {"study": self.study, "id": self.id, "params": self.params, "scene": self.scene}
+        if self.search is not None:
+            spec["search"] = asdict(self.search)
+        return spec
+
+    @classmethod
+    def from_dict(cls, spec: dict) -> "Case":
+        search = spec.get("search")
+        return cls(spec["study"], spec["id"], dict(spec["params"]), copy.deepcopy(spec["scene"]),
+                   SearchSettings(**search) if search is not None else None)
+
+
+# parameters a threshold search may sweep: the intensity measures of the excitation
+SEARCH_PARAMETERS = ("pga", "pga_scale", "amplitude")
+
+
+def search_case(system: Case, value: float) -> Case:
+    """The case of a threshold-search ``system`` run at ``value`` of its search parameter
+    (its id as a grid case with that value would have: ``rec-..._drums-1_pga-12.2``)."""
+    parameter = system.search.parameter
+    params = {**system.params, parameter: float(value)}
+    scene = copy.deepcopy(system.scene)
+    scene["name"] = f"{system.study}/{case_id(params)}"
+    _set(scene, PARAMETERS[parameter][0], float(value))
+    return Case(system.study, case_id(params), params, scene)
 
 
 def load_config(*paths) -> dict:
@@ -190,6 +225,13 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
         for key, value in params.items():
             _check_parameter(f"{where}.cases[{i}].{key}", key)
             check_value(f"{where}.cases[{i}].{key}", key, value)
+    search = None
+    if study.get("search") is not None:
+        search = SearchSettings.from_config(study["search"], f"{where}.search", SEARCH_PARAMETERS)
+        for key in list(grid) + [k for params in listed for k in params]:
+            if key == search.parameter:
+                raise InputError(f"{where}.grid.{key}" if key in grid else f"{where}.cases",
+                                 f"{key} is the searched parameter", f"remove {key} from the grid and cases")
     if n_grid + len(listed) > MAX_CASES_PER_STUDY:
         raise InputError(f"{where}.grid" if grid else f"{where}.cases",
                          f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
@@ -211,6 +253,9 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
     ids = set()
     for params, origin, container in rows:
         case = _case(name, base, params, origin if exact else None)
+        if search is not None:  # a system: its scene at the search's start (checked as one)
+            _set(case.scene, PARAMETERS[search.parameter][0], search.start)
+            case = Case(case.study, case.id, case.params, case.scene, search)
         if case.id in ids:
             raise InputError(container, f"case {case.id} is given twice", "remove the duplicate grid value or case")
         if not CASE_ID_PATTERN.fullmatch(case.id):  # values are checked: a guard for new parameters
@@ -536,8 +581,8 @@ def _located(error: InputError, case: Case, study: dict, defaults: dict, origin:
 
 def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
     """Simulate one case: the scene's dataset with the swept parameters as scalar coordinates."""
+    from dem.dataset import run_scene
     from dem.scene import scene_from_dict
-    from dem.simulate import run_scene
 
     scene_spec = copy.deepcopy(case.scene)
     solver = scene_spec.setdefault("solver", {})
@@ -562,14 +607,39 @@ def _natural_duration(scene_spec: dict, base_dir) -> float:
     return horizontal.duration + 2.0
 
 
-# case attributes a cube keeps when every case agrees on them
-SHARED_ATTRS = ("source", "study", "contact_model", "contact_law", "k_n", "c_n", "contact_damping",
-                "contact_impact", "k_t", "c_t", "friction", "excitation", "contact_frame")
-CUBE_VARIABLES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding",
-                  "residual_total_sliding", "rocking_onset_time", "max_epistyle_displacement", "theta_cr")
-# time histories a cube keeps (NaN after a case stopped at collapse or ended)
-HISTORY_VARIABLES = ("rocking", "total_sliding", "epistyle_displacement", "base_displacement",
-                     "base_acceleration")
+def case_piece(ds: xr.Dataset) -> xr.Dataset:
+    """What a cube keeps of one case file: its measures and histories, its swept parameters
+    as scalar coordinates, output times rounded (cases of different dt sample the same
+    times to within rounding)."""
+    params = case_parameters(ds)
+    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
+    small = ds[names].load()
+    small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
+    if "time" in small.coords:
+        small = small.assign_coords(time=("time", np.round(small["time"].values, 9), small["time"].attrs))
+    return small
+
+
+def case_parameters(ds: xr.Dataset) -> list[str]:
+    """The swept parameters of a case (or search) file: its scalar coordinates in PARAMETERS."""
+    return [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
+
+
+def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
+    """``piece`` with its scalar parameters as dimensions of length one, ready to merge;
+    strings as objects (merging fixed-width unicode truncates 'per_span' to the width of 'a')."""
+    piece = piece.expand_dims(params)
+    return piece.assign_coords({k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"})
+
+
+def shared_case_attrs(attrs: list[dict]) -> dict:
+    """The case attributes a cube keeps: those of CUBE_SHARED_ATTRS every case agrees on."""
+    shared = None
+    for case_attrs in attrs:
+        case_attrs = {k: case_attrs[k] for k in CUBE_SHARED_ATTRS if k in case_attrs}
+        shared = case_attrs if shared is None else {
+            k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+    return shared or {}
 
 
 def combine_cases(paths, description: str = "") -> xr.Dataset:
@@ -578,27 +648,13 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
     Cases are merged by coordinates with an outer join, so a study of listed cases (not a
     full grid) gives a cube with NaN where a combination was not run.
     """
-    pieces = []
-    shared = None
+    pieces, attrs = [], []
     for path in paths:
         with xr.open_dataset(path) as ds:
-            params = [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
-            names = [v for v in CUBE_VARIABLES + HISTORY_VARIABLES if v in ds]
-            small = ds[names].load()
-            small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
-            # cases of different dt sample the same output times to within rounding: align them
-            if "time" in small.coords:
-                small = small.assign_coords(time=np.round(small["time"].values, 9))
-            small = small.expand_dims(params)
-            # strings as objects: merging fixed-width unicode truncates 'per_span' to the width of 'a'
-            small = small.assign_coords({k: small[k].astype(object) for k in params if small[k].dtype.kind == "U"})
-            pieces.append(small)
-            case_attrs = {k: ds.attrs[k] for k in SHARED_ATTRS if k in ds.attrs}
-            shared = case_attrs if shared is None else {
-                k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+            pieces.append(on_parameter_dimensions(case_piece(ds), case_parameters(ds)))
+            attrs.append(dict(ds.attrs))
     if not pieces:
         raise InputError("cases", "no case files to combine", "run the study's cases first")
-    attrs = shared or {}
     cube = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop")
     for name in list(cube.coords):
         if name in PARAMETERS:
@@ -609,20 +665,7 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
             if name in first.variables and name not in PARAMETERS:
                 cube[name].attrs = dict(first[name].attrs)
     # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
-    cube.attrs = {**attrs, "title": f"dem study cube: {attrs.get('study', '')}", "n_cases": len(pieces),
+    shared = shared_case_attrs(attrs)
+    cube.attrs = {**shared, "title": f"dem study cube: {shared.get('study', '')}", "n_cases": len(pieces),
                   "description": description}
     return cube
-
-
-def minimum_collapse(cube: xr.Dataset, along: str = "pga") -> xr.DataArray:
-    """Smallest value of ``along`` at which the case collapsed (NaN: never), per other parameters.
-
-    Collapse is not monotonic in the excitation level, so the cube's ``collapsed`` map is
-    kept beside this summary.
-    """
-    collapsed = cube["collapsed"].fillna(0) > 0
-    values = cube[along].broadcast_like(collapsed)
-    first = values.where(collapsed).min(along)
-    first.attrs = {"units": cube[along].attrs.get("units", ""),
-                   "long_name": f"smallest {cube[along].attrs.get('long_name', along)} that collapses"}
-    return first

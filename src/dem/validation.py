@@ -36,10 +36,10 @@ from scipy.optimize import brentq
 
 from dem import analytic
 from dem.atomic import write_atomically
-from dem.dataset import code_version, write_dataset
+from dem.dataset import code_version, run_scene, write_dataset
 from dem.ground_motion import RECORDS_DIR
 from dem.scene import scene_from_dict
-from dem.simulate import run_scene, simulate
+from dem.simulate import simulate
 
 G = 9.81
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"

@@ -10,7 +10,8 @@ import xarray as xr
 
 from dem import analytic
 from dem.bench import restitution as rs
-from dem.dataset import missing_metadata, write_dataset
+from dem.dataset import write_dataset
+from dem.schema import missing_metadata
 from dem.simulate import simulate
 from dem.structures import build_structure
 from dem.study import load_config

@@ -9,9 +9,9 @@ import yaml
 import dem.kernels.step
 from dem.bench import stability
 from dem.cli import main as cli_main
-from dem.dataset import missing_metadata
 from dem.errors import InputError
 from dem.scene import scene_from_dict
+from dem.schema import missing_metadata
 from dem.simulate import choose_time_step, stability_limit
 from dem.validation import block_scene
 

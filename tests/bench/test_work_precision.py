@@ -10,7 +10,7 @@ import pytest
 from dem.bench import canonical as cn
 from dem.bench import ours, pymunk_engine
 from dem.bench.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
-from dem.dataset import missing_metadata
+from dem.schema import missing_metadata
 from dem.scene import scene_from_dict
 
 

@@ -6,7 +6,7 @@ import sys
 import pytest
 import xarray as xr
 
-from dem.dataset import missing_metadata
+from dem.schema import missing_metadata
 
 CASE = """\
 panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}

@@ -5,6 +5,7 @@ rule combine_cube:
         "results/cubes/{study}.nc",
     params:
         description=study_description,
+        search=lambda wildcards: wildcards.study in SEARCH_STUDIES,
     log:
         "results/logs/cubes/{study}.log",
     conda:

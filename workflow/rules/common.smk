@@ -42,12 +42,15 @@ def record_params(wildcards):
 
 
 import dem.figures
+import dem.job_plan
 import dem.study
 
 STUDIES = {
     name: {case.id: case for case in cases} for name, cases in dem.study.config_cases(config).items()
 }
-# figures whose cases are in the configured grids (a reduced profile draws fewer)
+# the catalogue's tables and figures (dem.figures) whose inputs are in the configured studies
+# (a reduced profile makes fewer): results/tables/<table>.csv, results/figures/<figure>.png
+TABLES = dem.figures.reduction_table(STUDIES)
 FIGURES = dem.figures.figure_table(STUDIES, config)
 FIGURE_NAMES = list(FIGURES)
 
@@ -58,45 +61,53 @@ wildcard_constraints:
     case="[A-Za-z0-9_.+-]+",
 
 
+SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
+# jobs sized to their cost (dem.job_plan): cheap cases share a job, each search is one job
+JOBS = dem.job_plan.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
+JOB_PRIORITY = dem.job_plan.job_priority(JOBS)
+
+
+def case_path(case):
+    return f"results/cases/{case.study}/{case.id}.nc"
+
+
+def search_path(system):
+    return f"results/searches/{system.study}/{system.id}.nc"
+
+
 def case_files(wildcards):
-    return [f"results/cases/{wildcards.study}/{case}.nc" for case in STUDIES[wildcards.study]]
+    """A study's case files, or for a search study its systems' search files."""
+    cases = STUDIES[wildcards.study].values()
+    if wildcards.study in SEARCH_STUDIES:
+        return [search_path(system) for system in cases]
+    return [case_path(case) for case in cases]
 
-
-# colonnade studies that vary one parameter at a time (thesis 7.3-7.8)
-EPISTYLE_STUDIES = [s for s in STUDIES if s.startswith("colonnade_") and s != "colonnade_records"]
-# harmonic studies reduced to sliding and rocking vs frequency (thesis Fig. 6.1, 6.5, 6.6)
-FREQUENCY_STUDIES = [s for s in ("harmonic_frequency", "small_column_friction", "small_column_pga") if s in STUDIES]
-
-
-def _tables():
-    tables = [f"results/tables/epistyle_{s}.csv" for s in EPISTYLE_STUDIES]
-    tables += [f"results/tables/frequency_response_{s}.csv" for s in FREQUENCY_STUDIES]
-    if {"standalone_records", "colonnade_records"} <= set(STUDIES):
-        tables.append("results/tables/table_7_1.csv")
-    if {"ramp_drums", "ramp_taper"} <= set(STUDIES):
-        tables += ["results/tables/thesis_fig_6_10.csv", "results/tables/thesis_fig_6_13.csv"]
-    return tables
-
-
-TABLES = _tables()
 # the chapter-5 validations (workflow/rules/validation.smk); off in the workflow tests' tiny config
 RUN_VALIDATION = config_flag("run_validation", True)
 
 
-def case_record(wildcards):
-    case = STUDIES[wildcards.study][wildcards.case]
-    record = case.params.get("record") or case.scene.get("excitation", {}).get("file")
-    return [f"records/{record}.nc"] if record else []
+def job_records(job):
+    """The record files a job's cases read."""
+    names = {case.scene.get("excitation", {}).get("file") for case in job.cases}
+    return sorted(f"records/{name}.nc" for name in names if isinstance(name, str))
 
 
-def case_of(wildcards):
-    case = STUDIES[wildcards.study][wildcards.case]
-    return {"study": case.study, "id": case.id, "params": case.params, "scene": case.scene}
 
+# the file of each kind of catalogue input (dem.figures.Cube, Case, Table, Record)
+CATALOGUE_PATHS = {
+    "Cube": "results/cubes/{study}.nc",
+    "Case": "results/cases/{study}/{case}.nc",
+    "Table": "results/tables/{table}.csv",
+    "Record": "records/{name}.nc",
+}
+
+
+def table_input(wildcards):
+    return dem.figures.input_paths(TABLES[wildcards.table].inputs, CATALOGUE_PATHS)
 
 
 def figure_input(wildcards):
-    return list(FIGURES[wildcards.figure].inputs)
+    return dem.figures.input_paths(FIGURES[wildcards.figure].inputs, CATALOGUE_PATHS)
 
 
 def figure_caption(wildcards):

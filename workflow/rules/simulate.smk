@@ -1,13 +1,48 @@
-rule simulate_case:
-    input:
-        case_record,
-    output:
-        "results/cases/{study}/{case}.nc",
-    params:
-        case=case_of,
-    log:
-        "results/logs/cases/{study}/{case}.log",
-    conda:
-        "../envs/dem.yaml"
-    script:
-        "../scripts/simulate_case.py"
+# One rule per job of dem.job_plan: a job runs its cases in one interpreter (one start-up,
+# one compiled-cache load), writes one NetCDF per case and logs one line per case; a
+# restored case comes from the case store (results/case_store, dem.case_runner).
+for job in JOBS:
+    if job.is_search:
+        continue
+
+    rule:
+        name:
+            job.name
+        input:
+            job_records(job),
+        output:
+            [case_path(case) for case in job.cases],
+        params:
+            cases=[case.as_dict() for case in job.cases],
+        log:
+            f"results/logs/jobs/{job.name}.log",
+        priority: JOB_PRIORITY[job.name]
+        conda:
+            "../envs/dem.yaml"
+        script:
+            "../scripts/simulate_cases.py"
+
+
+# A threshold search (dem.threshold_search): its runs' case files in one directory, the
+# runs and the bracket in results/searches/<study>/<system>.nc.
+for job in JOBS:
+    if not job.is_search:
+        continue
+
+    rule:
+        name:
+            job.name
+        input:
+            job_records(job),
+        output:
+            runs=directory(f"results/cases/{job.study}/{job.cases[0].id}"),
+            search=search_path(job.cases[0]),
+        params:
+            system=job.cases[0].as_dict(),
+        log:
+            f"results/logs/jobs/{job.name}.log",
+        priority: JOB_PRIORITY[job.name]
+        conda:
+            "../envs/dem.yaml"
+        script:
+            "../scripts/search_threshold.py"

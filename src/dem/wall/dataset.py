@@ -8,44 +8,10 @@ from datetime import datetime, timezone
 import numpy as np
 import xarray as xr
 
-from dem.dataset import code_version, write_dataset  # noqa: F401 - atomic writer re-exported
+from dem.dataset import code_version, schema_variables, write_dataset
 from dem.wall.constitutive import STATE_NAMES
 from dem.wall.panel import KIND_NAMES
 from dem.wall.validation import LIMIT_TOLERANCE
-
-VARIABLES = {
-    "step": ("1", "load step (0: dead load only)"),
-    "block": ("1", "block index"),
-    "interface": ("1", "interface index"),
-    "dof": ("1", "block degree of freedom: u1 u2 u3 (m), w1 w2 w3 (rad)"),
-    "block_x": ("m", "block centre along the wall length"),
-    "block_y": ("m", "block centre height"),
-    "block_length": ("m", "block (cell) length along the wall"),
-    "block_course": ("1", "course index from the bottom"),
-    "interface_x": ("m", "interface centroid along the wall length"),
-    "interface_y": ("m", "interface centroid height"),
-    "interface_width": ("m", "interface side in the wall plane"),
-    "interface_kind": ("1", "0 head joint, 1 bed joint, 2 support joint"),
-    "interface_first": ("1", "first block of the interface (-1: fixed support)"),
-    "interface_second": ("1", "second block of the interface (-1: fixed support)"),
-    "interface_normal_axis": ("1", "interface normal: 0 along e1 (vertical joint), 1 along e2 (horizontal)"),
-    "lambda": ("1", "load multiplier (live load / weight, or pressure in Pa for pressure loads)"),
-    "control_displacement": ("m", "out-of-plane displacement of the control DOF since the dead load"),
-    "iterations": ("1", "residual iterations of the step"),
-    "residual": ("1", "final residual norm / reference load norm"),
-    "damage": ("1", "interface state: 0 elastic, 1 shear, 2 flexural, 3 shear and flexural, 4 detached"),
-    "lambda_max": ("1", "limit load multiplier (maximum lambda along the path)"),
-    "step_at_limit": ("1", "step where lambda_max is reached"),
-    "displacement_at_limit": ("m", "block displacements and rotations (rad) at lambda_max"),
-    "displacement_final": ("m", "block displacements and rotations (rad) at the last step"),
-    "interface_forces_at_limit": ("N", "interface actions at lambda_max, local order t1 t2 n (N), b1 b2 tor (N m)"),
-    "damage_at_limit": ("1", "interface state at lambda_max (codes as damage)"),
-}
-
-
-def _var(name, dims, data):
-    units, long_name = VARIABLES[name]
-    return xr.Variable(dims, data, attrs={"units": units, "long_name": long_name})
 
 
 def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
@@ -53,41 +19,40 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     nb = panel.n_blocks
     lam_units = pressure_units if case.load_kind == "pressure" else "1"
     q = result.q.reshape(len(result.q), nb, 6)
-    data = {
-        "lambda": _var("lambda", ("step",), result.lam),
-        "control_displacement": _var("control_displacement", ("step",), result.control),
-        "iterations": _var("iterations", ("step",), result.iterations.astype(np.int32)),
-        "residual": _var("residual", ("step",), result.residual),
-        "damage": _var("damage", ("step", "interface"), result.state.astype(np.int8)),
-        "lambda_max": _var("lambda_max", (), result.lambda_max),
-        "step_at_limit": _var("step_at_limit", (), np.int32(result.step_max)),
-        "displacement_at_limit": _var("displacement_at_limit", ("block", "dof"), q[result.step_max]),
-        "displacement_final": _var("displacement_final", ("block", "dof"), q[-1]),
-        "interface_forces_at_limit": _var("interface_forces_at_limit", ("interface", "dof"),
-                                          result.interface_forces_at_max),
-        "damage_at_limit": _var("damage_at_limit", ("interface",), result.state[result.step_max].astype(np.int8)),
-    }
+    data = schema_variables({
+        "lambda": (("step",), result.lam),
+        "control_displacement": (("step",), result.control),
+        "iterations": (("step",), result.iterations.astype(np.int32)),
+        "residual": (("step",), result.residual),
+        "damage": (("step", "interface"), result.state.astype(np.int8)),
+        "lambda_max": ((), result.lambda_max),
+        "step_at_limit": ((), np.int32(result.step_max)),
+        "displacement_at_limit": (("block", "dof"), q[result.step_max]),
+        "displacement_final": (("block", "dof"), q[-1]),
+        "interface_forces_at_limit": (("interface", "dof"), result.interface_forces_at_max),
+        "damage_at_limit": (("interface",), result.state[result.step_max].astype(np.int8)),
+    })
     data["lambda"].attrs["units"] = lam_units
     data["lambda_max"].attrs["units"] = lam_units
     if not result.limit_reached:
         data["lambda_max"].attrs["comment"] = result.limit_note
-    coords = {
-        "step": _var("step", ("step",), np.arange(len(result.lam), dtype=np.int32)),
-        "block": _var("block", ("block",), np.arange(nb, dtype=np.int32)),
-        "interface": _var("interface", ("interface",), np.arange(panel.n_interfaces, dtype=np.int32)),
-        "dof": _var("dof", ("dof",), np.array(["u1", "u2", "u3", "w1", "w2", "w3"], dtype=object)),
-        "block_x": _var("block_x", ("block",), panel.centre[:, 0]),
-        "block_y": _var("block_y", ("block",), panel.centre[:, 1]),
-        "block_length": _var("block_length", ("block",), panel.size[:, 0]),
-        "block_course": _var("block_course", ("block",), panel.course.astype(np.int32)),
-        "interface_x": _var("interface_x", ("interface",), panel.centroid[:, 0]),
-        "interface_y": _var("interface_y", ("interface",), panel.centroid[:, 1]),
-        "interface_width": _var("interface_width", ("interface",), panel.width),
-        "interface_kind": _var("interface_kind", ("interface",), panel.kind.astype(np.int8)),
-        "interface_first": _var("interface_first", ("interface",), panel.first.astype(np.int32)),
-        "interface_second": _var("interface_second", ("interface",), panel.second.astype(np.int32)),
-        "interface_normal_axis": _var("interface_normal_axis", ("interface",), panel.normal_axis.astype(np.int8)),
-    }
+    coords = schema_variables({
+        "step": (("step",), np.arange(len(result.lam), dtype=np.int32)),
+        "block": (("block",), np.arange(nb, dtype=np.int32)),
+        "interface": (("interface",), np.arange(panel.n_interfaces, dtype=np.int32)),
+        "dof": (("dof",), np.array(["u1", "u2", "u3", "w1", "w2", "w3"], dtype=object)),
+        "block_x": (("block",), panel.centre[:, 0]),
+        "block_y": (("block",), panel.centre[:, 1]),
+        "block_length": (("block",), panel.size[:, 0]),
+        "block_course": (("block",), panel.course.astype(np.int32)),
+        "interface_x": (("interface",), panel.centroid[:, 0]),
+        "interface_y": (("interface",), panel.centroid[:, 1]),
+        "interface_width": (("interface",), panel.width),
+        "interface_kind": (("interface",), panel.kind.astype(np.int8)),
+        "interface_first": (("interface",), panel.first.astype(np.int32)),
+        "interface_second": (("interface",), panel.second.astype(np.int32)),
+        "interface_normal_axis": (("interface",), panel.normal_axis.astype(np.int8)),
+    })
     spec = case.spec
     joints = spec["joints"]
     attrs = {

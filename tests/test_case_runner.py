@@ -1,0 +1,82 @@
+"""Jobs of many cases (dem.case_runner): one log line per case, the case store, a search."""
+
+import io
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from dem.case_runner import CaseStore, run_cases, run_search
+from dem.job_plan import plan_jobs
+from dem.schema import missing_metadata
+from dem.search_dataset import combine_searches
+from dem.study import case_table
+
+# a 1 x 4 m block under a 2 Hz harmonic: overturns within 1.5 s at an amplitude of 0.4 m, not 0.2 m
+BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
+         "excitation": {"kind": "harmonic", "frequency": 2.0}, "solver": {"duration": 1.5},
+         "contact": {"model": "point", "k_n": 1.0e+9}, "output": {"every": 0.01}}
+
+
+def test_a_job_logs_one_line_per_case_and_restores_unchanged_cases_from_the_store(tmp_path):
+    cases = case_table("block", {**BLOCK, "grid": {"amplitude": [0.01, 0.4]}})
+    outputs = [tmp_path / "cases" / f"{c.id}.nc" for c in cases]
+    store = CaseStore(tmp_path / "store", "records")
+    log = io.StringIO()
+    first = run_cases(cases, outputs, store, log)
+    lines = log.getvalue().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("[1/2] block/A-0.01: ") and "steps" in lines[0]
+    assert [i["collapsed"] for i in first] == [False, True] and "collapsed at" in lines[1]
+    before = [p.read_bytes() for p in outputs]
+    for p in outputs:
+        p.unlink()
+    # the job reruns (one case changed): the unchanged case comes back bit for bit
+    changed = case_table("block", {**BLOCK, "friction": 0.6, "grid": {"amplitude": [0.4]}}) + cases[:1]
+    log = io.StringIO()
+    again = run_cases(changed, [tmp_path / "b.nc", outputs[0]], store, log)
+    assert [i["restored"] for i in again] == [False, True], log.getvalue()
+    assert "restored from the case store" in log.getvalue().splitlines()[1]
+    assert outputs[0].read_bytes() == before[0]
+    # no store: always simulated
+    assert not run_cases(cases[:1], [tmp_path / "c.nc"], CaseStore(None), io.StringIO())[0]["restored"]
+
+
+def test_a_search_job_writes_every_run_and_a_self_describing_bracket(tmp_path):
+    study = {**BLOCK, "grid": {"friction": [0.7]},
+             "search": {"parameter": "amplitude", "start": 0.02, "factor": 2.0, "tolerance": 0.1, "fill": 1,
+                        "minimum": 0.005, "maximum": 0.64}}
+    (system,) = case_table("block", study)
+    log = io.StringIO()
+    runs, result = run_search(system, tmp_path / "runs", tmp_path / "search.nc", CaseStore(None), log)
+    assert result["status"] == "bracketed" and result["width"] <= 0.1
+    assert len(list((tmp_path / "runs").glob("*.nc"))) == len(runs) == result["n_runs"]
+    assert len(log.getvalue().splitlines()) == len(runs) + 1  # one per run, one for the bracket
+    cube = combine_searches([tmp_path / "search.nc"])
+    assert missing_metadata(cube) == []
+    assert cube["amplitude"].dims == ("friction", "run")
+    amplitudes = cube["amplitude"].values[0]
+    assert np.all(np.diff(amplitudes) > 0), "runs sorted by the searched value"
+    first = amplitudes[cube["collapsed"].values[0] > 0].min()
+    assert cube["collapse_threshold"].values.item() == pytest.approx(first)
+    assert cube.attrs["search_parameter"] == "amplitude" and cube.attrs["n_cases"] == len(runs)
+
+
+def test_cheap_cases_share_jobs_and_each_search_is_one_job():
+    grid = case_table("block", {**BLOCK, "grid": {"amplitude": [0.01, 0.02, 0.03, 0.04]}})
+    searches = case_table("s", {**BLOCK, "grid": {"friction": [0.5, 0.7]}, "search": {"parameter": "amplitude",
+                                                                                       "start": 0.02, "minimum": 0.01}})
+    jobs = plan_jobs({"block": grid, "s": searches}, job_seconds=1e9)
+    assert sorted((j.study, len(j.cases), j.is_search) for j in jobs) == [
+        ("block", 4, False), ("s", 1, True), ("s", 1, True)]
+    assert jobs[0].cost >= jobs[-1].cost, "the costliest job first"
+    alone = plan_jobs({"block": grid}, job_seconds=0.0)
+    assert [len(j.cases) for j in alone] == [1, 1, 1, 1]
+    assert {j.name for j in alone} == {f"simulate_block_{k}" for k in range(4)}
+
+
+def test_an_unknown_case_store_file_is_never_read_as_a_case(tmp_path):
+    (case,) = case_table("block", {**BLOCK, "grid": {"amplitude": [0.01]}})
+    store = CaseStore(tmp_path / "store", "records")
+    assert not store.restore(case, tmp_path / "out.nc") and not (tmp_path / "out.nc").exists()
+    with xr.open_dataset(run_cases([case], [tmp_path / "out.nc"], store, io.StringIO()) and tmp_path / "out.nc") as ds:
+        assert ds.attrs["case"] == case.id

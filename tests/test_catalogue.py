@@ -1,0 +1,38 @@
+"""The catalogue of figures and tables (dem.figures): every entry of the study's configs
+resolves to files the workflow makes, and the library names no results/ path."""
+
+from pathlib import Path
+
+import pytest
+
+import dem
+from dem.figures import figure_table, figures, input_paths, reduction_table
+from dem.study import config_cases, load_config
+from tests.workflow_files import catalogue_paths, made_by_a_rule, rule_outputs
+
+ROOT = Path(__file__).resolve().parents[1]
+# command-line entry points whose default output folder is under results/
+CLI_DEFAULTS = {"cli.py", "record_cli.py", "bench"}
+
+
+@pytest.mark.parametrize("profile", [None, "config/quick.yaml"])
+def test_every_figure_and_table_resolves_to_files_a_rule_makes(profile):
+    config = load_config(ROOT / "config" / "config.yaml", *([ROOT / profile] if profile else []))
+    studies = {name: {c.id: c for c in cases} for name, cases in config_cases(config).items()}
+    tables, figs = reduction_table(studies), figure_table(studies, config)
+    if profile is None:  # the full study makes every entry of the catalogue
+        assert set(figs) == set(figures(config)) and len(tables) >= 13 and len(figs) >= 90
+    patterns, outputs = catalogue_paths(), rule_outputs()
+    made = [f"results/tables/{name}.csv" for name in tables] + [f"results/figures/{name}.png" for name in figs]
+    for path in made:
+        assert made_by_a_rule(path, outputs), path
+    for name, entry in {**tables, **figs}.items():
+        for path in input_paths(entry.inputs, patterns):
+            assert made_by_a_rule(path, outputs) or path in made, f"{name} reads {path}, which no rule makes"
+
+
+def test_no_library_module_names_a_results_path():
+    package = Path(dem.__file__).parent
+    found = [str(p.relative_to(package)) for p in package.rglob("*.py")
+             if p.relative_to(package).parts[0] not in CLI_DEFAULTS and "results/" in p.read_text()]
+    assert not found, f"results/ paths belong in the workflow (workflow/rules/common.smk): {found}"

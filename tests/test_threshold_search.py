@@ -1,0 +1,64 @@
+"""Hunt-and-fill collapse-threshold search (dem.threshold_search) on known thresholds."""
+
+import math
+
+import pytest
+
+from dem.errors import InputError
+from dem.study import SEARCH_PARAMETERS
+from dem.threshold_search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value,
+                                  search, summary)
+
+SETTINGS = SearchSettings()
+
+
+@pytest.mark.parametrize("threshold", [0.2, 1.0, 1.37, 3.0001, 12.3, 27.69, 63.0])
+def test_a_monotonic_threshold_is_bracketed_within_the_tolerance(threshold):
+    runs = search(lambda value, phase: value >= threshold, SETTINGS)
+    result = summary(runs, SETTINGS)
+    assert result["status"] == BRACKETED and result["monotonic"]
+    assert result["lower"] < threshold <= result["upper"]
+    assert result["width"] <= SETTINGS.tolerance
+    # hunt + five bisections + three fills, at most (1.8 < 1.02 ** 32)
+    assert len(runs) <= math.ceil(math.log(64 / 0.125) / math.log(1.8)) + 5 + 3
+    assert [r.phase for r in runs].count("bisect") <= 5
+    assert [r.phase for r in runs].count("fill") <= SETTINGS.fill
+
+
+def test_a_collapse_found_by_a_fill_run_lowers_the_threshold_and_reports_resurrections():
+    # collapses in a window [2.0, 2.6] the hunt steps over (1.8, 3.24 survive), and above 10
+    def collapses(value, phase):
+        return 2.0 <= value <= 2.6 or value >= 10.0
+
+    runs = search(collapses, SearchSettings(fill=6))
+    result = summary(runs, SearchSettings(fill=6))
+    assert 1.96 <= result["lower"] < 2.0 <= result["upper"] <= 2.04
+    assert not result["monotonic"] and 3.24 in result["resurrections"]
+    assert result["status"] == BRACKETED
+
+
+def test_no_collapse_and_collapse_at_the_minimum_end_the_search():
+    runs = search(lambda v, p: False, SETTINGS)
+    assert summary(runs, SETTINGS)["status"] == NO_COLLAPSE and runs[-1].value == SETTINGS.maximum
+    runs = search(lambda v, p: True, SETTINGS)
+    assert summary(runs, SETTINGS)["status"] == COLLAPSE_AT_MINIMUM and runs[-1].value == SETTINGS.minimum
+
+
+def test_a_resumed_search_continues_where_it_stopped():
+    full = search(lambda v, p: v >= 5.0, SETTINGS)
+    resumed = search(lambda v, p: v >= 5.0, SETTINGS, runs=full[:4])
+    assert resumed == full
+    assert next_value(full, SETTINGS) is None
+    assert next_value([Run(1.0, False, "hunt")] * SETTINGS.max_runs, SETTINGS) is None
+
+
+@pytest.mark.parametrize("spec, field", [
+    ("pga", "search"), ({"parameter": "n_drums"}, "search.parameter"), ({"start": -1}, "search.start"),
+    ({"factor": 1.01}, "search.factor"), ({"tolerance": 1.5}, "search.tolerance"), ({"fill": 2.5}, "search.fill"),
+    ({"max_runs": 3}, "search.max_runs"), ({"speed": 1}, "search.speed"), ({"start": 100.0}, "search.start"),
+    ({"tolerance": True}, "search.tolerance"),
+])
+def test_bad_settings_name_their_field(spec, field):
+    with pytest.raises(InputError) as error:
+        SearchSettings.from_config(spec, "search", SEARCH_PARAMETERS)
+    assert error.value.field == field

@@ -1,0 +1,10 @@
+"""Snakemake script: a job's cases -> one NetCDF each (dem.case_runner.run_cases)."""
+
+import sys
+
+from dem.case_runner import CaseStore, run_cases
+from dem.study import Case
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
+cases = [Case.from_dict(spec) for spec in snakemake.params.cases]  # noqa: F821
+run_cases(cases, list(snakemake.output), CaseStore(snakemake.config.get("case_store"), "records"))  # noqa: F821

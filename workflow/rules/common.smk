@@ -106,12 +106,26 @@ def table_input(wildcards):
     return dem.figures.input_paths(TABLES[wildcards.table].inputs, CATALOGUE_PATHS)
 
 
-def figure_input(wildcards):
-    return dem.figures.input_paths(FIGURES[wildcards.figure].inputs, CATALOGUE_PATHS)
+def figure_inputs(name):
+    return dem.figures.input_paths(FIGURES[name].inputs, CATALOGUE_PATHS)
 
 
-def figure_caption(wildcards):
-    return FIGURES[wildcards.figure].caption
+# figures drawn a batch per job (one interpreter and one import of matplotlib, xarray and the
+# catalogue, ~1 s, per batch instead of per figure); consecutive entries share their inputs
+FIGURES_PER_JOB = 8
+FIGURE_BATCHES = [FIGURE_NAMES[i : i + FIGURES_PER_JOB] for i in range(0, len(FIGURE_NAMES), FIGURES_PER_JOB)]
+
+
+def figure_caption_file(name):
+    """The report caption of one figure as a file of its own (a batch job's outputs share
+    its params, so a caption cannot come from them): written when it changes."""
+    path = Path(workflow.basedir) / ".snakemake" / "dem_captions" / f"{name}.rst"
+    text = (f"{FIGURES[name].caption}\n\nWhere the thesis reports an ordering, the line under the plot "
+            "says whether it holds on our cube.\n")
+    if not path.is_file() or path.read_text() != text:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    return str(path)
 
 
 def study_description(wildcards):

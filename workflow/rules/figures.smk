@@ -1,18 +1,26 @@
-rule plot_figure:
-    input:
-        figure_input,
-    output:
-        report(
-            "results/figures/{figure}.png",
-            caption="../report/figure.rst",
-            category="Thesis figures",
-            labels={"figure": "{figure}"},
-        ),
-    params:
-        caption=figure_caption,
-    log:
-        "results/logs/figures/{figure}.log",
-    conda:
-        "../envs/dem.yaml"
-    script:
-        "../scripts/plot_figure.py"
+# The catalogue's figures (dem.figures), a batch of FIGURES_PER_JOB per job (common.smk).
+for k, batch in enumerate(FIGURE_BATCHES):
+
+    rule:
+        name:
+            f"figures_{k}"
+        input:
+            sorted({path for name in batch for path in figure_inputs(name)}),
+        output:
+            [
+                report(
+                    f"results/figures/{name}.png",
+                    caption=figure_caption_file(name),
+                    category="Thesis figures",
+                    labels={"figure": name},
+                )
+                for name in batch
+            ],
+        params:
+            figures={name: figure_inputs(name) for name in batch},
+        log:
+            f"results/logs/figures/figures_{k}.log",
+        conda:
+            "../envs/dem.yaml"
+        script:
+            "../scripts/plot_figures.py"

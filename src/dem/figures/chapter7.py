@@ -10,6 +10,7 @@ import csv
 import math
 
 import matplotlib.pyplot as plt
+import numpy as np
 import xarray as xr
 
 from dem.figures.catalogue import Cube, Figure, Reduction, Table

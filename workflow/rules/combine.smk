@@ -1,14 +1,22 @@
-rule combine_cube:
-    input:
-        case_files,
-    output:
-        "results/cubes/{study}.nc",
-    params:
-        description=study_description,
-        search=lambda wildcards: wildcards.study in SEARCH_STUDIES,
-    log:
-        "results/logs/cubes/{study}.log",
-    conda:
-        "../envs/dem.yaml"
-    script:
-        "../scripts/combine_cube.py"
+# Each study's cases (or searches) combined into its cube, a batch of studies per job.
+for k, batch in enumerate(CUBE_BATCHES):
+
+    rule:
+        name:
+            f"cubes_{k}"
+        input:
+            [path for study in batch for path in case_files(study)],
+        output:
+            [f"results/cubes/{study}.nc" for study in batch],
+        params:
+            studies={
+                study: {"inputs": case_files(study), "description": study_description(study),
+                        "search": study in SEARCH_STUDIES}
+                for study in batch
+            },
+        log:
+            f"results/logs/cubes/cubes_{k}.log",
+        conda:
+            "../envs/dem.yaml"
+        script:
+            "../scripts/combine_cubes.py"

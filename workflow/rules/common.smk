@@ -55,12 +55,6 @@ FIGURES = dem.figures.figure_table(STUDIES, config)
 FIGURE_NAMES = list(FIGURES)
 
 
-wildcard_constraints:
-    study="|".join(STUDIES),
-    figure="|".join(FIGURES),
-    case="[A-Za-z0-9_.+-]+",
-
-
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
 # jobs sized to their cost (dem.job_plan): cheap cases share a job, each search is one job
 JOBS = dem.job_plan.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
@@ -75,12 +69,21 @@ def search_path(system):
     return f"results/searches/{system.study}/{system.id}.nc"
 
 
-def case_files(wildcards):
+def case_files(study):
     """A study's case files, or for a search study its systems' search files."""
-    cases = STUDIES[wildcards.study].values()
-    if wildcards.study in SEARCH_STUDIES:
-        return [search_path(system) for system in cases]
-    return [case_path(case) for case in cases]
+    if study in SEARCH_STUDIES:
+        return [search_path(system) for system in STUDIES[study].values()]
+    return [case_path(case) for case in STUDIES[study].values()]
+
+
+def batches(names, size):
+    """Consecutive runs of ``size`` names: the outputs of one job each. A cube, table or
+    figure costs ~0.1-1 s and its job ~1 s to start (Python, xarray, matplotlib)."""
+    names = list(names)
+    return [names[i : i + size] for i in range(0, len(names), size)]
+
+
+CUBE_BATCHES = batches(STUDIES, 6)
 
 # the chapter-5 validations (workflow/rules/validation.smk); off in the workflow tests' tiny config
 RUN_VALIDATION = config_flag("run_validation", True)
@@ -102,18 +105,19 @@ CATALOGUE_PATHS = {
 }
 
 
-def table_input(wildcards):
-    return dem.figures.input_paths(TABLES[wildcards.table].inputs, CATALOGUE_PATHS)
+def table_inputs(name):
+    return dem.figures.input_paths(TABLES[name].inputs, CATALOGUE_PATHS)
+
+
+TABLE_BATCHES = batches(TABLES, 8)
 
 
 def figure_inputs(name):
     return dem.figures.input_paths(FIGURES[name].inputs, CATALOGUE_PATHS)
 
 
-# figures drawn a batch per job (one interpreter and one import of matplotlib, xarray and the
-# catalogue, ~1 s, per batch instead of per figure); consecutive entries share their inputs
-FIGURES_PER_JOB = 8
-FIGURE_BATCHES = [FIGURE_NAMES[i : i + FIGURES_PER_JOB] for i in range(0, len(FIGURE_NAMES), FIGURES_PER_JOB)]
+# consecutive catalogue entries share their inputs (a chapter's cubes)
+FIGURE_BATCHES = batches(FIGURE_NAMES, 8)
 
 
 def figure_caption_file(name):
@@ -128,8 +132,8 @@ def figure_caption_file(name):
     return str(path)
 
 
-def study_description(wildcards):
-    return config["studies"][wildcards.study].get("description", "")
+def study_description(study):
+    return config["studies"][study].get("description", "")
 
 
 # 3D rigid-block walls (manuscript Tables 1-3, A1), rules in walls.smk

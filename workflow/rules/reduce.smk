@@ -1,16 +1,18 @@
-# The catalogue's CSV tables (dem.figures: TABLES in common.smk), one generic rule.
+# The catalogue's CSV tables (dem.figures: TABLES in common.smk), a batch per job.
+for k, batch in enumerate(TABLE_BATCHES):
 
-
-rule table:
-    input:
-        table_input,
-    output:
-        "results/tables/{table}.csv",
-    log:
-        "results/logs/tables/{table}.log",
-    wildcard_constraints:
-        table="|".join(TABLES),
-    conda:
-        "../envs/dem.yaml"
-    script:
-        "../scripts/table.py"
+    rule:
+        name:
+            f"tables_{k}"
+        input:
+            sorted({path for name in batch for path in table_inputs(name)}),
+        output:
+            [f"results/tables/{name}.csv" for name in batch],
+        params:
+            tables={name: table_inputs(name) for name in batch},
+        log:
+            f"results/logs/tables/tables_{k}.log",
+        conda:
+            "../envs/dem.yaml"
+        script:
+            "../scripts/write_tables.py"

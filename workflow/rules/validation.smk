@@ -2,7 +2,7 @@
 # named by thesis figure number (results/figures/thesis_fig_5_*.png). All science is in
 # dem.validation and dem.validation_plots; workflow/scripts/validate_one.py is thin.
 # Wildcards are `validation` and `validation_fig`, not `name` (constrained to the record
-# names in common.smk) nor `figure` (the study figures of plot_figure).
+# names in common.smk).
 import inspect
 
 import dem.validation

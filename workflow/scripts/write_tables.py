@@ -1,0 +1,10 @@
+"""Snakemake script: a batch of catalogue tables' input cubes -> their CSVs (dem.figures.tables)."""
+
+import sys
+
+from dem.figures import tables
+
+sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+catalogue = tables()
+for (name, inputs), output in zip(snakemake.params.tables.items(), snakemake.output):  # noqa: F821
+    catalogue[name].write(list(inputs), output)

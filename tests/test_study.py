@@ -148,3 +148,21 @@ def test_load_config_merges_a_profile_key_by_key_as_snakemake_does(tmp_path):
     assert config["bench_profile"] == "quick"
     cases = config_cases(config)["s"]
     assert [c.params for c in cases] == [{"frequency": 2.0}]
+
+
+def test_a_search_study_has_one_system_per_grid_case_and_refuses_the_searched_parameter_in_its_grid():
+    from dem.study import search_case
+
+    study = {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
+             "excitation": {"kind": "record"}, "grid": {"record": ["a", "b"], "n_drums": [1, 2]},
+             "search": {"parameter": "pga", "start": 2.0}}
+    systems = case_table("s", study)
+    assert [c.id for c in systems][:2] == ["rec-a_drums-1", "rec-a_drums-2"]
+    assert all(c.search.start == 2.0 and c.scene["excitation"]["pga"] == 2.0 for c in systems)
+    run = search_case(systems[1], 12.43)
+    assert run.id == "rec-a_drums-2_pga-12.43" and run.scene["excitation"]["pga"] == 12.43
+    assert run.params == {"record": "a", "n_drums": 2, "pga": 12.43} and run.search is None
+    with pytest.raises(InputError, match=r"studies\.s\.grid\.pga: pga is the searched parameter"):
+        case_table("s", {**study, "grid": {**study["grid"], "pga": [1.0]}})
+    with pytest.raises(InputError, match=r"studies\.s\.search\.tolerance"):
+        case_table("s", {**study, "search": {"tolerance": -0.1}})

@@ -62,3 +62,13 @@ def test_bad_settings_name_their_field(spec, field):
     with pytest.raises(InputError) as error:
         SearchSettings.from_config(spec, "search", SEARCH_PARAMETERS)
     assert error.value.field == field
+
+
+def test_every_second_fill_run_looks_above_the_threshold_for_resurrections():
+    # collapses from 1.85 to 2.5 and from 3.0: the hunt (1.8, 3.24) and bisection see a
+    # monotonic threshold; the fill above it (2.797, between 2.415 and 3.24) survives
+    runs = search(lambda value, phase: 1.85 <= value < 2.5 or value >= 3.0, SETTINGS)
+    result = summary(runs, SETTINGS)
+    assert [r.phase for r in runs if r.phase == "fill"] == ["fill"] * 3
+    assert result["resurrections"] == [2.797] and not result["monotonic"]
+    assert 1.8 < result["lower"] < 1.85 <= result["upper"] and result["status"] == BRACKETED

@@ -3,9 +3,9 @@
 Vamvatsikos & Cornell (2002), incremental dynamic analysis: *hunt* up in growing steps
 until the structure collapses, *bisect* between the largest survivor below the first
 collapse and that collapse until the bracket is narrow enough, then *fill* the widest
-gaps left below it, because collapse is not monotonic in the intensity: a fill run that
-collapses lowers the threshold (bisection resumes), and every survivor above the smallest
-collapse is a "resurrection", reported, never hidden.
+gaps left below it and, every second fill, above it, because collapse is not monotonic in
+the intensity: a fill run below that collapses lowers the threshold (bisection resumes),
+and every survivor above the smallest collapse is a "resurrection", reported, never hidden.
 
 The search is a pure function of the runs so far (:func:`next_value`), so it does not care
 what the intensity measure is (a record's PGA, its PGV, a scale factor): the caller runs a
@@ -40,7 +40,7 @@ class SearchSettings:
     tolerance: float = 0.02  # bracket: smallest collapse / largest survivor below it - 1
     minimum: float = 0.125  # a collapse at start hunts down, at most to here
     maximum: float = 64.0  # no collapse up to here: the threshold lies above it
-    fill: int = 3  # runs filling the widest gaps below the threshold
+    fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...
     max_runs: int = 40  # the search stops here whatever it found
 
     @classmethod
@@ -130,13 +130,26 @@ def next_value(runs: list[Run], settings: SearchSettings) -> tuple[float, str] |
         if middle in (lower, first):  # narrower than the rounding: as bracketed as it gets
             return None
         return middle, "bisect"
-    if sum(r.phase == "fill" for r in runs) >= s.fill or len(below) < 2:
+    n_fill = sum(r.phase == "fill" for r in runs)
+    if n_fill >= s.fill:
         return None
-    # the widest gap (ratio) between survivors below the threshold; the higher one on a tie
-    ratio, low, high = max((b / a, b, a) for a, b in zip(below, below[1:]))
-    if ratio - 1.0 <= s.tolerance:
+    # fill the widest gap (ratio) below the threshold (a collapse there lowers it), and every
+    # second fill the widest above it (a survival there is a resurrection); the higher gap on
+    # a tie; a side without a gap wider than the tolerance gives way to the other
+    above = sorted(v for v in done if v > first)
+    sides = [_widest_gap(below, s.tolerance), _widest_gap([first] + above, s.tolerance)]
+    if n_fill % 2:
+        sides.reverse()
+    gap = sides[0] or sides[1]
+    return None if gap is None else (rounded(math.sqrt(gap[0] * gap[1])), "fill")
+
+
+def _widest_gap(values: list[float], tolerance: float) -> tuple[float, float] | None:
+    """(low, high) of the widest ratio between consecutive values, if wider than 1 + tolerance."""
+    if len(values) < 2:
         return None
-    return rounded(math.sqrt(low * high)), "fill"
+    ratio, high, low = max((b / a, b, a) for a, b in zip(values, values[1:]))
+    return (low, high) if ratio - 1.0 > tolerance else None
 
 
 def search(run: Callable[[float, str], bool], settings: SearchSettings,

@@ -87,10 +87,10 @@ class CaseStore:
         """Remember a finished case file (best effort: a full disk only loses the memo)."""
         if self.directory is None:
             return
-        self.directory.mkdir(parents=True, exist_ok=True)
         stored = self.directory / f"{self.key(case)}.nc"
         tmp = stored.with_name(f".{stored.name}.{os.getpid()}")
         try:
+            self.directory.mkdir(parents=True, exist_ok=True)
             tmp.unlink(missing_ok=True)
             try:
                 os.link(output, tmp)

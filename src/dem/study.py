@@ -232,6 +232,10 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
             if key == search.parameter:
                 raise InputError(f"{where}.grid.{key}" if key in grid else f"{where}.cases",
                                  f"{key} is the searched parameter", f"remove {key} from the grid and cases")
+    if search is not None and (n_grid + len(listed)) * search.max_runs > MAX_CASES_PER_STUDY:
+        raise InputError(f"{where}.search.max_runs", f"{n_grid + len(listed)} systems x {search.max_runs} runs may "
+                         f"exceed the limit of {MAX_CASES_PER_STUDY} cases per study",
+                         "search fewer systems or lower max_runs (dem.study.MAX_CASES_PER_STUDY)")
     if n_grid + len(listed) > MAX_CASES_PER_STUDY:
         raise InputError(f"{where}.grid" if grid else f"{where}.cases",
                          f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",

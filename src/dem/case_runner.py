@@ -81,6 +81,7 @@ class CaseStore:
         except OSError:  # another file system, or no hard links: copy
             shutil.copyfile(stored, tmp)
         os.replace(tmp, output)
+        os.utime(output)  # written now, as far as Snakemake's mtime checks are concerned
         return True
 
     def keep(self, case: Case, output: Path) -> None:

@@ -1,9 +1,9 @@
 """Jobs sized to their cost: a study's cases packed into jobs of about JOB_SECONDS of
 estimated work, each threshold search one job, and the most expensive jobs first.
 
-Each Snakemake job pays 1.5-2.5 s before its first step (interpreter, xarray, the compiled
-cache) and the kernels run 1-10 s per case, so one job per case spends much of a study
-starting jobs. The plan depends only on the config (never on -j or on other studies), so
+Each Snakemake job pays 1.0-1.5 s before its first step (interpreter, xarray, numba, the
+first record, Snakemake's preamble; README "Jobs sized to their cost") and the kernels run
+1-10 s per case, so one job per case spends much of a study starting jobs. The plan depends only on the config (never on -j or on other studies), so
 a rerun sees the same jobs; a job whose cases changed reruns, and the case store
 (dem.case_runner) restores its unchanged cases.
 """

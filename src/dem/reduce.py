@@ -9,6 +9,7 @@ import numpy as np
 import xarray as xr
 
 from dem.atomic import write_atomically
+from dem.threshold_search import Run, bracket
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
 THESIS_TABLE_7_1 = {
@@ -65,23 +66,15 @@ def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
     stacked_v = values.stack(system=systems) if systems else values.expand_dims(system=[0])
     out = []
     for i in range(stacked_c.sizes["system"]):
-        c = stacked_c.isel(system=i).values
-        v = stacked_v.isel(system=i).values
+        system = stacked_c.isel(system=i)
+        c, v = system.values, stacked_v.isel(system=i).values
         ran = np.isfinite(c) & np.isfinite(v)
         order = np.argsort(v[ran], kind="stable")
-        v, hit = v[ran][order], c[ran][order] > 0
-        upper = float(v[hit].min()) if hit.any() else float("nan")
-        below = v[~hit & ~(v > upper)] if hit.any() else v[~hit]
-        lower = float(below.max()) if len(below) else float("nan")
-        resurrections = [float(x) for x in v[~hit & (v > upper)]]
-        row = {d: _plain(stacked_c["system"].values[i][k]) if len(systems) > 1 else
-               _plain(stacked_c["system"].values[i]) for k, d in enumerate(systems)}
-        status = ""
-        if "search_status" in cube:
-            status = str(cube["search_status"].sel({d: row[d] for d in systems}).values)
-        out.append({**row, "upper": upper, "lower": lower, "width": upper / lower - 1.0,
-                    "n_runs": int(len(v)), "resurrections": resurrections, "monotonic": not resurrections,
-                    "status": status, "map": " ".join(f"{x:g}:{'X' if h else '.'}" for x, h in zip(v, hit))})
+        runs = [Run(float(x), bool(h > 0), "") for x, h in zip(v[ran][order], c[ran][order])]
+        row = {d: _plain(system[d].values) for d in systems}
+        status = str(cube["search_status"].sel(row).values) if "search_status" in cube else ""
+        out.append({**row, **bracket(runs), "n_runs": len(runs), "status": status,
+                    "map": " ".join(f"{r.value:g}:{'X' if r.collapsed else '.'}" for r in runs)})
     return out
 
 

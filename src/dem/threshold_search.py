@@ -163,8 +163,8 @@ def search(run: Callable[[float, str], bool], settings: SearchSettings,
     return runs
 
 
-def summary(runs: list[Run], settings: SearchSettings) -> dict:
-    """The threshold the runs bracket, and how the runs behaved.
+def bracket(runs: list[Run]) -> dict:
+    """The threshold the runs bracket, whichever way they were chosen (a search, a grid).
 
     lower: largest survivor below the smallest collapse (NaN: none); upper: the smallest
     collapse (NaN: none); width: upper / lower - 1; resurrections: survivors above the
@@ -176,14 +176,19 @@ def summary(runs: list[Run], settings: SearchSettings) -> dict:
     below = [v for v in survivors if not v > upper] if collapses else survivors
     lower = below[-1] if below else math.nan
     resurrections = [v for v in survivors if v > upper]
-    width = upper / lower - 1.0 if below and collapses else math.nan
-    if not collapses:
-        status = NO_COLLAPSE if max(survivors, default=0.0) >= settings.maximum else BUDGET
-    elif not below:
-        status = COLLAPSE_AT_MINIMUM if min(collapses) <= settings.minimum else BUDGET
-    elif width <= settings.tolerance or next_value(runs, settings) is None and len(runs) < settings.max_runs:
+    return {"lower": lower, "upper": upper, "width": upper / lower - 1.0 if below and collapses else math.nan,
+            "resurrections": resurrections, "monotonic": not resurrections}
+
+
+def summary(runs: list[Run], settings: SearchSettings) -> dict:
+    """:func:`bracket` of a search's runs, their number and how the search ended."""
+    result = bracket(runs)
+    if math.isnan(result["upper"]):
+        status = NO_COLLAPSE if max((r.value for r in runs), default=0.0) >= settings.maximum else BUDGET
+    elif math.isnan(result["lower"]):
+        status = COLLAPSE_AT_MINIMUM if result["upper"] <= settings.minimum else BUDGET
+    elif result["width"] <= settings.tolerance or next_value(runs, settings) is None and len(runs) < settings.max_runs:
         status = BRACKETED
     else:
         status = BUDGET
-    return {"lower": lower, "upper": upper, "width": width, "n_runs": len(runs),
-            "resurrections": resurrections, "monotonic": not resurrections, "status": status}
+    return {**result, "n_runs": len(runs), "status": status}

@@ -15,7 +15,8 @@ import xarray as xr
 
 from dem.errors import InputError
 from dem.schema import SEARCH_VARIABLES
-from dem.study import PARAMETERS, Case, case_parameters, case_piece, on_parameter_dimensions, shared_case_attrs
+from dem.study import (PARAMETERS, Case, case_parameters, case_piece, described_like, on_parameter_dimensions,
+                       shared_case_attrs)
 from dem.threshold_search import Run
 
 def _attrs(name: str, parameter: str) -> dict:
@@ -79,15 +80,8 @@ def combine_searches(paths, description: str = "") -> xr.Dataset:
         attrs.append(dict(ds.attrs))
     if not pieces:
         raise InputError("searches", "no searches to combine", "run the study's searches first")
-    cube = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop").set_coords(parameter)
-    with xr.open_dataset(paths[0]) as first:
-        for name in cube.variables:
-            if name in first.variables:
-                cube[name].attrs = dict(first[name].attrs)
-    for name in cube.coords:
-        if name in PARAMETERS:
-            _, units, long_name, _ = PARAMETERS[name]
-            cube[name].attrs.update(units=units, long_name=long_name)
+    merged = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop").set_coords(parameter)
+    cube = described_like(merged, paths[0])
     settings = {k: v for k, v in attrs[0].items() if k.startswith("search_")}
     cube.attrs = {**shared_case_attrs(attrs), **settings,
                   "title": f"dem study cube (threshold searches): {attrs[0].get('study', '')}",

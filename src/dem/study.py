@@ -646,6 +646,20 @@ def shared_case_attrs(attrs: list[dict]) -> dict:
     return shared or {}
 
 
+def described_like(cube: xr.Dataset, path) -> xr.Dataset:
+    """``cube`` (merged, attributes dropped) with the variable attributes of the file it was
+    combined from first, and each swept parameter's units and long name (PARAMETERS)."""
+    with xr.open_dataset(path) as first:
+        for name in cube.variables:
+            if name in first.variables and name not in PARAMETERS:
+                cube[name].attrs = dict(first[name].attrs)
+    for name in cube.coords:
+        if name in PARAMETERS:
+            _, units, long_name, _ = PARAMETERS[name]
+            cube[name].attrs.update(units=units, long_name=long_name)
+    return cube
+
+
 def combine_cases(paths, description: str = "") -> xr.Dataset:
     """Study cube: each case's measures and histories on dimensions named by the swept parameters.
 
@@ -659,15 +673,7 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
             attrs.append(dict(ds.attrs))
     if not pieces:
         raise InputError("cases", "no case files to combine", "run the study's cases first")
-    cube = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop")
-    for name in list(cube.coords):
-        if name in PARAMETERS:
-            _, units, long_name, _ = PARAMETERS[name]
-            cube[name].attrs.update(units=units, long_name=long_name)
-    with xr.open_dataset(paths[0]) as first:
-        for name in cube.variables:
-            if name in first.variables and name not in PARAMETERS:
-                cube[name].attrs = dict(first[name].attrs)
+    cube = described_like(xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0])
     # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
     shared = shared_case_attrs(attrs)
     cube.attrs = {**shared, "title": f"dem study cube: {shared.get('study', '')}", "n_cases": len(pieces),

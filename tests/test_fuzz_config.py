@@ -189,14 +189,14 @@ def _assert_cases_run(tables: dict) -> None:
     """Each case's scene builds as dem.study.run_case builds it before it simulates."""
     from dem.scene import scene_from_dict
     from dem.simulate import choose_time_step
-    from dem.study import _natural_duration
+    from dem.study import natural_duration
 
     for cases in tables.values():
         for case in cases:
             spec = copy.deepcopy(case.scene)
             solver = spec.setdefault("solver", {})
             if solver.get("duration") is None:
-                solver["duration"] = _natural_duration(spec, RECORDS)
+                solver["duration"] = natural_duration(spec.get("excitation"), RECORDS)
             choose_time_step(scene_from_dict(spec, base_dir=RECORDS))
 
 

@@ -1,8 +1,8 @@
 """Run many cases in one job: one interpreter start, one compiled-cache load, each record
 read once (dem.ground_motion), one log line per case, and a store of finished cases.
 
-A Snakemake job starts Python, imports xarray and numba and loads the compiled kernels
-(1.5-2.5 s) before its first step, so the workflow packs cheap cases into one job
+A Snakemake job starts Python, imports xarray and numba, reads its first record and loads
+the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one job
 (:func:`dem.job_plan.plan_jobs`) and runs each threshold search in one job. Every case
 still writes its own NetCDF file. The *case store* keeps every finished case under a key of
 its scene, its records' bytes and the dem source, so a job rerun because one of its cases

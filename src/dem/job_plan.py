@@ -3,9 +3,10 @@ estimated work, each threshold search one job, and the most expensive jobs first
 
 Each Snakemake job pays 1.0-1.5 s before its first step (interpreter, xarray, numba, the
 first record, Snakemake's preamble; README "Jobs sized to their cost") and the kernels run
-1-10 s per case, so one job per case spends much of a study starting jobs. The plan depends only on the config (never on -j or on other studies), so
-a rerun sees the same jobs; a job whose cases changed reruns, and the case store
-(dem.case_runner) restores its unchanged cases.
+1-10 s per case, so one job per case spends much of a study starting jobs. The plan depends
+only on the config (never on -j or on other studies), so a rerun sees the same jobs; a job
+whose cases changed reruns, and the case store (dem.case_runner) restores its unchanged
+cases.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from dem.study import Case
+from dem.study import Case, natural_duration
 
 JOB_SECONDS = 20.0  # estimated kernel seconds packed into one job
 STEP_SECONDS_PER_BODY = 1.1e-6  # kernel cost of one step per body, point law (measured: 0.7-1.1 us)
@@ -96,11 +97,8 @@ class CostEstimate:
     def _natural_duration(self, excitation: dict) -> float:
         key = json.dumps(excitation, sort_keys=True, default=repr)
         if key not in self.durations:
-            from dem.ground_motion import excitation_pair
-
             try:
-                horizontal, _ = excitation_pair(excitation, self.records_dir)
-                self.durations[key] = (horizontal.duration or 10.0) + 2.0
+                self.durations[key] = natural_duration(excitation, self.records_dir)
             except Exception:  # noqa: BLE001 - refused by check_config
                 self.durations[key] = 10.0
         return self.durations[key]

@@ -56,6 +56,8 @@ DEFAULT_KEYS = ("description", "bodies", "structure", "depth", "density", "gravi
 # case ids are file names and the {case} wildcard
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
 CASE_ID_PATTERN = re.compile(r"[A-Za-z0-9_.+-]+")
+# [s] simulated after a record ends when a case gives no duration (natural_duration)
+REST_AFTER_RECORD = 2.0
 
 # Limits of a study config (check_config): past them a grid is a typo, not a study.
 MAX_CASES_PER_STUDY = 2000  # cases of one study (config/config.yaml: 99 at most)
@@ -476,7 +478,7 @@ class _CaseChecker:
             if natural is None and readable:
                 fail(InputError("solver.duration", "missing and the excitation has no natural length",
                                 "give solver: {duration: ...} in the study"))
-            solver["duration"] = natural + 2.0 if natural is not None else 1.0
+            solver["duration"] = natural + REST_AFTER_RECORD if natural is not None else 1.0
         scene["solver"] = solver
         built = self._scene(scene)
         if isinstance(built, InputError):
@@ -591,7 +593,7 @@ def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
     scene_spec = copy.deepcopy(case.scene)
     solver = scene_spec.setdefault("solver", {})
     if solver.get("duration") is None:
-        solver["duration"] = _natural_duration(scene_spec, base_dir)
+        solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
     ds = run_scene(scene_from_dict(scene_spec, base_dir=base_dir))
     for key, value in case.params.items():
         _, units, long_name, _ = PARAMETERS[key]
@@ -600,15 +602,16 @@ def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
     return ds
 
 
-def _natural_duration(scene_spec: dict, base_dir) -> float:
-    """A record's own length, plus 2 s for the structure to come to rest, when none is given."""
+def natural_duration(excitation: dict | None, base_dir) -> float:
+    """A record's own length, plus REST_AFTER_RECORD for the structure to come to rest, when
+    a case gives no duration."""
     from dem.ground_motion import excitation_pair
 
-    horizontal, _ = excitation_pair(scene_spec.get("excitation"), Path(base_dir))
+    horizontal, _ = excitation_pair(excitation, Path(base_dir))
     if horizontal.duration is None:
         raise InputError("solver.duration", "missing and the excitation has no natural length",
                          "give solver: {duration: ...} in the study")
-    return horizontal.duration + 2.0
+    return horizontal.duration + REST_AFTER_RECORD
 
 
 def case_piece(ds: xr.Dataset) -> xr.Dataset:

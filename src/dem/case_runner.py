@@ -19,7 +19,11 @@ import sys
 import time as wallclock
 from pathlib import Path
 
+import xarray as xr
+
+from dem.dataset import write_dataset
 from dem.entry import progress_print
+from dem.search_dataset import search_dataset
 from dem.study import Case, run_case, search_case
 from dem.threshold_search import Run, search, summary
 
@@ -106,8 +110,6 @@ def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", l
     """Simulate ``case`` into ``output`` (or restore it from the store); one log line.
 
     Returns {collapsed, steps, kernel_seconds, seconds, restored}."""
-    from dem.dataset import write_dataset
-
     output = Path(output)
     start = wallclock.perf_counter()
     restored = store.restore(case, output)
@@ -135,8 +137,6 @@ def _info(ds) -> dict:
 
 
 def _case_info(path: Path) -> dict:
-    import xarray as xr
-
     with xr.open_dataset(path) as ds:
         return _info(ds[["collapsed", "collapse_time"]].load().assign_attrs(ds.attrs))
 
@@ -153,9 +153,6 @@ def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, sto
                log=None):
     """The threshold search of one system (dem.threshold_search): every run's case file in
     ``runs_dir`` (``<case id>.nc``), the runs and the bracket in ``summary_path``."""
-    from dem.dataset import write_dataset
-    from dem.search_dataset import search_dataset
-
     runs_dir = Path(runs_dir)
     settings = system.search
     files: dict[float, Path] = {}

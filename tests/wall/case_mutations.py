@@ -44,6 +44,8 @@ SCHEMA = {
     "joints": MAP, "joints.kind": CHOICE, **{f"joints.{k}": v for k, v in JOINT.items()},
     "restraints": LIST, "restraints[*]": MAP, "restraints[*].edge": CHOICE, "restraints[*].fix": CHOICE,
     "restraints[*].support": CHOICE, "restraints[*].joint": MAP, "restraints[*].dead_load": BOOL,
+    "restraints[*].at": CHOICE, "restraints[*].hold": CHOICE, "restraints[*].offset": NUM,
+    "joints.torsion_under_bending": CHOICE, "joints.bending_release": CHOICE,
     **{f"restraints[*].joint.{k}": v for k, v in JOINT.items()},
     "load": MAP, "load.kind": CHOICE, "load.direction": CHOICE, "load.extra_vertical": LIST,
     "load.extra_vertical[*]": MAP, "load.extra_vertical[*].count": INT,

@@ -3,7 +3,7 @@
 ```yaml
 panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}
 joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength, cohesion
-restraints: [{edge: base, fix: all}, {edge: left, fix: translations}]
+restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
 load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
 ```
 
@@ -22,6 +22,7 @@ Three stages, each refusing bad input with an InputError naming the dotted field
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import re
 import reprlib
@@ -59,7 +60,14 @@ PANEL_KEYS = {"block", "blocks_per_course", "courses", "unit_weight", "joint_thi
               "first_course_offset", "openings", "lintel_strength"}
 BLOCK_KEYS = {"a", "b", "s"}
 JOINT_KEYS = {"kind", "mu", "k_n", "k_t", "tensile_strength", "cohesion", "alpha"}
-RESTRAINT_KEYS = {"edge", "fix", "support", "joint", "dead_load"}
+# interface-law switches (the whole panel; not per support joint): manuscript Fig. 10 and Eq. 13
+LAW_KEYS = {"torsion_under_bending": ("all", "no_tension"), "bending_release": ("own", "both")}
+RESTRAINT_KEYS = {"edge", "fix", "support", "joint", "dead_load", "at", "offset", "hold"}
+# where a block restraint acts: pins at the edge blocks' centres, or a straight line along the
+# panel edge (at its mid-thickness), or parallel to it ``offset`` metres inside
+RESTRAINT_AT = ("centre", "edge", "offset")
+# what a restraint line holds: the displacement of its points out of plane, or all of it
+LINE_COMPONENTS = {"out_of_plane": (2,), "translations": (0, 1, 2)}
 LOAD_KEYS = {"kind", "direction", "extra_vertical", "extra_in_live_load"}
 EXTRA_KEYS = {"count", "force", "edge"}
 OPENING_KEYS = {"x", "y"}
@@ -443,10 +451,12 @@ class CaseInput:
     lintel_strength: float
     joint_kind: str
     joint: dict
+    law: dict
     support_edges: list
     support_joint: dict
     block_fix: dict
     dead_fix: set
+    lines: list
     load_kind: str
     direction: str
     extras: list
@@ -504,14 +514,16 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
                          "remove it or add panel.openings")
 
     j = spec["joints"]
-    _keys(j, JOINT_KEYS, "joints", required=("kind", "mu", "k_n", "k_t"))
+    _keys(j, JOINT_KEYS | set(LAW_KEYS), "joints", required=("kind", "mu", "k_n", "k_t"))
     kind = _choice(j["kind"], ("dry", "mortar"), "joints.kind")
+    law = {key: _choice(j.get(key, options[0]), options, f"joints.{key}") for key, options in LAW_KEYS.items()}
+    j = {key: val for key, val in j.items() if key not in LAW_KEYS}
     joint = _joint_props(j, kind, "joints")
 
     restraints = _list(spec["restraints"], "restraints", max_items=100)
     if not restraints:
         raise InputError("restraints", "expected a non-empty list", "e.g. [{edge: base, fix: all}]")
-    support_edges, block_fix, support_joint, dead_fix = [], {}, {}, set()
+    support_edges, block_fix, support_joint, dead_fix, lines = [], {}, {}, set(), []
     for k, r in enumerate(restraints):
         f = f"restraints[{k}]"
         _keys(r, RESTRAINT_KEYS, f, required=("edge", "fix"))
@@ -519,6 +531,16 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         fix = _choice(r["fix"], tuple(FIX_DOFS), f"{f}.fix")
         support = _choice(r.get("support", "joint" if edge == "base" else "block"), ("joint", "block"),
                           f"{f}.support")
+        at = _choice(r.get("at", "centre"), RESTRAINT_AT, f"{f}.at")
+        if "hold" in r and at == "centre":
+            raise InputError(f"{f}.hold", "only for a restraint line (at: edge or offset)",
+                             "remove it or set at: edge")
+        if "offset" in r and at != "offset":
+            raise InputError(f"{f}.offset", f"only for at: offset (this restraint is at: {at})",
+                             "remove it or set at: offset")
+        if support == "joint" and "at" in r:
+            raise InputError(f"{f}.at", "a support joint is the whole edge interface",
+                             "remove it, or set support: block for a restraint line")
         if support == "joint":
             if fix != "all":
                 raise InputError(f"{f}.fix", f"{fix!r} with support: joint",
@@ -536,10 +558,32 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         else:
             if "joint" in r:
                 raise InputError(f"{f}.joint", "only for support: joint", "remove it or set support: joint")
-            block_fix.setdefault(edge, set()).update(FIX_DOFS[fix])
             # dead_load: true -> this restraint also acts while the self-weight is applied
-            if _bool(r.get("dead_load", False), f"{f}.dead_load"):
-                dead_fix.add(edge)
+            # (a base restraint always does: it carries the self-weight)
+            dead = _bool(r.get("dead_load", False), f"{f}.dead_load")
+            if at == "centre":
+                block_fix.setdefault(edge, set()).update(FIX_DOFS[fix])
+                if dead:
+                    dead_fix.add(edge)
+            else:
+                if fix not in LINE_COMPONENTS:
+                    raise InputError(f"{f}.fix", f"{fix!r} on a restraint line (at: {at}): a line holds "
+                                     "the displacement of its points, not rotations",
+                                     "use fix: out_of_plane or translations, or at: centre")
+                distance = 0.0
+                if at == "offset":
+                    if "offset" not in r:
+                        raise InputError(f"{f}.offset", "missing for at: offset",
+                                         "give the line's distance from the edge in metres")
+                    extent = length if edge in ("left", "right") else height
+                    distance = _number(r["offset"], f"{f}.offset", 0.0, extent, units=" m")
+                    if distance >= extent:
+                        raise InputError(f"{f}.offset", f"{distance:g} m is outside the panel "
+                                         f"({extent:.4g} m across)", "give a distance inside the panel")
+                from dem.wall.restraints import LineRestraint
+                hold = _choice(r.get("hold", "line"), ("line", "points"), f"{f}.hold")
+                lines.append(LineRestraint(edge, LINE_COMPONENTS[fix], distance, dead or edge == "base",
+                                           hold))
 
     ld = spec["load"]
     _keys(ld, LOAD_KEYS, "load", required=("kind",))
@@ -584,7 +628,7 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         raise InputError("solver.control_block", f"{control_block} >= {size.n_blocks:.0f} blocks",
                          "give a block index of the panel")
     return CaseInput(spec, name, a, b, s, n_len, courses, gamma, e, offset, openings, lintel, kind,
-                     joint, support_edges, support_joint, block_fix, dead_fix, load_kind, direction,
+                     joint, law, support_edges, support_joint, block_fix, dead_fix, lines, load_kind, direction,
                      extras, extra_live, settings, control_block, size)
 
 
@@ -695,7 +739,9 @@ def build_case(ci: CaseInput) -> WallCase:
             sel &= np.isin(panel.first, np.flatnonzero(beam)) & np.isin(panel.second, np.flatnonzero(beam))
             props["tensile_strength"][sel] = ci.lintel_strength
             props["cohesion"][sel] = props["mu"][sel] * ci.lintel_strength
-    strength = JointStrength(props["mu"], props["tensile_strength"], props["cohesion"], props["alpha"])
+    strength = JointStrength(props["mu"], props["tensile_strength"], props["cohesion"], props["alpha"],
+                             torsion_all_joints=ci.law["torsion_under_bending"] == "all",
+                             release_both_rotations=ci.law["bending_release"] == "both")
 
     weight = ci.unit_weight * panel.volume
     dead = np.zeros((nb, 6))
@@ -719,7 +765,7 @@ def build_case(ci: CaseInput) -> WallCase:
     for edge, dofs in ci.block_fix.items():
         for blk in panel.edge_blocks(edge):
             fixed[blk, list(dofs)] = True
-    if not ci.support_edges and not fixed.any():
+    if not ci.support_edges and not fixed.any() and not ci.lines:
         raise InputError("restraints", "the wall is not supported", "add {edge: base, fix: all}")
     if not np.any((live.ravel() != 0) & ~fixed.ravel()):
         raise InputError("restraints", "every block is held in the direction of the live load",
@@ -731,8 +777,11 @@ def build_case(ci: CaseInput) -> WallCase:
     for edge in ci.dead_fix:
         for blk in panel.edge_blocks(edge):
             fixed_dead[blk] |= fixed[blk]
-    if not ci.support_edges and not fixed_dead.any():
+    lines = ci.lines
+    if not ci.support_edges and not fixed_dead.any() and not any(ln.dead_load for ln in lines):
+        # nothing would carry the self-weight: every restraint acts from the start
         fixed_dead = fixed
+        lines = [dataclasses.replace(ln, dead_load=True) for ln in lines]
     if ci.control_block is not None:
         if ci.control_block >= nb:
             raise InputError("solver.control_block", f"{ci.control_block} >= {nb} blocks",
@@ -742,5 +791,5 @@ def build_case(ci: CaseInput) -> WallCase:
             raise InputError("solver.control_block", f"block {ci.control_block} is restrained in the load direction",
                              "give a free block, or remove control_block (the solver picks one)")
     model = WallModel(panel, props["k_n"], props["k_t"], strength, dead.ravel(), live.ravel(),
-                      fixed.ravel(), fixed_dead.ravel())
+                      fixed.ravel(), fixed_dead.ravel(), lines)
     return WallCase(ci.spec, ci.name, model, ci.settings, ci.control_block, ci.load_kind)

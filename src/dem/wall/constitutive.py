@@ -36,6 +36,11 @@ class JointStrength:
     alpha: np.ndarray              # exponent of Eq. 14
     brittle: bool = False          # True: tensile strength lost at detachment (not the manuscript)
     n_eps: object = 0.0            # [N] smoothing width of the capacities near zero compression
+    # Fig. 10 torsion reduction under bending on every joint (False: no-tension joints only)
+    torsion_all_joints: bool = True
+    # Eq. 13 read literally: both rotational stiffnesses zeroed when one bending component
+    # yields. Off by default: it moves no table limit load and stops S23 at its first step
+    release_both_rotations: bool = False
 
 
 @dataclass
@@ -91,27 +96,38 @@ def _section_arguments(sec, strength: JointStrength, ni):
     return (per_interface(sec.area), np.ascontiguousarray(sec.lever, dtype=float),
             per_interface(sec.width), per_interface(sec.depth), per_interface(strength.mu),
             per_interface(strength.tensile_strength), per_interface(strength.cohesion),
-            per_interface(strength.alpha), bool(strength.brittle), per_interface(strength.n_eps))
+            per_interface(strength.alpha), bool(strength.brittle), per_interface(strength.n_eps),
+            bool(strength.torsion_all_joints), bool(strength.release_both_rotations))
 
 
-def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength) -> ReturnMap:
+def _old_forces(forces_old, d):
+    if forces_old is None:
+        return np.zeros_like(d)
+    return np.ascontiguousarray(forces_old, dtype=float)
+
+
+def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength,
+               forces_old=None) -> ReturnMap:
     """Actions of every interface for local relative displacements ``d`` (ni x 6).
 
-    A pure function of (d, plastic_old, cracked_old): within a load step the solver calls it
-    with the plastic state of the last converged step, so the result does not depend on the
-    iteration path (fully implicit in the normal force).
+    A pure function of (d, plastic_old, cracked_old, forces_old): within a load step the solver
+    calls it with the state of the last converged step, so the result does not depend on the
+    iteration path (fully implicit in the normal force). ``forces_old`` (default zero) is what
+    a released bending component keeps (``strength.release_both_rotations``).
     """
+    d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
     f, plastic, tangent, state, cracked = kernel.interface_actions(
-        *_state_arguments(d, plastic_old, cracked_old, k), *_section_arguments(sec, strength, len(d)))
+        d, p, c, _old_forces(forces_old, d), k, *_section_arguments(sec, strength, len(d)))
     return ReturnMap(f, plastic, state, cracked, tangent)
 
 
 def return_map_derivative(d, rm: ReturnMap, plastic_old, cracked_old, k, sec,
-                          strength: JointStrength, eps) -> np.ndarray:
+                          strength: JointStrength, eps, forces_old=None) -> np.ndarray:
     """(ni, 6, 6) derivative of the forces of ``rm`` (the return map at ``d``): K-bar on elastic
     interfaces, forward differences elsewhere (normal perturbed towards contact), each
     diagonal term at least ``eps`` x K-bar."""
     d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
     sec_args = _section_arguments(sec, strength, len(d))
     return kernel.interface_tangents(d, np.ascontiguousarray(rm.forces, dtype=float),
-                                     np.ascontiguousarray(rm.state), p, c, k, *sec_args, float(eps))
+                                     np.ascontiguousarray(rm.state), p, c, _old_forces(forces_old, d), k,
+                                     *sec_args, float(eps))

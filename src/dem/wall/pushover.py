@@ -41,8 +41,9 @@ class WallModel:
     strength: JointStrength
     dead_load: np.ndarray            # (6 nb,) F_D
     live_load: np.ndarray            # (6 nb,) F_L
-    fixed: np.ndarray                # (6 nb,) bool: restrained DOF under the live load
-    fixed_dead: np.ndarray = None    # (6 nb,) bool: restrained while the dead load is applied
+    fixed: np.ndarray                # (6 nb,) bool: pinned DOF (block centre) under the live load
+    fixed_dead: np.ndarray = None    # (6 nb,) bool: pinned while the dead load is applied
+    lines: list = field(default_factory=list)   # LineRestraint: straight restraint lines
     H: sp.csr_matrix = field(init=False)
 
     def __post_init__(self):
@@ -51,21 +52,48 @@ class WallModel:
         self.k_local = local_stiffness(self.sec, self.k_n, self.k_t)
         if self.fixed_dead is None:
             self.fixed_dead = self.fixed
-        self.use(self.fixed)
+        self.forces_old = None
+        self.use("dead")
+        self.T_dead = self.T
+        self.use("live")
 
-    def use(self, fixed):
-        """Select the free DOFs (restraints of the current phase)."""
-        self.free = np.flatnonzero(~fixed)
-        self.Hf = self.H[:, self.free].tocsr()
+    def use(self, phase):
+        """The restraints of a phase ("dead": while the self-weight is applied, "live"): the
+        reduction q = q0 + T v (``dem.wall.restraints``) and H T."""
+        from dem.wall.restraints import reduction_matrix, restrained_dofs
+
+        if phase == "dead":
+            T = reduction_matrix(self.panel, self.fixed_dead, [ln for ln in self.lines if ln.dead_load])
+        else:
+            T = getattr(self, "T_live", None)
+            if T is None:
+                T = self.T_live = reduction_matrix(self.panel, self.fixed, self.lines)
+        self.T = T.tocsr()
+        self.TT = self.T.T.tocsr()
+        self.restrained = restrained_dofs(self.T)
+        self.Hf = (self.H @ self.T).tocsr()
+
+    def accept(self, rm):
+        """The converged state the next step starts from (a released bending component keeps
+        its moment from here: ``JointStrength.release_both_rotations``)."""
+        self.forces_old = rm.forces.copy()
+
+    def reduce(self, v):
+        """A load (or weight) vector on the block DOFs -> the reduced coordinates: T^T v."""
+        return self.TT @ v
+
+    def expand(self, dv):
+        """A reduced increment -> block DOFs: T dv."""
+        return self.T @ dv
 
     def local_deformation(self, q):
         d = (self.H @ q).reshape(-1, 6)
         return to_local_order(d, self.sec.perm)
 
     def internal(self, q, plastic, cracked):
-        """Internal forces on the free DOFs for the full displacement vector ``q``."""
+        """Internal forces on the reduced DOFs (T^T H^T f) for the block displacements ``q``."""
         rm = return_map(self.local_deformation(q), plastic, cracked, self.k_local, self.sec,
-                        self.strength)
+                        self.strength, self.forces_old)
         check_interrupt()   # a SIGINT/SIGTERM that arrived during the compiled call
         f_glob = to_global_order(rm.forces, self.sec.perm).ravel()
         return self.Hf.T @ f_glob, rm
@@ -81,7 +109,7 @@ class WallModel:
         d = self.local_deformation(q)
         ni = len(d)
         D = return_map_derivative(d, rm, plastic, cracked, self.k_local, self.sec,
-                                  self.strength, eps)
+                                  self.strength, eps, self.forces_old)
         check_interrupt()
         # local -> global component order
         P = self.sec.perm
@@ -198,19 +226,21 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
     return map, iterations and the relative residual. ``stagnation_ok`` False: a chattering
     iterate below ``accept_tolerance`` is not kept (the caller cuts the step back instead).
     """
-    free = model.free
-    F_D = model.dead_load[free]
-    F_L = model.live_load[free]
+    F_D = model.reduce(model.dead_load)
+    F_L = model.reduce(model.live_load)
     eps = settings.residual_stiffness
     q = q.copy()
     # the constraint c . q = target: a unit vector on one DOF, or a weight vector (full length)
+    # cg on the block DOFs, cf = T^T cg on the reduced ones (c . T dv = cf . dv)
     if control is None:
-        cf = None
-    elif np.ndim(control) == 0:
-        cf = np.zeros(len(free))
-        cf[int(np.searchsorted(free, int(control)))] = 1.0
+        cg = cf = None
     else:
-        cf = np.asarray(control)[free]
+        if np.ndim(control) == 0:
+            cg = np.zeros(model.dead_load.size)
+            cg[int(control)] = 1.0
+        else:
+            cg = np.asarray(control, dtype=float)
+        cf = model.reduce(cg)
     fint, rm = model.internal(q, plastic, cracked)
     R = F_D + lam * F_L - fint
     res = np.linalg.norm(R) / ref
@@ -232,7 +262,7 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
                 return q, lam, rm, it, res
             raise ConvergenceError(f"residual cycles between {history[-1]:.2e} and {history[-2]:.2e}",
                                    (q, lam, rm, it, res))
-        on_target = cf is None or abs(cf @ q[free] - target) <= 1e-9 * max(abs(target), 1e-12)
+        on_target = cf is None or abs(cg @ q - target) <= 1e-9 * max(abs(target), 1e-12)
         if res < settings.tolerance and on_target and it > 1:
             return q, lam, rm, it, res
         if refactor:
@@ -250,18 +280,18 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
             if abs(cl) < 1e-300:
                 raise ConvergenceError("the controlled displacement does not respond to the live load")
             # the constraint part of the step is kept whole; the residual part is line-searched
-            dlam_c = (target - cf @ q[free]) / cl
+            dlam_c = (target - cg @ q) / cl
             dlam_r = -(cf @ dq) / cl
         # backtracking line search on the residual norm breaks contact/slip chattering
         best = None
         for step in (1.0, 0.5, 0.25, 0.125):
             qt = q.copy()
             if control is None:
-                qt[free] += step * dq
+                qt += model.expand(step * dq)
                 lt = lam
             else:
                 dlam = dlam_c + step * dlam_r
-                qt[free] += step * dq + dlam * dq_l
+                qt += model.expand(step * dq + dlam * dq_l)
                 lt = lam + dlam
             ft, rt = model.internal(qt, plastic, cracked)
             Rt = F_D + lt * F_L - ft
@@ -295,34 +325,38 @@ def choose_control_dof(model, q, plastic, cracked, settings):
     """The free DOF moving most under the live load, in the state after the dead load."""
     _, rm = model.internal(q, plastic, cracked)
     K = model.tangent(rm, settings.residual_stiffness)
-    q_l = _factor(K).solve(model.live_load[model.free])
+    q_l = model.expand(_factor(K).solve(model.reduce(model.live_load)))
     if not np.all(np.isfinite(q_l)):
         raise ConvergenceError("the live load gives non-finite displacements")
     direction = np.flatnonzero(model.live_load != 0)
     comp = direction[0] % 6 if len(direction) else 2
-    cand = np.flatnonzero((model.free % 6) == comp)
+    dofs = np.arange(q_l.size)
+    cand = np.flatnonzero(((dofs % 6) == comp) & ~model.restrained)
     if not len(cand):
         raise ConvergenceError("the live load acts only on restrained DOFs")
     c = cand[np.argmax(np.abs(q_l[cand]))]
     if q_l[c] == 0.0:
         raise ConvergenceError("the live load moves no free DOF in its direction")
-    return int(model.free[c]), float(q_l[c])
+    return int(c), float(q_l[c])
 
 
 def _apply_dead_load(model, settings, ref):
     """Self-weight at lambda = 0 under load control with the restraints that carry it, then the
     remaining restraints hold the blocks where the dead load left them."""
     ni = model.panel.n_interfaces
-    q = np.zeros(model.fixed.size)
+    model.forces_old = None
+    q = np.zeros(model.dead_load.size)
     plastic = np.zeros((ni, 6))
     cracked = np.zeros(ni, dtype=bool)
     try:
-        model.use(model.fixed_dead)
+        model.use("dead")
         q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
         plastic, cracked = rm.plastic, rm.cracked
+        model.accept(rm)
         dead_state = rm.state.copy()
-        model.use(model.fixed)
+        model.use("live")
         q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
+        model.accept(rm)
     except (ConvergenceError, RuntimeError) as err:   # splu: "Factor is exactly singular"
         raise DeadLoadError(f"the self-weight cannot be carried ({err})") from err
     return q, rm, dead_state
@@ -333,8 +367,7 @@ def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
 
     Returns q, return map, iterations, relative residual; raises ConvergenceError.
     """
-    free = model.free
-    F = model.dead_load[free] + lam * model.live_load[free]
+    F = model.reduce(model.dead_load + lam * model.live_load)
     q = q.copy()
     fint, rm = model.internal(q, plastic, cracked)
     R = F - fint
@@ -346,7 +379,7 @@ def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
         dq = K_lu.solve(R)
         if not np.all(np.isfinite(dq)):
             raise ConvergenceError("singular stiffness matrix")
-        q[free] += dq
+        q += model.expand(dq)
         fint, rm = model.internal(q, plastic, cracked)
         R = F - fint
         res = np.linalg.norm(R) / ref
@@ -364,7 +397,7 @@ def _dead_load_and_control(model, settings, control_block):
     control, unit = choose_control_dof(model, q, rm.plastic, rm.cracked, settings)
     if control_block is not None:
         control = 6 * int(control_block) + int(control % 6)
-        if model.fixed[control]:
+        if model.restrained[control]:
             raise ConvergenceError(f"control block {control_block} is restrained")
     return ref, q, rm, dead_state, control, unit
 
@@ -387,11 +420,11 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
         progress(0, 0.0, 0.0)   # the dead load is on (a slow one shows in the log)
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
-    w = np.where(model.fixed, 0.0, model.live_load)
+    w = np.where(model.restrained, 0.0, model.live_load)
     cvec = w / np.abs(w).sum()
     eps = settings.residual_stiffness
     K_lu = _factor(model.tangent(rm, eps))
-    flex0 = abs(cvec[model.free] @ K_lu.solve(model.live_load[model.free]))
+    flex0 = abs(cvec @ model.expand(K_lu.solve(model.reduce(model.live_load))))
     # first increment: 1/50 of the overturning load of the free-standing wall (lambda = s/H for
     # a load proportional to the weight), unless the case gives one
     weight = -model.dead_load[1::6].sum()
@@ -424,6 +457,7 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
         steps += 1
         lam += dlam
         q, rm, plastic, cracked = q_new, rm_new, rm_new.plastic, rm_new.cracked
+        model.accept(rm)
         path.add(lam, (q[control] - u0) * sign, q, rm, it, res)   # lambda only grows here
         if progress:
             progress(steps, lam, path.control[-1])
@@ -461,13 +495,13 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     u_max = settings.max_displacement or s
     # the stepped quantity g = c . q: the load-weighted mean displacement (work control, passes
     # limit points whatever part of the panel forms the mechanism) or the control DOF
-    cvec = np.zeros(model.fixed.size)
+    cvec = np.zeros(model.dead_load.size)
     if settings.work_control:
-        w = np.where(model.fixed, 0.0, model.live_load)
+        w = np.where(model.restrained, 0.0, model.live_load)
         cvec = w / np.abs(w).sum()
         _, rm0 = model.internal(q, plastic, cracked)
-        q_l = _factor(model.tangent(rm0, settings.residual_stiffness)).solve(model.live_load[model.free])
-        ratio = abs(cvec[model.free] @ q_l) / abs(unit)
+        q_l = _factor(model.tangent(rm0, settings.residual_stiffness)).solve(model.reduce(model.live_load))
+        ratio = abs(cvec @ model.expand(q_l)) / abs(unit)
     else:
         cvec[control] = sign
         ratio = 1.0
@@ -519,6 +553,7 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         failures = 0
         last = (q_new - q, lam_new - lam, du)
         q, lam, plastic, cracked = q_new, lam_new, rm.plastic, rm.cracked
+        model.accept(rm)
         u = (q[control] - u0) * sign
         g = cvec @ q - g0
         path.add(lam, u, q, rm, it, res)

@@ -72,9 +72,15 @@ def closest_point_shear_torsion(r, s, F, M, alpha, k_s, k_m):
 
 
 @njit(cache=True, error_model="numpy")
-def interface_action(d, p_old, cracked_old, k, area, lever0, lever1, width, depth, mu,
-                     sigma_t, cohesion, alpha, brittle, n_eps, f, p_new, tangent):
-    """Return map of one interface: fills f, p_new, tangent (6 each); returns (state, cracked)."""
+def interface_action(d, p_old, cracked_old, f_old, k, area, lever0, lever1, width, depth, mu,
+                     sigma_t, cohesion, alpha, brittle, n_eps, torsion_all, release_both, f, p_new,
+                     tangent):
+    """Return map of one interface: fills f, p_new, tangent (6 each); returns (state, cracked).
+
+    ``f_old``: the actions at the last converged step (``release_both``: a bending component
+    whose stiffness is released with the other one keeps its value from there, Eq. 13).
+    ``torsion_all``: the Fig. 10 torsion reduction under bending on every joint (False: on
+    no-tension joints only)."""
     for j in range(6):
         f[j] = k[j] * (d[j] - p_old[j])
         tangent[j] = 1.0
@@ -88,17 +94,31 @@ def interface_action(d, p_old, cracked_old, k, area, lever0, lever1, width, dept
 
     # rotation conditions, Eq. 9
     flexural = False
+    yielded3 = False
+    yielded4 = False
     for j, lever in ((3, lever0), (4, lever1)):
         cap = reserve * lever
         if abs(f[j]) > cap:
             f[j] = math.copysign(cap, f[j])
             tangent[j] = 0.0
             flexural = True
+            if j == 3:
+                yielded3 = True
+            else:
+                yielded4 = True
+    # Eq. 13 read literally: k_r = 0 for both bending components once one yields; the other
+    # then keeps its last converged moment (inside its own cap)
+    if release_both and flexural:
+        for j, lever, own in ((3, lever0, yielded3), (4, lever1, yielded4)):
+            if not own:
+                cap = reserve * lever
+                f[j] = math.copysign(min(abs(f_old[j]), cap), f_old[j])
+                tangent[j] = 0.0
 
     # shear and torsion, Eq. 10, 12, 14; Fig. 10: compressed rectangle of a no-tension joint
     f_su = smooth_plus_scalar(coh * area - mu * N, mu * n_eps)
     w_eff, s_eff = width, depth
-    if f_t <= 0.0 and reserve > 0.0:
+    if (f_t <= 0.0 or torsion_all) and reserve > 0.0:
         w_eff = max(width - 2.0 * abs(f[4]) / reserve, 0.0)
         s_eff = max(depth - 2.0 * abs(f[3]) / reserve, 0.0)
     m3u = torsion_constant_scalar(w_eff, s_eff) * f_su
@@ -142,8 +162,8 @@ def interface_action(d, p_old, cracked_old, k, area, lever0, lever1, width, dept
 
 
 @njit(cache=True, error_model="numpy")
-def interface_actions(d, p_old, cracked_old, k, area, lever, width, depth, mu, sigma_t,
-                      cohesion, alpha, brittle, n_eps):
+def interface_actions(d, p_old, cracked_old, f_old, k, area, lever, width, depth, mu, sigma_t,
+                      cohesion, alpha, brittle, n_eps, torsion_all, release_both):
     """Every interface: forces, plastic parts, tangent factors (ni x 6), state, cracked."""
     ni = d.shape[0]
     f = np.empty((ni, 6))
@@ -152,18 +172,18 @@ def interface_actions(d, p_old, cracked_old, k, area, lever, width, depth, mu, s
     state = np.empty(ni, dtype=np.int8)
     cracked = np.empty(ni, dtype=np.bool_)
     for i in range(ni):
-        st, cr = interface_action(d[i], p_old[i], cracked_old[i], k[i], area[i], lever[i, 0],
-                                  lever[i, 1], width[i], depth[i], mu[i], sigma_t[i],
-                                  cohesion[i], alpha[i], brittle, n_eps[i], f[i], p_new[i],
-                                  tangent[i])
+        st, cr = interface_action(d[i], p_old[i], cracked_old[i], f_old[i], k[i], area[i],
+                                  lever[i, 0], lever[i, 1], width[i], depth[i], mu[i], sigma_t[i],
+                                  cohesion[i], alpha[i], brittle, n_eps[i], torsion_all,
+                                  release_both, f[i], p_new[i], tangent[i])
         state[i] = st
         cracked[i] = cr
     return f, p_new, tangent, state, cracked
 
 
 @njit(cache=True, error_model="numpy")
-def interface_tangents(d, f0, state, p_old, cracked_old, k, area, lever, width, depth, mu,
-                       sigma_t, cohesion, alpha, brittle, n_eps, eps):
+def interface_tangents(d, f0, state, p_old, cracked_old, f_old, k, area, lever, width, depth, mu,
+                       sigma_t, cohesion, alpha, brittle, n_eps, torsion_all, release_both, eps):
     """6 x 6 derivative of each interface's return map by forward differences (normal
     perturbed towards contact), diagonal kept >= eps K-bar so the iteration matrix factors.
     An elastic interface (no cap active) has the exact derivative K-bar: no differences."""
@@ -191,9 +211,9 @@ def interface_tangents(d, f0, state, p_old, cracked_old, k, area, lever, width, 
             for m in range(6):
                 dp[m] = d[i, m]
             dp[j] += h
-            interface_action(dp, p_old[i], cracked_old[i], k[i], area[i], lever[i, 0],
+            interface_action(dp, p_old[i], cracked_old[i], f_old[i], k[i], area[i], lever[i, 0],
                              lever[i, 1], width[i], depth[i], mu[i], sigma_t[i], cohesion[i],
-                             alpha[i], brittle, n_eps[i], fp, pp, tp)
+                             alpha[i], brittle, n_eps[i], torsion_all, release_both, fp, pp, tp)
             for m in range(6):
                 D[i, m, j] = (fp[m] - f0[i, m]) / h
         for j in range(6):

@@ -82,6 +82,11 @@ WALL_VARIABLES = {
     "displacement_final": ("m", "block displacements and rotations (rad) at the last step"),
     "interface_forces_at_limit": ("N", "interface actions at lambda_max, local order t1 t2 n (N), b1 b2 tor (N m)"),
     "damage_at_limit": ("1", "interface state at lambda_max (codes as damage)"),
+    "lambda_limit_analysis": ("1", "collapse multiplier by limit analysis (HiGHS LP) with the joint "
+                              "caps on the pushover's actions at lambda_max: >= lambda_max, equal "
+                              "when the plateau is the model's collapse load"),
+    "lambda_limit_analysis_dead_load": ("1", "collapse multiplier by limit analysis (HiGHS LP) with the "
+                                        "joint caps on the dead-load actions (needs no pushover)"),
 }
 
 # the two solvers' names are disjoint (tests/test_dataset.py), so one lookup serves both

@@ -1,13 +1,16 @@
 """Manuscript Tables 1-3 (limit loads): every case file of config/walls/ against the manuscript's
 DEM column, 10 % tolerance. Cases we miss are strict xfails carrying the measured value; the
 same numbers are in results/tables/manuscript_table_*.csv (within_tolerance per case) and
-benchmarks/wall_tables.py."""
+benchmarks/wall_tables.py. Then every pushover plateau against the limit analysis of the same
+model (the LP oracle, dem.wall.limit_analysis), 1 %."""
 
 from pathlib import Path
 
 import pytest
 
 from dem.wall.case import load_case
+from dem.wall.dataset import ORACLE_TOLERANCE
+from dem.wall.limit_analysis import limit_multiplier
 from dem.wall.pushover import pushover
 from dem.wall.validation import LIMIT_TOLERANCE
 
@@ -24,14 +27,23 @@ MISSES = {   # measured on this machine; reasons in README "Masonry walls"
 }
 
 
+PUSHOVERS = {}   # name -> (case, result): the oracle test reuses the table test's pushover
+
+
+def _pushover(name):
+    if name not in PUSHOVERS:
+        case = load_case(CASES / f"{name}.yaml")
+        PUSHOVERS[name] = case, pushover(case.model, case.settings, case.control_block)
+    return PUSHOVERS[name]
+
+
 @pytest.mark.parametrize("name", WITHIN + [
     pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=f"measured {why}"))
     for name, why in MISSES.items()])
 def test_limit_load_within_10_percent_of_manuscript_dem(name):
-    case = load_case(CASES / f"{name}.yaml")
+    case, r = _pushover(name)
     ref = case.spec["reference"]
     expected = ref.get("lambda_dem", ref.get("p_dem"))
-    r = pushover(case.model, case.settings, case.control_block)
     assert r.residual.max() < case.settings.accept_tolerance
     assert r.lambda_max == pytest.approx(expected, rel=LIMIT_TOLERANCE), \
         f"{name}: lambda_max {r.lambda_max:.4g} vs manuscript DEM {expected:.4g} ({LIMIT_TOLERANCE:.0%})"
@@ -40,3 +52,15 @@ def test_limit_load_within_10_percent_of_manuscript_dem(name):
 def test_every_table_case_is_tested():
     tables = {p.stem for p in CASES.glob("*.yaml")} - {"free_standing"}
     assert tables == set(WITHIN) | set(MISSES)
+
+
+@pytest.mark.parametrize("name", WITHIN + list(MISSES) + ["free_standing"])
+def test_plateau_is_the_collapse_load_of_the_model(name):
+    """The limit analysis with the joint caps on the pushover's actions at its peak: that peak
+    is a feasible point of the LP, so the LP is >= the plateau, and within 1 % of it when the
+    plateau is the model's collapse load. lambda_tolerance 1e-3: ten times tighter than asked."""
+    case, r = _pushover(name)
+    la = limit_multiplier(case.model, caps_at=r.interface_forces_at_max, lambda_tolerance=1e-3)
+    assert la.converged, la.status
+    assert r.lambda_max == pytest.approx(la.lambda_limit, rel=ORACLE_TOLERANCE), \
+        f"{name}: pushover {r.lambda_max:.5g} vs limit analysis {la.lambda_limit:.5g} ({la.status})"

@@ -15,6 +15,8 @@ rule wall_case:
         "results/walls/{wall_case}.nc",
     log:
         "results/logs/walls/{wall_case}.log",
+    params:
+        limit_analysis=config.get("wall_limit_analysis", True),
     conda:
         "../envs/dem.yaml"
     script:

@@ -5,4 +5,5 @@ import sys
 from dem.wall.dataset import run_case_file
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
-run_case_file(snakemake.input[0], snakemake.output[0])  # noqa: F821
+run_case_file(snakemake.input[0], snakemake.output[0],  # noqa: F821
+              limit_analysis=snakemake.params.limit_analysis)  # noqa: F821

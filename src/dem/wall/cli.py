@@ -1,4 +1,7 @@
-"""Command line: ``dem wall CASE.yaml -o OUT.nc`` (also ``python3 -m dem.wall CASE.yaml -o OUT.nc``).
+"""Command line: ``dem wall CASE.yaml -o OUT.nc [--limit]`` (also ``python3 -m dem.wall ...``).
+
+``--limit`` adds the collapse multiplier by limit analysis (``dem.wall.limit_analysis``) to
+the dataset and the summary line.
 
 Bad input (the case file, its fields, its size, the output path) prints one line
 ``error: <field>: <problem>; <fix>`` and exits with status 2 before any computing, leaving no
@@ -26,6 +29,9 @@ PROGRESS_SECONDS = 2.0
 def _arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("case", type=Path, help="wall case YAML file (schema: dem.wall.case)")
     parser.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file (.nc)")
+    parser.add_argument("--limit", action="store_true",
+                        help="also the collapse multiplier by limit analysis (HiGHS LP), with the joint "
+                             "caps on the pushover's actions at its peak and on the dead load")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress lines and no summary line")
     return parser
 
@@ -77,11 +83,16 @@ def command_wall(args) -> int:
     progress = None
     if not args.quiet:
         progress = ProgressLog(units=" Pa" if case.load_kind == "pressure" else "")
-    ds = run_case(case, args.output, progress=progress)
+    ds = run_case(case, args.output, progress=progress, limit_analysis=args.limit)
     if not args.quiet:
         print(f"wrote {args.output}: lambda_max = {float(ds.lambda_max):.4g} "
               f"({ds.attrs['status']}), {ds.sizes['step']} steps, {ds.attrs['n_blocks']} blocks, "
               f"{ds.attrs['wall_seconds']:.1f} s", file=sys.stderr)
+        if args.limit:
+            la, dead = ds["lambda_limit_analysis"], ds["lambda_limit_analysis_dead_load"]
+            print(f"limit analysis: {float(la):.4g} on the caps at lambda_max ({la.attrs['status']}, "
+                  f"{la.attrs['seconds']:.1f} s), {float(dead):.4g} on the dead-load caps; "
+                  f"{ds.attrs['limit_analysis_verdict']}", file=sys.stderr)
     return 0
 
 

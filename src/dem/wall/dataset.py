@@ -100,9 +100,36 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def run_case(case, output=None, progress=None) -> xr.Dataset:
-    """Run the pushover of a built case (:func:`dem.wall.case.build_case`), optionally write the
-    NetCDF atomically (a SIGINT/SIGTERM during the run or the write leaves no file)."""
+# the pushover's plateau counts as proven when the limit analysis on its own caps lies this
+# close above it (tests/wall/test_limit_analysis.py holds every table case to it)
+ORACLE_TOLERANCE = 0.01
+
+
+def add_limit_analysis(ds, at_limit, dead_load):
+    """The two limit-analysis multipliers (``dem.wall.limit_analysis``) beside the pushover's."""
+    units = ds.attrs["lambda_units"]
+    for name, r in (("lambda_limit_analysis", at_limit), ("lambda_limit_analysis_dead_load", dead_load)):
+        var = schema_variables({name: ((), r.lambda_limit)})[name]
+        var.attrs.update(units=units, status=r.status, lp_rounds=np.int32(r.rounds),
+                         supporting_planes=np.int32(r.cuts), domain_excess=r.domain_excess,
+                         seconds=round(r.seconds, 2))
+        ds[name] = var
+    gap = float(ds.lambda_max) / at_limit.lambda_limit - 1
+    ds.attrs["pushover_vs_limit_analysis"] = gap
+    ds.attrs["limit_analysis_verdict"] = (
+        f"plateau proven: lambda_max within {ORACLE_TOLERANCE:.0%} of the limit analysis on its caps"
+        if abs(gap) <= ORACLE_TOLERANCE else
+        f"plateau NOT proven: lambda_max {gap:+.1%} from the limit analysis on its caps")
+    ds.attrs["limit_analysis_solver"] = (
+        "static theorem, HiGHS interior point (highspy) with Kelley cutting planes of the Eq. 14 "
+        "shear-torsion domain; joint caps (Eq. 9-12, Fig. 10) on the given actions")
+    return ds
+
+
+def run_case(case, output=None, progress=None, limit_analysis=False) -> xr.Dataset:
+    """Run the pushover of a built case (:func:`dem.wall.case.build_case`) and, with
+    ``limit_analysis``, the LP of the same model (:func:`add_limit_analysis`); optionally write
+    the NetCDF atomically (a SIGINT/SIGTERM during the run or the write leaves no file)."""
     from dem.errors import InputError
     from dem.wall.pushover import ConvergenceError, DeadLoadError, pushover
 
@@ -115,6 +142,17 @@ def run_case(case, output=None, progress=None) -> xr.Dataset:
         raise InputError("restraints", f"the live load cannot be applied: {err}",
                          "check the restraints and the load direction") from err
     ds = wall_dataset(case, result)
+    if limit_analysis:
+        from dem.wall.limit_analysis import LimitAnalysisError, limit_multiplier
+
+        try:
+            at_limit = limit_multiplier(case.model, caps_at=result.interface_forces_at_max,
+                                        settings=case.settings)
+            dead_load = limit_multiplier(case.model, settings=case.settings)
+        except LimitAnalysisError as err:
+            raise InputError("restraints", f"the limit analysis has no answer: {err}",
+                             "check the restraints and the load direction") from err
+        add_limit_analysis(ds, at_limit, dead_load)
     if output is not None:
         try:
             write_dataset(ds, output)
@@ -124,8 +162,9 @@ def run_case(case, output=None, progress=None) -> xr.Dataset:
     return ds
 
 
-def run_case_file(path, output=None, progress=None) -> xr.Dataset:
-    """Load a case YAML, run the pushover, optionally write the NetCDF atomically."""
+def run_case_file(path, output=None, progress=None, limit_analysis=False) -> xr.Dataset:
+    """Load a case YAML, run the pushover (and the limit analysis), optionally write the NetCDF
+    atomically."""
     from dem.wall.case import load_case
 
-    return run_case(load_case(path), output, progress)
+    return run_case(load_case(path), output, progress, limit_analysis)

@@ -73,7 +73,14 @@ def limit_load_row(ds):
             "error_vs_reference": round(ours / exp_mean - 1, 4),
             # a path that ended before its limit (max_steps, ...) is never within tolerance
             "within_tolerance": abs(err) <= LIMIT_TOLERANCE and ds.attrs.get("limit_reached", "yes") == "yes",
-            "status": ds.attrs["status"], "wall_seconds": round(float(ds.attrs["wall_seconds"]), 2)}
+            "status": ds.attrs["status"], "wall_seconds": round(float(ds.attrs["wall_seconds"]), 2),
+            # the LP oracle (dem.wall.limit_analysis), when the case ran with it
+            "limit_analysis": round(float(ds["lambda_limit_analysis"]) * scale, 4)
+            if "lambda_limit_analysis" in ds else "",
+            "pushover_vs_limit_analysis": round(ds.attrs["pushover_vs_limit_analysis"], 4)
+            if "pushover_vs_limit_analysis" in ds.attrs else "",
+            "limit_analysis_dead_load": round(float(ds["lambda_limit_analysis_dead_load"]) * scale, 4)
+            if "lambda_limit_analysis_dead_load" in ds else ""}
 
 
 def limit_load_table(paths):

@@ -3,7 +3,9 @@
 Runs every case of ``config/walls`` listed below, one after the other at the lowest CPU
 priority, and prints ours vs the manuscript's DEM column vs the experiment (or, for Table 1,
 Orduna & Lourenco's FEM), the relative errors, whether the 10 % tolerance on the manuscript
-DEM is met, the solver status and the run time. Writes ``results/walls/benchmark.csv``.
+DEM is met, the solver status and the run time; beside them the limit analysis of the same
+model (``dem.wall.limit_analysis``) on the pushover's caps at its peak (the oracle) and on
+the dead-load caps. Writes ``results/walls/benchmark.csv``.
 
     python benchmarks/wall_tables.py [--only orduna_case1 s11 ...] [--max-seconds 60] [--out results/walls] [--secant]
 """
@@ -20,7 +22,8 @@ from pathlib import Path
 
 from dem.wall.case import load_case
 from dem.wall.pushover import ConvergenceError, pushover
-from dem.wall.dataset import wall_dataset
+from dem.wall.dataset import add_limit_analysis, wall_dataset
+from dem.wall.limit_analysis import limit_multiplier
 from dem.wall.validation import LIMIT_TOLERANCE, limit_load_row
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -46,7 +49,12 @@ def run_case(name, max_seconds=60.0, secant=False):
                 "ours": float("nan"), "within_tolerance": False, "status": f"failed: {err}",
                 "seconds": round(time.perf_counter() - t0, 1)}
     seconds = time.perf_counter() - t0
-    row = limit_load_row(wall_dataset(case, r))
+    t1 = time.perf_counter()
+    ds = add_limit_analysis(wall_dataset(case, r),
+                            limit_multiplier(case.model, caps_at=r.interface_forces_at_max, settings=case.settings),
+                            limit_multiplier(case.model, settings=case.settings))
+    row = limit_load_row(ds)
+    row["limit_analysis_seconds"] = round(time.perf_counter() - t1, 1)
     return {"table": ref.get("table"), "file": name, **row,
             "unit": "kPa" if case.load_kind == "pressure" else "lambda",
             "final_over_peak": round(float(r.lam[-1] / r.lam.max()), 3) if r.lam.max() > 0 else float("nan"),
@@ -69,7 +77,7 @@ def main(argv=None):
         pass
     rows = []
     head = (f"{'case':>10} {'unit':>6} {'ours':>9} {'at s/10':>9} {'DEM':>8} {'reference':>12} {'err DEM':>8} "
-            f"{'err ref':>8} {'ok':>3} {'s':>6}  status")
+            f"{'err ref':>8} {'ok':>3} {'s':>6} {'LP':>9} {'push/LP':>8} {'LP dead':>9} {'LP s':>5}  status")
     print(head, flush=True)
     for name in args.only or CASES:
         row = run_case(name, args.max_seconds, args.secant)
@@ -80,7 +88,8 @@ def main(argv=None):
         print(f"{row['case']:>10} {row['unit']:>6} {row['ours']:9.4g} {row['ours_at_s_over_10']:9.4g} "
               f"{row['manuscript_dem']:8.4g} {row['reference']:>12} {100 * row['error_vs_manuscript_dem']:+7.1f}% "
               f"{100 * row['error_vs_reference']:+7.1f}% {'yes' if row['within_tolerance'] else 'no':>3} "
-              f"{row['seconds']:6.1f}  {row['status']}", flush=True)
+              f"{row['seconds']:6.1f} {row['limit_analysis']:9.4g} {100 * row['pushover_vs_limit_analysis']:+7.2f}% "
+              f"{row['limit_analysis_dead_load']:9.4g} {row['limit_analysis_seconds']:5.1f}  {row['status']}", flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / ("benchmark_secant.csv" if args.secant else "benchmark.csv")

@@ -58,9 +58,10 @@ def test_every_table_case_is_tested():
 def test_plateau_is_the_collapse_load_of_the_model(name):
     """The limit analysis with the joint caps on the pushover's actions at its peak: that peak
     is a feasible point of the LP, so the LP is >= the plateau, and within 1 % of it when the
-    plateau is the model's collapse load. lambda_tolerance 1e-3: ten times tighter than asked."""
+    plateau is the model's collapse load. Every round's LP is an upper bound, so stopping
+    early (lambda_tolerance 3e-3) can only make this test harder, never pass a wrong plateau."""
     case, r = _pushover(name)
-    la = limit_multiplier(case.model, caps_at=r.interface_forces_at_max, lambda_tolerance=1e-3)
+    la = limit_multiplier(case.model, caps_at=r.interface_forces_at_max, lambda_tolerance=3e-3)
     assert la.converged, la.status
     assert r.lambda_max == pytest.approx(la.lambda_limit, rel=ORACLE_TOLERANCE), \
         f"{name}: pushover {r.lambda_max:.5g} vs limit analysis {la.lambda_limit:.5g} ({la.status})"

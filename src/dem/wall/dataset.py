@@ -105,10 +105,18 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
 ORACLE_TOLERANCE = 0.01
 
 
-def add_limit_analysis(ds, at_limit, dead_load):
-    """The two limit-analysis multipliers (``dem.wall.limit_analysis``) beside the pushover's."""
+# lambda_tolerance of the study's limit analysis: ten times tighter than the oracle's 1 %
+LIMIT_ANALYSIS_TOLERANCE = 1e-3
+
+
+def add_limit_analysis(ds, at_limit, dead_load=None):
+    """The limit-analysis multipliers (``dem.wall.limit_analysis``) beside the pushover's: on
+    the caps at its peak (the oracle) and, if given, on the dead-load caps."""
     units = ds.attrs["lambda_units"]
-    for name, r in (("lambda_limit_analysis", at_limit), ("lambda_limit_analysis_dead_load", dead_load)):
+    pairs = [("lambda_limit_analysis", at_limit)]
+    if dead_load is not None:
+        pairs.append(("lambda_limit_analysis_dead_load", dead_load))
+    for name, r in pairs:
         var = schema_variables({name: ((), r.lambda_limit)})[name]
         var.attrs.update(units=units, status=r.status, lp_rounds=np.int32(r.rounds),
                          supporting_planes=np.int32(r.cuts), domain_excess=r.domain_excess,
@@ -147,12 +155,11 @@ def run_case(case, output=None, progress=None, limit_analysis=False) -> xr.Datas
 
         try:
             at_limit = limit_multiplier(case.model, caps_at=result.interface_forces_at_max,
-                                        settings=case.settings)
-            dead_load = limit_multiplier(case.model, settings=case.settings)
+                                        settings=case.settings, lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE)
         except LimitAnalysisError as err:
             raise InputError("restraints", f"the limit analysis has no answer: {err}",
                              "check the restraints and the load direction") from err
-        add_limit_analysis(ds, at_limit, dead_load)
+        add_limit_analysis(ds, at_limit)
     if output is not None:
         try:
             write_dataset(ds, output)

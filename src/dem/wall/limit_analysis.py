@@ -170,6 +170,9 @@ def dead_load_state(model, settings=None):
 # planes per interface and round: at the shear direction of the solution and turned +-20 deg
 # (chee_liang_2_3: lambda within 2e-4 of its limit in 7 rounds instead of 11)
 TURNS = (0.0, -0.35, 0.35)
+# a plane whose slack exceeds this fraction of its bound at the round's answer is dropped: the
+# LP stays an outer bound, the interior point solves fewer rows (chee_liang_10_11 8.3 -> 5.0 s)
+DROP = 0.05
 
 def limit_multiplier(model, caps_at=None, settings=None, domain_tolerance=1e-3,
                      lambda_tolerance=1e-4, max_rounds=60) -> LimitAnalysisResult:
@@ -231,6 +234,7 @@ def limit_multiplier(model, caps_at=None, settings=None, domain_tolerance=1e-3,
         return np.asarray(h.getSolution().col_value)
 
     history, cuts, status, converged, excess = [], 0, "", False, np.inf
+    n_eq, cut_ub = A_eq.shape[0], np.zeros(0)
     f = np.asarray(caps_at, dtype=float)
     try:
         for _ in range(max_rounds):
@@ -249,6 +253,14 @@ def limit_multiplier(model, caps_at=None, settings=None, domain_tolerance=1e-3,
                 converged = True
                 status = f"lambda settled (domain excess {excess:.1e} left)"
                 break
+            if cut_ub.size:
+                # planes the centre solution stays well inside of: dropped (re-cut if needed)
+                row = np.asarray(h.getSolution().row_value)[n_eq:]
+                slack = cut_ub - row
+                drop = np.flatnonzero(slack > DROP * np.maximum(np.abs(cut_ub), 1e-300))
+                if drop.size:
+                    h.deleteRows(drop.size, (drop + n_eq).astype(np.int32))
+                    cut_ub = np.delete(cut_ub, drop)
             which = np.flatnonzero(counted & (ex > domain_tolerance))
             planes = [supporting_planes(f, F, c_T, u, v, alpha, which, turn) for turn in TURNS]
             cols, vals, ub = (np.concatenate(p) for p in zip(*planes))
@@ -261,6 +273,7 @@ def limit_multiplier(model, caps_at=None, settings=None, domain_tolerance=1e-3,
             if added != highspy.HighsStatus.kOk:
                 raise _Stop(f"HiGHS refused the planes of round {len(history)}")
             cuts += which.size
+            cut_ub = np.concatenate([cut_ub, ub])
         else:
             status = f"not settled in {max_rounds} rounds (domain excess {excess:.1e})"
     except _Stop as stop:

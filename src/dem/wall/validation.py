@@ -78,9 +78,7 @@ def limit_load_row(ds):
             "limit_analysis": round(float(ds["lambda_limit_analysis"]) * scale, 4)
             if "lambda_limit_analysis" in ds else "",
             "pushover_vs_limit_analysis": round(ds.attrs["pushover_vs_limit_analysis"], 4)
-            if "pushover_vs_limit_analysis" in ds.attrs else "",
-            "limit_analysis_dead_load": round(float(ds["lambda_limit_analysis_dead_load"]) * scale, 4)
-            if "lambda_limit_analysis_dead_load" in ds else ""}
+            if "pushover_vs_limit_analysis" in ds.attrs else ""}
 
 
 def limit_load_table(paths):

@@ -189,13 +189,16 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
-def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
+def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None) -> Path:
     """Write NetCDF atomically (a temporary file beside ``path``, renamed over it), CF-1.10
-    (:func:`dem.schema.cf_conventions`): coordinates without a fill value, float data compressed."""
+    (:func:`dem.schema.cf_conventions`): coordinates without a fill value, float data compressed
+    (``encoding`` overrides per variable)."""
     ds = cf_conventions(ds)
+    given = encoding or {}
     encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
                 if v.dtype.kind == "f" and v.ndim > 0}
     for name in ds.coords:
         if ds[name].dtype.kind == "f":
             encoding[name] = {"_FillValue": None}
+    encoding.update(given)
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))

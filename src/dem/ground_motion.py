@@ -79,7 +79,7 @@ KIND_KEYS = {
     "rect_pulse": {"accel": "m s-2", "duration": "s"},
     "sine_pulse": {"accel": "m s-2", "frequency": "Hz"},
     "ramp": {"rate": "m s-3"},
-    "record": {"file": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
+    "record": {"file": "", "component": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
 }
 
 
@@ -235,8 +235,16 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
         raise InputError(f"{field}.pga", f"{target:g} m/s2 is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit",
                          "give a ground acceleration in m/s2")
     scale = _num(spec, "scale", field, required=False, default=1.0)
+    component = spec.get("component")
+    if component is not None:
+        if not isinstance(component, str) or not component:
+            raise InputError(f"{field}.component", f"expected a component name, got {shown(repr(component))}",
+                             "write component: FF07a (a record of a suite file, records/suites/)")
+        if units is not None or dt is not None:
+            raise InputError(f"{field}.component", "a suite component carries its own units and dt",
+                             "drop units and dt")
     path = resolve_record(str(name), f"{field}.file", base_dir)
-    time, accel, meta = _corrected_record(path, field, units, dt, baseline)
+    time, accel, meta = _corrected_record(path, field, units, dt, baseline, component)
     pga_raw = float(np.abs(accel).max())
     if target is not None:
         if pga_raw == 0.0:
@@ -265,13 +273,19 @@ _RECORD_MEMO: dict = {}
 RECORD_MEMO_SIZE = 8
 
 
-def _corrected_record(path: Path, field: str, units, dt, baseline: bool):
-    """read_record, then the baseline correction; once per file and settings per process."""
+def _corrected_record(path: Path, field: str, units, dt, baseline: bool, component=None):
+    """read_record (or one component of a suite file), then the baseline correction; once per
+    file and settings per process."""
     stat = path.stat()
-    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns, units, dt, baseline)
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns, units, dt, baseline, component)
     if key not in _RECORD_MEMO:
-        time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
-                                        units_field=f"{field}.units", dt_field=f"{field}.dt")
+        if component is None:
+            time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
+                                            units_field=f"{field}.units", dt_field=f"{field}.dt")
+        else:
+            from dem.record_suites import read_component
+
+            time, accel, meta = read_component(path, component, field)
         if baseline:
             from dem.records import baseline_correct
 

@@ -142,15 +142,31 @@ def load_suite(suite: str) -> xr.Dataset:
         return ds.load()
 
 
+def read_component(path: Path, name: str, field: str = "excitation"):
+    """(time [s], acceleration [m s-2], meta) of component ``name`` of a suite file; every
+    failure is an InputError naming ``field``."""
+    try:
+        with xr.open_dataset(path) as ds:
+            if "record" not in ds.dims or "acceleration" not in ds:
+                raise InputError(f"{field}.file", f"{path.name} is not a record suite (no record dimension)",
+                                 "give a file of records/suites/, or drop component")
+            names = [str(v) for v in ds.record.values]
+            if name not in names:
+                raise InputError(f"{field}.component", f"{name!r} is not in {path.name}",
+                                 f"use one of {names[0]} ... {names[-1]}")
+            r = ds.isel(record=names.index(name))
+            n, dt = int(r.n_samples), float(r.dt)
+            accel = np.asarray(r.acceleration.values[:n], dtype=float)
+            meta = {"title": f"{r.event.values} {int(r.year)}, {r.station.values}, {r.component.values}",
+                    "event": str(r.event.values), "station": str(r.station.values),
+                    "component": name, "source": ds.attrs.get("source", "")}
+    except (OSError, ValueError) as err:
+        raise InputError(f"{field}.file", f"{path.name} is not a readable NetCDF file ({err})",
+                         "give a file of records/suites/") from None
+    return np.arange(n) * dt, accel, meta
+
+
 def suite_record(suite: str, name: str) -> Record:
     """One component of a committed suite as a ``Record`` (the engine's input)."""
-    ds = load_suite(suite)
-    if name not in ds.record.values:
-        raise InputError("record", f"{name!r} is not in the {suite} suite",
-                         f"use one of {ds.record.values[0]} ... {ds.record.values[-1]}")
-    r = ds.sel(record=name)
-    n = int(r.n_samples)
-    acc = r.acceleration.values[:n].astype(float)
-    return Record(np.arange(n) * float(r.dt), acc, {"name": name, "event": str(r.event.values),
-                                                    "station": str(r.station.values),
-                                                    "suite": suite})
+    time, accel, meta = read_component(suite_path(suite), name, "record")
+    return Record(time, accel, {**meta, "suite": suite})

@@ -20,6 +20,7 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/validation.smk"
 include: "workflow/rules/walls.smk"
 include: "workflow/rules/bench.smk"
+include: "workflow/rules/fragility.smk"
 
 
 rule all:

@@ -46,6 +46,8 @@ def plausible(key: str):
     """Values a study could sensibly sweep for parameter ``key``."""
     if key == "record":
         return st.sampled_from(RECORD_NAMES)
+    if key == "component":
+        return st.sampled_from(["FF01a", "NP03b", "NN15a"])
     if key in CHOICES:
         return st.sampled_from(CHOICES[key])
     if key in COUNTS:
@@ -56,7 +58,7 @@ def plausible(key: str):
     return st.floats(low, high).map(lambda v: round(v, 3))
 
 
-assert set(PARAMETERS) == {"record", *CHOICES, *COUNTS, *POSITIVE, *NONNEGATIVE}, "a parameter without a value rule"
+assert set(PARAMETERS) == {"record", "component", *CHOICES, *COUNTS, *POSITIVE, *NONNEGATIVE}, "a parameter without a value rule"
 
 SCENE_FIELDS = [("friction",), ("contact", "k_n"), ("contact", "model"), ("contact", "c_n"), ("contact", "damping"),
                 ("contact", "k_t"), ("contact", "frame"), ("solver", "duration"), ("solver", "dt"),

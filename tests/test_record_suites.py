@@ -66,3 +66,26 @@ def test_a_scene_runs_on_a_suite_component_scaled_to_a_pga():
         excitation_from_spec({**spec, "component": "XX01a"})
     with pytest.raises(InputError, match="excitation.component"):
         excitation_from_spec({**spec, "dt": 0.01})
+
+
+def test_a_component_names_its_suite_and_auto_dt_resolves_its_sampling():
+    """component: NP03a alone reads records/suites/near_field_pulse; its 0.0024 s sampling
+    asks dt: auto for <= 0.00024 s (20 steps per Nyquist period), below the column's
+    stability step, where it used to be refused."""
+    from dem.ground_motion import excitation_from_spec
+    from dem.scene import scene_from_dict
+    from dem.simulate import MIN_STEPS_PER_PERIOD, preflight
+
+    motion = excitation_from_spec({"kind": "record", "component": "NP03a", "pga": 2.0})
+    assert "near_field_pulse" in motion.description["file"] and motion.table_dt == pytest.approx(0.0024)
+    with pytest.raises(InputError, match="excitation.component: 'NP99a'"):
+        excitation_from_spec({"kind": "record", "component": "NP99a"})
+    with pytest.raises(InputError, match="not a FEMA P695 component"):
+        excitation_from_spec({"kind": "record", "component": "XY01a"})
+    scene = scene_from_dict({"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
+                             "friction": 0.5, "contact": {"model": "point", "k_n": 1e10},
+                             "excitation": {"kind": "record", "component": "NP03a", "pga": 2.0},
+                             "solver": {"duration": 1.0}})
+    dt, limit, _ = preflight(scene)
+    resolve = 2 * 0.0024 / MIN_STEPS_PER_PERIOD
+    assert dt <= resolve < scene.dt_safety * limit  # the sampling, not the stability, sets dt

@@ -23,6 +23,7 @@ import xarray as xr
 
 from dem.dataset import write_dataset
 from dem.entry import progress_print
+from dem.record_suites import record_file_name
 from dem.search_dataset import search_dataset
 from dem.study import Case, run_case, search_case
 from dem.threshold_search import Run, search, summary
@@ -62,9 +63,10 @@ class CaseStore:
         records = []
         excitation = case.scene.get("excitation") or {}
         for spec in (excitation, excitation.get("vertical") if isinstance(excitation, dict) else None):
-            if isinstance(spec, dict) and isinstance(spec.get("file"), str):
-                path = self.records_dir / f"{spec['file']}.nc"
-                records.append(_file_digest(path) if path.is_file() else spec["file"])
+            name = record_file_name(spec)
+            if name is not None:
+                path = self.records_dir / f"{name}.nc"
+                records.append(_file_digest(path) if path.is_file() else name)
         scene = {k: v for k, v in case.scene.items() if k != "name"}
         text = json.dumps({"scene": scene, "params": case.params, "records": records,
                            "source": source_fingerprint()}, sort_keys=True, default=repr)

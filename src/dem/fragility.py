@@ -97,3 +97,96 @@ def empirical_points(intensities, censored=None):
     x, c = _check(intensities, censored)
     order = np.sort(x[~c])
     return order, np.arange(1, order.size + 1) / x.size
+
+
+
+def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
+    """Lognormal fragility per structure, record set (each suite and all) and limit state, in
+    each intensity measure of the IDA cube (dem.ida.MEASURES: pga, pgv): median theta, beta,
+    their bootstrap bands, and the curve with its band on a grid of the measure."""
+    import xarray as xr
+
+    from dem.ida import MEASURES
+
+    sets = list(dict.fromkeys(str(s) for s in cube.suite.values)) + ["all"]
+    grids = {"pga": np.geomspace(0.1, 100.0, 121), "pgv": np.geomspace(0.01, 10.0, 121)}
+    dims = ("structure", "record_set", "limit_state")
+    shape = (cube.sizes["structure"], len(sets), cube.sizes["limit_state"])
+    ds = xr.Dataset(coords={"structure": cube.structure, "record_set": np.array(sets, dtype=object),
+                            "limit_state": cube.limit_state, "bound": np.array(["lo", "hi"], dtype=object)})
+    ds.coords["record_set"].attrs = {"long_name": "record suite, or all suites together"}
+    ds.coords["bound"].attrs = {"long_name": f"lower and upper end of the bootstrap {level:.0%} band"}
+    for measure, (var, units, label) in MEASURES.items():
+        median = np.full(shape, math.nan)
+        beta = np.full(shape, math.nan)
+        median_band = np.full(shape + (2,), math.nan)
+        beta_band = np.full(shape + (2,), math.nan)
+        n_records = np.zeros(shape, np.int32)
+        n_censored = np.zeros(shape, np.int32)
+        curve = np.full(shape + (grids[measure].size,), math.nan)
+        band = np.full(shape + (2, grids[measure].size), math.nan)
+        for s in range(shape[0]):
+            for r, rset in enumerate(sets):
+                pick = np.ones(cube.sizes["record"], bool) if rset == "all" else (cube.suite.values == rset)
+                for j in range(shape[2]):
+                    c = cube.censored.values[s, pick, j]
+                    x = cube[var].values[s, pick, j]
+                    ok = c >= 0
+                    if ok.sum() < 2 or (c[ok] == 1).all():
+                        continue
+                    try:
+                        fit = fit_lognormal(x[ok], c[ok] == 1)
+                        boot = bootstrap_band(x[ok], c[ok] == 1, grids[measure], samples, level)
+                    except InputError:
+                        continue
+                    at = (s, r, j)
+                    median[at], beta[at] = fit.median, fit.beta
+                    median_band[at], beta_band[at] = boot["theta"], boot["beta"]
+                    n_records[at], n_censored[at] = fit.n, fit.censored
+                    curve[at] = fit.probability(grids[measure])
+                    band[at] = boot["probability"]
+        grid_dim = f"{measure}_grid"
+        ds.coords[grid_dim] = (grid_dim, grids[measure], {"units": units, "long_name": f"{label} of the curves"})
+        ds[f"median_{measure}"] = (dims, median, {"units": units, "long_name":
+                                   f"median {label} theta of the lognormal fragility (MLE)"})
+        ds[f"median_{measure}_band"] = (dims + ("bound",), median_band, {"units": units, "long_name":
+                                        f"bootstrap {level:.0%} band of the median {label}"})
+        ds[f"beta_{measure}"] = (dims, beta, {"units": "1", "long_name":
+                                 f"lognormal dispersion beta in {label} (standard deviation of ln {label})"})
+        ds[f"beta_{measure}_band"] = (dims + ("bound",), beta_band, {"units": "1", "long_name":
+                                      f"bootstrap {level:.0%} band of beta in {label}"})
+        ds[f"probability_{measure}"] = (dims + (grid_dim,), curve, {"units": "1", "long_name":
+                                        f"P(limit state exceeded | {label}), lognormal MLE"})
+        ds[f"probability_{measure}_band"] = (dims + ("bound", grid_dim), band, {"units": "1", "long_name":
+                                             f"bootstrap {level:.0%} band of P(exceeded | {label})"})
+    ds["n_records"] = (dims, n_records, {"units": "1", "long_name": "records fitted"})
+    ds["n_censored"] = (dims, n_censored, {"units": "1", "long_name":
+                        "of which censored (not exceeded up to the search maximum: lower bounds)"})
+    ds.attrs = {"title": "dem fragility curves (lognormal MLE over the IDA cube)",
+                "method": "maximum likelihood, right-censored records as lower bounds (dem.fragility); "
+                          f"percentile bootstrap over records, {samples} resamples",
+                **{k: v for k, v in cube.attrs.items() if k.startswith("limit_state_") or k.startswith("search_")}}
+    return ds
+
+
+def fragility_table(fits) -> list[dict]:
+    """Rows of the fits: structure, record set, limit state, then per measure the median
+    with its band (units in the column names) and beta with its band."""
+    rows = []
+    for s in fits.structure.values:
+        for r in fits.record_set.values:
+            for ls in fits.limit_state.values:
+                f = fits.sel(structure=s, record_set=r, limit_state=ls)
+                if not int(f.n_records):
+                    continue
+                row = {"structure": str(s), "record_set": str(r), "limit_state": str(ls)}
+                for m, units in (("pga", "m_s2"), ("pgv", "m_s")):
+                    lo, hi = (float(v) for v in f[f"median_{m}_band"].values)
+                    row.update({f"median_{m}_{units}": round(float(f[f"median_{m}"]), 4),
+                                f"median_{m}_lo": round(lo, 4), f"median_{m}_hi": round(hi, 4),
+                                f"beta_{m}": round(float(f[f"beta_{m}"]), 3)})
+                    lo, hi = (float(v) for v in f[f"beta_{m}_band"].values)
+                    row.update({f"beta_{m}_lo": round(lo, 3), f"beta_{m}_hi": round(hi, 3)})
+                row.update(n_records=int(f.n_records), n_censored=int(f.n_censored))
+                rows.append(row)
+    return rows

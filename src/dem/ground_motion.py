@@ -217,6 +217,15 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
 
 
 def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    if "file" not in spec and "component" in spec:  # a suite component names its suite (FF07a)
+        from dem.record_suites import SUITES, suite_of
+
+        suite = suite_of(spec["component"])
+        if suite is None:
+            raise InputError(f"{field}.component", f"{shown(repr(spec['component']))} is not a FEMA P695 "
+                             "component name", f"write e.g. FF07a (prefixes {', '.join(p for _, p in SUITES.values())}"
+                             ", record number, a or b), or give file:")
+        spec = {**spec, "file": f"suites/{suite}"}
     if "file" not in spec:
         raise InputError(f"{field}.file", "missing", "give the record file (path or name in records/)")
     if "scale" in spec and "pga" in spec:

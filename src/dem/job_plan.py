@@ -38,22 +38,27 @@ class Job:
 
 
 def plan_jobs(studies: dict[str, list[Case]], records_dir: Path | str = "records",
-              job_seconds: float = JOB_SECONDS) -> list[Job]:
-    """Every study's jobs, the most expensive first (Snakemake priority follows this order)."""
+              job_seconds: float = JOB_SECONDS, search_seconds: float = 0.0) -> list[Job]:
+    """Every study's jobs, the most expensive first (Snakemake priority follows this order).
+
+    ``search_seconds``: threshold searches packed into jobs of about this estimated cost
+    (0: one search a job; the IDA's hundreds of short searches share jobs, so a cluster's
+    scheduler sees tens of jobs, not hundreds)."""
     estimate = CostEstimate(Path(records_dir))
     jobs = []
     for study, cases in studies.items():
         costs = [estimate(case) for case in cases]
-        if cases and cases[0].search is not None:
-            jobs += [Job(f"search_{study}_{k}", study, (case,), cost * SEARCH_RUNS)
-                     for k, (case, cost) in enumerate(zip(cases, costs))]
-            continue
+        search = bool(cases) and cases[0].search is not None
+        if search:
+            costs = [cost * SEARCH_RUNS for cost in costs]
+        limit = search_seconds if search else job_seconds
         chunks: list[list] = [[]]
-        for case, cost in zip(cases, costs):  # consecutive cases up to job_seconds each
-            if chunks[-1] and sum(c for _, c in chunks[-1]) + cost > job_seconds:
+        for case, cost in zip(cases, costs):  # consecutive cases up to the limit each
+            if chunks[-1] and sum(c for _, c in chunks[-1]) + cost > limit:
                 chunks.append([])
             chunks[-1].append((case, cost))
-        jobs += [Job(f"simulate_{study}_{k}", study, tuple(c for c, _ in chunk), sum(c for _, c in chunk))
+        kind = "search" if search else "simulate"
+        jobs += [Job(f"{kind}_{study}_{k}", study, tuple(c for c, _ in chunk), sum(c for _, c in chunk))
                  for k, chunk in enumerate(chunks) if chunk]
     return sorted(jobs, key=lambda job: -job.cost)
 
@@ -112,8 +117,9 @@ def job_priority(jobs: list[Job]) -> dict[str, int]:
 
 def job_summary(jobs: list[Job]) -> str:
     n_cases = sum(len(j.cases) for j in jobs if not j.is_search)
-    n_search = sum(j.is_search for j in jobs)
+    n_search_jobs = sum(j.is_search for j in jobs)
+    n_search = sum(len(j.cases) for j in jobs if j.is_search)
     total = sum(j.cost for j in jobs)
-    return (f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search} jobs, "
-            f"{n_search} threshold searches; ~{total:.0f} s of kernel time estimated "
+    return (f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search_jobs} jobs, "
+            f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time estimated "
             f"(~{math.ceil(total / 60)} min on one core)")

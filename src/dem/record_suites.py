@@ -130,6 +130,26 @@ def write_suite(ds: xr.Dataset, path) -> Path:
     return write_dataset(ds, Path(path), encoding=encoding)
 
 
+def suite_of(component: str) -> str | None:
+    """The suite a component name belongs to (FF07a: far_field), or None."""
+    for suite, (_, prefix) in SUITES.items():
+        rest = component[len(prefix):] if isinstance(component, str) and component.startswith(prefix) else ""
+        if len(rest) == 3 and rest[:2].isdigit() and rest[2] in "ab":
+            return suite
+    return None
+
+
+def record_file_name(spec) -> str | None:
+    """The record a ``kind: record`` excitation reads, as a name in records/: its ``file``, or
+    for a suite component without one, ``suites/<suite>`` (None when neither)."""
+    if not isinstance(spec, dict):
+        return None
+    if isinstance(spec.get("file"), str):
+        return spec["file"]
+    suite = suite_of(spec.get("component"))
+    return f"suites/{suite}" if spec.get("kind") == "record" and suite else None
+
+
 def suite_path(suite: str) -> Path:
     if suite not in SUITES:
         raise InputError("suite", f"unknown record suite {suite!r}", f"use one of {', '.join(SUITES)}")
@@ -142,27 +162,45 @@ def load_suite(suite: str) -> xr.Dataset:
         return ds.load()
 
 
-def read_component(path: Path, name: str, field: str = "excitation"):
-    """(time [s], acceleration [m s-2], meta) of component ``name`` of a suite file; every
-    failure is an InputError naming ``field``."""
-    try:
+_SUITE_MEMO: dict = {}  # (path, size, mtime) -> the suite file's arrays (a job reads each once)
+
+
+def _suite_arrays(path: Path, field: str) -> dict:
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in _SUITE_MEMO:
         with xr.open_dataset(path) as ds:
             if "record" not in ds.dims or "acceleration" not in ds:
                 raise InputError(f"{field}.file", f"{path.name} is not a record suite (no record dimension)",
                                  "give a file of records/suites/, or drop component")
-            names = [str(v) for v in ds.record.values]
-            if name not in names:
-                raise InputError(f"{field}.component", f"{name!r} is not in {path.name}",
-                                 f"use one of {names[0]} ... {names[-1]}")
-            r = ds.isel(record=names.index(name))
-            n, dt = int(r.n_samples), float(r.dt)
-            accel = np.asarray(r.acceleration.values[:n], dtype=float)
-            meta = {"title": f"{r.event.values} {int(r.year)}, {r.station.values}, {r.component.values}",
-                    "event": str(r.event.values), "station": str(r.station.values),
-                    "component": name, "source": ds.attrs.get("source", "")}
-    except (OSError, ValueError) as err:
+            _SUITE_MEMO.clear()  # one suite at a time: a job reads one suite's components in order
+            _SUITE_MEMO[key] = {
+                "names": [str(v) for v in ds.record.values], "acceleration": ds.acceleration.values,
+                "n_samples": ds.n_samples.values, "dt": ds.dt.values, "source": ds.attrs.get("source", ""),
+                **{k: ds[k].values for k in ("event", "year", "station", "component")}}
+    return _SUITE_MEMO[key]
+
+
+def read_component(path: Path, name: str, field: str = "excitation"):
+    """(time [s], acceleration [m s-2], meta) of component ``name`` of a suite file; every
+    failure is an InputError naming ``field``."""
+    try:
+        suite = _suite_arrays(path, field)
+    except InputError:
+        raise
+    except (OSError, ValueError, KeyError) as err:
         raise InputError(f"{field}.file", f"{path.name} is not a readable NetCDF file ({err})",
                          "give a file of records/suites/") from None
+    names = suite["names"]
+    if name not in names:
+        raise InputError(f"{field}.component", f"{name!r} is not in {path.name}",
+                         f"use one of {names[0]} ... {names[-1]}")
+    k = names.index(name)
+    n, dt = int(suite["n_samples"][k]), float(suite["dt"][k])
+    accel = np.asarray(suite["acceleration"][k, :n], dtype=float)
+    meta = {"title": f"{suite['event'][k]} {int(suite['year'][k])}, {suite['station'][k]}, {suite['component'][k]}",
+            "event": str(suite["event"][k]), "station": str(suite["station"][k]),
+            "component": name, "source": suite["source"]}
     return np.arange(n) * dt, accel, meta
 
 

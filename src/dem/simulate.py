@@ -304,10 +304,13 @@ def rigid_motion(scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_fro
 
 
 def choose_time_step(scene: Scene) -> tuple[float, float]:
-    """(dt, stability limit) [s]: the given dt if stable, else dt_safety x the limit when auto."""
+    """(dt, stability limit) [s]: the given dt if stable, else dt_safety x the limit when
+    auto, shortened where needed to resolve the excitation (MIN_STEPS_PER_PERIOD steps in
+    its shortest period: a record sampled at 400 Hz asks for dt <= 0.25 ms)."""
     limit = stability_limit(scene)
     if scene.dt is None:
-        return scene.dt_safety * limit, limit
+        resolve = min(excitation_period(m) for m in (scene.horizontal, scene.vertical)) / MIN_STEPS_PER_PERIOD
+        return min(scene.dt_safety * limit, resolve), limit
     if scene.dt > limit:
         raise InputError("solver.dt", f"{scene.dt:.3g} s exceeds the stability limit {limit:.3g} s "
                          "(2/omega of the stiffest contact on the lightest body)",

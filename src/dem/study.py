@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from dem.errors import InputError
+from dem.record_suites import record_file_name
 from dem.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from dem.structures import EPISTYLE_TYPES
 from dem.threshold_search import SearchSettings
@@ -28,6 +29,7 @@ from dem.threshold_search import SearchSettings
 # name: (scene field, units, long name, id label)
 PARAMETERS = {
     "record": ("excitation.file", "1", "ground-motion record", "rec"),
+    "component": ("excitation.component", "1", "record component of a FEMA P695 suite (records/suites/)", "rec"),
     "pga": ("excitation.pga", "m s-2", "peak ground acceleration of the scaled record", "pga"),
     "pga_scale": ("excitation.scale", "1", "record scale factor", "x"),
     "frequency": ("excitation.frequency", "Hz", "harmonic excitation frequency", "f"),
@@ -283,6 +285,13 @@ def check_value(field: str, key: str, value):
         if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
             raise InputError(field, f"expected a record name, got {value!r}", "give a name listed under records:")
         return value
+    if key == "component":
+        from dem.record_suites import suite_of
+
+        if not isinstance(value, str) or suite_of(value) is None:
+            raise InputError(field, f"expected a FEMA P695 component name, got {value!r}",
+                             "give e.g. FF07a, NP03b, NN12a (records/suites/)")
+        return value
     if key in CHOICES:
         if not isinstance(value, str) or value not in CHOICES[key]:
             raise InputError(field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}")
@@ -460,7 +469,10 @@ class _CaseChecker:
         excitation = scene.get("excitation") or {"kind": "none"}
         readable = True
         for field, spec in (("excitation", excitation), ("excitation.vertical", excitation.get("vertical"))):
-            if isinstance(spec, dict) and spec.get("kind") == "record" and "file" in spec:
+            if isinstance(spec, dict) and spec.get("kind") == "record" and "file" not in spec \
+                    and record_file_name(spec):  # a suite component: records/suites/ is committed
+                readable &= (self.records_dir / f"{record_file_name(spec)}.nc").is_file()
+            elif isinstance(spec, dict) and spec.get("kind") == "record" and "file" in spec:
                 name = spec["file"]
                 if not isinstance(name, str) or name not in self.records:
                     known = ", ".join(self.records) or "none"

@@ -236,3 +236,18 @@ def test_slurm_profile_dry_run():
     proc = snakemake("-n", "--profile", "config/profiles/slurm", "--configfile", "tests/workflow/config.yaml")
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "dry-run" in proc.stdout + proc.stderr
+    assert "search_ida_" not in proc.stdout  # the IDA is planned only when asked for
+
+
+def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
+    # the full IDA on the cluster profile: 428 searches, packed by fragility.job_seconds
+    proc = snakemake("fragility", "-n", "--profile", "config/profiles/slurm")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    jobs = [line.split() for line in proc.stdout.splitlines() if line.startswith("search_ida_")]
+    assert 40 <= len(jobs) <= 150, len(jobs)
+    assert {name.rsplit("_", 1)[0] for name, _ in jobs} == {
+        "search_ida_column_1_drum", "search_ida_column_3_drums", "search_ida_column_8_drums",
+        "search_ida_colonnade_a", "search_ida_block"}
+    quick = snakemake("fragility", "-n", "--configfile", "config/quick.yaml")
+    assert quick.returncode == 0, quick.stderr[-2000:]
+    assert "search_ida_column_1_drum_0" in quick.stdout and "search_ida_colonnade" not in quick.stdout

@@ -5,6 +5,7 @@ from snakemake.utils import validate
 
 import dem.study
 from dem.errors import InputError
+from dem.record_suites import record_file_name
 
 
 def config_flag(key, default):
@@ -42,6 +43,7 @@ def record_params(wildcards):
 
 
 import dem.figures
+import dem.ida
 import dem.job_plan
 import dem.study
 
@@ -58,7 +60,34 @@ FIGURE_NAMES = list(FIGURES)
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
 # jobs sized to their cost (dem.job_plan): cheap cases share a job, each search is one job
 JOBS = dem.job_plan.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
-JOB_PRIORITY = dem.job_plan.job_priority(JOBS)
+
+
+def fragility_requested():
+    """Whether the run asks for the IDA (workflow/rules/fragility.smk: target fragility, its
+    files, or one of its jobs): its 428 searches are planned and their scenes checked
+    (2 s) only then, so the study's own DAG does not pay for them."""
+    targets = getattr(getattr(workflow, "dag_settings", None), "targets", None)
+    return targets is None or any("fragility" in t or "ida_" in t for t in targets)
+
+
+# the IDA over the FEMA P695 suites (config fragility:): a threshold-search study per
+# structure (dem.ida), several searches per job (fragility.job_seconds of estimated work)
+FRAGILITY_STUDIES = {}
+if config.get("fragility") is not None and fragility_requested():
+    try:  # every case checked by the main process; a cluster job only rebuilds the tables
+        if getattr(workflow, "is_main_process", True):
+            tables = dem.ida.check_fragility(config)
+        else:
+            tables = dem.study.config_cases(dem.ida.fragility_config(config))
+        FRAGILITY_STUDIES = {name: {case.id: case for case in cases} for name, cases in tables.items()}
+    except InputError as error:
+        print(f"Bad config: {error}", file=sys.stderr)
+        sys.exit(2)
+FRAGILITY_JOBS = dem.job_plan.plan_jobs(
+    {name: list(cases.values()) for name, cases in FRAGILITY_STUDIES.items()},
+    search_seconds=float(config.get("fragility", {}).get("job_seconds", dem.ida.DEFAULT_JOB_SECONDS)),
+)
+JOB_PRIORITY = dem.job_plan.job_priority(JOBS + FRAGILITY_JOBS)
 
 
 def case_path(case):
@@ -91,7 +120,7 @@ RUN_VALIDATION = config_flag("run_validation", True)
 
 def job_records(job):
     """The record files a job's cases read."""
-    names = {case.scene.get("excitation", {}).get("file") for case in job.cases}
+    names = {record_file_name(case.scene.get("excitation")) for case in job.cases}
     return sorted(f"records/{name}.nc" for name in names if isinstance(name, str))
 
 

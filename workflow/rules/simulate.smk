@@ -23,9 +23,9 @@ for job in JOBS:
             "../scripts/simulate_cases.py"
 
 
-# A threshold search (dem.threshold_search): its runs' case files in one directory, the
-# runs and the bracket in results/searches/<study>/<system>.nc.
-for job in JOBS:
+# Threshold searches (dem.threshold_search), one or more per job: each system's runs' case
+# files in one directory, its runs and bracket in results/searches/<study>/<system>.nc.
+for job in JOBS + FRAGILITY_JOBS:
     if not job.is_search:
         continue
 
@@ -35,10 +35,10 @@ for job in JOBS:
         input:
             job_records(job),
         output:
-            runs=directory(f"results/cases/{job.study}/{job.cases[0].id}"),
-            search=search_path(job.cases[0]),
+            runs=[directory(f"results/cases/{job.study}/{system.id}") for system in job.cases],
+            search=[search_path(system) for system in job.cases],
         params:
-            system=job.cases[0].as_dict(),
+            systems=[system.as_dict() for system in job.cases],
         log:
             f"results/logs/jobs/{job.name}.log",
         priority: JOB_PRIORITY[job.name]

@@ -1,4 +1,4 @@
-"""Snakemake script: one system's collapse-threshold search (dem.case_runner.run_search)."""
+"""Snakemake script: the collapse-threshold searches of one job (dem.case_runner.run_search)."""
 
 import sys
 
@@ -7,4 +7,7 @@ from dem.study import Case
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
 store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
-run_search(Case.from_dict(snakemake.params.system), snakemake.output.runs, snakemake.output.search, store)  # noqa: F821
+systems = snakemake.params.systems  # noqa: F821
+for i, (system, runs, search) in enumerate(zip(systems, snakemake.output.runs, snakemake.output.search)):  # noqa: F821
+    print(f"system {i + 1}/{len(systems)}", file=sys.stderr)
+    run_search(Case.from_dict(system), runs, search, store)

@@ -1,0 +1,80 @@
+# Seismic fragility by incremental dynamic analysis (config fragility:, dem.ida): the
+# searches are jobs of simulate.smk (FRAGILITY_JOBS); here they become the structure x
+# record x limit-state cube, the lognormal fits, the tables and the figures.
+# `snakemake fragility -j2`; not part of `all`.
+FRAGILITY = config.get("fragility") or {}
+FRAGILITY_STRUCTURES = [name[len(dem.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
+FRAGILITY_SEARCHES = [search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()]
+# the single block set against rigid one-sine theory (dem.fragility_checks.pulse_check)
+PULSE_STRUCTURE = FRAGILITY.get("pulse_check") if FRAGILITY.get("pulse_check") in FRAGILITY_STRUCTURES else None
+PULSE_FILE = ["results/fragility/pulse_check.nc"] if PULSE_STRUCTURE else []
+FRAGILITY_OUTPUTS = (
+    [
+        "results/fragility/ida.nc",
+        "results/fragility/fragility.nc",
+        "results/tables/fragility.csv",
+        "results/tables/fragility_checks.csv",
+    ]
+    + PULSE_FILE
+    + [f"results/figures/fragility_{name}.png" for name in FRAGILITY_STRUCTURES]
+    + ["results/figures/fragility_medians.png"]
+)
+
+
+rule fragility:
+    input:
+        FRAGILITY_OUTPUTS,
+
+
+rule ida_cube:
+    input:
+        FRAGILITY_SEARCHES,
+    output:
+        "results/fragility/ida.nc",
+    params:
+        structures={name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES},
+        suites=FRAGILITY.get("suites"),
+    log:
+        "results/logs/fragility/ida_cube.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/ida_cube.py"
+
+
+rule fragility_fits:
+    input:
+        "results/fragility/ida.nc",
+    output:
+        fits="results/fragility/fragility.nc",
+        table="results/tables/fragility.csv",
+        checks="results/tables/fragility_checks.csv",
+        pulse=PULSE_FILE,
+    params:
+        bootstrap=FRAGILITY.get("bootstrap", 1000),
+        structures={name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES},
+        pulse_structure=PULSE_STRUCTURE,
+    log:
+        "results/logs/fragility/fragility_fits.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/fragility_fits.py"
+
+
+rule fragility_figures:
+    input:
+        cube="results/fragility/ida.nc",
+        fits="results/fragility/fragility.nc",
+        pulse=PULSE_FILE,
+    output:
+        curves=[f"results/figures/fragility_{name}.png" for name in FRAGILITY_STRUCTURES],
+        medians="results/figures/fragility_medians.png",
+    params:
+        structures=FRAGILITY_STRUCTURES,
+    log:
+        "results/logs/fragility/fragility_figures.log",
+    conda:
+        "../envs/dem.yaml"
+    script:
+        "../scripts/fragility_figures.py"

@@ -1,0 +1,27 @@
+"""Snakemake script: the IDA cube -> lognormal fits, their table, the physics checks
+(dem.fragility.fragility_dataset, dem.fragility_checks)."""
+
+import sys
+
+import xarray as xr
+
+from dem.dataset import write_dataset
+from dem.fragility import fragility_dataset, fragility_table
+from dem.fragility_checks import ordering_checks, pulse_check, pulse_rows
+from dem.reduce import write_csv
+
+sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+params, output = snakemake.params, snakemake.output  # noqa: F821
+with xr.open_dataset(snakemake.input[0]) as cube:  # noqa: F821
+    cube = cube.load()
+fits = fragility_dataset(cube, samples=params.bootstrap)
+write_dataset(fits, output.fits)
+write_csv(fragility_table(fits), output.table)
+rows = ordering_checks(cube, fits, params.structures)
+if params.pulse_structure:
+    check = pulse_check(cube, params.pulse_structure, params.structures[params.pulse_structure]["structure"])
+    write_dataset(check, output.pulse[0])
+    rows += pulse_rows(check)
+write_csv(rows, output.checks)
+for row in rows:
+    print(f"{row['check']}: {row['subject']}: {row['measured']} -> {row['holds']}", file=sys.stderr)

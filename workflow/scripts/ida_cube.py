@@ -1,0 +1,12 @@
+"""Snakemake script: the fragility searches -> the IDA cube (dem.ida.ida_cube)."""
+
+import sys
+
+from dem.dataset import write_dataset
+from dem.ida import ida_cube
+
+sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+cube = ida_cube(list(snakemake.input), snakemake.params.structures, snakemake.params.suites)  # noqa: F821
+write_dataset(cube, snakemake.output[0])  # noqa: F821
+print(f"{cube.sizes['structure']} structures x {cube.sizes['record']} records, "
+      f"{cube.attrs['n_simulations']} simulations", file=sys.stderr)

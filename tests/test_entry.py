@@ -159,12 +159,20 @@ def column(**changes):
     ({"solver": {"duration": 1e9}}, "solver.duration"),
     ({"solver": {"duration": 3000.0, "dt_safety": 1e-3}}, "solver.duration"),
     ({"solver": {"dt_safety": 1e-9}}, "solver.duration"),
-    ({"excitation": {"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0}}, "solver.dt"),
+    # a given dt that reads an 800 Hz harmonic 12.5 times a period (dt: auto would resolve it)
+    ({"excitation": {"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0}, "solver": {"dt": 1e-4}},
+     "solver.dt"),
     ({"output": {"every": 1e-7}, "solver": {"duration": 3.0}}, "output.every"),
 ])
 def test_preflight_refuses_absurd_requests(changes, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         preflight(scene_from_dict(column(**changes)))
+
+
+def test_auto_dt_resolves_a_fast_excitation():
+    scene = scene_from_dict(column(excitation={"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0}))
+    dt, limit, _ = preflight(scene)
+    assert dt <= 1 / 800.0 / MIN_STEPS_PER_PERIOD < scene.dt_safety * limit
 
 
 def test_preflight_limits_are_stated():

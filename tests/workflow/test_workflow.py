@@ -240,14 +240,17 @@ def test_slurm_profile_dry_run():
 
 
 def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
-    # the full IDA on the cluster profile: 428 searches, packed by fragility.job_seconds
-    proc = snakemake("fragility", "-n", "--profile", "config/profiles/slurm")
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-    jobs = [line.split() for line in proc.stdout.splitlines() if line.startswith("search_ida_")]
-    assert 40 <= len(jobs) <= 150, len(jobs)
-    assert {name.rsplit("_", 1)[0] for name, _ in jobs} == {
-        "search_ida_column_1_drum", "search_ida_column_3_drums", "search_ida_column_8_drums",
-        "search_ida_colonnade_a", "search_ida_block"}
-    quick = snakemake("fragility", "-n", "--configfile", "config/quick.yaml")
-    assert quick.returncode == 0, quick.stderr[-2000:]
-    assert "search_ida_column_1_drum_0" in quick.stdout and "search_ida_colonnade" not in quick.stdout
+    # the full IDA's plan: 428 searches packed by fragility.job_seconds into tens of jobs
+    from dem.ida import fragility_config
+    from dem.job_plan import plan_jobs
+    from dem.study import config_cases, load_config
+
+    studies = config_cases(fragility_config(load_config(ROOT / "config" / "config.yaml")))
+    assert sum(len(cases) for cases in studies.values()) == 428
+    jobs = plan_jobs(studies, ROOT / "records", search_seconds=300.0)
+    assert 40 <= len(jobs) <= 150 and all(job.is_search for job in jobs), len(jobs)
+    # the quick profile on the cluster profile: one structure, four records, nothing else
+    proc = snakemake("fragility", "-n", "--profile", "config/profiles/slurm", "--configfile", "config/quick.yaml")
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0, out[-2000:]
+    assert "search_ida_column_1_drum_0" in out and "search_ida_colonnade" not in out and "simulate_" not in out

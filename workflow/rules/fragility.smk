@@ -68,8 +68,21 @@ rule fragility_figures:
         fits="results/fragility/fragility.nc",
         pulse=PULSE_FILE,
     output:
-        curves=[f"results/figures/fragility_{name}.png" for name in FRAGILITY_STRUCTURES],
-        medians="results/figures/fragility_medians.png",
+        curves=[
+            report(
+                f"results/figures/fragility_{name}.png",
+                caption="../report/fragility_curves.rst",
+                category="Fragility (IDA over the FEMA P695 suites)",
+                labels={"figure": f"fragility of {name}"},
+            )
+            for name in FRAGILITY_STRUCTURES
+        ],
+        medians=report(
+            "results/figures/fragility_medians.png",
+            caption="../report/fragility_medians.rst",
+            category="Fragility (IDA over the FEMA P695 suites)",
+            labels={"figure": "collapse medians and the pulse check"},
+        ),
     params:
         structures=FRAGILITY_STRUCTURES,
     log:

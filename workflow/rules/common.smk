@@ -62,12 +62,21 @@ SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c 
 JOBS = dem.job_plan.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
 
 
+def requested_targets():
+    """The run's targets as far as they are known while the Snakefile is parsed: Snakemake
+    sets its DAG settings only after parsing, so the command line's words that are not
+    options (an option's value may slip in: harmless, it only plans more)."""
+    targets = getattr(getattr(workflow, "dag_settings", None), "targets", None)
+    if targets is None:
+        targets = [word for word in sys.argv[1:] if not word.startswith("-")]
+    return list(targets)
+
+
 def fragility_requested():
     """Whether the run asks for the IDA (workflow/rules/fragility.smk: target fragility, its
-    files, or one of its jobs): its 428 searches are planned and their scenes checked
-    (2 s) only then, so the study's own DAG does not pay for them."""
-    targets = getattr(getattr(workflow, "dag_settings", None), "targets", None)
-    return targets is None or any("fragility" in t or "ida_" in t for t in targets)
+    files, or one of its jobs, whose names hold ida_): its 428 searches are planned and
+    their scenes checked (2 s) only then, so the study's own DAG does not pay for them."""
+    return any("fragility" in t or "ida_" in t for t in requested_targets())
 
 
 # the IDA over the FEMA P695 suites (config fragility:): a threshold-search study per

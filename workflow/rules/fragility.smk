@@ -3,6 +3,10 @@
 # record x limit-state cube, the lognormal fits, the tables and the figures.
 # `snakemake fragility -j2`; not part of `all`.
 FRAGILITY = config.get("fragility") or {}
+if not FRAGILITY and fragility_requested():
+    print("Bad config: fragility: missing; add a fragility: section with structures (see config/config.yaml)",
+          file=sys.stderr)
+    sys.exit(2)
 FRAGILITY_STRUCTURES = [name[len(dem.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
 FRAGILITY_SEARCHES = [search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()]
 # the single block set against rigid one-sine theory (dem.fragility_checks.pulse_check)

@@ -23,6 +23,7 @@ import xarray as xr
 
 from dem.errors import InputError
 from dem.record_suites import SUITES, suite_path
+from dem.scene import check_keys
 
 STUDY_PREFIX = "ida_"
 FRAGILITY_KEYS = ("description", "structures", "suites", "components", "run_structures", "search",
@@ -80,12 +81,7 @@ def fragility_studies(config: dict) -> dict[str, dict]:
     if spec is None:
         return {}
     where = "fragility"
-    if not isinstance(spec, dict):
-        raise InputError(where, f"expected a mapping, got {type(spec).__name__}",
-                         "write fragility: {structures: {...}, suites: [far_field, ...]}")
-    for key in spec:
-        if key not in FRAGILITY_KEYS:
-            raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(FRAGILITY_KEYS)}")
+    check_keys(spec, FRAGILITY_KEYS, where)
     structures = spec.get("structures")
     if not isinstance(structures, dict) or not structures:
         raise InputError(f"{where}.structures", "expected a mapping of structures",
@@ -103,9 +99,10 @@ def fragility_studies(config: dict) -> dict[str, dict]:
             raise InputError(f"{where}.{key}", f"expected a number {low:g} ... {high:g}, got {value!r}",
                              f"give e.g. {key}: {DEFAULT_JOB_SECONDS:g}" if key == "job_seconds" else
                              f"give e.g. {key}: 1000")
+    every = suite_components(list(SUITES))  # {component: suite}, each suite file read once
     if components is not None:
-        every = suite_components(list(SUITES))
-        for i, name in enumerate(_names(components, f"{where}.components", None, "components")):
+        components = _names(components, f"{where}.components", None, "components")
+        for i, name in enumerate(components):
             if name not in every:
                 raise InputError(f"{where}.components[{i}]", f"{name!r} is not a FEMA P695 component",
                                  "use names of records/suites/, e.g. FF01a, NP01b, NN15a")
@@ -114,19 +111,9 @@ def fragility_studies(config: dict) -> dict[str, dict]:
     for name in chosen:
         body = structures[name]
         place = f"{where}.structures.{name}"
-        if not isinstance(body, dict):
-            raise InputError(place, f"expected a mapping, got {type(body).__name__}",
-                             "write {structure: {kind: column, ...}, friction: 0.485}")
-        for key in body:
-            if key not in STRUCTURE_KEYS:
-                raise InputError(f"{place}.{key}", "unknown key", f"allowed keys: {', '.join(STRUCTURE_KEYS)}")
+        check_keys(body, STRUCTURE_KEYS, place)
         own = _suites(body.get("suites", suites), f"{place}.suites")
-        available = suite_components(own)
-        if components is None:
-            names = list(available)
-        else:
-            names = _names(components, f"{where}.components", None, "components")
-            names = [n for n in names if n in available]
+        names = [n for n in (every if components is None else components) if every[n] in own]
         if not names:
             raise InputError(f"{where}.components", f"no component of {name}'s suites ({', '.join(own)})",
                              "name components of the structure's suites, e.g. FF01a")

@@ -185,7 +185,9 @@ def _list_index(node: list, part: str, key: str) -> int:
     raise InputError(f"--set {key}", f"no list item '{part}'", "use an index or a body name")
 
 
-def _check_keys(mapping, allowed, where: str) -> None:
+def check_keys(mapping, allowed, where: str) -> None:
+    """``mapping`` is a mapping whose keys are all in ``allowed``, or an InputError naming
+    ``where`` (or ``where.key``)."""
     if not isinstance(mapping, dict):
         raise InputError(where, f"expected a mapping, got {type(mapping).__name__}",
                          f"allowed keys: {', '.join(allowed)}")
@@ -218,7 +220,7 @@ def _integer(value, field: str, minimum: int) -> int:
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
     spec = copy.deepcopy(spec)
-    _check_keys(spec, TOP_KEYS, "")
+    check_keys(spec, TOP_KEYS, "")
     depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
     density = check_number(spec.get("density", 2000.0), "density", positive=True)
     gravity = check_number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
@@ -246,7 +248,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
     contact_spec = _mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e10}")
-    _check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
+    check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
     # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
     # for the thesis' law before the point law became the default keeps its meaning)
     model = contact_spec.get("model", "area" if "c_n" in contact_spec else CONTACT_DEFAULTS["model"])
@@ -288,7 +290,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
                          "write interface_friction: [{bodies: [a, b], mu: 0.6}]")
     for i, item in enumerate(interface_friction):
         where = f"interface_friction[{i}]"
-        _check_keys(item, ("bodies", "mu"), where)
+        check_keys(item, ("bodies", "mu"), where)
         pair = item.get("bodies")
         if not isinstance(pair, list) or len(pair) != 2:
             raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
@@ -299,7 +301,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         pair_friction[tuple(sorted(pair))] = check_number(item.get("mu"), f"{where}.mu", nonnegative=True)
 
     solver = {**SOLVER_DEFAULTS, **_mapping(spec, "solver", "write solver: {duration: 10}")}
-    _check_keys(solver, SOLVER_DEFAULTS, "solver")
+    check_keys(solver, SOLVER_DEFAULTS, "solver")
     if solver["duration"] is None:
         raise InputError("solver.duration", "missing", "give the simulated time in s")
     duration = check_number(solver["duration"], "solver.duration", positive=True)
@@ -313,7 +315,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         if not isinstance(solver[key], bool):
             raise InputError(f"solver.{key}", "expected true or false", "write true or false")
     output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
-    _check_keys(output, OUTPUT_DEFAULTS, "output")
+    check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
 
     excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
@@ -338,7 +340,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
 
 def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     where = f"bodies[{index}]"
-    _check_keys(spec, BODY_KEYS, where)
+    check_keys(spec, BODY_KEYS, where)
     name = spec.get("name", f"body{index}")
     if not isinstance(name, str) or not name or not name.isprintable() or len(name) > 200:
         raise InputError(f"{where}.name", f"expected a short printable name, got {name!r:.60}",
@@ -348,7 +350,7 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
     if "box" in spec:
         box = spec["box"]
-        _check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
+        check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
         width = check_number(box.get("width"), f"{where}.box.width", positive=True)
         height = check_number(box.get("height"), f"{where}.box.height", positive=True)
         center = box.get("center", [0.0, 0.0])
@@ -359,7 +361,7 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         vertices = geometry.box_vertices(width, height, center, angle)
     else:
         poly = spec["polygon"]
-        _check_keys(poly, ("vertices",), f"{where}.polygon")
+        check_keys(poly, ("vertices",), f"{where}.polygon")
         raw = poly.get("vertices")
         if not isinstance(raw, list) or len(raw) < 3:
             raise InputError(f"{where}.polygon.vertices", "need at least 3 [x, y] vertices",
@@ -414,7 +416,7 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     tilt_angle, tilt_pivot = 0.0, geometry.centroid(vertices)
     if "tilt" in spec:
         tilt = spec["tilt"]
-        _check_keys(tilt, ("angle", "about"), f"{where}.tilt")
+        check_keys(tilt, ("angle", "about"), f"{where}.tilt")
         angle = check_number(tilt.get("angle"), f"{where}.tilt.angle")
         tilt_angle, tilt_pivot = _tilt(vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about")
         if driven:

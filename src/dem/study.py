@@ -469,15 +469,17 @@ class _CaseChecker:
         excitation = scene.get("excitation") or {"kind": "none"}
         readable = True
         for field, spec in (("excitation", excitation), ("excitation.vertical", excitation.get("vertical"))):
-            if isinstance(spec, dict) and spec.get("kind") == "record" and "file" not in spec \
-                    and record_file_name(spec):  # a suite component: records/suites/ is committed
-                readable &= (self.records_dir / f"{record_file_name(spec)}.nc").is_file()
-            elif isinstance(spec, dict) and spec.get("kind") == "record" and "file" in spec:
+            if not isinstance(spec, dict) or spec.get("kind") != "record":
+                continue
+            if "file" in spec:
                 name = spec["file"]
                 if not isinstance(name, str) or name not in self.records:
                     known = ", ".join(self.records) or "none"
                     fail(InputError(f"{field}.file", f"unknown record {name!r}",
                                     f"use a name listed under records: ({known})"))
+            else:  # a suite component: records/suites/ is committed, not listed under records:
+                name = record_file_name(spec)
+            if name is not None:
                 readable &= (self.records_dir / f"{name}.nc").is_file()
         motions = None
         if readable:  # else extracted by the workflow before its cases run (extract_records)

@@ -8,6 +8,8 @@ if not FRAGILITY and fragility_requested():
           file=sys.stderr)
     sys.exit(2)
 FRAGILITY_STRUCTURES = [name[len(dem.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
+# the searched structures' config entries (drum width, kind: the cube and the checks read them)
+FRAGILITY_SPECS = {name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES}
 FRAGILITY_SEARCHES = [search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()]
 # the single block set against rigid one-sine theory (dem.fragility_checks.pulse_check)
 PULSE_STRUCTURE = FRAGILITY.get("pulse_check") if FRAGILITY.get("pulse_check") in FRAGILITY_STRUCTURES else None
@@ -36,7 +38,7 @@ rule ida_cube:
     output:
         "results/fragility/ida.nc",
     params:
-        structures={name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES},
+        structures=FRAGILITY_SPECS,
         suites=FRAGILITY.get("suites"),
     log:
         "results/logs/fragility/ida_cube.log",
@@ -56,7 +58,7 @@ rule fragility_fits:
         pulse=PULSE_FILE,
     params:
         bootstrap=FRAGILITY.get("bootstrap", 1000),
-        structures={name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES},
+        structures=FRAGILITY_SPECS,
         pulse_structure=PULSE_STRUCTURE,
     log:
         "results/logs/fragility/fragility_fits.log",

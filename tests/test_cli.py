@@ -36,3 +36,17 @@ def test_bad_input_one_line_nonzero_exit_no_output(tmp_path):
 def test_missing_scene_file():
     proc = dem("run", "nope.yaml", "-o", "x.nc")
     assert proc.returncode == 2 and "not found" in proc.stderr
+
+
+def test_validate_list_describes_every_validation():
+    proc = dem("validate", "--list")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.strip().splitlines()
+    from dem.validation import VALIDATIONS
+
+    assert [line.split()[0] for line in lines] == list(VALIDATIONS)
+    for line in lines:
+        name, text = line.split(None, 1)
+        assert "partial(" not in text and text.endswith("."), line
+        if name.endswith("_point"):
+            assert line.endswith("; point law."), line

@@ -125,7 +125,7 @@ def command_validate(args) -> int:
 
     if args.list:
         for name, func in validation.VALIDATIONS.items():
-            print(f"{name:20s} {func.__doc__.splitlines()[0]}")
+            print(f"{name:26s} {func.__doc__.splitlines()[0]}")
         return 0
     if args.output.exists() and not args.output.is_dir():
         raise InputError("-o/--output", f"{args.output} is a file", "give a folder for the validation outputs")

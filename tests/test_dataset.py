@@ -43,3 +43,32 @@ def test_failed_write_leaves_no_file(tmp_path, rocking_dataset):
     with pytest.raises(Exception):
         write_dataset(bad, target)
     assert not target.exists() and list(tmp_path.iterdir()) == []
+
+
+HARMONIC_8_DRUMS = {  # a study case (harmonic_frequency, 20 Hz x 0.25 m) that drifts 1.7 % at dt_safety 1.0
+    "name": "drift", "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
+    "density": 2000.0, "friction": 0.48, "contact": {"model": "point", "k_n": 1.0e10},
+    "excitation": {"kind": "harmonic", "frequency": 20.0, "amplitude": 0.25},
+    "solver": {"duration": 10.0, "dt": "auto", "dt_safety": 1.0}, "output": {"every": 0.01},
+}
+
+
+def test_auto_step_is_halved_when_the_energy_balance_drifts():
+    from dem.scene import scene_from_dict
+
+    ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
+    assert ds.attrs["dt_safety_requested"] == 1.0
+    assert ds.attrs["dt_halvings"] >= 1 and ds.attrs["dt_safety"] == 1.0 / 2 ** ds.attrs["dt_halvings"]
+    assert ds.attrs["status"] != "energy balance error"
+    assert ds.attrs["energy_error"] <= ds.attrs["energy_error_limit"]
+
+
+def test_a_given_step_is_never_changed():
+    from dem.scene import scene_from_dict
+    from dem.simulate import simulate
+
+    dt = simulate(scene_from_dict(HARMONIC_8_DRUMS)).dt  # the automatic step at dt_safety 1.0
+    spec = {**HARMONIC_8_DRUMS, "solver": {**HARMONIC_8_DRUMS["solver"], "dt": dt}}
+    ds = run_scene(scene_from_dict(spec))
+    assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt"] == dt
+    assert ds.attrs["status"] == "energy balance error"  # reported, not hidden

@@ -61,6 +61,9 @@ def test_interface_friction_overrides_pair():
 @pytest.mark.parametrize("mutate, field", [
     (lambda s: s.update(bogus=1), "bogus"),
     (lambda s: s["contact"].update(k_x=1), "contact.k_x"),
+    (lambda s: s["contact"].update(model="point", frame="thesis", k_n=1e10) or s["contact"].pop("c_n", None),
+     "contact.frame"),
+    (lambda s: s["contact"].update(model="area", frame="faces"), "contact.frame"),
     (lambda s: s["bodies"][1].update(mass=-1.0), "mass"),
     (lambda s: s["bodies"][1].update(mass=0.0), "mass"),
     (lambda s: s.update(density=0.0), "density"),

@@ -27,7 +27,8 @@ from dem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 from dem.scene import Scene, box_pairs, initial_pose, posed_vertices
 
 
-FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS}
+# "faces": the point law's own frame (dem.kernels.point_contact), which ignores frame_rule
+FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS, "faces": FRAME_BOUNDARY}
 CONTACT_MODELS = {"area": step.CONTACT_AREA, "point": step.CONTACT_POINT}
 
 

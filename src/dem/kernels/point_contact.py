@@ -216,7 +216,8 @@ def point_contact_forces(
     a fraction of critical, zeta [1]; body_mass, body_inertia (n_body,) [kg], [kg m2];
     impact: if true, an end that starts to touch lands plastically (:func:`plastic_impulse`)
     and the depth it reached within that step is forgiven (a plastic offset that only
-    shrinks), so the landing neither bounces nor depends on dt.
+    shrinks), so the landing neither bounces nor depends on dt. frame_rule is not used (the
+    frame comes from the contact faces); it is taken so both laws share one signature.
     Returns (n_contact, stored elastic energy [J], evaluated only when want_energy).
     """
     n_contact = 0

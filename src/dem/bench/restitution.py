@@ -72,7 +72,7 @@ from dem.bench.ours import critical_damping
 from dem.dataset import code_version, write_dataset
 from dem.kernels import step
 from dem.measures import rocking_bodies
-from dem.scene import CONTACT_DEFAULTS, Scene, scene_from_dict
+from dem.scene import CONTACT_DEFAULTS, DT_SAFETY, Scene, scene_from_dict
 from dem.simulate import simulate
 from dem.structures import build_structure
 from dem.study import config_cases, load_config
@@ -456,7 +456,9 @@ def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
             "n_impacts": n_impacts, "theta0_over_alpha": THETA0_RATIO, "min_fraction": MIN_FRACTION,
             "output_interval": SAMPLE_EVERY, "output_interval_units": "s",
-            "dt_mode": "auto", "dt_safety": 0.25, "integrator": "central difference (leapfrog form)",
+            "dt_mode": "auto",
+            "dt_safety": ", ".join(f"{law} {value:g}" for law, value in DT_SAFETY.items()) + " (the engine's auto, per law)",
+            "integrator": "central difference (leapfrog form)",
             "excitation": "none (free rocking on a fixed base)", "depth": 1.0, "gravity": analytic.G,
             "housner_energy_ratio_monolith": analytic.housner_restitution(monolith.width, monolith.height),
             "monolith": f"{monolith.width:g} x {monolith.height:g} m, density {monolith.density:g} kg m-3",

@@ -58,7 +58,7 @@ def run_scene(scene: Scene, progress: bool = False) -> xr.Dataset:
                              f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
         checks = run_checks(scene, result)
         # an automatic step whose run drifts past the energy tolerance is halved and the run
-        # repeated (README "Contact laws": the study's dt_safety 1.0 drifts > 1 % in 3 of 532 runs)
+        # repeated (README "Contact laws": the study's dt_safety 1.0 drifts > 1 % in 3 of 521 runs)
         if scene.dt is not None or checks["status"] != "energy balance error" or retry == ENERGY_RETRIES:
             break
         scene = dataclasses.replace(scene, dt_safety=0.5 * scene.dt_safety)

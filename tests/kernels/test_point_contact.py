@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
-from dem.kernels.point_contact import plastic_impulse, point_contact_forces
+from dem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces
 
 K_N = 1e9
 
@@ -82,3 +82,31 @@ def test_plastic_impulse_stops_the_landing_corner_and_books_the_loss():
     def h_corner(v_x, v_y, w):
         return inertia[1] * w + mass[1] * ((bx[1] - px) * v_y - (by[1] - py) * v_x)
     assert h_corner(vx[1], vy[1], om[1]) == pytest.approx(h_corner(0.0, -0.2, 1.0), rel=1e-12)
+
+
+def square(cx, cy, half=0.5, angle=0.0):
+    """Counter-clockwise vertices (x, y) of a square of side 2 half centred at (cx, cy)."""
+    c, s = math.cos(angle), math.sin(angle)
+    local = [(-half, -half), (half, -half), (half, half), (-half, half)]
+    return (np.array([cx + c * x - s * y for x, y in local]), np.array([cy + s * x + c * y for x, y in local]))
+
+
+def test_deepest_face_finds_the_overlap_depth_and_the_separating_axis():
+    ax, ay = square(0.0, 0.0)
+    # b sits 0.1 m into a's top face (edge 2: (0.5, 0.5) -> (-0.5, 0.5), outward normal +y)
+    bx, by = square(0.0, 0.9)
+    sep, k = deepest_face(ax, ay, bx, by)
+    assert k == 2 and sep == pytest.approx(-0.1, abs=1e-12)
+    # ... and a sits 0.1 m into b's bottom face (edge 0)
+    sep, k = deepest_face(bx, by, ax, ay)
+    assert k == 0 and sep == pytest.approx(-0.1, abs=1e-12)
+    # 0.2 m apart sideways: a's right face (edge 1) separates them by 0.2
+    bx, by = square(1.2, 0.0)
+    sep, k = deepest_face(ax, ay, bx, by)
+    assert k == 1 and sep == pytest.approx(0.2, abs=1e-12)
+    # a corner of a tilted b dips 1 mm into a's top face
+    tilt = 0.05
+    dip = 0.5 * math.sqrt(2.0) * math.cos(math.pi / 4 - tilt)  # centre to lowest corner, vertically
+    bx, by = square(0.3, 0.5 + dip - 1e-3, angle=tilt)
+    sep, k = deepest_face(ax, ay, bx, by)
+    assert k == 2 and sep == pytest.approx(-1e-3, abs=1e-12)

@@ -72,3 +72,13 @@ def test_a_given_step_is_never_changed():
     ds = run_scene(scene_from_dict(spec))
     assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt"] == dt
     assert ds.attrs["status"] == "energy balance error"  # reported, not hidden
+
+
+def test_no_repeat_beyond_the_engines_step_limit(monkeypatch):
+    import dem.simulate
+    from dem.scene import scene_from_dict
+
+    monkeypatch.setattr(dem.simulate, "MAX_STEPS", 60000)  # the run takes 58,000 steps, its repeat 116,000
+    ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
+    assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt_safety"] == 1.0
+    assert ds.attrs["status"] == "energy balance error"

@@ -268,14 +268,17 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
     k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
-    # the point law takes its frame from its two contact faces (dem.kernels.point_contact)
-    # ("boundary" is what files written before that recorded for it)
-    if model == "point" and contact_spec.get("frame", "faces") not in ("faces", "boundary"):
-        raise InputError("contact.frame", "the point model's frame is its contact faces'",
-                         "drop contact.frame, or set contact.model: area")
-    frame = contact_spec.get("frame", "boundary") if model == "area" else "faces"
-    if model == "area" and (not isinstance(frame, str) or frame not in ("boundary", "thesis")):
-        raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
+    if model == "point":
+        # the point law takes its frame from its two contact faces (dem.kernels.point_contact);
+        # "boundary" is what files written before that recorded for it
+        if contact_spec.get("frame", "faces") not in ("faces", "boundary"):
+            raise InputError("contact.frame", "the point model's frame is its contact faces'",
+                             "drop contact.frame, or set contact.model: area")
+        frame = "faces"
+    else:
+        frame = contact_spec.get("frame", "boundary")
+        if not isinstance(frame, str) or frame not in ("boundary", "thesis"):
+            raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
     impact = contact_spec.get("impact", defaults.get("impact", "none"))
     if not isinstance(impact, str) or impact not in ("plastic", "none"):
         raise InputError("contact.impact", f"unknown impact rule {impact!r}",

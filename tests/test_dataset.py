@@ -82,3 +82,49 @@ def test_no_repeat_beyond_the_engines_step_limit(monkeypatch):
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt_safety"] == 1.0
     assert ds.attrs["status"] == "energy balance error"
+
+
+ROCKING_BLOCK = {  # a 1 x 6 m block tipped by a ramp; the engine's defaults otherwise
+    "name": "tip", "structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
+    "friction": 0.485, "excitation": {"kind": "ramp", "rate": 0.5}, "solver": {"duration": 1.0},
+}
+
+
+def _diverging_first(monkeypatch, n_diverged):
+    """dem.dataset.simulate whose first n_diverged runs report NaN (the engine's status), then run."""
+    import dataclasses
+
+    import dem.dataset
+    from dem.kernels import step
+
+    real, calls = dem.dataset.simulate, []
+
+    def simulate(scene, progress=False):
+        calls.append(scene.dt_safety)
+        result = real(scene, progress=progress)
+        return dataclasses.replace(result, status=step.STATUS_NONFINITE) if len(calls) <= n_diverged else result
+    monkeypatch.setattr(dem.dataset, "simulate", simulate)
+    return calls
+
+
+def test_a_diverged_auto_step_is_halved(monkeypatch):
+    from dem.scene import scene_from_dict
+
+    calls = _diverging_first(monkeypatch, 1)
+    ds = run_scene(scene_from_dict(ROCKING_BLOCK))
+    assert calls == [1.0, 0.5] and ds.attrs["dt_halvings"] == 1 and ds.attrs["dt_safety"] == 0.5
+
+
+def test_a_run_that_diverges_at_every_step_tried_is_an_error(monkeypatch):
+    from dem.errors import InputError
+    from dem.scene import scene_from_dict
+
+    calls = _diverging_first(monkeypatch, 3)
+    with pytest.raises(InputError, match="diverged"):
+        run_scene(scene_from_dict(ROCKING_BLOCK))
+    assert calls == [1.0, 0.5, 0.25]
+    calls.clear()
+    given = {**ROCKING_BLOCK, "solver": {"duration": 1.0, "dt": 1e-5}}
+    with pytest.raises(InputError, match="diverged"):
+        run_scene(scene_from_dict(given))
+    assert calls == [1.0]  # a given dt is run once (its dt_safety is not used)

@@ -11,14 +11,16 @@ from dem.schema import missing_metadata
 from dem.simulate import simulate
 
 POINT_VALIDATIONS = [name for name in validation.VALIDATIONS if name.endswith("_point")]
-# one_sine_overturning_point (30-60 s) is checked at two pulses by tests/test_validation_one_sine.py;
-# its full run misses at omega_p/p = 8 (+50.3 % on 0.5 x 2 m, +1.5 % on 1 x 6 m; README)
+# one_sine_overturning_point (20-40 s) is checked at three pulses by tests/test_validation_one_sine.py;
+# its full run is within 0.29 % everywhere (worst: omega_p/p = 8 on 0.5 x 2 m; README)
 FULL_RUNS = [name for name in POINT_VALIDATIONS if name != "one_sine_overturning_point"]
-# measured at k_n = 1e10 N/m2 (dem.validation.POINT_CONTACT): the peak of the 1 x 6 m column
-# under MUL009 x 0.6 is 11.6 % below the rigid rocking equation (k_n x 0.95: +6.4 %,
-# x 1.05: +31 %: multi-impact rocking under this record is that sensitive); the area law
-# with its calibrated dashpot is within 5 % at this scale only
-KNOWN_MISSES = {"record_rocking_point": "peak -11.6 % against the rigid rocking equation (tolerance 5 %)"}
+# measured with the engine's defaults (dem.validation.POINT_CONTACT: k_n 1e11, dt_safety 1.0):
+# the peak of the 1 x 6 m column under MUL009 x 0.6 is 39.9 % above the rigid rocking
+# equation (k_n x 0.95: +11.9 %, x 1.05: +11.5 %; dt_safety 0.5: +6.9 %, 0.25: +15.0 %;
+# at k_n 1e10 it was -11.6 %): multi-impact rocking near this scale is that sensitive. The
+# other four scales are within 5 % at 1.0 (not 0.9 at 0.5 and 0.25: +81 %, +14 %); the
+# area law with its calibrated dashpot is within 5 % at this scale only
+KNOWN_MISSES = {"record_rocking_point": "peak +39.9 % against the rigid rocking equation (tolerance 5 %)"}
 
 
 @pytest.mark.parametrize("name", [
@@ -62,6 +64,8 @@ def _rigid_ramp_overturning(rate=0.5):
 def test_ramp_overturning_of_the_6_x_1_column_is_the_rigid_limit_with_point_contacts():
     rigid = _rigid_ramp_overturning()
     assert rigid == pytest.approx(2.5205, rel=1e-3)
-    # measured: point 2.5205 (+0.002 %), area 2.395 (-5.0 %) at k_n = 1e10 N/m2
+    # measured (rigid 2.52045): point 2.5200 (-0.02 %) at k_n = 1e10 (the study's) and 2.5205
+    # (+0.002 %) with the engine's defaults (1e11); area 2.395 (-5.0 %) at k_n = 1e10 N/m2
     assert _ramp_overturning({"model": "point", "k_n": 1e10}) == pytest.approx(rigid, rel=1e-3)
+    assert _ramp_overturning({}) == pytest.approx(rigid, rel=1e-3)
     assert _ramp_overturning({"model": "area", "k_n": 1e10, "c_n": 1e4}) < 0.96 * rigid

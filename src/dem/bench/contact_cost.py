@@ -3,8 +3,9 @@
 The scene is a row of free-standing multi-drum columns side by side with small gaps (a
 "wall of drums") on one driven base, under a harmonic base motion strong enough to rock
 them, so contacts open and close and the broad phase re-sweeps. The contact law is the
-point law with its scene defaults (point contacts at the face ends with Housner's plastic
-landing, ``contact.model: point``, k_n = 1e10 N/m2, zeta = 0.05); ``--model area`` times the
+point law as the study runs it (point contacts at the face ends with Housner's plastic
+landing, ``contact.model: point``, k_n = 1e10 N/m2, zeta = 0.05; the engine's default
+k_n is 1e11); ``--model area`` times the
 thesis' overlap-area law instead (k_n = 1e8 N/m2, c_n = 5e4 N s/m). For each size we report
 
 * steps, mean contacts, the kernel wall time (:attr:`dem.simulate.RunResult.wall_seconds`)
@@ -55,8 +56,8 @@ FRICTION = 0.5
 FREQUENCY = 2.0  # [Hz] of the harmonic base motion
 CONTACT_MODELS = ("point", "area")
 MODEL = "point"  # contact law timed by default (the scene default is dem.scene.CONTACT_DEFAULTS["model"])
-# point law: its scene defaults; the plastic landing keeps every resting contact closed
-K_N_POINT = 1.0e10  # normal stiffness per unit contact length [N m-2]
+# point law: the study's; the plastic landing keeps every resting contact closed
+K_N_POINT = 1.0e10  # normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
 ZETA = 0.05  # damping ratio of each contact point [1]
 # area law: stiffness per unit overlap area [N m-2] and a dashpot [N s m-1] of ~0.2 of
 # critical for a drum, so the drums settle without bouncing off each other at the start

@@ -110,3 +110,37 @@ def test_s11_passes_former_stall_without_accepting_chattering_iterates():
     assert r.status == "stopped: max_steps"
     assert r.residual.max() < 1e-4
     assert r.lambda_max > 0.0175
+
+
+def _banded(n, lower, upper, seed=3):
+    import numpy as np
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(seed)
+    offsets = list(range(-lower, upper + 1))
+    diagonals = [rng.uniform(-1.0, 1.0, n - abs(k)) for k in offsets]
+    diagonals[lower] += 4.0 * (lower + upper)   # the main diagonal, diagonally dominant
+    return sp.diags(diagonals, offsets, format="csr")
+
+
+def test_banded_lu_solves_as_superlu():
+    import numpy as np
+    import scipy.sparse.linalg as spla
+
+    from dem.wall.pushover import BandLU, _factor
+
+    K = _banded(300, 12, 7)
+    lu = _factor(K)
+    assert isinstance(lu, BandLU) and (lu.lower, lu.upper) == (12, 7)
+    b = np.linspace(-1.0, 2.0, 300)
+    np.testing.assert_allclose(lu.solve(b), spla.splu(K.tocsc()).solve(b), rtol=1e-12, atol=1e-14)
+    assert not isinstance(_factor(_banded(40, 12, 7)), BandLU)   # band wider than n / 4: SuperLU
+
+
+def test_singular_banded_matrix_is_a_convergence_error():
+    from dem.wall.pushover import ConvergenceError, _factor
+
+    K = _banded(100, 3, 3).tolil()
+    K[50, :] = 0.0
+    with pytest.raises(ConvergenceError, match="singular"):
+        _factor(K.tocsr())

@@ -80,7 +80,7 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         "wall_seconds": result.wall_seconds,
         "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
                   "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
-                  "residual line search; sparse LU (scipy.sparse.linalg.splu)",
+                  "residual line search; banded LU (LAPACK dgbtrf), sparse LU (scipy splu) for a wide band",
         "solver_settings": json.dumps(result.settings, sort_keys=True),
         "damage_codes": json.dumps(STATE_NAMES),
         "interface_kinds": json.dumps(KIND_NAMES),

@@ -14,6 +14,7 @@ computing side never needs xarray.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import platform
 import subprocess
@@ -85,8 +86,10 @@ def run_scene(scene: Scene, progress: bool = False) -> xr.Dataset:
     return ds
 
 
+@functools.lru_cache(maxsize=1)
 def code_version() -> str:
-    """dem version, with the git commit when run from a checkout."""
+    """dem version, with the git commit when run from a checkout (asked of git once a process:
+    a job of many cases paid 5 ms a case)."""
     try:
         here = Path(__file__).resolve().parent
         commit = subprocess.run(["git", "-C", str(here), "rev-parse", "--short", "HEAD"],

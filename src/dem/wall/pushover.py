@@ -341,11 +341,10 @@ def _factor(K, state=None):
         raise ConvergenceError("non-finite stiffness matrix", state)
     coo = K.tocoo()
     offsets = coo.row - coo.col
-    lower = int(max(offsets.max(initial=0), 0))
-    upper = int(max(-offsets.min(initial=0), 0))
+    lower, upper = int(offsets.max(initial=0)), int(-offsets.min(initial=0))
     try:
         banded = K.shape[0] > 0 and lower + upper <= K.shape[0] // 4
-        lu = BandLU(K, lower, upper) if banded else spla.splu(K.tocsc())
+        lu = BandLU(coo, lower, upper) if banded else spla.splu(K.tocsc())   # coo.tocoo() is itself
     except RuntimeError as err:   # "Factor is exactly singular"
         raise ConvergenceError(f"singular stiffness matrix ({err})", state) from err
     check_interrupt()

@@ -626,6 +626,28 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0
     return RockingResponse(theta, omega, overturned, impacts)
 
 
+def rigid_rocking_response_compiled(time, ground_accel, width, height, r, g=G, rest_omega=1e-8,
+                                    substeps=16) -> RockingResponse:
+    """:func:`rigid_rocking_response` from rest, by the compiled integrator of
+    :mod:`dem.kernels.rigid_rocking` (classical Runge-Kutta, ``substeps`` steps per sample
+    interval, impacts located by bisection): ~100x faster, same answer to ~1e-9 rad on the
+    validation records (tests/test_analytic.py holds it to the scipy version)."""
+    from dem.kernels.rigid_rocking import rocking_history  # compiled: imported only when used
+
+    t, a = _series(time, ground_accel, strictly_increasing=True)
+    if not 0.0 <= r <= 1.0:
+        raise ValueError(f"r must be in [0, 1], got {r}")
+    if not (isinstance(substeps, int) and substeps >= 1):
+        raise ValueError(f"substeps must be a whole number >= 1, got {substeps!r}")
+    blk = rectangle_rocking_properties(width, height, g=g)
+    theta = np.empty_like(t)
+    omega = np.empty_like(t)
+    impacts = np.empty(100_000)
+    n_impacts, overturned = rocking_history(t, a, blk.alpha, blk.p**2, float(g), float(r),
+                                            float(rest_omega), substeps, theta, omega, impacts)
+    return RockingResponse(theta, omega, bool(overturned), impacts[:min(n_impacts, len(impacts))].tolist())
+
+
 # --- 5.1.5 one-sine pulse: exact overturning spectrum (Zhang and Makris 2001) -------------
 #
 # The pulse is the engine's ``excitation: {kind: sine_pulse, accel: a_p, frequency: f}``,

@@ -455,7 +455,7 @@ def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKI
         r = simulate(scene)
         theta_sim = -r.theta[:, 1]
         t_eng, a_eng = _engine_record(scene.horizontal)
-        ref = analytic.rigid_rocking_response(t_eng, a_eng, width, height, r_target, g=G)
+        ref = analytic.rigid_rocking_response_compiled(t_eng, a_eng, width, height, r_target, g=G)
         theta_ref = np.interp(r.time, t_eng, np.nan_to_num(_field(ref, "theta"), nan=np.pi / 2))
         peaks_sim.append(float(np.abs(theta_sim).max()))
         peaks_ref.append(float(np.abs(theta_ref).max()))

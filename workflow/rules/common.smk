@@ -158,16 +158,19 @@ def figure_inputs(name):
 FIGURE_BATCHES = batches(FIGURE_NAMES, 8)
 
 
-def figure_caption_file(name):
+def caption_file(name, text):
     """The report caption of one figure as a file of its own (a batch job's outputs share
     its params, so a caption cannot come from them): written when it changes."""
     path = Path(workflow.basedir) / ".snakemake" / "dem_captions" / f"{name}.rst"
-    text = (f"{FIGURES[name].caption}\n\nWhere the thesis reports an ordering, the line under the plot "
-            "says whether it holds on our cube.\n")
     if not path.is_file() or path.read_text() != text:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text)
     return str(path)
+
+
+def figure_caption_file(name):
+    return caption_file(name, f"{FIGURES[name].caption}\n\nWhere the thesis reports an ordering, "
+                              "the line under the plot says whether it holds on our cube.\n")
 
 
 def study_description(study):
@@ -211,8 +214,16 @@ WALL_OUTPUTS = (
 )
 
 
-def wall_figure_caption(wildcards):
-    kind = "Pushover curves" if wildcards.wall_figure == "22" else "Damage maps at the limit load"
-    cases = ", ".join(selected(WALL_FIGURES[wildcards.wall_figure]))
-    return (f"Regenerates manuscript Fig. {wildcards.wall_figure}: {kind.lower()} of {cases} "
-            "(interfaces: elastic, shear, flexural, shear and flexural, detached).")
+WALL_FIGURES_SELECTED = [n for n in WALL_FIGURES if selected(WALL_FIGURES[n])]
+
+
+def wall_figure_kind(number):
+    return "pushover" if number == "22" else "damage"
+
+
+def wall_figure_caption_file(number):
+    kind = "Pushover curves" if wall_figure_kind(number) == "pushover" else "Damage maps at the limit load"
+    cases = ", ".join(selected(WALL_FIGURES[number]))
+    return caption_file(f"manuscript_fig_{number}",
+                        f"Regenerates manuscript Fig. {number}: {kind.lower()} of {cases} "
+                        "(interfaces: elastic, shear, flexural, shear and flexural, detached).\n")

@@ -1,7 +1,7 @@
 """Snakemake script of workflow/rules/validation.smk, one branch per rule.
 
 validate_one        one dem.validation.VALIDATIONS entry -> its dataset (write_result: atomic)
-validation_figure   a validation dataset -> one thesis figure (draw_thesis_figure: atomic)
+validation_figures  the validation datasets -> every thesis figure (draw_thesis_figure: atomic)
 validation_summary  every validation dataset -> name, error, tolerance, passed (atomic)
 
 A validation that fails its check still writes its dataset (attribute passed = 0, the
@@ -10,11 +10,13 @@ whose exit status reflects the verdicts.
 """
 
 import sys
+import time
 
 from dem import validation, validation_plots
+from dem.entry import progress_print
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
-sys.stderr = open(sm.log[0], "w")
+sys.stderr = open(sm.log[0], "w", buffering=1)
 
 
 def validate_one():
@@ -27,8 +29,11 @@ def validate_one():
           file=sys.stderr)
 
 
-def validation_figure():
-    validation_plots.draw_thesis_figure(sm.wildcards.validation_fig, sm.input[0], sm.output[0])
+def validation_figures():
+    for (fig, path), output in zip(sm.params.figures.items(), sm.output):
+        start = time.perf_counter()
+        validation_plots.draw_thesis_figure(fig, path, output)
+        progress_print(sys.stderr, f"{fig}: {time.perf_counter() - start:.2f} s")
 
 
 def validation_summary():
@@ -38,5 +43,5 @@ def validation_summary():
     print(f"failed: {', '.join(failed) or 'none'}", file=sys.stderr)
 
 
-{"validate_one": validate_one, "validation_figure": validation_figure,
+{"validate_one": validate_one, "validation_figures": validation_figures,
  "validation_summary": validation_summary}[sm.rule]()

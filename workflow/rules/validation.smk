@@ -40,6 +40,7 @@ rule validate_one:
         "results/validation/{validation}.nc",
     log:
         "results/logs/validation/{validation}.log",
+    priority: UNPACKED_PRIORITY
     wildcard_constraints:
         validation="|".join(VALIDATION_NAMES),
     conda:

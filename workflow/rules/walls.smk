@@ -14,6 +14,7 @@ rule wall_case:
         "results/walls/{wall_case}.nc",
     log:
         "results/logs/walls/{wall_case}.log",
+    priority: UNPACKED_PRIORITY
     params:
         limit_analysis=config.get("wall_limit_analysis", True),
     conda:

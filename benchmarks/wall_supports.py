@@ -10,7 +10,10 @@ with the case file as given and with one detail changed at a time:
   joints, ``joints.torsion_under_bending: no_tension``), and both bending stiffnesses released
   when one component yields (Eq. 13 read literally, ``joints.bending_release: both``);
 - the interface areas (mortared walls): those of the bare bricks instead of the cells
-  (brick plus half the joint all round), the same panel.
+  (brick plus half the joint all round), the same panel;
+- where the case has them: the base support joint mortared (the wall's tension and cohesion)
+  instead of a no-tension bearing, and the top line holding translations (arching), not
+  only the out-of-plane one.
 
 Prints λ (or p in kPa) and the error against the manuscript's DEM column per variant and
 writes ``results/walls/supports.csv``.
@@ -72,11 +75,40 @@ def bare_brick_interfaces(model):
                      model.fixed, model.fixed_dead, model.lines)
 
 
+def base_bonded(spec):
+    """The base support joint with the wall's own mortar (tension, cohesion) instead of a
+    no-tension, cohesionless bearing: the wall mortared to its base."""
+    for r in spec["restraints"]:
+        if r["edge"] == "base" and r.get("support", "joint") == "joint":
+            r.pop("joint", None)
+
+
+def top_held_in_plane(spec):
+    """The top line holds translations (vertical and along the edge too), not only out of
+    plane: a top beam that stops the wall from lifting as it bends (arching)."""
+    for r in spec["restraints"]:
+        if r["edge"] == "top":
+            r["fix"] = "translations"
+
+
+def has_base_joint_override(spec):
+    return any(r["edge"] == "base" and "joint" in r for r in spec["restraints"])
+
+
+def has_top_line(spec):
+    return any(r["edge"] == "top" for r in spec["restraints"])
+
+
 VARIANTS = {
     "as given": None,
     "pins at centres": at_centre,
     "line (hold: line)": hold("line"),
     "pins on the line (hold: points)": hold("points"),
+}
+# variants that apply only where the case has the detail they change
+CONDITIONAL_VARIANTS = {
+    "base mortared (bonded support joint)": (base_bonded, has_base_joint_override),
+    "top line holds translations (arching)": (top_held_in_plane, has_top_line),
 }
 LAW_VARIANTS = {
     "Fig. 10 on no-tension joints only": {"torsion_all_joints": False},
@@ -116,6 +148,8 @@ def main(argv=None):
         dem = ref.get("p_dem", ref.get("lambda_dem"))
         scale = 1e-3 if "p_dem" in ref else 1.0
         runs = [(label, change, None, False) for label, change in VARIANTS.items()]
+        runs += [(label, change, None, False) for label, (change, applies) in CONDITIONAL_VARIANTS.items()
+                 if applies(base)]
         runs += [(label, None, law, False) for label, law in LAW_VARIANTS.items()]
         if base["panel"].get("joint_thickness"):
             runs.append(("interfaces of the bare bricks", None, None, True))

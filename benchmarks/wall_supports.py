@@ -12,8 +12,9 @@ with the case file as given and with one detail changed at a time:
 - the interface areas (mortared walls): those of the bare bricks instead of the cells
   (brick plus half the joint all round), the same panel;
 - where the case has them: the base support joint mortared (the wall's tension and cohesion)
-  instead of a no-tension bearing, and the top line holding translations (arching), not
-  only the out-of-plane one.
+  instead of a no-tension bearing; the top line holding translations (arching), not only
+  the out-of-plane one; the side lines 15, 30.5 (a half block's centre), 45 and 61 mm (a
+  full block's centre) inside the panel edges.
 
 Prints λ (or p in kPa) and the error against the manuscript's DEM column per variant and
 writes ``results/walls/supports.csv``.
@@ -91,6 +92,20 @@ def top_held_in_plane(spec):
             r["fix"] = "translations"
 
 
+def side_lines_inside(distance):
+    """The left and right lines ``distance`` metres inside the panel edges (at: offset): the
+    span between the supports is not given, only the specimen's length."""
+    def variant(spec):
+        for r in spec["restraints"]:
+            if r["edge"] in ("left", "right") and r.get("at") == "edge":
+                r["at"], r["offset"] = "offset", distance
+    return variant
+
+
+def has_side_lines(spec):
+    return any(r["edge"] in ("left", "right") and r.get("at") == "edge" for r in spec["restraints"])
+
+
 def has_base_joint_override(spec):
     return any(r["edge"] == "base" and "joint" in r for r in spec["restraints"])
 
@@ -109,6 +124,8 @@ VARIANTS = {
 CONDITIONAL_VARIANTS = {
     "base mortared (bonded support joint)": (base_bonded, has_base_joint_override),
     "top line holds translations (arching)": (top_held_in_plane, has_top_line),
+    **{f"side lines {1000 * d:g} mm inside": (side_lines_inside(d), has_side_lines)
+       for d in (0.015, 0.0305, 0.045, 0.061)},
 }
 LAW_VARIANTS = {
     "Fig. 10 on no-tension joints only": {"torsion_all_joints": False},

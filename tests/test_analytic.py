@@ -463,5 +463,8 @@ def test_compiled_rigid_rocking_converges_in_its_substeps():
     default = np.nanmax(np.abs(runs[16].theta - runs[64].theta))
     assert default < 1e-9, f"substeps 16 vs 64: {default} rad, tol 1e-9"
     assert coarse > 50.0 * default, f"4 -> 16 substeps cut the error {coarse / default:.0f}x (>= 50x for order 4)"
-    with pytest.raises(ValueError, match="substeps"):
-        analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=0)
+    for bad in (0, 2.5, True):
+        with pytest.raises(ValueError, match="substeps"):
+            analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=bad)
+    with pytest.raises(ValueError, match="finite"):
+        analytic.rigid_rocking_response_compiled(t, np.where(t > 1.0, np.nan, a), w, h, 0.8)

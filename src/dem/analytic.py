@@ -637,7 +637,7 @@ def rigid_rocking_response_compiled(time, ground_accel, width, height, r, g=G, r
     t, a = _series(time, ground_accel, strictly_increasing=True)
     if not 0.0 <= r <= 1.0:
         raise ValueError(f"r must be in [0, 1], got {r}")
-    if not (isinstance(substeps, int) and substeps >= 1):
+    if isinstance(substeps, bool) or not (isinstance(substeps, int) and substeps >= 1):
         raise ValueError(f"substeps must be a whole number >= 1, got {substeps!r}")
     blk = rectangle_rocking_properties(width, height, g=g)
     theta = np.empty_like(t)

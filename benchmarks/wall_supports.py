@@ -14,7 +14,9 @@ with the case file as given and with one detail changed at a time:
 - where the case has them: the base support joint mortared (the wall's tension and cohesion)
   instead of a no-tension bearing; the top line holding translations (arching), not only
   the out-of-plane one; the side lines 15, 30.5 (a half block's centre), 45 and 61 mm (a
-  full block's centre) inside the panel edges.
+  full block's centre) inside the panel edges;
+- which joints carry each mechanism (mortared walls): the tensile strength or the cohesion of
+  the bed or of the head joints alone x 1.5.
 
 Prints λ (or p in kPa) and the error against the manuscript's DEM column per variant and
 writes ``results/walls/supports.csv``.
@@ -133,12 +135,28 @@ LAW_VARIANTS = {
 }
 
 
-def run(spec, name, law=None, bare=False):
+# which joints carry a mechanism: one strength of one kind of interface x 1.5 (mortared walls)
+JOINT_LEVERS = {f"{kind} joints' {label} x 1.5": (kind, field, 1.5)
+                for kind in ("bed", "head")
+                for label, field in (("tensile strength", "tensile_strength"), ("cohesion", "cohesion"))}
+
+
+def scale_joint_strength(model, kind, field, factor):
+    from dem.wall.panel import KIND_BED, KIND_HEAD
+
+    values = getattr(model.strength, field).copy()
+    values[model.panel.kind == {"bed": KIND_BED, "head": KIND_HEAD}[kind]] *= factor
+    return dataclasses.replace(model.strength, **{field: values})
+
+
+def run(spec, name, law=None, bare=False, lever=None):
     case = case_from_dict(spec, name)
     if bare:
         case.model = bare_brick_interfaces(case.model)
     if law:
         case.model.strength = dataclasses.replace(case.model.strength, **law)
+    if lever:
+        case.model.strength = scale_joint_strength(case.model, *lever)
     t0 = time.perf_counter()
     try:
         r = pushover(case.model, case.settings, case.control_block)
@@ -164,17 +182,19 @@ def main(argv=None):
         ref = base.get("reference", {})
         dem = ref.get("p_dem", ref.get("lambda_dem"))
         scale = 1e-3 if "p_dem" in ref else 1.0
-        runs = [(label, change, None, False) for label, change in VARIANTS.items()]
-        runs += [(label, change, None, False) for label, (change, applies) in CONDITIONAL_VARIANTS.items()
+        runs = [(label, change, None, False, None) for label, change in VARIANTS.items()]
+        runs += [(label, change, None, False, None) for label, (change, applies) in CONDITIONAL_VARIANTS.items()
                  if applies(base)]
-        runs += [(label, None, law, False) for label, law in LAW_VARIANTS.items()]
+        runs += [(label, None, law, False, None) for label, law in LAW_VARIANTS.items()]
         if base["panel"].get("joint_thickness"):
-            runs.append(("interfaces of the bare bricks", None, None, True))
-        for label, change, law, bare in runs:
+            runs.append(("interfaces of the bare bricks", None, None, True, None))
+        if base["joints"].get("kind") == "mortar":
+            runs += [(label, None, None, False, lever) for label, lever in JOINT_LEVERS.items()]
+        for label, change, law, bare, lever in runs:
             spec = copy.deepcopy(base)
             if change:
                 change(spec)
-            lam, status, seconds = run(spec, name, law, bare)
+            lam, status, seconds = run(spec, name, law, bare, lever)
             err = lam / dem - 1.0
             rows.append({"case": name, "variant": label, "ours": round(lam * scale, 4),
                          "manuscript_dem": dem * scale, "error": round(err, 4),

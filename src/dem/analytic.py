@@ -1,6 +1,8 @@
 """Reference solutions for the analytical validation of thesis section 5.1, slow and exact.
 
-Plain NumPy/SciPy (no Numba), written to be obviously correct rather than fast. It covers
+Plain NumPy/SciPy, written to be obviously correct rather than fast (one exception:
+:func:`rigid_rocking_response_compiled`, the same rigid rocking equation through the compiled
+integrator of :mod:`dem.kernels.rigid_rocking`, held to the scipy one by tests). It covers
 Housner's free-rocking period of a slender block (5.1.1, Eq. 5.1) and the exact period of
 the rigid rocking equation; energy loss at impact, the peak angles and half periods that
 follow from it (5.1.2, Eq. 5.2-5.4) and the inverse problem (energy ratio from measured

@@ -56,7 +56,7 @@ def _ramp_overturning(contact, rate=0.5):
 
 def _rigid_ramp_overturning(rate=0.5):
     t = np.arange(0.0, 7.0, 1e-4)
-    res = analytic.rigid_rocking_response(t, -rate * t, 1.0, 6.0, analytic.housner_restitution(1.0, 6.0))
+    res = analytic.rigid_rocking_response_compiled(t, -rate * t, 1.0, 6.0, analytic.housner_restitution(1.0, 6.0))
     over = np.abs(np.nan_to_num(res.theta, nan=10.0)) >= math.atan(1.0 / 6.0)
     return rate * t[np.argmax(over)]
 

@@ -217,8 +217,16 @@ WALL_OUTPUTS = (
 )
 
 
-def wall_figure_caption(wildcards):
-    kind = "Pushover curves" if wildcards.wall_figure == "22" else "Damage maps at the limit load"
-    cases = ", ".join(selected(WALL_FIGURES[wildcards.wall_figure]))
-    return (f"Regenerates manuscript Fig. {wildcards.wall_figure}: {kind.lower()} of {cases} "
-            "(interfaces: elastic, shear, flexural, shear and flexural, detached).")
+WALL_FIGURES_SELECTED = [n for n in WALL_FIGURES if selected(WALL_FIGURES[n])]
+
+
+def wall_figure_kind(number):
+    return "pushover" if number == "22" else "damage"
+
+
+def wall_figure_caption_file(number):
+    kind = "Pushover curves" if wall_figure_kind(number) == "pushover" else "Damage maps at the limit load"
+    cases = ", ".join(selected(WALL_FIGURES[number]))
+    return caption_file(f"manuscript_fig_{number}",
+                        f"Regenerates manuscript Fig. {number}: {kind.lower()} of {cases} "
+                        "(interfaces: elastic, shear, flexural, shear and flexural, detached).\n")

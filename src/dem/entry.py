@@ -19,6 +19,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterable
@@ -175,6 +176,14 @@ def progress_print(stream, text: str, end: str = "\n"):
     except (OSError, ValueError):
         return None
     return stream
+
+
+@contextmanager
+def logged_seconds(stream, label: str):
+    """Time the block and write ``label: N.NN s`` to stream (a batch job's line per item)."""
+    start = time.perf_counter()
+    yield
+    progress_print(stream, f"{label}: {time.perf_counter() - start:.2f} s")
 
 
 def exit_now(status: int) -> None:

@@ -10,10 +10,9 @@ whose exit status reflects the verdicts.
 """
 
 import sys
-import time
 
 from dem import validation, validation_plots
-from dem.entry import progress_print
+from dem.entry import logged_seconds
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
 sys.stderr = open(sm.log[0], "w", buffering=1)
@@ -31,9 +30,8 @@ def validate_one():
 
 def validation_figures():
     for (fig, path), output in zip(sm.params.figures.items(), sm.output):
-        start = time.perf_counter()
-        validation_plots.draw_thesis_figure(fig, path, output)
-        progress_print(sys.stderr, f"{fig}: {time.perf_counter() - start:.2f} s")
+        with logged_seconds(sys.stderr, fig):
+            validation_plots.draw_thesis_figure(fig, path, output)
 
 
 def validation_summary():

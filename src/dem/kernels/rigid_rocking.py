@@ -103,8 +103,8 @@ def rocking_history(time, accel, alpha, p2, g, r, rest_omega, substeps, theta, o
                     break
                 side, x = new_side, start
                 th, om = 0.0, 0.0
-                while k < substeps and (k + 1) * h_grid <= x:
-                    k += 1
+            while k < substeps and (k + 1) * h_grid <= x:  # after an uplift or an event inside a step
+                k += 1
             if x >= length:
                 break
             end = length if k + 1 >= substeps else (k + 1) * h_grid
@@ -136,7 +136,5 @@ def rocking_history(time, accel, alpha, p2, g, r, rest_omega, substeps, theta, o
             side = -side
             if abs(om) < rest_omega:
                 side, om = 0, 0.0  # chattering has died out
-            while k < substeps and (k + 1) * h_grid <= x:
-                k += 1
         theta[i + 1], omega[i + 1] = th, om
     return n_impacts, False

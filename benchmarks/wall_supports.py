@@ -16,12 +16,15 @@ with the case file as given and with one detail changed at a time:
   the out-of-plane one; the side lines 15, 30.5 (a half block's centre), 45 and 61 mm (a
   full block's centre) inside the panel edges;
 - which joints carry each mechanism (mortared walls): the tensile strength or the cohesion of
-  the bed or of the head joints alone x 1.5.
+  the bed or of the head joints alone x 1.5;
+- Table 2 walls held by fixed lateral columns (S11 ... S5): the fixed column one block deep,
+  toothed as a bonded orthogonal wall's courses are (every block whose centre lies within b
+  of the edge), instead of the edge block of each course.
 
 Prints λ (or p in kPa) and the error against the manuscript's DEM column per variant and
 writes ``results/walls/supports.csv``.
 
-    python benchmarks/wall_supports.py [--only chee_liang_2_3 ...] [--out results/walls]
+    python benchmarks/wall_supports.py [--only chee_liang_2_3 s5 ...] [--out results/walls]
 """
 
 from __future__ import annotations
@@ -34,12 +37,15 @@ import os
 import time
 from pathlib import Path
 
+import numpy as np
+
 from dem.wall.case import case_from_dict, read_case
 from dem.wall.pushover import ConvergenceError, pushover
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ["orduna_case1", "orduna_case2", "chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15",
          "chee_liang_4_5", "chee_liang_9_13", "chee_liang_10_11"]
+COLUMN_CASES = ["s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s5"]   # Table 2, fixed lateral columns
 
 
 def _edge_restraints(spec, change):
@@ -76,6 +82,28 @@ def bare_brick_interfaces(model):
     panel.width[panel.kind == KIND_BED] -= e
     return WallModel(panel, model.k_n, model.k_t, model.strength, model.dead_load, model.live_load,
                      model.fixed, model.fixed_dead, model.lines)
+
+
+def columns_one_block_deep(model):
+    """Fixed lateral columns one block deep: every block whose centre lies within b of a fixed
+    edge (in running bond: the full edge block of one course, the half block and the full
+    block beside it in the next, toothed like a bonded orthogonal wall), not only the edge
+    block of each course (manuscript 3.2 says only "restraining block translations and
+    rotations along one or both lateral columns")."""
+    from dem.wall.pushover import WallModel
+
+    panel = model.panel
+    fixed = model.fixed.reshape(-1, 6).copy()
+    x = panel.centre[:, 0]
+    length = float(np.max(panel.centre[:, 0] + panel.size[:, 0] / 2))
+    depth = float(panel.block["b"]) + float(panel.block.get("joint_thickness", 0.0)) + 1e-9
+    column = fixed.all(axis=1)
+    if (column & (x < length / 2)).any():
+        fixed[x <= depth] = True
+    if (column & (x > length / 2)).any():
+        fixed[x >= length - depth] = True
+    return WallModel(panel, model.k_n, model.k_t, model.strength, model.dead_load, model.live_load,
+                     fixed.ravel(), model.fixed_dead, model.lines)
 
 
 def base_bonded(spec):
@@ -149,10 +177,10 @@ def scale_joint_strength(model, kind, field, factor):
     return dataclasses.replace(model.strength, **{field: values})
 
 
-def run(spec, name, law=None, bare=False, lever=None):
+def run(spec, name, law=None, transform=None, lever=None):
     case = case_from_dict(spec, name)
-    if bare:
-        case.model = bare_brick_interfaces(case.model)
+    if transform:
+        case.model = transform(case.model)
     if law:
         case.model.strength = dataclasses.replace(case.model.strength, **law)
     if lever:
@@ -167,7 +195,8 @@ def run(spec, name, law=None, bare=False, lever=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", nargs="*", help="case file stems (default: Tables 1 and 3)")
+    ap.add_argument("--only", nargs="*", help="case file stems (default: Tables 1 and 3, and the "
+                    "Table 2 walls held by lateral columns)")
     ap.add_argument("--out", default=str(ROOT / "results" / "walls"))
     args = ap.parse_args(argv)
     try:
@@ -176,25 +205,29 @@ def main(argv=None):
         pass
     rows = []
     print(f"{'case':>18} {'variant':>44} {'ours':>9} {'DEM':>8} {'error':>7} {'s':>5}", flush=True)
-    for name in args.only or CASES:
+    for name in args.only or CASES + COLUMN_CASES:
         base = read_case(ROOT / "config" / "walls" / f"{name}.yaml")
         base.pop("name", None)
         ref = base.get("reference", {})
         dem = ref.get("p_dem", ref.get("lambda_dem"))
         scale = 1e-3 if "p_dem" in ref else 1.0
-        runs = [(label, change, None, False, None) for label, change in VARIANTS.items()]
-        runs += [(label, change, None, False, None) for label, (change, applies) in CONDITIONAL_VARIANTS.items()
-                 if applies(base)]
-        runs += [(label, None, law, False, None) for label, law in LAW_VARIANTS.items()]
+        if name in COLUMN_CASES:
+            runs = [("as given", None, None, None, None),
+                    ("lateral columns one block deep", None, None, columns_one_block_deep, None)]
+        else:
+            runs = [(label, change, None, None, None) for label, change in VARIANTS.items()]
+            runs += [(label, change, None, None, None)
+                     for label, (change, applies) in CONDITIONAL_VARIANTS.items() if applies(base)]
+            runs += [(label, None, law, None, None) for label, law in LAW_VARIANTS.items()]
         if base["panel"].get("joint_thickness"):
-            runs.append(("interfaces of the bare bricks", None, None, True, None))
+            runs.append(("interfaces of the bare bricks", None, None, bare_brick_interfaces, None))
         if base["joints"].get("kind") == "mortar":
-            runs += [(label, None, None, False, lever) for label, lever in JOINT_LEVERS.items()]
-        for label, change, law, bare, lever in runs:
+            runs += [(label, None, None, None, lever) for label, lever in JOINT_LEVERS.items()]
+        for label, change, law, transform, lever in runs:
             spec = copy.deepcopy(base)
             if change:
                 change(spec)
-            lam, status, seconds = run(spec, name, law, bare, lever)
+            lam, status, seconds = run(spec, name, law, transform, lever)
             err = lam / dem - 1.0
             rows.append({"case": name, "variant": label, "ours": round(lam * scale, 4),
                          "manuscript_dem": dem * scale, "error": round(err, 4),

@@ -468,3 +468,56 @@ def test_compiled_rigid_rocking_converges_in_its_substeps():
             analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=bad)
     with pytest.raises(ValueError, match="finite"):
         analytic.rigid_rocking_response_compiled(t, np.where(t > 1.0, np.nan, a), w, h, 0.8)
+
+
+def test_compiled_one_sine_matches_the_scipy_integrator():
+    """The compiled twin (used by the thresholds and maps) against solve_ivp: 40 random pulses."""
+    w, h = ISSUE_BLOCK
+    blk = analytic.rectangle_rocking_properties(w, h)
+    rng = np.random.default_rng(11)
+    modes = set()
+    for _ in range(40):
+        ratio, amp = rng.uniform(0.7, 9.0), math.exp(rng.uniform(0.0, math.log(25.0)))
+        a_p, r = rng.choice([-1.0, 1.0]) * amp * _onset(w, h), rng.uniform(0.4, 1.0)
+        ref = analytic.rigid_one_sine_response(a_p, ratio * blk.p, w, h, r)
+        fast = analytic.rigid_one_sine_response_compiled(a_p, ratio * blk.p, w, h, r)
+        assert fast[:2] == ref[:2], f"omega_p/p {ratio:.3f}, a_p {a_p:.3f}, r {r:.3f}: {fast} vs {ref}"
+        assert fast.peak == pytest.approx(ref.peak, abs=1e-8), "same peak / alpha, tol 1e-8"
+        modes.add(fast.mode)
+    assert modes == {"none", "impact", "no_impact"}, f"all three outcomes among the cases: {modes}"
+
+
+@pytest.mark.parametrize("ratio", [2.0, 5.0])
+def test_compiled_one_sine_threshold_matches_the_scipy_one(ratio):
+    w, h = ISSUE_BLOCK
+    r = analytic.housner_restitution(w, h)
+    ref = analytic.rigid_one_sine_min_overturning(ratio, w, h, r, rel_tol=1e-7, compiled=False)
+    fast = analytic.rigid_one_sine_min_overturning(ratio, w, h, r, rel_tol=1e-7)
+    assert fast.mode == ref.mode
+    assert fast.amplitude == pytest.approx(ref.amplitude, rel=2e-7), "same threshold, tol 2 rel_tol"
+
+
+def test_compiled_one_sine_converges_at_fourth_order():
+    # one impact during the pulse (1.5 g tan alpha at omega_p / p = 2): theta at the end of the
+    # pulse from 250, 1000, 4000 steps per pulse against 16000; RK4 cuts the error 4^4 = 256x
+    from dem.kernels.rigid_rocking import PULSE_ENDED, one_sine_pulse
+
+    w, h = ISSUE_BLOCK
+    blk = analytic.rectangle_rocking_properties(w, h)
+    r = analytic.housner_restitution(w, h)
+    runs = [one_sine_pulse(1.5 * _onset(w, h), 2.0 * blk.p, blk.alpha, blk.p**2, 9.81, r, 1e-6 * blk.p, n)
+            for n in (250, 1000, 4000, 16000)]
+    assert [run[0] for run in runs] == [PULSE_ENDED] * 4 and [run[4] for run in runs] == [1] * 4
+    errors = [abs(run[1] - runs[-1][1]) for run in runs[:-1]]
+    assert errors[0] / errors[1] > 150.0 and errors[0] < 1e-9, f"theta errors vs 16000 steps: {errors}"
+
+
+def test_compiled_one_sine_refuses_bad_input():
+    w, h = ISSUE_BLOCK
+    for kwargs, match in (({"steps": True}, "steps"), ({"steps": 0}, "steps"), ({"steps": 2.5}, "steps")):
+        with pytest.raises(ValueError, match=match):
+            analytic.rigid_one_sine_response_compiled(1.0, 1.0, w, h, 0.8, **kwargs)
+    with pytest.raises(ValueError, match="r must be"):
+        analytic.rigid_one_sine_response_compiled(1.0, 1.0, w, h, 1.5)
+    with pytest.raises(ValueError, match="omega_p"):
+        analytic.rigid_one_sine_response_compiled(math.nan, 1.0, w, h, 0.8)

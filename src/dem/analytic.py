@@ -857,6 +857,40 @@ def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=T
                        f"omega_p {omega_p}")
 
 
+ONE_SINE_STEPS = 2000  # RK4 steps per pulse of the compiled one-sine response
+
+
+def rigid_one_sine_response_compiled(a_p, omega_p, width, height, r, g=G, *, rest_omega=None,
+                                     steps=ONE_SINE_STEPS) -> OneSineOutcome:
+    """:func:`rigid_one_sine_response` (with early stop) by the compiled integrator
+    :func:`dem.kernels.rigid_rocking.one_sine_pulse`: classical Runge-Kutta on ``steps``
+    steps per pulse, events by bisection; the free rocking after the pulse decided by energy
+    as there. About 200x faster; tests/test_analytic.py holds it to the scipy version."""
+    from dem.kernels.rigid_rocking import PULSE_AT_REST, PULSE_OVERTURNED, one_sine_pulse
+
+    if not 0.0 <= r <= 1.0:
+        raise ValueError(f"r must be in [0, 1], got {r}")
+    if not (omega_p > 0.0 and math.isfinite(a_p)):
+        raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
+    if isinstance(steps, bool) or not (isinstance(steps, int) and steps >= 1):
+        raise ValueError(f"steps must be a whole number >= 1, got {steps!r}")
+    blk = rectangle_rocking_properties(width, height, g=g)
+    alpha, p = blk.alpha, blk.p
+    if abs(a_p) <= g * math.tan(alpha):
+        return OneSineOutcome(False, "none", 0.0)
+    rest_omega = 1e-6 * p if rest_omega is None else rest_omega
+    how, theta, omega, _side, n_impacts, peak = one_sine_pulse(
+        float(a_p), float(omega_p), alpha, p * p, float(g), float(r), float(rest_omega), steps)
+    if how == PULSE_OVERTURNED:
+        return OneSineOutcome(True, "impact" if n_impacts else "no_impact", 0.5 * math.pi / alpha)
+    if how == PULSE_AT_REST:
+        return OneSineOutcome(False, "none", peak / alpha)
+    falls, after_impact, last = _one_sine_after_pulse(theta, omega, alpha, p, r)
+    if not falls:
+        return OneSineOutcome(False, "none", max(peak, last) / alpha)
+    return OneSineOutcome(True, "impact" if n_impacts or after_impact else "no_impact", 0.5 * math.pi / alpha)
+
+
 class OverturningThreshold(NamedTuple):
     """Minimum overturning one-sine pulse; see rigid_one_sine_min_overturning."""
 
@@ -865,7 +899,7 @@ class OverturningThreshold(NamedTuple):
 
 
 def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1e-4, step=1.01,
-                                   cap=50.0) -> OverturningThreshold:
+                                   cap=50.0, compiled=True) -> OverturningThreshold:
     """Smallest one-sine pulse amplitude that overturns a rigid block (Zhang and Makris 2001).
 
     Overturning is not monotonic in the amplitude: above the band of overturning after an
@@ -888,6 +922,8 @@ def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1
     rel_tol: relative width of the final bracket [-]
     step: ratio of successive amplitudes in the hunt (> 1) [-]
     cap: largest amplitude a_p / (g tan alpha) tried [-]
+    compiled: each outcome by :func:`rigid_one_sine_response_compiled` (False: by the scipy
+        :func:`rigid_one_sine_response`, ~200x slower)
 
     Returns
     -------
@@ -900,8 +936,10 @@ def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1
     blk = rectangle_rocking_properties(width, height, g=g)
     onset, omega_p = g * math.tan(blk.alpha), omega_ratio * blk.p
 
+    response = rigid_one_sine_response_compiled if compiled else rigid_one_sine_response
+
     def outcome(amplitude):
-        return rigid_one_sine_response(amplitude * onset, omega_p, width, height, r, g=g)
+        return response(amplitude * onset, omega_p, width, height, r, g=g)
 
     lo, hi, found = 1.0, 1.0, None
     while found is None and hi < cap:  # hunt: first overturning amplitude on the geometric grid
@@ -931,7 +969,7 @@ class OneSineSpectrum:
     peak: np.ndarray  # max |theta| / alpha [-], pi / (2 alpha) where overturned; (n, m)
 
 
-def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G) -> OneSineSpectrum:
+def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G, compiled=True) -> OneSineSpectrum:
     """Overturning map of a rigid block under one-sine pulses, for the overturning spectrum.
 
     Each grid point is one :func:`rigid_one_sine_response` (with early stop), with
@@ -946,6 +984,7 @@ def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G) -> 
     r: kinetic energy ratio after/before impact, thesis Eq. 5.2 [-]
     amplitudes: a_p / (g tan alpha) values [-]
     g: gravitational acceleration [m s-2]
+    compiled: by :func:`rigid_one_sine_response_compiled` (False: the scipy version)
 
     Returns
     -------
@@ -957,9 +996,10 @@ def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G) -> 
     onset = g * math.tan(blk.alpha)
     shape = (len(ratios), len(amps))
     overturned, mode, peak = np.zeros(shape, bool), np.zeros(shape, np.int8), np.zeros(shape)
+    response = rigid_one_sine_response_compiled if compiled else rigid_one_sine_response
     for i, ratio in enumerate(ratios):
         for j, amp in enumerate(amps):
-            res = rigid_one_sine_response(amp * onset, ratio * blk.p, width, height, r, g=g)
+            res = response(amp * onset, ratio * blk.p, width, height, r, g=g)
             overturned[i, j], peak[i, j] = res.overturned, res.peak
             mode[i, j] = ONE_SINE_MODES.index(res.mode)
     return OneSineSpectrum(ratios, amps, overturned, mode, peak)

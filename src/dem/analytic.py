@@ -482,6 +482,37 @@ def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50
     return SlidingResponse(sol.y[0], sol.y[1])
 
 
+BOUC_WEN_STEPS_PER_PERIOD = 768  # BDF2 steps per elastic period 2 pi sqrt(u_y / (mu g))
+
+
+def bouc_wen_sliding_compiled(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=G,
+                              steps_per_period=BOUC_WEN_STEPS_PER_PERIOD) -> SlidingResponse:
+    """:func:`bouc_wen_sliding` by the compiled BDF2 integrator :mod:`dem.kernels.bouc_wen`.
+
+    The step is the elastic period 2 pi sqrt(u_y / (mu g)) over ``steps_per_period`` (5 us
+    for mu = 0.3, u_y = 1e-6), shortened to fit the sample intervals: BDF2 damps the
+    elastic ringing of the stick phases, which a shorter step keeps (error 2nd order; at 768
+    per period 6e-5 of the peak against LSODA under Northridge, in 0.6 s instead of 7-12 s).
+    Parameters as :func:`bouc_wen_sliding`."""
+    from dem.kernels.bouc_wen import bouc_wen_history  # compiled: imported only when used
+
+    t, a = _series(time, ground_accel, strictly_increasing=True)
+    for name, value in (("mu", mu), ("u_y", u_y), ("n", n), ("g", g)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+            raise ValueError(f"{name} must be a positive number, got {value!r}")
+    if isinstance(steps_per_period, bool) or not (isinstance(steps_per_period, int) and steps_per_period >= 8):
+        raise ValueError(f"steps_per_period must be a whole number >= 8, got {steps_per_period!r}")
+    step = 2.0 * math.pi * math.sqrt(u_y / (mu * g)) / steps_per_period
+    substeps = max(1, math.ceil(float(np.max(np.diff(t))) / step))
+    u, v = np.empty_like(t), np.empty_like(t)
+    failures = bouc_wen_history(t, a, float(mu), float(g), float(u_y), float(gamma), float(beta), float(n),
+                                substeps, u, v)
+    if failures:
+        raise RuntimeError(f"bouc_wen_sliding_compiled: Newton's method did not converge in {failures} "
+                           f"steps; use more steps_per_period")
+    return SlidingResponse(u, v)
+
+
 # --- 5.1.5 rigid rocking under ground acceleration -----------------------------------------
 
 

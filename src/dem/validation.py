@@ -385,7 +385,7 @@ def record_sliding(record=RECORD_NORTHRIDGE, mu=0.3, k_n=1e9, duration=None, con
     mask = t_rec <= duration + 1e-9
     exact = analytic.rigid_plastic_sliding(t_rec[mask], a_rec[mask], mu, g=G)
     u_exact = np.interp(r.time, t_rec[mask], _field(exact, "u"))
-    bw = analytic.bouc_wen_sliding(t_rec[mask], a_rec[mask], mu, g=G)
+    bw = analytic.bouc_wen_sliding_compiled(t_rec[mask], a_rec[mask], mu, g=G)
     u_bw = np.interp(r.time, t_rec[mask], _field(bw, "u"))
     peak = float(np.abs(u_exact).max())
     err_hist = float(np.abs(u_sim - u_exact).max() / peak)

@@ -11,8 +11,9 @@ Who imports what: :mod:`dem.simulate` is the only caller of :func:`dem.kernels.s
 ENERGY_* columns and STATUS_* codes. Outside the time loop, :mod:`dem.ground_motion`
 evaluates base motion with :mod:`dem.kernels.excitation`, and :mod:`dem.scene` and
 benchmarks of :mod:`dem.bench` call the broad phase and overlap kernels directly.
-:mod:`dem.kernels.rigid_rocking` is not part of the engine: it is the compiled rigid rocking
-reference that :func:`dem.analytic.rigid_rocking_response_compiled` wraps (record_rocking).
+:mod:`dem.kernels.rigid_rocking` and :mod:`dem.kernels.bouc_wen` are not part of the engine:
+they are compiled references that :mod:`dem.analytic` wraps (the rigid block under a record
+and under a one-sine pulse; the Bouc-Wen sliding block).
 
 Numba checks a cached function against its own source file only, so a cached time loop
 would keep running an old copy of a changed kernel it calls. The cache therefore lives in

@@ -52,23 +52,41 @@ def runge_kutta_step(theta, omega, h, a0, a_mid, a1, side, alpha, p2, g):
             omega + h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w))
 
 
-@njit(**JIT_OPTIONS)
-def linear_input_step(theta, omega, h, a0, slope, side, alpha, p2, g):
-    """One RK4 step under a_g = a0 + slope s (a sampled record between two samples)."""
-    return runge_kutta_step(theta, omega, h, a0, a0 + slope * 0.5 * h, a0 + slope * h, side, alpha, p2, g)
+LINEAR, SINE = 0, 1   # the input over a step: a_g = q0 + q1 s, or q0 sin(q1 (q2 + s))
 
 
 @njit(**JIT_OPTIONS)
-def sine_input_step(theta, omega, t, h, a_p, omega_p, side, alpha, p2, g):
-    """One RK4 step from time t under a_g = a_p sin(omega_p t) (the one-sine pulse)."""
-    return runge_kutta_step(theta, omega, h, a_p * math.sin(omega_p * t), a_p * math.sin(omega_p * (t + 0.5 * h)),
-                            a_p * math.sin(omega_p * (t + h)), side, alpha, p2, g)
+def input_step(theta, omega, h, kind, q0, q1, q2, side, alpha, p2, g):
+    """One RK4 step of length h under a sampled record between two samples (``LINEAR``: a_g =
+    q0 + q1 s, s from the step's start) or the one-sine pulse (``SINE``: a_g = q0 sin(q1 (q2 +
+    s)), q2 the step's start time)."""
+    if kind == LINEAR:
+        return runge_kutta_step(theta, omega, h, q0, q0 + q1 * 0.5 * h, q0 + q1 * h, side, alpha, p2, g)
+    return runge_kutta_step(theta, omega, h, q0 * math.sin(q1 * q2), q0 * math.sin(q1 * (q2 + 0.5 * h)),
+                            q0 * math.sin(q1 * (q2 + h)), side, alpha, p2, g)
 
 
 @njit(**JIT_OPTIONS)
 def _event_value(theta, side):
     """Positive before an event, <= 0 at or past it: impact (theta back through 0) or overturn."""
     return min(side * theta, 0.5 * math.pi - abs(theta))
+
+
+@njit(**JIT_OPTIONS)
+def bracket_in_step(theta, omega, h, kind, q0, q1, q2, side, alpha, p2, g, turning):
+    """(lo, hi), 2^-60 h apart, by bisection on the step's length: the event (impact or
+    overturn) of a step that ends past one, or with ``turning`` the instant theta' turns
+    from outwards to inwards, lies in (lo, hi]."""
+    lo, hi = 0.0, h
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        tm, wm = input_step(theta, omega, mid, kind, q0, q1, q2, side, alpha, p2, g)
+        before = side * wm > 0.0 if turning else _event_value(tm, side) > 0.0
+        if before:
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
 
 
 @njit(**JIT_OPTIONS)
@@ -127,20 +145,13 @@ def rocking_history(time, accel, alpha, p2, g, r, rest_omega, substeps, theta, o
             end = length if k + 1 >= substeps else (k + 1) * h_grid
             h = end - x
             a0 = accel[i] + slope * x
-            th1, om1 = linear_input_step(th, om, h, a0, slope, side, alpha, p2, g)
+            th1, om1 = input_step(th, om, h, LINEAR, a0, slope, 0.0, side, alpha, p2, g)
             if _event_value(th1, side) > 0.0:
                 th, om, x = th1, om1, end
                 k += 1
                 continue
-            lo, hi = 0.0, h  # the event lies in (lo, hi]
-            for _ in range(BISECTION_STEPS):
-                mid = 0.5 * (lo + hi)
-                tm, _om = linear_input_step(th, om, mid, a0, slope, side, alpha, p2, g)
-                if _event_value(tm, side) > 0.0:
-                    lo = mid
-                else:
-                    hi = mid
-            th1, om1 = linear_input_step(th, om, hi, a0, slope, side, alpha, p2, g)
+            _lo, hi = bracket_in_step(th, om, h, LINEAR, a0, slope, 0.0, side, alpha, p2, g, False)
+            th1, om1 = input_step(th, om, hi, LINEAR, a0, slope, 0.0, side, alpha, p2, g)
             x += hi
             if side * th1 > 0.0:  # not back through 0: |theta| reached pi/2, overturned
                 for j in range(i + 1, n):
@@ -177,17 +188,10 @@ def sine_uplift_instant(t, a_p, omega_p, onset, period):
 
 
 @njit(**JIT_OPTIONS)
-def _turning_point(theta, omega, t, h, a_p, omega_p, side, alpha, p2, g):
-    """|theta| where theta' turns from outwards to inwards inside the step (0, h] from t."""
-    lo, hi = 0.0, h
-    for _ in range(BISECTION_STEPS):
-        mid = 0.5 * (lo + hi)
-        _th, wm = sine_input_step(theta, omega, t, mid, a_p, omega_p, side, alpha, p2, g)
-        if side * wm > 0.0:
-            lo = mid
-        else:
-            hi = mid
-    th, _om = sine_input_step(theta, omega, t, hi, a_p, omega_p, side, alpha, p2, g)
+def turning_point(theta, omega, h, kind, q0, q1, q2, side, alpha, p2, g):
+    """|theta| where theta' turns from outwards to inwards inside the step (0, h]."""
+    _lo, hi = bracket_in_step(theta, omega, h, kind, q0, q1, q2, side, alpha, p2, g, True)
+    th, _om = input_step(theta, omega, hi, kind, q0, q1, q2, side, alpha, p2, g)
     return abs(th)
 
 
@@ -224,28 +228,21 @@ def one_sine_pulse(a_p, omega_p, alpha, p2, g, r, rest_omega, steps):
             break
         end = period if k + 1 >= steps else (k + 1) * h_grid
         h = end - t
-        th1, om1 = sine_input_step(th, om, t, h, a_p, omega_p, side, alpha, p2, g)
+        th1, om1 = input_step(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g)
         if _event_value(th1, side) > 0.0:
             if side * om > 0.0 and side * om1 <= 0.0:  # a turning point inside the step
-                peak = max(peak, _turning_point(th, om, t, h, a_p, omega_p, side, alpha, p2, g))
+                peak = max(peak, turning_point(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g))
             peak = max(peak, abs(th1))
             th, om, t = th1, om1, end
             k += 1
             continue
-        lo, hi = 0.0, h  # the event lies in (lo, hi]
-        for _ in range(BISECTION_STEPS):
-            mid = 0.5 * (lo + hi)
-            tm, _wm = sine_input_step(th, om, t, mid, a_p, omega_p, side, alpha, p2, g)
-            if _event_value(tm, side) > 0.0:
-                lo = mid
-            else:
-                hi = mid
+        lo, hi = bracket_in_step(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g, False)
         if lo > 0.0:  # the way to the event may pass a turning point too
-            tl, wl = sine_input_step(th, om, t, lo, a_p, omega_p, side, alpha, p2, g)
+            tl, wl = input_step(th, om, lo, SINE, a_p, omega_p, t, side, alpha, p2, g)
             if side * om > 0.0 and side * wl <= 0.0:
-                peak = max(peak, _turning_point(th, om, t, lo, a_p, omega_p, side, alpha, p2, g))
+                peak = max(peak, turning_point(th, om, lo, SINE, a_p, omega_p, t, side, alpha, p2, g))
             peak = max(peak, abs(tl))
-        th1, om1 = sine_input_step(th, om, t, hi, a_p, omega_p, side, alpha, p2, g)
+        th1, om1 = input_step(th, om, hi, SINE, a_p, omega_p, t, side, alpha, p2, g)
         t += hi
         if side * th1 > 0.0:  # not back through 0: |theta| reached pi/2
             return PULSE_OVERTURNED, th1, om1, side, n_impacts, 0.5 * math.pi

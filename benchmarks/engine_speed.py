@@ -22,6 +22,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from dem.entry import guarded  # noqa: E402
 from dem.dataset import code_version, write_dataset  # noqa: E402
 from dem.scene import load_scene, scene_from_dict  # noqa: E402
 from dem.simulate import simulate  # noqa: E402
@@ -151,4 +152,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -24,12 +24,14 @@ import argparse
 import csv
 import itertools
 import math
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 from scipy import optimize
 
+from dem.entry import guarded
 from dem.wall.interface import TABLE_A1, SpringInterface, fit_alpha, ramp, torsion_constant
 
 DIRECTIONS = {"f1": 0.0, "f2": math.pi / 2, "f1=f2": math.pi / 4}
@@ -147,4 +149,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

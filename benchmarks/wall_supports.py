@@ -34,11 +34,13 @@ import copy
 import csv
 import dataclasses
 import os
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
+from dem.entry import guarded
 from dem.wall.case import case_from_dict, read_case
 from dem.wall.pushover import ConvergenceError, pushover
 
@@ -199,6 +201,10 @@ def main(argv=None):
                     "Table 2 walls held by lateral columns)")
     ap.add_argument("--out", default=str(ROOT / "results" / "walls"))
     args = ap.parse_args(argv)
+    unknown = [n for n in args.only or [] if not (ROOT / "config" / "walls" / f"{n}.yaml").is_file()]
+    if unknown:
+        ap.error(f"--only: no case file config/walls/<name>.yaml for {', '.join(unknown)}; "
+                 f"give case file stems, e.g. s11 chee_liang_2_3")
     try:
         os.nice(19)
     except OSError:
@@ -247,4 +253,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

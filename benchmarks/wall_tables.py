@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 
+from dem.entry import guarded
 from dem.wall.case import load_case
 from dem.wall.pushover import ConvergenceError, pushover
 from dem.wall.dataset import add_limit_analysis, wall_dataset
@@ -73,6 +74,10 @@ def main(argv=None):
     ap.add_argument("--secant", action="store_true",
                     help="manuscript 2.3 load-controlled secant scheme; writes benchmark_secant.csv")
     args = ap.parse_args(argv)
+    unknown = [n for n in args.only or [] if not (ROOT / "config" / "walls" / f"{n}.yaml").is_file()]
+    if unknown:
+        ap.error(f"--only: no case file config/walls/<name>.yaml for {', '.join(unknown)}; "
+                 f"give case file stems, e.g. s11 chee_liang_2_3")
     try:
         os.nice(19)
     except OSError:
@@ -106,4 +111,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -75,15 +75,13 @@ def bare_brick_interfaces(model):
     """The same panel, interfaces of the bare bricks instead of the cells: a head joint a high
     (not a + e), a bed overlap (b - e)/2 wide (not (b + e)/2); caps, areas and stiffness follow."""
     from dem.wall.panel import KIND_BED, KIND_HEAD
-    from dem.wall.pushover import WallModel
 
     panel = copy.copy(model.panel)
     e = float(panel.block["joint_thickness"])
     panel.width = panel.width.copy()
     panel.width[panel.kind == KIND_HEAD] -= e
     panel.width[panel.kind == KIND_BED] -= e
-    return WallModel(panel, model.k_n, model.k_t, model.strength, model.dead_load, model.live_load,
-                     model.fixed, model.fixed_dead, model.lines)
+    return dataclasses.replace(model, panel=panel)   # rebuilt: compatibility, sections, reduction
 
 
 def columns_one_block_deep(model):
@@ -92,7 +90,6 @@ def columns_one_block_deep(model):
     block beside it in the next, toothed like a bonded orthogonal wall), not only the edge
     block of each course (manuscript 3.2 says only "restraining block translations and
     rotations along one or both lateral columns")."""
-    from dem.wall.pushover import WallModel
 
     panel = model.panel
     fixed = model.fixed.reshape(-1, 6).copy()
@@ -104,8 +101,7 @@ def columns_one_block_deep(model):
         fixed[x <= depth] = True
     if (column & (x > length / 2)).any():
         fixed[x >= length - depth] = True
-    return WallModel(panel, model.k_n, model.k_t, model.strength, model.dead_load, model.live_load,
-                     fixed.ravel(), model.fixed_dead, model.lines)
+    return dataclasses.replace(model, fixed=fixed.ravel())   # rebuilt: the reduction of the restraints
 
 
 def base_bonded(spec):

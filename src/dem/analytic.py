@@ -1,8 +1,10 @@
 """Reference solutions for the analytical validation of thesis section 5.1, slow and exact.
 
-Plain NumPy/SciPy, written to be obviously correct rather than fast (one exception:
-:func:`rigid_rocking_response_compiled`, the same rigid rocking equation through the compiled
-integrator of :mod:`dem.kernels.rigid_rocking`, held to the scipy one by tests). It covers
+Plain NumPy/SciPy, written to be obviously correct rather than fast. The exceptions are
+the ``*_compiled`` twins (:func:`rigid_rocking_response_compiled`,
+:func:`rigid_one_sine_response_compiled`, :func:`bouc_wen_sliding_compiled`): the same
+equations through the compiled integrators of :mod:`dem.kernels.rigid_rocking` and
+:mod:`dem.kernels.bouc_wen`, which the validations use, held to the scipy ones by tests. It covers
 Housner's free-rocking period of a slender block (5.1.1, Eq. 5.1) and the exact period of
 the rigid rocking equation; energy loss at impact, the peak angles and half periods that
 follow from it (5.1.2, Eq. 5.2-5.4) and the inverse problem (energy ratio from measured
@@ -747,7 +749,7 @@ def _free_rocking_outcome(theta, omega, alpha, p):
     return False, k + level - math.cos(alpha), peak  # energy at theta = 0
 
 
-def _one_sine_after_pulse(theta, omega, alpha, p, r):
+def _one_sine_after_pulse(theta, omega, alpha, p, r, n_impacts, peak) -> OneSineOutcome:
     """Exact fate of a block rocking freely from (theta, omega) after the pulse, by energy.
 
     Without input, energy is conserved between impacts and each impact keeps a fraction r
@@ -756,15 +758,25 @@ def _one_sine_after_pulse(theta, omega, alpha, p, r):
     cos(alpha), the climb to the crest; if not, the energy at theta = 0 only shrinks (r^n k0)
     and it never falls.
 
-    Returns (topples, after_impact, peak [rad]).
+    ``n_impacts`` and ``peak`` [rad]: the impacts and largest |theta| during the pulse.
+    Returns the OneSineOutcome of the whole pulse.
     """
-    topples, k0, peak = _free_rocking_outcome(theta, omega, alpha, p)
-    if topples:
-        return True, False, peak
-    k1 = r * k0  # thesis Eq. 5.2: kinetic energy kept by the impact
-    if k1 > 1.0 - math.cos(alpha):
-        return True, True, 0.5 * math.pi
-    return False, False, max(peak, alpha - math.acos(min(1.0, math.cos(alpha) + k1)))
+    topples, k0, free_peak = _free_rocking_outcome(theta, omega, alpha, p)
+    after_impact = False
+    if not topples:
+        k1 = r * k0  # thesis Eq. 5.2: kinetic energy kept by the impact
+        topples = after_impact = k1 > 1.0 - math.cos(alpha)
+        free_peak = max(free_peak, alpha - math.acos(min(1.0, math.cos(alpha) + k1)))
+    if not topples:
+        return OneSineOutcome(False, "none", max(peak, free_peak) / alpha)
+    return OneSineOutcome(True, "impact" if n_impacts or after_impact else "no_impact", 0.5 * math.pi / alpha)
+
+
+def _check_one_sine_input(a_p, omega_p, r):
+    if not 0.0 <= r <= 1.0:
+        raise ValueError(f"r must be in [0, 1], got {r}")
+    if not (omega_p > 0.0 and math.isfinite(a_p)):
+        raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
 
 
 def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=True,
@@ -806,10 +818,7 @@ def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=T
     overturn, "impact" when it overturns after at least one impact, "no_impact" when
     without any; peak = max |theta| / alpha [-], pi / (2 alpha) when overturned.
     """
-    if not 0.0 <= r <= 1.0:
-        raise ValueError(f"r must be in [0, 1], got {r}")
-    if not (omega_p > 0.0 and math.isfinite(a_p)):
-        raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
+    _check_one_sine_input(a_p, omega_p, r)
     blk = rectangle_rocking_properties(width, height, g=g)
     alpha, p, p2 = blk.alpha, blk.p, blk.p**2
     onset = g * math.tan(alpha)  # uplift threshold |a_g| > g tan(alpha)
@@ -842,11 +851,7 @@ def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=T
         if pulse and t_now >= period:
             pulse = False  # the pulse is over: free rocking (a_g = 0) from here
             if side != 0 and early_stop:
-                falls, after_impact, last = _one_sine_after_pulse(*state, alpha, p, r)
-                if not falls:
-                    return OneSineOutcome(False, "none", max(peak, last) / alpha)
-                mode = "impact" if n_impacts or after_impact else "no_impact"
-                return OneSineOutcome(True, mode, 0.5 * math.pi / alpha)
+                return _one_sine_after_pulse(*state, alpha, p, r, n_impacts, peak)
         if (side == 0 and not pulse) or t_now >= t_stop:
             return OneSineOutcome(False, "none", peak / alpha)  # at rest for good, or out of time
         if side == 0:  # at rest during the pulse: wait for |a_g| > g tan(alpha)
@@ -899,10 +904,7 @@ def rigid_one_sine_response_compiled(a_p, omega_p, width, height, r, g=G, *, res
     as there. About 200x faster; tests/test_analytic.py holds it to the scipy version."""
     from dem.kernels.rigid_rocking import PULSE_AT_REST, PULSE_OVERTURNED, one_sine_pulse
 
-    if not 0.0 <= r <= 1.0:
-        raise ValueError(f"r must be in [0, 1], got {r}")
-    if not (omega_p > 0.0 and math.isfinite(a_p)):
-        raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
+    _check_one_sine_input(a_p, omega_p, r)
     if isinstance(steps, bool) or not (isinstance(steps, int) and steps >= 1):
         raise ValueError(f"steps must be a whole number >= 1, got {steps!r}")
     blk = rectangle_rocking_properties(width, height, g=g)
@@ -916,10 +918,7 @@ def rigid_one_sine_response_compiled(a_p, omega_p, width, height, r, g=G, *, res
         return OneSineOutcome(True, "impact" if n_impacts else "no_impact", 0.5 * math.pi / alpha)
     if how == PULSE_AT_REST:
         return OneSineOutcome(False, "none", peak / alpha)
-    falls, after_impact, last = _one_sine_after_pulse(theta, omega, alpha, p, r)
-    if not falls:
-        return OneSineOutcome(False, "none", max(peak, last) / alpha)
-    return OneSineOutcome(True, "impact" if n_impacts or after_impact else "no_impact", 0.5 * math.pi / alpha)
+    return _one_sine_after_pulse(theta, omega, alpha, p, r, n_impacts, peak)
 
 
 class OverturningThreshold(NamedTuple):

@@ -1,5 +1,5 @@
 # The study workflow: config -> cases -> simulations -> cubes -> tables and figures.
-# Stages live in workflow/rules/*.smk; all science is in the dem package.
+# Stages live in workflow/rules/*.smk; all science is in the stonedem package.
 from snakemake.utils import min_version
 
 min_version("8.0")

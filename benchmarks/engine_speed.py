@@ -22,10 +22,11 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from dem.entry import guarded  # noqa: E402
-from dem.dataset import code_version, write_dataset  # noqa: E402
-from dem.scene import load_scene, scene_from_dict  # noqa: E402
-from dem.simulate import simulate  # noqa: E402
+from stonedem.entry import guarded  # noqa: E402
+from stonedem.io.netcdf import code_version
+from stonedem.engine.run import write_dataset  # noqa: E402
+from stonedem.engine.scene import load_scene, scene_from_dict  # noqa: E402
+from stonedem.engine.simulate import simulate  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -139,7 +140,7 @@ def main(argv=None):
              ("total_wall", "s", "wall time including set-up"),
              ("wall_per_sim_second", "1", "kernel wall seconds per simulated second")]},
         coords={"scene": ("scene", [r["scene"] for r in rows], {"units": "1", "long_name": "benchmark scene"})},
-        attrs={"title": "dem engine speed benchmark", "source": code_version(),
+        attrs={"title": "stonedem engine speed benchmark", "source": code_version(),
                "machine": f"{os.cpu_count()} cores, {sys.platform}",
                "b_dt": base.dt,
                **{f"b_{k}_dt": v for k, v in r1.items()},

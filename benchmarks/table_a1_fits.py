@@ -2,7 +2,7 @@
 
 The manuscript fits the exponent alpha of Eq. A4, (m3/m3u)^alpha + (f/fsu)^2 = 1, to the
 torsion-shear domain of its spring interface, but does not say how. We compute the domain
-(dem.wall.interface.torsion_shear_domain: 37 radial pushes of a rigid-plastic spring grid,
+(stonedem.wall.interface.torsion_shear_domain: 37 radial pushes of a rigid-plastic spring grid,
 normal force -240 N, mu = 0.7) and fit alpha by six criteria, on four spring grids, with two
 readings of the "f1 = f2" column and two normalisations of m3:
 
@@ -31,8 +31,8 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize
 
-from dem.entry import guarded
-from dem.wall.interface import TABLE_A1, SpringInterface, fit_alpha, ramp, torsion_constant
+from stonedem.entry import guarded
+from stonedem.wall.interface import TABLE_A1, SpringInterface, fit_alpha, ramp, torsion_constant
 
 DIRECTIONS = {"f1": 0.0, "f2": math.pi / 2, "f1=f2": math.pi / 4}
 NORMAL_FORCE = -240.0

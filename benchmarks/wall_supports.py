@@ -40,9 +40,9 @@ from pathlib import Path
 
 import numpy as np
 
-from dem.entry import guarded
-from dem.wall.case import case_from_dict, read_case
-from dem.wall.pushover import ConvergenceError, pushover
+from stonedem.entry import guarded
+from stonedem.wall.case import case_from_dict, read_case
+from stonedem.wall.pushover import ConvergenceError, pushover
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ["orduna_case1", "orduna_case2", "chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15",
@@ -74,7 +74,7 @@ def hold(kind):
 def bare_brick_interfaces(model):
     """The same panel, interfaces of the bare bricks instead of the cells: a head joint a high
     (not a + e), a bed overlap (b - e)/2 wide (not (b + e)/2); caps, areas and stiffness follow."""
-    from dem.wall.panel import KIND_BED, KIND_HEAD
+    from stonedem.wall.panel import KIND_BED, KIND_HEAD
 
     panel = copy.copy(model.panel)
     e = float(panel.block["joint_thickness"])
@@ -168,7 +168,7 @@ JOINT_LEVERS = {f"{kind} joints' {label} x 1.5": (kind, field, 1.5)
 
 
 def scale_joint_strength(model, kind, field, factor):
-    from dem.wall.panel import KIND_BED, KIND_HEAD
+    from stonedem.wall.panel import KIND_BED, KIND_HEAD
 
     values = getattr(model.strength, field).copy()
     values[model.panel.kind == {"bed": KIND_BED, "head": KIND_HEAD}[kind]] *= factor

@@ -4,7 +4,7 @@ Runs every case of ``config/walls`` listed below, one after the other at the low
 priority, and prints ours vs the manuscript's DEM column vs the experiment (or, for Table 1,
 Orduna & Lourenco's FEM), the relative errors, whether the 10 % tolerance on the manuscript
 DEM is met, the solver status and the run time; beside them the limit analysis of the same
-model (``dem.wall.limit_analysis``) on the pushover's caps at its peak (the oracle) and on
+model (``stonedem.wall.limit_analysis``) on the pushover's caps at its peak (the oracle) and on
 the dead-load caps. Writes ``results/walls/benchmark.csv``.
 
     python benchmarks/wall_tables.py [--only orduna_case1 s11 ...] [--max-seconds 150] [--out results/walls] [--secant]
@@ -20,12 +20,12 @@ import time
 from pathlib import Path
 
 
-from dem.entry import guarded
-from dem.wall.case import load_case
-from dem.wall.pushover import ConvergenceError, pushover
-from dem.wall.dataset import add_limit_analysis, wall_dataset
-from dem.wall.limit_analysis import limit_multiplier
-from dem.wall.validation import LIMIT_TOLERANCE, limit_load_row
+from stonedem.entry import guarded
+from stonedem.wall.case import load_case
+from stonedem.wall.pushover import ConvergenceError, pushover
+from stonedem.wall.dataset import add_limit_analysis, wall_dataset
+from stonedem.wall.limit_analysis import limit_multiplier
+from stonedem.wall.validation import LIMIT_TOLERANCE, limit_load_row
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = ["orduna_case1", "orduna_case2",
@@ -35,7 +35,7 @@ CASES = ["orduna_case1", "orduna_case2",
 
 
 def run_case(name, max_seconds=150.0, secant=False):
-    """One case: the table row of ``dem.wall.validation`` plus run statistics."""
+    """One case: the table row of ``stonedem.wall.validation`` plus run statistics."""
     case = load_case(ROOT / "config" / "walls" / f"{name}.yaml")
     if secant:   # the manuscript's load-controlled secant scheme (section 2.3)
         case.settings.secant = 1.0

@@ -1,4 +1,4 @@
-"""Reference solutions of thesis 5.1 (dem.analytic) checked against closed forms and fine ODE solves."""
+"""Reference solutions of thesis 5.1 (stonedem.reference.analytic) checked against closed forms and fine ODE solves."""
 
 import math
 
@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from dem import analytic
+from stonedem.reference import analytic
 
 G = 9.81
 SLENDER = (0.25, 1.0)  # width x height [m], alpha = 0.245 rad
@@ -455,7 +455,7 @@ def test_compiled_rigid_rocking_matches_the_scipy_integrator(scale):
     """The compiled twin (used by the record_rocking validation) against solve_ivp, Northridge."""
     import xarray as xr
 
-    from dem.ground_motion import RECORDS_DIR
+    from stonedem.motion.excitation import RECORDS_DIR
 
     with xr.open_dataset(RECORDS_DIR / "northridge_1994_mul009.nc") as rec:
         a = scale * rec["acceleration"].values.astype(float)
@@ -520,7 +520,7 @@ def test_compiled_one_sine_threshold_matches_the_scipy_one(ratio):
 def test_compiled_one_sine_converges_at_fourth_order():
     # one impact during the pulse (1.5 g tan alpha at omega_p / p = 2): theta at the end of the
     # pulse from 250, 1000, 4000 steps per pulse against 16000; RK4 cuts the error 4^4 = 256x
-    from dem.kernels.rigid_rocking import PULSE_ENDED, one_sine_pulse
+    from stonedem.reference.rigid_rocking import PULSE_ENDED, one_sine_pulse
 
     w, h = ISSUE_BLOCK
     blk = analytic.rectangle_rocking_properties(w, h)

@@ -1,4 +1,4 @@
-"""Jobs of many cases (dem.case_runner): one log line per case, the case store, a search."""
+"""Jobs of many cases (stonedem.study.runner): one log line per case, the case store, a search."""
 
 import io
 
@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem.case_runner import CaseStore, run_cases, run_search
-from dem.job_plan import plan_jobs
-from dem.schema import missing_metadata
-from dem.search_dataset import combine_searches
-from dem.study import case_table
+from stonedem.study.runner import CaseStore, run_cases, run_search
+from stonedem.study.jobs import plan_jobs
+from stonedem.io.schema import missing_metadata
+from stonedem.study.cube import combine_searches
+from stonedem.study.grid import case_table
 
 # a 1 x 4 m block under a 2 Hz harmonic: overturns within 1.5 s at an amplitude of 0.4 m, not 0.2 m
 BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,

@@ -1,4 +1,4 @@
-"""`dem run` exit codes, messages, and no file left behind on bad input."""
+"""`stonedem run` exit codes, messages, and no file left behind on bad input."""
 
 import subprocess
 import sys
@@ -8,13 +8,13 @@ import xarray as xr
 SCENE = "tests/data/scenes/rocking_block.yaml"
 
 
-def dem(*args):
-    return subprocess.run([sys.executable, "-m", "dem", *args], capture_output=True, text=True)
+def stonedem(*args):
+    return subprocess.run([sys.executable, "-m", "stonedem", *args], capture_output=True, text=True)
 
 
 def test_run_writes_a_dataset(tmp_path):
     out = tmp_path / "rock.nc"
-    proc = dem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.3", "-q")
+    proc = stonedem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.3", "-q")
     assert proc.returncode == 0, proc.stderr
     with xr.open_dataset(out) as ds:
         assert ds.theta.dims == ("time", "body")
@@ -25,7 +25,7 @@ def test_run_writes_a_dataset(tmp_path):
 def test_bad_input_one_line_nonzero_exit_no_output(tmp_path):
     out = tmp_path / "bad.nc"
     for override in ("solver.dt=0.5", "bodies.block.mass=-3", "contact.k_x=1"):
-        proc = dem("run", SCENE, "-o", str(out), "--set", override, "-q")
+        proc = stonedem("run", SCENE, "-o", str(out), "--set", override, "-q")
         assert proc.returncode == 2, override
         lines = proc.stderr.strip().splitlines()
         assert len(lines) == 1 and lines[0].startswith("error: "), proc.stderr
@@ -34,15 +34,15 @@ def test_bad_input_one_line_nonzero_exit_no_output(tmp_path):
 
 
 def test_missing_scene_file():
-    proc = dem("run", "nope.yaml", "-o", "x.nc")
+    proc = stonedem("run", "nope.yaml", "-o", "x.nc")
     assert proc.returncode == 2 and "not found" in proc.stderr
 
 
 def test_validate_list_describes_every_validation():
-    proc = dem("validate", "--list")
+    proc = stonedem("validate", "--list")
     assert proc.returncode == 0, proc.stderr
     lines = proc.stdout.strip().splitlines()
-    from dem.validation import VALIDATIONS
+    from stonedem.validation.cases import VALIDATIONS
 
     assert [line.split()[0] for line in lines] == list(VALIDATIONS)
     for line in lines:

@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem.dataset import run_scene, write_dataset
-from dem.scene import load_scene
-from dem import schema
-from dem.schema import missing_metadata
+from stonedem.engine.run import run_scene
+
+from stonedem.io.netcdf import write_dataset
+from stonedem.engine.scene import load_scene
+from stonedem.io import schema
+from stonedem.io.schema import missing_metadata
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +56,7 @@ HARMONIC_8_DRUMS = {  # a study case (harmonic_frequency, 20 Hz x 0.25 m) that d
 
 
 def test_auto_step_is_halved_when_the_energy_balance_drifts():
-    from dem.scene import scene_from_dict
+    from stonedem.engine.scene import scene_from_dict
 
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_safety_requested"] == 1.0
@@ -64,8 +66,8 @@ def test_auto_step_is_halved_when_the_energy_balance_drifts():
 
 
 def test_a_given_step_is_never_changed():
-    from dem.scene import scene_from_dict
-    from dem.simulate import simulate
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import simulate
 
     dt = simulate(scene_from_dict(HARMONIC_8_DRUMS)).dt  # the automatic step at dt_safety 1.0
     spec = {**HARMONIC_8_DRUMS, "solver": {**HARMONIC_8_DRUMS["solver"], "dt": dt}}
@@ -75,10 +77,10 @@ def test_a_given_step_is_never_changed():
 
 
 def test_no_repeat_beyond_the_engines_step_limit(monkeypatch):
-    import dem.simulate
-    from dem.scene import scene_from_dict
+    import stonedem.engine.simulate
+    from stonedem.engine.scene import scene_from_dict
 
-    monkeypatch.setattr(dem.simulate, "MAX_STEPS", 60000)  # the run takes 58,000 steps, its repeat 116,000
+    monkeypatch.setattr(stonedem.engine.simulate, "MAX_STEPS", 60000)  # the run takes 58,000 steps, its repeat 116,000
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt_safety"] == 1.0
     assert ds.attrs["status"] == "energy balance error"
@@ -91,24 +93,24 @@ ROCKING_BLOCK = {  # a 1 x 6 m block tipped by a ramp; the engine's defaults oth
 
 
 def _diverging_first(monkeypatch, n_diverged):
-    """dem.dataset.simulate whose first n_diverged runs report NaN (the engine's status), then run."""
+    """stonedem.engine.run.simulate whose first n_diverged runs report NaN (the engine's status), then run."""
     import dataclasses
 
-    import dem.dataset
-    from dem.kernels import step
+    import stonedem.engine.run
+    from stonedem.kernels import step
 
-    real, calls = dem.dataset.simulate, []
+    real, calls = stonedem.engine.run.simulate, []
 
     def simulate(scene, progress=False):
         calls.append(scene.dt_safety)
         result = real(scene, progress=progress)
         return dataclasses.replace(result, status=step.STATUS_NONFINITE) if len(calls) <= n_diverged else result
-    monkeypatch.setattr(dem.dataset, "simulate", simulate)
+    monkeypatch.setattr(stonedem.engine.run, "simulate", simulate)
     return calls
 
 
 def test_a_diverged_auto_step_is_halved(monkeypatch):
-    from dem.scene import scene_from_dict
+    from stonedem.engine.scene import scene_from_dict
 
     calls = _diverging_first(monkeypatch, 1)
     ds = run_scene(scene_from_dict(ROCKING_BLOCK))
@@ -116,8 +118,8 @@ def test_a_diverged_auto_step_is_halved(monkeypatch):
 
 
 def test_a_run_that_diverges_at_every_step_tried_is_an_error(monkeypatch):
-    from dem.errors import InputError
-    from dem.scene import scene_from_dict
+    from stonedem.errors import InputError
+    from stonedem.engine.scene import scene_from_dict
 
     calls = _diverging_first(monkeypatch, 3)
     with pytest.raises(InputError, match="diverged"):

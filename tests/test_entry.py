@@ -1,4 +1,4 @@
-"""Entry-point conventions (dem.entry, dem.cli): output paths refused before computing,
+"""Entry-point conventions (stonedem.entry, stonedem.cli): output paths refused before computing,
 real SIGINT / SIGTERM (exit 130 / 143 within a second, nothing left behind), broken pipes,
 --version and --help, and the checks a finished run makes of itself."""
 
@@ -12,12 +12,11 @@ import time
 import pytest
 import xarray as xr
 
-from dem.entry import check_output_path
+from stonedem.entry import check_output_path
 from tests.signals import interrupt_after_line
-from dem.errors import InputError
-from dem.scene import scene_from_dict
-from dem.simulate import (ENERGY_TOLERANCE, MAX_STEPS, MIN_STEPS_PER_PERIOD, PENETRATION_LIMIT, preflight,
-                          run_checks, simulate)
+from stonedem.errors import InputError
+from stonedem.engine.scene import scene_from_dict
+from stonedem.engine.simulate import (ENERGY_TOLERANCE, MAX_STEPS, MIN_STEPS_PER_PERIOD, PENETRATION_LIMIT, preflight, run_checks, simulate)
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 # how long after the signal the process may take to end (measured 0.6-0.7 s; the issue
@@ -25,8 +24,8 @@ SCENE = "tests/data/scenes/rocking_block.yaml"
 SIGNAL_EXIT_SECONDS = 1.5
 
 
-def dem(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "dem", *args], capture_output=True, text=True, **kw)
+def stonedem(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "stonedem", *args], capture_output=True, text=True, **kw)
 
 
 # --- output paths ---------------------------------------------------------------------
@@ -62,7 +61,7 @@ def test_run_refuses_output_over_its_scene_before_computing(tmp_path):
     scene = tmp_path / "s.nc"
     scene.write_text(open(SCENE).read())
     start = time.perf_counter()
-    proc = dem("run", str(scene), "-o", str(scene))
+    proc = stonedem("run", str(scene), "-o", str(scene))
     assert proc.returncode == 2 and "is the input file" in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert open(scene).read() == open(SCENE).read()
@@ -72,23 +71,23 @@ def test_run_refuses_output_over_its_scene_before_computing(tmp_path):
 # --- conventions ----------------------------------------------------------------------
 
 def test_version_and_help_list_every_command():
-    proc = dem("--version")
-    assert proc.returncode == 0 and proc.stdout.startswith("dem ")
-    proc = dem("--help")
+    proc = stonedem("--version")
+    assert proc.returncode == 0 and proc.stdout.startswith("stonedem ")
+    proc = stonedem("--help")
     for command in ("run", "validate", "record", "snapshots", "animate", "wall"):
         assert re.search(rf"^ +{command}\b", proc.stdout, re.M), command
     assert "``" not in proc.stdout
 
 
 def test_usage_error_is_one_line_exit_2():
-    proc = dem("frobnicate")
+    proc = stonedem("frobnicate")
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
 
 
 def test_closed_stdout_gives_no_traceback():
     read, write = os.pipe()
     os.close(read)
-    proc = subprocess.run([sys.executable, "-m", "dem", "validate", "--list"], stdout=write,
+    proc = subprocess.run([sys.executable, "-m", "stonedem", "validate", "--list"], stdout=write,
                           stderr=subprocess.PIPE, text=True)
     os.close(write)
     assert "Traceback" not in proc.stderr and proc.returncode == 0
@@ -110,7 +109,7 @@ def test_signal_during_the_compiled_loop(tmp_path, signum, status):
     scene.write_text(LONG_SCENE)
     out = tmp_path / "long.nc"
     # a progress line: the time loop is running
-    rc, took, _ = interrupt_after_line([sys.executable, "-m", "dem", "run", str(scene), "-o", str(out)],
+    rc, took, _ = interrupt_after_line([sys.executable, "-m", "stonedem", "run", str(scene), "-o", str(out)],
                                        lambda line: "t = " in line, signum)
     assert rc == status
     assert took < SIGNAL_EXIT_SECONDS, took
@@ -119,8 +118,8 @@ def test_signal_during_the_compiled_loop(tmp_path, signum, status):
 
 SLOW_WRITER = """\
 import sys, time
-from dem.atomic import write_atomically
-from dem.entry import guarded
+from stonedem.io.atomic import write_atomically
+from stonedem.entry import guarded
 
 def slow(tmp):
     with open(tmp, "w") as f:
@@ -216,7 +215,7 @@ def test_tall_undamped_stack_at_the_limit_reports_its_energy_drift():
 
 def test_written_dataset_follows_cf(tmp_path):
     out = tmp_path / "rock.nc"
-    proc = dem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.2", "-q")
+    proc = stonedem("run", SCENE, "-o", str(out), "--set", "solver.duration=0.2", "-q")
     assert proc.returncode == 0, proc.stderr
     import netCDF4
 

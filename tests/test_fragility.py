@@ -1,12 +1,12 @@
-"""Lognormal fragility fits (dem.fragility): maximum likelihood on samples of known law."""
+"""Lognormal fragility fits (stonedem.fragility.fit): maximum likelihood on samples of known law."""
 
 import math
 
 import numpy as np
 import pytest
 
-from dem.errors import InputError
-from dem.fragility import bootstrap_band, empirical_points, fit_lognormal
+from stonedem.errors import InputError
+from stonedem.fragility.fit import bootstrap_band, empirical_points, fit_lognormal
 
 THETA, BETA = 0.35, 0.45   # a median collapse PGA in g and a typical record-to-record dispersion
 

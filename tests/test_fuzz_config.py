@@ -1,11 +1,11 @@
 """Fuzzing the study config (issue 13): what ``snakemake -n`` refuses and what it lets through.
 
-``dem.study.check_config`` is what workflow/rules/common.smk runs at DAG time. Hypothesis
+``stonedem.study.grid.check_config`` is what workflow/rules/common.smk runs at DAG time. Hypothesis
 mutates the real config (config/config.yaml under tests/workflow/config.yaml: every study,
 one to three cases each) with wrong types, negative, zero, NaN and huge values, unknown keys,
 missing structures, unknown records, added, removed and reordered grid keys. Each mutated
 config is either refused with one InputError line naming a path of the config, or accepted,
-and then every case's scene builds as its job builds it (``dem.study.run_case`` up to the
+and then every case's scene builds as its job builds it (``stonedem.study.grid.run_case`` up to the
 simulation: natural duration, ``scene_from_dict``, the time step) and every input of every
 figure and table is made by a rule. ``HYPOTHESIS_PROFILE=fuzz`` runs 10 000 examples per test.
 """
@@ -21,9 +21,8 @@ import pytest
 from hypothesis import given, note
 from hypothesis import strategies as st
 
-from dem.errors import InputError
-from dem.study import (CASE_ID_PATTERN, CHOICES, COUNTS, NONNEGATIVE, PARAMETERS, POSITIVE, check_config,
-                       config_cases, load_config)
+from stonedem.errors import InputError
+from stonedem.study.grid import (CASE_ID_PATTERN, CHOICES, COUNTS, NONNEGATIVE, PARAMETERS, POSITIVE, check_config, config_cases, load_config)
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
@@ -169,7 +168,7 @@ def _outputs(config: dict, tables: dict, catalogue_tables: dict) -> set:
 def _assert_dag_builds(config: dict, tables: dict) -> None:
     """What common.smk derives from the cases: ids that fit {case}, record inputs that exist,
     figure and table inputs that some rule makes."""
-    from dem.figures import figure_table, input_paths, reduction_table
+    from stonedem.figures import figure_table, input_paths, reduction_table
     from tests.workflow_files import catalogue_paths
 
     studies = {name: {c.id: c for c in cases} for name, cases in tables.items()}
@@ -188,10 +187,10 @@ def _assert_dag_builds(config: dict, tables: dict) -> None:
 
 
 def _assert_cases_run(tables: dict) -> None:
-    """Each case's scene builds as dem.study.run_case builds it before it simulates."""
-    from dem.scene import scene_from_dict
-    from dem.simulate import choose_time_step
-    from dem.study import natural_duration
+    """Each case's scene builds as stonedem.study.grid.run_case builds it before it simulates."""
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import choose_time_step
+    from stonedem.study.grid import natural_duration
 
     for cases in tables.values():
         for case in cases:

@@ -1,11 +1,11 @@
-"""Fuzz the ground-motion record readers and ``dem record info`` with hostile files.
+"""Fuzz the ground-motion record readers and ``stonedem record info`` with hostile files.
 
 Every generated file (random bytes; text records with junk tokens, wrong column counts,
 NaN, huge values, bad dt headers, bad encodings; PEER .AT2 files with garbled or truncated
 headers and wrong point counts; NetCDF files with wrong variables, dimensions, dtypes,
 units and time coordinates, or cut short) must either raise one InputError whose message is
 one printable line naming the field, or read to a sane record: at least 2 finite samples on
-a uniform step within the limits of :mod:`dem.records`, which the scene path then turns
+a uniform step within the limits of :mod:`stonedem.motion.records`, which the scene path then turns
 into finite tables, spectra and a predominant frequency (NaN only for a constant record).
 
 ``ci`` profile (default): 100 examples per test; ``HYPOTHESIS_PROFILE=fuzz``: 10 000.
@@ -27,16 +27,16 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from dem import records
-from dem.errors import InputError
-from dem.ground_motion import UNIT_FACTORS, excitation_from_spec, read_record
+from stonedem.motion import records
+from stonedem.errors import InputError
+from stonedem.motion.excitation import UNIT_FACTORS, excitation_from_spec, read_record
 
 FIELD = "excitation.file"
 FIELDS = (FIELD, "excitation.units", "excitation.dt")
 HEALTH = settings(suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture,
                                          HealthCheck.data_too_large, HealthCheck.large_base_example])
 
-_WORK = Path(tempfile.mkdtemp(prefix="dem-fuzz-records-"))
+_WORK = Path(tempfile.mkdtemp(prefix="stonedem-fuzz-records-"))
 
 
 def one_line(message: str) -> bool:
@@ -329,9 +329,9 @@ def test_fuzz_netcdf_records(data, units, suffix):
 
 
 def _run_info(argv):
-    """(exit status, stdout, stderr) of ``dem record info`` run in-process under dem.entry.guarded."""
-    from dem.entry import guarded
-    from dem.record_cli import build_parser
+    """(exit status, stdout, stderr) of ``stonedem record info`` run in-process under stonedem.entry.guarded."""
+    from stonedem.entry import guarded
+    from stonedem.motion.cli import build_parser
 
     args = build_parser().parse_args(["record", "info", *argv])
     out, err = io.StringIO(), io.StringIO()

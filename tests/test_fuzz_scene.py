@@ -3,8 +3,8 @@
 Mutations of valid scenes (a block, a drum column, a colonnade, a two-tier colonnade, a
 record-driven column): any leaf or container replaced by junk of another type, keys
 deleted or added, numbers pushed to 0, negative, NaN, inf, huge and tiny. Nothing is
-simulated: every example stops after the checks ``dem run`` makes before computing
-(:func:`dem.simulate.preflight`), which must refuse absurd sizes too.
+simulated: every example stops after the checks ``stonedem run`` makes before computing
+(:func:`stonedem.engine.simulate.preflight`), which must refuse absurd sizes too.
 """
 
 import copy
@@ -13,9 +13,9 @@ import math
 import yaml
 from hypothesis import given, strategies as st
 
-from dem.errors import InputError
-from dem.scene import apply_override, scene_from_dict
-from dem.simulate import preflight
+from stonedem.errors import InputError
+from stonedem.engine.scene import apply_override, scene_from_dict
+from stonedem.engine.simulate import preflight
 
 BASES = [
     yaml.safe_load(open("tests/data/scenes/rocking_block.yaml")),

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from dem.errors import InputError
-from dem.ground_motion import excitation_from_spec, excitation_pair, read_record
+from stonedem.errors import InputError
+from stonedem.motion.excitation import excitation_from_spec, excitation_pair, read_record
 
 REC = "tests/data/records/synthetic_two_column.txt"
 
@@ -206,7 +206,7 @@ def test_bad_record_keys(spec, field, message):
 
 
 def test_sample_limit_is_checked_before_reading(tmp_path, monkeypatch):
-    from dem import records
+    from stonedem.motion import records
 
     big = _netcdf(tmp_path / "long.nc", accel=np.zeros(records.MAX_RECORD_SAMPLES + 1), zlib=True)
     _refused(big, f"more than {records.MAX_RECORD_SAMPLES} samples")
@@ -217,7 +217,7 @@ def test_sample_limit_is_checked_before_reading(tmp_path, monkeypatch):
 
 
 def test_file_size_limit(tmp_path):
-    from dem import records
+    from stonedem.motion import records
 
     path = tmp_path / "huge.txt"
     with open(path, "wb") as f:  # sparse: instant, no disk used
@@ -236,9 +236,9 @@ def test_a_special_file_is_not_a_record(tmp_path):
 def test_records_resolve_from_the_installed_package_data(tmp_path, monkeypatch):
     import shutil
 
-    from dem import ground_motion
+    from stonedem.motion import excitation as ground_motion
 
-    installed = tmp_path / "site" / "dem" / "_records"
+    installed = tmp_path / "site" / "stonedem" / "_records"
     installed.mkdir(parents=True)
     shutil.copy("records/northridge_1994_mul009.nc", installed)
     monkeypatch.setattr(ground_motion, "checkout_records_dir", lambda: None)
@@ -256,9 +256,9 @@ def test_the_package_ships_the_records():
     from pathlib import Path
 
     config = tomllib.loads(Path("pyproject.toml").read_text())["tool"]["setuptools"]
-    assert config["package-dir"] == {"": "src", "dem._records": "records"}
-    assert "*.nc" in config["package-data"]["dem._records"]
-    assert Path("src/dem/_records/__init__.py").is_file(), "lets package discovery find dem._records"
+    assert config["package-dir"] == {"": "src", "stonedem._records": "records"}
+    assert "*.nc" in config["package-data"]["stonedem._records"]
+    assert Path("src/stonedem/_records/__init__.py").is_file(), "lets package discovery find stonedem._records"
     assert len(list(Path("records").glob("*.nc"))) >= 4
 
 

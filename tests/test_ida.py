@@ -1,4 +1,4 @@
-"""IDA over the record suites (dem.ida): config -> searches, limit states off the runs, the
+"""IDA over the record suites (stonedem.fragility.ida): config -> searches, limit states off the runs, the
 cube, fits and the physics checks, on synthetic searches whose answers are known."""
 
 import math
@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem.errors import InputError
-from dem.fragility import fragility_dataset, fragility_table
-from dem.fragility_checks import ordering_checks, pulse_check
-from dem.ida import LIMIT_STATE_NAMES, check_fragility, first_exceedance, fragility_studies, ida_cube
-from dem.study import config_cases, load_config
+from stonedem.errors import InputError
+from stonedem.fragility.fit import fragility_dataset, fragility_table
+from stonedem.fragility.checks import ordering_checks, pulse_check
+from stonedem.fragility.ida import (LIMIT_STATE_NAMES, check_fragility, first_exceedance, fragility_studies, ida_cube)
+from stonedem.study.grid import config_cases, load_config
 
 COLUMN = {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0}, "friction": 0.485}
 
@@ -74,7 +74,7 @@ def test_first_exceedance_interpolates_the_ida_curve():
 
 
 def _search_file(path, structure, component, values, collapsed, rocking, sliding, theta_cr=0.2):
-    """A search file as dem.search_dataset writes it (the variables the cube reads)."""
+    """A search file as stonedem.study.cube writes it (the variables the cube reads)."""
     values = np.asarray(values, float)
     collapsed = np.asarray(collapsed, bool)
     hits = values[collapsed]

@@ -7,14 +7,14 @@ settings; the study's figures print the same checks over the whole grid.
 
 import numpy as np
 
-from dem.study import case_table, combine_cases, run_case
+from stonedem.study.grid import case_table, combine_cases, run_case
 
 DEFAULTS = {"contact": {"k_n": 1.0e10, "c_n": 1.0e4}, "output": {"every": 0.01}}  # as config/config.yaml
 COLUMN = {"kind": "column", "height": 6.0, "width": 1.0, "capital": {"height": 0.6, "width": 1.4}}
 
 
 def cube(tmp_path, name, study):
-    from dem.dataset import write_dataset
+    from stonedem.io.netcdf import write_dataset
 
     paths = [write_dataset(run_case(c), tmp_path / name / f"{c.id}.nc")
              for c in case_table(name, study, DEFAULTS)]

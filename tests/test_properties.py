@@ -2,7 +2,7 @@
 energy, or let a body pass through another.
 
 Each example is a 1-5 drum column (drums 0.3-1.5 m wide and high, top/bottom width
-0.6-1.0 as polygon drums, dem.structures), friction 0.2-1.0, contact damping 0-1 of
+0.6-1.0 as polygon drums, stonedem.engine.structures), friction 0.2-1.0, contact damping 0-1 of
 critical, k_n 1e7-1e9 N/m2, a harmonic base motion of 0-0.3 m at 0.5-5 Hz, run for 0.5 s
 with the automatic dt. Tolerances are set from measurement (numbers beside each).
 """
@@ -14,11 +14,11 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dem.bench.stability import critical_damping, energy_drift, overlap_depths
-from dem.scene import scene_from_dict
-from dem.simulate import simulate
+from stonedem.bench.stability import critical_damping, energy_drift, overlap_depths
+from stonedem.engine.scene import scene_from_dict
+from stonedem.engine.simulate import simulate
 
-# energy balance drift / energy the run moves (dem.bench.stability.energy_drift); measured
+# energy balance drift / energy the run moves (stonedem.bench.stability.energy_drift); measured
 # over 600 random examples: |drift| at most 2.1e-3, energy created at most 8e-4
 ENERGY_TOLERANCE = 0.01
 # deepest overlap between two bodies / drum height; measured over 600 random examples: at

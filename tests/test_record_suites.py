@@ -1,12 +1,12 @@
-"""The committed FEMA P695 suites (dem.record_suites): complete, self-describing, and their
+"""The committed FEMA P695 suites (stonedem.motion.suites): complete, self-describing, and their
 intensity measures are what the stored samples give."""
 
 import numpy as np
 import pytest
 
-from dem.errors import InputError
-from dem.record_suites import SUITES, intensity_measures, load_suite, suite_record
-from dem.schema import missing_metadata
+from stonedem.errors import InputError
+from stonedem.motion.suites import SUITES, intensity_measures, load_suite, suite_record
+from stonedem.io.schema import missing_metadata
 
 EXPECTED = {"far_field": 44, "near_field_pulse": 28, "near_field_no_pulse": 28}
 
@@ -56,7 +56,7 @@ def test_unknown_suite_or_record_is_one_clear_error():
 
 def test_a_scene_runs_on_a_suite_component_scaled_to_a_pga():
     """excitation {kind: record, file: suites/far_field, component: FF07a, pga: ...}."""
-    from dem.ground_motion import excitation_from_spec
+    from stonedem.motion.excitation import excitation_from_spec
 
     spec = {"kind": "record", "file": "suites/far_field", "component": "FF07a", "pga": 3.0}
     motion = excitation_from_spec(spec)
@@ -72,9 +72,9 @@ def test_a_component_names_its_suite_and_auto_dt_resolves_its_sampling():
     """component: NP03a alone reads records/suites/near_field_pulse; its 0.0024 s sampling
     asks dt: auto for <= 0.00024 s (20 steps per Nyquist period), below the column's
     stability step, where it used to be refused."""
-    from dem.ground_motion import excitation_from_spec
-    from dem.scene import scene_from_dict
-    from dem.simulate import MIN_STEPS_PER_PERIOD, preflight
+    from stonedem.motion.excitation import excitation_from_spec
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import MIN_STEPS_PER_PERIOD, preflight
 
     motion = excitation_from_spec({"kind": "record", "component": "NP03a", "pga": 2.0})
     assert "near_field_pulse" in motion.description["file"] and motion.table_dt == pytest.approx(0.0024)

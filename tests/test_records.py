@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem import records
-from dem.errors import InputError
-from dem.ground_motion import excitation_from_spec
+from stonedem.motion import records
+from stonedem.errors import InputError
+from stonedem.motion.excitation import excitation_from_spec
 
 AT2_NEW = """PEER NGA STRONG MOTION DATABASE RECORD
 Test event 2000, Some Station, 090
@@ -146,7 +146,7 @@ def test_stand_ins_fall_in_the_thesis_frequency_order():
 
 def test_record_info_command(tmp_path):
     plot = tmp_path / "s.png"
-    proc = subprocess.run([sys.executable, "-m", "dem", "record", "info", "northridge_1994_mul009",
+    proc = subprocess.run([sys.executable, "-m", "stonedem", "record", "info", "northridge_1994_mul009",
                            "--plot", str(plot)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "PGA                 4.077" in proc.stdout and "predominant" in proc.stdout
@@ -201,12 +201,12 @@ def test_a_constant_record_has_no_predominant_frequency(accel):
 
 
 def run_info(*argv):
-    """(status, stdout, stderr) of ``dem record info`` in-process through dem.record_cli."""
+    """(status, stdout, stderr) of ``stonedem record info`` in-process through stonedem.motion.cli."""
     import contextlib
     import io
 
-    from dem.entry import guarded
-    from dem.record_cli import build_parser
+    from stonedem.entry import guarded
+    from stonedem.motion.cli import build_parser
 
     args = build_parser().parse_args(["record", "info", *map(str, argv)])
     out, err = io.StringIO(), io.StringIO()

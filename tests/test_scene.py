@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from dem.errors import InputError
-from dem.scene import initial_pose, load_scene, scene_from_dict
+from stonedem.errors import InputError
+from stonedem.engine.scene import initial_pose, load_scene, scene_from_dict
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 
@@ -82,7 +82,7 @@ def test_bad_input_names_the_field(mutate, field):
     mutate(spec)
     with pytest.raises(InputError) as err:
         scene = scene_from_dict(spec)
-        from dem.simulate import choose_time_step
+        from stonedem.engine.simulate import choose_time_step
 
         choose_time_step(scene)
     message = str(err.value)
@@ -99,7 +99,7 @@ def test_malformed_yaml_is_one_line(tmp_path):
 def test_unstable_dt_message_names_the_limit():
     spec = block_scene()
     spec["solver"]["dt"] = 0.01
-    from dem.simulate import choose_time_step, stability_limit
+    from stonedem.engine.simulate import choose_time_step, stability_limit
 
     scene = scene_from_dict(spec)
     limit = stability_limit(scene)
@@ -109,8 +109,8 @@ def test_unstable_dt_message_names_the_limit():
 
 
 def test_an_overlap_far_along_a_row_of_bodies_is_found():
-    from dem.bench.contact_cost import drum_wall_scene
-    from dem.errors import InputError
+    from stonedem.bench.contact_cost import drum_wall_scene
+    from stonedem.errors import InputError
 
     spec = drum_wall_scene(30, 2)
     last = spec["bodies"][-1]

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from dem.scene import load_scene, scene_from_dict
-from dem.dataset import run_scene
-from dem.simulate import simulate
+from stonedem.engine.scene import load_scene, scene_from_dict
+from stonedem.engine.run import run_scene
+from stonedem.engine.simulate import simulate
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 
@@ -48,7 +48,7 @@ def test_eight_drum_column_stays_stable_without_excitation():
 
 
 def test_rocking_block_dataset_is_self_describing_and_balanced():
-    from dem.schema import missing_metadata
+    from stonedem.io.schema import missing_metadata
 
     ds = run_scene(load_scene(SCENE, ["solver.duration=2.0"]))
     assert missing_metadata(ds) == []
@@ -104,8 +104,8 @@ def test_initial_velocity_is_used():
 def test_stability_limit_from_broad_phase_pairs_equals_the_all_pairs_scan(monkeypatch):
     import itertools
 
-    import dem.simulate as sim
-    from dem.bench.contact_cost import drum_wall_scene
+    import stonedem.engine.simulate as sim
+    from stonedem.bench.contact_cost import drum_wall_scene
 
     scene = scene_from_dict(drum_wall_scene(6, 4))  # 24 drums in 6 columns, gaps between them
     fast = sim.stability_limit(scene)

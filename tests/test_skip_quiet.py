@@ -1,4 +1,4 @@
-"""Skipping the quiet lead and the at-rest tail of a run (dem.simulate.quiet_steps): the
+"""Skipping the quiet lead and the at-rest tail of a run (stonedem.engine.simulate.quiet_steps): the
 answer must not move beyond the stated bounds, and fewer steps are integrated."""
 
 import math
@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from dem.scene import scene_from_dict
-from dem.simulate import quiet_steps, quiet_threshold, simulate
-from dem.structures import standalone_column
+from stonedem.engine.scene import scene_from_dict
+from stonedem.engine.simulate import quiet_steps, quiet_threshold, simulate
+from stonedem.engine.structures import standalone_column
 
 
 def column_under(record_path, duration, skip, n_drums=1):
@@ -59,7 +59,7 @@ def test_quiet_lead_is_skipped_once_settled_and_the_answer_holds(quiet_loud_quie
 
 
 def test_rest_tail_after_a_pulse_is_carried_and_the_sliding_holds():
-    from dem.validation import block_scene
+    from stonedem.validation.cases import block_scene
 
     def run(skip):
         spec = block_scene(2.0, 0.5, friction=0.2, k_n=1e8, c_n=0.5 * 2 * math.sqrt(1e8 * 2.0 * 2700.0),

@@ -1,4 +1,4 @@
-"""Snapshot strips and GIFs drawn from a case dataset alone (dem.snapshots)."""
+"""Snapshot strips and GIFs drawn from a case dataset alone (stonedem.figures.snapshots)."""
 
 from pathlib import Path
 
@@ -8,10 +8,13 @@ import xarray as xr
 import yaml
 from PIL import Image
 
-from dem import geometry, snapshots
-from dem.dataset import run_scene, write_dataset
-from dem.errors import InputError
-from dem.scene import posed_vertices, scene_from_dict
+from stonedem.engine import geometry
+
+from stonedem.figures import snapshots
+from stonedem.engine.run import run_scene
+from stonedem.io.netcdf import write_dataset
+from stonedem.errors import InputError
+from stonedem.engine.scene import posed_vertices, scene_from_dict
 
 ROCKING_BLOCK = Path(__file__).parent / "data" / "scenes" / "rocking_block.yaml"
 HARMONIC = {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25}
@@ -33,7 +36,7 @@ COLONNADE = {  # stands through 3 s: 301 samples
 
 
 def simulated_case(spec, folder, name):
-    """Run a scene, write its dataset like dem run does, read it back from the file."""
+    """Run a scene, write its dataset like stonedem run does, read it back from the file."""
     path = write_dataset(run_scene(scene_from_dict(spec)), folder / f"{name}.nc")
     with xr.open_dataset(path) as ds:
         return path, ds.load()

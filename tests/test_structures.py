@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from dem import geometry
-from dem.errors import InputError
-from dem.scene import scene_from_dict
-from dem.structures import build_structure, colonnade, standalone_column, two_tier_colonnade
+from stonedem.engine import geometry
+from stonedem.errors import InputError
+from stonedem.engine.scene import scene_from_dict
+from stonedem.engine.structures import (build_structure, colonnade, standalone_column, two_tier_colonnade)
 
 
 def verts(body):

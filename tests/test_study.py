@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem.errors import InputError
-from dem.reduce import table_7_1
-from dem.study import case_id, case_table, combine_cases, run_case
+from stonedem.errors import InputError
+from stonedem.study.reduce import table_7_1
+from stonedem.study.grid import case_id, case_table, combine_cases, run_case
 
 STUDY = {
     "structure": {"kind": "column", "height": 6.0, "width": 1.0},
@@ -37,7 +37,7 @@ def test_bad_grids_name_the_field(grid, field):
 
 
 def test_cases_combine_into_a_cube_with_parameter_dimensions(tmp_path):
-    from dem.dataset import write_dataset
+    from stonedem.io.netcdf import write_dataset
 
     paths = []
     for case in case_table("s", STUDY, {"contact": {"k_n": 1e9, "c_n": 1e4}}):
@@ -105,7 +105,7 @@ def test_table_7_1_reads_a_search_cube_with_runs_padded_by_nan():
 
 
 def test_string_parameters_keep_their_full_names(tmp_path):
-    from dem.dataset import write_dataset
+    from stonedem.io.netcdf import write_dataset
 
     paths = []
     for kind in ("a", "per_span"):
@@ -117,7 +117,7 @@ def test_string_parameters_keep_their_full_names(tmp_path):
 
 
 def test_histories_align_on_times_that_differ_by_rounding(tmp_path):
-    from dem.dataset import write_dataset
+    from stonedem.io.netcdf import write_dataset
 
     paths = []
     for k, jitter in ((1, 0.0), (2, 3.5e-18)):
@@ -133,7 +133,7 @@ def test_histories_align_on_times_that_differ_by_rounding(tmp_path):
 
 
 def test_load_config_merges_a_profile_key_by_key_as_snakemake_does(tmp_path):
-    from dem.study import config_cases, load_config
+    from stonedem.study.grid import config_cases, load_config
 
     base = tmp_path / "config.yaml"
     base.write_text("defaults: {contact: {k_n: 1.0e10}}\n"
@@ -151,7 +151,7 @@ def test_load_config_merges_a_profile_key_by_key_as_snakemake_does(tmp_path):
 
 
 def test_a_search_study_has_one_system_per_grid_case_and_refuses_the_searched_parameter_in_its_grid():
-    from dem.study import search_case
+    from stonedem.study.grid import search_case
 
     study = {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
              "excitation": {"kind": "record"}, "grid": {"record": ["a", "b"], "n_drums": [1, 2]},

@@ -1,13 +1,12 @@
-"""Hunt-and-fill collapse-threshold search (dem.threshold_search) on known thresholds."""
+"""Hunt-and-fill collapse-threshold search (stonedem.study.search) on known thresholds."""
 
 import math
 
 import pytest
 
-from dem.errors import InputError
-from dem.study import SEARCH_PARAMETERS
-from dem.threshold_search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value,
-                                  search, summary)
+from stonedem.errors import InputError
+from stonedem.study.grid import SEARCH_PARAMETERS
+from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value, search, summary)
 
 SETTINGS = SearchSettings()
 

@@ -5,9 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from dem import analytic, validation, validation_plots
-from dem.scene import scene_from_dict
-from dem.schema import missing_metadata
+from stonedem.reference import analytic
+
+from stonedem.validation import cases as validation
+
+from stonedem.validation import plots as validation_plots
+from stonedem.engine.scene import scene_from_dict
+from stonedem.io.schema import missing_metadata
 
 # Each validation runs once per module; the number tests and the figure tests share it.
 

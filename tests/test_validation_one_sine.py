@@ -5,8 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from dem import analytic, validation, validation_plots
-from dem.schema import missing_metadata
+from stonedem.reference import analytic
+
+from stonedem.validation import cases as validation
+
+from stonedem.validation import plots as validation_plots
+from stonedem.io.schema import missing_metadata
 
 BLOCK = (0.5, 2.0)
 MAP_RATIOS = (2.0, 5.0)

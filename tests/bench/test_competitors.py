@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from dem import analytic
-from dem.bench import canonical as cn
-from dem.validation import zero_crossings
+from stonedem.reference import analytic
+from stonedem.bench import canonical as cn
+from stonedem.validation.cases import zero_crossings
 
 WIDTH, HEIGHT = 0.25, 1.0
 THETA0 = cn.ROCKING_RATIO * math.atan(WIDTH / HEIGHT)
@@ -22,7 +22,7 @@ DT = 1e-3
 
 @pytest.fixture(scope="module", params=["pymunk", "mujoco"])
 def engine(request):
-    from dem.bench.work_precision import competitor
+    from stonedem.bench.work_precision import competitor
 
     pytest.importorskip(request.param)
     return competitor(request.param)

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from dem.bench import contact_cost as cc
+from stonedem.bench import contact_cost as cc
 
 
 @pytest.mark.parametrize("n_body, shape", [(1, (1, 1)), (2, (1, 2)), (5, (1, 5)), (20, (2, 10)),

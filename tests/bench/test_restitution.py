@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from dem import analytic
-from dem.bench import restitution as rs
-from dem.dataset import write_dataset
-from dem.schema import missing_metadata
-from dem.simulate import simulate
-from dem.structures import build_structure
-from dem.study import load_config
-from dem.validation import first_impact_restitution, rigid_free_rocking
+from stonedem.reference import analytic
+from stonedem.bench import restitution as rs
+from stonedem.io.netcdf import write_dataset
+from stonedem.io.schema import missing_metadata
+from stonedem.engine.simulate import simulate
+from stonedem.engine.structures import build_structure
+from stonedem.study.grid import load_config
+from stonedem.validation.cases import first_impact_restitution, rigid_free_rocking
 
 ROOT = Path(__file__).resolve().parents[2]
 MONOLITH = rs.Column(n_drums=1, height=6.0, width=1.0, density=2000.0, capital=None, friction=0.485,
@@ -92,7 +92,7 @@ def small_table():
 def test_dataset_is_self_describing(small_table, tmp_path):
     ds = small_table
     assert missing_metadata(ds) == []
-    assert ds.attrs["source"].startswith("dem")
+    assert ds.attrs["source"].startswith("stonedem")
     assert ds.attrs["n_impacts"] == 2 and ds.attrs["theta0_over_alpha"] == rs.THETA0_RATIO
     assert ds.attrs["housner_energy_ratio_monolith"] == pytest.approx(HOUSNER_1x6)
     assert ds.energy_ratio.dims == ("law", "structure", "impact")

@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 import yaml
 
-import dem.kernels.step
-from dem.bench import stability
-from dem.cli import main as cli_main
-from dem.errors import InputError
-from dem.scene import scene_from_dict
-from dem.schema import missing_metadata
-from dem.simulate import choose_time_step, stability_limit
-from dem.validation import block_scene
+import stonedem.kernels.step
+from stonedem.bench import stability
+from stonedem.cli import main as cli_main
+from stonedem.errors import InputError
+from stonedem.engine.scene import scene_from_dict
+from stonedem.io.schema import missing_metadata
+from stonedem.engine.simulate import choose_time_step, stability_limit
+from stonedem.validation.cases import block_scene
 
 K_N = (1e8, 1e10)  # [N m-2]: two decades apart, the second the study's stiffness
 RATIOS = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0)  # dt / stability limit
@@ -56,7 +56,7 @@ def test_block_goes_unstable_past_the_limit(block_map):
 
 def test_map_is_self_describing(block_map):
     assert missing_metadata(block_map) == []
-    assert block_map.attrs["source"].startswith("dem")
+    assert block_map.attrs["source"].startswith("stonedem")
     assert block_map.attrs["contact_model"] in stability.CONTACT_MODELS
     damping = "zeta" if block_map.attrs["contact_model"] == "point" else "c_n"
     assert damping in block_map and float(block_map[damping].max()) == 0.0
@@ -81,7 +81,7 @@ def test_dt_past_the_limit_is_refused_before_running(tmp_path, monkeypatch):
     def must_not_run(*args, **kwargs):
         raise AssertionError("the kernel ran although dt exceeds the limit")
 
-    monkeypatch.setattr(dem.kernels.step, "run", must_not_run)
+    monkeypatch.setattr(stonedem.kernels.step, "run", must_not_run)
     with pytest.raises(InputError) as err:
         choose_time_step(scene)
     assert err.value.field == "solver.dt"

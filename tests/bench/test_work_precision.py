@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from dem.bench import canonical as cn
-from dem.bench import ours, pymunk_engine
-from dem.bench.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
-from dem.schema import missing_metadata
-from dem.scene import scene_from_dict
+from stonedem.bench import canonical as cn
+from stonedem.bench import ours, pymunk_engine
+from stonedem.bench.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
+from stonedem.io.schema import missing_metadata
+from stonedem.engine.scene import scene_from_dict
 
 
 @pytest.fixture(scope="module")

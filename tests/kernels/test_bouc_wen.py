@@ -1,11 +1,11 @@
-"""The compiled Bouc-Wen sliding block (dem.kernels.bouc_wen) against closed forms."""
+"""The compiled Bouc-Wen sliding block (stonedem.reference.bouc_wen) against closed forms."""
 
 import math
 
 import numpy as np
 import pytest
 
-from dem.kernels.bouc_wen import bouc_wen_history, bouc_wen_rate, implicit_step
+from stonedem.reference.bouc_wen import bouc_wen_history, bouc_wen_rate, implicit_step
 
 G, MU, U_Y = 9.81, 0.3, 1e-6
 

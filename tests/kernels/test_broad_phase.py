@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from dem.kernels.broad_phase import find_candidate_pairs
+from stonedem.kernels.broad_phase import find_candidate_pairs
 
 
 def brute_force(lo, hi, driven, margin):

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from dem import geometry
-from dem.kernels.contact import N_ENERGY_ACC, N_MEMORY, winkler_integral
-from dem.kernels.contact import area_contact_forces as contact_forces
-from dem.kernels.overlap import MAX_OVERLAP_VERTICES
+from stonedem.engine import geometry
+from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY, winkler_integral
+from stonedem.kernels.contact import area_contact_forces as contact_forces
+from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
 
 
 def two_boxes(depth, shift_x=0.0):

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from dem.kernels import excitation as kx
+from stonedem.kernels import excitation as kx
 
 H = 1e-6
 
@@ -38,7 +38,7 @@ def test_pulses_are_continuous_at_their_end_and_rest_before_zero():
 
 
 def test_table_integrates_piecewise_linear_acceleration_exactly():
-    from dem.ground_motion import record_to_table
+    from stonedem.motion.excitation import record_to_table
 
     t = np.arange(0, 2.0001, 0.01)
     a = np.sin(3 * t) + 0.5 * (t > 1.0)

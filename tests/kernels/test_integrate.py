@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from dem.kernels.integrate import central_difference_step
+from stonedem.kernels.integrate import central_difference_step
 
 
 def fly(n_steps, dt, v0=(1.0, 2.0, 0.5), g=9.81):

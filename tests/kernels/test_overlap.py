@@ -5,15 +5,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dem import geometry
-from dem.kernels.overlap import (
-    FRAME_BOUNDARY,
-    FRAME_THESIS,
-    MAX_OVERLAP_VERTICES,
-    clip_convex_polygons,
-    contact_frame,
-    polygon_area_centroid,
-)
+from stonedem.engine import geometry
+from stonedem.kernels.overlap import (FRAME_BOUNDARY, FRAME_THESIS, MAX_OVERLAP_VERTICES, clip_convex_polygons, contact_frame, polygon_area_centroid)
 from tests import naive
 
 

@@ -1,12 +1,12 @@
-"""Point contacts at the contact face's end vertices (dem.kernels.point_contact)."""
+"""Point contacts at the contact face's end vertices (stonedem.kernels.point_contact)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from dem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
-from dem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces
+from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
+from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces
 
 K_N = 1e9
 

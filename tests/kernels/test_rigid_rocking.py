@@ -1,13 +1,12 @@
-"""The compiled rigid rocking integrators (dem.kernels.rigid_rocking) against closed forms and each other."""
+"""The compiled rigid rocking integrators (stonedem.reference.rigid_rocking) against closed forms and each other."""
 
 import math
 
 import numpy as np
 import pytest
 
-from dem.analytic import rectangle_rocking_properties
-from dem.kernels.rigid_rocking import (PULSE_AT_REST, PULSE_ENDED, one_sine_pulse, rocking_history,
-                                      sine_uplift_instant, uplift_instant)
+from stonedem.reference.analytic import rectangle_rocking_properties
+from stonedem.reference.rigid_rocking import (PULSE_AT_REST, PULSE_ENDED, one_sine_pulse, rocking_history, sine_uplift_instant, uplift_instant)
 
 G = 9.81
 W, H = 0.25, 1.0

@@ -1,12 +1,12 @@
-"""The staged time loop (dem.kernels.step): its bundles, energy columns and stage functions."""
+"""The staged time loop (stonedem.kernels.step): its bundles, energy columns and stage functions."""
 
 import numpy as np
 import pytest
 
-from dem.kernels import step
-from dem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
-from dem.kernels.excitation import KIND_NONE
-from dem.kernels.overlap import FRAME_BOUNDARY
+from stonedem.kernels import step
+from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, N_MEMORY
+from stonedem.kernels.excitation import KIND_NONE
+from stonedem.kernels.overlap import FRAME_BOUNDARY
 
 G = 9.81
 

@@ -1,4 +1,4 @@
-"""`dem.wall` command: the issue's case YAML runs; bad input -> one line, exit 2, no file."""
+"""`stonedem.wall` command: the issue's case YAML runs; bad input -> one line, exit 2, no file."""
 
 import subprocess
 import sys
@@ -6,7 +6,7 @@ import sys
 import pytest
 import xarray as xr
 
-from dem.schema import missing_metadata
+from stonedem.io.schema import missing_metadata
 
 CASE = """\
 panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}
@@ -17,7 +17,7 @@ load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
 
 
 def wall(*args):
-    return subprocess.run([sys.executable, "-m", "dem.wall", *args], capture_output=True, text=True)
+    return subprocess.run([sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True)
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +36,7 @@ def test_issue_case_runs_and_is_self_describing(issue_case):
     assert ds["lambda"].dims == ("step",) and ds.damage.dims == ("step", "interface")
     assert float(ds.lambda_max) == pytest.approx(float(ds["lambda"].max()))
     assert ds.displacement_at_limit.dims == ("block", "dof")
-    assert '"mu": 0.7' in ds.attrs["case"] and "solver_tolerance" in ds.attrs and "dem" in ds.attrs["source"]
+    assert '"mu": 0.7' in ds.attrs["case"] and "solver_tolerance" in ds.attrs and "stonedem" in ds.attrs["source"]
 
 
 @pytest.mark.xfail(strict=True, reason="measured lambda_max 0.283 vs manuscript DEM 0.175 (+61 %): "
@@ -81,7 +81,7 @@ def test_case_dataset_carries_its_verdict(tmp_path):
     """A case with a manuscript reference says in its own attrs whether it meets the tolerance."""
     from pathlib import Path
 
-    from dem.wall.dataset import run_case_file
+    from stonedem.wall.dataset import run_case_file
 
     case = Path(__file__).resolve().parents[2] / "config" / "walls" / "s15.yaml"
     ds = run_case_file(case, tmp_path / "s15.nc")

@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from dem.wall.compatibility import block_blocks, interface_matrix, panel_compatibility
-from dem.wall.panel import build_panel
+from stonedem.wall.compatibility import block_blocks, interface_matrix, panel_compatibility
+from stonedem.wall.panel import build_panel
 
 
 def test_general_form_equals_eq_a2_a3_for_regular_interfaces():

@@ -4,11 +4,10 @@ continuity, idempotence and the closest-point property of the shear-torsion retu
 import numpy as np
 import pytest
 
-from dem.wall.constitutive import (ELASTIC, JointStrength, project_shear_torsion, return_map,
-                                   smooth_plus)
-from dem.wall.interface import torsion_constant
-from dem.wall.panel import build_panel
-from dem.wall.stiffness import local_stiffness, sections
+from stonedem.wall.constitutive import (ELASTIC, JointStrength, project_shear_torsion, return_map, smooth_plus)
+from stonedem.wall.interface import torsion_constant
+from stonedem.wall.panel import build_panel
+from stonedem.wall.stiffness import local_stiffness, sections
 
 RNG_SEED = 20160417
 

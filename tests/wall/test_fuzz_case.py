@@ -18,10 +18,10 @@ import pytest
 import yaml
 from hypothesis import given
 
-from dem.errors import InputError
-from dem.wall import case as wall_case
-from dem.wall.case import MAX_BLOCKS, MAX_MEMORY_BYTES, check_case, read_case
-from dem.wall.pushover import SolverSettings
+from stonedem.errors import InputError
+from stonedem.wall import case as wall_case
+from stonedem.wall.case import MAX_BLOCKS, MAX_MEMORY_BYTES, check_case, read_case
+from stonedem.wall.pushover import SolverSettings
 from tests.signals import interrupt_after_line
 from tests.wall import case_mutations as M
 
@@ -222,9 +222,9 @@ def test_missing_or_directory_case_file(tmp_path):
 # --- honest status ------------------------------------------------------------------------
 
 def test_a_path_cut_short_says_it_reached_no_limit():
-    from dem.wall.case import case_from_dict
-    from dem.wall.dataset import wall_dataset
-    from dem.wall.pushover import pushover
+    from stonedem.wall.case import case_from_dict
+    from stonedem.wall.dataset import wall_dataset
+    from stonedem.wall.pushover import pushover
 
     spec = yaml.safe_load((M.CASES / "free_standing.yaml").read_text())
     spec["solver"] = {"max_steps": 3}
@@ -248,7 +248,7 @@ def test_a_path_cut_short_says_it_reached_no_limit():
 def test_progress_log_is_quiet_on_short_runs_and_periodic_on_long_ones():
     import io
 
-    from dem.wall.cli import ProgressLog
+    from stonedem.wall.cli import ProgressLog
 
     out = io.StringIO()
     log = ProgressLog(out, every=2.0)
@@ -264,14 +264,14 @@ def test_progress_log_is_quiet_on_short_runs_and_periodic_on_long_ones():
 
 
 def wall(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "dem.wall", *args], capture_output=True, text=True, **kw)
+    return subprocess.run([sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True, **kw)
 
 
 @pytest.fixture
 def in_process(capsys):
-    """``dem.wall.cli.main`` in this process (no interpreter start-up); restores the signal
-    handlers ``dem.entry.guarded`` installs. Returns (status, stderr lines)."""
-    from dem.wall.cli import main
+    """``stonedem.wall.cli.main`` in this process (no interpreter start-up); restores the signal
+    handlers ``stonedem.entry.guarded`` installs. Returns (status, stderr lines)."""
+    from stonedem.wall.cli import main
 
     handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
 
@@ -357,7 +357,7 @@ def test_signal_during_pushover_exits_at_once_and_leaves_no_file(tmp_path, signu
     out = tmp_path / "long.nc"
     # stderr is a pipe, not a terminal: the progress log must still come
     code, elapsed, seen = interrupt_after_line(
-        [sys.executable, "-m", "dem.wall", "long.yaml", "-o", out.name],
+        [sys.executable, "-m", "stonedem.wall", "long.yaml", "-o", out.name],
         lambda line: line.startswith("pushover: step"), signum, 60, cwd=tmp_path)
     assert re.fullmatch(r"pushover: step \d+, lambda \S+, u \S+ m, \d+\.\d s\n", seen[-1]), seen
     assert code == status and elapsed < 1.0, (code, elapsed)

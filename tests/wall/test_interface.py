@@ -3,10 +3,8 @@
 import numpy as np
 import pytest
 
-from dem.wall.interface import (SpringInterface, bending_push, ramp, shear_ultimate,
-                                torsion_constant, torsion_strength_with_bending,
-                                torsion_vs_tensile_strength)
-from dem.wall.validation import ALPHA_TOLERANCE, alpha_of, single_interface_checks
+from stonedem.wall.interface import (SpringInterface, bending_push, ramp, shear_ultimate, torsion_constant, torsion_strength_with_bending, torsion_vs_tensile_strength)
+from stonedem.wall.validation import ALPHA_TOLERANCE, alpha_of, single_interface_checks
 
 ORDUNA = dict(l1=0.3, l2=0.2, n=32, k_n=2.4e9, k_s=1.0e9, mu=0.7)
 

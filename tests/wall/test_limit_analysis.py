@@ -1,4 +1,4 @@
-"""Limit analysis by LP (dem.wall.limit_analysis): the supporting planes, answers known in
+"""Limit analysis by LP (stonedem.wall.limit_analysis): the supporting planes, answers known in
 closed form, and the errors. The oracle over every table case is in test_tables.py."""
 
 from pathlib import Path
@@ -6,9 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dem.wall.case import case_from_dict, load_case
-from dem.wall.limit_analysis import (LimitAnalysisError, limit_multiplier, radial_boundary_points,
-                                     tangent_normals)
+from stonedem.wall.case import case_from_dict, load_case
+from stonedem.wall.limit_analysis import (LimitAnalysisError, limit_multiplier, radial_boundary_points, tangent_normals)
 
 CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
 RNG = np.random.default_rng(16)

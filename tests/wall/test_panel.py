@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from dem.wall.panel import KIND_BED, KIND_HEAD, KIND_SUPPORT, build_panel
+from stonedem.wall.panel import KIND_BED, KIND_HEAD, KIND_SUPPORT, build_panel
 
 
 def test_running_bond_3_by_13():

@@ -2,8 +2,8 @@
 
 import pytest
 
-from dem.wall.case import case_from_dict
-from dem.wall.pushover import pushover
+from stonedem.wall.case import case_from_dict
+from stonedem.wall.pushover import pushover
 
 
 def wall(mu=0.7, blocks=2, courses=8):
@@ -32,9 +32,9 @@ def test_mortar_joint_is_perfectly_plastic_in_tension():
     does not lose its strength (no brittle crack) unless asked to."""
     import numpy as np
 
-    from dem.wall.constitutive import DETACHED, JointStrength, return_map
-    from dem.wall.panel import build_panel
-    from dem.wall.stiffness import local_stiffness, sections
+    from stonedem.wall.constitutive import DETACHED, JointStrength, return_map
+    from stonedem.wall.panel import build_panel
+    from stonedem.wall.stiffness import local_stiffness, sections
 
     p = build_panel(0.036, 0.112, 0.053, 2, 2, joint_thickness=0.01)
     sec = sections(p)
@@ -77,7 +77,7 @@ def test_walls_with_openings_carry_their_self_weight(name):
     import numpy as np
     import yaml
 
-    from dem.wall.pushover import ConvergenceError, SolverSettings, _apply_dead_load
+    from stonedem.wall.pushover import ConvergenceError, SolverSettings, _apply_dead_load
 
     spec = yaml.safe_load((Path(__file__).parents[2] / "config" / "walls" / f"{name}.yaml").read_text())
     case = case_from_dict(spec)
@@ -101,7 +101,7 @@ def test_s11_passes_former_stall_without_accepting_chattering_iterates():
     lambda_max 0.0925 vs manuscript DEM 0.100)."""
     from pathlib import Path
 
-    from dem.wall.case import load_case
+    from stonedem.wall.case import load_case
 
     case = load_case(Path(__file__).resolve().parents[2] / "config" / "walls" / "s11.yaml")
     case.settings.max_seconds = 0.0
@@ -127,7 +127,7 @@ def test_banded_lu_solves_as_superlu():
     import numpy as np
     import scipy.sparse.linalg as spla
 
-    from dem.wall.pushover import BandLU, _factor
+    from stonedem.wall.pushover import BandLU, _factor
 
     K = _banded(300, 12, 7)
     lu = _factor(K)
@@ -138,7 +138,7 @@ def test_banded_lu_solves_as_superlu():
 
 
 def test_singular_banded_matrix_is_a_convergence_error():
-    from dem.wall.pushover import ConvergenceError, _factor
+    from stonedem.wall.pushover import ConvergenceError, _factor
 
     K = _banded(100, 3, 3).tolil()
     K[50, :] = 0.0

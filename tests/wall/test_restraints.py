@@ -1,13 +1,13 @@
-"""Restraints eliminated exactly (dem.wall.restraints): pins and straight restraint lines."""
+"""Restraints eliminated exactly (stonedem.wall.restraints): pins and straight restraint lines."""
 
 import numpy as np
 import pytest
 
-from dem.errors import InputError
-from dem.wall.case import case_from_dict
-from dem.wall.panel import build_panel
-from dem.wall.pushover import pushover
-from dem.wall.restraints import LineRestraint, point_rows, reduction_matrix, restrained_dofs
+from stonedem.errors import InputError
+from stonedem.wall.case import case_from_dict
+from stonedem.wall.panel import build_panel
+from stonedem.wall.pushover import pushover
+from stonedem.wall.restraints import LineRestraint, point_rows, reduction_matrix, restrained_dofs
 
 RNG = np.random.default_rng(15)
 

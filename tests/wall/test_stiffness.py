@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from dem.wall.compatibility import panel_compatibility
-from dem.wall.panel import KIND_BED, KIND_HEAD, build_panel
-from dem.wall.stiffness import local_stiffness, panel_stiffness, sections, to_global_order
+from stonedem.wall.compatibility import panel_compatibility
+from stonedem.wall.panel import KIND_BED, KIND_HEAD, build_panel
+from stonedem.wall.stiffness import local_stiffness, panel_stiffness, sections, to_global_order
 
 
 def test_eq5_areas_and_inertias():

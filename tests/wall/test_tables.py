@@ -2,17 +2,17 @@
 DEM column, 10 % tolerance. Cases we miss are strict xfails carrying the measured value; the
 same numbers are in results/tables/manuscript_table_*.csv (within_tolerance per case) and
 benchmarks/wall_tables.py. Then every pushover plateau against the limit analysis of the same
-model (the LP oracle, dem.wall.limit_analysis), 1 %."""
+model (the LP oracle, stonedem.wall.limit_analysis), 1 %."""
 
 from pathlib import Path
 
 import pytest
 
-from dem.wall.case import load_case
-from dem.wall.dataset import ORACLE_TOLERANCE
-from dem.wall.limit_analysis import limit_multiplier
-from dem.wall.pushover import pushover
-from dem.wall.validation import LIMIT_TOLERANCE
+from stonedem.wall.case import load_case
+from stonedem.wall.dataset import ORACLE_TOLERANCE
+from stonedem.wall.limit_analysis import limit_multiplier
+from stonedem.wall.pushover import pushover
+from stonedem.wall.validation import LIMIT_TOLERANCE
 
 CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
 WITHIN = ["orduna_case1", "s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s32", "s23", "s34",

@@ -46,7 +46,7 @@ def test_bad_config_is_refused(tmp_path):
     assert "Bad config: records.x." in proc.stderr, proc.stdout + proc.stderr
 
 
-# --- issue 13: the study config is refused at DAG time, by its path (dem.study.check_config) ----
+# --- issue 13: the study config is refused at DAG time, by its path (stonedem.study.grid.check_config) ----
 
 
 def _small_workflow(tmp_path, mutate=None):
@@ -54,7 +54,7 @@ def _small_workflow(tmp_path, mutate=None):
     validations), changed by ``mutate(config)``."""
     import yaml
 
-    from dem.study import load_config
+    from stonedem.study.grid import load_config
 
     for item in ("Snakefile", "workflow", "records", "config", "profiles"):
         src = ROOT / item
@@ -141,8 +141,8 @@ def _expected_figures():
     import yaml
     from snakemake.utils import update_config
 
-    from dem.figures import figure_table
-    from dem.study import case_table
+    from stonedem.figures import figure_table
+    from stonedem.study.grid import case_table
 
     config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     update_config(config, yaml.safe_load((ROOT / "tests" / "workflow" / "config.yaml").read_text()))
@@ -241,9 +241,9 @@ def test_slurm_profile_dry_run():
 
 def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
     # the full IDA's plan: 428 searches packed by fragility.job_seconds into tens of jobs
-    from dem.ida import fragility_config
-    from dem.job_plan import plan_jobs
-    from dem.study import config_cases, load_config
+    from stonedem.fragility.ida import fragility_config
+    from stonedem.study.jobs import plan_jobs
+    from stonedem.study.grid import config_cases, load_config
 
     studies = config_cases(fragility_config(load_config(ROOT / "config" / "config.yaml")))
     assert sum(len(cases) for cases in studies.values()) == 428

@@ -26,7 +26,7 @@ rule bench_work_precision:
     log:
         "results/logs/bench/work_precision.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/bench.py"
 
@@ -39,7 +39,7 @@ rule bench_contact_cost:
     log:
         "results/logs/bench/contact_cost.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/bench.py"
 
@@ -52,7 +52,7 @@ rule bench_stability:
     log:
         "results/logs/bench/stability.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/bench.py"
 
@@ -69,7 +69,7 @@ rule bench_skipping:
     log:
         "results/logs/bench/skipping.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/bench.py"
 
@@ -86,9 +86,9 @@ rule bench_restitution:
     log:
         "results/logs/bench/restitution.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     shell:
-        "NUMBA_NUM_THREADS=1 python -m dem.bench.restitution {params.quick} --config {input} "
+        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.restitution {params.quick} --config {input} "
         "--out {output} > {log} 2>&1"
 
 
@@ -101,9 +101,9 @@ rule bench_fuzz:
     log:
         "results/logs/bench/fuzz.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     shell:
-        "python -m dem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
+        "python -m stonedem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

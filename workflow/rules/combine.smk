@@ -17,6 +17,6 @@ for k, batch in enumerate(CUBE_BATCHES):
         log:
             f"results/logs/cubes/cubes_{k}.log",
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/combine_cubes.py"

@@ -3,9 +3,9 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
-import dem.study
-from dem.errors import InputError
-from dem.record_suites import record_file_name
+import stonedem.study.grid
+from stonedem.errors import InputError
+from stonedem.motion.suites import record_file_name
 
 
 def config_flag(key, default):
@@ -16,15 +16,15 @@ def config_flag(key, default):
 EXTRACT_RECORDS = config_flag("extract_records", False)
 # The config is refused here, at DAG time (snakemake -n), when any case would fail in its job:
 # every value of every grid, every study and the defaults are built into each case's scene
-# through dem run's validation; records must be listed under records: and be on disk; sizes
-# past dem.study.MAX_* are refused. One line names the config path (dem.study.check_config).
+# through stonedem run's validation; records must be listed under records: and be on disk; sizes
+# past stonedem.study.grid.MAX_* are refused. One line names the config path (stonedem.study.grid.check_config).
 # Checked once, by the main process (not again in each cluster job, which re-reads this file).
 if getattr(workflow, "is_main_process", True):
     try:
-        dem.study.check_config(config, records_dir="records", extract_records=EXTRACT_RECORDS,
+        stonedem.study.grid.check_config(config, records_dir="records", extract_records=EXTRACT_RECORDS,
                                schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml")
     except InputError as error:
-        # one line, the last one printed, and dem's exit code for bad input (dem.entry); a
+        # one line, the last one printed, and stonedem's exit code for bad input (stonedem.entry); a
         # WorkflowError would add Snakemake's header and a traceback line after it
         print(f"Bad config: {error}", file=sys.stderr)
         sys.exit(2)
@@ -42,24 +42,24 @@ def record_params(wildcards):
     return RECORDS[wildcards.name]
 
 
-import dem.figures
-import dem.ida
-import dem.job_plan
-import dem.study
+import stonedem.figures
+import stonedem.fragility.ida
+import stonedem.study.jobs
+import stonedem.study.grid
 
 STUDIES = {
-    name: {case.id: case for case in cases} for name, cases in dem.study.config_cases(config).items()
+    name: {case.id: case for case in cases} for name, cases in stonedem.study.grid.config_cases(config).items()
 }
-# the catalogue's tables and figures (dem.figures) whose inputs are in the configured studies
+# the catalogue's tables and figures (stonedem.figures) whose inputs are in the configured studies
 # (a reduced profile makes fewer): results/tables/<table>.csv, results/figures/<figure>.png
-TABLES = dem.figures.reduction_table(STUDIES)
-FIGURES = dem.figures.figure_table(STUDIES, config)
+TABLES = stonedem.figures.reduction_table(STUDIES)
+FIGURES = stonedem.figures.figure_table(STUDIES, config)
 FIGURE_NAMES = list(FIGURES)
 
 
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
-# jobs sized to their cost (dem.job_plan): cheap cases share a job, each search is one job
-JOBS = dem.job_plan.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
+# jobs sized to their cost (stonedem.study.jobs): cheap cases share a job, each search is one job
+JOBS = stonedem.study.jobs.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
 
 
 def requested_targets():
@@ -80,23 +80,23 @@ def fragility_requested():
 
 
 # the IDA over the FEMA P695 suites (config fragility:): a threshold-search study per
-# structure (dem.ida), several searches per job (fragility.job_seconds of estimated work)
+# structure (stonedem.fragility.ida), several searches per job (fragility.job_seconds of estimated work)
 FRAGILITY_STUDIES = {}
 if config.get("fragility") is not None and fragility_requested():
     try:  # every case checked by the main process; a cluster job only rebuilds the tables
         if getattr(workflow, "is_main_process", True):
-            tables = dem.ida.check_fragility(config)
+            tables = stonedem.fragility.ida.check_fragility(config)
         else:
-            tables = dem.study.config_cases(dem.ida.fragility_config(config))
+            tables = stonedem.study.grid.config_cases(stonedem.fragility.ida.fragility_config(config))
         FRAGILITY_STUDIES = {name: {case.id: case for case in cases} for name, cases in tables.items()}
     except InputError as error:
         print(f"Bad config: {error}", file=sys.stderr)
         sys.exit(2)
-FRAGILITY_JOBS = dem.job_plan.plan_jobs(
+FRAGILITY_JOBS = stonedem.study.jobs.plan_jobs(
     {name: list(cases.values()) for name, cases in FRAGILITY_STUDIES.items()},
-    search_seconds=float(config.get("fragility", {}).get("job_seconds", dem.ida.DEFAULT_JOB_SECONDS)),
+    search_seconds=float(config.get("fragility", {}).get("job_seconds", stonedem.fragility.ida.DEFAULT_JOB_SECONDS)),
 )
-JOB_PRIORITY = dem.job_plan.job_priority(JOBS + FRAGILITY_JOBS)
+JOB_PRIORITY = stonedem.study.jobs.job_priority(JOBS + FRAGILITY_JOBS)
 # the jobs that are not packed (a wall pushover, a validation: up to ~40 s each) start before
 # the packed ~20 s simulation jobs, so that none of them is left for the tail (S23 was: 37 s)
 UNPACKED_PRIORITY = max(JOB_PRIORITY.values(), default=0) + 1
@@ -137,7 +137,7 @@ def job_records(job):
 
 
 
-# the file of each kind of catalogue input (dem.figures.Cube, Case, Table, Record)
+# the file of each kind of catalogue input (stonedem.figures.Cube, Case, Table, Record)
 CATALOGUE_PATHS = {
     "Cube": "results/cubes/{study}.nc",
     "Case": "results/cases/{study}/{case}.nc",
@@ -147,14 +147,14 @@ CATALOGUE_PATHS = {
 
 
 def table_inputs(name):
-    return dem.figures.input_paths(TABLES[name].inputs, CATALOGUE_PATHS)
+    return stonedem.figures.input_paths(TABLES[name].inputs, CATALOGUE_PATHS)
 
 
 TABLE_BATCHES = batches(TABLES, 8)
 
 
 def figure_inputs(name):
-    return dem.figures.input_paths(FIGURES[name].inputs, CATALOGUE_PATHS)
+    return stonedem.figures.input_paths(FIGURES[name].inputs, CATALOGUE_PATHS)
 
 
 # consecutive catalogue entries share their inputs (a chapter's cubes)

@@ -1,4 +1,4 @@
-# The catalogue's figures (dem.figures), a batch of FIGURES_PER_JOB per job (common.smk).
+# The catalogue's figures (stonedem.figures), a batch of FIGURES_PER_JOB per job (common.smk).
 for k, batch in enumerate(FIGURE_BATCHES):
 
     rule:
@@ -21,6 +21,6 @@ for k, batch in enumerate(FIGURE_BATCHES):
         log:
             f"results/logs/figures/figures_{k}.log",
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/plot_figures.py"

@@ -1,4 +1,4 @@
-# Seismic fragility by incremental dynamic analysis (config fragility:, dem.ida): the
+# Seismic fragility by incremental dynamic analysis (config fragility:, stonedem.fragility.ida): the
 # searches are jobs of simulate.smk (FRAGILITY_JOBS); here they become the structure x
 # record x limit-state cube, the lognormal fits, the tables and the figures.
 # `snakemake fragility -j2`; not part of `all`.
@@ -7,11 +7,11 @@ if not FRAGILITY and fragility_requested():
     print("Bad config: fragility: missing; add a fragility: section with structures (see config/config.yaml)",
           file=sys.stderr)
     sys.exit(2)
-FRAGILITY_STRUCTURES = [name[len(dem.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
+FRAGILITY_STRUCTURES = [name[len(stonedem.fragility.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
 # the searched structures' config entries (drum width, kind: the cube and the checks read them)
 FRAGILITY_SPECS = {name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES}
 FRAGILITY_SEARCHES = [search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()]
-# the single block set against rigid one-sine theory (dem.fragility_checks.pulse_check)
+# the single block set against rigid one-sine theory (stonedem.fragility.checks.pulse_check)
 PULSE_STRUCTURE = FRAGILITY.get("pulse_check") if FRAGILITY.get("pulse_check") in FRAGILITY_STRUCTURES else None
 PULSE_FILE = ["results/fragility/pulse_check.nc"] if PULSE_STRUCTURE else []
 FRAGILITY_OUTPUTS = (
@@ -43,7 +43,7 @@ rule ida_cube:
     log:
         "results/logs/fragility/ida_cube.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/ida_cube.py"
 
@@ -63,7 +63,7 @@ rule fragility_fits:
     log:
         "results/logs/fragility/fragility_fits.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/fragility_fits.py"
 
@@ -94,6 +94,6 @@ rule fragility_figures:
     log:
         "results/logs/fragility/fragility_figures.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/fragility_figures.py"

@@ -4,7 +4,7 @@
 #   snakemake -j1 --config extract_records=true --forcerun extract_record extract_suite
 if EXTRACT_RECORDS:
 
-    # all 100 horizontal components of the FEMA P695 sets, one file per set (dem.record_suites)
+    # all 100 horizontal components of the FEMA P695 sets, one file per set (stonedem.motion.suites)
     rule extract_suite:
         output:
             "records/suites/{suite}.nc",
@@ -13,7 +13,7 @@ if EXTRACT_RECORDS:
         log:
             "results/logs/records/suite_{suite}.log",
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/extract_suite.py"
 
@@ -25,6 +25,6 @@ if EXTRACT_RECORDS:
         log:
             "results/logs/records/{name}.log",
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/extract_record.py"

@@ -1,4 +1,4 @@
-# The catalogue's CSV tables (dem.figures: TABLES in common.smk), a batch per job.
+# The catalogue's CSV tables (stonedem.figures: TABLES in common.smk), a batch per job.
 for k, batch in enumerate(TABLE_BATCHES):
 
     rule:
@@ -13,6 +13,6 @@ for k, batch in enumerate(TABLE_BATCHES):
         log:
             f"results/logs/tables/tables_{k}.log",
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/write_tables.py"

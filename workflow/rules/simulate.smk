@@ -1,6 +1,6 @@
-# One rule per job of dem.job_plan: a job runs its cases in one interpreter (one start-up,
+# One rule per job of stonedem.study.jobs: a job runs its cases in one interpreter (one start-up,
 # one compiled-cache load), writes one NetCDF per case and logs one line per case; a
-# restored case comes from the case store (results/case_store, dem.case_runner).
+# restored case comes from the case store (results/case_store, stonedem.study.runner).
 for job in JOBS:
     if job.is_search:
         continue
@@ -18,12 +18,12 @@ for job in JOBS:
             f"results/logs/jobs/{job.name}.log",
         priority: JOB_PRIORITY[job.name]
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/simulate_cases.py"
 
 
-# Threshold searches (dem.threshold_search), one or more per job: each system's runs' case
+# Threshold searches (stonedem.study.search), one or more per job: each system's runs' case
 # files in one directory, its runs and bracket in results/searches/<study>/<system>.nc.
 for job in JOBS + FRAGILITY_JOBS:
     if not job.is_search:
@@ -43,6 +43,6 @@ for job in JOBS + FRAGILITY_JOBS:
             f"results/logs/jobs/{job.name}.log",
         priority: JOB_PRIORITY[job.name]
         conda:
-            "../envs/dem.yaml"
+            "../envs/stonedem.yaml"
         script:
             "../scripts/search_threshold.py"

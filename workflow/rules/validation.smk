@@ -1,14 +1,14 @@
 # The thesis chapter-5 validations (5.1, 5.2.1) and the chapter-5 figures that are plots,
 # named by thesis figure number (results/figures/thesis_fig_5_*.png). All science is in
-# dem.validation and dem.validation_plots; workflow/scripts/validate_one.py is thin.
+# stonedem.validation.cases and stonedem.validation.plots; workflow/scripts/validate_one.py is thin.
 # The wildcard is `validation`, not `name` (constrained to the record names in common.smk).
 import inspect
 
-import dem.validation
-import dem.validation_plots
+import stonedem.validation.cases
+import stonedem.validation.plots
 
-VALIDATION_NAMES = list(dem.validation.VALIDATIONS)
-VALIDATION_FIGURES = list(dem.validation_plots.THESIS_FIGURES)
+VALIDATION_NAMES = list(stonedem.validation.cases.VALIDATIONS)
+VALIDATION_FIGURES = list(stonedem.validation.plots.THESIS_FIGURES)
 VALIDATION_TARGETS = (
     [f"results/figures/{fig}.png" for fig in VALIDATION_FIGURES] + ["results/tables/validation_summary.csv"]
     if RUN_VALIDATION
@@ -19,15 +19,15 @@ VALIDATION_TARGETS = (
 # the committed record each validation reads (its ``record=`` argument), as a named input
 VALIDATION_RECORDS = {
     name: {"record": f"records/{param.default.name}"}
-    for name, func in dem.validation.VALIDATIONS.items()
+    for name, func in stonedem.validation.cases.VALIDATIONS.items()
     if (param := inspect.signature(func).parameters.get("record"))
 }
 # the validation dataset each thesis figure is drawn from
 VALIDATION_FIGURE_INPUT = {
-    fig: f"results/validation/{name}.nc" for fig, (name, _) in dem.validation_plots.THESIS_FIGURES.items()
+    fig: f"results/validation/{name}.nc" for fig, (name, _) in stonedem.validation.plots.THESIS_FIGURES.items()
 }
 VALIDATION_CAPTIONS = {
-    fig: f"{dem.validation_plots.CAPTIONS[fig]}\n\nThe title's second line gives the validation's verdict "
+    fig: f"{stonedem.validation.plots.CAPTIONS[fig]}\n\nThe title's second line gives the validation's verdict "
     "against its stated tolerance (``results/tables/validation_summary.csv``).\n"
     for fig in VALIDATION_FIGURES
 }
@@ -44,7 +44,7 @@ rule validate_one:
     wildcard_constraints:
         validation="|".join(VALIDATION_NAMES),
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/validate_one.py"
 
@@ -69,7 +69,7 @@ rule validation_figures:
     log:
         "results/logs/validation/figures.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/validate_one.py"
 
@@ -82,7 +82,7 @@ rule validation_summary:
     log:
         "results/logs/validation/validation_summary.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/validate_one.py"
 

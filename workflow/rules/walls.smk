@@ -18,7 +18,7 @@ rule wall_case:
     params:
         limit_analysis=config.get("wall_limit_analysis", True),
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/wall_case.py"
 
@@ -31,7 +31,7 @@ rule wall_table:
     log:
         "results/logs/walls/table_{wall_table}.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/wall_table.py"
 
@@ -42,7 +42,7 @@ rule wall_table_a1:
     log:
         "results/logs/walls/table_a1.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/wall_table_a1.py"
 
@@ -69,6 +69,6 @@ rule wall_figures:
     log:
         "results/logs/walls/figures.log",
     conda:
-        "../envs/dem.yaml"
+        "../envs/stonedem.yaml"
     script:
         "../scripts/wall_figure.py"

@@ -1,4 +1,4 @@
-"""Snakemake script of workflow/rules/bench.smk: one dem.bench module per rule, thin.
+"""Snakemake script of workflow/rules/bench.smk: one stonedem.bench module per rule, thin.
 
 The benchmark modules time one thread, so NUMBA_NUM_THREADS is set before numba loads.
 """
@@ -15,26 +15,26 @@ quick = ["--quick"] if sm.params.quick else []
 
 
 def bench_work_precision():
-    from dem.bench import work_precision
+    from stonedem.bench import work_precision
 
     work_precision.main(quick + ["--out", os.path.dirname(sm.output[0]),
                                  "--figures", os.path.dirname(sm.output[1])])
 
 
 def bench_contact_cost():
-    from dem.bench import contact_cost
+    from stonedem.bench import contact_cost
 
     contact_cost.main(quick + ["--out", os.path.dirname(os.path.dirname(sm.output[0]))])
 
 
 def bench_stability():
-    from dem.bench import stability
+    from stonedem.bench import stability
 
     stability.main(quick + ["--out", os.path.dirname(sm.output[0]), "--figure", sm.output[2]])
 
 
 def bench_skipping():
-    from dem.bench import skipping
+    from stonedem.bench import skipping
 
     limit = ["--limit", "4"] if sm.params.quick else []
     skipping.main(["--config", sm.params.config, "--out", os.path.dirname(sm.output[0])] + limit)

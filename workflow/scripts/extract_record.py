@@ -1,9 +1,9 @@
-"""Snakemake script: one FEMA P695 record -> records/<name>.nc (dem.fema_p695)."""
+"""Snakemake script: one FEMA P695 record -> records/<name>.nc (stonedem.motion.fema_p695)."""
 
 import sys
 
-from dem.dataset import write_dataset
-from dem.fema_p695 import extract_record
+from stonedem.io.netcdf import write_dataset
+from stonedem.motion.fema_p695 import extract_record
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 spec = dict(snakemake.params.record)  # noqa: F821

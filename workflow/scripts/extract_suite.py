@@ -1,8 +1,8 @@
-"""Snakemake script: one FEMA P695 set -> records/suites/<suite>.nc (dem.record_suites)."""
+"""Snakemake script: one FEMA P695 set -> records/suites/<suite>.nc (stonedem.motion.suites)."""
 
 import sys
 
-from dem.record_suites import suite_dataset, write_suite
+from stonedem.motion.suites import suite_dataset, write_suite
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 write_suite(suite_dataset(snakemake.wildcards.suite), snakemake.output[0])  # noqa: F821

@@ -1,11 +1,11 @@
 """Snakemake script: fragility curves per structure and the medians / pulse figure
-(dem.figures.fragility)."""
+(stonedem.figures.fragility)."""
 
 import sys
 
 import xarray as xr
 
-from dem.figures.fragility import fragility_curves_figure, medians_figure
+from stonedem.figures.fragility import fragility_curves_figure, medians_figure
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 inputs, params = snakemake.input, snakemake.params  # noqa: F821

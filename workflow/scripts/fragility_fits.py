@@ -1,14 +1,14 @@
 """Snakemake script: the IDA cube -> lognormal fits, their table, the physics checks
-(dem.fragility.fragility_dataset, dem.fragility_checks)."""
+(stonedem.fragility.fit.fragility_dataset, stonedem.fragility.checks)."""
 
 import sys
 
 import xarray as xr
 
-from dem.dataset import write_dataset
-from dem.fragility import fragility_dataset, fragility_table
-from dem.fragility_checks import ordering_checks, pulse_check, pulse_rows
-from dem.reduce import write_csv
+from stonedem.io.netcdf import write_dataset
+from stonedem.fragility.fit import fragility_dataset, fragility_table
+from stonedem.fragility.checks import ordering_checks, pulse_check, pulse_rows
+from stonedem.study.reduce import write_csv
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 params, output = snakemake.params, snakemake.output  # noqa: F821

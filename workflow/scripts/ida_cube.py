@@ -1,9 +1,9 @@
-"""Snakemake script: the fragility searches -> the IDA cube (dem.ida.ida_cube)."""
+"""Snakemake script: the fragility searches -> the IDA cube (stonedem.fragility.ida.ida_cube)."""
 
 import sys
 
-from dem.dataset import write_dataset
-from dem.ida import ida_cube
+from stonedem.io.netcdf import write_dataset
+from stonedem.fragility.ida import ida_cube
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 cube = ida_cube(list(snakemake.input), snakemake.params.structures, snakemake.params.suites)  # noqa: F821

@@ -1,9 +1,9 @@
-"""Snakemake script: a batch of catalogue figures -> their PNGs (dem.figures.figures), one log line each."""
+"""Snakemake script: a batch of catalogue figures -> their PNGs (stonedem.figures.figures), one log line each."""
 
 import sys
 
-from dem.entry import logged_seconds
-from dem.figures import figures
+from stonedem.entry import logged_seconds
+from stonedem.figures import figures
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
 catalogue = figures(snakemake.config)  # noqa: F821

@@ -1,9 +1,9 @@
-"""Snakemake script: the collapse-threshold searches of one job (dem.case_runner.run_search)."""
+"""Snakemake script: the collapse-threshold searches of one job (stonedem.study.runner.run_search)."""
 
 import sys
 
-from dem.case_runner import CaseStore, run_search
-from dem.study import Case
+from stonedem.study.runner import CaseStore, run_search
+from stonedem.study.grid import Case
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
 store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821

@@ -1,9 +1,9 @@
-"""Snakemake script: a job's cases -> one NetCDF each (dem.case_runner.run_cases)."""
+"""Snakemake script: a job's cases -> one NetCDF each (stonedem.study.runner.run_cases)."""
 
 import sys
 
-from dem.case_runner import CaseStore, run_cases
-from dem.study import Case
+from stonedem.study.runner import CaseStore, run_cases
+from stonedem.study.grid import Case
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
 cases = [Case.from_dict(spec) for spec in snakemake.params.cases]  # noqa: F821

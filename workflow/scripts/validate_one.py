@@ -1,18 +1,20 @@
 """Snakemake script of workflow/rules/validation.smk, one branch per rule.
 
-validate_one        one dem.validation.VALIDATIONS entry -> its dataset (write_result: atomic)
+validate_one        one stonedem.validation.cases.VALIDATIONS entry -> its dataset (write_result: atomic)
 validation_figures  the validation datasets -> every thesis figure (draw_thesis_figure: atomic)
 validation_summary  every validation dataset -> name, error, tolerance, passed (atomic)
 
 A validation that fails its check still writes its dataset (attribute passed = 0, the
-figure says FAILED in red, the summary row has passed = 0); `dem validate` is the command
+figure says FAILED in red, the summary row has passed = 0); `stonedem validate` is the command
 whose exit status reflects the verdicts.
 """
 
 import sys
 
-from dem import validation, validation_plots
-from dem.entry import logged_seconds
+from stonedem.validation import cases as validation
+
+from stonedem.validation import plots as validation_plots
+from stonedem.entry import logged_seconds
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
 sys.stderr = open(sm.log[0], "w", buffering=1)

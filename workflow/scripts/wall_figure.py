@@ -1,10 +1,10 @@
 """Snakemake script: wall datasets -> every selected manuscript figure (damage maps, pushover
-curves; dem.wall.figures.plot_from_files), one log line each."""
+curves; stonedem.wall.figures.plot_from_files), one log line each."""
 
 import sys
 
-from dem.entry import logged_seconds
-from dem.wall.figures import plot_from_files
+from stonedem.entry import logged_seconds
+from stonedem.wall.figures import plot_from_files
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
 sys.stderr = open(sm.log[0], "w", buffering=1)

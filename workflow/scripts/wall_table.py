@@ -1,8 +1,8 @@
-"""Snakemake script: wall datasets -> manuscript Table 1/2/3 CSV (dem.wall.validation.limit_load_table)."""
+"""Snakemake script: wall datasets -> manuscript Table 1/2/3 CSV (stonedem.wall.validation.limit_load_table)."""
 
 import sys
 
-from dem.wall.validation import limit_load_table, write_table
+from stonedem.wall.validation import limit_load_table, write_table
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 write_table(limit_load_table(snakemake.input), snakemake.output[0])  # noqa: F821

@@ -1,8 +1,8 @@
-"""Snakemake script: a batch of catalogue tables' input cubes -> their CSVs (dem.figures.tables)."""
+"""Snakemake script: a batch of catalogue tables' input cubes -> their CSVs (stonedem.figures.tables)."""
 
 import sys
 
-from dem.figures import tables
+from stonedem.figures import tables
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 catalogue = tables()

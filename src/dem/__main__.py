@@ -1,3 +1,0 @@
-from dem.cli import console
-
-console()

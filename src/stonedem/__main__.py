@@ -1,0 +1,3 @@
+from stonedem.cli import console
+
+console()

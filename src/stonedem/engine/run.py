@@ -1,0 +1,198 @@
+"""A simulated scene as a self-describing dataset: run it and build its dataset.
+
+:func:`run_scene` refuses absurd requests (:func:`stonedem.engine.simulate.preflight`), runs the
+compiled loop (:func:`stonedem.engine.simulate.simulate`) and its checks, and turns the samples into an
+xarray Dataset (:func:`scene_dataset`) with units and long names from :mod:`stonedem.io.schema`,
+the full input as JSON in ``attrs["scene"]``, solver settings and the code version in
+attrs; :func:`stonedem.io.netcdf.write_dataset` writes it.
+
+Imports go one way: this module -> :mod:`stonedem.engine.simulate` -> :mod:`stonedem.kernels`; the
+computing side never needs xarray.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import platform
+import sys
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numba
+import numpy as np
+import xarray as xr
+
+from stonedem.engine import measures
+from stonedem.errors import InputError
+from stonedem.kernels import step
+from stonedem.engine.scene import Scene
+from stonedem.io.netcdf import code_version, schema_variables
+from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, pack_scene, preflight, run_checks, simulate)
+
+
+# times an automatic step is halved for a run that diverges or drifts past the energy tolerance
+ENERGY_RETRIES = 2
+
+
+def _fits(scene: Scene) -> bool:
+    """Whether a repeat of the scene stays within the engine's limits (steps, sample memory)."""
+    try:
+        preflight(scene)
+    except InputError:
+        return False
+    return True
+
+
+def run_scene(scene: Scene, progress: bool = False) -> xr.Dataset:
+    """Simulate a scene and return its self-describing xarray Dataset (:func:`scene_dataset`).
+
+    Refused before computing: :func:`stonedem.engine.simulate.preflight`. After it: a diverged run is an
+    error; a penetration or energy drift past its limit is the dataset's ``status`` and a warning.
+    With ``dt: auto`` a diverged run or an energy drift past its limit first halves dt_safety
+    and runs again, up to ENERGY_RETRIES times (attrs ``dt_safety`` as run,
+    ``dt_safety_requested``, ``dt_halvings``).
+    """
+    preflight(scene)
+    requested = scene.dt_safety
+    for retry in range(ENERGY_RETRIES + 1):
+        result = simulate(scene, progress=progress)
+        diverged = result.status == step.STATUS_NONFINITE
+        checks = None if diverged else run_checks(scene, result)
+        # an automatic step whose run diverges or drifts past the energy tolerance is halved
+        # and the run repeated (README "Contact laws": the stable step is 1.4-2.9x the bound)
+        retry_worthy = diverged or checks["status"] == "energy balance error"
+        halved = dataclasses.replace(scene, dt_safety=0.5 * scene.dt_safety)
+        if scene.dt is not None or not retry_worthy or retry == ENERGY_RETRIES or not _fits(halved):
+            break
+        what = "diverged (NaN)" if diverged else f"energy balance drifted {100 * checks['energy_error']:.3g} %"
+        scene = halved
+        print(f"note: {what}; repeating at dt_safety {scene.dt_safety:g}", file=sys.stderr)
+    if diverged:
+        t = result.time[-1] if len(result.time) else 0.0
+        raise InputError("solver.dt", f"the simulation diverged (NaN) near t = {t:.4g} s",
+                         f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
+    for line in checks["warnings"]:
+        print(f"warning: {line}", file=sys.stderr)
+    ds = scene_dataset(scene, result, checks)
+    ds.attrs["dt_safety_requested"] = requested
+    ds.attrs["dt_halvings"] = retry
+    return ds
+
+
+def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -> xr.Dataset:
+    """Dataset of one simulated scene: histories, energies, response measures, provenance.
+
+    ``checks``: :func:`stonedem.engine.simulate.run_checks` (computed here when not given); a penetrated
+    run is never reported as a collapse."""
+    time = result.time
+    names = scene.body_names
+    d_h, v_h, a_h = scene.horizontal.evaluate(time)
+    d_v, _, _ = scene.vertical.evaluate(time)
+    e = result.energy
+    support = measures.supports(scene)
+    sliding = measures.relative_sliding(scene, result.x, result.y, result.theta, support)
+    free = np.array([not b.driven for b in scene.bodies])
+    total_sliding = np.abs(sliding[:, free]).sum(axis=1)
+    rock_idx = measures.rocking_bodies(scene)
+    rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
+    arrays = pack_scene(scene)
+    groups = np.unique(arrays.body_group[rock_idx])
+    theta_cr = float(arrays.group_theta_cr[groups].min())
+    rel = result.x - result.x[0] - d_h[:, None]
+    epistyles = [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
+    epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
+
+    kinetic = e[:, step.ENERGY_KINETIC]
+    potential = e[:, step.ENERGY_POTENTIAL] - e[0, step.ENERGY_POTENTIAL]
+    elastic = e[:, step.ENERGY_ELASTIC]
+    diss_n = e[:, step.ENERGY_DAMPING]
+    diss_t = e[:, step.ENERGY_TANGENTIAL]
+    base_work = e[:, step.ENERGY_BASE_WORK]
+    balance = kinetic + potential + elastic + diss_n + diss_t - base_work
+    balance = balance - (kinetic[0] + elastic[0])
+    if checks is None:
+        checks = run_checks(scene, result)
+    collapsed = result.collapse_sample >= 0 and checks["status"] != "penetrated"
+    collapse_time = float(time[result.collapse_sample]) if collapsed else float("nan")
+
+    tb = ("time", "body")
+    data_vars = schema_variables({
+        "x": (tb, result.x), "y": (tb, result.y),
+        "theta": (tb, result.theta),
+        "base_displacement": (("time",), d_h),
+        "base_velocity": (("time",), v_h),
+        "base_acceleration": (("time",), a_h),
+        "base_vertical_displacement": (("time",), d_v),
+        "displacement_relative_to_base": (tb, rel),
+        "sliding": (tb, sliding),
+        "total_sliding": (("time",), total_sliding),
+        "rocking": (("time",), rocking),
+        "epistyle_displacement": (("time",), epi),
+        "energy_kinetic": (("time",), kinetic),
+        "energy_potential": (("time",), potential),
+        "energy_elastic": (("time",), elastic),
+        "energy_dissipated": (("time",), diss_n + diss_t),
+        "energy_dissipated_normal": (("time",), diss_n),
+        "energy_dissipated_tangential": (("time",), diss_t),
+        "energy_base_work": (("time",), base_work),
+        "energy_balance_error": (("time",), balance),
+        "n_contact": (("time",), result.n_contact.astype(np.int32)),
+        "max_abs_theta": (("body",), np.abs(result.theta).max(axis=0)),
+        "max_total_sliding": ((), float(total_sliding.max())),
+        "residual_total_sliding": ((), float(total_sliding[-1])),
+        "max_rocking": ((), float(rocking.max())),
+        "theta_cr": ((), theta_cr),
+        "rocking_onset_time": ((), measures.rocking_onset_time(time, rocking, theta_cr)),
+        "collapsed": ((), np.int8(collapsed)),
+        "collapse_time": ((), collapse_time),
+        "max_epistyle_displacement": ((), float(np.nanmax(np.abs(epi))) if epistyles else float("nan")),
+    })
+    coords = schema_variables({
+        "time": (("time",), time),
+        "body": (("body",), np.array(names, dtype=object)),
+        "body_role": (("body",), np.array([b.role for b in scene.bodies], dtype=object)),
+        "body_column": (("body",), np.array([b.column for b in scene.bodies], dtype=np.int32)),
+        "body_mass": (("body",), np.array([b.mass for b in scene.bodies])),
+        "body_inertia": (("body",), np.array([b.inertia for b in scene.bodies])),
+        "body_support": (("body",), np.array(support, dtype=np.int32)),
+    })
+    law = scene.contact
+    attrs = {
+        "title": f"stonedem rigid-block simulation: {scene.spec.get('name', 'scene')}",
+        "source": code_version(),
+        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by stonedem.engine.simulate",
+        "platform": f"python {platform.python_version()}, numba {numba.__version__}",
+        "scene": json.dumps(scene.spec, sort_keys=True, default=str),
+        "excitation": json.dumps(scene.horizontal.description, sort_keys=True, default=str),
+        "excitation_vertical": json.dumps(scene.vertical.description, sort_keys=True, default=str),
+        "dt": result.dt, "dt_units": "s",
+        "dt_stability_limit": result.dt_limit,
+        "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,
+        "dt_mode": "auto" if scene.dt is None else "given",
+        "output_interval": result.out_every * result.dt,
+        "contact_model": law.model,
+        "contact_law": ("point contacts at the contact face's end vertices, k_n per unit contact length"
+                        if law.model == "point" else "overlap area, thesis Eq. 3.4-3.6"),
+        "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
+        "contact_damping": law.damping, "contact_damping_units": "1", "contact_impact": law.impact if law.model == "point" else "none",
+        "k_t": law.k_t, "k_t_units": "N m-1",
+        "c_t": law.c_t, "c_t_units": "N s m-1",
+        "friction": scene.friction, "gravity": scene.gravity, "depth": scene.depth,
+        "duration": scene.duration, "n_steps": result.n_steps, "steps_run": result.steps_run,
+        "stop_on_collapse": int(scene.stop_on_collapse),
+        "skip_quiet": int(scene.skip_quiet),
+        "quiet_lead_skipped": result.quiet_lead, "quiet_lead_skipped_units": "s",
+        "at_rest_from": result.rest_time, "at_rest_from_units": "s",
+        "status": checks["status"],
+        "energy_error": checks["energy_error"],
+        "energy_error_definition": "max |energy balance drift| / energy the run moves (stonedem.engine.simulate.energy_drift)",
+        "energy_error_limit": float(ENERGY_TOLERANCE),
+        "penetration": checks["penetration"],
+        "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
+        "penetration_limit": float(PENETRATION_LIMIT),
+        "wall_seconds": result.wall_seconds,
+        "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
+        "contact_frame": law.frame,
+    }
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)

@@ -1,0 +1,516 @@
+"""Scene files: YAML or dict -> validated, frozen :class:`Scene` -> read-only kernel arrays.
+
+A scene lists rigid convex polygons (explicit ``box``/``polygon`` bodies and/or a
+``structure`` built by :mod:`stonedem.engine.structures`), contact and friction parameters, the base
+excitation, solver and output settings. Every field is checked once here, types strictly
+(no coercion of a string to a flag or a count), sizes against MAX_BODIES and the mass
+range; a bad one raises :class:`stonedem.errors.InputError` naming its dotted path. Defaults:
+the point contact law, k_n = 1e11 N/m2 per unit contact length, 5 % of critical damping per
+end and a plastic landing, stepped at the stability bound (README "Contact laws"); with ``model: area`` the thesis' k_n =
+1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone density 2000 kg/m3 (thesis
+Fig. 4.6), unit out-of-plane depth.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from stonedem.engine import geometry
+from stonedem.errors import InputError, check_number
+from stonedem.motion.excitation import BaseMotion, excitation_pair
+
+TOP_KEYS = {
+    "name": "scene name",
+    "description": "free text",
+    "bodies": "list of bodies",
+    "structure": "a built structure (stonedem.engine.structures)",
+    "depth": "out-of-plane depth [m]",
+    "density": "default density [kg m-3]",
+    "gravity": "acceleration of gravity [m s-2]",
+    "friction": "default friction coefficient mu [1]",
+    "interface_friction": "per-interface friction [{bodies: [a, b], mu}]",
+    "contact": "contact law {k_n, c_n, k_t, c_t}",
+    "excitation": "base motion",
+    "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet}",
+    "output": "{every}",
+}
+BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "velocity",
+             "friction", "role", "column", "tier")
+ROLES = ("base", "drum", "capital", "epistyle", "block")
+TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
+CONTACT_MODELS = ("point", "area")
+# per model; the point law's damping is a fraction of critical (README "Contact law")
+CONTACT_DEFAULTS = {"model": "point", "point": {"k_n": 1.0e11, "damping": 0.05, "impact": "plastic"},
+                    "area": {"k_n": 1.0e8, "c_n": 1.0e3}}
+SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": "auto", "stop_on_collapse": True,
+                   "skip_quiet": True}
+# dt_safety: auto, per contact model. The point law's thresholds and impacts do not move
+# from 0.25 to 1.0 (ramp 6 x 1 m, 1-8 drums: 2.5205 -> 2.520 m/s2) and its stable step is
+# 1.4-2.9x the bound (README "Contact laws"); at 1.0 with k_n 1e11 a case costs 0.8x the
+# area law's at 1e10 and 0.25. An auto step that drifts or diverges is halved (stonedem.engine.run).
+DT_SAFETY = {"area": 0.25, "point": 1.0}
+OUTPUT_DEFAULTS = {"every": 0.001}
+MAX_BODY_VERTICES = 24
+# a scene of more bodies is refused: the contact memory is n^2 x 20 doubles (160 MB at 1000)
+MAX_BODIES = 1000
+# masses outside this range are taken for a units mistake (a 1 mm pebble of stone is 1e-6 kg
+# per m of depth; 1e9 kg is a 400 000 m3 block); they would also make the step absurd
+MIN_MASS = 1e-6
+MAX_MASS = 1e9
+# bodies may touch at t = 0 but not overlap by more than this share of the smaller area
+INITIAL_OVERLAP_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class Body:
+    """One rigid body at rest (before any tilt), with its derived mass properties."""
+
+    name: str
+    vertices: np.ndarray  # counter-clockwise, world coordinates at rest (n, 2) [m]
+    mass: float  # [kg]
+    inertia: float  # about the centroid [kg m2]
+    driven: bool
+    role: str
+    column: int  # -1 when not part of a column
+    tier: int
+    friction: float | None
+    tilt_angle: float  # counter-clockwise rotation applied at t = 0 [rad]
+    tilt_pivot: np.ndarray  # [m]
+    velocity: tuple | None  # (vx [m s-1], vy [m s-1], omega [rad s-1]) or None
+
+    @property
+    def centroid(self) -> np.ndarray:
+        return geometry.centroid(self.vertices)
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Soft contact law (thesis Eq. 3.4-3.6)."""
+
+    k_n: float  # normal stiffness per unit overlap area (area) or contact length (point) [N m-2]
+    c_n: float  # normal dashpot of the area law [N s m-1]
+    k_t: float  # tangential stiffness per contact [N m-1]
+    c_t: float  # tangential dashpot [N s m-1]
+    frame: str = "boundary"  # contact frame rule, area law: boundary | thesis (stonedem.kernels.overlap); point law: faces
+    model: str = "area"  # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
+    damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
+    impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: bodies, materials, excitation and settings, all in SI units."""
+
+    bodies: tuple
+    contact: ContactLaw
+    friction: float
+    pair_friction: dict  # {(name_a, name_b): mu}, names sorted
+    gravity: float
+    depth: float
+    horizontal: BaseMotion
+    vertical: BaseMotion
+    duration: float
+    dt: float | None  # None = choose automatically
+    dt_safety: float
+    stop_on_collapse: bool
+    skip_quiet: bool  # skip where the base is too quiet to move anything (stonedem.engine.simulate.quiet_steps)
+    output_every: float
+    spec: dict = field(repr=False)  # the fully defaulted input, for provenance
+
+    @property
+    def body_names(self) -> list[str]:
+        return [b.name for b in self.bodies]
+
+
+def load_scene(path: str | Path, overrides: list[str] | None = None) -> Scene:
+    """Read a scene YAML file, apply ``key=value`` overrides, validate; see :func:`scene_from_dict`."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(str(path), "scene file not found", "check the path")
+    try:
+        spec = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" at line {mark.line + 1}" if mark is not None else ""
+        problem = getattr(err, "problem", None) or "invalid YAML"
+        raise InputError(str(path), f"malformed YAML{where}: {problem}",
+                         "fix the YAML syntax") from None
+    if not isinstance(spec, dict):
+        raise InputError(str(path), "a scene file must be a YAML mapping",
+                         "start with keys such as bodies:, contact:, solver:")
+    for item in overrides or []:
+        apply_override(spec, item)
+    return scene_from_dict(spec, base_dir=path.parent)
+
+
+def apply_override(spec: dict, item: str) -> None:
+    """Set a dotted key from ``key=value`` (value parsed as YAML): ``solver.duration=2``."""
+    if "=" not in item:
+        raise InputError("--set", f"'{item}' is not key=value", "write e.g. --set solver.duration=2")
+    key, _, text = item.partition("=")
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        problem = str(getattr(err, "problem", None) or "invalid YAML").replace("\n", " ")
+        raise InputError(f"--set {key.strip()!r}", f"value is not YAML: {problem}",
+                         "quote text values, e.g. --set name='my scene'") from None
+    parts = key.strip().split(".")
+    node = spec
+    for i, part in enumerate(parts[:-1]):
+        if isinstance(node, list):
+            node = node[_list_index(node, part, ".".join(parts[: i + 1]))]
+            continue
+        if part not in node or node[part] is None:
+            node[part] = {}
+        node = node[part]
+        if not isinstance(node, (dict, list)):
+            raise InputError(f"--set {key}", f"'{part}' is not a mapping", "set a leaf key")
+    last = parts[-1]
+    if isinstance(node, list):
+        node[_list_index(node, last, key)] = value
+    else:
+        node[last] = value
+
+
+def _list_index(node: list, part: str, key: str) -> int:
+    if part.isdigit() and int(part) < len(node):
+        return int(part)
+    names = [b.get("name") for b in node if isinstance(b, dict)]
+    if part in names:
+        return names.index(part)
+    raise InputError(f"--set {key}", f"no list item '{part}'", "use an index or a body name")
+
+
+def check_keys(mapping, allowed, where: str) -> None:
+    """``mapping`` is a mapping whose keys are all in ``allowed``, or an InputError naming
+    ``where`` (or ``where.key``)."""
+    if not isinstance(mapping, dict):
+        raise InputError(where, f"expected a mapping, got {type(mapping).__name__}",
+                         f"allowed keys: {', '.join(allowed)}")
+    for key in mapping:
+        if key not in allowed:
+            raise InputError(f"{where}.{key}" if where else str(key), "unknown key",
+                             f"allowed keys: {', '.join(allowed)}")
+
+
+def _mapping(spec: dict, key: str, fix: str) -> dict:
+    """spec[key] as a (copied) mapping; absent or null: {}."""
+    value = spec.get(key)
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise InputError(key, f"expected a mapping, got {type(value).__name__} {value!r:.40}", fix)
+    return dict(value)
+
+
+def _is_auto(value) -> bool:
+    return value is None or (isinstance(value, str) and value == "auto")
+
+
+def _integer(value, field: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise InputError(field, f"expected an integer >= {minimum}, got {value!r}", f"give e.g. {minimum}")
+    return int(value)
+
+
+def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
+    """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
+    spec = copy.deepcopy(spec)
+    check_keys(spec, TOP_KEYS, "")
+    depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
+    density = check_number(spec.get("density", 2000.0), "density", positive=True)
+    gravity = check_number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
+    friction = check_number(spec.get("friction", 0.5), "friction", nonnegative=True)
+
+    body_specs = spec.get("bodies") or []
+    if not isinstance(body_specs, list):
+        raise InputError("bodies", f"expected a list of bodies, got {type(body_specs).__name__}",
+                         "write bodies: [{name: block, box: {width: 1, height: 2}}, ...]")
+    if "structure" in spec:
+        from stonedem.engine.structures import build_structure
+
+        body_specs = build_structure(spec["structure"]) + body_specs
+    if not body_specs:
+        raise InputError("bodies", "the scene has no bodies", "list bodies: or give a structure:")
+    if len(body_specs) > MAX_BODIES:
+        raise InputError("bodies", f"{len(body_specs)} bodies exceed the limit {MAX_BODIES}",
+                         "split the scene; contact memory grows as the square of the body count")
+    bodies = tuple(_body(b, i, density, depth) for i, b in enumerate(body_specs))
+    names = [b.name for b in bodies]
+    for i, name in enumerate(names):
+        if names.index(name) != i:
+            raise InputError(f"bodies[{i}].name", f"duplicate body name '{name}'", "make names unique")
+    if all(b.driven for b in bodies):
+        raise InputError("bodies", "every body is driven", "leave at least one body free")
+
+    contact_spec = _mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e11}")
+    check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
+    # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
+    # for the thesis' law before the point law became the default keeps its meaning)
+    model = contact_spec.get("model", "area" if "c_n" in contact_spec else CONTACT_DEFAULTS["model"])
+    if not isinstance(model, str) or model not in CONTACT_MODELS:
+        raise InputError("contact.model", f"unknown contact model {model!r}",
+                         "use point (vertex contacts, default) or area (thesis overlap area)")
+    defaults = CONTACT_DEFAULTS[model]
+    for key in ("c_n", "damping", "impact"):
+        if key in contact_spec and key not in defaults:
+            other = "area" if key == "c_n" else "point"
+            raise InputError(f"contact.{key}", f"not used by the {model} model",
+                             f"drop it, or set contact.model: {other}")
+    k_n = check_number(contact_spec.get("k_n", defaults["k_n"]), "contact.k_n", positive=True)
+    c_n = check_number(contact_spec.get("c_n", defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True)
+    damping = check_number(contact_spec.get("damping", defaults.get("damping", 0.0)),
+                           "contact.damping", nonnegative=True)
+    # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
+    k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
+    c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
+    if model == "point":
+        # the point law takes its frame from its two contact faces (stonedem.kernels.point_contact);
+        # "boundary" is what files written before that recorded for it
+        if contact_spec.get("frame", "faces") not in ("faces", "boundary"):
+            raise InputError("contact.frame", "the point model's frame is its contact faces'",
+                             "drop contact.frame, or set contact.model: area")
+        frame = "faces"
+    else:
+        frame = contact_spec.get("frame", "boundary")
+        if not isinstance(frame, str) or frame not in ("boundary", "thesis"):
+            raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
+    impact = contact_spec.get("impact", defaults.get("impact", "none"))
+    if not isinstance(impact, str) or impact not in ("plastic", "none"):
+        raise InputError("contact.impact", f"unknown impact rule {impact!r}",
+                         "use plastic (a landing point stops, Housner) or none (dashpots only)")
+    for key, value, top in (("k_n", k_n, 1e16), ("c_n", c_n, 1e16), ("damping", damping, 100.0),
+                            ("k_t", k_t, 1e18), ("c_t", c_t, 1e16)):
+        if value > top:
+            raise InputError(f"contact.{key}", f"{value:.3g} is above the limit {top:g}",
+                             "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)")
+    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model,
+                         damping=damping, impact=impact)
+
+    pair_friction = {}
+    interface_friction = spec.get("interface_friction") or []
+    if not isinstance(interface_friction, list):
+        raise InputError("interface_friction", f"expected a list, got {type(interface_friction).__name__}",
+                         "write interface_friction: [{bodies: [a, b], mu: 0.6}]")
+    for i, item in enumerate(interface_friction):
+        where = f"interface_friction[{i}]"
+        check_keys(item, ("bodies", "mu"), where)
+        pair = item.get("bodies")
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
+        for name in pair:
+            if not isinstance(name, str) or name not in names:
+                raise InputError(f"{where}.bodies", f"no body named '{name}'",
+                                 f"known bodies: {', '.join(names)}")
+        pair_friction[tuple(sorted(pair))] = check_number(item.get("mu"), f"{where}.mu", nonnegative=True)
+
+    solver = {**SOLVER_DEFAULTS, **_mapping(spec, "solver", "write solver: {duration: 10}")}
+    check_keys(solver, SOLVER_DEFAULTS, "solver")
+    if solver["duration"] is None:
+        raise InputError("solver.duration", "missing", "give the simulated time in s")
+    duration = check_number(solver["duration"], "solver.duration", positive=True)
+    dt = None if _is_auto(solver["dt"]) else check_number(solver["dt"], "solver.dt", positive=True)
+    dt_safety = DT_SAFETY[model] if _is_auto(solver["dt_safety"]) else check_number(
+        solver["dt_safety"], "solver.dt_safety", positive=True)
+    if dt_safety > 1.0:
+        raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
+                         "use a fraction of the limit, e.g. 0.25")
+    for key in ("stop_on_collapse", "skip_quiet"):
+        if not isinstance(solver[key], bool):
+            raise InputError(f"solver.{key}", "expected true or false", "write true or false")
+    output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
+    check_keys(output, OUTPUT_DEFAULTS, "output")
+    every = check_number(output["every"], "output.every", positive=True)
+
+    excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
+    if not isinstance(excitation.get("kind", "none"), str):
+        raise InputError("excitation.kind", f"expected a name, got {excitation['kind']!r}",
+                         "use e.g. harmonic, one_sine, ramp, record or none")
+    horizontal, vertical = excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
+
+    spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
+                contact={"model": model, "k_n": k_n,
+                         **({"c_n": c_n} if model == "area" else {"damping": damping, "impact": impact}),
+                         "k_t": k_t, "c_t": c_t, "frame": frame},
+                solver=solver, output=output)
+    scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
+                  gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,
+                  duration=duration, dt=dt, dt_safety=dt_safety,
+                  stop_on_collapse=solver["stop_on_collapse"], skip_quiet=solver["skip_quiet"],
+                  output_every=every, spec=spec)
+    check_initial_overlaps(scene)
+    return scene
+
+
+def _body(spec: dict, index: int, density: float, depth: float) -> Body:
+    where = f"bodies[{index}]"
+    check_keys(spec, BODY_KEYS, where)
+    name = spec.get("name", f"body{index}")
+    if not isinstance(name, str) or not name or not name.isprintable() or len(name) > 200:
+        raise InputError(f"{where}.name", f"expected a short printable name, got {name!r:.60}",
+                         "give a short text name")
+    where = f"bodies[{index}] ({name})"
+    if ("box" in spec) == ("polygon" in spec):
+        raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
+    if "box" in spec:
+        box = spec["box"]
+        check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
+        width = check_number(box.get("width"), f"{where}.box.width", positive=True)
+        height = check_number(box.get("height"), f"{where}.box.height", positive=True)
+        center = box.get("center", [0.0, 0.0])
+        if not isinstance(center, (list, tuple)) or len(center) != 2:
+            raise InputError(f"{where}.box.center", "expected [x, y]", "write center: [x, y]")
+        center = [check_number(c, f"{where}.box.center") for c in center]
+        angle = check_number(box.get("angle", 0.0), f"{where}.box.angle")
+        vertices = geometry.box_vertices(width, height, center, angle)
+    else:
+        poly = spec["polygon"]
+        check_keys(poly, ("vertices",), f"{where}.polygon")
+        raw = poly.get("vertices")
+        if not isinstance(raw, list) or len(raw) < 3:
+            raise InputError(f"{where}.polygon.vertices", "need at least 3 [x, y] vertices",
+                             "list the corners in order")
+        try:
+            vertices = np.array([[float(v[0]), float(v[1])] for v in raw])
+            if any(len(v) != 2 for v in raw):
+                raise ValueError
+        except (TypeError, ValueError, IndexError):
+            raise InputError(f"{where}.polygon.vertices", "every vertex must be [x, y]",
+                             "list numbers in pairs") from None
+        if not np.all(np.isfinite(vertices)):
+            raise InputError(f"{where}.polygon.vertices", "non-finite coordinate", "give finite numbers")
+        if len(vertices) > MAX_BODY_VERTICES:
+            raise InputError(f"{where}.polygon.vertices", f"{len(vertices)} vertices",
+                             f"use at most {MAX_BODY_VERTICES}")
+        if not geometry.is_simple(vertices):
+            raise InputError(f"{where}.polygon", "self-intersecting polygon",
+                             "order the vertices around the boundary")
+        if geometry.signed_area(vertices) < 0.0:
+            vertices = vertices[::-1].copy()
+        if abs(geometry.signed_area(vertices)) <= 1e-14:
+            raise InputError(f"{where}.polygon", "zero area", "give a polygon with area")
+        if not geometry.is_convex(vertices):
+            raise InputError(f"{where}.polygon", "non-convex polygon",
+                             "split it into convex bodies")
+
+    area = geometry.signed_area(vertices) * depth  # volume [m3]
+    polar = geometry.polar_moment_about_centroid(vertices) * depth
+    if "mass" in spec and "density" in spec:
+        raise InputError(where, "give mass or density, not both", "remove one")
+    if "mass" in spec:
+        mass = check_number(spec["mass"], f"{where}.mass", positive=True)
+    else:
+        mass = check_number(spec.get("density", density), f"{where}.density", positive=True) * area
+    inertia = mass * polar / area if area > 0.0 else 0.0  # uniform distribution over the polygon
+    if not (MIN_MASS <= mass <= MAX_MASS and inertia > 0.0 and np.isfinite(inertia)):
+        raise InputError(f"{where}.mass", f"{mass:.3g} kg (inertia {inertia:.3g} kg m2) is outside "
+                         f"{MIN_MASS:g}..{MAX_MASS:g} kg", "check mass, density, depth and the body's size (SI units)")
+
+    driven = spec.get("driven", False)
+    if not isinstance(driven, bool):
+        raise InputError(f"{where}.driven", "expected true or false", "write true or false")
+    role = spec.get("role", "base" if driven else "block")
+    if not isinstance(role, str) or role not in ROLES:
+        raise InputError(f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}")
+    column = _integer(spec.get("column", -1), f"{where}.column", -1)
+    tier = _integer(spec.get("tier", 0), f"{where}.tier", 0)
+    mu = spec.get("friction")
+    mu = None if mu is None else check_number(mu, f"{where}.friction", nonnegative=True)
+
+    tilt_angle, tilt_pivot = 0.0, geometry.centroid(vertices)
+    if "tilt" in spec:
+        tilt = spec["tilt"]
+        check_keys(tilt, ("angle", "about"), f"{where}.tilt")
+        angle = check_number(tilt.get("angle"), f"{where}.tilt.angle")
+        tilt_angle, tilt_pivot = _tilt(vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about")
+        if driven:
+            raise InputError(f"{where}.tilt", "a driven body cannot be tilted", "remove tilt:")
+    velocity = spec.get("velocity")
+    if velocity is not None:
+        if not isinstance(velocity, (list, tuple)) or len(velocity) != 3:
+            raise InputError(f"{where}.velocity", "expected [vx, vy, omega]",
+                             "give [m/s, m/s, rad/s]")
+        velocity = tuple(check_number(v, f"{where}.velocity") for v in velocity)
+    return Body(name=name, vertices=vertices, mass=mass, inertia=inertia, driven=driven,
+                role=role, column=column, tier=tier, friction=mu, tilt_angle=tilt_angle,
+                tilt_pivot=tilt_pivot, velocity=velocity)
+
+
+def _tilt(vertices: np.ndarray, angle: float, about, where: str):
+    """Tilt angle (counter-clockwise) and pivot for a ``tilt:`` entry.
+
+    A named corner means "lean onto that corner by ``angle``": the opposite side rises, so
+    about bottom_right the body turns clockwise. An explicit [x, y] pivot turns it
+    counter-clockwise by ``angle``.
+    """
+    if isinstance(about, (list, tuple)) and len(about) == 2:
+        return angle, np.array([check_number(about[0], where), check_number(about[1], where)])
+    if about not in TILT_PIVOTS:
+        raise InputError(where, f"unknown pivot '{about}'",
+                         f"use one of {', '.join(TILT_PIVOTS)} or [x, y]")
+    if about == "centroid":
+        return angle, geometry.centroid(vertices)
+    # the outermost vertex among the lowest ones
+    ys = vertices[:, 1]
+    lowest = np.flatnonzero(ys <= ys.min() + 1e-9 * np.ptp(vertices).clip(min=1.0))
+    xs = vertices[lowest, 0]
+    right = about == "bottom_right"
+    pivot = vertices[lowest[int(np.argmax(xs) if right else np.argmin(xs))]]
+    return (-angle if right else angle), pivot
+
+
+def initial_pose(body: Body) -> tuple[float, float, float]:
+    """Centroid position [m] and rotation [rad] of a body at t = 0, after its tilt."""
+    c = body.centroid
+    if body.tilt_angle == 0.0:
+        return float(c[0]), float(c[1]), 0.0
+    moved = geometry.rotate_about(c[None, :], body.tilt_angle, body.tilt_pivot)[0]
+    return float(moved[0]), float(moved[1]), body.tilt_angle
+
+
+def posed_vertices(body: Body) -> np.ndarray:
+    """World vertices of a body at t = 0 [m]."""
+    if body.tilt_angle == 0.0:
+        return body.vertices
+    return geometry.rotate_about(body.vertices, body.tilt_angle, body.tilt_pivot)
+
+
+def box_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> list[tuple[int, int]]:
+    """Pairs (i < j) whose bounds (n, 2) [m], inflated by ``margin``, overlap: the engine's
+    sort-and-sweep (:func:`stonedem.kernels.broad_phase.find_candidate_pairs`), so set-up is O(N)."""
+    from stonedem.kernels.broad_phase import find_candidate_pairs
+
+    n = len(lo)
+    axis = int(np.ptp(hi[:, 1]) + np.ptp(lo[:, 1]) >= np.ptp(hi[:, 0]) + np.ptp(lo[:, 0]))
+    pa, pb = find_candidate_pairs(n, np.zeros(n, dtype=np.bool_), np.ascontiguousarray(lo[:, 0]),
+                                  np.ascontiguousarray(lo[:, 1]), np.ascontiguousarray(hi[:, 0]),
+                                  np.ascontiguousarray(hi[:, 1]), float(margin), axis)
+    return list(zip(pa.tolist(), pb.tolist()))
+
+
+def check_initial_overlaps(scene: Scene) -> None:
+    """Refuse bodies that overlap at t = 0 by more than a touching tolerance."""
+    from stonedem.kernels.overlap import (MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid)
+
+    posed = [posed_vertices(b) for b in scene.bodies]
+    lo = np.array([p.min(axis=0) for p in posed])
+    hi = np.array([p.max(axis=0) for p in posed])
+    scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
+    for i, j in box_pairs(lo, hi, 0.0):
+        a, b = posed[i], posed[j]
+        n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
+                                 scratch[0], scratch[1], scratch[2], scratch[3])
+        if n < 3:
+            continue
+        area = polygon_area_centroid(scratch[0], scratch[1], n)[0]
+        smaller = min(geometry.signed_area(a), geometry.signed_area(b))
+        if area > INITIAL_OVERLAP_TOLERANCE * smaller:
+            bi, bj = scene.bodies[i].name, scene.bodies[j].name
+            raise InputError(f"bodies ({bi}, {bj})",
+                             f"overlap by {area:.3g} m2 at t = 0",
+                             "place bodies so they touch without overlapping")

@@ -1,0 +1,248 @@
+"""Scene builders: multi-drum columns, colonnades with epistyles, two-tier colonnades.
+
+Plain Python returning body lists in the scene format (:mod:`stonedem.engine.scene`); nothing here
+simulates. Bodies rest exactly touching: the base's top is at y = 0, each drum's bottom
+is the previous drum's top. Geometry follows the thesis: 6 m x 1 m columns (chapter 6),
+tapered drums at constant total mass (6.3.2), capitals and epistyles of the input file of
+Fig. 4.6, the epistyle types a-d of Table 7.2 (chapter 7), and an upper row of columns on
+the epistyle of a lower one (7.9).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+from stonedem.errors import InputError
+
+EPISTYLE_TYPES = ("a", "b", "c", "d", "per_span")
+# a structure of more bodies is refused before it is built (stonedem.engine.scene.MAX_BODIES is the
+# scene's limit; the pair memory grows as n^2)
+MAX_COUNT = 1000
+
+
+def _positive(value, field):
+    if (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
+            or not math.isfinite(value)):
+        raise InputError(field, f"must be a positive finite number, got {value!r}", "give a value > 0 in SI units")
+    return float(value)
+
+
+def _count(value, field):
+    """An integer count 1..MAX_COUNT."""
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_COUNT:
+        raise InputError(field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ...")
+    return value
+
+
+def _box(name, width, height, cx, y_bottom, density, **extra):
+    return {"name": name, "box": {"width": width, "height": height, "center": [cx, y_bottom + height / 2]},
+            "density": density, **extra}
+
+
+def base_body(width, height=0.5, center_x=0.0):
+    """The driven base: a width x height box whose top face is at y = 0."""
+    width = _positive(width, "structure.base_width")
+    return {"name": "base", "box": {"width": width, "height": _positive(height, "structure.base_height"),
+                                    "center": [center_x, -height / 2]},
+            "density": 2700.0, "driven": True, "role": "base"}
+
+
+def shaft_widths(taper, width):
+    """(bottom, top) width [m] of a shaft of mean width ``width`` and ratio W_b/W_t = taper.
+
+    thesis 6.3.2: the total mass is that of the untapered column, so W_b + W_t = 2 width.
+    """
+    top = 2.0 * width / (1.0 + taper)
+    return taper * top, top
+
+
+def column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, x=0.0,
+           column_index=0, y0=0.0, prefix=""):
+    """The drums (and capital) of one column centred at x, standing on y = y0.
+
+    height: shaft height, split into n_drums equal drums [m]; width: mean shaft width [m]
+    taper: bottom / top width of the shaft (1 = rectangular drums); capital: None or
+    {height, width} [m], a box on the top drum.
+    """
+    _count(n_drums, "structure.n_drums")
+    height = _positive(height, "structure.height")
+    width = _positive(width, "structure.width")
+    density = _positive(density, "structure.density")
+    taper = _positive(taper, "structure.taper")
+    bottom, top = shaft_widths(taper, width)
+    drum_h = height / n_drums
+    bodies = []
+    for k in range(n_drums):
+        yb = y0 + k * drum_h
+        wb = bottom + (top - bottom) * k / n_drums
+        wt = bottom + (top - bottom) * (k + 1) / n_drums
+        name = f"{prefix}c{column_index}_d{k}"
+        extra = {"role": "drum", "column": column_index}
+        if taper == 1.0:
+            bodies.append(_box(name, width, drum_h, x, yb, density, **extra))
+        else:
+            vertices = [[x - wb / 2, yb], [x + wb / 2, yb], [x + wt / 2, yb + drum_h], [x - wt / 2, yb + drum_h]]
+            bodies.append({"name": name, "polygon": {"vertices": vertices}, "density": density, **extra})
+    if capital is not None:
+        if not isinstance(capital, dict) or set(capital) - {"height", "width"}:
+            raise InputError("structure.capital", f"expected {{height, width}}, got {capital!r}",
+                             "write capital: {height: 0.6, width: 1.4}")
+        ch = _positive(capital.get("height", 0.6), "structure.capital.height")
+        cw = _positive(capital.get("width", 1.4), "structure.capital.width")
+        bodies.append(_box(f"{prefix}c{column_index}_cap", cw, ch, x, y0 + height, density,
+                           role="capital", column=column_index))
+    return bodies
+
+
+def standalone_column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, base_width=4.0):
+    """Base + one column (thesis chapter 6)."""
+    return [base_body(base_width)] + column(n_drums, height, width, density, taper, capital)
+
+
+def _top(bodies):
+    return max(max(v[1] for v in _vertices(b)) for b in bodies)
+
+
+def _vertices(body):
+    if "polygon" in body:
+        return body["polygon"]["vertices"]
+    w, h = body["box"]["width"], body["box"]["height"]
+    cx, cy = body["box"]["center"]
+    return [[cx - w / 2, cy - h / 2], [cx + w / 2, cy - h / 2], [cx + w / 2, cy + h / 2], [cx - w / 2, cy + h / 2]]
+
+
+def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=2.0, epistyle_type="a",
+                  epistyle_height=0.8, epistyle_density=None, density=2000.0, taper=1.0, capital=None,
+                  y0=0.0, prefix="", column_offset=0, spacing=None):
+    """Columns and epistyles of one row, centred on x = 0, standing on y = y0 (no base).
+
+    Columns are spaced by the clear distance between shaft faces at their base plus the
+    base width (``spacing`` overrides). Epistyle types (thesis Table 7.2):
+    a: one epistyle over the full width of the external columns (outer edge to outer edge);
+    b: two epistyles over that width, jointed over the centre line of the middle column
+       (column n // 2);
+    c: one epistyle from centre line to centre line of the external columns;
+    d: two epistyles between those centre lines, jointed as in b;
+    per_span: one epistyle per span, centre line to centre line (the input file of Fig. 4.6).
+    """
+    _count(n_columns, "structure.n_columns")
+    _count(n_drums, "structure.n_drums")
+    if n_columns * n_drums > MAX_COUNT:
+        raise InputError("structure.n_columns", f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
+                         "use fewer columns or drums")
+    if not isinstance(epistyle_type, str) or epistyle_type not in EPISTYLE_TYPES:
+        raise InputError("structure.epistyle_type", f"unknown type {epistyle_type!r}",
+                         f"use one of {', '.join(EPISTYLE_TYPES)} (thesis Table 7.2)")
+    clear_distance = _positive(clear_distance, "structure.clear_distance")
+    epistyle_height = _positive(epistyle_height, "structure.epistyle_height")
+    epistyle_density = _positive(epistyle_density if epistyle_density is not None else density,
+                                 "structure.epistyle_density")
+    bottom, top = shaft_widths(_positive(taper, "structure.taper"), _positive(width, "structure.width"))
+    spacing = spacing if spacing is not None else bottom + clear_distance
+    xs = [(k - (n_columns - 1) / 2.0) * spacing for k in range(n_columns)]
+    bodies = []
+    for k, x in enumerate(xs):
+        bodies += column(n_drums, height, width, density, taper, capital, x, column_offset + k, y0, prefix)
+    top_width = capital["width"] if capital else top
+    y_top = y0 + height + (capital["height"] if capital else 0.0)
+    outer = (xs[0] - top_width / 2, xs[-1] + top_width / 2)
+    centres = (xs[0], xs[-1])
+    joint = xs[n_columns // 2]
+    if epistyle_type == "a":
+        spans = [outer]
+    elif epistyle_type == "c":
+        spans = [centres]
+    elif epistyle_type == "b":
+        spans = [(outer[0], joint), (joint, outer[1])]
+    elif epistyle_type == "d":
+        spans = [(centres[0], joint), (joint, centres[1])]
+    else:
+        spans = list(zip(xs[:-1], xs[1:]))
+    if n_columns == 1:
+        spans = [outer]
+    for i, (x0, x1) in enumerate(spans):
+        if x1 - x0 <= 0:
+            raise InputError("structure.epistyle_type", f"type {epistyle_type} needs more columns",
+                             "use type a or c, or more columns")
+        bodies.append(_box(f"{prefix}e{i}", x1 - x0, epistyle_height, (x0 + x1) / 2, y_top, epistyle_density,
+                           role="epistyle"))
+    return bodies
+
+
+def colonnade(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=2.0, epistyle_type="a",
+              epistyle_height=0.8, epistyle_density=None, density=2000.0, taper=1.0, capital=None,
+              base_margin=2.0):
+    """Base + a row of columns with epistyles (thesis chapter 7)."""
+    row = colonnade_row(n_columns, n_drums, height, width, clear_distance, epistyle_type, epistyle_height,
+                        epistyle_density, density, taper, capital)
+    xs = [x for b in row for x, _ in _vertices(b)]
+    span = max(xs) - min(xs)
+    return [base_body(span + 2 * _positive(base_margin, "structure.base_margin"))] + row
+
+
+def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
+    """Base + a lower row with a continuous epistyle carrying an upper row of smaller columns (thesis 7.9).
+
+    lower, upper: colonnade keyword arguments of each row; the upper columns stand on the
+    lower epistyle above the lower columns (same spacing) and carry their own epistyle.
+    Defaults: lower 3 columns of 6 m x 1 m with a type a epistyle; upper 3 columns of
+    3 m x 0.6 m with a type a epistyle of 0.4 m.
+    """
+    for name, tier in (("lower", lower), ("upper", upper)):
+        if tier is not None and not isinstance(tier, dict):
+            raise InputError(f"structure.{name}", f"expected a mapping, got {type(tier).__name__}",
+                             "write e.g. {n_columns: 3, n_drums: 2}")
+        allowed = list(inspect.signature(colonnade_row).parameters)
+        for key in tier or {}:
+            if key not in allowed:
+                raise InputError(f"structure.{name}.{key}", "unknown key", f"allowed keys: {', '.join(allowed)}")
+    lower = {"n_columns": 3, "epistyle_type": "a", **(lower or {})}
+    upper = {"n_columns": lower["n_columns"], "height": 3.0, "width": 0.6, "epistyle_height": 0.4,
+             "epistyle_type": "a", **(upper or {})}
+    for key in ("y0", "prefix", "column_offset", "spacing"):
+        for tier in (lower, upper):
+            if key in tier:
+                raise InputError(f"structure.{key}", "set by the builder", "remove it")
+    if upper["n_columns"] != lower["n_columns"]:
+        raise InputError("structure.upper.n_columns", "the upper row stands above the lower columns",
+                         "give the same n_columns for both rows")
+    if lower["epistyle_type"] not in ("a", "c"):
+        raise InputError("structure.lower.epistyle_type", "the upper row needs one continuous epistyle",
+                         "use type a or c for the lower row")
+    low = colonnade_row(**lower)
+    low_cols = sorted({b["box"]["center"][0] if "box" in b else _vertices(b)[0][0]
+                       for b in low if b.get("role") == "drum" and b["name"].endswith("_d0")})
+    spacing = (low_cols[1] - low_cols[0]) if len(low_cols) > 1 else 1.0
+    upper.setdefault("clear_distance", max(spacing - upper.get("width", 0.6), 1e-3))
+    up = colonnade_row(**upper, y0=_top(low), prefix="t1_", column_offset=lower["n_columns"], spacing=spacing)
+    for body in up:
+        body["tier"] = 1
+    xs = [x for b in low + up for x, _ in _vertices(b)]
+    return [base_body(max(xs) - min(xs) + 2 * _positive(base_margin, "structure.base_margin"))] + low + up
+
+
+BUILDERS = {"column": standalone_column, "colonnade": colonnade, "two_tier_colonnade": two_tier_colonnade}
+
+
+def build_structure(spec: dict) -> list[dict]:
+    """Bodies of ``{kind: column | colonnade | two_tier_colonnade, ...keyword arguments}``."""
+    if not isinstance(spec, dict):
+        raise InputError("structure", f"expected a mapping, got {type(spec).__name__}",
+                         "write structure: {kind: column, n_drums: 4}")
+    if "kind" not in spec:
+        raise InputError("structure.kind", "missing", f"use one of {', '.join(BUILDERS)}")
+    spec = dict(spec)
+    kind = spec.pop("kind")
+    if not isinstance(kind, str) or kind not in BUILDERS:
+        raise InputError("structure.kind", f"unknown kind {kind!r}", f"use one of {', '.join(BUILDERS)}")
+    builder = BUILDERS[kind]
+    allowed = list(inspect.signature(builder).parameters)
+    for key in spec:
+        if key not in allowed:
+            raise InputError(f"structure.{key}", f"unknown key for {kind}", f"allowed keys: {', '.join(allowed)}")
+    missing = [name for name, par in inspect.signature(builder).parameters.items()
+               if par.default is inspect.Parameter.empty and name not in spec]
+    if missing:
+        raise InputError(f"structure.{missing[0]}", "missing", f"give it, e.g. {missing[0]}: 4")
+    return builder(**spec)

@@ -1,0 +1,1 @@
+"""Incremental dynamic analysis over record suites, fragility fits and their checks."""

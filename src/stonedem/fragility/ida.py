@@ -1,0 +1,327 @@
+"""Incremental dynamic analysis (IDA) over the FEMA P695 record suites: config -> searches ->
+the structure x record x limit-state cube.
+
+The config's ``fragility:`` section names structures (scene keys, as a study) and record
+suites; each structure becomes one threshold-search study (``ida_<structure>``) whose
+systems are the suite components (study parameter ``component``), searched in PGA by the
+hunt-and-fill machinery of the Table 7.1 thresholds (``stonedem.study.search``). Collapse is
+the search's bracket; the lesser limit states are read off the same runs (IDA curves:
+each run's peak response against its PGA, interpolated between the runs that bracket the
+first exceedance). PGV follows from PGA by the record's own PGV/PGA ratio, since a run is
+the record scaled. ``stonedem.fragility.fit`` fits the curves.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from stonedem.errors import InputError
+from stonedem.motion.suites import SUITES, suite_path
+from stonedem.engine.scene import check_keys
+
+STUDY_PREFIX = "ida_"
+FRAGILITY_KEYS = ("description", "structures", "suites", "components", "run_structures", "search",
+                  "job_seconds", "bootstrap", "pulse_check")
+STRUCTURE_KEYS = ("structure", "friction", "contact", "solver", "output", "interface_friction", "suites",
+                  "description")
+# the search of every (structure, record): the Table 7.1 machinery, a 5 % bracket (the
+# record-to-record dispersion of collapse PGA, beta ~ 0.3-0.6, dwarfs it)
+DEFAULT_SEARCH = {"parameter": "pga", "start": 1.0, "factor": 1.8, "tolerance": 0.05, "maximum": 64.0,
+                  "fill": 1, "max_runs": 20}
+DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into one job
+
+
+@dataclass(frozen=True)
+class LimitState:
+    name: str
+    measure: str  # case measure (stonedem.engine.measures) compared with the threshold; "" for collapse
+    long_name: str
+
+    def threshold(self, theta_cr: float, width: float) -> float:
+        """The measure's value at the limit state, for a column of critical angle theta_cr."""
+        if self.name == "rocking_onset":
+            return theta_cr / 30.0  # thesis 6.3.1, as stonedem.engine.measures.rocking_onset_time
+        if self.name == "half_critical_rotation":
+            return theta_cr / 2.0
+        if self.name == "residual_sliding":
+            return 0.01 * width
+        return math.nan
+
+
+# lesser limit states (issue 16; Psycharis et al. 2013 use normalised rotation and residual
+# drum displacement for ancient columns), then collapse
+LIMIT_STATES = (
+    LimitState("rocking_onset", "max_rocking", "mean drum rotation first exceeds theta_cr / 30 (uplift)"),
+    LimitState("half_critical_rotation", "max_rocking", "peak mean drum rotation exceeds theta_cr / 2"),
+    LimitState("residual_sliding", "residual_total_sliding", "residual joint sliding exceeds 1 % of the drum width"),
+    LimitState("collapse", "", "collapse (the search's smallest collapsing PGA)"),
+)
+LIMIT_STATE_NAMES = tuple(ls.name for ls in LIMIT_STATES)
+
+
+def suite_components(suites) -> dict[str, str]:
+    """{component name: suite} of the named suites, in file order."""
+    names = {}
+    for suite in suites:
+        with xr.open_dataset(suite_path(suite)) as ds:
+            names.update({str(n): suite for n in ds.record.values})
+    return names
+
+
+def fragility_studies(config: dict) -> dict[str, dict]:
+    """{study name: study spec} of the config's ``fragility:`` section ({} when there is none):
+    one threshold-search study per structure, over the components of its suites."""
+    spec = config.get("fragility")
+    if spec is None:
+        return {}
+    where = "fragility"
+    check_keys(spec, FRAGILITY_KEYS, where)
+    structures = spec.get("structures")
+    if not isinstance(structures, dict) or not structures:
+        raise InputError(f"{where}.structures", "expected a mapping of structures",
+                         "write structures: {column_3_drums: {structure: {kind: column, ...}}}")
+    suites = _suites(spec.get("suites", list(SUITES)), f"{where}.suites")
+    components = spec.get("components")
+    chosen = _names(spec.get("run_structures"), f"{where}.run_structures", structures, "structures")
+    if spec.get("pulse_check") is not None and spec["pulse_check"] not in structures:
+        raise InputError(f"{where}.pulse_check", f"unknown structure {spec['pulse_check']!r}",
+                         f"name one of {', '.join(structures)}")
+    for key, low, high in (("job_seconds", 1.0, 86400.0), ("bootstrap", 10, 100000)):
+        value = spec.get(key)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                  or not low <= value <= high):
+            raise InputError(f"{where}.{key}", f"expected a number {low:g} ... {high:g}, got {value!r}",
+                             f"give e.g. {key}: {DEFAULT_JOB_SECONDS:g}" if key == "job_seconds" else
+                             f"give e.g. {key}: 1000")
+    every = suite_components(list(SUITES))  # {component: suite}, each suite file read once
+    if components is not None:
+        components = _names(components, f"{where}.components", None, "components")
+        for i, name in enumerate(components):
+            if name not in every:
+                raise InputError(f"{where}.components[{i}]", f"{name!r} is not a FEMA P695 component",
+                                 "use names of records/suites/, e.g. FF01a, NP01b, NN15a")
+    search = {**DEFAULT_SEARCH, **_mapping(spec.get("search"), f"{where}.search")}
+    studies = {}
+    for name in chosen:
+        body = structures[name]
+        place = f"{where}.structures.{name}"
+        check_keys(body, STRUCTURE_KEYS, place)
+        own = _suites(body.get("suites", suites), f"{place}.suites")
+        names = [n for n in (every if components is None else components) if every[n] in own]
+        if not names:
+            raise InputError(f"{where}.components", f"no component of {name}'s suites ({', '.join(own)})",
+                             "name components of the structure's suites, e.g. FF01a")
+        study = {k: copy.deepcopy(v) for k, v in body.items() if k not in ("suites", "description")}
+        study.update(excitation={"kind": "record"}, grid={"component": names}, search=dict(search),
+                     description=body.get("description", f"IDA of {name} over {', '.join(own)}"))
+        studies[f"{STUDY_PREFIX}{name}"] = study
+    return studies
+
+
+def _mapping(value, where):
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise InputError(where, f"expected a mapping, got {value!r}", "write search: {tolerance: 0.05, ...}")
+    return value
+
+
+def _suites(value, where):
+    if not isinstance(value, list) or not value:
+        raise InputError(where, f"expected a list of suites, got {value!r}", f"use some of {', '.join(SUITES)}")
+    for i, suite in enumerate(value):
+        if suite not in SUITES:
+            raise InputError(f"{where}[{i}]", f"unknown suite {suite!r}", f"use one of {', '.join(SUITES)}")
+    return list(value)
+
+
+def _names(value, where, known, what):
+    if value is None:
+        return list(known)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise InputError(where, f"expected a list of names, got {value!r}", f"list {what} by name")
+    if known is not None:
+        for i, v in enumerate(value):
+            if v not in known:
+                raise InputError(f"{where}[{i}]", f"unknown {what[:-1]} {v!r}", f"use one of {', '.join(known)}")
+    return list(value)
+
+
+def fragility_config(config: dict) -> dict:
+    """The config with its fragility studies as ``studies:`` (and nothing else studied)."""
+    return {**config, "studies": fragility_studies(config)}
+
+
+def check_fragility(config: dict, records_dir="records") -> dict:
+    """{study: case table} of the fragility studies, every case checked as its job would
+    run it (stonedem.study.grid.check_config); an InputError names the fragility config path."""
+    from stonedem.study.grid import check_config
+
+    studies = fragility_studies(config)
+    if not studies:
+        return {}
+    try:
+        return check_config({**config, "studies": studies}, records_dir=records_dir)
+    except InputError as error:
+        field = error.field
+        for study in studies:
+            for prefix, where in ((f"studies.{study}.grid.component", "fragility.components"),
+                                  (f"studies.{study}.search", "fragility.search"),
+                                  (f"studies.{study}", f"fragility.structures.{study[len(STUDY_PREFIX):]}")):
+                if field == prefix or field.startswith(prefix + ".") or field.startswith(prefix + "["):
+                    field = where + field[len(prefix):]
+                    break
+            else:
+                continue
+            break
+        raise InputError(field, error.problem, error.fix) from None
+
+
+# --- from the searches to the cube --------------------------------------------------------
+
+
+def first_exceedance(values, exceeded, response, threshold) -> tuple[float, float, float, bool]:
+    """(estimate, lower, upper, censored) of the intensity at which a limit state is first
+    exceeded on one record's runs (any order). upper: the smallest run exceeding it; lower:
+    the largest run below that did not (NaN: none); estimate: the IDA curve (response against
+    intensity, log-log) interpolated to the threshold between them, or their geometric mean
+    when a response is not usable (a collapse ends the run); censored: never exceeded, the
+    estimate is the largest run (a lower bound)."""
+    order = np.argsort(values)
+    x = np.asarray(values, float)[order]
+    hit = np.asarray(exceeded, bool)[order]
+    r = np.asarray(response, float)[order]
+    if not hit.any():
+        return float(x[-1]), float(x[-1]), math.nan, True
+    i = int(np.argmax(hit))
+    if i == 0:
+        return float(x[0]), math.nan, float(x[0]), False
+    lo, hi = float(x[i - 1]), float(x[i])
+    r_lo, r_hi = r[i - 1], r[i]
+    if np.isfinite(threshold) and np.isfinite(r_lo) and np.isfinite(r_hi) and 0 < r_lo < threshold <= r_hi:
+        share = math.log(threshold / r_lo) / math.log(r_hi / r_lo)
+        return float(math.exp(math.log(lo) + share * math.log(hi / lo))), lo, hi, False
+    return math.sqrt(lo * hi), lo, hi, False
+
+
+def record_table(suites) -> xr.Dataset:
+    """Per component of the suites: suite, PGA and PGV of the baseline-corrected record (the
+    runs scale its corrected peak to the target, so PGV = PGA x pgv / pga), predominant
+    frequency, the period of the 5 % pseudo-velocity spectrum's peak (a pulse period: Baker
+    2007 finds T_p near it) and provenance."""
+    from stonedem.motion.records import baseline_correct
+
+    pieces = []
+    for suite in suites:
+        with xr.open_dataset(suite_path(suite)) as ds:
+            ds = ds.load()
+        peaks = []
+        for k in range(ds.sizes["record"]):
+            r = ds.isel(record=k)
+            n, dt = int(r.n_samples), float(r.dt)
+            accel = np.asarray(r.acceleration.values[:n], float)
+            peaks.append(float(np.abs(baseline_correct(np.arange(n) * dt, accel)).max()))
+        psv = ds.psa * ds.period / (2 * math.pi)
+        table = xr.Dataset(coords={"record": ds.record.values})
+        table["suite"] = ("record", np.array([suite] * ds.sizes["record"], dtype=object), {"long_name": "record suite"})
+        table["record_pga"] = ("record", np.array(peaks), {"units": "m s-2", "long_name": "PGA of the baseline-corrected record"})
+        table["record_pgv"] = ("record", ds.pgv.values, {"units": "m s-1", "long_name": "PGV of the baseline-corrected record"})
+        table["predominant_frequency"] = ("record", ds.predominant_frequency.values,
+                                          {"units": "Hz", "long_name": "predominant frequency of the record"})
+        table["pulse_period"] = ("record", ds.period.values[psv.argmax("period").values],
+                                 {"units": "s", "long_name": "period of the peak of the 5 % pseudo-velocity spectrum"})
+        for name in ("event", "station", "magnitude", "rsn"):
+            table[name] = ("record", ds[name].values, dict(ds[name].attrs))
+        pieces.append(table)
+    return xr.concat(pieces, dim="record")
+
+
+def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
+    """The IDA cube (structure x record x limit_state) from the search files of the
+    fragility studies; ``structures``: {name: its fragility spec} (drum width for sliding)."""
+    records = record_table(suites)
+    names = [str(n) for n in records.record.values]
+    order = list(structures)
+    shape = (len(order), len(names), len(LIMIT_STATES))
+    out = {k: np.full(shape, math.nan) for k in ("pga", "lower", "upper")}
+    censored = np.zeros(shape, np.int8)
+    n_runs = np.zeros(shape[:2], np.int32)
+    monotonic = np.ones(shape[:2], np.int8)
+    ran = np.zeros(shape[:2], bool)
+    theta = np.full(len(order), math.nan)
+    settings = {}
+    for path in search_paths:
+        with xr.open_dataset(path) as ds:
+            ds = ds.load()
+        study = ds.attrs.get("study", "")
+        name = study[len(STUDY_PREFIX):]
+        if name not in structures:
+            raise InputError("fragility.structures", f"{path}: structure {name!r} is not configured",
+                             "rerun snakemake fragility after editing the config")
+        s, k = order.index(name), names.index(str(ds.component.values))
+        ran[s, k] = True
+        settings = {key: ds.attrs[key] for key in ds.attrs if key.startswith("search_")}
+        width = float(structures[name]["structure"].get("width", 1.0))
+        values = ds.pga.values
+        collapsed = ds.collapsed.values > 0
+        theta_cr = float(np.nanmin(ds.theta_cr.values))
+        theta[s] = theta_cr
+        for j, ls in enumerate(LIMIT_STATES):
+            if ls.name == "collapse":
+                upper = float(ds.collapse_threshold)
+                if math.isfinite(upper):
+                    est, lo, hi, cen = upper, float(ds.survived_below_threshold), upper, False
+                else:
+                    est, lo, hi, cen = float(values.max()), float(values.max()), math.nan, True
+            else:
+                response = np.where(collapsed, math.nan, ds[ls.measure].values)
+                limit = ls.threshold(theta_cr, width)
+                exceeded = collapsed | (np.nan_to_num(response, nan=-1.0) > limit)
+                est, lo, hi, cen = first_exceedance(values, exceeded, response, limit)
+            out["pga"][s, k, j], out["lower"][s, k, j], out["upper"][s, k, j] = est, lo, hi
+            censored[s, k, j] = cen
+        n_runs[s, k] = int(ds.n_runs)
+        monotonic[s, k] = int(ds.monotonic)
+    ratio = (records.record_pgv / records.record_pga).values
+    cube = xr.Dataset(coords={"structure": ("structure", np.array(order, dtype=object),
+                                            {"long_name": "structure (config fragility.structures)"}),
+                              "record": ("record", np.array(names, dtype=object),
+                                         {"long_name": "FEMA P695 component (records/suites/)"}),
+                              "limit_state": ("limit_state", np.array(LIMIT_STATE_NAMES, dtype=object),
+                                              {"long_name": "limit state; see attrs limit_state_<name>"})})
+    cube = cube.assign_coords({v: records[v] for v in records.data_vars})
+    mask = ran[:, :, None]
+    attrs = {"pga": ("m s-2", "PGA at which the limit state is first exceeded (censored: a lower bound)"),
+             "lower": ("m s-2", "largest PGA run below it that did not exceed it"),
+             "upper": ("m s-2", "smallest PGA run that exceeded it")}
+    for key, var in (("pga", "pga_at_limit"), ("lower", "pga_lower"), ("upper", "pga_upper")):
+        units, long_name = attrs[key]
+        cube[var] = (("structure", "record", "limit_state"), np.where(mask, out[key], math.nan),
+                     {"units": units, "long_name": long_name})
+    cube["pgv_at_limit"] = (("structure", "record", "limit_state"), cube.pga_at_limit.values * ratio[None, :, None],
+                            {"units": "m s-1", "long_name": "PGV at which the limit state is first exceeded "
+                             "(the record's PGV/PGA times pga_at_limit)"})
+    cube["censored"] = (("structure", "record", "limit_state"), np.where(mask, censored, -1).astype(np.int8),
+                        {"units": "1", "long_name": "1: not exceeded up to the search maximum (a lower bound); "
+                         "-1: not run"})
+    cube["n_runs"] = (("structure", "record"), np.where(ran, n_runs, 0),
+                      {"units": "1", "long_name": "simulations of the record's search"})
+    cube["monotonic"] = (("structure", "record"), np.where(ran, monotonic, -1).astype(np.int8),
+                         {"units": "1", "long_name": "1: no survivor above the smallest collapse; -1: not run"})
+    cube["theta_cr"] = ("structure", theta, {"units": "rad", "long_name": "critical angle atan(b/h) of the column"})
+    cube.attrs = {"title": "stonedem IDA cube: limit-state intensities per structure and FEMA P695 record",
+                  "method": "hunt-and-fill search in PGA per (structure, record) (stonedem.study.search); "
+                            "lesser limit states interpolated on the runs' IDA curves (stonedem.fragility.ida)",
+                  "n_simulations": int(cube.n_runs.sum()), **settings,
+                  **{f"limit_state_{ls.name}": ls.long_name for ls in LIMIT_STATES}}
+    return cube
+
+
+# intensity measures of the cube: the variable holding each and its units
+MEASURES = {"pga": ("pga_at_limit", "m s-2", "PGA"), "pgv": ("pgv_at_limit", "m s-1", "PGV")}

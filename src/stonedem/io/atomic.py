@@ -1,0 +1,79 @@
+"""Atomic file output: write to a temporary file beside the target, then rename over it.
+
+A run killed at any point leaves either the old file or the new one under the real name,
+never a partial one. An interrupt (SIGINT, SIGTERM as :class:`stonedem.entry.Interrupted`)
+while writing removes the temporary file at once: the write runs in a worker thread
+(NetCDF and zlib release the GIL), so the main thread, which handles signals, is never
+stuck in one long C call; the abandoned worker is recorded in :data:`abandoned` and the
+command-line entry ends the process without waiting for it. Only SIGKILL can leave a
+stray ``.<name>.*.tmp<suffix>`` (never read).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import threading
+from pathlib import Path
+from typing import Callable
+
+
+# temporary files being written (the signal watchdog of stonedem.entry removes them when it
+# has to end the process itself)
+in_progress: set[str] = set()
+
+
+def remove_in_progress() -> None:
+    for tmp in list(in_progress):
+        Path(tmp).unlink(missing_ok=True)
+
+
+# writer threads left running by an interrupt (the process should end without joining them)
+abandoned: list[threading.Thread] = []
+
+
+def _write_in_thread(write: Callable[[str], object], tmp: str) -> None:
+    """write(tmp) in a daemon thread, waited for in short joins so signals get through."""
+    failure: list[BaseException] = []
+
+    def work():
+        try:
+            write(tmp)
+        except BaseException as err:  # handed to the waiting thread
+            failure.append(err)
+
+    worker = threading.Thread(target=work, name="stonedem-write", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(0.05)
+    except BaseException:
+        abandoned.append(worker)
+        raise
+    if failure:
+        raise failure[0]
+
+
+def write_atomically(path: str | Path, write: Callable[[str], object]) -> Path:
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # the temporary name keeps the real suffix: matplotlib and Pillow pick the format from it
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent)
+    os.close(fd)
+    in_progress.add(tmp)
+    try:
+        if threading.current_thread() is threading.main_thread():
+            _write_in_thread(write, tmp)
+        else:
+            write(tmp)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    finally:
+        in_progress.discard(tmp)
+    return path

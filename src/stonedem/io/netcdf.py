@@ -1,0 +1,54 @@
+"""Writing the project's NetCDF files: one writer for every dataset of both solvers.
+
+:func:`write_dataset` writes any dataset (scenes, cases, cubes, searches, the IDA, walls,
+validations, benchmarks) atomically in the CF layout; :func:`schema_variables` builds
+variables with the units and long names of :mod:`stonedem.io.schema`; :func:`code_version` is
+the version written into every file's attrs.
+"""
+
+from __future__ import annotations
+
+import functools
+import subprocess
+from pathlib import Path
+
+import xarray as xr
+
+from stonedem.version import __version__
+from stonedem.io.atomic import write_atomically
+from stonedem.io.schema import attrs_for, cf_conventions
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """stonedem version, with the git commit when run from a checkout (asked of git once a process:
+    a job of many cases paid 5 ms a case)."""
+    try:
+        here = Path(__file__).resolve().parent
+        commit = subprocess.run(["git", "-C", str(here), "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True, timeout=5)
+        if commit.returncode == 0:
+            return f"stonedem {__version__} ({commit.stdout.strip()})"
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return f"stonedem {__version__}"
+
+
+def schema_variables(arrays: dict) -> dict[str, xr.Variable]:
+    """name -> (dims, data) as variables with the units and long names of :mod:`stonedem.io.schema`."""
+    return {name: xr.Variable(dims, data, attrs=attrs_for(name)) for name, (dims, data) in arrays.items()}
+
+
+def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None) -> Path:
+    """Write NetCDF atomically (a temporary file beside ``path``, renamed over it), CF-1.10
+    (:func:`stonedem.io.schema.cf_conventions`): coordinates without a fill value, float data compressed
+    (``encoding`` overrides per variable)."""
+    ds = cf_conventions(ds)
+    given = encoding or {}
+    encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
+                if v.dtype.kind == "f" and v.ndim > 0}
+    for name in ds.coords:
+        if ds[name].dtype.kind == "f":
+            encoding[name] = {"_FillValue": None}
+    encoding.update(given)
+    return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))

@@ -1,0 +1,45 @@
+"""Numba-compiled physics kernels of the 2D rigid-block engine (thesis chapter 3).
+
+Everything here is ``@njit(cache=True)`` with fastmath off (reassociation would break
+determinism and the energy balance). Kernels take structure-of-arrays inputs (flat arrays;
+the time loop :func:`stonedem.kernels.step.run` takes named tuples of them), never allocate per
+step, never print and never raise for physics: they return status codes that
+:mod:`stonedem.engine.simulate` turns into one-line errors.
+
+Who imports what: :mod:`stonedem.engine.simulate` is the only caller of :func:`stonedem.kernels.step.run`;
+:mod:`stonedem.engine.run`, :mod:`stonedem.validation.cases` and benchmarks of :mod:`stonedem.bench` read its
+ENERGY_* columns and STATUS_* codes. Outside the time loop, :mod:`stonedem.motion.excitation`
+evaluates base motion with :mod:`stonedem.kernels.excitation`, and :mod:`stonedem.engine.scene` and
+benchmarks of :mod:`stonedem.bench` call the broad phase and overlap kernels directly.
+:mod:`stonedem.reference.rigid_rocking` and :mod:`stonedem.reference.bouc_wen` are not part of the engine:
+they are compiled references that :mod:`stonedem.reference.analytic` wraps (the rigid block under a record
+and under a one-sine pulse; the Bouc-Wen sliding block).
+
+Numba checks a cached function against its own source file only, so a cached time loop
+would keep running an old copy of a changed kernel it calls. The cache therefore lives in
+a folder named by a hash of all kernel sources (unless NUMBA_CACHE_DIR is set): any edit
+compiles afresh, once, and unchanged code is compiled once per machine, not per case.
+"""
+
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+
+JIT_OPTIONS = {"cache": True, "fastmath": False, "nogil": True}
+
+
+def _kernel_cache_dir() -> Path:
+    # the compiled references (stonedem.reference) share this cache and its key
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for source in sorted(here.glob("*.py")) + sorted((here.parent / "reference").glob("*.py")):
+        digest.update(source.name.encode())
+        digest.update(source.read_bytes())
+    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return root / "stonedem" / "numba" / digest.hexdigest()[:16]
+
+
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    numba.config.CACHE_DIR = str(_kernel_cache_dir())

@@ -1,0 +1,63 @@
+"""Penetration check over a run's samples: the deepest overlap of any two bodies.
+
+A soft contact lets bodies overlap a little (the Winkler layer, or the point law's corner
+depth); an overlap that is a sizeable share of a body's area means a contact too soft for
+its load, or a sliver body, and the run's answer is not physical (``stonedem.engine.simulate``
+reports it as its own status, never as collapse). Run once after the time loop, over the
+sampled poses.
+"""
+
+import numpy as np
+from numba import njit
+
+from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels.integrate import update_world_vertices
+from stonedem.kernels.overlap import (MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid)
+
+
+@njit(**JIT_OPTIONS)
+def deepest_overlap(vert_start, local_x, local_y, body_area, x, y, theta):
+    """(largest overlap area / the smaller body's area [1], its sample, body a, body b).
+
+    vert_start, local_x, local_y: the bodies' vertices about their centroids (as packed for
+    the time loop); body_area (n_body,) [m2]; x, y, theta (n_sample, n_body): sampled
+    poses. Pairs whose bounding boxes are apart are skipped.
+    """
+    n_sample, n_body = x.shape
+    n_vert = local_x.shape[0]
+    wx = np.empty(n_vert)
+    wy = np.empty(n_vert)
+    lo_x = np.empty(n_body)
+    hi_x = np.empty(n_body)
+    lo_y = np.empty(n_body)
+    hi_y = np.empty(n_body)
+    out_x = np.empty(MAX_OVERLAP_VERTICES)
+    out_y = np.empty(MAX_OVERLAP_VERTICES)
+    tmp_x = np.empty(MAX_OVERLAP_VERTICES)
+    tmp_y = np.empty(MAX_OVERLAP_VERTICES)
+    worst = 0.0
+    at = (-1, -1, -1)
+    for s in range(n_sample):
+        if not (np.all(np.isfinite(x[s])) and np.all(np.isfinite(y[s])) and np.all(np.isfinite(theta[s]))):
+            continue
+        update_world_vertices(n_body, vert_start, local_x, local_y, x[s], y[s], theta[s], wx, wy)
+        for b in range(n_body):
+            lo_x[b] = wx[vert_start[b]:vert_start[b + 1]].min()
+            hi_x[b] = wx[vert_start[b]:vert_start[b + 1]].max()
+            lo_y[b] = wy[vert_start[b]:vert_start[b + 1]].min()
+            hi_y[b] = wy[vert_start[b]:vert_start[b + 1]].max()
+        for a in range(n_body):
+            for b in range(a + 1, n_body):
+                if lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]:
+                    continue
+                sa, ea = vert_start[a], vert_start[a + 1]
+                sb, eb = vert_start[b], vert_start[b + 1]
+                n = clip_convex_polygons(wx[sa:ea], wy[sa:ea], wx[sb:eb], wy[sb:eb], out_x, out_y, tmp_x, tmp_y)
+                if n < 3:
+                    continue
+                area, _, _ = polygon_area_centroid(out_x, out_y, n)
+                share = area / min(body_area[a], body_area[b])
+                if share > worst:
+                    worst = share
+                    at = (s, a, b)
+    return worst, at[0], at[1], at[2]

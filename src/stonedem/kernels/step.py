@@ -1,0 +1,496 @@
+"""The time loop of the 2D rigid-block engine, compiled whole (thesis 3.10, Fig. 3.14).
+
+:func:`run` takes four bundles, named tuples of arrays and numbers that :mod:`stonedem.engine.simulate`
+builds in plain Python: :class:`Model` (the scene, read only), :class:`Settings` (time step,
+sampling, stopping rules), :class:`State` (poses, velocities, contact memory, energy
+accumulators: carried from one call to the next) and :class:`Samples` (output buffers). Each
+call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocities at t_n).
+
+Stages of one step at time t_n = n dt, numbered as in :func:`run`:
+
+1. place the bodies   base_motion, drive_bodies, update_world_vertices, body_bounds
+2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
+3. contact forces     clear_forces, then the scene's law from the velocities v_{n-1/2}
+                      (area_contact_forces or point_contact_forces)
+4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
+5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
+6. sampling           every ``out_every`` steps and at the last: sample_state, then at_rest
+                      and collapsed may end the run
+7. integrate          book_energy, central_difference_step: v_{n+1/2} = v_{n-1/2} + dt a_n
+                      (first step: a half kick), x_{n+1} = x_n + dt v_{n+1/2}
+
+Python never sees a single step: :func:`run` is called once per simulation phase, or in a
+few chunks for progress reports.
+
+Performance (8-drum column: ~5.6 us per step under the area law, ~3.6 under the point law). The stage functions run
+every step or sample are leaves: loops that call no other compiled function, which LLVM
+inlines into the loop and whose reference counting Numba prunes, so taking the bundles costs
+them nothing. A compiled function that calls another one keeps its reference counting (the
+error return after the call skips the decrement, so Numba cannot pair them up): it pays an
+atomic increment and decrement on every array it is handed, at every call. Routing the
+bundles through such stages made the step 40-60 % slower, and a dispatch function between
+the loop and the contact law alone cost 8 %. So :func:`run` unpacks the arrays that the
+kernels of the other modules take once per call, calls those kernels itself, and picks the
+contact law with a branch: a new law is a function taking the same arrays and one more
+branch there. Within a law, the per-pair work stays written out (a narrow phase called per
+pair made the step 1.6x slower).
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
+from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, area_contact_forces, contact_power)
+from stonedem.kernels.excitation import base_motion
+from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
+from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
+from stonedem.kernels.point_contact import point_contact_forces
+
+STATUS_OK = 0
+STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
+STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
+STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
+
+CONTACT_AREA = 0  # thesis overlap-area law (stonedem.kernels.contact)
+CONTACT_POINT = 1  # point contacts at the face ends (stonedem.kernels.point_contact)
+
+# Columns of the sampled energy array [J]: three state functions at the sample's instant,
+# then the running sums of the contact accumulators (stonedem.kernels.contact E_*), slot k in
+# column ENERGY_ACCUMULATED + k; the time loop adds what this step's power (book_power)
+# contributes up to t_n.
+ENERGY_KINETIC = 0
+ENERGY_POTENTIAL = 1  # m g y of the free bodies
+ENERGY_ELASTIC = 2  # stored in the contact springs
+ENERGY_ACCUMULATED = 3
+ENERGY_DAMPING = ENERGY_ACCUMULATED + E_DAMPING  # dissipated by the normal dashpots
+ENERGY_TANGENTIAL = ENERGY_ACCUMULATED + E_TANGENTIAL  # dissipated by slip and tangential dashpots
+ENERGY_BASE_WORK = ENERGY_ACCUMULATED + E_BASE_WORK  # work done by the driven bodies
+N_ENERGY = ENERGY_ACCUMULATED + N_ENERGY_ACC
+
+
+class Law(NamedTuple):
+    """The contact law of a scene (:mod:`stonedem.kernels.contact`, :mod:`stonedem.kernels.point_contact`)."""
+
+    kind: int  # CONTACT_AREA or CONTACT_POINT
+    k_n: float  # normal stiffness: per unit overlap area (area) or contact length (point) [N m-2]
+    damping: float  # normal dashpot: c_n [N s m-1] (area) or a fraction of critical, zeta [1] (point)
+    impact: bool  # point law: a landing end stops plastically (stonedem.kernels.point_contact.plastic_impulse)
+    k_t: float  # tangential stiffness [N m-1]
+    c_t: float  # tangential dashpot [N s m-1]
+    frame_rule: int  # FRAME_BOUNDARY or FRAME_THESIS (stonedem.kernels.overlap)
+
+
+class Excitation(NamedTuple):
+    """One direction of base motion, as :func:`stonedem.kernels.excitation.base_motion` reads it."""
+
+    kind: int  # KIND_* of stonedem.kernels.excitation
+    params: np.ndarray  # (4,)
+    table_accel: np.ndarray  # recorded motion sampled every table_dt (empty unless KIND_TABLE)
+    table_vel: np.ndarray
+    table_disp: np.ndarray
+    table_dt: float  # [s]
+
+
+class Model(NamedTuple):
+    """The scene, read only: :class:`stonedem.engine.simulate.SceneArrays` but the initial state, plus
+    contact law, gravity and base motion (:func:`stonedem.engine.simulate.kernel_model`)."""
+
+    vert_start: np.ndarray  # body b owns vertices vert_start[b]:vert_start[b+1] (n_body + 1,)
+    local_x: np.ndarray  # vertices in the body frame (n_vert,) [m]
+    local_y: np.ndarray
+    body_mass: np.ndarray  # (n_body,) [kg]
+    body_inertia: np.ndarray  # (n_body,) [kg m2]
+    body_driven: np.ndarray  # follows the base motion (n_body,) bool
+    body_radius: np.ndarray  # bounding radius about the centroid (n_body,) [m]
+    ref_x: np.ndarray  # pose at rest, which driven bodies keep shifted by the base (n_body,)
+    ref_y: np.ndarray
+    ref_theta: np.ndarray
+    pair_mu: np.ndarray  # friction coefficient of every pair (n_body, n_body) [1]
+    body_group: np.ndarray  # collapse group of each body, -1 for none (n_body,)
+    group_theta_cr: np.ndarray  # critical mean rotation of each group (n_group,) [rad]
+    fall_depth: np.ndarray  # centroid drop that means a body fell (n_body,) [m]
+    margin: float  # broad-phase margin [m]
+    sweep_axis: int  # 0 = x, 1 = y
+    gravity: float  # [m s-2], along -y
+    law: Law
+    horizontal: Excitation
+    vertical: Excitation
+
+
+class Settings(NamedTuple):
+    """Time step, sampling and stopping rules of a run."""
+
+    dt: float  # [s]
+    n_steps: int  # the run ends at step n_steps (t = n_steps dt), which is sampled
+    out_every: int  # steps between samples
+    stop_on_collapse: bool
+    rest_speed: float  # [m s-1] a free body slower than this relative to the base is at rest
+    rest_samples: int  # ... for this many samples in a row (from rest_from_step on): the run ends
+
+
+class State(NamedTuple):
+    """What a run reads and writes, so it can be split into calls."""
+
+    body_x: np.ndarray  # centroid (n_body,) [m]
+    body_y: np.ndarray
+    body_theta: np.ndarray  # [rad]
+    body_vx: np.ndarray  # velocities at t = 0 before step 0, at mid-steps after (n_body,)
+    body_vy: np.ndarray
+    body_omega: np.ndarray
+    pair_ft: np.ndarray  # elastic tangential force of each pair (n_body, n_body) [N]
+    pair_memory: np.ndarray  # contact memory, slots MEM_* of stonedem.kernels.contact (n_body, n_body, N_MEMORY)
+    energy_acc: np.ndarray  # energy accumulators, slots E_* of stonedem.kernels.contact (N_ENERGY_ACC,) [J]
+    rest_count: np.ndarray  # samples at rest in a row so far (1,) int64
+
+
+class Samples(NamedTuple):
+    """Preallocated output: one row per sample."""
+
+    step: np.ndarray  # step number of each sample (n_out,) int64
+    x: np.ndarray  # (n_out, n_body) [m]
+    y: np.ndarray
+    theta: np.ndarray  # [rad]
+    energy: np.ndarray  # (n_out, N_ENERGY), columns ENERGY_* [J]
+    n_contact: np.ndarray  # (n_out,) int64
+
+
+class Work(NamedTuple):
+    """Arrays one run allocates and every step overwrites (:func:`allocate_work`)."""
+
+    world_x: np.ndarray  # world vertices (n_vert,) [m]
+    world_y: np.ndarray
+    lo_x: np.ndarray  # bounds of each body (n_body,) [m]
+    lo_y: np.ndarray
+    hi_x: np.ndarray
+    hi_y: np.ndarray
+    force_x: np.ndarray  # contact force and torque on each body (n_body,) [N], [N m]
+    force_y: np.ndarray
+    torque: np.ndarray
+    base_force_x: np.ndarray  # part of it exerted by driven bodies (n_body,) [N]
+    base_force_y: np.ndarray
+    vel_x: np.ndarray  # velocities at t_n (n_body,), 0 spin for driven bodies
+    vel_y: np.ndarray
+    vel_om: np.ndarray
+    power: np.ndarray  # this step's power into each energy accumulator, slots E_* (N_ENERGY_ACC,) [W]
+    sweep_x: np.ndarray  # poses at the last broad-phase sweep (n_body,)
+    sweep_y: np.ndarray
+    sweep_theta: np.ndarray
+    scratch: np.ndarray  # overlap polygons (4, MAX_OVERLAP_VERTICES)
+    group_sum: np.ndarray  # sum of |theta| over each collapse group (n_group,) [rad]
+    group_count: np.ndarray  # bodies in each collapse group (n_group,)
+
+
+@njit(**JIT_OPTIONS)
+def allocate_work(model):
+    """A :class:`Work` bundle for the model's bodies and vertices."""
+    n_body = model.body_mass.shape[0]
+    n_vert = model.local_x.shape[0]
+    n_group = model.group_theta_cr.shape[0]
+    return Work(
+        world_x=np.empty(n_vert), world_y=np.empty(n_vert),
+        lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
+        force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
+        base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
+        vel_x=np.zeros(n_body), vel_y=np.zeros(n_body), vel_om=np.zeros(n_body),
+        power=np.zeros(N_ENERGY_ACC),
+        sweep_x=np.empty(n_body), sweep_y=np.empty(n_body), sweep_theta=np.empty(n_body),
+        scratch=np.zeros((4, MAX_OVERLAP_VERTICES)),
+        group_sum=np.zeros(n_group), group_count=np.zeros(n_group),
+    )
+
+
+@njit(**JIT_OPTIONS)
+def needs_resweep(model, state, work):
+    """True once some body has moved (translation + radius x rotation) half the margin since the sweep."""
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
+    body_radius = model.body_radius
+    for b in range(body_x.shape[0]):
+        moved = (abs(body_x[b] - sweep_x[b]) + abs(body_y[b] - sweep_y[b])
+                 + body_radius[b] * abs(body_theta[b] - sweep_theta[b]))
+        if moved > 0.5 * model.margin:
+            return True
+    return False
+
+
+@njit(**JIT_OPTIONS)
+def sweep(model, state, work):
+    """Candidate pairs (pair_a, pair_b) from the current bounds; the poses are kept for needs_resweep.
+
+    Not a leaf (it calls the broad phase), so it pays reference counting on the bundles, but
+    it runs only when the pair list has gone stale.
+    """
+    pair_a, pair_b = find_candidate_pairs(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
+                                          work.hi_x, work.hi_y, model.margin, model.sweep_axis)
+    sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    for b in range(body_x.shape[0]):
+        sweep_x[b] = body_x[b]
+        sweep_y[b] = body_y[b]
+        sweep_theta[b] = body_theta[b]
+    return pair_a, pair_b
+
+
+@njit(**JIT_OPTIONS)
+def clear_forces(work):
+    """Zero the force, torque and base-force accumulators before a contact law adds to them."""
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y = work.base_force_x, work.base_force_y
+    for b in range(force_x.shape[0]):
+        force_x[b] = 0.0
+        force_y[b] = 0.0
+        torque[b] = 0.0
+        base_force_x[b] = 0.0
+        base_force_y[b] = 0.0
+
+
+@njit(**JIT_OPTIONS)
+def velocities_at_step(model, state, work, half):
+    """work.vel_*: velocities at t_n, half [s] of a kick on from v_{n-1/2}.
+
+    half is 0 at the step a run starts from, whose state holds the velocities at t_n itself.
+    """
+    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    for b in range(body_mass.shape[0]):
+        if body_driven[b]:
+            vel_x[b] = body_vx[b]
+            vel_y[b] = body_vy[b]
+            vel_om[b] = 0.0
+        else:
+            vel_x[b] = body_vx[b] + half * force_x[b] / body_mass[b]
+            vel_y[b] = body_vy[b] + half * (force_y[b] / body_mass[b] - model.gravity)
+            vel_om[b] = body_omega[b] + half * torque[b] / body_inertia[b]
+
+
+@njit(**JIT_OPTIONS)
+def book_power(work, p_damp, p_tan, vel_h, vel_v):
+    """work.power: this step's powers at t_n [W] by accumulator slot; the base's from work.base_force_*.
+
+    p_damp, p_tan: dashpot power and tangential work rate (:func:`stonedem.kernels.contact.contact_power`)
+    vel_h, vel_v: base velocity at t_n [m s-1]
+    Each power covers [t_n - dt/2, t_n + dt/2] (the first step only its second half): the
+    sample at t_n takes its first half, the accumulators all of it (:func:`book_energy`).
+    """
+    base_force_x, base_force_y = work.base_force_x, work.base_force_y
+    p_base = 0.0
+    for b in range(base_force_x.shape[0]):
+        p_base += base_force_x[b] * vel_h + base_force_y[b] * vel_v
+    work.power[E_DAMPING] = p_damp
+    work.power[E_TANGENTIAL] = p_tan
+    work.power[E_BASE_WORK] = p_base
+
+
+@njit(**JIT_OPTIONS)
+def book_energy(state, work, kick):
+    """Add kick [s] x this step's powers to the energy accumulators."""
+    energy_acc, power = state.energy_acc, work.power
+    for slot in range(N_ENERGY_ACC):
+        energy_acc[slot] += kick * power[slot]
+
+
+@njit(**JIT_OPTIONS)
+def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
+    """Write sample k of step n: poses, energies at t_n, contact count. True if all of it is finite.
+
+    elastic: stored contact energy [J]; half [s]: the time from v_{n-1/2} to t_n, over which
+    the accumulators get the first half of this step's power.
+    """
+    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    out_x, out_y, out_theta = samples.x, samples.y, samples.theta
+    samples.step[k] = n
+    kinetic = 0.0
+    potential = 0.0
+    finite = True
+    for b in range(body_mass.shape[0]):
+        out_x[k, b] = body_x[b]
+        out_y[k, b] = body_y[b]
+        out_theta[k, b] = body_theta[b]
+        if body_driven[b]:
+            continue
+        vx = vel_x[b]
+        vy = vel_y[b]
+        om = vel_om[b]
+        kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
+        kinetic += 0.5 * body_inertia[b] * om * om
+        potential += body_mass[b] * model.gravity * body_y[b]
+        if not (np.isfinite(body_x[b]) and np.isfinite(body_y[b])
+                and np.isfinite(body_theta[b]) and np.isfinite(om)):
+            finite = False
+    energy, energy_acc, power = samples.energy, state.energy_acc, work.power
+    energy[k, ENERGY_KINETIC] = kinetic
+    energy[k, ENERGY_POTENTIAL] = potential
+    energy[k, ENERGY_ELASTIC] = elastic
+    for slot in range(N_ENERGY_ACC):
+        energy[k, ENERGY_ACCUMULATED + slot] = energy_acc[slot] + half * power[slot]
+    samples.n_contact[k] = n_contact
+    return finite
+
+
+@njit(**JIT_OPTIONS)
+def at_rest(model, work, vel_h, vel_v, rest_speed):
+    """True when every free body moves slower than rest_speed [m s-1] relative to the base.
+
+    Speed: |v_x - v_h| + |v_y - v_v| + bounding radius x |omega|, at t_n (work.vel_*).
+    """
+    body_driven, body_radius = model.body_driven, model.body_radius
+    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    for b in range(body_driven.shape[0]):
+        if body_driven[b]:
+            continue
+        speed = abs(vel_x[b] - vel_h) + abs(vel_y[b] - vel_v) + body_radius[b] * abs(vel_om[b])
+        if speed > rest_speed:
+            return False
+    return True
+
+
+@njit(**JIT_OPTIONS)
+def collapsed(model, state, work, d_v):
+    """True when a group's mean |theta| exceeds its theta_cr, or a body dropped below its support.
+
+    A body fell when its centroid, relative to the base (vertical displacement d_v [m]), is
+    more than model.fall_depth below its reference; groups are model.body_group (column,
+    epistyle, block), with critical mean rotation model.group_theta_cr = atan(b/h).
+    """
+    body_driven, body_group, group_theta_cr = model.body_driven, model.body_group, model.group_theta_cr
+    ref_y, fall_depth = model.ref_y, model.fall_depth
+    body_y, body_theta = state.body_y, state.body_theta
+    sums, counts = work.group_sum, work.group_count
+    for g in range(group_theta_cr.shape[0]):
+        sums[g] = 0.0
+        counts[g] = 0.0
+    for b in range(body_driven.shape[0]):
+        if body_driven[b]:
+            continue
+        if ref_y[b] - (body_y[b] - d_v) > fall_depth[b]:
+            return True
+        g = body_group[b]
+        if g >= 0:
+            sums[g] += abs(body_theta[b])
+            counts[g] += 1.0
+    for g in range(group_theta_cr.shape[0]):
+        if counts[g] > 0.0 and sums[g] / counts[g] > group_theta_cr[g]:
+            return True
+    return False
+
+
+@njit(**JIT_OPTIONS)
+def run(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
+        n_sample, collapse_sample):
+    """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
+
+    model, settings, state, samples: :class:`Model`, :class:`Settings`, :class:`State`,
+    :class:`Samples`. Samples are written from index n_sample on; collapse_sample is the
+    first collapsed sample, or -1. step_first: the step the run starts from (its kick is a
+    half step; state holds the velocities at that instant). From step rest_from_step on
+    (the base motion is quiet for good), settings.rest_samples samples in a row at which
+    every free body is at rest (:func:`at_rest`) end the run with STATUS_AT_REST;
+    state.rest_count carries the count from one call to the next.
+    """
+    dt = settings.dt
+    n_steps = settings.n_steps
+    n_body = model.body_mass.shape[0]
+    law = model.law
+    h = model.horizontal
+    v = model.vertical
+    work = allocate_work(model)
+    # the arrays the other modules' kernels take, unpacked once per call: taken from the
+    # bundles inside the loop they would cost reference counting at every step (module docstring)
+    vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
+    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
+    ref_x, ref_y, ref_theta, pair_mu = model.ref_x, model.ref_y, model.ref_theta, model.pair_mu
+    h_params, h_accel, h_vel, h_disp = h.params, h.table_accel, h.table_vel, h.table_disp
+    v_params, v_accel, v_vel, v_disp = v.params, v.table_accel, v.table_vel, v.table_disp
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    pair_ft, pair_memory = state.pair_ft, state.pair_memory
+    energy_acc, rest_count = state.energy_acc, state.rest_count
+    world_x, world_y = work.world_x, work.world_y
+    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
+    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+
+    pair_a = np.zeros(0, dtype=np.int64)
+    pair_b = np.zeros(0, dtype=np.int64)
+    need_sweep = True  # the pair list does not outlive a call
+    status = STATUS_OK
+    for n in range(step_start, min(step_stop, n_steps + 1)):
+        t = n * dt
+        # 1. driven bodies at the base pose of t_n; world vertices and bounds
+        d_h, vel_h, _ = base_motion(t, h.kind, h_params, h_accel, h_vel, h_disp, h.table_dt)
+        d_v, vel_v, _ = base_motion(t, v.kind, v_params, v_accel, v_vel, v_disp, v.table_dt)
+        drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
+                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+        update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
+                              world_x, world_y)
+        body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+
+        # 2. candidate pairs, found again once some body has moved half the margin
+        if need_sweep or needs_resweep(model, state, work):
+            pair_a, pair_b = sweep(model, state, work)
+            need_sweep = False
+
+        # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is a
+        # function with these arguments and a branch here
+        sample = n % settings.out_every == 0 or n == n_steps
+        clear_forces(work)
+        if law.kind == CONTACT_POINT:
+            n_contact, elastic = point_contact_forces(
+                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
+                pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
+                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
+                energy_acc, scratch, sample,
+            )
+        else:
+            n_contact, elastic = area_contact_forces(
+                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
+                law.k_n, law.damping, law.k_t, law.c_t, dt, law.frame_rule,
+                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
+                energy_acc, scratch, sample,
+            )
+
+        # 4. velocities at t_n; 5. powers at t_n
+        half = 0.0 if n == step_first else 0.5 * dt
+        velocities_at_step(model, state, work, half)
+        p_damp, p_tan = contact_power(pair_a, pair_b, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
+        book_power(work, p_damp, p_tan, vel_h, vel_v)
+
+        # 6. a sample, which may end the run
+        if sample:
+            finite = sample_state(n, n_sample, model, state, work, samples, n_contact, elastic, half)
+            n_sample += 1
+            if not finite:
+                status = STATUS_NONFINITE
+                break
+            if n >= rest_from_step and at_rest(model, work, vel_h, vel_v, settings.rest_speed):
+                rest_count[0] += 1
+                if rest_count[0] >= settings.rest_samples:
+                    status = STATUS_AT_REST
+                    break
+            else:
+                rest_count[0] = 0
+            if collapse_sample < 0 and collapsed(model, state, work, d_v):
+                collapse_sample = n_sample - 1
+                if settings.stop_on_collapse:
+                    status = STATUS_COLLAPSED
+                    break
+        if n == n_steps:
+            break
+
+        # 7. integrate; the first kick is a half step, so velocities sit at t + dt/2 from then on
+        kick = 0.5 * dt if n == step_first else dt
+        book_energy(state, work, kick)
+        central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, kick, dt,
+                                force_x, force_y, torque,
+                                body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+    return status, n_sample, collapse_sample

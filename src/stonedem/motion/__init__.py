@@ -1,0 +1,1 @@
+"""Base motion: excitation kinds (harmonic, pulses, records), record files, suites and their CLI."""

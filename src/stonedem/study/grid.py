@@ -1,0 +1,698 @@
+"""Parametric studies: config grid -> case table (stable, readable ids) -> one scene per case.
+
+A study in ``config/config.yaml`` names a base scene (structure, friction, contact,
+excitation, solver) and a grid of swept parameters; the case table is the Cartesian product
+of the grid. Each parameter maps to one field of the scene (``PARAMETERS``), carries units
+and a long name, and becomes a scalar coordinate of the case dataset and a dimension of the
+study cube (:func:`combine_cases`). Case ids are built from the parameter values, so a case
+is fully described by its id and Snakemake reruns exactly what changed.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import re
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from stonedem.errors import InputError
+from stonedem.motion.suites import record_file_name
+from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
+from stonedem.engine.structures import EPISTYLE_TYPES
+from stonedem.study.search import SearchSettings
+
+# name: (scene field, units, long name, id label)
+PARAMETERS = {
+    "record": ("excitation.file", "1", "ground-motion record", "rec"),
+    "component": ("excitation.component", "1", "record component of a FEMA P695 suite (records/suites/)", "rec"),
+    "pga": ("excitation.pga", "m s-2", "peak ground acceleration of the scaled record", "pga"),
+    "pga_scale": ("excitation.scale", "1", "record scale factor", "x"),
+    "frequency": ("excitation.frequency", "Hz", "harmonic excitation frequency", "f"),
+    "amplitude": ("excitation.amplitude", "m", "harmonic displacement amplitude", "A"),
+    "n_drums": ("structure.n_drums", "1", "number of drums per column", "drums"),
+    "n_columns": ("structure.n_columns", "1", "number of columns", "cols"),
+    "clear_distance": ("structure.clear_distance", "m", "clear distance between columns", "gap"),
+    "epistyle_type": ("structure.epistyle_type", "1", "epistyle type (thesis Table 7.2)", "epi"),
+    "epistyle_density": ("structure.epistyle_density", "kg m-3", "epistyle density", "rhoe"),
+    "taper": ("structure.taper", "1", "base / top width of the shaft", "taper"),
+    "friction": ("friction", "1", "friction coefficient", "mu"),
+    # thesis 6.5: one joint of a standalone column with a lower friction coefficient
+    "weak_joint": ("weak_joint.joint", "1", "joint with the lower friction, from the base (0: base / drum 0)", "joint"),
+    "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
+}
+STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "grid",
+              "interface_friction", "weak_joint", "cases", "description", "search")
+SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
+              "weak_joint")
+# study (and defaults) keys whose value must be a mapping before a case is built from it
+MAPPING_KEYS = ("structure", "contact", "excitation", "solver", "output", "weak_joint")
+# keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a scene's name
+DEFAULT_KEYS = ("description", "bodies", "structure", "depth", "density", "gravity", "friction",
+                "interface_friction", "contact", "excitation", "solver", "output", "weak_joint")
+# study and record names are file names and Snakemake wildcard alternatives (common.smk);
+# case ids are file names and the {case} wildcard
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
+CASE_ID_PATTERN = re.compile(r"[A-Za-z0-9_.+-]+")
+# [s] simulated after a record ends when a case gives no duration (natural_duration)
+REST_AFTER_RECORD = 2.0
+
+# Limits of a study config (check_config): past them a grid is a typo, not a study.
+MAX_CASES_PER_STUDY = 2000  # cases of one study (config/config.yaml: 99 at most)
+MAX_CASES = 10_000  # cases of all studies together (config/config.yaml: 507)
+MAX_DRUMS = 100  # drums per column (the thesis: 8)
+MAX_COLUMNS = 50  # columns per row (the thesis: 5)
+MAX_DURATION = 3600.0  # [s] simulated time of one case (config/config.yaml: 92 s at most)
+MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.every (config: 9200)
+# bodies, steps and sample memory of each case: stonedem.engine.scene.MAX_BODIES, stonedem.engine.simulate.MAX_STEPS
+# and MAX_SAMPLE_BYTES (stonedem.engine.simulate.preflight, as stonedem run refuses them)
+
+# the values of each swept parameter (check_value); record: a name under the config's records:
+POSITIVE = ("pga", "pga_scale", "frequency", "amplitude", "clear_distance", "epistyle_density", "taper")
+NONNEGATIVE = ("friction", "weak_joint_mu")
+COUNTS = {"n_drums": (1, MAX_DRUMS), "n_columns": (1, MAX_COLUMNS), "weak_joint": (0, MAX_DRUMS - 1)}
+CHOICES = {"epistyle_type": EPISTYLE_TYPES}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One simulation of a study; or, with ``search``, one system whose collapse threshold
+    is searched over ``search.parameter`` (its scene holds the search's start value, its
+    id and params leave the parameter out: :func:`search_case` makes each run's case)."""
+
+    study: str
+    id: str
+    params: dict  # swept parameter values
+    scene: dict  # the full scene mapping
+    search: SearchSettings | None = None
+
+    def as_dict(self) -> dict:
+        """Plain data (Snakemake params, JSON): :meth:`from_dict` rebuilds the case."""
+        spec = {"study": self.study, "id": self.id, "params": self.params, "scene": self.scene}
+        if self.search is not None:
+            spec["search"] = asdict(self.search)
+        return spec
+
+    @classmethod
+    def from_dict(cls, spec: dict) -> "Case":
+        search = spec.get("search")
+        return cls(spec["study"], spec["id"], dict(spec["params"]), copy.deepcopy(spec["scene"]),
+                   SearchSettings(**search) if search is not None else None)
+
+
+# parameters a threshold search may sweep: the intensity measures of the excitation
+SEARCH_PARAMETERS = ("pga", "pga_scale", "amplitude")
+
+
+def search_case(system: Case, value: float) -> Case:
+    """The case of a threshold-search ``system`` run at ``value`` of its search parameter
+    (its id as a grid case with that value would have: ``rec-..._drums-1_pga-12.2``)."""
+    parameter = system.search.parameter
+    params = {**system.params, parameter: float(value)}
+    scene = copy.deepcopy(system.scene)
+    scene["name"] = f"{system.study}/{case_id(params)}"
+    _set(scene, PARAMETERS[parameter][0], float(value))
+    return Case(system.study, case_id(params), params, scene)
+
+
+def load_config(*paths) -> dict:
+    """A workflow config from YAML files, each merged into the ones before key by key
+    (nested mappings merged, lists replaced), as ``snakemake --configfile`` merges a
+    profile such as config/quick.yaml into config/config.yaml."""
+    import yaml
+
+    def merge(base: dict, extra: dict) -> dict:
+        for key, value in extra.items():
+            if isinstance(value, dict) and isinstance(base.get(key), dict):
+                merge(base[key], value)
+            else:
+                base[key] = copy.deepcopy(value)
+        return base
+
+    config: dict = {}
+    for path in paths:
+        merge(config, yaml.safe_load(Path(path).read_text()) or {})
+    return config
+
+
+def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
+    """{study: its case table} for the named studies of a config (all when None)."""
+    names = list(config.get("studies") or {}) if studies is None else studies
+    return {name: case_table(name, config["studies"][name], config.get("defaults")) for name in names}
+
+
+def _label(value) -> str:
+    if isinstance(value, float):
+        text = f"{value:.6g}"
+    else:
+        text = str(value)
+    return text.replace("/", "-").replace(" ", "")
+
+
+def case_id(params: dict) -> str:
+    """Readable, stable id from parameter values in grid order: ``rec-athens_pga-2_drums-3``."""
+    return "_".join(f"{PARAMETERS[k][3]}-{_label(v)}" for k, v in params.items())
+
+
+def _set(spec: dict, dotted: str, value) -> None:
+    node = spec
+    parts = dotted.split(".")
+    for part in parts[:-1]:
+        node = node.setdefault(part, {})
+    node[parts[-1]] = value
+
+
+def case_table(name: str, study: dict, defaults: dict | None = None) -> list[Case]:
+    """All cases of one study: the Cartesian product of its ``grid`` plus its listed ``cases``.
+
+    ``cases:`` is a list of parameter mappings for studies that are not a full grid (e.g. one
+    PGA per record for the snapshot figures); a study may have both. Grid keys may be added
+    or removed freely: ids are built from whatever keys a case has. Every swept value is
+    checked (:func:`check_value`), so a bad one raises an InputError naming its config path.
+    """
+    return [case for case, _ in _case_rows(name, study, defaults)]
+
+
+def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Case, dict]]:
+    """(case, {parameter: config path of its value}) of every case of one study; ``exact``:
+    a weak joint out of range is named by its grid or case entry (else weak_joint.joint)."""
+    where = f"studies.{name}"
+    if not isinstance(study, dict):
+        raise InputError(where, f"expected a mapping, got {type(study).__name__}",
+                         "give structure:, excitation:, grid:")
+    for key in study:
+        if key not in STUDY_KEYS:
+            raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}")
+    if defaults is not None and not isinstance(defaults, dict):
+        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
+                         "write defaults: {contact: {...}, solver: {...}}")
+    for source, path in ((study, where), (defaults or {}, "defaults")):
+        for key in MAPPING_KEYS:
+            if key in source and not isinstance(source[key], dict):
+                raise InputError(f"{path}.{key}", f"expected a mapping, got {source[key]!r}",
+                                 f"write {key}: {{...}}")
+        if "interface_friction" in source and not isinstance(source["interface_friction"], list):
+            raise InputError(f"{path}.interface_friction", "expected a list",
+                             "write interface_friction: [{bodies: [a, b], mu: 0.3}]")
+    grid = study.get("grid")
+    grid = {} if grid is None else grid
+    if not isinstance(grid, dict):
+        raise InputError(f"{where}.grid", f"expected a mapping, got {type(grid).__name__}",
+                         "write grid: {parameter: [values]}")
+    listed = study.get("cases")
+    listed = [] if listed is None else listed
+    if not isinstance(listed, list):
+        raise InputError(f"{where}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]")
+    if not grid and not listed:
+        raise InputError(where, "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
+    n_grid = 1 if grid else 0
+    for key, values in grid.items():
+        _check_parameter(f"{where}.grid.{key}", key)
+        if not isinstance(values, list) or not values:
+            raise InputError(f"{where}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]")
+        seen = {}
+        for i, value in enumerate(values):
+            check_value(f"{where}.grid.{key}[{i}]", key, value)
+            if _label(value) in seen:
+                raise InputError(f"{where}.grid.{key}[{i}]", f"{value!r} repeats {key}[{seen[_label(value)]}]",
+                                 "remove the duplicate")
+            seen[_label(value)] = i
+        n_grid *= len(values)
+    for i, params in enumerate(listed):
+        if not isinstance(params, dict) or not params:
+            raise InputError(f"{where}.cases[{i}]", "expected a mapping of parameters",
+                             "write {record: ..., pga: ...}")
+        for key, value in params.items():
+            _check_parameter(f"{where}.cases[{i}].{key}", key)
+            check_value(f"{where}.cases[{i}].{key}", key, value)
+    search = None
+    if study.get("search") is not None:
+        search = SearchSettings.from_config(study["search"], f"{where}.search", SEARCH_PARAMETERS)
+        for key in list(grid) + [k for params in listed for k in params]:
+            if key == search.parameter:
+                raise InputError(f"{where}.grid.{key}" if key in grid else f"{where}.cases",
+                                 f"{key} is the searched parameter", f"remove {key} from the grid and cases")
+    if search is not None and (n_grid + len(listed)) * search.max_runs > MAX_CASES_PER_STUDY:
+        raise InputError(f"{where}.search.max_runs", f"{n_grid + len(listed)} systems x {search.max_runs} runs may "
+                         f"exceed the limit of {MAX_CASES_PER_STUDY} cases per study",
+                         "search fewer systems or lower max_runs (stonedem.study.grid.MAX_CASES_PER_STUDY)")
+    if n_grid + len(listed) > MAX_CASES_PER_STUDY:
+        raise InputError(f"{where}.grid" if grid else f"{where}.cases",
+                         f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
+                         "thin the grid or split the study (stonedem.study.grid.MAX_CASES_PER_STUDY)")
+    base = {k: copy.deepcopy(v) for k, v in (defaults or {}).items()}
+    for key in SCENE_KEYS:
+        if key in study:
+            if isinstance(study[key], dict) and isinstance(base.get(key), dict):
+                base[key] = {**base[key], **copy.deepcopy(study[key])}
+            else:
+                base[key] = copy.deepcopy(study[key])
+    keys = list(grid)
+    rows = [({k: grid[k][i] for k, i in zip(keys, index)},
+             {k: f"{where}.grid.{k}[{i}]" for k, i in zip(keys, index)}, f"{where}.grid")
+            for index in itertools.product(*(range(len(grid[k])) for k in keys))] if grid else []
+    rows += [(dict(params), {k: f"{where}.cases[{i}].{k}" for k in params}, f"{where}.cases[{i}]")
+             for i, params in enumerate(listed)]
+    cases = []
+    ids = set()
+    for params, origin, container in rows:
+        case = _case(name, base, params, origin if exact else None)
+        if search is not None:  # a system: its scene at the search's start (checked as one)
+            _set(case.scene, PARAMETERS[search.parameter][0], search.start)
+            case = Case(case.study, case.id, case.params, case.scene, search)
+        if case.id in ids:
+            raise InputError(container, f"case {case.id} is given twice", "remove the duplicate grid value or case")
+        if not CASE_ID_PATTERN.fullmatch(case.id):  # values are checked: a guard for new parameters
+            raise InputError(container, f"case id {case.id!r} is not a file name and {{case}} wildcard",
+                             "use letters, digits, _ . + - in string values")
+        ids.add(case.id)
+        cases.append((case, origin))
+    return cases
+
+
+def _check_parameter(field: str, key) -> None:
+    if key not in PARAMETERS:
+        raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
+
+
+def check_value(field: str, key: str, value):
+    """One value of swept parameter ``key``, or an InputError naming ``field`` (its config path)."""
+    if key == "record":
+        if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
+            raise InputError(field, f"expected a record name, got {value!r}", "give a name listed under records:")
+        return value
+    if key == "component":
+        from stonedem.motion.suites import suite_of
+
+        if not isinstance(value, str) or suite_of(value) is None:
+            raise InputError(field, f"expected a FEMA P695 component name, got {value!r}",
+                             "give e.g. FF07a, NP03b, NN12a (records/suites/)")
+        return value
+    if key in CHOICES:
+        if not isinstance(value, str) or value not in CHOICES[key]:
+            raise InputError(field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}")
+        return value
+    units = PARAMETERS[key][1]
+    if key in COUNTS:
+        low, high = COUNTS[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise InputError(field, f"expected an integer, got {value!r}", f"give an integer {low} ... {high}")
+        if not low <= value <= high:
+            raise InputError(field, f"must be {low} ... {high}, got {value}",
+                             f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        fix = "give a number"
+        if isinstance(value, str):
+            try:
+                float(value)
+                fix = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
+            except ValueError:
+                pass
+        raise InputError(field, f"expected a number [{units}], got {value!r}", fix)
+    if not math.isfinite(value):
+        raise InputError(field, f"{value} is not finite", "give a finite number")
+    if key in POSITIVE and not value > 0:
+        raise InputError(field, f"must be > 0, got {value}", f"give a positive {PARAMETERS[key][2]} [{units}]")
+    if key in NONNEGATIVE and not value >= 0:
+        raise InputError(field, f"must be >= 0, got {value}", f"give a non-negative {PARAMETERS[key][2]}")
+    return value
+
+
+def _case(study: str, base: dict, params: dict, origin: dict | None = None) -> Case:
+    scene = copy.deepcopy(base)
+    scene["name"] = f"{study}/{case_id(params)}"
+    for k, v in params.items():
+        _set(scene, PARAMETERS[k][0], v)
+    _apply_weak_joint(scene, f"studies.{study}", (origin or {}).get("weak_joint"))
+    return Case(study, case_id(params) or "base", params, scene)
+
+
+def _apply_weak_joint(scene: dict, where: str, joint_field: str | None = None) -> None:
+    """``weak_joint: {joint: j, mu: m}`` -> the per-interface friction of joint j of column 0 (thesis 6.5).
+
+    Joint 0 is between the base and the bottom drum, joint j between drums j-1 and j.
+    """
+    weak = scene.pop("weak_joint", None)
+    if weak is None:
+        return
+    if not isinstance(weak, dict) or set(weak) != {"joint", "mu"}:
+        raise InputError(f"{where}.weak_joint", "expected {joint, mu}", "write weak_joint: {joint: 0, mu: 0.05}")
+    joint = weak["joint"]
+    n_drums = (scene.get("structure") or {}).get("n_drums", 1)
+    if isinstance(n_drums, bool) or not isinstance(n_drums, int):
+        return  # the scene refuses it (structure.n_drums)
+    if isinstance(joint, bool) or not isinstance(joint, int) or not 0 <= joint < n_drums:
+        raise InputError(joint_field or f"{where}.weak_joint.joint",
+                         f"{joint!r} is not a joint of a {n_drums}-drum column",
+                         f"give an integer 0 ... {n_drums - 1}")
+    lower = "base" if joint == 0 else f"c0_d{joint - 1}"
+    scene.setdefault("interface_friction", []).append({"bodies": [lower, f"c0_d{joint}"], "mu": weak["mu"]})
+
+
+# --- the whole config, as `snakemake -n` sees it (workflow/rules/common.smk) -----------------
+
+
+def check_config(config: dict, records_dir: Path | str = "records", extract_records: bool = False,
+                 schema: Path | str | None = None) -> dict[str, list[Case]]:
+    """{study: case table} of a workflow config, or the first InputError naming its config path.
+
+    Every case's scene is built through the validation ``stonedem run`` uses
+    (:func:`stonedem.engine.scene.scene_from_dict`, the excitation, the time step of
+    :func:`stonedem.engine.simulate.choose_time_step`), so a case that would fail in its job fails here;
+    a record must be a name under ``records:`` whose ``records_dir/<name>.nc`` exists (or is
+    extracted, ``extract_records``); sizes past the module's limits (MAX_*) are refused.
+    ``schema``: the config's JSON schema: its other keys are checked first, studies and
+    defaults after the cases (whose messages are the more precise).
+    Scenes that differ only in their excitation are built once, and so is each excitation:
+    on config/config.yaml (507 cases, 179 scenes, 88 excitations) this adds ~1.5 s of CPU
+    to ``snakemake -n``.
+    """
+    if not isinstance(config, dict):
+        raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
+    if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
+        check_schema(config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults"))
+    records = config.get("records")
+    records = {} if records is None else records
+    if not isinstance(records, dict):
+        raise InputError("records", f"expected a mapping, got {type(records).__name__}",
+                         "write records: {name: {set: ..., id: ..., component: ...}}")
+    records_dir = Path(records_dir)
+    for name in records:
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(f"records.{name}", "a record name is a file name and a Snakemake wildcard",
+                             "use letters, digits, _ and -")
+        if not extract_records and not (records_dir / f"{name}.nc").is_file():
+            raise InputError(f"records.{name}", f"{records_dir / name}.nc not found",
+                             "restore it (git checkout records/), or extract it: snakemake -j1 --config "
+                             "extract_records=true --forcerun extract_record")
+    defaults = config.get("defaults")
+    defaults = {} if defaults is None else defaults
+    if not isinstance(defaults, dict):
+        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
+                         "write defaults: {contact: {...}, solver: {...}}")
+    for key in defaults:
+        if key not in DEFAULT_KEYS:
+            raise InputError(f"defaults.{key}", "unknown key", f"allowed keys: {', '.join(DEFAULT_KEYS)}")
+    studies = config.get("studies")
+    if not isinstance(studies, dict) or not studies:
+        raise InputError("studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}")
+    checker = _CaseChecker(records, records_dir)
+    tables = {}
+    total = 0
+    for name, study in studies.items():
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(f"studies.{name}", "a study name is a file name and a Snakemake wildcard",
+                             "use letters, digits, _ and -")
+        rows = _case_rows(name, study, defaults, exact=True)
+        total += len(rows)
+        if total > MAX_CASES:
+            raise InputError(f"studies.{name}", f"the studies up to this one have {total} cases, more than "
+                             f"the limit of {MAX_CASES}", "thin the grids (stonedem.study.grid.MAX_CASES)")
+        with np.errstate(all="ignore"):  # a degenerate body's NaN: the scene refuses it by name
+            for case, origin in rows:
+                checker.check(case, study, defaults, origin, len(rows))
+        tables[name] = [case for case, _ in rows]
+    if schema is not None:
+        check_schema(config, schema)
+    return tables
+
+
+def check_schema(config: dict, schema: Path | str, where=None) -> None:
+    """The config against its JSON schema; the most relevant error as one InputError line.
+    ``where(path)``: only errors at config paths (tuples of keys) it accepts."""
+    import jsonschema
+    import yaml
+
+    validator = jsonschema.Draft202012Validator(yaml.safe_load(Path(schema).read_text()))
+    errors = (e for e in validator.iter_errors(config) if where is None or where(tuple(e.absolute_path)))
+    error = jsonschema.exceptions.best_match(errors)
+    if error is None:
+        return
+    field = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path).lstrip(".")
+    message = error.message if len(error.message) <= 200 else error.message[:197] + "..."
+    raise InputError(field or "config", message, f"see {Path(schema).name}")
+
+
+class _CaseChecker:
+    """Builds each case's scene as its job would (run_case: scene_from_dict, then
+    stonedem.engine.simulate.preflight), the scene once per distinct scene without its excitation and
+    each excitation once."""
+
+    def __init__(self, records: dict, records_dir: Path):
+        self.records = records
+        self.records_dir = records_dir
+        self.excitations = {}  # excitation key -> (horizontal, vertical) BaseMotion | InputError
+        self.scenes = {}  # scene key (no excitation, no name) -> Scene | InputError
+
+    def check(self, case: Case, study: dict, defaults: dict, origin: dict, n_cases: int = 1) -> None:
+        """Raise the InputError the case's job would raise (or a limit's), at its config path."""
+        from dataclasses import replace
+
+        from stonedem.engine.simulate import preflight
+
+        def fail(error: InputError):
+            raise _located(error, case, study, defaults, origin, n_cases) from None
+
+        scene = dict(case.scene)
+        if not any(key in source for source in (study, defaults) for key in ("structure", "bodies")):
+            raise InputError(f"studies.{case.study}.structure", "missing",
+                             "give structure: {kind: column, n_drums: ..., height: ..., width: ...}")
+        try:
+            _check_structure_size(scene.get("structure"))
+        except InputError as error:
+            fail(error)
+        excitation = scene.get("excitation") or {"kind": "none"}
+        readable = True
+        for field, spec in (("excitation", excitation), ("excitation.vertical", excitation.get("vertical"))):
+            if not isinstance(spec, dict) or spec.get("kind") != "record":
+                continue
+            if "file" in spec:
+                name = spec["file"]
+                if not isinstance(name, str) or name not in self.records:
+                    known = ", ".join(self.records) or "none"
+                    fail(InputError(f"{field}.file", f"unknown record {name!r}",
+                                    f"use a name listed under records: ({known})"))
+            else:  # a suite component: records/suites/ is committed, not listed under records:
+                name = record_file_name(spec)
+            if name is not None:
+                readable &= (self.records_dir / f"{name}.nc").is_file()
+        motions = None
+        if readable:  # else extracted by the workflow before its cases run (extract_records)
+            motions = self._excitation(excitation)
+            if isinstance(motions, InputError):
+                fail(motions)
+        solver = dict(scene.get("solver") or {})
+        if solver.get("duration") is None:  # as run_case: the record's length + 2 s
+            natural = motions[0].duration if motions else None
+            if natural is None and readable:
+                fail(InputError("solver.duration", "missing and the excitation has no natural length",
+                                "give solver: {duration: ...} in the study"))
+            solver["duration"] = natural + REST_AFTER_RECORD if natural is not None else 1.0
+        scene["solver"] = solver
+        built = self._scene(scene)
+        if isinstance(built, InputError):
+            fail(built)
+        if built.duration > MAX_DURATION:
+            fail(InputError("solver.duration", f"{built.duration:g} s exceeds the limit of {MAX_DURATION:g} s",
+                            "simulate less time (stonedem.study.grid.MAX_DURATION)"))
+        if built.duration / built.output_every > MAX_OUTPUT_SAMPLES:
+            fail(InputError("output.every", f"{built.output_every:g} s gives {built.duration / built.output_every:.3g}"
+                            f" samples over {built.duration:g} s, more than the limit of {MAX_OUTPUT_SAMPLES:.0e}",
+                            "sample less often (stonedem.study.grid.MAX_OUTPUT_SAMPLES)"))
+        if motions is not None:
+            try:  # steps, memory, the excitation resolved by the step: what run_scene refuses first
+                preflight(replace(built, horizontal=motions[0], vertical=motions[1]))
+            except InputError as error:
+                fail(error)
+            except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+                fail(InputError("", f"checking a case's scene: {type(error).__name__}: {error}", "fix the study"))
+
+    def _excitation(self, excitation: dict):
+        from stonedem.motion.excitation import excitation_pair
+
+        return _built(self.excitations, excitation, lambda: excitation_pair(excitation, self.records_dir),
+                      "excitation", "", "fix the excitation")
+
+    def _scene(self, scene: dict):
+        from stonedem.engine.scene import scene_from_dict
+
+        spec = {k: v for k, v in scene.items() if k not in ("excitation", "name")}
+        return _built(self.scenes, spec,
+                      lambda: scene_from_dict({**spec, "excitation": {"kind": "none"}}, base_dir=self.records_dir),
+                      "", "building a case's scene: ", "fix the study")
+
+
+def _built(cache: dict, spec, build, field: str, prefix: str, fix: str):
+    """``build()`` once per distinct ``spec``: the object, or the InputError it raised (an
+    unexpected exception, which would crash the job, becomes an InputError naming it)."""
+    key = _key(spec)
+    if key not in cache:
+        try:
+            cache[key] = build()
+        except InputError as error:
+            cache[key] = error
+        except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
+            cache[key] = InputError(field, f"{prefix}{type(error).__name__}: {error}", fix)
+    return cache[key]
+
+
+def _key(spec) -> str:
+    import json
+
+    return json.dumps(spec, sort_keys=True, default=repr)
+
+
+def _check_structure_size(structure) -> None:
+    """n_drums and n_columns of a structure (and its rows) within the limits, before it is built."""
+    if not isinstance(structure, dict):
+        return  # the scene refuses it
+    for prefix, spec in (("structure", structure), ("structure.lower", structure.get("lower")),
+                         ("structure.upper", structure.get("upper"))):
+        if not isinstance(spec, dict):
+            continue
+        for key in ("n_drums", "n_columns"):
+            value = spec.get(key)
+            low, high = COUNTS[key]
+            if isinstance(value, int) and not isinstance(value, bool) and value > high:
+                raise InputError(f"{prefix}.{key}", f"must be {low} ... {high}, got {value}",
+                                 f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)")
+
+
+def _located(error: InputError, case: Case, study: dict, defaults: dict, origin: dict,
+             n_cases: int = 1) -> InputError:
+    """A scene's error, named by the config path its value came from: a grid or case entry,
+    the study, or the defaults."""
+    field = error.field
+    prefix = f"studies.{case.study}."
+    if field.startswith(prefix):
+        field = field[len(prefix):]
+    for key, path in origin.items():
+        target = PARAMETERS[key][0]
+        if field == target or field.startswith((target + ".", target + "[")):
+            return InputError(path, error.problem, error.fix)
+    parts = [p for p in re.split(r"[.\[\] (]+", field) if p]
+    problem = error.problem
+    if parts and parts[0] == "bodies" and "bodies" not in study and "bodies" not in defaults:
+        problem = f"{field}: {problem}"  # a built body: the structure made it
+        field, parts = "structure", ["structure"]
+    if n_cases > 1 and any(PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params):
+        problem = f"{problem} (case {case.id})"  # the swept parameters may be part of it
+
+    def depth(source) -> int:
+        node, n = source, 0
+        for part in parts:
+            if isinstance(node, dict) and part in node:
+                node, n = node[part], n + 1
+            elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
+                node, n = node[int(part)], n + 1
+            else:
+                break
+        return n
+
+    in_study, in_defaults = depth(study), depth(defaults)
+    where = "defaults" if in_defaults > in_study else f"studies.{case.study}"
+    return InputError(f"{where}.{field}" if field else where, problem, error.fix)
+
+
+def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
+    """Simulate one case: the scene's dataset with the swept parameters as scalar coordinates."""
+    from stonedem.engine.run import run_scene
+    from stonedem.engine.scene import scene_from_dict
+
+    scene_spec = copy.deepcopy(case.scene)
+    solver = scene_spec.setdefault("solver", {})
+    if solver.get("duration") is None:
+        solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
+    ds = run_scene(scene_from_dict(scene_spec, base_dir=base_dir))
+    for key, value in case.params.items():
+        _, units, long_name, _ = PARAMETERS[key]
+        ds = ds.assign_coords({key: xr.Variable((), value, {"units": units, "long_name": long_name})})
+    ds.attrs.update(study=case.study, case=case.id)
+    return ds
+
+
+def natural_duration(excitation: dict | None, base_dir) -> float:
+    """A record's own length, plus REST_AFTER_RECORD for the structure to come to rest, when
+    a case gives no duration."""
+    from stonedem.motion.excitation import excitation_pair
+
+    horizontal, _ = excitation_pair(excitation, Path(base_dir))
+    if horizontal.duration is None:
+        raise InputError("solver.duration", "missing and the excitation has no natural length",
+                         "give solver: {duration: ...} in the study")
+    return horizontal.duration + REST_AFTER_RECORD
+
+
+def case_piece(ds: xr.Dataset) -> xr.Dataset:
+    """What a cube keeps of one case file: its measures and histories, its swept parameters
+    as scalar coordinates, output times rounded (cases of different dt sample the same
+    times to within rounding)."""
+    params = case_parameters(ds)
+    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
+    small = ds[names].load()
+    small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
+    if "time" in small.coords:
+        small = small.assign_coords(time=("time", np.round(small["time"].values, 9), small["time"].attrs))
+    return small
+
+
+def case_parameters(ds: xr.Dataset) -> list[str]:
+    """The swept parameters of a case (or search) file: its scalar coordinates in PARAMETERS."""
+    return [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
+
+
+def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
+    """``piece`` with its scalar parameters as dimensions of length one, ready to merge;
+    strings as objects (merging fixed-width unicode truncates 'per_span' to the width of 'a')."""
+    piece = piece.expand_dims(params)
+    return piece.assign_coords({k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"})
+
+
+def shared_case_attrs(attrs: list[dict]) -> dict:
+    """The case attributes a cube keeps: those of CUBE_SHARED_ATTRS every case agrees on."""
+    shared = None
+    for case_attrs in attrs:
+        case_attrs = {k: case_attrs[k] for k in CUBE_SHARED_ATTRS if k in case_attrs}
+        shared = case_attrs if shared is None else {
+            k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+    return shared or {}
+
+
+def described_like(cube: xr.Dataset, path) -> xr.Dataset:
+    """``cube`` (merged, attributes dropped) with the variable attributes of the file it was
+    combined from first, and each swept parameter's units and long name (PARAMETERS)."""
+    with xr.open_dataset(path) as first:
+        for name in cube.variables:
+            if name in first.variables and name not in PARAMETERS:
+                cube[name].attrs = dict(first[name].attrs)
+    for name in cube.coords:
+        if name in PARAMETERS:
+            _, units, long_name, _ = PARAMETERS[name]
+            cube[name].attrs.update(units=units, long_name=long_name)
+    return cube
+
+
+def combine_cases(paths, description: str = "") -> xr.Dataset:
+    """Study cube: each case's measures and histories on dimensions named by the swept parameters.
+
+    Cases are merged by coordinates with an outer join, so a study of listed cases (not a
+    full grid) gives a cube with NaN where a combination was not run.
+    """
+    pieces, attrs = [], []
+    for path in paths:
+        with xr.open_dataset(path) as ds:
+            pieces.append(on_parameter_dimensions(case_piece(ds), case_parameters(ds)))
+            attrs.append(dict(ds.attrs))
+    if not pieces:
+        raise InputError("cases", "no case files to combine", "run the study's cases first")
+    cube = described_like(xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0])
+    # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
+    shared = shared_case_attrs(attrs)
+    cube.attrs = {**shared, "title": f"stonedem study cube: {shared.get('study', '')}", "n_cases": len(pieces),
+                  "description": description}
+    return cube

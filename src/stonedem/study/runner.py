@@ -1,0 +1,175 @@
+"""Run many cases in one job: one interpreter start, one compiled-cache load, each record
+read once (stonedem.motion.excitation), one log line per case, and a store of finished cases.
+
+A Snakemake job starts Python, imports xarray and numba, reads its first record and loads
+the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one job
+(:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every case
+still writes its own NetCDF file. The *case store* keeps every finished case under a key of
+its scene, its records' bytes and the stonedem source, so a job rerun because one of its cases
+changed re-simulates that case only and restores the others (a hard link: no copy).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import sys
+import time as wallclock
+from pathlib import Path
+
+import xarray as xr
+
+from stonedem.io.netcdf import write_dataset
+from stonedem.entry import progress_print
+from stonedem.motion.suites import record_file_name
+from stonedem.study.cube import search_dataset
+from stonedem.study.grid import Case, run_case, search_case
+from stonedem.study.search import Run, search, summary
+
+_SOURCE_FINGERPRINT: list[str] = []
+
+
+def source_fingerprint() -> str:
+    """sha256 of the stonedem package's Python sources (a changed kernel invalidates the store)."""
+    if not _SOURCE_FINGERPRINT:
+        root = Path(__file__).resolve().parents[1]  # the whole package, not this layer
+        digest = hashlib.sha256()
+        for path in sorted(root.rglob("*.py")):
+            digest.update(str(path.relative_to(root)).encode())
+            digest.update(path.read_bytes())
+        _SOURCE_FINGERPRINT.append(digest.hexdigest())
+    return _SOURCE_FINGERPRINT[0]
+
+
+def _file_digest(path: Path, memo: dict = {}) -> str:  # noqa: B006 - a per-process memo
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in memo:
+        memo[key] = hashlib.sha256(path.read_bytes()).hexdigest()
+    return memo[key]
+
+
+class CaseStore:
+    """Finished case files by content key; ``directory`` None: no store (always simulate)."""
+
+    def __init__(self, directory: Path | str | None, records_dir: Path | str = "records"):
+        self.directory = Path(directory) if directory else None
+        self.records_dir = Path(records_dir)
+
+    def key(self, case: Case) -> str:
+        """Scene, the bytes of the records it reads and the stonedem sources, hashed."""
+        records = []
+        excitation = case.scene.get("excitation") or {}
+        for spec in (excitation, excitation.get("vertical") if isinstance(excitation, dict) else None):
+            name = record_file_name(spec)
+            if name is not None:
+                path = self.records_dir / f"{name}.nc"
+                records.append(_file_digest(path) if path.is_file() else name)
+        scene = {k: v for k, v in case.scene.items() if k != "name"}
+        text = json.dumps({"scene": scene, "params": case.params, "records": records,
+                           "source": source_fingerprint()}, sort_keys=True, default=repr)
+        return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+    def restore(self, case: Case, output: Path) -> bool:
+        """Put the stored file of ``case`` at ``output``; False when there is none."""
+        if self.directory is None:
+            return False
+        stored = self.directory / f"{self.key(case)}.nc"
+        if not stored.is_file():
+            return False
+        output.parent.mkdir(parents=True, exist_ok=True)
+        tmp = output.with_name(f".{output.name}.restore")
+        tmp.unlink(missing_ok=True)
+        try:
+            os.link(stored, tmp)
+        except OSError:  # another file system, or no hard links: copy
+            shutil.copyfile(stored, tmp)
+        os.replace(tmp, output)
+        os.utime(output)  # written now, as far as Snakemake's mtime checks are concerned
+        return True
+
+    def keep(self, case: Case, output: Path) -> None:
+        """Remember a finished case file (best effort: a full disk only loses the memo)."""
+        if self.directory is None:
+            return
+        stored = self.directory / f"{self.key(case)}.nc"
+        tmp = stored.with_name(f".{stored.name}.{os.getpid()}")
+        try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            tmp.unlink(missing_ok=True)
+            try:
+                os.link(output, tmp)
+            except OSError:
+                shutil.copyfile(output, tmp)
+            os.replace(tmp, stored)
+        except OSError:
+            tmp.unlink(missing_ok=True)
+
+
+def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", log=None) -> dict:
+    """Simulate ``case`` into ``output`` (or restore it from the store); one log line.
+
+    Returns {collapsed, steps, kernel_seconds, seconds, restored}."""
+    output = Path(output)
+    start = wallclock.perf_counter()
+    restored = store.restore(case, output)
+    if restored:
+        info = _case_info(output)
+    else:
+        ds = run_case(case, base_dir=store.records_dir)
+        write_dataset(ds, output)
+        store.keep(case, output)
+        info = _info(ds)
+    info.update(restored=restored, seconds=wallclock.perf_counter() - start)
+    how = ("restored from the case store" if restored else
+           f"{info['steps']} steps, {info['kernel_seconds']:.2f} s kernel, {info['seconds']:.2f} s in all")
+    progress_print(log or sys.stderr, f"{label}{case.study}/{case.id}: {how}; {info['verdict']}")
+    return info
+
+
+def _info(ds) -> dict:
+    collapsed = bool(float(ds["collapsed"]) > 0)
+    verdict = ds.attrs.get("status", "")
+    if collapsed:
+        verdict = f"collapsed at {float(ds['collapse_time']):.2f} s ({verdict})"
+    return {"collapsed": collapsed, "steps": int(ds.attrs.get("steps_run", 0)),
+            "kernel_seconds": float(ds.attrs.get("wall_seconds", 0.0)), "verdict": verdict}
+
+
+def _case_info(path: Path) -> dict:
+    with xr.open_dataset(path) as ds:
+        return _info(ds[["collapsed", "collapse_time"]].load().assign_attrs(ds.attrs))
+
+
+def run_cases(cases: list[Case], outputs: list, store: CaseStore, log=None) -> list[dict]:
+    """Every case into its output file, in order; one log line each."""
+    infos = []
+    for i, (case, output) in enumerate(zip(cases, outputs)):
+        infos.append(run_one(case, output, store, f"[{i + 1}/{len(cases)}] ", log))
+    return infos
+
+
+def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, store: CaseStore,
+               log=None):
+    """The threshold search of one system (stonedem.study.search): every run's case file in
+    ``runs_dir`` (``<case id>.nc``), the runs and the bracket in ``summary_path``."""
+    runs_dir = Path(runs_dir)
+    settings = system.search
+    files: dict[float, Path] = {}
+
+    def simulate(value: float, phase: str) -> bool:
+        case = search_case(system, value)
+        files[value] = runs_dir / f"{case.id}.nc"
+        n = len(files)
+        info = run_one(case, files[value], store, f"[{settings.parameter} run {n}, {phase}] ", log)
+        return info["collapsed"]
+
+    runs: list[Run] = search(simulate, settings)
+    result = summary(runs, settings)
+    progress_print(log or sys.stderr, f"{system.study}/{system.id}: {result['status']}, {settings.parameter} "
+                        f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
+                        f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
+    write_dataset(search_dataset(system, runs, [files[r.value] for r in runs], result), summary_path)
+    return runs, result

@@ -1,0 +1,194 @@
+"""Collapse thresholds by hunt-and-fill search over an intensity measure.
+
+Vamvatsikos & Cornell (2002), incremental dynamic analysis: *hunt* up in growing steps
+until the structure collapses, *bisect* between the largest survivor below the first
+collapse and that collapse until the bracket is narrow enough, then *fill* the widest
+gaps left below it and, every second fill, above it, because collapse is not monotonic in
+the intensity: a fill run below that collapses lowers the threshold (bisection resumes),
+and every survivor above the smallest collapse is a "resurrection", reported, never hidden.
+
+The search is a pure function of the runs so far (:func:`next_value`), so it does not care
+what the intensity measure is (a record's PGA, its PGV, a scale factor): the caller runs a
+case at the value and reports whether it collapsed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Callable
+
+from stonedem.errors import InputError
+
+# search statuses (summary()["status"])
+BRACKETED = "bracketed"  # smallest collapse within tolerance of the largest survivor below it
+NO_COLLAPSE = "no collapse up to the maximum"
+COLLAPSE_AT_MINIMUM = "collapse at the minimum"
+BUDGET = "run budget exhausted"
+SIGNIFICANT_DIGITS = 4  # values run are rounded to this (a 2 % bracket needs 3)
+
+
+@dataclass(frozen=True)
+class SearchSettings:
+    """How to search one system (config ``search:`` of a study; units of the parameter)."""
+
+    parameter: str = "pga"  # the swept intensity measure (a study parameter)
+    start: float = 1.0  # first value of the hunt
+    # hunt: each value this times the last (down when start collapses); 1.8 < 1.02**32, so
+    # five bisections narrow a hunt step to a 2 % bracket (2.0 would need six)
+    factor: float = 1.8
+    tolerance: float = 0.02  # bracket: smallest collapse / largest survivor below it - 1
+    minimum: float = 0.125  # a collapse at start hunts down, at most to here
+    maximum: float = 64.0  # no collapse up to here: the threshold lies above it
+    fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...
+    max_runs: int = 40  # the search stops here whatever it found
+
+    @classmethod
+    def from_config(cls, spec, where: str, parameters) -> "SearchSettings":
+        """From a study's ``search:`` mapping; an InputError names the field and the fix."""
+        if not isinstance(spec, dict):
+            raise InputError(where, f"expected a mapping, got {spec!r}",
+                             "write search: {parameter: pga, start: 1.0, tolerance: 0.02}")
+        known = {f.name: f for f in fields(cls)}
+        for key in spec:
+            if key not in known:
+                raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(known)}")
+        parameter = spec.get("parameter", cls.parameter)
+        if parameter not in parameters:
+            raise InputError(f"{where}.parameter", f"unknown parameter {parameter!r}",
+                             f"use a numeric study parameter such as {', '.join(parameters)}")
+        values = {}
+        for key in ("start", "factor", "tolerance", "minimum", "maximum"):
+            value = spec.get(key, getattr(cls, key))
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                    or value <= 0:
+                raise InputError(f"{where}.{key}", f"expected a positive number, got {value!r}",
+                                 "give a positive finite number")
+            values[key] = float(value)
+        for key, low, high in (("fill", 0, 100), ("max_runs", 1, 1000)):
+            value = spec.get(key, getattr(cls, key))
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                raise InputError(f"{where}.{key}", f"expected an integer {low} ... {high}, got {value!r}",
+                                 f"give an integer {low} ... {high}")
+            values[key] = value
+        if values["tolerance"] >= 1.0:
+            raise InputError(f"{where}.tolerance", f"{values['tolerance']:g} is not a relative width < 1",
+                             "give e.g. tolerance: 0.02 (2 %)")
+        if values["factor"] <= 1.0 + values["tolerance"]:
+            raise InputError(f"{where}.factor", f"{values['factor']:g} must exceed 1 + tolerance",
+                             "hunt in steps wider than the bracket, e.g. factor: 1.8")
+        if not values["minimum"] <= values["start"] <= values["maximum"]:
+            raise InputError(f"{where}.start", f"{values['start']:g} outside minimum ... maximum "
+                             f"({values['minimum']:g} ... {values['maximum']:g})", "start inside the range")
+        if values["max_runs"] < _runs_needed(values):
+            raise InputError(f"{where}.max_runs", f"{values['max_runs']} runs cannot hunt over "
+                             f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance",
+                             f"allow at least {_runs_needed(values)} runs")
+        return cls(parameter=parameter, **values)
+
+
+def _runs_needed(v: dict) -> int:
+    """Runs of the longest hunt plus a bisection down to the tolerance."""
+    hunt = math.ceil(math.log(max(v["maximum"] / v["start"], v["start"] / v["minimum"], 1.0))
+                     / math.log(v["factor"])) + 1
+    bisect = math.ceil(math.log2(max(math.log(v["factor"]) / math.log1p(v["tolerance"]), 1.0)))
+    return hunt + bisect
+
+
+@dataclass(frozen=True)
+class Run:
+    value: float
+    collapsed: bool
+    phase: str  # hunt, bisect or fill
+
+
+def rounded(value: float) -> float:
+    """A value to run: SIGNIFICANT_DIGITS significant digits (readable, stable case ids)."""
+    return float(f"{value:.{SIGNIFICANT_DIGITS}g}")
+
+
+def next_value(runs: list[Run], settings: SearchSettings) -> tuple[float, str] | None:
+    """The next (value, phase) to run after ``runs``, or None when the search is done."""
+    s = settings
+    if len(runs) >= s.max_runs:
+        return None
+    if not runs:
+        return s.start, "hunt"
+    done = {r.value for r in runs}
+    collapses = [r.value for r in runs if r.collapsed]
+    if not collapses:
+        top = max(done)
+        return None if top >= s.maximum else (min(rounded(top * s.factor), s.maximum), "hunt")
+    first = min(collapses)
+    below = sorted(r.value for r in runs if not r.collapsed and r.value < first)
+    if not below:
+        bottom = min(done)
+        return None if bottom <= s.minimum else (max(rounded(bottom / s.factor), s.minimum), "hunt")
+    lower = below[-1]
+    if first / lower - 1.0 > s.tolerance:
+        middle = rounded(math.sqrt(lower * first))
+        if middle in (lower, first):  # narrower than the rounding: as bracketed as it gets
+            return None
+        return middle, "bisect"
+    n_fill = sum(r.phase == "fill" for r in runs)
+    if n_fill >= s.fill:
+        return None
+    # fill the widest gap (ratio) below the threshold (a collapse there lowers it), and every
+    # second fill the widest above it (a survival there is a resurrection); the higher gap on
+    # a tie; a side without a gap wider than the tolerance gives way to the other
+    above = sorted(v for v in done if v > first)
+    sides = [_widest_gap(below, s.tolerance), _widest_gap([first] + above, s.tolerance)]
+    if n_fill % 2:
+        sides.reverse()
+    gap = sides[0] or sides[1]
+    return None if gap is None else (rounded(math.sqrt(gap[0] * gap[1])), "fill")
+
+
+def _widest_gap(values: list[float], tolerance: float) -> tuple[float, float] | None:
+    """(low, high) of the widest ratio between consecutive values, if wider than 1 + tolerance."""
+    if len(values) < 2:
+        return None
+    ratio, high, low = max((b / a, b, a) for a, b in zip(values, values[1:]))
+    return (low, high) if ratio - 1.0 > tolerance else None
+
+
+def search(run: Callable[[float, str], bool], settings: SearchSettings,
+           runs: list[Run] | None = None) -> list[Run]:
+    """Run the search: ``run(value, phase)`` simulates one case and returns whether it
+    collapsed. ``runs``: runs already made (a resumed search). Returns every run, in order."""
+    runs = list(runs or [])
+    while (step := next_value(runs, settings)) is not None:
+        value, phase = step
+        runs.append(Run(value, bool(run(value, phase)), phase))
+    return runs
+
+
+def bracket(runs: list[Run]) -> dict:
+    """The threshold the runs bracket, whichever way they were chosen (a search, a grid).
+
+    lower: largest survivor below the smallest collapse (NaN: none); upper: the smallest
+    collapse (NaN: none); width: upper / lower - 1; resurrections: survivors above the
+    smallest collapse (collapse not monotonic on the runs when any).
+    """
+    collapses = sorted(r.value for r in runs if r.collapsed)
+    upper = collapses[0] if collapses else math.nan
+    survivors = sorted(r.value for r in runs if not r.collapsed)
+    below = [v for v in survivors if not v > upper] if collapses else survivors
+    lower = below[-1] if below else math.nan
+    resurrections = [v for v in survivors if v > upper]
+    return {"lower": lower, "upper": upper, "width": upper / lower - 1.0 if below and collapses else math.nan,
+            "resurrections": resurrections, "monotonic": not resurrections}
+
+
+def summary(runs: list[Run], settings: SearchSettings) -> dict:
+    """:func:`bracket` of a search's runs, their number and how the search ended."""
+    result = bracket(runs)
+    if math.isnan(result["upper"]):
+        status = NO_COLLAPSE if max((r.value for r in runs), default=0.0) >= settings.maximum else BUDGET
+    elif math.isnan(result["lower"]):
+        status = COLLAPSE_AT_MINIMUM if result["upper"] <= settings.minimum else BUDGET
+    elif result["width"] <= settings.tolerance or next_value(runs, settings) is None and len(runs) < settings.max_runs:
+        status = BRACKETED
+    else:
+        status = BUDGET
+    return {**result, "n_runs": len(runs), "status": status}

@@ -10,8 +10,9 @@ import xarray as xr
 from stonedem.errors import InputError
 from stonedem.fragility.fit import fragility_dataset, fragility_table
 from stonedem.fragility.checks import ordering_checks, pulse_check
-from stonedem.fragility.ida import (LIMIT_STATE_NAMES, check_fragility, first_exceedance, fragility_studies, ida_cube)
-from stonedem.study.grid import config_cases, load_config
+from stonedem.fragility.ida import (LIMIT_STATES, check_fragility, first_exceedance, fragility_studies,
+                                    ida_cube)
+from stonedem.study.grid import config_cases
 
 COLUMN = {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0}, "friction": 0.485}
 
@@ -103,7 +104,7 @@ def test_cube_and_fits_from_searches(tmp_path):
                                       rocking, sliding))
     structures = {"col": COLUMN, "colonnade": {"structure": {"kind": "colonnade", "n_drums": 1, "width": 1.0}}}
     cube = ida_cube(paths, structures, ["far_field"])
-    assert list(cube.limit_state.values) == list(LIMIT_STATE_NAMES)
+    assert list(cube.limit_state.values) == list(LIMIT_STATES)
     col = cube.pga_at_limit.sel(structure="col")
     assert col.sel(limit_state="collapse", record=["FF01a", "FF01b", "FF02a"]).values.tolist() == [4.0, 5.0, 8.0]
     assert int(cube.censored.sel(structure="col", record="FF03a", limit_state="collapse")) == -1  # not run

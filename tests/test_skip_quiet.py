@@ -1,4 +1,4 @@
-"""Skipping the quiet lead and the at-rest tail of a run (stonedem.engine.simulate.quiet_steps): the
+"""Skipping the quiet lead and the at-rest tail of a run (stonedem.engine.quiet.quiet_steps): the
 answer must not move beyond the stated bounds, and fewer steps are integrated."""
 
 import math
@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from stonedem.engine.scene import scene_from_dict
-from stonedem.engine.simulate import quiet_steps, quiet_threshold, simulate
+from stonedem.engine.quiet import quiet_steps, quiet_threshold
+from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import standalone_column
 
 

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from stonedem.reference import analytic
+from stonedem.units import GRAVITY as G  # [m s-2]
 
-G = 9.81  # [m s-2]
 DENSITY = 2700.0  # stone [kg m-3]; unit out-of-plane depth, so masses are per metre
 DEPTH = 1.0  # [m]
 

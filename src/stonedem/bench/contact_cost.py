@@ -54,8 +54,10 @@ PRELOAD = 1.0e-7  # initial overlap of stacked faces [m], under the scene check'
 # the point law at 1e10 N/m2, ~1e-4 m with the area law at 1e8 N/m2)
 FRICTION = 0.5
 FREQUENCY = 2.0  # [Hz] of the harmonic base motion
+# the laws timed (rows of stonedem.engine.laws.LAWS; numba is imported only in main, after
+# NUMBA_NUM_THREADS is set, so the registry is read where a scene is built)
 CONTACT_MODELS = ("point", "area")
-MODEL = "point"  # contact law timed by default (the scene default is stonedem.engine.scene.CONTACT_DEFAULTS["model"])
+MODEL = "point"  # contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
 # point law: the study's; the plastic landing keeps every resting contact closed
 K_N_POINT = 1.0e10  # normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
 ZETA = 0.05  # damping ratio of each contact point [1]
@@ -104,9 +106,11 @@ def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WI
     """
     if model not in CONTACT_MODELS:
         raise ValueError(f"unknown contact model {model!r}; use one of {CONTACT_MODELS}")
+    from stonedem.engine.laws import LAWS
+
     k_n = K_N[model] if k_n is None else float(k_n)
-    contact = ({"model": "point", "k_n": k_n, "damping": damping, "impact": "plastic"} if model == "point"
-               else {"model": "area", "k_n": k_n, "c_n": c_n})
+    contact = LAWS[model].mapping(model, k_n, damping if LAWS[model].damping_key == "damping" else c_n,
+                                  **({"impact": "plastic"} if "impact" in LAWS[model].defaults else {}))
     drum_height = column_height / n_drums
     pitch = drum_width + gap
     span = n_columns * pitch - gap
@@ -196,7 +200,7 @@ _KERNELS = None
 def rest_bounds(scene):
     """(arrays, lo_x, lo_y, hi_x, hi_y) of the bodies at t = 0 (packed scene, AABBs [m])."""
     from stonedem.engine.scene import posed_vertices
-    from stonedem.engine.simulate import pack_scene
+    from stonedem.engine.pack import pack_scene
 
     arrays = pack_scene(scene)
     posed = [posed_vertices(b) for b in scene.bodies]
@@ -296,7 +300,8 @@ def measure(scene, duration: float | None = None, *, target_seconds: float = TAR
     rotation, and memory (engine per-pair arrays, peak RSS of the process).
     """
     from stonedem.kernels.contact import N_MEMORY
-    from stonedem.engine.simulate import choose_time_step, pack_scene, simulate
+    from stonedem.engine.simulate import choose_time_step, simulate
+    from stonedem.engine.pack import pack_scene
 
     duration = DURATION if duration is None else float(duration)
     n_body = len(scene.bodies)

@@ -35,6 +35,7 @@ from scipy.optimize import brentq, minimize_scalar
 from stonedem.reference import analytic
 from stonedem.bench import canonical as cn
 from stonedem.bench.canonical import Trajectory
+from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate, stability_limit
 from stonedem.engine.structures import standalone_column
@@ -112,11 +113,10 @@ def column_record(duration, *, contact, pga, dt=None, dt_ratio=None, sample_ever
 def law_contact(model, k_n, damping, impact="plastic"):
     """``contact:`` mapping of one law: model area (damping = c_n [N s m-1]) or point
     (damping = zeta [1], impact plastic or none)."""
-    if model == "area":
-        return {"model": "area", "k_n": float(k_n), "c_n": float(damping)}
-    if model == "point":
-        return {"model": "point", "k_n": float(k_n), "damping": float(damping), "impact": impact}
-    raise ValueError(f"unknown contact model {model!r}; use area or point")
+    if model not in LAWS:
+        raise ValueError(f"unknown contact model {model!r}; use {' or '.join(LAWS)}")
+    row = LAWS[model]
+    return row.mapping(model, float(k_n), float(damping), **({"impact": impact} if "impact" in row.defaults else {}))
 
 
 def _check_variant(variant):

@@ -38,7 +38,7 @@ The contact laws (:data:`LAWS`):
   default (:data:`AREA_STUDY`: k_n 1e10, c_n 1e4).
 - ``area_undamped``: the same law with c_n = 0 (c_t defaults to c_n, so c_t = 0 too).
 - ``point``: the study's contact (config ``defaults.contact``), the point law with its
-  scene defaults (:data:`stonedem.engine.scene.CONTACT_DEFAULTS`): zeta 0.05 and Housner's plastic landing.
+  scene defaults (:data:`stonedem.engine.laws.LAWS`): zeta 0.05 and Housner's plastic landing.
 - ``area_housner``: the area law with the c_n that gives the monolith Housner's ratio
   (:func:`stonedem.validation.cases.calibrate_restitution`, geometric mean of N_IMPACTS impacts).
 
@@ -72,7 +72,8 @@ from stonedem.bench.ours import critical_damping
 from stonedem.io.netcdf import code_version, write_dataset
 from stonedem.kernels import step
 from stonedem.engine.measures import rocking_bodies
-from stonedem.engine.scene import CONTACT_DEFAULTS, DT_SAFETY, Scene, scene_from_dict
+from stonedem.engine.laws import DEFAULT_LAW, LAWS as CONTACT_LAWS
+from stonedem.engine.scene import Scene, scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import build_structure
 from stonedem.study.grid import config_cases, load_config
@@ -123,7 +124,7 @@ class Column:
 def study_contact(config: dict) -> dict:
     """The study's ``contact:`` mapping (config ``defaults.contact``), its model made explicit."""
     contact = dict((config.get("defaults") or {}).get("contact") or {})
-    model = contact.pop("model", CONTACT_DEFAULTS["model"])
+    model = contact.pop("model", DEFAULT_LAW)
 
     def number(value):
         # PyYAML (YAML 1.1) reads 1.0e10 as a number only with a sign after the e: accept strings
@@ -338,7 +339,7 @@ def law_contacts(config: dict, monolith: Column, laws=LAWS, n_impacts: int = N_I
         elif law == "area_undamped":
             contacts[law] = {**AREA_STUDY, "c_n": 0.0}
         elif law == "point":
-            contacts[law] = {**CONTACT_DEFAULTS["point"], **study}
+            contacts[law] = {**CONTACT_LAWS["point"].defaults, **study}
         elif law == "area_housner":
             contacts[law] = {**AREA_STUDY, "c_n": housner_c_n(monolith, AREA_STUDY["k_n"], n_impacts)}
         else:
@@ -457,7 +458,7 @@ def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_
             "n_impacts": n_impacts, "theta0_over_alpha": THETA0_RATIO, "min_fraction": MIN_FRACTION,
             "output_interval": SAMPLE_EVERY, "output_interval_units": "s",
             "dt_mode": "auto",
-            "dt_safety": ", ".join(f"{law} {value:g}" for law, value in DT_SAFETY.items()) + " (the engine's auto, per law)",
+            "dt_safety": ", ".join(f"{law} {row.dt_safety:g}" for law, row in CONTACT_LAWS.items()) + " (the engine's auto, per law)",
             "integrator": "central difference (leapfrog form)",
             "excitation": "none (free rocking on a fixed base)", "depth": 1.0, "gravity": analytic.G,
             "housner_energy_ratio_monolith": analytic.housner_restitution(monolith.width, monolith.height),

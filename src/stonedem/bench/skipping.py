@@ -2,7 +2,7 @@
 
 Each case of the chosen studies runs three ways: everything integrated to the end
 (``stop_on_collapse`` and ``skip_quiet`` off), then stopping at collapse, then also
-skipping the quiet lead and the at-rest tail (:func:`stonedem.engine.simulate.quiet_steps`). Recorded:
+skipping the quiet lead and the at-rest tail (:func:`stonedem.engine.quiet.quiet_steps`). Recorded:
 the compiled loop's wall time and steps, and the response measures of each way, so the
 table shows what each skip saves and that the answers do not move (the error bound).
 

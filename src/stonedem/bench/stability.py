@@ -38,6 +38,7 @@ from stonedem.bench.ours import critical_damping as critical_damping_of
 from stonedem.io.netcdf import code_version, write_dataset
 from stonedem.kernels import step
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons
+from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene, box_pairs, scene_from_dict
 from stonedem.engine.simulate import RunResult, choose_time_step, simulate, stability_limit
 from stonedem.validation.cases import block_scene
@@ -47,7 +48,7 @@ K_N_VALUES = (1e7, 1e8, 1e9, 1e10)  # [N m-2]
 DT_RATIOS = (0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0)  # dt / stability limit
 # point law: zeta of each contact point; area law: c_n / (2 sqrt(k_n width m)) of the lightest free body
 DAMPING_FRACTIONS = (0.0, 0.05, 0.5)
-CONTACT_MODELS = ("point", "area")
+CONTACT_MODELS = tuple(LAWS)
 SCENE_KINDS = ("block", "column", "colonnade")
 DURATION = 0.5  # [s] of each run of the map
 SAMPLE_EVERY = 1e-3  # [s] between samples (energy and overlap are checked on samples)
@@ -62,10 +63,8 @@ HARMONIC = {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.1}  # PGA 15.8 
 def contact_spec(model: str, k_n: float, damping: float = 0.0) -> dict:
     """``contact:`` mapping of the map: point law with zeta = damping [1] (plastic landing,
     its scene default) or area law with c_n = c_t = damping [N s m-1]."""
-    if model == "point":
-        return {"model": "point", "k_n": k_n, "damping": damping}
-    if model == "area":
-        return {"model": "area", "k_n": k_n, "c_n": damping}
+    if model in LAWS:
+        return LAWS[model].mapping(model, k_n, damping)
     raise ValueError(f"unknown contact model {model!r}; use one of {CONTACT_MODELS}")
 
 

@@ -17,7 +17,6 @@ import json
 import platform
 import sys
 from datetime import datetime, timezone
-from pathlib import Path
 
 import numba
 import numpy as np
@@ -26,9 +25,11 @@ import xarray as xr
 from stonedem.engine import measures
 from stonedem.errors import InputError
 from stonedem.kernels import step
+from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene
 from stonedem.io.netcdf import code_version, schema_variables
-from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, pack_scene, preflight, run_checks, simulate)
+from stonedem.engine.pack import pack_scene
+from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, preflight, run_checks, simulate)
 
 
 # times an automatic step is halved for a run that diverges or drifts past the energy tolerance
@@ -96,7 +97,7 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
     rock_idx = measures.rocking_bodies(scene)
     rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
-    arrays = pack_scene(scene)
+    arrays = result.arrays if result.arrays is not None else pack_scene(scene)
     groups = np.unique(arrays.body_group[rock_idx])
     theta_cr = float(arrays.group_theta_cr[groups].min())
     rel = result.x - result.x[0] - d_h[:, None]
@@ -172,10 +173,9 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "dt_mode": "auto" if scene.dt is None else "given",
         "output_interval": result.out_every * result.dt,
         "contact_model": law.model,
-        "contact_law": ("point contacts at the contact face's end vertices, k_n per unit contact length"
-                        if law.model == "point" else "overlap area, thesis Eq. 3.4-3.6"),
+        "contact_law": LAWS[law.model].describe,
         "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
-        "contact_damping": law.damping, "contact_damping_units": "1", "contact_impact": law.impact if law.model == "point" else "none",
+        "contact_damping": law.damping, "contact_damping_units": "1", "contact_impact": law.impact if "impact" in LAWS[law.model].defaults else "none",
         "k_t": law.k_t, "k_t_units": "N m-1",
         "c_t": law.c_t, "c_t_units": "N s m-1",
         "friction": scene.friction, "gravity": scene.gravity, "depth": scene.depth,

@@ -21,7 +21,9 @@ import numpy as np
 import yaml
 
 from stonedem.engine import geometry
+from stonedem.engine.laws import DEFAULT_LAW, LAWS
 from stonedem.errors import InputError, check_number
+from stonedem.units import GRAVITY
 from stonedem.motion.excitation import BaseMotion, excitation_pair
 
 TOP_KEYS = {
@@ -43,17 +45,8 @@ BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "vel
              "friction", "role", "column", "tier")
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
-CONTACT_MODELS = ("point", "area")
-# per model; the point law's damping is a fraction of critical (README "Contact law")
-CONTACT_DEFAULTS = {"model": "point", "point": {"k_n": 1.0e11, "damping": 0.05, "impact": "plastic"},
-                    "area": {"k_n": 1.0e8, "c_n": 1.0e3}}
 SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": "auto", "stop_on_collapse": True,
                    "skip_quiet": True}
-# dt_safety: auto, per contact model. The point law's thresholds and impacts do not move
-# from 0.25 to 1.0 (ramp 6 x 1 m, 1-8 drums: 2.5205 -> 2.520 m/s2) and its stable step is
-# 1.4-2.9x the bound (README "Contact laws"); at 1.0 with k_n 1e11 a case costs 0.8x the
-# area law's at 1e10 and 0.25. An auto step that drifts or diverges is halved (stonedem.engine.run).
-DT_SAFETY = {"area": 0.25, "point": 1.0}
 OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
 # a scene of more bodies is refused: the contact memory is n^2 x 20 doubles (160 MB at 1000)
@@ -118,7 +111,7 @@ class Scene:
     dt: float | None  # None = choose automatically
     dt_safety: float
     stop_on_collapse: bool
-    skip_quiet: bool  # skip where the base is too quiet to move anything (stonedem.engine.simulate.quiet_steps)
+    skip_quiet: bool  # skip where the base is too quiet to move anything (stonedem.engine.quiet.quiet_steps)
     output_every: float
     spec: dict = field(repr=False)  # the fully defaulted input, for provenance
 
@@ -218,13 +211,62 @@ def _integer(value, field: str, minimum: int) -> int:
     return int(value)
 
 
+CONTACT_KEYS = ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame")
+IMPACT_RULES = ("plastic", "none")
+# above these a value is taken for a units mistake
+CONTACT_LIMITS = {"k_n": 1e16, "c_n": 1e16, "damping": 100.0, "k_t": 1e18, "c_t": 1e16}
+
+
+def _contact_law(contact_spec: dict) -> ContactLaw:
+    """The scene's ``contact:`` mapping checked against its law's row (stonedem.engine.laws)."""
+    check_keys(contact_spec, CONTACT_KEYS, "contact")
+    # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
+    # for the thesis' law before the point law became the default keeps its meaning)
+    model = contact_spec.get("model", "area" if "c_n" in contact_spec else DEFAULT_LAW)
+    if not isinstance(model, str) or model not in LAWS:
+        raise InputError("contact.model", f"unknown contact model {model!r}",
+                         "use " + " or ".join(row.hint for row in LAWS.values()))
+    row = LAWS[model]
+    for key in ("c_n", "damping", "impact"):
+        if key in contact_spec and key not in row.defaults:
+            other = next(name for name, r in LAWS.items() if key in r.defaults)
+            raise InputError(f"contact.{key}", f"not used by the {model} model",
+                             f"drop it, or set contact.model: {other}")
+    k_n = check_number(contact_spec.get("k_n", row.defaults["k_n"]), "contact.k_n", positive=True)
+    c_n = check_number(contact_spec.get("c_n", row.defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True)
+    damping = check_number(contact_spec.get("damping", row.defaults.get("damping", 0.0)),
+                           "contact.damping", nonnegative=True)
+    # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
+    k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
+    c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
+    frame = contact_spec.get("frame", row.frames[0])
+    if not isinstance(frame, str) or frame not in row.frames:
+        if row.frame is not None:
+            raise InputError("contact.frame", f"the {model} model's frame is its own ({row.frame})",
+                             "drop contact.frame, or set contact.model: "
+                             + " or ".join(name for name, r in LAWS.items() if r.frame is None))
+        raise InputError("contact.frame", f"unknown frame rule '{frame}'", f"use {' or '.join(row.frames)}")
+    frame = row.frame or frame
+    impact = contact_spec.get("impact", row.defaults.get("impact", "none"))
+    if not isinstance(impact, str) or impact not in IMPACT_RULES:
+        raise InputError("contact.impact", f"unknown impact rule {impact!r}",
+                         "use plastic (a landing point stops, Housner) or none (dashpots only)")
+    for key, value in (("k_n", k_n), ("c_n", c_n), ("damping", damping), ("k_t", k_t), ("c_t", c_t)):
+        if value > CONTACT_LIMITS[key]:
+            raise InputError(f"contact.{key}", f"{value:.3g} is above the limit {CONTACT_LIMITS[key]:g}",
+                             "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)")
+    return ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model, damping=damping,
+                      impact=impact)
+
+
+
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
     spec = copy.deepcopy(spec)
     check_keys(spec, TOP_KEYS, "")
     depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
     density = check_number(spec.get("density", 2000.0), "density", positive=True)
-    gravity = check_number(spec.get("gravity", 9.81), "gravity", nonnegative=True)
+    gravity = check_number(spec.get("gravity", GRAVITY), "gravity", nonnegative=True)
     friction = check_number(spec.get("friction", 0.5), "friction", nonnegative=True)
 
     body_specs = spec.get("bodies") or []
@@ -248,49 +290,8 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
-    contact_spec = _mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e11}")
-    check_keys(contact_spec, ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame"), "contact")
-    # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
-    # for the thesis' law before the point law became the default keeps its meaning)
-    model = contact_spec.get("model", "area" if "c_n" in contact_spec else CONTACT_DEFAULTS["model"])
-    if not isinstance(model, str) or model not in CONTACT_MODELS:
-        raise InputError("contact.model", f"unknown contact model {model!r}",
-                         "use point (vertex contacts, default) or area (thesis overlap area)")
-    defaults = CONTACT_DEFAULTS[model]
-    for key in ("c_n", "damping", "impact"):
-        if key in contact_spec and key not in defaults:
-            other = "area" if key == "c_n" else "point"
-            raise InputError(f"contact.{key}", f"not used by the {model} model",
-                             f"drop it, or set contact.model: {other}")
-    k_n = check_number(contact_spec.get("k_n", defaults["k_n"]), "contact.k_n", positive=True)
-    c_n = check_number(contact_spec.get("c_n", defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True)
-    damping = check_number(contact_spec.get("damping", defaults.get("damping", 0.0)),
-                           "contact.damping", nonnegative=True)
-    # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
-    k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
-    c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
-    if model == "point":
-        # the point law takes its frame from its two contact faces (stonedem.kernels.point_contact);
-        # "boundary" is what files written before that recorded for it
-        if contact_spec.get("frame", "faces") not in ("faces", "boundary"):
-            raise InputError("contact.frame", "the point model's frame is its contact faces'",
-                             "drop contact.frame, or set contact.model: area")
-        frame = "faces"
-    else:
-        frame = contact_spec.get("frame", "boundary")
-        if not isinstance(frame, str) or frame not in ("boundary", "thesis"):
-            raise InputError("contact.frame", f"unknown frame rule '{frame}'", "use boundary or thesis")
-    impact = contact_spec.get("impact", defaults.get("impact", "none"))
-    if not isinstance(impact, str) or impact not in ("plastic", "none"):
-        raise InputError("contact.impact", f"unknown impact rule {impact!r}",
-                         "use plastic (a landing point stops, Housner) or none (dashpots only)")
-    for key, value, top in (("k_n", k_n, 1e16), ("c_n", c_n, 1e16), ("damping", damping, 100.0),
-                            ("k_t", k_t, 1e18), ("c_t", c_t, 1e16)):
-        if value > top:
-            raise InputError(f"contact.{key}", f"{value:.3g} is above the limit {top:g}",
-                             "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)")
-    contact = ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model,
-                         damping=damping, impact=impact)
+    contact = _contact_law(_mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e11}"))
+    model = contact.model
 
     pair_friction = {}
     interface_friction = spec.get("interface_friction") or []
@@ -315,7 +316,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("solver.duration", "missing", "give the simulated time in s")
     duration = check_number(solver["duration"], "solver.duration", positive=True)
     dt = None if _is_auto(solver["dt"]) else check_number(solver["dt"], "solver.dt", positive=True)
-    dt_safety = DT_SAFETY[model] if _is_auto(solver["dt_safety"]) else check_number(
+    dt_safety = LAWS[model].dt_safety if _is_auto(solver["dt_safety"]) else check_number(
         solver["dt_safety"], "solver.dt_safety", positive=True)
     if dt_safety > 1.0:
         raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
@@ -334,9 +335,9 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     horizontal, vertical = excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
 
     spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
-                contact={"model": model, "k_n": k_n,
-                         **({"c_n": c_n} if model == "area" else {"damping": damping, "impact": impact}),
-                         "k_t": k_t, "c_t": c_t, "frame": frame},
+                contact={"model": model, "k_n": contact.k_n,
+                         **{key: getattr(contact, key) for key in LAWS[model].own_keys},
+                         "k_t": contact.k_t, "c_t": contact.c_t, "frame": contact.frame},
                 solver=solver, output=output)
     scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
                   gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,

@@ -9,12 +9,10 @@ import numpy as np
 import xarray as xr
 
 from stonedem.figures.drawing import _finish, _save
-from stonedem.fragility.ida import MEASURES
+from stonedem.fragility.ida import LIMIT_STATES, MEASURES
 
 SET_COLOURS = {"far_field": "tab:blue", "near_field_pulse": "tab:red", "near_field_no_pulse": "tab:green",
                "all": "black"}
-LIMIT_LABELS = {"rocking_onset": "rocking onset (theta_cr / 30)", "half_critical_rotation": "rotation theta_cr / 2",
-                "residual_sliding": "residual sliding 1 % of width", "collapse": "collapse"}
 
 
 def fragility_curves_figure(cube: xr.Dataset, fits: xr.Dataset, structure: str, path):
@@ -49,7 +47,7 @@ def fragility_curves_figure(cube: xr.Dataset, fits: xr.Dataset, structure: str, 
             ax.set_xlim(grid[0], grid[-1])
             ax.set_ylim(0, 1)
             ax.grid(alpha=0.3)
-            ax.set_title(LIMIT_LABELS.get(state, state), fontsize=8)
+            ax.set_title(LIMIT_STATES[state].label if state in LIMIT_STATES else state, fontsize=8)
             ax.set_xlabel(f"{label} [{units}]", fontsize=8)
             ax.legend(fontsize=5.5, loc="upper left")
         axes[m, 0].set_ylabel("P(exceeded)")

@@ -16,7 +16,6 @@ quick.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -244,6 +243,8 @@ def _history_extent(local, x, y, theta) -> tuple[np.ndarray, np.ndarray]:
 
 def default_title(ds) -> str:
     """'name: structure; excitation[; collapsed at t s]' from the dataset's attributes."""
+    from stonedem.motion.excitation import excitation_label  # numba: only when drawing
+
     scene = json.loads(ds.attrs["scene"])
     parts = [structure_label(scene, [str(r) for r in ds["body_role"].values])]
     parts.append(excitation_label(_json_attr(ds, "excitation") or scene.get("excitation") or {}))
@@ -280,25 +281,6 @@ def structure_label(scene: dict, roles: list[str]) -> str:
     if "epistyle_type" in spec:
         words.append(f"epistyle {spec['epistyle_type']}")
     return ", ".join(words)
-
-
-def excitation_label(desc: dict) -> str:
-    """E.g. 'harmonic 0.5 Hz x 0.25 m (PGA 2.47 m/s2)' from an excitation description."""
-    kind = desc.get("kind", "none")
-    if kind == "harmonic":
-        text = f"harmonic {desc['frequency']:g} Hz x {desc['amplitude']:g} m"
-    elif kind == "rect_pulse":
-        text = f"rectangular pulse {desc['accel']:g} m/s2 x {desc['duration']:g} s"
-    elif kind == "sine_pulse":
-        text = f"sine pulse {desc['accel']:g} m/s2 at {desc['frequency']:g} Hz"
-    elif kind == "ramp":
-        text = f"ramp {desc['rate']:g} m/s2 per s"
-    elif kind == "record":
-        text = f"record {Path(str(desc.get('file', '?'))).stem}"
-    else:
-        return "no base motion"
-    pga = desc.get("pga")
-    return text + (f" (PGA {pga:.3g} m/s2)" if isinstance(pga, (int, float)) else "")
 
 
 def panel_label(time: np.ndarray, base: np.ndarray | None, i: int, collapse: float | None) -> str:

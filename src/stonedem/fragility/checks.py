@@ -23,8 +23,8 @@ import numpy as np
 import xarray as xr
 
 from stonedem.reference.analytic import (housner_restitution, rectangle_rocking_properties, rigid_one_sine_min_overturning)
+from stonedem.units import GRAVITY as G
 
-G = 9.81
 
 
 def _median(fits: xr.Dataset, structure: str, record_set: str, limit_state: str = "collapse",

@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
-from pathlib import Path
+from typing import Callable
 
 import numpy as np
 import xarray as xr
@@ -39,30 +39,28 @@ DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into 
 
 @dataclass(frozen=True)
 class LimitState:
-    name: str
-    measure: str  # case measure (stonedem.engine.measures) compared with the threshold; "" for collapse
-    long_name: str
+    """One limit state of the IDA: everything about it in one row of LIMIT_STATES."""
 
-    def threshold(self, theta_cr: float, width: float) -> float:
-        """The measure's value at the limit state, for a column of critical angle theta_cr."""
-        if self.name == "rocking_onset":
-            return theta_cr / 30.0  # thesis 6.3.1, as stonedem.engine.measures.rocking_onset_time
-        if self.name == "half_critical_rotation":
-            return theta_cr / 2.0
-        if self.name == "residual_sliding":
-            return 0.01 * width
-        return math.nan
+    measure: str  # case measure (stonedem.engine.measures) compared with the threshold; "" for collapse
+    threshold: Callable | None  # (theta_cr [rad], drum width [m]) -> the measure's value at the limit; None: collapse
+    long_name: str  # the cube's attrs limit_state_<name>
+    label: str  # figure titles
 
 
 # lesser limit states (issue 16; Psycharis et al. 2013 use normalised rotation and residual
-# drum displacement for ancient columns), then collapse
-LIMIT_STATES = (
-    LimitState("rocking_onset", "max_rocking", "mean drum rotation first exceeds theta_cr / 30 (uplift)"),
-    LimitState("half_critical_rotation", "max_rocking", "peak mean drum rotation exceeds theta_cr / 2"),
-    LimitState("residual_sliding", "residual_total_sliding", "residual joint sliding exceeds 1 % of the drum width"),
-    LimitState("collapse", "", "collapse (the search's smallest collapsing PGA)"),
-)
-LIMIT_STATE_NAMES = tuple(ls.name for ls in LIMIT_STATES)
+# drum displacement for ancient columns), then collapse, the search's own verdict
+LIMIT_STATES: dict[str, LimitState] = {
+    # thesis 6.3.1, as stonedem.engine.measures.rocking_onset_time
+    "rocking_onset": LimitState("max_rocking", lambda theta_cr, width: theta_cr / 30.0,
+                                "mean drum rotation first exceeds theta_cr / 30 (uplift)",
+                                "rocking onset (theta_cr / 30)"),
+    "half_critical_rotation": LimitState("max_rocking", lambda theta_cr, width: theta_cr / 2.0,
+                                         "peak mean drum rotation exceeds theta_cr / 2", "rotation theta_cr / 2"),
+    "residual_sliding": LimitState("residual_total_sliding", lambda theta_cr, width: 0.01 * width,
+                                   "residual joint sliding exceeds 1 % of the drum width",
+                                   "residual sliding 1 % of width"),
+    "collapse": LimitState("", None, "collapse (the search's smallest collapsing PGA)", "collapse"),
+}
 
 
 def suite_components(suites) -> dict[str, str]:
@@ -272,8 +270,8 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
         collapsed = ds.collapsed.values > 0
         theta_cr = float(np.nanmin(ds.theta_cr.values))
         theta[s] = theta_cr
-        for j, ls in enumerate(LIMIT_STATES):
-            if ls.name == "collapse":
+        for j, ls in enumerate(LIMIT_STATES.values()):
+            if ls.threshold is None:
                 upper = float(ds.collapse_threshold)
                 if math.isfinite(upper):
                     est, lo, hi, cen = upper, float(ds.survived_below_threshold), upper, False
@@ -293,7 +291,7 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
                                             {"long_name": "structure (config fragility.structures)"}),
                               "record": ("record", np.array(names, dtype=object),
                                          {"long_name": "FEMA P695 component (records/suites/)"}),
-                              "limit_state": ("limit_state", np.array(LIMIT_STATE_NAMES, dtype=object),
+                              "limit_state": ("limit_state", np.array(list(LIMIT_STATES), dtype=object),
                                               {"long_name": "limit state; see attrs limit_state_<name>"})})
     cube = cube.assign_coords({v: records[v] for v in records.data_vars})
     mask = ran[:, :, None]
@@ -319,7 +317,7 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
                   "method": "hunt-and-fill search in PGA per (structure, record) (stonedem.study.search); "
                             "lesser limit states interpolated on the runs' IDA curves (stonedem.fragility.ida)",
                   "n_simulations": int(cube.n_runs.sum()), **settings,
-                  **{f"limit_state_{ls.name}": ls.long_name for ls in LIMIT_STATES}}
+                  **{f"limit_state_{name}": ls.long_name for name, ls in LIMIT_STATES.items()}}
     return cube
 
 

@@ -95,8 +95,8 @@ class Excitation(NamedTuple):
 
 
 class Model(NamedTuple):
-    """The scene, read only: :class:`stonedem.engine.simulate.SceneArrays` but the initial state, plus
-    contact law, gravity and base motion (:func:`stonedem.engine.simulate.kernel_model`)."""
+    """The scene, read only: :class:`stonedem.engine.pack.SceneArrays` but the initial state, plus
+    contact law, gravity and base motion (:func:`stonedem.engine.pack.kernel_model`)."""
 
     vert_start: np.ndarray  # body b owns vertices vert_start[b]:vert_start[b+1] (n_body + 1,)
     local_x: np.ndarray  # vertices in the body frame (n_vert,) [m]

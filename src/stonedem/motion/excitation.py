@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -72,16 +73,6 @@ def record_folders() -> list[Path]:
 
 _folders = record_folders()
 RECORDS_DIR = _folders[0] if _folders else Path(__file__).resolve().parents[3] / "records"
-KIND_KEYS = {
-    "none": {},
-    "harmonic": {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"},
-    "rect_pulse": {"accel": "m s-2", "duration": "s"},
-    "sine_pulse": {"accel": "m s-2", "frequency": "Hz"},
-    "ramp": {"rate": "m s-3"},
-    "record": {"file": "", "component": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
-}
-
-
 @dataclass(frozen=True)
 class BaseMotion:
     """A base motion as the kernel sees it (:func:`stonedem.kernels.excitation.base_motion`)."""
@@ -92,7 +83,7 @@ class BaseMotion:
     table_vel: np.ndarray = field(default_factory=lambda: np.zeros(1))  # [m s-1]
     table_disp: np.ndarray = field(default_factory=lambda: np.zeros(1))  # [m]
     table_dt: float = 1.0  # [s]
-    description: dict = field(default_factory=dict)
+    description: dict = field(default_factory=dict)  # "kind": its row of EXCITATIONS
 
     def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Displacement [m], velocity [m s-1], acceleration [m s-2] at times t [s]."""
@@ -102,38 +93,54 @@ class BaseMotion:
         return out[0], out[1], out[2]
 
     @property
+    def row(self) -> "Excitation":
+        return EXCITATIONS[self.description.get("kind", "none")]
+
+    @property
     def pga(self) -> float:
-        """Peak absolute base acceleration [m s-2]."""
-        p = self.params
-        if self.kind == kx.KIND_HARMONIC:
-            return abs(p[0]) * p[1] ** 2
-        if self.kind in (kx.KIND_RECT_PULSE, kx.KIND_SINE_PULSE):
-            return abs(p[0])
-        if self.kind == kx.KIND_TABLE:
-            return float(np.abs(self.table_accel).max())
-        return 0.0  # none; a ramp has no peak
+        """Peak absolute base acceleration [m s-2] (0 for none; a ramp has no peak)."""
+        return float(self.row.pga(self))
 
     @property
     def duration(self) -> float | None:
         """Natural length of the motion [s] (pulse or record), None when unbounded."""
-        if self.kind in (kx.KIND_RECT_PULSE,):
-            return float(self.params[1])
-        if self.kind == kx.KIND_SINE_PULSE:
-            return float(self.params[2])
-        if self.kind == kx.KIND_TABLE:
-            return (len(self.table_accel) - 1) * self.table_dt
-        return None
+        return self.row.duration(self)
+
+    @property
+    def shortest_period(self) -> float:
+        """Shortest time scale [s] the time step must resolve (inf: none)."""
+        return float(self.row.period(self))
+
+    @property
+    def label(self) -> str:
+        """E.g. 'harmonic 0.5 Hz x 0.25 m (PGA 2.47 m/s2)'."""
+        return excitation_label(self.description)
+
+
+@dataclass(frozen=True)
+class Excitation:
+    """One excitation kind: everything the Python side knows of it, in one row of EXCITATIONS.
+
+    A new kind is its branch in :func:`stonedem.kernels.excitation.base_motion` (or an
+    existing kernel kind, e.g. a table) and one row here; scene parsing, the time step, the
+    quiet-base plan, dataset attributes and plot labels all read the row.
+    """
+
+    keys: dict  # key -> units of its scene mapping (besides "kind")
+    build: Callable  # (spec, field, base_dir) -> BaseMotion, the spec's keys already checked
+    describe: Callable  # description -> words for labels, e.g. "ramp 0.5 m/s2 per s"
+    pga: Callable = lambda m: 0.0  # BaseMotion -> peak |a| [m s-2]
+    duration: Callable = lambda m: None  # BaseMotion -> natural length [s] or None
+    period: Callable = lambda m: math.inf  # BaseMotion -> shortest period to resolve [s]
 
 
 def _num(spec, key, where, positive=False, required=True, default=None):
     if key not in spec:
         if required:
-            raise InputError(f"{where}.{key}", "missing", f"give {key} [{KIND_KEYS_UNITS.get(key, '')}]")
+            units = EXCITATIONS[spec.get("kind", "none")].keys.get(key, "") if spec.get("kind") in EXCITATIONS else ""
+            raise InputError(f"{where}.{key}", "missing", f"give {key} [{units}]")
         return default
     return check_number(spec[key], f"{where}.{key}", positive=positive)
-
-
-KIND_KEYS_UNITS = {k: u for keys in KIND_KEYS.values() for k, u in keys.items()}
 
 
 # a base motion faster than this is taken for a units mistake (kHz for Hz); the step must
@@ -149,6 +156,100 @@ def _frequency(spec: dict, field: str) -> float:
     return f
 
 
+def _none(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    return BaseMotion(kx.KIND_NONE, np.zeros(4), description={"kind": "none"})
+
+
+def _harmonic(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    f = _frequency(spec, field)
+    if ("amplitude" in spec) == ("pga" in spec):
+        raise InputError(f"{field}.amplitude", "give exactly one of amplitude [m] and pga [m s-2]",
+                         "write amplitude: 0.25 or pga: 2.15")
+    if "pga" in spec:  # thesis 6.1 sweeps frequency at a fixed peak acceleration: A = PGA / w^2
+        amp = _num(spec, "pga", field, positive=True) / (2 * math.pi * f) ** 2
+    else:
+        amp = _num(spec, "amplitude", field)
+    cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
+    if cycles < 0:
+        raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")
+    if not math.isfinite(amp * (2 * math.pi * f) ** 2):
+        raise InputError(f"{field}.amplitude", f"{amp:g} m at {f:g} Hz is not a finite acceleration",
+                         "give an amplitude in m")
+    params = np.array([amp, 2 * math.pi * f, cycles / f, 0.0])
+    return BaseMotion(kx.KIND_HARMONIC, params, description={
+        "kind": "harmonic", "frequency": f, "frequency_units": "Hz", "amplitude": amp, "amplitude_units": "m",
+        "ramp_cycles": cycles, "pga": amp * (2 * math.pi * f) ** 2})
+
+
+def _rect_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    a_p = _num(spec, "accel", field)
+    t_p = _num(spec, "duration", field, positive=True)
+    return BaseMotion(kx.KIND_RECT_PULSE, np.array([a_p, t_p, 0.0, 0.0]), description={
+        "kind": "rect_pulse", "accel": a_p, "accel_units": "m s-2", "duration": t_p, "duration_units": "s"})
+
+
+def _sine_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    a_p = _num(spec, "accel", field)
+    f = _frequency(spec, field)
+    return BaseMotion(kx.KIND_SINE_PULSE, np.array([a_p, 2 * math.pi * f, 1.0 / f, 0.0]), description={
+        "kind": "sine_pulse", "accel": a_p, "accel_units": "m s-2", "frequency": f, "frequency_units": "Hz"})
+
+
+def _ramp(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+    rate = _num(spec, "rate", field)
+    return BaseMotion(kx.KIND_RAMP, np.array([rate, 0.0, 0.0, 0.0]),
+                      description={"kind": "ramp", "rate": rate, "rate_units": "m s-3"})
+
+
+def _angular_period(m: BaseMotion) -> float:
+    return 2.0 * math.pi / m.params[1] if m.params[1] > 0.0 else math.inf
+
+
+def _table_pga(m: BaseMotion) -> float:
+    return float(np.abs(m.table_accel).max())
+
+
+def _table_duration(m: BaseMotion) -> float:
+    return (len(m.table_accel) - 1) * m.table_dt
+
+
+def _table_period(m: BaseMotion) -> float:
+    return 2.0 * m.table_dt  # the Nyquist period of the record's sampling
+
+
+EXCITATIONS: dict[str, Excitation] = {
+    "none": Excitation({}, _none, lambda d: "no base motion"),
+    "harmonic": Excitation(
+        {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"}, _harmonic,
+        lambda d: f"harmonic {d['frequency']:g} Hz x {d['amplitude']:g} m",
+        pga=lambda m: abs(m.params[0]) * m.params[1] ** 2, period=_angular_period),
+    "rect_pulse": Excitation(
+        {"accel": "m s-2", "duration": "s"}, _rect_pulse,
+        lambda d: f"rectangular pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
+        pga=lambda m: abs(m.params[0]), duration=lambda m: float(m.params[1]), period=lambda m: float(m.params[1])),
+    "sine_pulse": Excitation(
+        {"accel": "m s-2", "frequency": "Hz"}, _sine_pulse,
+        lambda d: f"sine pulse {d['accel']:g} m/s2 at {d['frequency']:g} Hz",
+        pga=lambda m: abs(m.params[0]), duration=lambda m: float(m.params[2]), period=_angular_period),
+    "ramp": Excitation({"rate": "m s-3"}, _ramp, lambda d: f"ramp {d['rate']:g} m/s2 per s"),
+    "record": Excitation(
+        {"file": "", "component": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
+        lambda spec, field, base_dir: _record_motion(spec, field, Path(base_dir)),
+        lambda d: f"record {Path(str(d.get('file', '?'))).stem}",
+        pga=_table_pga, duration=_table_duration, period=_table_period),
+}
+
+
+def excitation_label(desc: dict) -> str:
+    """E.g. 'harmonic 0.5 Hz x 0.25 m (PGA 2.47 m/s2)' from an excitation description."""
+    row = EXCITATIONS.get(desc.get("kind", "none"))
+    if row is None or row.build is _none:
+        return "no base motion"
+    text = row.describe(desc)
+    pga = desc.get("pga")
+    return text + (f" (PGA {pga:.3g} m/s2)" if isinstance(pga, (int, float)) else "")
+
+
 def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[BaseMotion, BaseMotion]:
     """(horizontal, vertical) base motions of an ``excitation:`` mapping; vertical from its ``vertical:`` key."""
     spec = dict(spec or {"kind": "none"})
@@ -160,59 +261,19 @@ def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[Base
 
 
 def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir: Path = Path(".")) -> BaseMotion:
-    """Validate one excitation mapping and build its BaseMotion (forms: README)."""
+    """Validate one excitation mapping and build its BaseMotion (its row of EXCITATIONS)."""
     if spec is None:
         spec = {"kind": "none"}
     if not isinstance(spec, dict):
         raise InputError(field, "expected a mapping", "write {kind: none | harmonic | ...}")
     kind = spec.get("kind")
-    if kind not in KIND_KEYS:
-        raise InputError(f"{field}.kind", f"unknown kind {kind!r}", f"use one of {', '.join(KIND_KEYS)}")
-    allowed = ("kind", *KIND_KEYS[kind])
+    if not isinstance(kind, str) or kind not in EXCITATIONS:
+        raise InputError(f"{field}.kind", f"unknown kind {kind!r}", f"use one of {', '.join(EXCITATIONS)}")
+    allowed = ("kind", *EXCITATIONS[kind].keys)
     for key in spec:
         if key not in allowed:
             raise InputError(f"{field}.{key}", f"unknown key for kind {kind}", f"allowed keys: {', '.join(allowed)}")
-    params = np.zeros(4)
-    description = {"kind": kind}
-    if kind == "none":
-        return BaseMotion(kx.KIND_NONE, params, description=description)
-    if kind == "harmonic":
-        f = _frequency(spec, field)
-        if ("amplitude" in spec) == ("pga" in spec):
-            raise InputError(f"{field}.amplitude", "give exactly one of amplitude [m] and pga [m s-2]",
-                             "write amplitude: 0.25 or pga: 2.15")
-        if "pga" in spec:  # thesis 6.1 sweeps frequency at a fixed peak acceleration: A = PGA / w^2
-            amp = _num(spec, "pga", field, positive=True) / (2 * math.pi * f) ** 2
-        else:
-            amp = _num(spec, "amplitude", field)
-        cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
-        if cycles < 0:
-            raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")
-        if not math.isfinite(amp * (2 * math.pi * f) ** 2):
-            raise InputError(f"{field}.amplitude", f"{amp:g} m at {f:g} Hz is not a finite acceleration",
-                             "give an amplitude in m")
-        params[:3] = amp, 2 * math.pi * f, cycles / f
-        description.update(frequency=f, frequency_units="Hz", amplitude=amp, amplitude_units="m",
-                           ramp_cycles=cycles, pga=amp * (2 * math.pi * f) ** 2)
-        return BaseMotion(kx.KIND_HARMONIC, params, description=description)
-    if kind == "rect_pulse":
-        a_p = _num(spec, "accel", field)
-        t_p = _num(spec, "duration", field, positive=True)
-        params[:2] = a_p, t_p
-        description.update(accel=a_p, accel_units="m s-2", duration=t_p, duration_units="s")
-        return BaseMotion(kx.KIND_RECT_PULSE, params, description=description)
-    if kind == "sine_pulse":
-        a_p = _num(spec, "accel", field)
-        f = _frequency(spec, field)
-        params[:3] = a_p, 2 * math.pi * f, 1.0 / f
-        description.update(accel=a_p, accel_units="m s-2", frequency=f, frequency_units="Hz")
-        return BaseMotion(kx.KIND_SINE_PULSE, params, description=description)
-    if kind == "ramp":
-        rate = _num(spec, "rate", field)
-        params[0] = rate
-        description.update(rate=rate, rate_units="m s-3")
-        return BaseMotion(kx.KIND_RAMP, params, description=description)
-    return _record_motion(spec, field, Path(base_dir))
+    return EXCITATIONS[kind].build(spec, field, Path(base_dir))
 
 
 def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:

@@ -22,8 +22,8 @@ from typing import Iterator
 import numpy as np
 
 from stonedem.errors import InputError
+from stonedem.units import G_STANDARD  # [m s-2], PEER convention for records in g
 
-G_STANDARD = 9.80665  # [m s-2], PEER convention for records in g
 
 # --- limits on record files (hostile or mistaken input; README "Ground-motion records") ----
 # Spectra cost ~20 us per sample and damping on this machine, the predominant frequency

@@ -32,8 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import quad, solve_ivp
+from stonedem.units import GRAVITY as G  # default gravitational acceleration [m s-2]
 
-G = 9.81  # default gravitational acceleration [m s-2]
 
 
 # --- geometry ----------------------------------------------------------------------------

@@ -10,7 +10,6 @@ the 2 x 2 system, then u. The LSODA version stays the reference; tests hold this
 Imported by :mod:`stonedem.reference.analytic` only.
 """
 
-import math
 
 from numba import njit
 

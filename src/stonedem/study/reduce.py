@@ -9,6 +9,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.io.atomic import write_atomically
+from stonedem.units import GRAVITY
 from stonedem.study.search import Run, bracket
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
@@ -110,7 +111,7 @@ def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
         rows.append({along: value.item() if hasattr(value, "item") else value,
                      "rocking_onset_pga_m_s2": rate * float(case["rocking_onset_time"]),
                      "overturning_pga_m_s2": rate * float(case["collapse_time"]),
-                     "static_rocking_pga_m_s2": 9.81 * float(np.tan(case["theta_cr"])),
+                     "static_rocking_pga_m_s2": GRAVITY * float(np.tan(case["theta_cr"])),
                      "ramp_rate_m_s3": rate})
     return rows
 

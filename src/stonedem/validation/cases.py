@@ -39,10 +39,11 @@ from stonedem.io.atomic import write_atomically
 from stonedem.io.netcdf import code_version, write_dataset
 from stonedem.engine.run import run_scene
 from stonedem.motion.excitation import RECORDS_DIR
-from stonedem.engine.scene import CONTACT_DEFAULTS, scene_from_dict
+from stonedem.engine.laws import LAWS
+from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
+from stonedem.units import GRAVITY as G
 
-G = 9.81
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
 
 
@@ -59,7 +60,7 @@ def _attrs(units, long_name):
     return {"units": units, "long_name": long_name}
 
 
-POINT_CONTACT = {"model": "point", **CONTACT_DEFAULTS["point"]}  # the engine's default law
+POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}  # the engine's default law
 
 
 def block_scene(width, height, *, mass=None, density=2700.0, friction=10.0, k_n=1e9, c_n=0.0,
@@ -69,7 +70,7 @@ def block_scene(width, height, *, mass=None, density=2700.0, friction=10.0, k_n=
 
     The contact is the area law with k_n, c_n (and c_t) unless ``contact`` gives the whole
     contact mapping (e.g. {"model": "point", "k_n": 1e11}); the step is the engine's
-    automatic one for that law (stonedem.engine.scene.DT_SAFETY) unless ``dt_safety`` is given.
+    automatic one for that law (stonedem.engine.laws.LAWS) unless ``dt_safety`` is given.
     """
     block = {"name": "block", "box": {"width": width, "height": height, "center": [0.0, height / 2]}}
     if mass is not None:

@@ -211,7 +211,9 @@ def _integer(value, field: str, minimum: int) -> int:
     return int(value)
 
 
-CONTACT_KEYS = ("model", "k_n", "c_n", "damping", "impact", "k_t", "c_t", "frame")
+# keys every law reads, then each law's own (its row of stonedem.engine.laws.LAWS)
+CONTACT_KEYS = ("model", "k_n", "k_t", "c_t", "frame",
+                *dict.fromkeys(key for row in LAWS.values() for key in row.own_keys))
 IMPACT_RULES = ("plastic", "none")
 # above these a value is taken for a units mistake
 CONTACT_LIMITS = {"k_n": 1e16, "c_n": 1e16, "damping": 100.0, "k_t": 1e18, "c_t": 1e16}
@@ -227,7 +229,7 @@ def _contact_law(contact_spec: dict) -> ContactLaw:
         raise InputError("contact.model", f"unknown contact model {model!r}",
                          "use " + " or ".join(row.hint for row in LAWS.values()))
     row = LAWS[model]
-    for key in ("c_n", "damping", "impact"):
+    for key in CONTACT_KEYS[5:]:
         if key in contact_spec and key not in row.defaults:
             other = next(name for name, r in LAWS.items() if key in r.defaults)
             raise InputError(f"contact.{key}", f"not used by the {model} model",

@@ -23,8 +23,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from stonedem.entry import guarded  # noqa: E402
-from stonedem.io.netcdf import code_version
-from stonedem.engine.run import write_dataset  # noqa: E402
+from stonedem.io.netcdf import code_version, write_dataset  # noqa: E402
 from stonedem.engine.scene import load_scene, scene_from_dict  # noqa: E402
 from stonedem.engine.simulate import simulate  # noqa: E402
 

@@ -105,12 +105,10 @@ def scene_inputs(scene_path: Path, scene) -> list[Path]:
 
 
 def command_run(args) -> int:
-    from stonedem.engine.run import run_scene
-    from stonedem.io.netcdf import write_dataset
-    from stonedem.engine.scene import load_scene
+    from stonedem.api import load_scene, run_scene, write_dataset
 
     check_output_path(args.output, "-o/--output", inputs=[args.scene], suffixes=(".nc", ".nc4"))
-    scene = load_scene(args.scene, args.overrides)
+    scene = load_scene(args.scene, overrides=args.overrides)
     check_output_path(args.output, "-o/--output", inputs=scene_inputs(args.scene, scene))
     ds = run_scene(scene, progress=not args.quiet)  # refuses absurd requests first (preflight)
     write_dataset(ds, args.output)

@@ -1,8 +1,8 @@
 """Contact laws: one row each, read by every consumer (scene parsing, packing, the time step,
 dataset attributes and the benchmarks).
 
-A new law is its kernel (``stonedem/kernels/<law>.py``), its branch in the compiled step's
-dispatch (:func:`stonedem.kernels.step.contact_stage`) and its row here.
+A new law is its kernel (``stonedem/kernels/<law>.py``), its branch in the contact-law
+dispatch of :func:`stonedem.kernels.step.run` and its row here.
 """
 
 from __future__ import annotations

@@ -14,6 +14,7 @@ Fig. 4.6), unit out-of-plane depth.
 from __future__ import annotations
 
 import copy
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -120,8 +121,18 @@ class Scene:
         return [b.name for b in self.bodies]
 
 
-def load_scene(path: str | Path, overrides: list[str] | None = None) -> Scene:
-    """Read a scene YAML file, apply ``key=value`` overrides, validate; see :func:`scene_from_dict`."""
+def load_scene(path: str | Path, overrides=None, base_dir: str | Path | None = None) -> Scene:
+    """Read a scene YAML file, apply overrides (:func:`apply_overrides`), validate; see
+    :func:`scene_from_dict`. Records and other files are looked up from ``base_dir``, by
+    default the scene file's folder."""
+    path = Path(path)
+    spec = read_scene_file(path)
+    apply_overrides(spec, overrides)
+    return scene_from_dict(spec, base_dir=path.parent if base_dir is None else base_dir)
+
+
+def read_scene_file(path: str | Path) -> dict:
+    """The scene mapping of a YAML file, or an InputError naming the file and the fix."""
     path = Path(path)
     if not path.is_file():
         raise InputError(str(path), "scene file not found", "check the path")
@@ -136,9 +147,28 @@ def load_scene(path: str | Path, overrides: list[str] | None = None) -> Scene:
     if not isinstance(spec, dict):
         raise InputError(str(path), "a scene file must be a YAML mapping",
                          "start with keys such as bodies:, contact:, solver:")
-    for item in overrides or []:
+    return spec
+
+
+def apply_overrides(spec: dict, overrides) -> None:
+    """Set fields of a scene mapping in place: ``overrides`` is a list of ``key=value``
+    strings (``stonedem run --set``, values parsed as YAML, :func:`apply_override`) or a
+    mapping {dotted key: value} (values used as given); None sets nothing."""
+    if overrides is None:
+        return
+    if isinstance(overrides, Mapping):
+        for key, value in overrides.items():
+            if not isinstance(key, str) or not key.strip():
+                raise InputError("overrides", f"key {key!r} is not a dotted field name",
+                                 "write e.g. {'solver.duration': 2.0}")
+            set_field(spec, key, value, "overrides")
+        return
+    items = None if isinstance(overrides, (str, bytes)) else list(overrides) if isinstance(overrides, Iterable) else None
+    if items is None or not all(isinstance(item, str) for item in items):
+        raise InputError("overrides", f"expected a list of key=value strings or a mapping, got {overrides!r}",
+                         "write e.g. ['solver.duration=2'] or {'solver.duration': 2.0}")
+    for item in items:
         apply_override(spec, item)
-    return scene_from_dict(spec, base_dir=path.parent)
 
 
 def apply_override(spec: dict, item: str) -> None:
@@ -152,31 +182,37 @@ def apply_override(spec: dict, item: str) -> None:
         problem = str(getattr(err, "problem", None) or "invalid YAML").replace("\n", " ")
         raise InputError(f"--set {key.strip()!r}", f"value is not YAML: {problem}",
                          "quote text values, e.g. --set name='my scene'") from None
+    set_field(spec, key, value)
+
+
+def set_field(spec: dict, key: str, value, label: str = "--set") -> None:
+    """Set the dotted ``key`` of a scene mapping to ``value``: mappings are made on the way,
+    list items are picked by index or body name; errors name ``label`` and the key."""
     parts = key.strip().split(".")
     node = spec
     for i, part in enumerate(parts[:-1]):
         if isinstance(node, list):
-            node = node[_list_index(node, part, ".".join(parts[: i + 1]))]
+            node = node[_list_index(node, part, ".".join(parts[: i + 1]), label)]
             continue
         if part not in node or node[part] is None:
             node[part] = {}
         node = node[part]
         if not isinstance(node, (dict, list)):
-            raise InputError(f"--set {key}", f"'{part}' is not a mapping", "set a leaf key")
+            raise InputError(f"{label} {key}", f"'{part}' is not a mapping", "set a leaf key")
     last = parts[-1]
     if isinstance(node, list):
-        node[_list_index(node, last, key)] = value
+        node[_list_index(node, last, key, label)] = value
     else:
         node[last] = value
 
 
-def _list_index(node: list, part: str, key: str) -> int:
+def _list_index(node: list, part: str, key: str, label: str = "--set") -> int:
     if part.isdigit() and int(part) < len(node):
         return int(part)
     names = [b.get("name") for b in node if isinstance(b, dict)]
     if part in names:
         return names.index(part)
-    raise InputError(f"--set {key}", f"no list item '{part}'", "use an index or a body name")
+    raise InputError(f"{label} {key}", f"no list item '{part}'", "use an index or a body name")
 
 
 def check_keys(mapping, allowed, where: str) -> None:

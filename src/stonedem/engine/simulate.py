@@ -349,12 +349,13 @@ def energy_drift(result: RunResult) -> dict:
 
     Balance = kinetic + potential + elastic + damping + tangential - base work; it stays
     constant in an exact integration, and a positive drift is energy created.
-    energy_error: max |drift| / the energy the run moves around, max kinetic + max |change
-    of potential| + max |base work|, but at least ENERGY_FLOOR x the initial energy (a
-    free-rocking block moves 2 % of its potential energy above the base, so the initial
-    energy would hide large errors; a column settling before a record starts moves only a
-    few J). energy_created: max drift on the same scale. energy_error_total: max |drift| /
-    initial kinetic + potential energy (datum: the base's top). All NaN if not finite.
+    energy_error: max abs(drift) / the energy the run moves around, max kinetic + max
+    abs(change of potential) + max abs(base work), but at least ENERGY_FLOOR x the initial
+    energy (a free-rocking block moves 2 % of its potential energy above the base, so the
+    initial energy would hide large errors; a column settling before a record starts moves
+    only a few J). energy_created: max drift on the same scale. energy_error_total: max
+    abs(drift) / initial kinetic + potential energy (datum: the base's top). All NaN if not
+    finite.
     """
     e = result.energy
     kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]

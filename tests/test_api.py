@@ -1,0 +1,243 @@
+"""The public face (stonedem.api, re-exported by the package): scenes and walls run from files
+and mappings, the study's files opened and checked, wrong files refused with one line naming
+the fix, and ``import stonedem`` alone loading no engine."""
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+import stonedem
+from stonedem.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENE = ROOT / "tests" / "data" / "scenes" / "rocking_block.yaml"
+WALL = ROOT / "config" / "walls" / "free_standing.yaml"
+SHORT = {"solver.duration": 0.3}
+
+
+# --- the face ---------------------------------------------------------------------------------
+
+def loaded_after(code: str) -> set[str]:
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\n"
+                          "print(sorted({n.split('.')[1] for n in sys.modules if n.startswith('stonedem.')}))"],
+                         capture_output=True, text=True, check=True).stdout
+    return set(ast.literal_eval(out.strip().splitlines()[-1]))
+
+
+def test_import_stonedem_alone_loads_no_engine():
+    assert loaded_after("import stonedem") <= {"version"}
+    # a name of the face loads the face, still not the engine (it is loaded on first use)
+    loaded = loaded_after("import stonedem\nstonedem.open_cube\nstonedem.InputError")
+    assert "api" in loaded and not loaded & {"engine", "kernels", "study", "fragility", "wall", "figures"}, loaded
+
+
+def test_the_package_names_the_face():
+    from stonedem import api
+
+    assert set(api.__all__) <= set(stonedem.__all__) and set(api.__all__) <= set(dir(stonedem))
+    for name in api.__all__:
+        assert getattr(stonedem, name) is getattr(api, name)
+    from stonedem.io.netcdf import write_dataset
+
+    assert stonedem.write_dataset is write_dataset and stonedem.InputError is InputError
+    with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
+        stonedem.nothing_here  # noqa: B018
+
+
+# --- scenes -----------------------------------------------------------------------------------
+
+def test_load_scene_from_a_file_or_a_mapping_with_overrides():
+    by_list = stonedem.load_scene(SCENE, overrides=["solver.duration=0.3", "bodies.block.mass=10"])
+    by_map = stonedem.load_scene(str(SCENE), overrides={"solver.duration": 0.3, "bodies.block.mass": 10.0})
+    spec = yaml.safe_load(SCENE.read_text())
+    by_dict = stonedem.load_scene(spec, base_dir=SCENE.parent, overrides={"solver.duration": 0.3,
+                                                                          "bodies.block.mass": 10.0})
+    for scene in (by_list, by_map, by_dict):
+        assert scene.duration == 0.3 and scene.body_names == ["base", "block"]
+        assert scene.bodies[1].mass == 10.0
+    assert spec["solver"]["duration"] == 4.0, "the caller's mapping is left as it was"
+
+
+@pytest.mark.parametrize("source, overrides, message", [
+    (ROOT / "no_such_scene.yaml", None, "scene file not found; check the path"),
+    (42, None, "scene: expected a scene file path or a mapping, got int; give the path"),
+    (SCENE, {"bodies.nobody.mass": 1.0}, "overrides bodies.nobody: no list item 'nobody'; use an index or a body name"),
+    (SCENE, ["solver.duration"], "--set: 'solver.duration' is not key=value"),
+    (SCENE, "solver.duration=1", "overrides: expected a list of key=value strings or a mapping"),
+    ({"bodies": []}, None, "bodies: the scene has no bodies; list bodies: or give a structure:"),
+])
+def test_load_scene_refuses_bad_input_naming_the_fix(source, overrides, message):
+    with pytest.raises(InputError) as err:
+        stonedem.load_scene(source, overrides=overrides)
+    assert message in str(err.value) and "\n" not in str(err.value)
+
+
+@pytest.fixture(scope="module")
+def rocking():
+    return stonedem.run_scene(stonedem.load_scene(SCENE, overrides=SHORT))
+
+
+def test_run_scene_from_a_scene_a_file_or_a_mapping(rocking):
+    ds = rocking
+    assert isinstance(ds, xr.Dataset) and ds["theta"].attrs["units"] == "rad"
+    assert float(ds["time"][-1]) == pytest.approx(0.3)
+    theta0 = float(ds["theta"].sel(body="block").isel(time=0))
+    assert abs(theta0) == pytest.approx(0.05236), "released from its tilt"
+    spec = yaml.safe_load(SCENE.read_text())
+    spec["solver"]["duration"] = 0.3
+    from_dict = stonedem.run_scene(spec)
+    assert np.array_equal(from_dict["theta"].values, ds["theta"].values), "the same scene, the same run"
+    with pytest.raises(InputError, match="scene file not found"):
+        stonedem.run_scene(ROOT / "missing.yaml")
+
+
+def test_the_command_line_runs_through_the_face(tmp_path, rocking):
+    from stonedem.cli import main
+
+    out = tmp_path / "rocking.nc"
+    assert main(["run", str(SCENE), "-o", str(out), "--set", "solver.duration=0.3", "-q"]) == 0
+    with xr.open_dataset(out) as ds:
+        assert np.allclose(ds["theta"].values, rocking["theta"].values)
+
+
+# --- walls ------------------------------------------------------------------------------------
+
+def small_wall() -> dict:
+    """tests/wall/test_pushover.py's free-standing wall: 2 blocks x 8 courses, overturns at s/H."""
+    return {"panel": {"block": {"a": 0.081, "b": 0.210, "s": 0.070}, "blocks_per_course": 2,
+                      "courses": 8, "unit_weight": 20000.0},
+            "joints": {"kind": "dry", "mu": 0.7, "k_n": 2.4e9, "k_t": 1.0e9},
+            "restraints": [{"edge": "base", "fix": "all"}],
+            "load": {"kind": "proportional", "direction": "out_of_plane"}}
+
+
+def test_run_wall_from_a_mapping_and_from_a_case_file():
+    ds = stonedem.run_wall(small_wall())
+    assert ds["lambda"].dims == ("step",) and ds["control_displacement"].attrs["units"] == "m"
+    assert float(ds.lambda_max) == pytest.approx(0.070 / (8 * 0.081), rel=0.02)
+    from_file = stonedem.run_wall(WALL)
+    reference = yaml.safe_load(WALL.read_text())["reference"]["lambda_analytic"]
+    assert float(from_file.lambda_max) == pytest.approx(reference, rel=0.02)
+    assert from_file.attrs["title"].endswith("free_standing")
+
+
+@pytest.mark.parametrize("case, message", [
+    (ROOT / "no_such_wall.yaml", "case file not found; give the path of a wall case YAML file"),
+    ({**small_wall(), "joints": {"kind": "dry", "mu": -1.0, "k_n": 2.4e9, "k_t": 1.0e9}}, "joints.mu"),
+    (3.5, "case: expected a wall case file path or a mapping, got float"),
+])
+def test_run_wall_refuses_bad_input_naming_the_field(case, message):
+    with pytest.raises(InputError, match=message.replace(".", r"\.")):
+        stonedem.run_wall(case)
+
+
+# --- the study's files ------------------------------------------------------------------------
+
+def case_file(path, pga, collapsed, rocking):
+    """A case file as stonedem.study.grid.run_case writes it (the variables a cube keeps)."""
+    ds = xr.Dataset({"collapsed": ((), float(collapsed), {"units": "1", "long_name": "collapsed"}),
+                     "max_rocking": ((), rocking, {"units": "rad", "long_name": "peak rocking"})},
+                    coords={"pga": ((), pga, {"units": "m s-2", "long_name": "PGA"})},
+                    attrs={"study": "tiny", "title": "stonedem rigid-block simulation: tiny"})
+    return stonedem.write_dataset(ds, path)
+
+
+@pytest.fixture(scope="module")
+def study_files(tmp_path_factory):
+    """One file of each kind, written by the project's own functions and writer."""
+    from stonedem.fragility.fit import fragility_dataset
+    from stonedem.fragility.ida import ida_cube
+    from stonedem.study.cube import search_dataset
+    from stonedem.study.grid import Case, combine_cases
+    from stonedem.study.search import Run, SearchSettings, summary
+    from tests.test_ida import COLUMN, _search_file
+
+    d = tmp_path_factory.mktemp("study")
+    runs = [Run(1.0, False, "hunt"), Run(1.8, True, "hunt"), Run(1.4, False, "bisect")]
+    cases = [case_file(d / f"pga-{r.value:g}.nc", r.value, r.collapsed, 0.1 * r.value) for r in runs]
+    files = {"scene": cases[0], "cube": stonedem.write_dataset(combine_cases(cases), d / "cube.nc")}
+    settings = SearchSettings(start=1.0, tolerance=0.3, fill=0)
+    system = Case("tiny", "block", {}, {}, settings)
+    files["search"] = stonedem.write_dataset(search_dataset(system, runs, cases, summary(runs, settings)),
+                                             d / "search.nc")
+    searches = []
+    for comp, pga_c in (("FF01a", 4.0), ("FF01b", 5.0), ("FF02a", 8.0)):
+        values = np.array([1.0, 2.0, 3.0, 4.0, 6.0]) * pga_c / 4.0
+        collapsed = values >= pga_c
+        searches.append(_search_file(d / f"ida_{comp}.nc", "col", comp, values, collapsed,
+                                     np.where(collapsed, 0.2, 0.001 * values ** 2), np.zeros(values.size)))
+    ida = ida_cube(searches, {"col": COLUMN}, ["far_field"])
+    files["ida"] = stonedem.write_dataset(ida, d / "ida.nc")
+    files["fragility"] = stonedem.write_dataset(fragility_dataset(ida, samples=20), d / "fragility.nc")
+    (d / "notes.txt").write_text("not a NetCDF file\n")
+    files["text"] = d / "notes.txt"
+    files["untitled"] = stonedem.write_dataset(xr.Dataset({"x": ((), 1.0)}), d / "untitled.nc")
+    return files
+
+
+OPENERS = {"cube": "open_cube", "search": "open_search", "ida": "open_ida", "fragility": "open_fragility"}
+
+
+def test_each_kind_of_file_opens_in_memory(study_files):
+    cube = stonedem.open_cube(study_files["cube"])
+    assert cube.sizes["pga"] == 3 and cube["collapsed"].sel(pga=1.8) == 1
+    search = stonedem.open_search(study_files["search"])
+    assert float(search.collapse_threshold) == 1.8 and float(search.survived_below_threshold) == 1.4
+    assert list(search["pga"].values) == [1.0, 1.4, 1.8], "runs sorted by the searched value"
+    ida = stonedem.open_ida(study_files["ida"])
+    collapse = ida.pga_at_limit.sel(structure="col", limit_state="collapse", record=["FF01a", "FF01b", "FF02a"])
+    assert collapse.values.tolist() == [4.0, 5.0, 8.0] and ida.pga_at_limit.attrs["units"] == "m s-2"
+    fits = stonedem.open_fragility(study_files["fragility"])
+    median = float(fits.median_pga.sel(structure="col", record_set="far_field", limit_state="collapse"))
+    assert median == pytest.approx((4.0 * 5.0 * 8.0) ** (1 / 3))
+
+
+
+def test_an_opened_file_is_in_memory_and_closed(study_files, tmp_path):
+    import shutil
+
+    path = Path(shutil.copy(study_files["cube"], tmp_path / "cube.nc"))
+    cube = stonedem.open_cube(path)
+    path.unlink()  # nothing holds the file: it may be rewritten by the workflow meanwhile
+    assert cube["max_rocking"].values.tolist() == pytest.approx([0.1, 0.14, 0.18])
+
+
+@pytest.mark.parametrize("kind", list(OPENERS))
+def test_a_file_of_another_kind_is_refused_naming_its_opener(study_files, kind):
+    opener = getattr(stonedem, OPENERS[kind])
+    for other, other_opener in OPENERS.items():
+        if other == kind:
+            continue
+        with pytest.raises(InputError) as err:
+            opener(study_files[other])
+        message = str(err.value)
+        assert f"open it with stonedem.{other_opener}" in message and "\n" not in message, message
+    with pytest.raises(InputError, match=r"is a rigid-block simulation, not .*; give .* written by"):
+        opener(study_files["scene"])
+    with pytest.raises(InputError, match=r"is not .* \(title ''\); give .* written by stonedem\."):
+        opener(study_files["untitled"])
+
+
+@pytest.mark.parametrize("kind", list(OPENERS))
+def test_a_text_file_a_missing_file_and_a_folder_are_refused(study_files, kind, tmp_path):
+    opener = getattr(stonedem, OPENERS[kind])
+    with pytest.raises(InputError, match=r"notes\.txt: not a NetCDF file; give .* \(\.nc\) written by stonedem\."):
+        opener(study_files["text"])
+    with pytest.raises(InputError, match=r"nothing\.nc: file not found; check the path, or write .* with stonedem\."):
+        opener(tmp_path / "nothing.nc")
+    with pytest.raises(InputError, match="is not a regular file; give the path of"):
+        opener(tmp_path)
+    with pytest.raises(InputError, match="path: expected a file path, got int"):
+        opener(3)
+
+
+def test_a_run_of_the_engine_is_not_a_study_file(tmp_path, rocking):
+    path = stonedem.write_dataset(rocking, tmp_path / "rocking.nc")
+    with pytest.raises(InputError, match="rocking.nc: is a rigid-block simulation, not an IDA cube; give"):
+        stonedem.open_ida(path)

@@ -241,3 +241,13 @@ def test_a_run_of_the_engine_is_not_a_study_file(tmp_path, rocking):
     path = stonedem.write_dataset(rocking, tmp_path / "rocking.nc")
     with pytest.raises(InputError, match="rocking.nc: is a rigid-block simulation, not an IDA cube; give"):
         stonedem.open_ida(path)
+
+
+def test_every_public_name_has_a_numpydoc_docstring():
+    import stonedem
+
+    for name in stonedem.__all__:
+        if name.startswith("__"):
+            continue
+        doc = getattr(stonedem, name).__doc__ or ""
+        assert "Parameters\n" in doc and "----------" in doc, f"stonedem.{name}: no numpydoc Parameters section"

@@ -220,8 +220,28 @@ class ResultsTable(SphinxDirective):
         return out
 
 
+class SchemaTable(SphinxDirective):
+    """``{schema-table} SCENE_VARIABLES``: a variable table of :mod:`stonedem.io.schema`
+    (name, units, long name), read at build time, so the page never drifts from the files."""
+
+    required_arguments = 1
+    has_content = False
+
+    def run(self):
+        from stonedem.io import schema
+
+        table = getattr(schema, self.arguments[0], None)
+        if not isinstance(table, dict):
+            logger.warning(f"schema-table: stonedem.io.schema has no table {self.arguments[0]}",
+                           location=self.get_location())
+            return []
+        rows = [[name, units, long_name] for name, (units, long_name) in table.items()]
+        return [build_table(["variable", "units", "long name"], rows, None)]
+
+
 def setup(app):
     # where results/ lives, relative to docs/ (conf.py's folder)
     app.add_config_value("results_tables_root", "..", "env")
     app.add_directive("results-table", ResultsTable)
+    app.add_directive("schema-table", SchemaTable)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}

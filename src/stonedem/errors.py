@@ -6,7 +6,22 @@ what is wrong with it, and how to fix it. The command-line driver prints it and 
 
 
 class InputError(ValueError):
-    """Bad input: ``field`` names where, ``problem`` says what, ``fix`` says how to mend it."""
+    """Bad input, as one line: ``"<field>: <problem>; <fix>"``.
+
+    Parameters
+    ----------
+    field : str
+        Where the input is wrong, e.g. ``"contact.k_n"`` or ``"bodies[2].mass"``.
+    problem : str
+        What is wrong with it.
+    fix : str, optional
+        How to mend it.
+
+    Examples
+    --------
+    >>> str(InputError("solver.dt", "must be positive", "give dt in s"))
+    'solver.dt: must be positive; give dt in s'
+    """
 
     def __init__(self, field: str, problem: str, fix: str = ""):
         self.field = field

@@ -40,9 +40,27 @@ def schema_variables(arrays: dict) -> dict[str, xr.Variable]:
 
 
 def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None) -> Path:
-    """Write NetCDF atomically (a temporary file beside ``path``, renamed over it), CF-1.10
-    (:func:`stonedem.io.schema.cf_conventions`): coordinates without a fill value, float data compressed
-    (``encoding`` overrides per variable)."""
+    """Write a dataset to NetCDF atomically, in the CF-1.10 layout every file of the project has.
+
+    The file is written to a temporary file beside ``path`` and renamed over it, so a crash
+    or a full disk never leaves a partial file under the final name.
+    :func:`stonedem.io.schema.cf_conventions` applies the layout: coordinates without a fill
+    value, one ``units`` per numeric variable; float data are compressed (zlib, level 4).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset to write.
+    path : str or pathlib.Path
+        Where to write it (its folder must exist).
+    encoding : dict, optional
+        Per-variable NetCDF encodings that override the defaults.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     ds = cf_conventions(ds)
     given = encoding or {}
     encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()

@@ -3,17 +3,17 @@
 
 import sys
 
-import xarray as xr
 
 from stonedem.figures.fragility import fragility_curves_figure, medians_figure
+from stonedem.io.netcdf import open_result
 
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
 inputs, params = snakemake.input, snakemake.params  # noqa: F821
-with xr.open_dataset(inputs.cube) as cube, xr.open_dataset(inputs.fits) as fits:
+with open_result(inputs.cube) as cube, open_result(inputs.fits) as fits:
     cube, fits = cube.load(), fits.load()
 pulse = None
 if inputs.pulse:
-    with xr.open_dataset(inputs.pulse[0]) as pulse:
+    with open_result(inputs.pulse[0]) as pulse:
         pulse = pulse.load()
 for structure, path in zip(params.structures, snakemake.output.curves):  # noqa: F821
     fragility_curves_figure(cube, fits, structure, path)

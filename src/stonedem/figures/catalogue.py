@@ -94,13 +94,12 @@ class Reduction:
     reduce: Callable  # reduce(*cubes) -> rows (list of dicts)
 
     def write(self, paths: list, path) -> Path:
-        import xarray as xr
-
+        from stonedem.io.netcdf import open_result  # xarray: only when reducing
         from stonedem.study.reduce import write_csv
 
         cubes = []
         for file in paths:
-            with xr.open_dataset(file) as cube:
+            with open_result(file) as cube:
                 cubes.append(cube.load())
         return write_csv(self.reduce(*cubes), path)
 

@@ -17,6 +17,7 @@ from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _lab
 from stonedem.study.reduce import frequency_response, ramp_thresholds
 
 # harmonic studies reduced to sliding and rocking vs frequency (thesis Fig. 6.1, 6.5, 6.6)
+from stonedem.io.netcdf import open_result
 FREQUENCY_STUDIES = ("harmonic_frequency", "small_column_friction", "small_column_pga")
 # columns under a linear acceleration ramp, 1-8 drums and tapered (thesis 6.3)
 RAMP_DRUMS = Cube("ramp_drums", {"n_drums": None})
@@ -71,7 +72,7 @@ def rocking_then_sliding(cube: xr.Dataset) -> str:
 
 def _ramp_thresholds_figure(along, xlabel, title):
     def draw(inputs, path):
-        with xr.open_dataset(inputs[0]) as cube:
+        with open_result(inputs[0]) as cube:
             rows = ramp_thresholds(cube.load(), along)
         x = [r[along] for r in rows]
         fig, ax = plt.subplots(figsize=(6, 4.2), constrained_layout=True)
@@ -96,7 +97,7 @@ def _ramp_thresholds_figure(along, xlabel, title):
 
 def _ramp_histories(along, title):
     def draw(inputs, path):
-        with xr.open_dataset(inputs[0]) as cube:
+        with open_result(inputs[0]) as cube:
             cube = cube.load()
         fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
         for v in cube[along].values:
@@ -118,7 +119,7 @@ def _frequency_figure(variable, ylabel, title, height=6.0):
     """One curve per (amplitude or PGA) x friction of ``variable`` vs frequency (Fig. 6.1, 6.5, 6.6)."""
 
     def draw(inputs, path):
-        with xr.open_dataset(inputs[0]) as cube:
+        with open_result(inputs[0]) as cube:
             cube = cube.load()
         rows = frequency_response(cube)
         keys = [k for k in ("amplitude", "pga", "friction") if k in rows[0]]
@@ -147,7 +148,7 @@ def _small_column_figure(inputs, path):
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
     verdicts = []
     for col, (file, hue) in enumerate(zip(inputs, ("friction", "pga"))):
-        with xr.open_dataset(file) as cube:
+        with open_result(file) as cube:
             cube = cube.load()
         for v in cube[hue].values:
             case = cube.sel({hue: v})
@@ -174,7 +175,7 @@ def _spectra_figure(records, pgas):
     def draw(inputs, path):
         fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
         for file, name in zip(inputs, records):
-            with xr.open_dataset(file) as rec:
+            with open_result(file) as rec:
                 scale = pgas[name] / float(np.abs(rec["acceleration_corrected"]).max())
                 psa = rec["psa"].sel(damping=0.10, method="nearest") * scale
                 ax.plot(rec["period"], psa, label=f"{RECORD_LABEL.get(name, name)} x {scale:.3g} "

@@ -15,6 +15,7 @@ import xarray as xr
 
 from stonedem.io.atomic import write_atomically
 from stonedem.figures.catalogue import Case, Cube, Figure
+from stonedem.io.netcdf import open_result
 
 THESIS_RECORD = {"athens": "athens_standin_kocaeli_arc000", "kalamata": "kalamata_standin_izmit_izt270",
                  "mexico": "mexico_standin_chichi_tcu102"}
@@ -87,7 +88,7 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
     scalar = scalar or f"max_{variable}"
 
     def draw(inputs, path):
-        with xr.open_dataset(inputs[0]) as cube:
+        with open_result(inputs[0]) as cube:
             cube = _sel(cube.load(), select, keep=(hue,))
         fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.2, 1]},
                                        constrained_layout=True)
@@ -125,7 +126,7 @@ def snapshot_figure(thesis, study, params, title, caption, n=6):
     def draw(inputs, path):
         from stonedem.figures.snapshots import snapshot_strip
 
-        with xr.open_dataset(inputs[0]) as ds:
+        with open_result(inputs[0]) as ds:
             return snapshot_strip(ds.load(), path, n=n, title=title)
 
     return Figure(thesis, caption, (Case(study, params),), draw)
@@ -141,7 +142,7 @@ def geometry_figure(thesis, study, cases, title, caption):
 
         fig, axes = plt.subplots(1, len(inputs), figsize=(3.2 * len(inputs), 3.6), constrained_layout=True)
         for ax, file, params in zip(np.atleast_1d(axes), inputs, cases):
-            with xr.open_dataset(file) as ds:
+            with open_result(file) as ds:
                 local = body_polygons(ds)
                 polys = posed_polygons(local, ds.x[0].values, ds.y[0].values, ds.theta[0].values)
                 roles = [str(r) for r in ds["body_role"].values]

@@ -24,6 +24,7 @@ import xarray as xr
 from stonedem.errors import InputError
 from stonedem.motion.suites import SUITES, suite_path
 from stonedem.engine.scene import check_keys
+from stonedem.io.netcdf import open_result
 
 STUDY_PREFIX = "ida_"
 FRAGILITY_KEYS = ("description", "structures", "suites", "components", "run_structures", "search",
@@ -255,7 +256,7 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
     theta = np.full(len(order), math.nan)
     settings = {}
     for path in search_paths:
-        with xr.open_dataset(path) as ds:
+        with open_result(path) as ds:
             ds = ds.load()
         study = ds.attrs.get("study", "")
         name = study[len(STUDY_PREFIX):]

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import xarray as xr
 
+from stonedem.errors import InputError, one_line
 from stonedem.version import __version__
 from stonedem.io.atomic import write_atomically
 from stonedem.io.schema import attrs_for, cf_conventions
@@ -70,3 +71,19 @@ def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None
             encoding[name] = {"_FillValue": None}
     encoding.update(given)
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))
+
+
+def open_result(path: str | Path) -> xr.Dataset:
+    """A result file the workflow made, read into memory; one that cannot be read (truncated
+    by a crash or a full disk) is removed and refused in one line, so that the next
+    ``snakemake`` call makes it again instead of failing on it for good."""
+    path = Path(path)
+    try:
+        with xr.open_dataset(path) as ds:
+            return ds.load()
+    except (OSError, ValueError, RuntimeError, KeyError) as err:
+        if not path.is_file():
+            raise InputError(str(path), "result file not found", "run snakemake again: it makes the file") from None
+        path.unlink(missing_ok=True)
+        raise InputError(str(path), f"unreadable, removed ({one_line(str(err), 120)})",
+                         "run snakemake again: it makes the file anew") from None

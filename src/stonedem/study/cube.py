@@ -17,6 +17,7 @@ from stonedem.errors import InputError
 from stonedem.io.schema import SEARCH_VARIABLES
 from stonedem.study.grid import (PARAMETERS, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
 from stonedem.study.search import Run
+from stonedem.io.netcdf import open_result
 
 def _attrs(name: str, parameter: str) -> dict:
     units, long_name = SEARCH_VARIABLES[name]
@@ -34,7 +35,7 @@ def search_dataset(system: Case, runs: list[Run], files: list[Path | str], resul
     order = sorted(range(len(runs)), key=lambda i: runs[i].value)
     pieces, attrs = [], []
     for i in order:
-        with xr.open_dataset(files[i]) as ds:
+        with open_result(files[i]) as ds:
             pieces.append(case_piece(ds))
             attrs.append(dict(ds.attrs))
     cube = xr.concat(pieces, dim="run", coords="different", compat="equals", join="outer",
@@ -71,7 +72,7 @@ def combine_searches(paths, description: str = "") -> xr.Dataset:
     pieces, attrs = [], []
     parameter = None
     for path in paths:
-        with xr.open_dataset(path) as ds:
+        with open_result(path) as ds:
             ds = ds.load()
         parameter = ds.attrs.get("search_parameter", parameter)
         # the searched values become a variable, expanded with the rest; a coordinate again after

@@ -27,6 +27,7 @@ from stonedem.engine.structures import EPISTYLE_TYPES
 from stonedem.study.search import SearchSettings
 
 # name: (scene field, units, long name, id label)
+from stonedem.io.netcdf import open_result
 PARAMETERS = {
     "record": ("excitation.file", "1", "ground-motion record", "rec"),
     "component": ("excitation.component", "1", "record component of a FEMA P695 suite (records/suites/)", "rec"),
@@ -666,7 +667,7 @@ def shared_case_attrs(attrs: list[dict]) -> dict:
 def described_like(cube: xr.Dataset, path) -> xr.Dataset:
     """``cube`` (merged, attributes dropped) with the variable attributes of the file it was
     combined from first, and each swept parameter's units and long name (PARAMETERS)."""
-    with xr.open_dataset(path) as first:
+    with open_result(path) as first:
         for name in cube.variables:
             if name in first.variables and name not in PARAMETERS:
                 cube[name].attrs = dict(first[name].attrs)
@@ -685,7 +686,7 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
     """
     pieces, attrs = [], []
     for path in paths:
-        with xr.open_dataset(path) as ds:
+        with open_result(path) as ds:
             pieces.append(on_parameter_dimensions(case_piece(ds), case_parameters(ds)))
             attrs.append(dict(ds.attrs))
     if not pieces:

@@ -6,7 +6,12 @@ the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs ch
 (:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every case
 still writes its own NetCDF file. The *case store* keeps every finished case under a key of
 its scene, its records' bytes and the stonedem source, so a job rerun because one of its cases
-changed re-simulates that case only and restores the others (a hard link: no copy).
+changed re-simulates that case only and restores the others.
+
+An entry is never the same file as a result: it is a copy, so truncating or editing a file
+under ``results/cases/`` cannot reach the store. Each entry is kept with the sha256 of its
+bytes (``<key>.sha256``) and checked when it is restored; an entry that fails the check is
+moved to ``<store>/corrupt/`` with one warning line, and the case is simulated again.
 """
 
 from __future__ import annotations
@@ -72,8 +77,9 @@ class CaseStore:
                            "source": source_fingerprint()}, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:32]
 
-    def restore(self, case: Case, output: Path) -> bool:
-        """Put the stored file of ``case`` at ``output``; False when there is none."""
+    def restore(self, case: Case, output: Path, log=None) -> bool:
+        """Put a verified copy of the stored file of ``case`` at ``output``; False when there is
+        none, or when the entry fails its checksum (then it is moved aside, with one line)."""
         if self.directory is None:
             return False
         stored = self.directory / f"{self.key(case)}.nc"
@@ -81,31 +87,68 @@ class CaseStore:
             return False
         output.parent.mkdir(parents=True, exist_ok=True)
         tmp = output.with_name(f".{output.name}.restore")
-        tmp.unlink(missing_ok=True)
         try:
-            os.link(stored, tmp)
-        except OSError:  # another file system, or no hard links: copy
             shutil.copyfile(stored, tmp)
+            good = _sha256(tmp) == _read_checksum(stored)
+        except OSError:
+            good = False
+        if not good:
+            tmp.unlink(missing_ok=True)
+            self._quarantine(stored, log)
+            return False
         os.replace(tmp, output)
         os.utime(output)  # written now, as far as Snakemake's mtime checks are concerned
         return True
 
+    def _quarantine(self, stored: Path, log=None) -> None:
+        corrupt = self.directory / "corrupt"
+        try:
+            corrupt.mkdir(exist_ok=True)
+            for path in (stored, _checksum_path(stored)):
+                if path.exists():
+                    os.replace(path, corrupt / path.name)
+        except OSError:
+            stored.unlink(missing_ok=True)
+        progress_print(log or sys.stderr, f"warning: case store entry {stored.name} failed its checksum; "
+                       f"moved to {corrupt}, simulating the case again")
+
     def keep(self, case: Case, output: Path) -> None:
-        """Remember a finished case file (best effort: a full disk only loses the memo)."""
+        """Remember a finished case file as a copy with its checksum (best effort: a full disk
+        only loses the memo)."""
         if self.directory is None:
             return
         stored = self.directory / f"{self.key(case)}.nc"
         tmp = stored.with_name(f".{stored.name}.{os.getpid()}")
+        tmp_sum = stored.with_name(f".{stored.stem}.sha256.{os.getpid()}")
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
-            tmp.unlink(missing_ok=True)
-            try:
-                os.link(output, tmp)
-            except OSError:
-                shutil.copyfile(output, tmp)
+            shutil.copyfile(output, tmp)
+            tmp_sum.write_text(_sha256(tmp) + "\n")
+            # the checksum first: an entry without its checksum never restores
+            os.replace(tmp_sum, _checksum_path(stored))
             os.replace(tmp, stored)
         except OSError:
             tmp.unlink(missing_ok=True)
+            tmp_sum.unlink(missing_ok=True)
+
+
+def _checksum_path(stored: Path) -> Path:
+    return stored.with_suffix(".sha256")
+
+
+def _read_checksum(stored: Path) -> str:
+    try:
+        return _checksum_path(stored).read_text().strip()
+    except (OSError, UnicodeDecodeError):
+        return ""
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", log=None) -> dict:
@@ -114,7 +157,7 @@ def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", l
     Returns {collapsed, steps, kernel_seconds, seconds, restored}."""
     output = Path(output)
     start = wallclock.perf_counter()
-    restored = store.restore(case, output)
+    restored = store.restore(case, output, log)
     if restored:
         info = _case_info(output)
     else:

@@ -8,8 +8,8 @@ still writes its own NetCDF file. The *case store* keeps every finished case und
 its scene, its records' bytes and the stonedem source, so a job rerun because one of its cases
 changed re-simulates that case only and restores the others.
 
-An entry is never the same file as a result: it is a copy, so truncating or editing a file
-under ``results/cases/`` cannot reach the store. Each entry is kept with the sha256 of its
+An entry is never the same file as a result: it is a copy, so truncating or editing a case
+file cannot reach the store. Each entry is kept with the sha256 of its
 bytes (``<key>.sha256``) and checked when it is restored; an entry that fails the check is
 moved to ``<store>/corrupt/`` with one warning line, and the case is simulated again.
 """

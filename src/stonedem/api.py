@@ -192,7 +192,8 @@ def run_wall(case, limit_analysis: bool = False, progress: bool = False) -> xr.D
     >>> round(float(ds.lambda_max), 3)                                     # doctest: +SKIP
     0.066
     """
-    from stonedem.wall.case import build_case, check_case, read_case
+    from stonedem.wall.case import check_case, read_case
+    from stonedem.wall.cli import pushover
 
     if _is_path(case):
         path = Path(case)
@@ -202,15 +203,7 @@ def run_wall(case, limit_analysis: bool = False, progress: bool = False) -> xr.D
     else:
         raise InputError("case", f"expected a wall case file path or a mapping, got {type(case).__name__}",
                          "give the path of a wall case YAML file (config/walls/) or a dict of its keys")
-    from stonedem.wall.dataset import run_case
-
-    built = build_case(checked)
-    log = None
-    if progress:
-        from stonedem.wall.cli import ProgressLog
-
-        log = ProgressLog(units=" Pa" if built.load_kind == "pressure" else "")
-    return run_case(built, progress=log, limit_analysis=limit_analysis)
+    return pushover(checked, progress=progress, limit_analysis=limit_analysis)
 
 
 # --- the study's files ----------------------------------------------------------------------

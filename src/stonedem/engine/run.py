@@ -28,7 +28,6 @@ from stonedem.kernels import step
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene
 from stonedem.io.netcdf import code_version, schema_variables
-from stonedem.engine.pack import pack_scene
 from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, preflight, run_checks, simulate)
 
 
@@ -97,9 +96,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
     rock_idx = measures.rocking_bodies(scene)
     rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
-    arrays = result.arrays if result.arrays is not None else pack_scene(scene)
-    groups = np.unique(arrays.body_group[rock_idx])
-    theta_cr = float(arrays.group_theta_cr[groups].min())
+    groups = np.unique(result.arrays.body_group[rock_idx])
+    theta_cr = float(result.arrays.group_theta_cr[groups].min())
     rel = result.x - result.x[0] - d_h[:, None]
     epistyles = [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
     epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)

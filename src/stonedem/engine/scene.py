@@ -248,8 +248,8 @@ def _integer(value, field: str, minimum: int) -> int:
 
 
 # keys every law reads, then each law's own (its row of stonedem.engine.laws.LAWS)
-CONTACT_KEYS = ("model", "k_n", "k_t", "c_t", "frame",
-                *dict.fromkeys(key for row in LAWS.values() for key in row.own_keys))
+LAW_KEYS = tuple(dict.fromkeys(key for row in LAWS.values() for key in row.own_keys))
+CONTACT_KEYS = ("model", "k_n", "k_t", "c_t", "frame", *LAW_KEYS)
 IMPACT_RULES = ("plastic", "none")
 # above these a value is taken for a units mistake
 CONTACT_LIMITS = {"k_n": 1e16, "c_n": 1e16, "damping": 100.0, "k_t": 1e18, "c_t": 1e16}
@@ -265,7 +265,7 @@ def _contact_law(contact_spec: dict) -> ContactLaw:
         raise InputError("contact.model", f"unknown contact model {model!r}",
                          "use " + " or ".join(row.hint for row in LAWS.values()))
     row = LAWS[model]
-    for key in CONTACT_KEYS[5:]:
+    for key in LAW_KEYS:
         if key in contact_spec and key not in row.defaults:
             other = next(name for name, r in LAWS.items() if key in r.defaults)
             raise InputError(f"contact.{key}", f"not used by the {model} model",

@@ -197,9 +197,9 @@ class RunResult:
     n_steps: int
     steps_run: int  # steps integrated (the quiet lead and tail are not)
     wall_seconds: float
+    arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
     quiet_lead: float = 0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
     rest_time: float = math.nan  # [s] at rest on a quiet base from here on (not integrated), NaN if never
-    arrays: SceneArrays | None = None  # the packed scene (its checks and dataset reuse it)
 
 
 @dataclass
@@ -377,7 +377,7 @@ def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str
     """(deepest overlap / smaller body's area [1], its time [s], the two body names) over the samples."""
     from stonedem.kernels.penetration import deepest_overlap
 
-    arrays = result.arrays if result.arrays is not None else pack_scene(scene)
+    arrays = result.arrays
     areas = np.array([geometry.signed_area(b.vertices) for b in scene.bodies])
     share, s, a, b = deepest_overlap(arrays.vert_start, arrays.local_x, arrays.local_y, areas,
                                      np.ascontiguousarray(result.x), np.ascontiguousarray(result.y),

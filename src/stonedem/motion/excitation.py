@@ -137,7 +137,7 @@ class Excitation:
 def _num(spec, key, where, positive=False, required=True, default=None):
     if key not in spec:
         if required:
-            units = EXCITATIONS[spec.get("kind", "none")].keys.get(key, "") if spec.get("kind") in EXCITATIONS else ""
+            units = EXCITATIONS[spec["kind"]].keys.get(key, "")  # a kind's build checks its keys
             raise InputError(f"{where}.{key}", "missing", f"give {key} [{units}]")
         return default
     return check_number(spec[key], f"{where}.{key}", positive=positive)

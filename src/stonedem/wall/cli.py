@@ -70,20 +70,25 @@ class ProgressLog:
             self.lines += 1
 
 
-def command_wall(args) -> int:
-    """Check the case and the output path (exit 2 before any computing), run, write, summarise."""
-    from stonedem.entry import check_output_path
-    from stonedem.wall.case import build_case, check_case, read_case
-
-    checked = check_case(read_case(args.case), name=args.case.stem, where=str(args.case))
-    check_output_path(args.output, "-o/--output", inputs=[args.case], suffixes=OUTPUT_SUFFIXES)
+def pushover(checked: dict, output=None, progress: bool = False, limit_analysis: bool = False):
+    """Build a checked case (:func:`stonedem.wall.case.check_case`), push it over and, with
+    ``output``, write it; ``progress``: a :class:`ProgressLog` line on stderr every few seconds."""
+    from stonedem.wall.case import build_case
     from stonedem.wall.dataset import run_case   # xarray, numba, scipy: only once the input is valid
 
     case = build_case(checked)
-    progress = None
-    if not args.quiet:
-        progress = ProgressLog(units=" Pa" if case.load_kind == "pressure" else "")
-    ds = run_case(case, args.output, progress=progress, limit_analysis=args.limit)
+    log = ProgressLog(units=" Pa" if case.load_kind == "pressure" else "") if progress else None
+    return run_case(case, output, progress=log, limit_analysis=limit_analysis)
+
+
+def command_wall(args) -> int:
+    """Check the case and the output path (exit 2 before any computing), run, write, summarise."""
+    from stonedem.entry import check_output_path
+    from stonedem.wall.case import check_case, read_case
+
+    checked = check_case(read_case(args.case), name=args.case.stem, where=str(args.case))
+    check_output_path(args.output, "-o/--output", inputs=[args.case], suffixes=OUTPUT_SUFFIXES)
+    ds = pushover(checked, args.output, progress=not args.quiet, limit_analysis=args.limit)
     if not args.quiet:
         print(f"wrote {args.output}: lambda_max = {float(ds.lambda_max):.4g} "
               f"({ds.attrs['status']}), {ds.sizes['step']} steps, {ds.attrs['n_blocks']} blocks, "

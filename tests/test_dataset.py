@@ -1,5 +1,7 @@
 """Output datasets: self-describing, round trip, atomic writes."""
 
+import os
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -130,3 +132,39 @@ def test_a_run_that_diverges_at_every_step_tried_is_an_error(monkeypatch):
     with pytest.raises(InputError, match="diverged"):
         run_scene(scene_from_dict(given))
     assert calls == [1.0]  # a given dt is run once (its dt_safety is not used)
+
+
+def test_a_full_disk_is_one_line_and_leaves_nothing(tmp_path, rocking_dataset):
+    """A write that fails half-way (ENOSPC from write(2), as a full disk, a quota or a
+    file-size limit gives it) is a WriteFailed naming the path and the cause; the temporary
+    file and the folders made for it are gone."""
+    import errno
+
+    from stonedem.io.atomic import WriteFailed, write_atomically
+
+    def fill(tmp):
+        with open(tmp, "wb") as handle:
+            handle.write(b"x" * 1000)
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    target = tmp_path / "new" / "deeper" / "b.nc"
+    with pytest.raises(WriteFailed, match=r"b\.nc: cannot write the file \(No space left on device\)"):
+        write_atomically(target, fill)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_file_size_limit_while_writing_netcdf_is_one_line(tmp_path):
+    """RLIMIT_FSIZE (SIGXFSZ ignored, as under a quota): netCDF4 says only 'HDF error'."""
+    import subprocess
+    import sys
+
+    code = ("import resource, signal; signal.signal(signal.SIGXFSZ, signal.SIG_IGN); "
+            "resource.setrlimit(resource.RLIMIT_FSIZE, (20000, 20000)); "
+            "import sys; from stonedem.cli import main; sys.exit(main(sys.argv[1:]))")
+    out = tmp_path / "sub" / "full.nc"
+    proc = subprocess.run([sys.executable, "-c", code, "run", "tests/data/scenes/rocking_block.yaml", "-o", str(out),
+                           "-q", "--set", "solver.duration=0.2"], capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {out}: cannot write the file"), proc.stderr
+    assert list(tmp_path.iterdir()) == []

@@ -45,7 +45,21 @@ def test_output_path_refusals(tmp_path):
         check_output_path(tmp_path / "afile" / "out.nc", "-o")
     with pytest.raises(InputError, match="does not end in .nc"):
         check_output_path(tmp_path / "out.txt", "-o", suffixes=(".nc",))
-    assert check_output_path(tmp_path / "new" / "out.nc", "-o", suffixes=(".nc",)).parent.is_dir()
+    # accepted, and nothing created: the write makes the folder (a later refusal leaves none)
+    assert check_output_path(tmp_path / "new" / "deeper" / "out.nc", "-o", suffixes=(".nc",))
+    assert not (tmp_path / "new").exists()
+
+
+def test_output_paths_the_filesystem_would_refuse_at_the_end(tmp_path):
+    # a folder that cannot be made (root may write anywhere, but not under /proc)
+    with pytest.raises(InputError, match="cannot create folder /proc/"):
+        check_output_path("/proc/stonedem-test/out.nc", "-o")
+    with pytest.raises(InputError, match="longer than"):
+        check_output_path(tmp_path / ("x" * 250 + ".nc"), "-o")
+    with pytest.raises(InputError, match="not valid UTF-8"):
+        check_output_path(tmp_path / os.fsdecode(b"caf\xe9.nc"), "-o")
+    # spaces and non-ASCII text are names like any other
+    assert check_output_path(tmp_path / "my study é ü" / "out.nc", "-o")
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes anywhere")
@@ -53,7 +67,7 @@ def test_read_only_folder_is_refused(tmp_path):
     folder = tmp_path / "ro"
     folder.mkdir()
     folder.chmod(0o500)
-    with pytest.raises(InputError, match="not writable"):
+    with pytest.raises(InputError, match="cannot write in folder"):
         check_output_path(folder / "out.nc", "-o")
 
 
@@ -227,3 +241,23 @@ def test_written_dataset_follows_cf(tmp_path):
         assert "units" not in nc.variables["body"].ncattrs()
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "completed" and ds.attrs["energy_error"] < ENERGY_TOLERANCE
+
+
+# --- closed standard streams ------------------------------------------------------------
+
+@pytest.mark.parametrize("closed", ["1", "2", "1 2"])
+def test_the_exit_status_reports_the_work_not_the_logging(tmp_path, closed):
+    """``stonedem run ... >&- 2>&-``: a complete result exits 0 (it exited 1 when Python found
+    sys.stdout None at the final flush), and bad input still exits 2."""
+    out = tmp_path / "r.nc"
+    shut = " ".join(f"{fd}>&-" for fd in closed.split())
+    run = f"{sys.executable} -m stonedem run {SCENE} -o {out} --set solver.duration=0.1 {shut}"
+    assert subprocess.run(["sh", "-c", run]).returncode == 0
+    assert xr.open_dataset(out).sizes["time"] > 10
+    bad = f"{sys.executable} -m stonedem run {tmp_path}/missing.yaml -o {tmp_path}/x.nc {shut}"
+    proc = subprocess.run(["sh", "-c", bad], capture_output=True, text=True)
+    assert proc.returncode == 2
+    if "2" not in closed.split():
+        assert proc.stderr.startswith("error: ") and proc.stdout == ""
+    else:
+        assert proc.stdout == ""  # the error line never lands on stdout

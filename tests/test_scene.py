@@ -92,7 +92,7 @@ def test_bad_input_names_the_field(mutate, field):
 def test_malformed_yaml_is_one_line(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("bodies: [\n  {name: a\n")
-    with pytest.raises(InputError, match="malformed YAML"):
+    with pytest.raises(InputError, match="not valid YAML"):
         load_scene(bad)
 
 

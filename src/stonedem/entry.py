@@ -18,6 +18,7 @@ import functools
 import os
 import signal
 import sys
+import tempfile
 import threading
 import time
 from contextlib import contextmanager
@@ -186,6 +187,32 @@ def logged_seconds(stream, label: str):
     progress_print(stream, f"{label}: {time.perf_counter() - start:.2f} s")
 
 
+def workflow_log(path: str, buffering: int = 1):
+    """A Snakemake script's stderr: its log file, and bad input ends the job as one line.
+
+    An :class:`InputError` that reaches the top of the script is written as ``error: ...``
+    to the log and to the terminal's stderr (Snakemake shows it beside the failed rule),
+    without a traceback, and the job exits 2; anything else keeps its traceback (a bug).
+    Returns the log stream (also set as ``sys.stderr``).
+    """
+    terminal = sys.stderr
+    log = open(path, "w", buffering=buffering)
+    sys.stderr = log
+
+    def hook(kind, value, tb):
+        if not issubclass(kind, InputError):
+            return sys.__excepthook__(kind, value, tb)
+        for stream in (log, terminal):
+            try:
+                print(f"error: {value}", file=stream, flush=True)
+            except (OSError, ValueError, AttributeError):
+                pass
+        exit_now(EXIT_INPUT)
+
+    sys.excepthook = hook
+    return log
+
+
 def exit_now(status: int) -> None:
     """End a command-line process without the interpreter's teardown of numba, scipy and
     xarray (~0.5-1.4 s on a loaded machine), once everything is written and flushed."""
@@ -197,29 +224,95 @@ def exit_now(status: int) -> None:
     os._exit(status)
 
 
+def standard_streams() -> None:
+    """Put /dev/null on a closed stdin, stdout or stderr (``cmd >&- 2>&-``).
+
+    Python sets ``sys.stdout``/``sys.stderr`` to None for a closed descriptor; ``print`` to
+    None then goes nowhere or, for stderr, to stdout, and a flush raises, so a complete run
+    exited 1 and an error line landed on stdout. Worse, the next file opened would take the
+    free descriptor 1 or 2 and receive the output meant for the terminal. The exit status
+    must report the work, never the logging.
+    """
+    for fd, name, mode in ((0, "stdin", os.O_RDONLY), (1, "stdout", os.O_WRONLY), (2, "stderr", os.O_WRONLY)):
+        try:
+            os.fstat(fd)
+            continue
+        except OSError:
+            pass
+        null = os.open(os.devnull, mode)
+        if null != fd:
+            os.dup2(null, fd)
+            os.close(null)
+        setattr(sys, name, open(fd, "r" if fd == 0 else "w", closefd=False))
+
+
 def guarded(command: Callable[[], int]) -> int:
     """Run ``command`` with the shared exit conventions; returns the exit status."""
+    standard_streams()
     restore = install_signal_handlers()
     try:
         status = command()
         sys.stdout.flush()
         return status
     except InputError as err:
-        print(f"error: {err}", file=sys.stderr)
+        _say(f"error: {err}")
         return EXIT_INPUT
     except Interrupted as sig:
-        print("interrupted", file=sys.stderr)
+        _say("interrupted")
         return EXIT_SIGTERM if sig.signum == signal.SIGTERM else EXIT_SIGINT
     except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+        _say("interrupted")
         return EXIT_SIGINT
     except BrokenPipeError:
         # the reader went away (| head): stop writing, without a traceback at exit
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except OSError as err:
+        if err.filename is not None or not _is_stdout_failure(err):
+            raise
+        # what the command printed is its result (stonedem record info > /dev/full)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _say(f"error: stdout: cannot write ({err.strerror}); the printed result is incomplete")
+        return 1
     finally:
         restore()
+
+
+def _is_stdout_failure(err: OSError) -> bool:
+    import errno
+
+    return err.errno in (errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EFBIG)
+
+
+def _say(line: str) -> None:
+    """The one closing line on stderr; a stderr that cannot take it must not change the status."""
+    try:
+        print(line, file=sys.stderr, flush=True)
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _check_name_lengths(path: Path, field: str) -> None:
+    """Refuse names the filesystem would refuse at the final write (ENAMETOOLONG), and names
+    that are not valid text (surrogate-escaped bytes cannot be written into NetCDF attributes)."""
+    text = str(path)
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raise InputError(field, f"{ascii(text)} is not valid UTF-8", "give a path in UTF-8 text") from None
+    name_max = 255
+    try:
+        name_max = os.pathconf(next(f for f in (path.parent, *path.parent.parents) if f.exists()), "PC_NAME_MAX")
+    except (OSError, ValueError, StopIteration):
+        pass
+    # the temporary file beside it is named ".<stem>.<8 random>.tmp<suffix>": 14 bytes more
+    for part in path.parts:
+        if len(os.fsencode(part)) + (14 if part == path.name else 0) > name_max:
+            raise InputError(field, f"the name {part[:40]}... is longer than {name_max - 14} bytes",
+                             "give a shorter file or folder name")
+    if len(os.fsencode(str(path.absolute()))) > 4000:
+        raise InputError(field, "the path is longer than 4000 bytes", "give a shorter path")
 
 
 def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Path] = (),
@@ -228,7 +321,8 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
 
     Refused: a suffix not in ``suffixes`` (when given), an existing directory, one of the
     ``inputs`` (same file), a parent that is a file or cannot be created, a folder that is
-    not writable. The parent folder is created when missing.
+    not writable, a name too long for the filesystem or not UTF-8. Nothing is created: a
+    missing parent folder is made by the write itself.
     """
     path = Path(path)
     if any(ord(c) < 32 for c in str(path)):
@@ -249,16 +343,26 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
             raise InputError(field, f"{path} is the input file {source}",
                              "give a different output path; the input would be overwritten")
     parent = path.parent
+    # the nearest folder that exists must take a new entry; the missing ones are created only
+    # when the result is written (write_atomically), so a later refusal leaves no folder behind.
+    # Probed by making and removing one entry: access() says yes to root on /proc or /sys.
+    missing = []
     for folder in (parent, *parent.parents):
         if folder.exists():
             if not folder.is_dir():
                 raise InputError(field, f"{folder} is a file, not a folder", "give a path in a folder")
             break
+        missing.append(folder)
+    probe = missing[-1] if missing else None
     try:
-        parent.mkdir(parents=True, exist_ok=True)
+        if probe is not None:
+            probe.mkdir()
+            probe.rmdir()
+        else:
+            with tempfile.TemporaryFile(dir=parent):
+                pass
     except OSError as err:
-        raise InputError(field, f"cannot create folder {parent} ({err.strerror})",
-                         "give a path in a writable folder") from None
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(field, f"folder {parent} is not writable", "give a path in a writable folder")
+        what = f"cannot create folder {probe}" if probe is not None else f"cannot write in folder {parent}"
+        raise InputError(field, f"{what} ({err.strerror})", "give a path in a writable folder") from None
+    _check_name_lengths(path, field)
     return path

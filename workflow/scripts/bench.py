@@ -6,10 +6,12 @@ The benchmark modules time one thread, so NUMBA_NUM_THREADS is set before numba 
 import os
 import sys
 
+from stonedem.entry import workflow_log
+
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
-sys.stderr = open(sm.log[0], "w")
+workflow_log(sm.log[0])
 sys.stdout = sys.stderr
 quick = ["--quick"] if sm.params.quick else []
 

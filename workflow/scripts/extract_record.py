@@ -2,10 +2,12 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 from stonedem.io.netcdf import write_dataset
 from stonedem.motion.fema_p695 import extract_record
 
-sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 spec = dict(snakemake.params.record)  # noqa: F821
 ds = extract_record(spec.pop("set"), spec.pop("id"), spec.pop("component"),
                     name=snakemake.wildcards.name, extra_attrs=spec)  # noqa: F821

@@ -2,7 +2,9 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 from stonedem.motion.suites import suite_dataset, write_suite
 
-sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 write_suite(suite_dataset(snakemake.wildcards.suite), snakemake.output[0])  # noqa: F821

@@ -3,11 +3,13 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 
 from stonedem.figures.fragility import fragility_curves_figure, medians_figure
 from stonedem.io.netcdf import open_result
 
-sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 inputs, params = snakemake.input, snakemake.params  # noqa: F821
 with open_result(inputs.cube) as cube, open_result(inputs.fits) as fits:
     cube, fits = cube.load(), fits.load()

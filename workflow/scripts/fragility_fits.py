@@ -3,17 +3,16 @@
 
 import sys
 
-import xarray as xr
+from stonedem.entry import workflow_log
 
-from stonedem.io.netcdf import write_dataset
+from stonedem.io.netcdf import open_result, write_dataset
 from stonedem.fragility.fit import fragility_dataset, fragility_table
 from stonedem.fragility.checks import ordering_checks, pulse_check, pulse_rows
 from stonedem.study.reduce import write_csv
 
-sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 params, output = snakemake.params, snakemake.output  # noqa: F821
-with xr.open_dataset(snakemake.input[0]) as cube:  # noqa: F821
-    cube = cube.load()
+cube = open_result(snakemake.input[0])  # noqa: F821
 fits = fragility_dataset(cube, samples=params.bootstrap)
 write_dataset(fits, output.fits)
 write_csv(fragility_table(fits), output.table)

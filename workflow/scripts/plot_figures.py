@@ -2,10 +2,10 @@
 
 import sys
 
-from stonedem.entry import logged_seconds
+from stonedem.entry import logged_seconds, workflow_log
 from stonedem.figures import figures
 
-sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 catalogue = figures(snakemake.config)  # noqa: F821
 for (name, inputs), output in zip(snakemake.params.figures.items(), snakemake.output):  # noqa: F821
     with logged_seconds(sys.stderr, name):

@@ -2,10 +2,12 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 from stonedem.study.runner import CaseStore, run_search
 from stonedem.study.grid import Case
 
-sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
 systems = snakemake.params.systems  # noqa: F821
 for i, (system, runs, search) in enumerate(zip(systems, snakemake.output.runs, snakemake.output.search)):  # noqa: F821

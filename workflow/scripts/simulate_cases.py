@@ -2,9 +2,11 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 from stonedem.study.runner import CaseStore, run_cases
 from stonedem.study.grid import Case
 
-sys.stderr = open(snakemake.log[0], "w", buffering=1)  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 cases = [Case.from_dict(spec) for spec in snakemake.params.cases]  # noqa: F821
 run_cases(cases, list(snakemake.output), CaseStore(snakemake.config.get("case_store"), "records"))  # noqa: F821

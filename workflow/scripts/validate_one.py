@@ -14,10 +14,10 @@ import sys
 from stonedem.validation import cases as validation
 
 from stonedem.validation import plots as validation_plots
-from stonedem.entry import logged_seconds
+from stonedem.entry import logged_seconds, workflow_log
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
-sys.stderr = open(sm.log[0], "w", buffering=1)
+workflow_log(sm.log[0])
 
 
 def validate_one():

@@ -2,7 +2,9 @@
 
 import sys
 
+from stonedem.entry import workflow_log
+
 from stonedem.wall.validation import limit_load_table, write_table
 
-sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 - provided by Snakemake
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 write_table(limit_load_table(snakemake.input), snakemake.output[0])  # noqa: F821

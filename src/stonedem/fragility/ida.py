@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.motion.suites import SUITES, suite_path
+from stonedem.motion.suites import SUITES, load_suite
 from stonedem.engine.scene import check_keys
 from stonedem.io.netcdf import open_result
 
@@ -68,8 +68,7 @@ def suite_components(suites) -> dict[str, str]:
     """{component name: suite} of the named suites, in file order."""
     names = {}
     for suite in suites:
-        with xr.open_dataset(suite_path(suite)) as ds:
-            names.update({str(n): suite for n in ds.record.values})
+        names.update({str(n): suite for n in load_suite(suite).record.values})
     return names
 
 
@@ -218,8 +217,7 @@ def record_table(suites) -> xr.Dataset:
 
     pieces = []
     for suite in suites:
-        with xr.open_dataset(suite_path(suite)) as ds:
-            ds = ds.load()
+        ds = load_suite(suite)
         peaks = []
         for k in range(ds.sizes["record"]):
             r = ds.isel(record=k)

@@ -17,6 +17,8 @@ import threading
 from pathlib import Path
 from typing import Callable
 
+from stonedem.errors import InputError
+
 
 # temporary files being written (the signal watchdog of stonedem.entry removes them when it
 # has to end the process itself)
@@ -54,15 +56,47 @@ def _write_in_thread(write: Callable[[str], object], tmp: str) -> None:
         raise failure[0]
 
 
+class WriteFailed(InputError):
+    """The final write of ``path`` failed (full disk, quota, file-size limit, a filesystem
+    that refuses the name...): one line naming the path and the cause; nothing is left under
+    the path, and the folders the write created are removed again."""
+
+    def __init__(self, path: Path, err: BaseException):
+        if isinstance(err, OSError) and err.strerror:
+            cause = err.strerror
+        else:
+            # netCDF4/HDF5 report a failed write(2) as "NetCDF: HDF error", without the errno
+            cause = f"{type(err).__name__}: {err}; a full disk, a quota or a file-size limit gives this"
+        super().__init__(str(path), f"cannot write the file ({cause}); nothing was written under this name",
+                         "free space, lift the limit or give another path")
+
+
+def _make_folders(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; returns those created, deepest first."""
+    created = []
+    for missing in (folder, *folder.parents):
+        if missing.exists():
+            break
+        created.append(missing)
+    folder.mkdir(parents=True, exist_ok=True)
+    return created
+
+
 def write_atomically(path: str | Path, write: Callable[[str], object]) -> Path:
-    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``."""
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it over ``path``.
+
+    An OSError or a library's RuntimeError on the way (full disk, file-size limit) becomes
+    :class:`WriteFailed`; the temporary file and any folder made for it are removed.
+    """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # the temporary name keeps the real suffix: matplotlib and Pillow pick the format from it
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent)
-    os.close(fd)
-    in_progress.add(tmp)
+    created: list[Path] = []
+    tmp = None
     try:
+        created = _make_folders(path.parent)
+        # the temporary name keeps the real suffix: matplotlib and Pillow pick the format from it
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent)
+        os.close(fd)
+        in_progress.add(tmp)
         if threading.current_thread() is threading.main_thread():
             _write_in_thread(write, tmp)
         else:
@@ -71,9 +105,23 @@ def write_atomically(path: str | Path, write: Callable[[str], object]) -> Path:
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
         os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    finally:
         in_progress.discard(tmp)
+        tmp = None
+    except (OSError, RuntimeError) as err:
+        _clean(tmp, created)
+        raise WriteFailed(path, err) from None
+    except BaseException:
+        _clean(tmp, created)
+        raise
     return path
+
+
+def _clean(tmp: str | None, created: list[Path]) -> None:
+    if tmp is not None:
+        Path(tmp).unlink(missing_ok=True)
+        in_progress.discard(tmp)
+    for folder in created:
+        try:
+            folder.rmdir()
+        except OSError:
+            break

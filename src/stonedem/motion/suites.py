@@ -157,8 +157,26 @@ def suite_path(suite: str) -> Path:
 
 def load_suite(suite: str) -> xr.Dataset:
     """A committed suite, loaded into memory."""
-    with xr.open_dataset(suite_path(suite)) as ds:
-        return ds.load()
+    return read_suite_file(suite_path(suite), "suite")
+
+
+def read_suite_file(path: Path, field: str) -> xr.Dataset:
+    """A suite file read into memory; a damaged one (truncated, overwritten) is one line
+    naming it and how to restore it, not a netCDF4 traceback."""
+    try:
+        with xr.open_dataset(path) as ds:
+            ds = ds.load()
+    except FileNotFoundError:
+        raise InputError(field, f"record suite {path} not found",
+                         "restore it: git checkout -- records/suites") from None
+    except (OSError, ValueError, RuntimeError, KeyError) as err:
+        reason = " ".join(str(err).split())[:120]
+        raise InputError(field, f"record suite {path} is damaged ({type(err).__name__}: {reason})",
+                         f"restore it: git checkout -- {path}") from None
+    if "record" not in ds.dims or "acceleration" not in ds:
+        raise InputError(field, f"{path.name} is not a record suite (no record dimension)",
+                         "give a file of records/suites/, or drop component")
+    return ds
 
 
 _SUITE_MEMO: dict = {}  # (path, size, mtime) -> the suite file's arrays (a job reads each once)
@@ -168,15 +186,12 @@ def _suite_arrays(path: Path, field: str) -> dict:
     stat = path.stat()
     key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
     if key not in _SUITE_MEMO:
-        with xr.open_dataset(path) as ds:
-            if "record" not in ds.dims or "acceleration" not in ds:
-                raise InputError(f"{field}.file", f"{path.name} is not a record suite (no record dimension)",
-                                 "give a file of records/suites/, or drop component")
-            _SUITE_MEMO.clear()  # one suite at a time: a job reads one suite's components in order
-            _SUITE_MEMO[key] = {
-                "names": [str(v) for v in ds.record.values], "acceleration": ds.acceleration.values,
-                "n_samples": ds.n_samples.values, "dt": ds.dt.values, "source": ds.attrs.get("source", ""),
-                **{k: ds[k].values for k in ("event", "year", "station", "component")}}
+        ds = read_suite_file(path, f"{field}.file")
+        _SUITE_MEMO.clear()  # one suite at a time: a job reads one suite's components in order
+        _SUITE_MEMO[key] = {
+            "names": [str(v) for v in ds.record.values], "acceleration": ds.acceleration.values,
+            "n_samples": ds.n_samples.values, "dt": ds.dt.values, "source": ds.attrs.get("source", ""),
+            **{k: ds[k].values for k in ("event", "year", "station", "component")}}
     return _SUITE_MEMO[key]
 
 

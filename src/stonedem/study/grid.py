@@ -25,9 +25,12 @@ from stonedem.motion.suites import record_file_name
 from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from stonedem.engine.structures import EPISTYLE_TYPES
 from stonedem.study.search import SearchSettings
+from stonedem.io.netcdf import open_result
+from stonedem.io.yaml_file import read_yaml_mapping
+
+MAX_CONFIG_BYTES = 1_000_000  # the full study's config is 6 kB
 
 # name: (scene field, units, long name, id label)
-from stonedem.io.netcdf import open_result
 PARAMETERS = {
     "record": ("excitation.file", "1", "ground-motion record", "rec"),
     "component": ("excitation.component", "1", "record component of a FEMA P695 suite (records/suites/)", "rec"),
@@ -124,7 +127,6 @@ def load_config(*paths) -> dict:
     """A workflow config from YAML files, each merged into the ones before key by key
     (nested mappings merged, lists replaced), as ``snakemake --configfile`` merges a
     profile such as config/quick.yaml into config/config.yaml."""
-    import yaml
 
     def merge(base: dict, extra: dict) -> dict:
         for key, value in extra.items():
@@ -136,7 +138,8 @@ def load_config(*paths) -> dict:
 
     config: dict = {}
     for path in paths:
-        merge(config, yaml.safe_load(Path(path).read_text()) or {})
+        merge(config, read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES,
+                                        "give 'key: value' lines (config/README.md)", allow_empty=True))
     return config
 
 

@@ -36,7 +36,7 @@ from scipy.optimize import brentq
 
 from stonedem.reference import analytic
 from stonedem.io.atomic import write_atomically
-from stonedem.io.netcdf import code_version, write_dataset
+from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.engine.run import run_scene
 from stonedem.motion.excitation import RECORDS_DIR
 from stonedem.engine.laws import LAWS
@@ -1038,7 +1038,7 @@ def summary_table(paths) -> str:
     """CSV, one row per validation dataset: name, error, tolerance, passed (from the attributes)."""
     lines = [",".join(SUMMARY_COLUMNS)]
     for path in paths:
-        with xr.open_dataset(path) as ds:
+        with open_result(path) as ds:
             a = ds.attrs
             lines.append(f"{a['validation']},{float(a['error']):.6g},{float(a['tolerance']):g},{int(a['passed'])}")
     return "\n".join(lines) + "\n"

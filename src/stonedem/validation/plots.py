@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from stonedem.io.atomic import write_atomically  # noqa: E402
+from stonedem.io.netcdf import open_result  # noqa: E402
 
 
 def label(da):
@@ -386,8 +387,7 @@ def draw_thesis_figure(name: str, dataset, path) -> Path:
     """Draw thesis figure ``name`` from its validation dataset (an xr.Dataset or a NetCDF path)."""
     validation, drawer = THESIS_FIGURES[name]
     if not isinstance(dataset, xr.Dataset):
-        with xr.open_dataset(dataset) as ds:
-            dataset = ds.load()
+        dataset = open_result(dataset)
     found = dataset.attrs.get("validation", validation)
     if found != validation:
         raise ValueError(f"{name} draws the {validation} dataset, got {found}")

@@ -1050,7 +1050,6 @@ def run_all(out_dir: Path, names=None) -> list[str]:
     from stonedem.validation import plots as validation_plots
 
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     failed, lines = [], ["name,passed,metric,value"]
     for name in names or VALIDATIONS:
         print(f"{name} ...", file=sys.stderr, flush=True)

@@ -17,6 +17,17 @@ Three stages, each refusing bad input with an InputError naming the dotted field
   known ones) and the problem size estimated (:func:`estimate_size`) and held to
   ``MAX_BLOCKS`` and ``MAX_MEMORY_BYTES`` -- nothing is built yet;
 - :func:`build_case`: the panel, loads, restraints and the :class:`WallModel`.
+
+Supports follow the geometry, and every block needs a load path to one
+(:func:`check_load_paths`). A support joint or pin on an edge acts only on the blocks that touch
+that edge of the panel (``base``: the blocks of the first course that are left; likewise top,
+left, right), a restraint line only on the blocks it crosses; an opening that reaches an edge
+leaves no support there, and the next block inward is not supported in its place. Blocks are
+joined by the joints between the blocks that are left; a block, or a group of blocks, joined to
+no support (an opening removing the first course: the wall hovers above its base; an opening over
+all but the top course) is refused before anything is computed with an InputError naming the
+opening that cuts it off (``panel.openings[k]``). The check is topological: a path to a support
+that cannot carry the self-weight (a line holding only out of plane) is refused by the dead load.
 """
 
 from __future__ import annotations
@@ -34,7 +45,7 @@ import numpy as np
 import yaml
 
 from stonedem.errors import InputError
-from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, build_panel
+from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel
 from stonedem.wall.settings import SolverSettings
 
 if TYPE_CHECKING:
@@ -706,7 +717,8 @@ def case_from_dict(spec: dict, name: str = "wall") -> WallCase:
 
 def build_case(ci: CaseInput) -> WallCase:
     """The panel, loads and restraints of a validated case (InputError for what only the built
-    panel shows: openings removing every block, a restrained control block, ...)."""
+    panel shows: openings removing every block or cutting blocks off from every support, a
+    restrained control block, ...)."""
     from stonedem.wall.constitutive import JointStrength   # numba and scipy: only once the case is valid
     from stonedem.wall.pushover import WallModel
 
@@ -716,6 +728,11 @@ def build_case(ci: CaseInput) -> WallCase:
         raise InputError("panel.openings", "the openings remove every block", "make them smaller")
     nb = panel.n_blocks
     ni = panel.n_interfaces
+    if not ci.support_edges and not ci.block_fix and not ci.lines:
+        raise InputError("restraints", "the wall is not supported", "add {edge: base, fix: all}")
+    # pins on the blocks that touch their edge (an opening reaching the edge leaves none there)
+    fixed = _pinned(panel, ci.block_fix)
+    check_load_paths(ci, panel, fixed, ci.lines)
     if ni == 0:
         raise InputError("panel", "a single block with no joints and no support joint",
                          "give more blocks or a support joint (restraints: [{edge: base, fix: all}])")
@@ -761,21 +778,15 @@ def build_case(ci: CaseInput) -> WallCase:
             dead[blk, 1] -= force
             if ci.extra_live and ci.load_kind == "proportional":
                 live[blk, DIRECTIONS[ci.direction]] += force
-    fixed = np.zeros((nb, 6), dtype=bool)
-    for edge, dofs in ci.block_fix.items():
-        for blk in panel.edge_blocks(edge):
-            fixed[blk, list(dofs)] = True
-    if not ci.support_edges and not fixed.any() and not ci.lines:
-        raise InputError("restraints", "the wall is not supported", "add {edge: base, fix: all}")
     if not np.any((live.ravel() != 0) & ~fixed.ravel()):
         raise InputError("restraints", "every block is held in the direction of the live load",
                          "restrain only the edges (fewer restraints), or give a larger panel")
     # restraints away from the base hold the wall after its self-weight has settled it
     fixed_dead = np.zeros_like(fixed)
-    for blk in panel.edge_blocks("base"):
+    for blk in panel.touching("base"):
         fixed_dead[blk] = fixed[blk] if "base" in ci.block_fix else False
     for edge in ci.dead_fix:
-        for blk in panel.edge_blocks(edge):
+        for blk in panel.touching(edge):
             fixed_dead[blk] |= fixed[blk]
     lines = ci.lines
     if not ci.support_edges and not fixed_dead.any() and not any(ln.dead_load for ln in lines):
@@ -793,3 +804,128 @@ def build_case(ci: CaseInput) -> WallCase:
     model = WallModel(panel, props["k_n"], props["k_t"], strength, dead.ravel(), live.ravel(),
                       fixed.ravel(), fixed_dead.ravel(), lines)
     return WallCase(ci.spec, ci.name, model, ci.settings, ci.control_block, ci.load_kind)
+
+
+# --- load paths ---------------------------------------------------------------------------
+
+def _pinned(panel, block_fix) -> np.ndarray:
+    """(nb, 6) bool: the DOFs held by the pins of ``block_fix`` (edge -> DOFs), on the blocks
+    that touch their edge."""
+    fixed = np.zeros((panel.n_blocks, 6), dtype=bool)
+    for edge, dofs in block_fix.items():
+        fixed[np.ix_(panel.touching(edge), sorted(dofs))] = True
+    return fixed
+
+
+def _held(panel, fixed, lines) -> np.ndarray:
+    """(nb,) bool: blocks a restraint acts on (a pinned DOF, a chord of a restraint line)."""
+    held = np.asarray(fixed, dtype=bool).reshape(panel.n_blocks, 6).any(axis=1)
+    for line in lines:
+        held[np.array([blk for blk, _, _ in line.chords(panel)], dtype=int)] = True
+    return held
+
+
+def _cut_off(panel, held, present=None) -> np.ndarray:
+    """(nb,) bool: blocks with no load path to a support. The interface graph: blocks are
+    nodes, the joints between blocks (``present``: both present) edges, and the ground one more
+    node, joined to by the support joints and to every ``held`` block."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    nb = panel.n_blocks
+    present = np.ones(nb, dtype=bool) if present is None else present
+    ends = np.stack([panel.first, panel.second]).reshape(2, -1)
+    ends = np.where(ends == SUPPORT, nb, ends)
+    ok = np.append(present, True)[ends].all(axis=0)
+    pins = np.flatnonzero(held & present)
+    rows = np.concatenate([ends[0, ok], pins])
+    cols = np.concatenate([ends[1, ok], np.full(pins.size, nb)])
+    graph = coo_matrix((np.ones(rows.size), (rows, cols)), shape=(nb + 1, nb + 1))
+    _, label = connected_components(graph, directed=False)
+    return (label[:nb] != label[nb]) & present
+
+
+def _ranges(values) -> str:
+    """'0-3, 7, 9-10' for a set of integers."""
+    values = sorted({int(v) for v in values})
+    out, start = [], None
+    for k, v in enumerate(values):
+        if start is None:
+            start = v
+        if k + 1 == len(values) or values[k + 1] != v + 1:
+            out.append(f"{start}" if start == v else f"{start}-{v}")
+            start = None
+    return ", ".join(out)
+
+
+def _courses(course, courses) -> str:
+    """'courses 2-8 of 8': course indices counted from 1 at the base, as in the case files."""
+    course = np.unique(course) + 1
+    return f"course{'s' if len(course) > 1 else ''} {_ranges(course)} of {courses}"
+
+
+def _removed_text(full, removed, courses) -> str:
+    """What a set of removed cells (``removed``: bool over the unholed panel) takes out."""
+    whole = np.array([c for c in np.unique(full.course[removed]) if removed[full.course == c].all()],
+                     dtype=int)
+    part = removed & ~np.isin(full.course, whole)
+    text = [f"every block of {_courses(whole, courses)}"] if whole.size else []
+    if part.any():
+        text.append(f"{int(part.sum())} blocks of {_courses(full.course[part], courses)}")
+    return " and ".join(text)
+
+
+def _blame(ci, panel, cut):
+    """The openings that cut the ``cut`` blocks off from the supports and what they remove: those
+    whose blocks, put back alone, give some of the blocks a load path (most first); else every
+    opening that removes a block (only together do they cut the blocks off)."""
+    every = list(range(len(ci.openings)))
+    full = build_panel(ci.a, ci.b, ci.s, ci.blocks_per_course, ci.courses, ci.joint_thickness, (),
+                       ci.first_course_offset, ci.support_edges)
+    x, y = full.centre[:, 0], full.centre[:, 1]
+    # the test build_panel removes a block by, on the same centres
+    inside = np.array([(o["x"][0] < x) & (x < o["x"][1]) & (o["y"][0] < y) & (y < o["y"][1])
+                       for o in ci.openings]).reshape(len(ci.openings), full.n_blocks)
+    kept = ~inside.any(axis=0)
+    if int(kept.sum()) != panel.n_blocks:   # not reached: the holed panel is the kept cells
+        return every, "the blocks between them and the supports"
+    cut_full = np.zeros(full.n_blocks, dtype=bool)
+    cut_full[np.flatnonzero(kept)[cut]] = True
+    held_full = _held(full, _pinned(full, ci.block_fix), ci.lines)
+    joined = []
+    for k in every:
+        alone = inside[k] & (inside.sum(axis=0) == 1)
+        if alone.any():
+            n = int((cut_full & ~_cut_off(full, held_full, kept | alone)).sum())
+            if n:
+                joined.append((-n, k))
+    order = [k for _, k in sorted(joined)] or [k for k in every if inside[k].any()] or every
+    return order, _removed_text(full, inside[order].any(axis=0), ci.courses)
+
+
+def check_load_paths(ci: CaseInput, panel, fixed, lines) -> None:
+    """Refuse a panel with blocks that have no load path to a support, naming the opening that
+    cuts them off (InputError). A support acts only on the blocks that touch its edge (support
+    joint, pins) or lie on its line; a block, or a group of blocks joined by joints, that reaches
+    none would hover: it has no limit load."""
+    cut = _cut_off(panel, _held(panel, fixed, lines))
+    if not cut.any():
+        return
+    nb, n = panel.n_blocks, int(cut.sum())
+    who = (f"every block ({nb}, {_courses(panel.course, ci.courses)}) has" if n == nb else
+           f"{n} of the {nb} blocks ({_courses(panel.course[cut], ci.courses)}) have")
+    edges = [e for e in EDGES if e in ci.support_edges or e in ci.block_fix]
+    where = [f"the {' and '.join(edges)} edge{'s' if len(edges) > 1 else ''}"] if edges else []
+    where += [f"the {ln.edge} line" + (f" {ln.distance:g} m inside" if ln.distance else "")
+              for ln in lines if ln.edge not in edges or ln.distance]
+    why = f"a support acts only on the blocks on {' and '.join(where)}"
+    fix = "shrink or move the opening so that blocks join these to a support, or support an edge they touch"
+    if not ci.openings:   # not reached: a running-bond panel without openings is all joined
+        raise InputError("restraints", f"{who} no load path to a support ({why})", fix)
+    order, removed = _blame(ci, panel, cut)
+    text = "the opening removes"
+    if len(order) > 1:
+        others = ", ".join(f"panel.openings[{k}]" for k in order[1:])
+        text, fix = f"with {others}, the opening removes", fix.replace("the opening", "the openings")
+    raise InputError(f"panel.openings[{order[0]}]",
+                     f"{who} no load path to a support: {text} {removed}, and {why}", fix)

@@ -51,8 +51,29 @@ class Panel:
     def volume(self) -> np.ndarray:
         return self.size.prod(axis=1)
 
+    def touching(self, edge: str) -> np.ndarray:
+        """Indices of the blocks whose cell lies on an edge of the panel (``base``: the bottom of
+        the panel, ``top``, ``left``, ``right``): the only blocks a support on that edge acts on.
+        Where an opening reaches the edge, no block is left there for it; the next block inward
+        does not touch the edge and is not supported (the first course removed leaves a wall
+        hovering above its base, not one standing on it)."""
+        lo = self.centre - self.size / 2
+        hi = self.centre + self.size / 2
+        tol = _TOL * max(self.length, self.height, 1.0)
+        if edge == "base":
+            return np.flatnonzero(lo[:, 1] <= tol)
+        if edge == "top":
+            return np.flatnonzero(hi[:, 1] >= self.height - tol)
+        if edge == "left":
+            return np.flatnonzero(lo[:, 0] <= tol)
+        if edge == "right":
+            return np.flatnonzero(hi[:, 0] >= self.length - tol)
+        raise ValueError(f"unknown edge {edge!r}")
+
     def edge_blocks(self, edge: str) -> np.ndarray:
-        """Indices of the blocks along an edge: bottom/top course, first/last block of each course."""
+        """Indices of the outermost blocks left along an edge: the bottom/top course that is left,
+        the first/last block left in each course. Loads on the top of the wall use it; supports
+        act only on the blocks that touch the edge (:meth:`touching`)."""
         if edge == "base":
             return np.flatnonzero(self.course == self.course.min())
         if edge == "top":
@@ -79,7 +100,8 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
 
     ``openings``: rectangles {"x": [x0, x1], "y": [y0, y1]} [m]; blocks whose centre falls
     inside are removed. ``support_edges``: edges joined to a fixed support by interfaces
-    (the base of a wall standing on a foundation).
+    (the base of a wall standing on a foundation), one support joint for each block that
+    touches the edge (:meth:`Panel.touching`).
     """
     p1, p2 = b + joint_thickness, a + joint_thickness
     length, height = blocks_per_course * p1, courses * p2
@@ -95,9 +117,10 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
             sizes.append((x1 - x0, p2, s))
             course_idx.append(j)
             spans.append((x0, x1))
-    centre, size = np.array(centres), np.array(sizes)
+    centre = np.array(centres, dtype=float).reshape(-1, 3)   # (0, 3) when openings remove every block
+    size = np.array(sizes, dtype=float).reshape(-1, 3)
     course = np.array(course_idx, dtype=int)
-    spans = np.array(spans)
+    spans = np.array(spans, dtype=float).reshape(-1, 2)
 
     first, second, cen, axis, width, kind, edge = [], [], [], [], [], [], []
 
@@ -125,7 +148,7 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
     panel = Panel({"a": a, "b": b, "s": s, "joint_thickness": joint_thickness}, centre, size, course,
                   length=length, height=height)
     for ed in support_edges:
-        for i in panel.edge_blocks(ed):
+        for i in panel.touching(ed):   # only blocks on the edge: none where an opening reaches it
             x0, x1 = spans[i]
             y0, y1 = centre[i, 1] - p2 / 2, centre[i, 1] + p2 / 2
             if ed == "base":

@@ -20,8 +20,8 @@ HOSTILE = {
     "classic.nc": (b"CDF\x01" + b"\x00" * 64, "is a NetCDF file"),
     "deep.yaml": (b"[" * 5000 + b"]" * 5000, "nested deeper than 32 levels"),
     "twice.yaml": (b"a: 1\na: 2\n", "the key 'a' is given twice"),
-    "list.yaml": (b"- 1\n- 2\n", "must be a YAML mapping, got a list"),
-    "empty.yaml": (b"# nothing\n", "empty a scene"),
+    "list.yaml": (b"- 1\n- 2\n", r"is not a YAML mapping \(it holds a list\)"),
+    "empty.yaml": (b"# nothing\n", "is empty"),
     "bad.yaml": (b"bodies: [\n  {name: a\n", r"not valid YAML: .*line 3"),
 }
 

@@ -331,6 +331,7 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     if suffixes and path.suffix not in suffixes:
         raise InputError(field, f"{path} does not end in {' or '.join(suffixes)}",
                          f"give an output path ending in {suffixes[0]}")
+    _check_name_lengths(path, field)  # before any stat(): a long name raises ENAMETOOLONG there
     if path.is_dir():
         raise InputError(field, f"{path} is a directory", "give a file name inside it")
     for source in inputs:
@@ -364,5 +365,4 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     except OSError as err:
         what = f"cannot create folder {probe}" if probe is not None else f"cannot write in folder {parent}"
         raise InputError(field, f"{what} ({err.strerror})", "give a path in a writable folder") from None
-    _check_name_lengths(path, field)
     return path

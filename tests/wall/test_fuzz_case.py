@@ -178,13 +178,13 @@ def test_every_manuscript_case_is_valid_and_well_inside_the_limits():
 
 
 @pytest.mark.parametrize("content, problem", [
-    (b"\xff\xfe\x00p\x00a", "not UTF-8"),
-    (b"", "empty case file"),
-    (b"# only a comment\n", "empty case file"),
+    (b"\xff\xfe\x00p\x00a", "UTF-16"),
+    (b"", "is empty"),
+    (b"# only a comment\n", "is empty"),
     (b"panel: [1, 2\n", "not valid YAML"),
     (b"\tpanel: 1\n", "not valid YAML"),
-    (b"- panel\n- joints\n", "expected a mapping of sections"),
-    (b"just text", "expected a mapping of sections"),
+    (b"- panel\n- joints\n", "is not a YAML mapping"),
+    (b"just text", "is not a YAML mapping"),
     (b"panel: 1\npanel: 2\n", "the key 'panel' is given twice"),
     (b"a: !!python/object:os.system {}\n", "not valid YAML"),
     (b"a: \x07\n", "not valid YAML"),
@@ -213,9 +213,9 @@ def test_yaml_alias_bomb_is_refused_without_expanding_it(tmp_path):
 
 
 def test_missing_or_directory_case_file(tmp_path):
-    with pytest.raises(InputError, match="case file not found"):
+    with pytest.raises(InputError, match="a wall case file not found"):
         read_case(tmp_path / "nope.yaml")
-    with pytest.raises(InputError, match="is a directory"):
+    with pytest.raises(InputError, match="is a folder"):
         read_case(tmp_path)
 
 
@@ -300,9 +300,9 @@ HOSTILE_RUNS = [
     (["bool.yaml", "-o", "out.nc"], "error: panel.first_course_offset: expected true or false"),
     (["huge.yaml", "-o", "out.nc"], f"error: panel: n_blocks 3.5e+05 exceeds the limit {MAX_BLOCKS} "),
     (["steps.yaml", "-o", "out.nc"], "error: solver.max_steps: 0 is out of range; give an integer >= 1"),
-    (["latin1.yaml", "-o", "out.nc"], "error: latin1.yaml: not UTF-8 text"),
-    (["missing.yaml", "-o", "out.nc"], "error: missing.yaml: case file not found"),
-    ([".", "-o", "out.nc"], "error: .: is a directory"),
+    (["latin1.yaml", "-o", "out.nc"], "error: latin1.yaml: is not UTF-8 text"),
+    (["missing.yaml", "-o", "out.nc"], "error: missing.yaml: a wall case file not found"),
+    ([".", "-o", "out.nc"], "error: .: is a folder"),
     (["case.nc", "-o", "case.nc"], "error: -o/--output: case.nc is the input file"),
     (["case.nc", "-o", "sub"], "error: -o/--output: sub does not end in .nc"),
     (["case.nc", "-o", "sub/../case.nc"], "error: -o/--output: sub/../case.nc is the input file"),

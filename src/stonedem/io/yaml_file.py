@@ -157,9 +157,9 @@ def read_yaml_mapping(path: str | Path, what: str, max_bytes: int, fix: str, all
     if spec is None:
         if allow_empty:
             return {}
-        raise InputError(where, f"empty {what}", fix)
+        raise InputError(where, "is empty", fix)
     if not isinstance(spec, dict):
         kind = {list: "a list", str: "a text", int: "a number", float: "a number", bool: "true/false"}
-        raise InputError(where, f"{what} must be a YAML mapping, got {kind.get(type(spec), type(spec).__name__)}",
+        raise InputError(where, f"is not a YAML mapping (it holds {kind.get(type(spec), type(spec).__name__)})",
                          fix)
     return spec

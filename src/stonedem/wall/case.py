@@ -42,9 +42,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-import yaml
-
 from stonedem.errors import InputError
+from stonedem.io.yaml_file import printable as _printable
+from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel
 from stonedem.wall.settings import SolverSettings
 
@@ -274,101 +274,11 @@ def _text(value, field, max_len=MAX_TEXT, one_line=True):
 
 # --- reading ------------------------------------------------------------------------------
 
-class _StrictLoader(yaml.SafeLoader):
-    """safe_load that refuses a key given twice in one mapping (PyYAML keeps the last silently)."""
-
-
-def _construct_mapping(loader, node, deep=False):
-    seen = set()
-    for key_node, _ in node.value:
-        if key_node.tag == "tag:yaml.org,2002:merge" or not isinstance(key_node, yaml.ScalarNode):
-            continue
-        key = (key_node.tag, key_node.value)
-        if key in seen:
-            raise yaml.constructor.ConstructorError(
-                None, None, f"the key {key_node.value!r} is given twice", key_node.start_mark)
-        seen.add(key)
-    return loader.construct_mapping(node, deep=deep)
-
-
-_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-
-
-MAX_NESTING = 32   # containers inside containers; a case file needs 4
-
-
-def _check_nesting(text: str) -> None:
-    """Refuse deep nesting from the token stream before parsing: PyYAML's scanner is quadratic
-    in the depth and its composer recursive ('[' x 1000 took 2.7 s, x 100 000 would take minutes)."""
-    opening = (yaml.BlockSequenceStartToken, yaml.BlockMappingStartToken, yaml.FlowSequenceStartToken,
-               yaml.FlowMappingStartToken)
-    closing = (yaml.BlockEndToken, yaml.FlowSequenceEndToken, yaml.FlowMappingEndToken)
-    depth = 0
-    for token in yaml.scan(text, Loader=_StrictLoader):
-        if isinstance(token, opening):
-            depth += 1
-            if depth > MAX_NESTING:
-                raise yaml.scanner.ScannerError(None, None, f"nested deeper than {MAX_NESTING} levels",
-                                                token.start_mark)
-        elif isinstance(token, closing):
-            depth -= 1
-
-
-def _printable(text: str) -> str:
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
-
-
-def _yaml_problem(err: yaml.YAMLError) -> str:
-    problem = getattr(err, "problem", None)
-    mark = getattr(err, "problem_mark", None)
-    if problem:
-        text = problem
-        if mark is not None:
-            text += f" (line {mark.line + 1}, column {mark.column + 1})"
-    else:
-        text = str(err)
-    return " ".join(_printable(text).split())
-
-
 def read_case(path) -> dict:
-    """The case mapping of a YAML file; an InputError naming the file when it cannot be one."""
-    path = Path(path)
-    where = _printable(path)
-    try:
-        info = path.stat()
-    except FileNotFoundError:
-        raise InputError(where, "case file not found", "give the path of a wall case YAML file") from None
-    except OSError as err:
-        raise InputError(where, f"cannot read the case file ({err.strerror})", "give a readable file") from None
-    if path.is_dir():
-        raise InputError(where, "is a directory, not a case file", "give the path of a wall case YAML file")
-    if not path.is_file():
-        raise InputError(where, "is not a regular file", "give the path of a wall case YAML file")
-    if info.st_size > MAX_CASE_BYTES:
-        raise InputError(where, f"{info.st_size} bytes exceed the limit {MAX_CASE_BYTES} for a case file",
-                         "give a wall case YAML file (a few hundred bytes)")
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise InputError(where, f"cannot read the case file ({err.strerror})", "give a readable file") from None
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as err:
-        raise InputError(where, f"not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start})",
-                         "save the case file as UTF-8 YAML") from None
-    try:
-        _check_nesting(text)
-        spec = yaml.load(text, Loader=_StrictLoader)
-    except yaml.YAMLError as err:
-        raise InputError(where, f"not valid YAML: {_yaml_problem(err)}", "fix the YAML syntax") from None
-    except RecursionError:
-        raise InputError(where, "not valid YAML: nested too deeply", "give a wall case YAML file") from None
-    if spec is None:
-        raise InputError(where, "empty case file", "give panel, joints, restraints and load (see config/walls/)")
-    if not isinstance(spec, dict):
-        raise InputError(where, f"expected a mapping of sections, got {_kind_name(spec)} {_show(spec)}",
-                         "give panel, joints, restraints and load as 'key: value' lines (see config/walls/)")
-    return spec
+    """The case mapping of a YAML file; an InputError naming the file when it cannot be one
+    (:func:`stonedem.io.yaml_file.read_yaml_mapping`: kind, size, encoding, nesting, keys twice)."""
+    return read_yaml_mapping(path, "a wall case file", MAX_CASE_BYTES,
+                             "give panel, joints, restraints and load as 'key: value' lines (see config/walls/)")
 
 
 # --- problem size -------------------------------------------------------------------------

@@ -85,7 +85,7 @@ def pushover_figure(datasets, path):
 
 
 def plot_from_files(paths, path, kind="damage"):
-    import xarray as xr
+    from stonedem.io.netcdf import open_result
 
-    datasets = [xr.open_dataset(p).load() for p in paths]
+    datasets = [open_result(p) for p in paths]
     return (damage_figure if kind == "damage" else pushover_figure)(datasets, path)

@@ -7,7 +7,6 @@ relative errors and ``within_tolerance`` (10 % of the manuscript DEM column; 0.0
 from __future__ import annotations
 
 import csv
-from pathlib import Path
 
 import numpy as np
 
@@ -81,22 +80,19 @@ def limit_load_row(ds):
 
 
 def limit_load_table(paths):
-    import xarray as xr
+    from stonedem.io.netcdf import open_result
 
-    rows = []
-    for p in paths:
-        with xr.open_dataset(p) as ds:
-            rows.append(limit_load_row(ds))
-    return rows
+    # a result left unreadable by a crash is removed with one line: the next snakemake call remakes it
+    return [limit_load_row(open_result(p)) for p in paths]
 
 
 def write_table(rows, path):
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    with tmp.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    tmp.replace(path)
-    return path
+    from stonedem.io.atomic import write_atomically
+
+    def write(tmp):
+        with open(tmp, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+
+    return write_atomically(path, write)

@@ -11,7 +11,6 @@ Prints a table and writes results/bench/engine_speed.nc (and .csv).
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 import time
@@ -22,10 +21,11 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from stonedem.entry import guarded  # noqa: E402
-from stonedem.io.netcdf import code_version, write_dataset  # noqa: E402
+from stonedem.bench import options  # noqa: E402
 from stonedem.engine.scene import load_scene, scene_from_dict  # noqa: E402
 from stonedem.engine.simulate import simulate  # noqa: E402
+from stonedem.io.atomic import write_atomically  # noqa: E402
+from stonedem.io.netcdf import code_version, write_dataset  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,10 +42,8 @@ def synthetic_record(path: Path, duration=20.0, dt=0.01, seed=1) -> Path:
     envelope = np.minimum(t / 2.0, 1.0) * np.exp(-np.maximum(t - 8.0, 0.0) / 4.0)
     accel = signal * envelope
     accel *= 3.0 / np.abs(accel).max()
-    path.parent.mkdir(parents=True, exist_ok=True)
     header = "synthetic accelerogram for benchmarks: band-limited (0.5-8 Hz) noise, seed 1\ntime [s], acceleration [m/s2]"
-    np.savetxt(path, np.column_stack([t, accel]), header=header, fmt="%.6f")
-    return path
+    return write_atomically(path, lambda tmp: np.savetxt(tmp, np.column_stack([t, accel]), header=header, fmt="%.6f"))
 
 
 def column_scene(dt=None, duration=20.0):
@@ -100,13 +98,34 @@ def response(scene, result):
             "collapse_time": float(result.time[result.collapse_sample]) if collapsed else float("nan")}
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=ROOT / "results" / "bench")
-    args = parser.parse_args(argv)
-    record = synthetic_record(args.out / "synthetic_record_20s.txt")
+OUTPUTS = ("synthetic_record_20s.txt", "engine_speed.nc", "engine_speed.csv")
+SCENE_A = ROOT / "tests" / "data" / "scenes" / "rocking_block.yaml"
+
+
+def build_parser():
+    parser = options.parser("python benchmarks/engine_speed.py", __doc__)
+    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results" / "bench",
+                        help="output folder (writes " + ", ".join(OUTPUTS) + ")")
+    return parser
+
+
+def check_args(args) -> Path:
+    """The output folder, or an InputError before anything runs."""
+    out = options.output_folder(args.out, "--out", files=OUTPUTS)
+    options.input_file(SCENE_A, "scene (a)", "scene file (tests/data/scenes/rocking_block.yaml of a source checkout)")
+    return out
+
+
+def main(argv=None) -> int:
+    """Options and output folder checked first (one line, exit 2); then the benchmark."""
+    args = build_parser().parse_args(argv)
+    return options.run(lambda: benchmark(check_args(args)))
+
+
+def benchmark(out: Path) -> int:
+    record = synthetic_record(out / "synthetic_record_20s.txt")
     scenes = {
-        "a_free_rocking_block": load_scene(ROOT / "tests/data/scenes/rocking_block.yaml"),
+        "a_free_rocking_block": load_scene(SCENE_A),
         "b_8_drum_column_harmonic": column_scene(),
         "c_colonnade_5x3_record": colonnade_scene(record),
     }
@@ -146,10 +165,11 @@ def main(argv=None):
                **{f"b_{k}_dt_half": v for k, v in r2.items()},
                **{f"b_dt_half_change_{k}": v for k, v in change.items()}},
     )
-    write_dataset(ds, args.out / "engine_speed.nc")
-    ds.to_dataframe().to_csv(args.out / "engine_speed.csv")
-    print(f"wrote {args.out / 'engine_speed.nc'}")
+    write_dataset(ds, out / "engine_speed.nc")
+    options.write_text(out / "engine_speed.csv", ds.to_dataframe().to_csv())
+    print(f"wrote {out / 'engine_speed.nc'}")
+    return 0
 
 
 if __name__ == "__main__":
-    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C
+    sys.exit(main())  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -20,8 +20,6 @@ error, and writes results/walls/table_a1_fits.csv. ``--quick``: grids of 8 and 1
 
 from __future__ import annotations
 
-import argparse
-import csv
 import itertools
 import math
 import sys
@@ -31,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize
 
-from stonedem.entry import guarded
+from stonedem.bench import options
 from stonedem.wall.interface import TABLE_A1, SpringInterface, fit_alpha, ramp, torsion_constant
 
 DIRECTIONS = {"f1": 0.0, "f2": math.pi / 2, "f1=f2": math.pi / 4}
@@ -100,12 +98,26 @@ def fits(points):
     return out
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def build_parser():
+    parser = options.parser("python benchmarks/table_a1_fits.py", __doc__)
     parser.add_argument("--quick", action="store_true", help="grids of 8 and 16 springs only")
-    parser.add_argument("-o", "--output", default="results/walls/table_a1_fits.csv")
-    args = parser.parse_args(argv)
-    grids = (8, 16) if args.quick else (8, 16, 32, 64)
+    parser.add_argument("-o", "--output", type=options.path_arg, default="results/walls/table_a1_fits.csv", help="output table (.csv)")
+    return parser
+
+
+def main(argv=None) -> int:
+    """Options and output path checked first (one line, exit 2); then the fits."""
+    args = build_parser().parse_args(argv)
+
+    def command():
+        output = options.output_file(args.output, "-o/--output", suffixes=(".csv",))
+        return table_a1_fits(output, args.quick)
+
+    return options.run(command)
+
+
+def table_a1_fits(output: Path, quick: bool = False) -> int:
+    grids = (8, 16) if quick else (8, 16, 32, 64)
     rows = []
     start = time.perf_counter()
     for n in grids:
@@ -124,11 +136,7 @@ def main(argv=None):
                                          "alpha": round(alpha, 4), "alpha_manuscript": ref,
                                          "error": round(alpha - ref, 4)})
         print(f"n = {n}: {time.perf_counter() - start:.0f} s", flush=True)
-    Path(args.output).parent.mkdir(parents=True, exist_ok=True)
-    with open(args.output, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    options.write_csv(output, rows)
     # the summary: per combination, f1=f2 read either way (the other columns as they are)
     print(f"\n{'n':>3} {'f1=f2 reading':14} {'m3 by':12} {'criterion':8} within/21  max|err|  worst entry")
     keys = sorted({(r["n"], r["m3_normalised_by"], r["criterion"]) for r in rows})
@@ -145,8 +153,9 @@ def main(argv=None):
             best = ((within, -errors.max()), n, reading, norm, criterion)
     (within, neg), n, reading, norm, criterion = best
     print(f"\nbest: n = {n}, f1=f2 as {reading}, m3 by {norm}, {criterion}: {within}/21 within {TOLERANCE}, "
-          f"max error {-neg:.3f}; {args.output}")
+          f"max error {-neg:.3f}; {output}")
+    return 0
 
 
 if __name__ == "__main__":
-    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C
+    sys.exit(main())  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -29,9 +29,7 @@ writes ``results/walls/supports.csv``.
 
 from __future__ import annotations
 
-import argparse
 import copy
-import csv
 import dataclasses
 import os
 import sys
@@ -40,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from stonedem.entry import guarded
+from stonedem.bench import options
 from stonedem.wall.case import case_from_dict, read_case
 from stonedem.wall.pushover import ConvergenceError, pushover
 
@@ -191,23 +189,36 @@ def run(spec, name, law=None, transform=None, lever=None):
     return r.lambda_max, r.status, time.perf_counter() - t0
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", nargs="*", help="case file stems (default: Tables 1 and 3, and the "
-                    "Table 2 walls held by lateral columns)")
-    ap.add_argument("--out", default=str(ROOT / "results" / "walls"))
-    args = ap.parse_args(argv)
-    unknown = [n for n in args.only or [] if not (ROOT / "config" / "walls" / f"{n}.yaml").is_file()]
-    if unknown:
-        ap.error(f"--only: no case file config/walls/<name>.yaml for {', '.join(unknown)}; "
-                 f"give case file stems, e.g. s11 chee_liang_2_3")
+def build_parser():
+    ap = options.parser("python benchmarks/wall_supports.py", __doc__)
+    ap.add_argument("--only", nargs="*", help="case file stems, each once, from: " + " ".join(CASES + COLUMN_CASES)
+                    + " (default: all of them, Tables 1 and 3 and the Table 2 walls held by lateral columns)")
+    ap.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "walls"), help="output folder (writes supports.csv)")
+    return ap
+
+
+def check_args(args):
+    """(case names, output folder), or an InputError before anything runs."""
+    names = options.chosen(args.only, "--only", CASES + COLUMN_CASES, empty_ok=True) or CASES + COLUMN_CASES
+    for name in names:
+        options.input_file(ROOT / "config" / "walls" / f"{name}.yaml", "--only", "case file config/walls/<name>.yaml")
+    return names, options.output_folder(args.out, "--out", files=("supports.csv",))
+
+
+def main(argv=None) -> int:
+    """Options and output folder checked first (one line, exit 2); then the variants."""
+    args = build_parser().parse_args(argv)
+    return options.run(lambda: supports(*check_args(args)))
+
+
+def supports(names, out: Path) -> int:
     try:
         os.nice(19)
     except OSError:
         pass
     rows = []
     print(f"{'case':>18} {'variant':>44} {'ours':>9} {'DEM':>8} {'error':>7} {'s':>5}", flush=True)
-    for name in args.only or CASES + COLUMN_CASES:
+    for name in names:
         base = read_case(ROOT / "config" / "walls" / f"{name}.yaml")
         base.pop("name", None)
         ref = base.get("reference", {})
@@ -237,16 +248,10 @@ def main(argv=None):
                          "seconds": round(seconds, 1)})
             print(f"{name:>18} {label:>44} {lam * scale:9.4g} {dem * scale:8.4g} {err:+7.1%} {seconds:5.1f}",
                   flush=True)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    tmp = out / ".supports.csv.tmp"
-    with tmp.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    tmp.replace(out / "supports.csv")
-    print(f"wrote {out / 'supports.csv'}")
+    path = options.write_csv(out / "supports.csv", rows)
+    print(f"wrote {path}")
+    return 0
 
 
 if __name__ == "__main__":
-    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C
+    sys.exit(main())  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -12,15 +12,13 @@ the dead-load caps. Writes ``results/walls/benchmark.csv``.
 
 from __future__ import annotations
 
-import argparse
-import csv
 import os
 import sys
 import time
 from pathlib import Path
 
 
-from stonedem.entry import guarded
+from stonedem.bench import options
 from stonedem.wall.case import load_case
 from stonedem.wall.pushover import ConvergenceError, pushover
 from stonedem.wall.dataset import add_limit_analysis, wall_dataset
@@ -65,19 +63,41 @@ def run_case(name, max_seconds=150.0, secant=False):
             "max_residual": float(r.residual.max()), "seconds": round(seconds, 1)}
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--only", nargs="*", help="case file stems to run (default: all)")
+MAX_SECONDS = 86_400.0  # [s] a day per case
+
+
+def build_parser():
+    ap = options.parser("python benchmarks/wall_tables.py", __doc__)
+    ap.add_argument("--only", nargs="*", help="case file stems to run, each once, from: " + " ".join(CASES)
+                    + " (default: all)")
     ap.add_argument("--max-seconds", type=float, default=150.0,
-                    help="wall-clock budget per case (a case file's solver.max_seconds wins)")
-    ap.add_argument("--out", default=str(ROOT / "results" / "walls"))
+                    help=f"wall-clock budget per case [s], > 0 and <= {MAX_SECONDS:g} "
+                         "(a case file's solver.max_seconds wins; default 150)")
+    ap.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "walls"),
+                    help="output folder (writes benchmark.csv, or benchmark_secant.csv with --secant)")
     ap.add_argument("--secant", action="store_true",
                     help="manuscript 2.3 load-controlled secant scheme; writes benchmark_secant.csv")
-    args = ap.parse_args(argv)
-    unknown = [n for n in args.only or [] if not (ROOT / "config" / "walls" / f"{n}.yaml").is_file()]
-    if unknown:
-        ap.error(f"--only: no case file config/walls/<name>.yaml for {', '.join(unknown)}; "
-                 f"give case file stems, e.g. s11 chee_liang_2_3")
+    return ap
+
+
+def check_args(args):
+    """(case names, budget [s], output path), or an InputError before anything runs."""
+    names = options.chosen(args.only, "--only", CASES, empty_ok=True) or CASES
+    for name in names:
+        options.input_file(ROOT / "config" / "walls" / f"{name}.yaml", "--only", "case file config/walls/<name>.yaml")
+    budget = options.number(args.max_seconds, "--max-seconds", lo=0.0, lo_open=True, hi=MAX_SECONDS,
+                            unit="s", example="150")
+    name = "benchmark_secant.csv" if args.secant else "benchmark.csv"
+    return names, budget, options.output_folder(args.out, "--out", files=(name,)) / name
+
+
+def main(argv=None) -> int:
+    """Options and output folder checked first (one line, exit 2); then the cases."""
+    args = build_parser().parse_args(argv)
+    return options.run(lambda: tables(*check_args(args), secant=args.secant))
+
+
+def tables(names, max_seconds: float, path: Path, secant: bool = False) -> int:
     try:
         os.nice(19)
     except OSError:
@@ -86,8 +106,8 @@ def main(argv=None):
     head = (f"{'case':>10} {'unit':>6} {'ours':>9} {'at s/10':>9} {'DEM':>8} {'reference':>12} {'err DEM':>8} "
             f"{'err ref':>8} {'ok':>3} {'s':>6} {'LP':>9} {'push/LP':>8} {'LP dead':>9} {'LP s':>5}  status")
     print(head, flush=True)
-    for name in args.only or CASES:
-        row = run_case(name, args.max_seconds, args.secant)
+    for name in names:
+        row = run_case(name, max_seconds, secant)
         rows.append(row)
         if "manuscript_dem" not in row:
             print(f"{row['case']:>10}  {row['status']}", flush=True)
@@ -97,13 +117,7 @@ def main(argv=None):
               f"{100 * row['error_vs_reference']:+7.1f}% {'yes' if row['within_tolerance'] else 'no':>3} "
               f"{row['seconds']:6.1f} {row['limit_analysis']:9.4g} {100 * row['pushover_vs_limit_analysis']:+7.2f}% "
               f"{row['limit_analysis_dead_load']:9.4g} {row['limit_analysis_seconds']:5.1f}  {row['status']}", flush=True)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / ("benchmark_secant.csv" if args.secant else "benchmark.csv")
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=max((list(r) for r in rows), key=len), restval="")
-        w.writeheader()
-        w.writerows(rows)
+    options.write_csv(path, rows, fieldnames=max((list(r) for r in rows), key=len), restval="")
     met = sum(r["within_tolerance"] for r in rows)
     print(f"{met} of {len(rows)} within {100 * LIMIT_TOLERANCE:.0f} % of the manuscript DEM; "
           f"total {sum(r['seconds'] for r in rows):.0f} s; wrote {path}")
@@ -111,4 +125,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(guarded(main))  # one-line errors, exit 2 on bad input, 130 on Ctrl-C
+    sys.exit(main())  # one-line errors, exit 2 on bad input, 130 on Ctrl-C

@@ -1,5 +1,6 @@
 """Snapshot strips and GIFs drawn from a case dataset alone (stonedem.figures.snapshots)."""
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -180,3 +181,172 @@ def test_cli_bad_input_exits_2_and_writes_nothing(column_case, tmp_path, capsys)
         lines = capsys.readouterr().err.strip().splitlines()
         assert len(lines) == 1 and lines[0].startswith("error: ") and field in lines[0], lines
         assert sorted(tmp_path.iterdir()) == before, f"{argv} left a file behind"
+
+
+# --- hostile input: refused in one line, exit 2, nothing created (stonedem.cli.main) --------
+
+def tree(folder):
+    """Every path under folder, so a test sees a stray file or folder anywhere below it."""
+    return sorted(str(p.relative_to(folder)) for p in Path(folder).rglob("*"))
+
+
+def refused(argv, field, folder, capsys):
+    """stonedem argv exits 2 with one 'error:' line naming field, and leaves folder as it was."""
+    from stonedem.cli import main as cli_main
+
+    before = tree(folder)
+    try:
+        status = cli_main(argv)
+    except SystemExit as stop:  # a usage error of the parser
+        status = stop.code
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert status == 2, (argv, lines)
+    assert len(lines) == 1 and lines[0].startswith("error: ") and field in lines[0], (argv, lines)
+    assert "Traceback" not in lines[0]
+    assert tree(folder) == before, f"{argv} created {set(tree(folder)) - set(before)}"
+    return lines[0]
+
+
+@pytest.fixture(scope="module")
+def hostile_cases(column_case, tmp_path_factory):
+    """{name: path} of damaged or foreign files, each made from the column case."""
+    _, ds = column_case
+    folder = tmp_path_factory.mktemp("hostile")
+    made = {}
+
+    def save(name, d):
+        made[name] = folder / f"{name}.nc"
+        d.to_netcdf(made[name])
+
+    def with_scene(text):
+        d = ds.copy()
+        d.attrs = {**ds.attrs, "scene": text}
+        return d
+
+    save("scene_list", with_scene("[1, 2]"))
+    save("scene_yaml", with_scene("structure: {kind: column\nn_drums: [4"))
+    save("scene_number", with_scene(np.array([1.0, 2.0])))
+    save("scene_string", with_scene('"a column"'))
+    for name, value in (("x_nan", np.nan), ("theta_inf", np.inf), ("y_huge", 1e300)):
+        var = name.split("_")[0]
+        d = ds.copy()
+        values = d[var].values.copy()
+        values[10, 2] = value
+        d[var] = (d[var].dims, values)
+        save(name, d)
+    save("extra_dim", ds.assign(theta=ds.theta.expand_dims(extra=2)))
+    save("base_2d", ds.assign(base_displacement=ds.base_displacement.expand_dims(extra=2)))
+    save("collapsed_nan", ds.assign(collapsed=np.nan))
+    save("x_text", ds.assign(x=ds.x.astype(str)))
+    save("time_flat", ds.assign_coords(time=np.where(np.arange(ds.sizes["time"]) == 5, ds.time[4], ds.time)))
+    for var in ("x", "theta", "body_role"):
+        save(f"no_{var}", ds.drop_vars(var))
+    save("other_bodies", ds.assign_coords(body=[f"b{i}" for i in range(ds.sizes["body"])]))
+    (folder / "text.nc").write_text("time,x\n0,1\n")
+    (folder / "empty.nc").write_bytes(b"")
+    (folder / "png.nc").write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(100))
+    (folder / "folder.nc").mkdir()
+    made.update({k: folder / f"{k}.nc" for k in ("text", "empty", "png", "folder")})
+    return made
+
+
+@pytest.mark.parametrize("name, field", [
+    ("scene_list", "attrs.scene: JSON list, not a mapping"),
+    ("scene_yaml", "attrs.scene: not valid JSON"),
+    ("scene_number", "attrs.scene"),
+    ("scene_string", "attrs.scene: JSON str, not a mapping"),
+    ("x_nan", "x: 1 non-finite"),
+    ("theta_inf", "theta: 1 non-finite"),
+    ("y_huge", "y: holds values beyond"),
+    ("extra_dim", "theta: has dimensions"),
+    ("base_2d", "base_displacement: has dimensions"),
+    ("collapsed_nan", "collapsed"),
+    ("x_text", "x: holds"),
+    ("time_flat", "time: is not increasing"),
+    ("no_x", "x: missing"),
+    ("no_theta", "theta: missing"),
+    ("no_body_role", "body_role: missing"),
+    ("other_bodies", "body"),
+    ("text", "not a readable NetCDF"),
+    ("empty", "not a readable NetCDF"),
+    ("png", "not a readable NetCDF"),
+    ("folder", "is a folder"),
+])
+@pytest.mark.parametrize("command", ["snapshots", "animate"])
+def test_hostile_dataset_is_refused_before_drawing(hostile_cases, tmp_path, capsys, name, field, command):
+    out = tmp_path / "new" / ("out.png" if command == "snapshots" else "out.gif")
+    refused([command, str(hostile_cases[name]), "-o", str(out)], field, tmp_path, capsys)
+    assert not (tmp_path / "new").exists(), "no folder made for a refused picture"
+
+
+@pytest.mark.parametrize("options, field", [
+    (["--fps", "1e-9"], "--fps"), (["--fps", "0"], "--fps"), (["--fps", "-5"], "--fps"),
+    (["--fps", "nan"], "--fps"), (["--fps", "inf"], "--fps"), (["--fps", "1e9"], "--fps"),
+    (["--every", "inf"], "--every"), (["--every", "nan"], "--every"), (["--every", "-1"], "--every"),
+    (["--every", "0"], "--every"), (["--every", "1e300"], "--every"), (["--every", "100"], "--every"),
+    (["--max-frames", "0"], "--max-frames"), (["--max-frames", "1000000000"], "--max-frames"),
+    (["--max-frames", "1.5"], "--max-frames"),
+    (["--title", "a\x1b[31mred"], "--title"), (["--title", "x" * 1000], "--title"),
+])
+def test_animate_options_have_ranges(column_case, tmp_path, capsys, options, field):
+    src, _ = column_case
+    refused(["animate", str(src), "-o", str(tmp_path / "a" / "b.gif"), *options], field, tmp_path, capsys)
+
+
+@pytest.mark.parametrize("options, field", [
+    (["-n", "0"], "-n"), (["-n", "-3"], "-n"), (["-n", "1000000"], "-n"),
+    (["-n", str(snapshots.MAX_PANELS + 1)], "-n"), (["-n", "1e6"], "-n"),
+    (["--times", "nan"], "--times"), (["--times", "0", "inf"], "--times"),
+    (["--times", *["0.1"] * (snapshots.MAX_PANELS + 1)], "--times"), (["--times", "-1"], "--times"),
+    (["--title", "two\nlines"], "--title"),
+])
+def test_snapshot_options_have_ranges(column_case, tmp_path, capsys, options, field):
+    src, _ = column_case
+    refused(["snapshots", str(src), "-o", str(tmp_path / "a" / "b.png"), *options], field, tmp_path, capsys)
+
+
+def test_n_has_a_stated_upper_bound(capsys):
+    from stonedem.cli import main as cli_main
+
+    with pytest.raises(SystemExit):
+        cli_main(["snapshots", "--help"])
+    assert f"1 to {snapshots.MAX_PANELS}" in capsys.readouterr().out
+
+
+def test_output_in_an_unwritable_place_is_refused_first(column_case, tmp_path, capsys):
+    src, _ = column_case
+    refused(["snapshots", str(src), "-o", "/proc/stonedem/x.png"], "-o", tmp_path, capsys)
+    refused(["animate", str(src), "-o", "/proc/x.gif"], "-o", tmp_path, capsys)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    refused(["snapshots", str(src), "-o", str(blocker / "x.png")], "is a file, not a folder", tmp_path, capsys)
+    # a bad option with an output in a folder that does not exist yet: no folder is made
+    refused(["snapshots", str(src), "-o", str(tmp_path / "d" / "e" / "x.png"), "--times", "99"], "--times",
+            tmp_path, capsys)
+
+
+def test_dollar_titles_are_plain_text(column_case, tmp_path, capsys):
+    from stonedem.cli import main as cli_main
+
+    src, ds = column_case
+    bad_tex = r"a $\frac{$ b $x^$ 100%"
+    out = tmp_path / "title.png"
+    assert cli_main(["snapshots", str(src), "-o", str(out), "-n", "2", "--title", bad_tex]) == 0
+    assert out.is_file()
+    # a scene named with TeX, drawn with the default title; a GIF too
+    spec = json.loads(ds.attrs["scene"])
+    spec["name"] = r"$\undefinedcommand{$"
+    named = ds.copy()
+    named.attrs = {**ds.attrs, "scene": json.dumps(spec)}
+    assert "$" in snapshots.default_title(named)
+    case = tmp_path / "named.nc"
+    named.to_netcdf(case)
+    assert cli_main(["animate", str(case), "-o", str(tmp_path / "named.gif"), "--max-frames", "2"]) == 0
+    capsys.readouterr()
+
+
+def test_default_title_survives_a_foreign_excitation(column_case):
+    _, ds = column_case
+    odd = ds.copy()
+    odd.attrs = {**ds.attrs, "excitation": json.dumps({"kind": [1], "pga": "x"})}
+    assert "base motion unknown" in snapshots.default_title(odd)

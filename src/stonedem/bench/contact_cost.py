@@ -26,7 +26,6 @@ writes results/bench/contact_cost.nc and results/figures/contact_cost.png.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import math
 import os
@@ -36,6 +35,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -556,30 +557,71 @@ def plot(ds, path: Path) -> Path:
     return path
 
 
-def main(argv=None) -> int:
-    os.environ["NUMBA_NUM_THREADS"] = "1"  # before numba is imported (single-core numbers)
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+MAX_SIZES = 30  # sizes in one run
+DURATION_RANGE = (0.0, 60.0)  # [s] simulated per timed run, lower end excluded
+TARGET_RANGE = (0.0, 600.0)  # [s] kernel wall time per size, lower end excluded
+
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.contact_cost", __doc__)
     parser.add_argument("--quick", action="store_true", help="sizes 1, 10, 100 and a tiny duration (CI)")
-    parser.add_argument("--sizes", type=int, nargs="+", help="free bodies per scene (default 1 ... 990)")
-    parser.add_argument("--duration", type=float, help=f"simulated seconds per timed run (default {DURATION})")
+    parser.add_argument("--sizes", type=int, nargs="+",
+                        help=f"free bodies per scene, 1 to 999, each once, at most {MAX_SIZES} sizes "
+                             "(default 1 ... 990)")
+    parser.add_argument("--duration", type=float,
+                        help=f"simulated seconds per timed run, > 0 and <= {DURATION_RANGE[1]:g} (default {DURATION})")
     parser.add_argument("--target", type=float, help=f"kernel wall seconds aimed at per size, "
-                        f"repeating short runs (default {TARGET_SECONDS})")
+                        f"repeating short runs, > 0 and <= {TARGET_RANGE[1]:g} (default {TARGET_SECONDS})")
     parser.add_argument("--model", choices=CONTACT_MODELS, default=MODEL,
                         help=f"contact law (default {MODEL})")
-    parser.add_argument("--out", type=Path, default=ROOT / "results")
-    args = parser.parse_args(argv)
-    sizes = tuple(args.sizes or (QUICK_SIZES if args.quick else SIZES))
-    duration = args.duration or (0.05 if args.quick else DURATION)
-    target = args.target or (0.05 if args.quick else TARGET_SECONDS)
-    ds = run_benchmark(sizes, duration=duration, target_seconds=target,
-                       broad_min_seconds=0.02 if args.quick else 0.2, model=args.model)
-    from stonedem.io.netcdf import write_dataset
+    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results",
+                        help="results folder: writes OUT/bench/contact_cost.nc and OUT/figures/contact_cost.png")
+    return parser
 
-    nc = write_dataset(ds, args.out / "bench" / "contact_cost.nc")
-    png = plot(ds, args.out / "figures" / "contact_cost.png")
-    print_table(ds)
-    print(f"wrote {nc}\nwrote {png}")
-    return 0
+
+def check_args(args):
+    """(sizes, duration [s], target [s], nc path, png path), or an InputError before anything runs."""
+    from stonedem.bench import options
+    from stonedem.engine.scene import MAX_BODIES
+
+    if args.sizes is not None:
+        if not 1 <= len(args.sizes) <= MAX_SIZES:
+            raise InputError("--sizes", f"{len(args.sizes)} sizes", f"give 1 to {MAX_SIZES} sizes")
+        for n in args.sizes:
+            options.number(n, "--sizes", lo=1, hi=MAX_BODIES - 1, whole=True, unit="free bodies (the base is one more)")
+        if len(set(args.sizes)) != len(args.sizes):
+            raise InputError("--sizes", "a size is given twice", "give each size once")
+    sizes = tuple(args.sizes or (QUICK_SIZES if args.quick else SIZES))
+    duration = (0.05 if args.quick else DURATION) if args.duration is None else options.number(
+        args.duration, "--duration", lo=DURATION_RANGE[0], lo_open=True, hi=DURATION_RANGE[1], unit="s", example="1")
+    target = (0.05 if args.quick else TARGET_SECONDS) if args.target is None else options.number(
+        args.target, "--target", lo=TARGET_RANGE[0], lo_open=True, hi=TARGET_RANGE[1], unit="s", example="1")
+    out = options.output_folder(args.out, "--out", files=("bench/contact_cost.nc", "figures/contact_cost.png"))
+    return sizes, duration, target, out / "bench" / "contact_cost.nc", out / "figures" / "contact_cost.png"
+
+
+def main(argv=None) -> int:
+    """Options and output paths checked first (one line, exit 2); then the benchmark."""
+    os.environ["NUMBA_NUM_THREADS"] = "1"  # before numba is imported (single-core numbers)
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        sizes, duration, target, nc_path, png_path = check_args(args)
+        ds = run_benchmark(sizes, duration=duration, target_seconds=target,
+                           broad_min_seconds=0.02 if args.quick else 0.2, model=args.model)
+        from stonedem.io.netcdf import write_dataset
+
+        nc = write_dataset(ds, nc_path)
+        png = plot(ds, png_path)
+        print_table(ds)
+        print(f"wrote {nc}\nwrote {png}")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,6 @@ test failed: a failing example is a traceback, a hang or a wrong answer to fix.
 
 from __future__ import annotations
 
-import argparse
 import os
 import re
 import subprocess
@@ -20,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, write_dataset
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -63,16 +63,32 @@ def fuzz_dataset(rows: list[dict], profile: str) -> xr.Dataset:
                              "hypothesis_profile": profile})
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m stonedem.bench.fuzz", description=__doc__.splitlines()[0])
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.fuzz", __doc__)
     parser.add_argument("--quick", action="store_true", help="the ci profile (100 examples per test)")
-    parser.add_argument("--out", type=Path, default=Path("results/bench/fuzz.nc"))
-    args = parser.parse_args(argv)
-    profile = "ci" if args.quick else "fuzz"
-    rows, log = run(profile)
-    print(log[-3000:], file=sys.stderr)
-    write_dataset(fuzz_dataset(rows, profile), args.out)
-    return 1 if any(r["failed"] for r in rows) or not rows else 0
+    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench/fuzz.nc"), help="output NetCDF file (.nc)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Options and output path checked first (one line, exit 2); then the fuzz suites."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        out = options.output_file(args.out, "--out", suffixes=(".nc",))
+        if not (ROOT / "tests").is_dir():
+            raise InputError("tests", f"no tests/ folder in {ROOT}", "run the benchmark from a source checkout")
+        profile = "ci" if args.quick else "fuzz"
+        rows, log = run(profile)
+        print(log[-3000:], file=sys.stderr)
+        write_dataset(fuzz_dataset(rows, profile), out)
+        return 1 if any(r["failed"] for r in rows) or not rows else 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

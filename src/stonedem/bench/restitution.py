@@ -52,7 +52,6 @@ runs only the monolith and the 2-drum column, without capitals.
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import platform
@@ -69,6 +68,7 @@ import xarray as xr
 from stonedem.reference import analytic
 from stonedem.bench.canonical import rocking_measures
 from stonedem.bench.ours import critical_damping
+from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, write_dataset
 from stonedem.kernels import step
 from stonedem.engine.measures import rocking_bodies
@@ -494,33 +494,87 @@ def table(ds: xr.Dataset) -> str:
     return "\n".join(lines + (["(" + "; ".join(notes) + ")"] if notes else []))
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=str(ROOT / "results" / "bench"),
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.restitution", __doc__)
+    parser.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "bench"),
                         help="directory (writes restitution.nc) or a .nc path")
-    parser.add_argument("--config", type=Path, nargs="+", default=[ROOT / "config" / "config.yaml"],
+    parser.add_argument("--config", type=options.path_arg, nargs="+", default=[ROOT / "config" / "config.yaml"],
                         help="config file(s), merged in order like snakemake --configfile")
     parser.add_argument("--quick", action="store_true",
                         help="the monolith and the 2-drum column only, no capitals (CI)")
-    parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=LAWS)
-    args = parser.parse_args(argv)
-    start = wallclock.perf_counter()
-    config = load_config(*args.config)
-    columns = study_columns(config)
+    parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=LAWS, help="contact laws, each once")
+    return parser
+
+
+def check_args(args):
+    """(output path, config, columns, monolith), or an InputError before anything runs."""
+    import yaml
+
+    from stonedem.bench import options
+
+    options.chosen(args.laws, "--laws", LAWS)
+    out = Path(args.out)
+    if out.suffix.lower() == ".nc":
+        path = options.output_file(out, "--out", suffixes=(".nc",), inputs=args.config)
+    else:
+        path = options.output_folder(out, "--out", files=("restitution.nc",)) / "restitution.nc"
+    for config_path in args.config:
+        options.input_file(config_path, "--config", "YAML config file")
+    try:
+        config = load_config(*args.config)
+    except InputError as err:
+        raise InputError(f"--config: {err.field}", err.problem, err.fix) from None
+    except (yaml.YAMLError, UnicodeDecodeError, OSError) as err:
+        raise InputError("--config", f"not readable YAML ({type(err).__name__})",
+                         "give the workflow's config file(s), e.g. config/config.yaml") from None
+    except (AttributeError, TypeError):
+        raise InputError("--config", "a config file is not a mapping",
+                         "give the workflow's config file(s), e.g. config/config.yaml") from None
+    if not isinstance(config.get("studies"), dict) or not config["studies"]:
+        raise InputError("--config", "no studies: mapping in the config",
+                         "give the workflow's config file(s), e.g. config/config.yaml")
+    model = study_contact(config)["model"]
+    if model != "point":
+        raise InputError("--config", f"the study's contact (defaults.contact.model) is {model!r}",
+                         "this benchmark runs the study's contact as the point law; give a config whose model is point")
+    try:
+        columns = study_columns(config)
+    except (AttributeError, KeyError, TypeError, ValueError) as err:
+        if isinstance(err, InputError):
+            raise
+        raise InputError("--config", f"the studies cannot be read ({type(err).__name__}: {err})",
+                         "give the workflow's config file(s), e.g. config/config.yaml") from None
     if args.quick:
         columns = quick_columns(columns)
-    monolith = next(c for c in columns if c.n_drums == 1 and not c.capital)
-    contacts = law_contacts(config, monolith, args.laws)
-    ds = restitution_table(columns, contacts)
-    ds.attrs["profile"] = "quick" if args.quick else "full"
-    ds.attrs["config"] = ", ".join(str(p) for p in args.config)
-    out = Path(args.out)
-    path = out if out.suffix == ".nc" else out / "restitution.nc"
-    ds.attrs["total_wall_seconds"] = wallclock.perf_counter() - start
-    write_dataset(ds, path)
-    print(table(ds))
-    print(f"wrote {path} in {wallclock.perf_counter() - start:.0f} s")
-    return 0
+    monolith = next((c for c in columns if c.n_drums == 1 and not c.capital), None)
+    if monolith is None:
+        raise InputError("--config", "no study runs a 1-drum column without capital (the monolith)",
+                         "give the workflow's config file(s), e.g. config/config.yaml")
+    return path, config, columns, monolith
+
+
+def main(argv=None) -> int:
+    """Options, output path and config checked first (one line, exit 2); then the table."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        start = wallclock.perf_counter()
+        path, config, columns, monolith = check_args(args)
+        contacts = law_contacts(config, monolith, args.laws)
+        ds = restitution_table(columns, contacts)
+        ds.attrs["profile"] = "quick" if args.quick else "full"
+        ds.attrs["config"] = ", ".join(str(p) for p in args.config)
+        ds.attrs["total_wall_seconds"] = wallclock.perf_counter() - start
+        write_dataset(ds, path)
+        print(table(ds))
+        print(f"wrote {path} in {wallclock.perf_counter() - start:.0f} s")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

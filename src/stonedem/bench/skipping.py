@@ -11,7 +11,6 @@ table shows what each skip saves and that the answers do not move (the error bou
 
 from __future__ import annotations
 
-import argparse
 import copy
 import os
 import sys
@@ -21,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from stonedem.errors import InputError
 from stonedem.study.grid import config_cases, load_config, run_case
 
 WAYS = {"everything": {"stop_on_collapse": False, "skip_quiet": False},
@@ -103,31 +103,95 @@ def skipping_dataset(cases, results) -> xr.Dataset:
     return ds
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--config", type=Path, default=Path("config/quick.yaml"))
-    parser.add_argument("--studies", nargs="*", default=list(STUDIES))
-    parser.add_argument("--limit", type=int, default=0, help="at most this many cases (0: all)")
-    parser.add_argument("--out", type=Path, default=Path("results/bench"))
-    args = parser.parse_args(argv)
-    from stonedem.io.netcdf import write_dataset
+MAX_LIMIT = 100_000
+RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
 
-    cases = study_cases(args.config, args.studies)
-    if args.limit:
-        cases = cases[: args.limit]
-    start = time.perf_counter()
-    results = []
-    for i, case in enumerate(cases):
-        results.append(run_ways(case))
-        walls = "  ".join(f"{w} {results[-1][w][0]:6.2f} s" for w in WAYS)
-        print(f"  [{i + 1}/{len(cases)}] {case.study}/{case.id}: {walls}", file=sys.stderr, flush=True)
-    ds = skipping_dataset(cases, results)
-    write_dataset(ds, args.out / "skipping.nc")
-    for key, value in ds.attrs.items():
-        if key.startswith(("total_", "max_change", "collapse_verdicts", "n_")):
-            print(f"{key}: {value:.4g}")
-    print(f"wrote {args.out / 'skipping.nc'} in {time.perf_counter() - start:.0f} s")
-    return 0
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.skipping", __doc__)
+    parser.add_argument("--config", type=options.path_arg, default=Path("config/quick.yaml"),
+                        help="config file, merged over config.yaml of its folder (default config/quick.yaml)")
+    parser.add_argument("--studies", nargs="*", default=list(STUDIES),
+                        help="studies of the config to run, each once (default: " + " ".join(STUDIES) + ")")
+    parser.add_argument("--limit", type=int, default=0,
+                        help=f"at most this many cases, 0 to {MAX_LIMIT} (0: all)")
+    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="output folder (writes skipping.nc)")
+    return parser
+
+
+def check_args(args):
+    """(cases, output path), every case's scene built once (records found), or an InputError
+    before anything runs."""
+    import yaml
+
+    from stonedem.bench import options
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.study.grid import natural_duration
+
+    limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
+    path = options.output_folder(args.out, "--out", files=("skipping.nc",)) / "skipping.nc"
+    options.input_file(args.config, "--config", "YAML config file")
+    options.input_file(Path(args.config).parent / "config.yaml", "--config",
+                       "config folder holding config.yaml (the config is merged over it)")
+    if not RECORDS.is_dir():
+        raise InputError("records", f"no folder {RECORDS} here (the cases' records)",
+                         "run from the repository root")
+    try:
+        config = load_config(Path(args.config).parent / "config.yaml", args.config)
+    except InputError as err:
+        raise InputError(f"--config: {err.field}", err.problem, err.fix) from None
+    except (yaml.YAMLError, UnicodeDecodeError, OSError) as err:
+        raise InputError("--config", f"not readable YAML ({type(err).__name__})",
+                         "give a workflow config file, e.g. config/quick.yaml") from None
+    except (AttributeError, TypeError):
+        raise InputError("--config", "a config file is not a mapping",
+                         "give a workflow config file, e.g. config/quick.yaml") from None
+    known = list(config.get("studies") or {}) if isinstance(config.get("studies"), dict) else []
+    studies = options.chosen(args.studies, "--studies", known)
+    cases = [case for group in config_cases(config, studies).values() for case in group]
+    if limit:
+        cases = cases[:limit]
+    if not cases:
+        raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
+    for case in cases:  # what run_case builds, without running it
+        spec = copy.deepcopy(case.scene)
+        try:
+            solver = spec.setdefault("solver", {})
+            if solver.get("duration") is None:
+                solver["duration"] = natural_duration(spec.get("excitation"), RECORDS)
+            scene_from_dict(spec, base_dir=RECORDS)
+        except InputError as err:
+            raise InputError(f"{case.study}/{case.id}: {err.field}", err.problem, err.fix) from None
+    return cases, path
+
+
+def main(argv=None) -> int:
+    """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        from stonedem.io.netcdf import write_dataset
+
+        cases, path = check_args(args)
+        start = time.perf_counter()
+        results = []
+        for i, case in enumerate(cases):
+            results.append(run_ways(case, base_dir=RECORDS))
+            walls = "  ".join(f"{w} {results[-1][w][0]:6.2f} s" for w in WAYS)
+            print(f"  [{i + 1}/{len(cases)}] {case.study}/{case.id}: {walls}", file=sys.stderr, flush=True)
+        ds = skipping_dataset(cases, results)
+        write_dataset(ds, path)
+        for key, value in ds.attrs.items():
+            if key.startswith(("total_", "max_change", "collapse_verdicts", "n_")):
+                print(f"{key}: {value:.4g}")
+        print(f"wrote {path} in {time.perf_counter() - start:.0f} s")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

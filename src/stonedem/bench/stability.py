@@ -23,7 +23,6 @@ interval is a whole number of steps, so simulate's rounding keeps dt exactly.
 
 from __future__ import annotations
 
-import argparse
 import copy
 import dataclasses
 import math
@@ -349,9 +348,9 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
     axes[0][0].set_ylabel("dt / stability limit")
     axes[0][-1].legend(fontsize=6, loc="lower right", ncol=1)
     fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    from stonedem.bench.options import save_figure
+
+    path = save_figure(fig, path, dpi=120)
     plt.close(fig)
     return path
 
@@ -374,33 +373,68 @@ def table(ds: xr.Dataset) -> str:
     return "\n".join(lines)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=str(ROOT / "results" / "bench"))
-    parser.add_argument("--figure", default=str(ROOT / "results" / "figures" / "stability_map.png"))
-    parser.add_argument("--duration", type=float, default=DURATION)
+DURATION_RANGE = (0.0, 60.0)  # [s] of each run of the map, lower end excluded
+
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.stability", __doc__)
+    parser.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "bench"),
+                        help="output folder (writes stability_map.nc and auto_dt_margin.nc)")
+    parser.add_argument("--figure", type=options.path_arg, default=str(ROOT / "results" / "figures" / "stability_map.png"),
+                        help="output figure (.png)")
+    parser.add_argument("--duration", type=float, default=DURATION,
+                        help=f"simulated seconds of each run of the map, > 0 and <= {DURATION_RANGE[1]:g} "
+                             f"(default {DURATION}; --quick: 0.2)")
     parser.add_argument("--quick", action="store_true",
                         help="two stiffnesses, three step ratios, no damping sweep, three studies (CI)")
     parser.add_argument("--model", choices=CONTACT_MODELS, default="point",
                         help="contact law of the map (default: point; the "
                              "auto-dt margins use each study's own law)")
-    args = parser.parse_args(argv)
-    if args.quick:
-        ds = stability_map(k_n_values=(1e8, 1e10), dt_ratios=(0.25, 1.0, 2.0), damping_fractions=(0.05,),
-                           duration=0.2, model=args.model)
-    else:
-        ds = stability_map(duration=args.duration, model=args.model)
-    write_dataset(ds, Path(args.out) / "stability_map.nc")
-    print(table(ds))
-    plot_stability_map(ds, args.figure)
-    margin = auto_dt_margin(dict(list(study_scenes(duration=0.2).items())[:3]) if args.quick else None)
-    write_dataset(margin, Path(args.out) / "auto_dt_margin.nc")
-    print(f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} {'margin':>7s}")
-    for i, name in enumerate(margin.study.values):
-        r = margin.isel(study=i)
-        print(f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} {float(r.dt_critical):12.3g} "
-              f"{float(r.margin):7.2f}")
-    return 0
+    return parser
+
+
+def check_args(args):
+    """(duration [s], folder, figure path, the studies' scenes), or an InputError before anything runs."""
+    from stonedem.bench import options
+
+    duration = options.number(args.duration, "--duration", lo=DURATION_RANGE[0], lo_open=True,
+                              hi=DURATION_RANGE[1], unit="s", example="0.5")
+    out = options.output_folder(args.out, "--out", files=("stability_map.nc", "auto_dt_margin.nc"))
+    figure = options.output_file(args.figure, "--figure", suffixes=(".png",))
+    # the studies' scenes of the auto-dt margins, built now: a bad config or a missing record
+    # is refused before the map runs
+    scenes = dict(list(study_scenes(duration=0.2).items())[:3]) if args.quick else study_scenes()
+    return duration, Path(out), figure, scenes
+
+
+def main(argv=None) -> int:
+    """Options and output paths checked first (one line, exit 2); then the map and the margins."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        duration, out, figure, scenes = check_args(args)
+        if args.quick:
+            ds = stability_map(k_n_values=(1e8, 1e10), dt_ratios=(0.25, 1.0, 2.0), damping_fractions=(0.05,),
+                               duration=0.2, model=args.model)
+        else:
+            ds = stability_map(duration=duration, model=args.model)
+        write_dataset(ds, out / "stability_map.nc")
+        print(table(ds))
+        plot_stability_map(ds, figure)
+        margin = auto_dt_margin(scenes)
+        write_dataset(margin, out / "auto_dt_margin.nc")
+        print(f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} {'margin':>7s}")
+        for i, name in enumerate(margin.study.values):
+            r = margin.isel(study=i)
+            print(f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} {float(r.dt_critical):12.3g} "
+                  f"{float(r.margin):7.2f}")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,6 @@ variants and for each.
 
 from __future__ import annotations
 
-import argparse
 import math
 import os
 import sys
@@ -445,36 +444,69 @@ def summary_text(ds: xr.Dataset) -> str:
     return "\n".join(lines)
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+MAX_REPEATS = 100
+
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.work_precision", __doc__)
     parser.add_argument("--quick", action="store_true", help="a few points per engine (CI)")
     parser.add_argument("--scenes", nargs="+", choices=SCENES, default=list(SCENES),
-                        help="scenes to run (default: all)")
+                        help="scenes to run, each once (default: all)")
     parser.add_argument("--contacts", nargs="+", choices=ours.VARIANTS, default=None,
-                        help="our contact variants to run (default: every variant of the grid)")
+                        help="our contact variants to run, each once (default: every variant of the grid)")
     parser.add_argument("--repeats", type=int, default=None,
-                        help=f"identical runs per timed point, least wall time counts "
+                        help=f"identical runs per timed point, least wall time counts, 1 to {MAX_REPEATS} "
                              f"(default {REPEATS['full']}, --quick {REPEATS['quick']})")
-    parser.add_argument("--out", type=Path, default=Path("results/bench"))
-    parser.add_argument("--figures", type=Path, default=Path("results/figures"))
-    args = parser.parse_args(argv)
-    from stonedem.io.netcdf import write_dataset
+    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"),
+                        help="output folder (writes work_precision.nc)")
+    parser.add_argument("--figures", type=options.path_arg, default=Path("results/figures"),
+                        help="figure folder (writes work_precision_<scene>.png)")
+    return parser
 
-    start = time.perf_counter()
-    profile = "quick" if args.quick else "full"
-    repeats = args.repeats or REPEATS[profile]
-    ds = run_sweep(QUICK if args.quick else FULL, scenes=tuple(args.scenes), contacts=args.contacts,
-                   repeats=repeats)
-    ds.attrs["profile"] = profile
-    ds.attrs["scenes_run"] = " ".join(args.scenes)
-    write_dataset(ds, args.out / "work_precision.nc")
-    for scene in SCENES:
-        path = args.figures / f"work_precision_{scene}.png"
-        if scene in args.scenes:
+
+def check_args(args):
+    """(scenes, contacts, repeats, dataset path, {scene: figure path}), or an InputError before
+    anything runs; the record of scene (c) is looked up too."""
+    from stonedem.bench import options
+    from stonedem.engine.scene import scene_from_dict
+
+    scenes = options.chosen(args.scenes, "--scenes", SCENES)
+    contacts = None if args.contacts is None else options.chosen(args.contacts, "--contacts", ours.VARIANTS)
+    repeats = REPEATS["quick" if args.quick else "full"] if args.repeats is None else options.number(
+        args.repeats, "--repeats", lo=1, hi=MAX_REPEATS, whole=True, example="3")
+    nc = options.output_folder(args.out, "--out", files=("work_precision.nc",)) / "work_precision.nc"
+    figures = options.output_folder(args.figures, "--figures",
+                                    files=[f"work_precision_{scene}.png" for scene in scenes])
+    # the record every sweep applies (scene (c) and its table for the other engines)
+    scene_from_dict(ours.column_scene_spec(0.01, contact=ours.column_contact("point", 1e9), pga=COLUMN_PGA))
+    return scenes, contacts, repeats, nc, {scene: figures / f"work_precision_{scene}.png" for scene in scenes}
+
+
+def main(argv=None) -> int:
+    """Options and output paths checked first (one line, exit 2); then the sweep."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        from stonedem.io.netcdf import write_dataset
+
+        scenes, contacts, repeats, nc, figures = check_args(args)
+        start = time.perf_counter()
+        profile = "quick" if args.quick else "full"
+        ds = run_sweep(QUICK if args.quick else FULL, scenes=tuple(scenes), contacts=contacts, repeats=repeats)
+        ds.attrs["profile"] = profile
+        ds.attrs["scenes_run"] = " ".join(scenes)
+        write_dataset(ds, nc)
+        for scene, path in figures.items():
             plot_work_precision(ds, scene, path)
-    print(summary_text(ds))
-    print(f"wrote {args.out / 'work_precision.nc'} in {time.perf_counter() - start:.0f} s")
-    return 0
+        print(summary_text(ds))
+        print(f"wrote {nc} in {time.perf_counter() - start:.0f} s")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

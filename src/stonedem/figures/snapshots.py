@@ -9,6 +9,18 @@ pictures show exactly the polygons the engine simulated.
 ``stonedem animate CASE.nc [-o OUT.gif] [--fps 20] [--max-frames 300]``. Outputs are written to
 a temporary file beside the target and renamed, so bad input leaves no file behind.
 
+Every option and every field of the dataset the drawing reads is checked before anything is
+drawn, and bad input is refused in one line naming the field (exit 2), creating no file and
+no folder: ``-n`` from 1 to MAX_PANELS, ``--times`` finite, inside the run and at most
+MAX_PANELS of them, ``--fps`` from FPS_RANGE, ``--max-frames`` from 1 to MAX_FRAMES,
+``--every`` finite, > 0 and at most the run's length, ``--title`` printable and at most
+MAX_TITLE characters; the file a readable NetCDF dataset holding ``x``, ``y``, ``theta``
+on (time, body) and nothing else, numeric and finite (a run stonedem wrote never holds a
+non-finite position: a diverged run is refused, so NaN or infinite positions mean a damaged
+or foreign file and are refused, not skipped), ``time`` finite and increasing, ``body_role``
+on (body), ``attrs.scene`` a JSON mapping that the scene loader accepts with the dataset's
+bodies. Titles are plain text: a ``$`` is drawn as a dollar sign, never read as TeX.
+
 matplotlib is used through its object API on an Agg canvas (no pyplot, no global backend
 switch), and xarray and matplotlib are imported only when drawing, so ``stonedem --help`` stays
 quick.
@@ -18,6 +30,7 @@ from __future__ import annotations
 
 import json
 import math
+import stat
 import sys
 import textwrap
 from pathlib import Path
@@ -25,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from stonedem.io.atomic import write_atomically
-from stonedem.errors import InputError
+from stonedem.errors import InputError, one_line
 
 ROLE_COLOURS = {
     "base": "#9a9a9a",  # grey ground slab
@@ -46,6 +59,17 @@ FRAME_AREA = 20.0  # [in2] one animation frame
 GIF_DPI = 90
 DECORATION_HEIGHT = 1.4  # [in] titles and axis labels around a panel
 
+# ranges of the options (the strip is one row of panels; every GIF frame is kept in memory
+# until the file is written, ~0.2 MB each)
+MAX_PANELS = 20
+MAX_FRAMES = 1000
+FPS_RANGE = (0.1, 50.0)  # [1/s]: GIF delays are whole 1/100 s, from 2/100 s to 10 s here
+MAX_TITLE = 300  # characters
+# a stonedem dataset's positions stay within a few structure sizes of the origin; beyond
+# these a file is damaged (and the drawing would overflow)
+MAX_POSITION = 1.0e6  # [m]
+MAX_ROTATION = 1.0e6  # [rad]
+
 
 # --- reading a case -----------------------------------------------------------------------
 
@@ -53,31 +77,132 @@ def open_case(path: str | Path):
     """A stonedem case dataset read into memory and checked, or an InputError naming the fix."""
     import xarray as xr
 
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(str(path), "case file not found",
-                         "check the path (a .nc file from stonedem run)")
+    path = check_case_path(path)
     try:
-        with xr.open_dataset(path) as ds:
+        # stored numbers as they are: no CF time decoding of a foreign file's units
+        with xr.open_dataset(path, decode_times=False, decode_timedelta=False) as ds:
             ds = ds.load()
-    except (OSError, ValueError):
+    except (KeyboardInterrupt, MemoryError):
+        raise
+    except Exception:  # noqa: BLE001 - whatever a foreign or damaged file makes the backends raise
         raise InputError(str(path), "not a readable NetCDF dataset",
                          "give a case dataset written by stonedem run") from None
     check_case(ds, str(path))
     return ds
 
 
+def check_case_path(path: str | Path) -> Path:
+    """The case path when it names an existing regular file, else an InputError."""
+    path = Path(path)
+    field = one_line(str(path), 200)
+    if not str(path).isprintable():
+        raise InputError(field, "contains control characters", "give a plain path")
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise InputError(field, "case file not found",
+                         "check the path (a .nc file from stonedem run)") from None
+    except OSError as err:  # a name too long, a loop of links, a folder without access
+        raise InputError(field, f"cannot be read ({err.strerror})",
+                         "check the path (a .nc file from stonedem run)") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(field, "is a folder, not a case file",
+                         "give a case dataset (.nc from stonedem run)")
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(field, "not a regular file", "give a case dataset (.nc from stonedem run)")
+    return path
+
+
 def check_case(ds, where: str = "dataset") -> None:
-    """Refuse a dataset lacking what the drawings need (histories, body roles, the scene)."""
+    """Refuse a dataset lacking what the drawings need, or holding it in another shape.
+
+    Checked: the histories ``x``, ``y``, ``theta`` on (time, body) only, numeric, finite and
+    within MAX_POSITION / MAX_ROTATION; ``time`` on (time), finite and increasing; ``body``
+    and ``body_role`` on (body); ``base_displacement``, ``collapsed`` and ``collapse_time``
+    when present; ``attrs.scene`` a JSON mapping the scene loader accepts, whose bodies are
+    the dataset's. Each refusal names the field.
+    """
+    def field(name):
+        return f"{where}: {name}"
+
+    rerun = "give a dataset written by stonedem run"
+    variables = getattr(ds, "variables", None)
+    if variables is None:
+        raise InputError(where, "not an xarray Dataset", "give a dataset written by stonedem run")
     for name in REQUIRED_VARIABLES + REQUIRED_COORDS:
-        if name not in ds.variables:
-            raise InputError(f"{where}: {name}", "missing, so this is not a stonedem case dataset",
-                             "give a dataset written by stonedem run")
+        if name not in variables:
+            raise InputError(field(name), "missing, so this is not a stonedem case dataset",
+                             rerun)
+    shapes = {name: {"time", "body"} for name in REQUIRED_VARIABLES}
+    shapes.update({"time": {"time"}, "body": {"body"}, "body_role": {"body"}})
+    for name, dims in shapes.items():
+        got = tuple(ds[name].dims)
+        if set(got) != dims or len(got) != len(dims):
+            raise InputError(field(name),
+                             f"has dimensions {got}, expected {tuple(sorted(dims, reverse=True))}",
+                             rerun)
+    n_time, n_body = ds.sizes["time"], ds.sizes["body"]
+    if n_time < 1:
+        raise InputError(field("time"), "no samples", "re-run the case")
+    if n_body < 1:
+        raise InputError(field("body"), "no bodies", rerun)
+    time = _numeric(ds, "time", where)
+    if not np.all(np.isfinite(time)):
+        raise InputError(field("time"), "holds non-finite values", rerun)
+    if n_time > 1 and not np.all(np.diff(time) > 0):
+        raise InputError(field("time"), "is not increasing", rerun)
+    limits = {"x": MAX_POSITION, "y": MAX_POSITION, "theta": MAX_ROTATION}
+    for name in REQUIRED_VARIABLES:
+        values = _numeric(ds, name, where, ("time", "body"))
+        bad = ~np.isfinite(values)
+        if bad.any():
+            i, k = np.argwhere(bad)[0]
+            first = f"body {_shown(ds['body'].values[k])} at t = {time[i]:g} s"
+            raise InputError(field(name), f"{int(bad.sum())} non-finite values (the first of "
+                             f"{first}); stonedem never writes one",
+                             "give an undamaged dataset written by stonedem run")
+        if np.abs(values).max() > limits[name]:
+            raise InputError(field(name), f"holds values beyond +-{limits[name]:g}",
+                             "give an undamaged dataset written by stonedem run")
+    if "base_displacement" in variables:
+        if tuple(ds["base_displacement"].dims) != ("time",):
+            raise InputError(field("base_displacement"),
+                             f"has dimensions {tuple(ds['base_displacement'].dims)}, "
+                             "expected ('time',)", rerun)
+        if not np.all(np.isfinite(_numeric(ds, "base_displacement", where))):
+            raise InputError(field("base_displacement"), "holds non-finite values", rerun)
+    for name in ("collapsed", "collapse_time"):
+        if name in variables and ds[name].ndim != 0:
+            raise InputError(field(name),
+                             f"has dimensions {tuple(ds[name].dims)}, expected a scalar", rerun)
+    if "collapsed" in variables:
+        flag = float(_numeric(ds, "collapsed", where))
+        if flag not in (0.0, 1.0):
+            raise InputError(field("collapsed"), f"must be 0 or 1, got {flag:g}", rerun)
+    if "collapse_time" in variables:
+        end = float(_numeric(ds, "collapse_time", where))
+        slack = 0.5 * (time[1] - time[0]) if n_time > 1 else 0.0
+        if math.isfinite(end) and not (time[0] - slack <= end <= time[-1] + slack):
+            raise InputError(field("collapse_time"),
+                             f"{end:g} s is outside the run ({time[0]:g} to {time[-1]:g} s)",
+                             rerun)
     if "scene" not in ds.attrs:
-        raise InputError(f"{where}: attrs.scene", "missing, so the body outlines cannot be rebuilt",
+        raise InputError(field("attrs.scene"), "missing, so the body outlines cannot be rebuilt",
                          "re-run the case with stonedem run (it stores the scene)")
-    if ds.sizes["time"] < 1:
-        raise InputError(f"{where}: time", "no samples", "re-run the case")
+    body_polygons(ds, where)  # the scene loader's verdict on attrs.scene
+
+
+def _numeric(ds, name: str, where: str, dims: tuple[str, ...] | None = None) -> np.ndarray:
+    """A variable's values as floats (in ``dims`` order); an InputError if they are not numbers."""
+    values = (ds[name].transpose(*dims) if dims else ds[name]).values
+    if values.dtype.kind not in "biuf":
+        raise InputError(f"{where}: {name}", f"holds {values.dtype} values, not numbers",
+                         "give a dataset written by stonedem run")
+    return np.asarray(values, dtype=float)
+
+
+def _shown(value) -> str:
+    return one_line(str(value), 60)
 
 
 def _as_case(case):
@@ -88,7 +213,7 @@ def _as_case(case):
     return case
 
 
-def body_polygons(ds) -> list[np.ndarray]:
+def body_polygons(ds, where: str = "dataset") -> list[np.ndarray]:
     """Local vertices (n_i, 2) [m] about each centroid, in the dataset's body order.
 
     Rebuilt from ``attrs["scene"]`` by the scene loader. The excitation is replaced by
@@ -96,20 +221,43 @@ def body_polygons(ds) -> list[np.ndarray]:
     """
     from stonedem.engine.scene import scene_from_dict
 
+    field = f"{where}: attrs.scene"
     if "scene" not in ds.attrs:
-        raise InputError("attrs.scene", "the dataset has no scene attribute",
+        raise InputError(field, "the dataset has no scene attribute",
                          "use a dataset written by stonedem run (it stores the scene as JSON)")
-    try:
-        spec = json.loads(ds.attrs["scene"])
-    except (TypeError, json.JSONDecodeError):
-        raise InputError("attrs.scene", "not valid JSON", "re-run the case with stonedem run") from None
+    spec = _scene_spec(ds, where)
     spec["excitation"] = {"kind": "none"}
-    scene = scene_from_dict(spec)
+    try:
+        scene = scene_from_dict(spec)
+    except InputError as err:
+        raise InputError(f"{field}.{err.field}", err.problem,
+                         "re-run the case with stonedem run") from None
+    except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError,
+            RecursionError) as err:
+        raise InputError(field, f"not a scene the loader accepts ({type(err).__name__})",
+                         "re-run the case with stonedem run") from None
     names = [str(b) for b in ds["body"].values]
     if scene.body_names != names:
-        raise InputError("body", "the dataset's bodies differ from those of its scene",
+        raise InputError(f"{where}: body", "the dataset's bodies differ from those of its scene",
                          "re-run the case with stonedem run")
     return [body.vertices - body.centroid for body in scene.bodies]
+
+
+def _scene_spec(ds, where: str = "dataset") -> dict:
+    """``attrs["scene"]`` read as a JSON mapping, or an InputError naming it."""
+    field = f"{where}: attrs.scene"
+    text = ds.attrs.get("scene")
+    if not isinstance(text, (str, bytes)):
+        raise InputError(field, f"a {type(text).__name__}, not JSON text",
+                         "re-run the case with stonedem run")
+    try:
+        spec = json.loads(text)
+    except (TypeError, ValueError, RecursionError):
+        raise InputError(field, "not valid JSON", "re-run the case with stonedem run") from None
+    if not isinstance(spec, dict):
+        raise InputError(field, f"JSON {type(spec).__name__}, not a mapping",
+                         "re-run the case with stonedem run")
+    return spec
 
 
 def posed_polygons(local, x, y, theta) -> list[np.ndarray]:
@@ -143,7 +291,7 @@ def _base_displacement(ds) -> np.ndarray | None:
 
 def collapse_time(ds) -> float | None:
     """Time of collapse [s], None when the case did not collapse."""
-    if "collapsed" not in ds or not int(ds["collapsed"]):
+    if "collapsed" not in ds or not float(ds["collapsed"]):
         return None
     t = float(ds["collapse_time"]) if "collapse_time" in ds else math.nan
     return t if math.isfinite(t) else None
@@ -159,12 +307,11 @@ def snapshot_samples(ds, times=None, n: int = 6) -> np.ndarray:
     """
     time = np.asarray(ds["time"].values, dtype=float)
     if times is None:
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-            raise InputError("-n", f"must be a whole number >= 1, got {n!r}", "give e.g. -n 6")
+        n = check_panels(n)
         end = collapse_time(ds)
         targets = np.linspace(time[0], time[-1] if end is None else end, n)
     else:
-        targets = np.atleast_1d(np.asarray(times, dtype=float))
+        targets = check_times(times)
         _check_times(targets, time)
     nearest = np.abs(time[None, :] - targets[:, None]).argmin(axis=1)
     _, first = np.unique(nearest, return_index=True)
@@ -172,6 +319,7 @@ def snapshot_samples(ds, times=None, n: int = 6) -> np.ndarray:
 
 
 def _check_times(targets: np.ndarray, time: np.ndarray) -> None:
+    """Every asked time inside the run (half a sample of slack at each end)."""
     if targets.size == 0:
         raise InputError("--times", "no times given", "give one or more times in s")
     slack = 0.5 * (time[1] - time[0]) if len(time) > 1 else 0.0
@@ -179,6 +327,18 @@ def _check_times(targets: np.ndarray, time: np.ndarray) -> None:
         if not (time[0] - slack <= t <= time[-1] + slack):
             raise InputError("--times", f"{t:g} s is outside the run",
                              f"give times from {time[0]:g} to {time[-1]:g} s")
+
+
+def _frame_step(every: float, time: np.ndarray) -> int:
+    """Samples between frames for ``--every`` [s]; refused when longer than the run."""
+    if len(time) < 2:
+        return 1
+    span = float(time[-1] - time[0])
+    if every > span:
+        raise InputError("--every", f"{every:g} s is longer than the run ({span:g} s)",
+                         f"give a time step of at most {span:g} s")
+    interval = span / (len(time) - 1)  # mean sample interval (stonedem samples evenly)
+    return max(1, round(every / interval))
 
 
 def frame_samples(n_time: int, max_frames: int = 300, step: int | None = None) -> np.ndarray:
@@ -242,24 +402,44 @@ def _history_extent(local, x, y, theta) -> tuple[np.ndarray, np.ndarray]:
 # --- titles -------------------------------------------------------------------------------
 
 def default_title(ds) -> str:
-    """'name: structure; excitation[; collapsed at t s]' from the dataset's attributes."""
-    from stonedem.motion.excitation import excitation_label  # numba: only when drawing
+    """'name: structure; excitation[; collapsed at t s]' from the dataset's attributes.
 
-    scene = json.loads(ds.attrs["scene"])
+    Plain text, never refused: a field the title cannot read (an excitation of another
+    program, say) is left out of it."""
+    scene = _scene_spec(ds)
     parts = [structure_label(scene, [str(r) for r in ds["body_role"].values])]
-    parts.append(excitation_label(_json_attr(ds, "excitation") or scene.get("excitation") or {}))
+    parts.append(_excitation_text(_json_attr(ds, "excitation") or scene.get("excitation") or {}))
     end = collapse_time(ds)
     if end is not None:
         parts.append(f"collapsed at {end:.2f} s")
     name = scene.get("name")
-    return (f"{name}: " if name else "") + "; ".join(parts)
+    return (f"{one_line(str(name), 120)}: " if name not in (None, "") else "") + "; ".join(parts)
+
+
+def _excitation_text(desc) -> str:
+    from stonedem.motion.excitation import excitation_label  # numba: only when drawing
+
+    if not isinstance(desc, dict):
+        return "base motion unknown"
+    try:
+        return one_line(excitation_label(desc), 200)
+    except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError):
+        return "base motion unknown"
 
 
 def _json_attr(ds, key):
     try:
         return json.loads(ds.attrs[key])
-    except (KeyError, TypeError, json.JSONDecodeError):
+    except (KeyError, TypeError, ValueError, RecursionError):
         return None
+
+
+def _number(value) -> str:
+    """A scene value as '%g' when it is a number (or a numeric string), else as given."""
+    try:
+        return f"{float(value):g}"
+    except (TypeError, ValueError, OverflowError):
+        return one_line(str(value), 40)
 
 
 def structure_label(scene: dict, roles: list[str]) -> str:
@@ -268,18 +448,20 @@ def structure_label(scene: dict, roles: list[str]) -> str:
     spec = scene.get("structure")
     if not isinstance(spec, dict):
         counts = {role: roles.count(role) for role in dict.fromkeys(roles) if role != "base"}
-        text = ", ".join(f"{k} {role}{'s' if k > 1 else ''}" for role, k in counts.items())
+        text = ", ".join(f"{k} {one_line(role, 40)}{'s' if k > 1 else ''}" for role,
+                         k in counts.items())
         return text + (" on the base" if "base" in roles else "")
-    kind = spec.get("kind", "structure")
+    kind = one_line(str(spec.get("kind", "structure")), 40)
     words = [kind.replace("_", " ")]
     if "n_columns" in spec:
-        words.append(f"{spec['n_columns']} columns x {spec.get('n_drums', 1)} drums")
+        drums = _number(spec.get("n_drums", 1))
+        words.append(f"{_number(spec['n_columns'])} columns x {drums} drums")
     elif "n_drums" in spec:
-        words.append(f"{spec['n_drums']} drums")
+        words.append(f"{_number(spec['n_drums'])} drums")
     if "height" in spec or "width" in spec:
-        words.append(f"{spec.get('height', 6.0):g} x {spec.get('width', 1.0):g} m")
+        words.append(f"{_number(spec.get('height', 6.0))} x {_number(spec.get('width', 1.0))} m")
     if "epistyle_type" in spec:
-        words.append(f"epistyle {spec['epistyle_type']}")
+        words.append(f"epistyle {_number(spec['epistyle_type'])}")
     return ", ".join(words)
 
 
@@ -314,9 +496,21 @@ def _panel_size(box, area: float) -> tuple[float, float]:
 
 
 def _suptitle(fig, title: str, fontsize: float) -> None:
-    """Figure title wrapped to the figure's width (a narrow GIF frame would cut it)."""
+    """Figure title wrapped to the figure's width (a narrow GIF frame would cut it), as
+    plain text: ``$...$`` is not mathtext, no TeX is run."""
     chars = int(fig.get_figwidth() * 72 / (0.55 * fontsize))  # ~ average glyph width
-    fig.suptitle(textwrap.fill(title, max(chars, 20)), fontsize=fontsize)
+    fig.suptitle(textwrap.fill(title, max(chars, 20)), fontsize=fontsize, **PLAIN_TEXT)
+
+
+# every text of a picture: drawn as given (no mathtext, no LaTeX whatever matplotlibrc says)
+PLAIN_TEXT = {"parse_math": False, "usetex": False}
+
+
+def _plain_rc():
+    """rcParams for the drawing: no LaTeX for the tick labels either."""
+    import matplotlib
+
+    return matplotlib.rc_context({"text.usetex": False})
 
 
 def _lay_out_once(fig) -> None:
@@ -346,10 +540,23 @@ def snapshot_strip(ds, path, times=None, n: int = 6, title: str | None = None) -
 
     Default times are evenly spread over the run, first and last sample included (the
     last one at the collapse if the case collapsed). Every panel has the same limits.
+    Everything is checked (:func:`check_strip_options`, the output path, :func:`check_case`)
+    before anything is drawn.
     """
-    ds = _as_case(ds)
-    path = _output_path(path, ".png", "-o")
+    times, n, title = check_strip_options(times, n, title)
+    path = _output_path(path, ".png", "-o", ds if isinstance(ds, (str, Path)) else None)
+    return _strip(_as_case(ds), path, times, n, title)
+
+
+def check_strip_options(times=None, n: int = 6, title: str | None = None):
+    """(times, n, title) of a strip, checked without the dataset; InputError otherwise."""
+    return (None if times is None else check_times(times)), check_panels(n), check_title(title)
+
+
+def _strip(ds, path: Path, times, n: int, title: str | None) -> Path:
+    """The strip of a checked dataset and checked options."""
     samples = snapshot_samples(ds, times, n)
+    title = title if title is not None else default_title(ds)
     local = body_polygons(ds)
     time, x, y, theta = _histories(ds)
     box = view_box(local, x, y, theta, structure_bodies(ds))
@@ -357,18 +564,19 @@ def snapshot_strip(ds, path, times=None, n: int = 6, title: str | None = None) -
     base = _base_displacement(ds)
     end = collapse_time(ds)
 
-    width, height = _panel_size(box, PANEL_AREA)
-    # 'compressed' is constrained layout for fixed-aspect axes; the extra height holds
-    # the suptitle, the two-line panel titles and the x labels
-    fig = _figure(width * len(samples), height + DECORATION_HEIGHT, layout="compressed")
-    axes = fig.subplots(1, len(samples), squeeze=False)[0]
-    for ax, i in zip(axes, samples):
-        _draw_bodies(ax, posed_polygons(local, x[i], y[i], theta[i]), colours, box)
-        ax.set_title(panel_label(time, base, i, end), fontsize=9)
-    axes[0].set_ylabel("y [m]")
-    _suptitle(fig, title if title is not None else default_title(ds), fontsize=10)
-    write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png",
-                                                    bbox_inches="tight"))  # trim spare margin
+    with _plain_rc():
+        width, height = _panel_size(box, PANEL_AREA)
+        # 'compressed' is constrained layout for fixed-aspect axes; the extra height holds
+        # the suptitle, the two-line panel titles and the x labels
+        fig = _figure(width * len(samples), height + DECORATION_HEIGHT, layout="compressed")
+        axes = fig.subplots(1, len(samples), squeeze=False)[0]
+        for ax, i in zip(axes, samples):
+            _draw_bodies(ax, posed_polygons(local, x[i], y[i], theta[i]), colours, box)
+            ax.set_title(panel_label(time, base, i, end), fontsize=9, **PLAIN_TEXT)
+        axes[0].set_ylabel("y [m]")
+        _suptitle(fig, title, fontsize=10)
+        write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png",
+                                                        bbox_inches="tight"))  # trim spare margin
     return path
 
 
@@ -378,45 +586,57 @@ def animate(ds, path, fps: float = 20, max_frames: int = 300, every: float | Non
 
     every: simulated time between frames [s] (default: as many samples as max_frames
     allows); progress: a frame counter on stderr (default: only when stderr is a terminal).
+    Everything is checked (:func:`check_animation_options`, the output path,
+    :func:`check_case`) before anything is drawn.
     """
-    ds = _as_case(ds)
-    path = _output_path(path, ".gif", "-o")
-    fps = _positive(fps, "--fps")
-    max_frames = _whole_at_least_one(max_frames, "--max-frames")
-    local = body_polygons(ds)
+    fps, max_frames, every, title = check_animation_options(fps, max_frames, every, title)
+    path = _output_path(path, ".gif", "-o", ds if isinstance(ds, (str, Path)) else None)
+    return _animation(_as_case(ds), path, fps, max_frames, every, title, progress)
+
+
+def check_animation_options(fps: float = 20, max_frames: int = 300, every: float | None = None,
+                            title: str | None = None):
+    """(fps, max_frames, every, title) of an animation, checked without the dataset."""
+    return check_fps(fps), check_max_frames(max_frames), check_every(every), check_title(title)
+
+
+def _animation(ds, path: Path, fps: float, max_frames: int, every: float | None, title: str | None,
+               progress: bool | None = None) -> Path:
+    """The GIF of a checked dataset and checked options."""
     time, x, y, theta = _histories(ds)
-    step = None
-    if every is not None:
-        interval = float(time[1] - time[0]) if len(time) > 1 else 1.0
-        step = max(1, round(_positive(every, "--every") / interval))
+    step = None if every is None else _frame_step(every, time)
     frames = frame_samples(len(time), max_frames, step)
+    title = title if title is not None else default_title(ds)
+    local = body_polygons(ds)
     box = view_box(local, x, y, theta, structure_bodies(ds))
     base = _base_displacement(ds)
-
-    width, height = _panel_size(box, FRAME_AREA)
-    fig = _figure(width, height + DECORATION_HEIGHT, layout=None, dpi=GIF_DPI)
-    ax = fig.subplots()
-    bodies = _draw_bodies(ax, posed_polygons(local, x[0], y[0], theta[0]), body_colours(ds), box)
-    ax.set_ylabel("y [m]")
     end = collapse_time(ds)
-    label = ax.set_title(panel_label(time, base, 0, end), fontsize=10)
-    _suptitle(fig, title if title is not None else default_title(ds), fontsize=8)
-    _lay_out_once(fig)
 
-    def write(tmp):
-        writer = _gif_writer(fps)
-        show = sys.stderr.isatty() if progress is None else progress
-        with writer.saving(fig, tmp, dpi=GIF_DPI):
-            for k, i in enumerate(frames):
-                bodies.set_verts(posed_polygons(local, x[i], y[i], theta[i]))
-                label.set_text(panel_label(time, base, i, end))
-                writer.grab_frame()
-                if show:
-                    print(f"\r  frame {k + 1}/{len(frames)}", end="", file=sys.stderr)
-        if show:
-            print(file=sys.stderr)
+    with _plain_rc():
+        width, height = _panel_size(box, FRAME_AREA)
+        fig = _figure(width, height + DECORATION_HEIGHT, layout=None, dpi=GIF_DPI)
+        ax = fig.subplots()
+        bodies = _draw_bodies(ax, posed_polygons(local, x[0], y[0], theta[0]), body_colours(ds),
+                              box)
+        ax.set_ylabel("y [m]")
+        label = ax.set_title(panel_label(time, base, 0, end), fontsize=10, **PLAIN_TEXT)
+        _suptitle(fig, title, fontsize=8)
+        _lay_out_once(fig)
 
-    write_atomically(path, write)
+        def write(tmp):
+            writer = _gif_writer(fps)
+            show = sys.stderr.isatty() if progress is None else progress
+            with writer.saving(fig, tmp, dpi=GIF_DPI):
+                for k, i in enumerate(frames):
+                    bodies.set_verts(posed_polygons(local, x[i], y[i], theta[i]))
+                    label.set_text(panel_label(time, base, i, end))
+                    writer.grab_frame()
+                    if show:
+                        print(f"\r  frame {k + 1}/{len(frames)}", end="", file=sys.stderr)
+            if show:
+                print(file=sys.stderr)
+
+        write_atomically(path, write)
     return path
 
 
@@ -438,27 +658,102 @@ def _gif_writer(fps: float):
     return PaletteFramesWriter(fps=fps)
 
 
+# --- options ------------------------------------------------------------------------------
+
+def check_panels(n) -> int:
+    """``-n``: a whole number from 1 to MAX_PANELS."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_PANELS:
+        raise InputError("-n", f"must be a whole number from 1 to {MAX_PANELS}, got {n!r}",
+                         "give e.g. -n 6")
+    return int(n)
+
+
+def check_times(times) -> np.ndarray:
+    """``--times``: 1 to MAX_PANELS finite times [s] (whether they fall in the run is checked
+    with the dataset)."""
+    try:
+        targets = np.atleast_1d(np.asarray(times, dtype=float))
+    except (TypeError, ValueError):
+        raise InputError("--times", f"expected numbers, got {times!r}",
+                         "give times in s, e.g. --times 0 1 2") from None
+    if targets.ndim != 1 or targets.size == 0:
+        raise InputError("--times", "no times given", "give one or more times in s")
+    if targets.size > MAX_PANELS:
+        raise InputError("--times",
+                         f"{targets.size} times, more than the {MAX_PANELS} panels a strip holds",
+                         f"give at most {MAX_PANELS} times")
+    for t in targets:
+        if not math.isfinite(t):
+            raise InputError("--times", f"{t} is not a finite time",
+                             "give times in s inside the run")
+    return targets
+
+
+def check_fps(fps) -> float:
+    """``--fps``: a finite number in FPS_RANGE."""
+    lo, hi = FPS_RANGE
+    if isinstance(fps, bool) or not isinstance(fps, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(fps) and lo <= fps <= hi):
+        raise InputError("--fps",
+                         f"must be a number from {lo:g} to {hi:g} frames per second, got {fps!r}",
+                         "give e.g. --fps 20")
+    return float(fps)
+
+
+def check_max_frames(value) -> int:
+    """``--max-frames``: a whole number from 1 to MAX_FRAMES."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+            or not 1 <= value <= MAX_FRAMES:
+        raise InputError("--max-frames",
+                         f"must be a whole number from 1 to {MAX_FRAMES}, got {value!r}",
+                         "give e.g. --max-frames 300")
+    return int(value)
+
+
+def check_every(every) -> float | None:
+    """``--every``: None or a finite time > 0 [s] (at most the run's length: checked with the
+    dataset)."""
+    if every is None:
+        return None
+    if isinstance(every, bool) or not isinstance(every, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(every) and every > 0):
+        raise InputError("--every", f"must be a finite time > 0 s, got {every!r}",
+                         "give e.g. --every 0.05")
+    return float(every)
+
+
+def check_title(title) -> str | None:
+    """``--title``: None or printable text of at most MAX_TITLE characters (drawn as plain text)."""
+    if title is None:
+        return None
+    if not isinstance(title, str):
+        raise InputError("--title", f"expected text, got {type(title).__name__}",
+                         "give a title in quotes")
+    if len(title) > MAX_TITLE:
+        raise InputError("--title", f"{len(title)} characters, more than {MAX_TITLE}",
+                         f"give a title of at most {MAX_TITLE} characters")
+    if not title.isprintable():
+        raise InputError("--title", f"holds control characters: {one_line(title, 80)}",
+                         "give a title of printable characters on one line")
+    return title
+
+
 # --- files --------------------------------------------------------------------------------
 
 def _output_path(path, suffix: str, field: str, case=None) -> Path:
+    """The output path, refused before any computing (:func:`stonedem.entry.check_output_path`);
+    creates nothing: the folder is made when the picture is written."""
     from stonedem.entry import check_output_path
 
     path = Path(path)
+    text = str(path)
+    if not text.isprintable():
+        raise InputError(field, f"{one_line(text, 200)} contains control characters",
+                         "give a plain file name")
     if path.suffix.lower() != suffix:
-        raise InputError(field, f"'{path}' does not end in {suffix}", f"name the output *{suffix}")
+        raise InputError(field, f"'{one_line(text, 200)}' does not end in {suffix}",
+                         f"name the output *{suffix}")
     return check_output_path(path, field, inputs=[case] if case is not None else [])
-
-
-def _positive(value, field: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-        raise InputError(field, f"must be a number > 0, got {value!r}", "give a positive value")
-    return float(value)
-
-
-def _whole_at_least_one(value, field: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise InputError(field, f"must be a whole number >= 1, got {value!r}", "give e.g. 300")
-    return int(value)
 
 
 # --- command line -------------------------------------------------------------------------
@@ -474,39 +769,53 @@ def add_parser(subparsers) -> None:
     strip.add_argument("-o", "--output", type=Path, default=None,
                        help="output PNG (default: CASE_snapshots.png beside the case)")
     strip.add_argument("-n", type=int, default=6,
-                       help="number of panels, evenly spread (default 6)")
+                       help=f"number of panels, evenly spread, 1 to {MAX_PANELS} (default 6)")
     strip.add_argument("--times", type=float, nargs="+", default=None, metavar="T",
-                       help="draw at these times [s] instead (nearest samples)")
-    strip.add_argument("--title", default=None, help="figure title (default: from the dataset)")
+                       help=f"draw at these times [s] instead (nearest samples; at most "
+                            f"{MAX_PANELS}, inside the run)")
+    strip.add_argument("--title", default=None,
+                       help=f"figure title, plain text of at most {MAX_TITLE} characters "
+                            "(default: from the dataset)")
     strip.set_defaults(handler=command_snapshots)
 
     movie = subparsers.add_parser("animate", help="animate a case (GIF)")
     movie.add_argument("case", type=Path, help="case dataset (.nc from stonedem run)")
     movie.add_argument("-o", "--output", type=Path, default=None,
                        help="output GIF (default: CASE.gif beside the case)")
-    movie.add_argument("--fps", type=float, default=20.0, help="frames per second (default 20)")
+    movie.add_argument("--fps", type=float, default=20.0,
+                       help=f"frames per second, {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g} (default 20)")
     movie.add_argument("--max-frames", type=int, default=300,
-                       help="at most this many frames (default 300)")
+                       help=f"at most this many frames, 1 to {MAX_FRAMES} (default 300)")
     movie.add_argument("--every", type=float, default=None, metavar="DT",
-                       help="simulated time between frames [s] (default: spread over --max-frames)")
-    movie.add_argument("--title", default=None, help="figure title (default: from the dataset)")
+                       help="simulated time between frames [s], > 0 and at most the run's length "
+                            "(default: spread over --max-frames)")
+    movie.add_argument("--title", default=None,
+                       help=f"figure title, plain text of at most {MAX_TITLE} characters "
+                            "(default: from the dataset)")
     movie.set_defaults(handler=command_animate)
 
 
 def command_snapshots(args) -> int:
+    """Options, then the output path, then the dataset are checked; then the strip is drawn."""
+    times, n, title = check_strip_options(args.times, args.n, args.title)
+    check_case_path(args.case)  # a file: the default output is named after it
     out = args.output or args.case.with_name(f"{args.case.stem}_snapshots.png")
-    _output_path(out, ".png", "-o", args.case)  # refuse a bad name before reading the case
+    out = _output_path(out, ".png", "-o", args.case)  # refuse a bad name before reading the case
     ds = open_case(args.case)
-    snapshot_strip(ds, out, times=args.times, n=args.n, title=args.title)
+    _strip(ds, out, times, n, title)
     print(f"wrote {out}", file=sys.stderr)
     return 0
 
 
 def command_animate(args) -> int:
+    """Options, then the output path, then the dataset are checked; then the GIF is drawn."""
+    fps, max_frames, every, title = check_animation_options(args.fps, args.max_frames, args.every,
+                                                            args.title)
+    check_case_path(args.case)
     out = args.output or args.case.with_suffix(".gif")
-    _output_path(out, ".gif", "-o", args.case)
+    out = _output_path(out, ".gif", "-o", args.case)
     ds = open_case(args.case)
-    animate(ds, out, fps=args.fps, max_frames=args.max_frames, every=args.every, title=args.title)
+    _animation(ds, out, fps, max_frames, every, title)
     print(f"wrote {out}", file=sys.stderr)
     return 0
 

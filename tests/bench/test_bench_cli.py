@@ -1,0 +1,267 @@
+"""Every benchmark's command line refuses a bad option or output path before running anything:
+one line ``error: <field>: ...``, exit 2, and no file or folder created (issue: hostile round).
+
+The mains run in this process; each refusal comes before any simulation, so the file takes
+seconds. benchmarks/*.py are loaded from their files; workflow/scripts/bench.py is run with a
+stand-in for Snakemake's ``snakemake`` object.
+"""
+
+import importlib.util
+import os
+import runpy
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from stonedem.bench import contact_cost, fuzz, options, restitution, skipping, stability, work_precision
+from stonedem.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(autouse=True)
+def numba_threads_left_alone():
+    """contact_cost.main sets NUMBA_NUM_THREADS for its own run: put it back for the next tests."""
+    before = os.environ.get("NUMBA_NUM_THREADS")
+    yield
+    if before is None:
+        os.environ.pop("NUMBA_NUM_THREADS", None)
+    else:
+        os.environ["NUMBA_NUM_THREADS"] = before
+
+
+def script(name):
+    """A benchmarks/<name>.py module, loaded from its file (it is not a package)."""
+    before = os.environ.get("NUMBA_NUM_THREADS")
+    spec = importlib.util.spec_from_file_location(f"benchmarks_{name}", ROOT / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    if before is None:  # engine_speed sets a default at import
+        os.environ.pop("NUMBA_NUM_THREADS", None)
+    return module
+
+
+SCRIPTS = {name: None for name in ("engine_speed", "table_a1_fits", "wall_supports", "wall_tables")}
+
+
+def main_of(name):
+    modules = {"contact_cost": contact_cost, "fuzz": fuzz, "restitution": restitution, "skipping": skipping,
+               "stability": stability, "work_precision": work_precision}
+    if name in modules:
+        return modules[name].main
+    if SCRIPTS[name] is None:
+        SCRIPTS[name] = script(name)
+    return SCRIPTS[name].main
+
+
+def tree(folder):
+    return sorted(str(p.relative_to(folder)) for p in Path(folder).rglob("*"))
+
+
+def refused(main, argv, field, folder, capsys):
+    """main(argv) exits 2 with one 'error:' line holding ``field``; nothing appears under folder."""
+    before = tree(folder)
+    try:
+        status = main(argv)
+    except SystemExit as stop:  # a usage error of the parser
+        status = stop.code
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert status == 2, (argv, captured.err)
+    assert len(lines) == 1 and lines[0].startswith("error: ") and field in lines[0], (argv, lines)
+    assert captured.out == "", "nothing runs, nothing is printed"
+    assert tree(folder) == before, f"{argv} created {sorted(set(tree(folder)) - set(before))}"
+    return lines[0]
+
+
+@pytest.fixture
+def places(tmp_path):
+    """tmp_path with a plain file in it; {name: path} of the places the cases below point at."""
+    (tmp_path / "file").write_text("not a folder\n")
+    (tmp_path / "bad.yaml").write_text("studies: [unclosed\n")
+    (tmp_path / "list.yaml").write_text("- 1\n- 2\n")
+    (tmp_path / "taken" / "skipping.nc").mkdir(parents=True)
+    return {
+        "new": str(tmp_path / "new"),  # does not exist: must still not exist after a refusal
+        "file": str(tmp_path / "file"),
+        "under_file": str(tmp_path / "file" / "sub"),
+        "proc": "/proc/stonedem_bench",
+        "taken": str(tmp_path / "taken"),
+        "bad_yaml": str(tmp_path / "bad.yaml"),
+        "list_yaml": str(tmp_path / "list.yaml"),
+        "missing": str(tmp_path / "missing.yaml"),
+        "folder": str(tmp_path),
+    }
+
+
+# (script, argv with {place} fields, the field the error line names)
+CASES = [
+    # stonedem.bench.contact_cost
+    ("contact_cost", ["--sizes", "0", "--out", "{new}"], "--sizes"),
+    ("contact_cost", ["--sizes", "-5", "--out", "{new}"], "--sizes"),
+    ("contact_cost", ["--sizes", "1000", "--out", "{new}"], "--sizes"),
+    ("contact_cost", ["--sizes", "5", "5", "--out", "{new}"], "--sizes"),
+    ("contact_cost", ["--duration", "-1", "--out", "{new}"], "--duration"),
+    ("contact_cost", ["--duration", "0", "--out", "{new}"], "--duration"),
+    ("contact_cost", ["--duration", "nan", "--out", "{new}"], "--duration"),
+    ("contact_cost", ["--duration", "inf", "--out", "{new}"], "--duration"),
+    ("contact_cost", ["--target", "-1", "--out", "{new}"], "--target"),
+    ("contact_cost", ["--target", "nan", "--out", "{new}"], "--target"),
+    ("contact_cost", ["--duration", "abc", "--out", "{new}"], "--duration"),
+    ("contact_cost", ["--out", "{file}"], "--out"),
+    ("contact_cost", ["--out", "{under_file}"], "--out"),
+    ("contact_cost", ["--out", "{proc}"], "--out"),
+    # stonedem.bench.fuzz
+    ("fuzz", ["--out", "{file}/fuzz.nc"], "--out"),
+    ("fuzz", ["--out", "{new}/fuzz.txt"], "--out"),
+    ("fuzz", ["--out", "{proc}/fuzz.nc"], "--out"),
+    ("fuzz", ["--out", "{folder}"], "--out"),
+    # stonedem.bench.restitution
+    ("restitution", ["--out", "{file}"], "--out"),
+    ("restitution", ["--out", "{proc}"], "--out"),
+    ("restitution", ["--out", "{under_file}/r.nc"], "--out"),
+    ("restitution", ["--out", "{new}", "--config", "{missing}"], "--config"),
+    ("restitution", ["--out", "{new}", "--config", "{folder}"], "--config"),
+    ("restitution", ["--out", "{new}", "--config", "{bad_yaml}"], "--config"),
+    ("restitution", ["--out", "{new}", "--config", "{list_yaml}"], "--config"),
+    ("restitution", ["--out", "{new}", "--laws", "point", "point"], "--laws"),
+    ("restitution", ["--out", "{new}", "--laws", "nonsense"], "--laws"),
+    # stonedem.bench.skipping
+    ("skipping", ["--limit", "-1", "--out", "{new}"], "--limit"),
+    ("skipping", ["--limit", "1000000000", "--out", "{new}"], "--limit"),
+    ("skipping", ["--out", "{file}"], "--out"),
+    ("skipping", ["--out", "{proc}"], "--out"),
+    ("skipping", ["--out", "{taken}"], "--out"),
+    ("skipping", ["--config", "{missing}", "--out", "{new}"], "--config"),
+    ("skipping", ["--config", "{bad_yaml}", "--out", "{new}"], "--config"),
+    ("skipping", ["--studies", "nonsense", "--out", "{new}"], "--studies"),
+    ("skipping", ["--studies", "--out", "{new}"], "--studies"),
+    ("skipping", ["--studies", "ramp_drums", "ramp_drums", "--out", "{new}"], "--studies"),
+    # stonedem.bench.stability
+    ("stability", ["--duration", "-1", "--out", "{new}", "--figure", "{new}/m.png"], "--duration"),
+    ("stability", ["--duration", "nan", "--out", "{new}", "--figure", "{new}/m.png"], "--duration"),
+    ("stability", ["--duration", "1e9", "--out", "{new}", "--figure", "{new}/m.png"], "--duration"),
+    ("stability", ["--out", "{file}", "--figure", "{new}/m.png"], "--out"),
+    ("stability", ["--out", "{proc}", "--figure", "{new}/m.png"], "--out"),
+    ("stability", ["--out", "{new}", "--figure", "{new}/m.txt"], "--figure"),
+    ("stability", ["--out", "{new}", "--figure", "{proc}/m.png"], "--figure"),
+    ("stability", ["--out", "{new}", "--figure", "{folder}"], "--figure"),
+    # stonedem.bench.work_precision
+    ("work_precision", ["--repeats", "0", "--out", "{new}", "--figures", "{new}"], "--repeats"),
+    ("work_precision", ["--repeats", "-2", "--out", "{new}", "--figures", "{new}"], "--repeats"),
+    ("work_precision", ["--repeats", "100000", "--out", "{new}", "--figures", "{new}"], "--repeats"),
+    ("work_precision", ["--scenes", "a", "a", "--out", "{new}", "--figures", "{new}"], "--scenes"),
+    ("work_precision", ["--contacts", "point", "point", "--out", "{new}", "--figures", "{new}"], "--contacts"),
+    ("work_precision", ["--out", "{file}", "--figures", "{new}"], "--out"),
+    ("work_precision", ["--out", "{new}", "--figures", "{file}"], "--figures"),
+    ("work_precision", ["--out", "{new}", "--figures", "{proc}"], "--figures"),
+    # benchmarks/engine_speed.py
+    ("engine_speed", ["--out", "{file}"], "--out"),
+    ("engine_speed", ["--out", "{under_file}"], "--out"),
+    ("engine_speed", ["--out", "{proc}"], "--out"),
+    # benchmarks/table_a1_fits.py
+    ("table_a1_fits", ["-o", "{file}/fits.csv"], "-o/--output"),
+    ("table_a1_fits", ["-o", "{new}/fits.txt"], "-o/--output"),
+    ("table_a1_fits", ["-o", "{proc}/fits.csv"], "-o/--output"),
+    ("table_a1_fits", ["-o", "{folder}"], "-o/--output"),
+    # benchmarks/wall_supports.py
+    ("wall_supports", ["--only", "nonsense", "--out", "{new}"], "--only"),
+    ("wall_supports", ["--only", "../../etc/passwd", "--out", "{new}"], "--only"),
+    ("wall_supports", ["--only", "s11", "s11", "--out", "{new}"], "--only"),
+    ("wall_supports", ["--out", "{file}"], "--out"),
+    ("wall_supports", ["--out", "{proc}"], "--out"),
+    # benchmarks/wall_tables.py
+    ("wall_tables", ["--max-seconds", "-1", "--out", "{new}"], "--max-seconds"),
+    ("wall_tables", ["--max-seconds", "0", "--out", "{new}"], "--max-seconds"),
+    ("wall_tables", ["--max-seconds", "nan", "--out", "{new}"], "--max-seconds"),
+    ("wall_tables", ["--max-seconds", "inf", "--out", "{new}"], "--max-seconds"),
+    ("wall_tables", ["--max-seconds", "1e12", "--out", "{new}"], "--max-seconds"),
+    ("wall_tables", ["--only", "free_standing", "--out", "{new}"], "--only"),
+    ("wall_tables", ["--only", "s11", "s11", "--out", "{new}"], "--only"),
+    ("wall_tables", ["--out", "{file}"], "--out"),
+    ("wall_tables", ["--out", "{proc}"], "--out"),
+    ("wall_tables", ["--secant", "--out", "{under_file}"], "--out"),
+]
+
+
+@pytest.mark.parametrize("name, argv, field", CASES, ids=[f"{c[0]}:{' '.join(c[1][:2])}" for c in CASES])
+def test_bad_option_is_refused_before_running(places, tmp_path, capsys, name, argv, field):
+    argv = [a.format(**places) for a in argv]
+    refused(main_of(name), argv, field, tmp_path, capsys)
+    assert not Path(places["new"]).exists()
+
+
+def test_wall_tables_negative_budget_writes_no_table(tmp_path, capsys):
+    """Once, with a negative budget, every case 'ran' in no time and a table of lambda = 0 was written."""
+    line = refused(main_of("wall_tables"), ["--max-seconds", "-1", "--out", str(tmp_path / "walls")],
+                   "--max-seconds", tmp_path, capsys)
+    assert "> 0" in line
+    assert not (tmp_path / "walls").exists()
+
+
+def bench_script(rule, outputs, log, quick=False, config="config/quick.yaml"):
+    """Run workflow/scripts/bench.py as Snakemake would, with a stand-in ``snakemake``; its exit status."""
+    sm = SimpleNamespace(rule=rule, output=[str(p) for p in outputs], log=[str(log)],
+                         params=SimpleNamespace(quick=quick, config=config))
+    stdout, stderr = sys.stdout, sys.stderr
+    try:
+        runpy.run_path(str(ROOT / "workflow" / "scripts" / "bench.py"), init_globals={"snakemake": sm})
+        status = 0
+    except SystemExit as stop:
+        status = stop.code
+    finally:
+        sys.stderr.close()  # the script's log file
+        sys.stdout, sys.stderr = stdout, stderr
+    return status
+
+
+@pytest.mark.parametrize("rule, outputs, field", [
+    ("bench_nonsense", ["{new}/x.nc"], "rule"),
+    ("bench_skipping", ["{new}/other_name.nc"], "bench_skipping.output"),
+    ("bench_skipping", ["{file}/skipping.nc"], "--out"),
+    ("bench_stability", ["{new}/stability_map.nc", "{new}/auto_dt_margin.nc", "{file}/map.png"], "--figure"),
+    ("bench_contact_cost", ["{proc}/bench/contact_cost.nc", "{proc}/figures/contact_cost.png"], "--out"),
+])
+def test_workflow_script_refuses_before_running(places, tmp_path, rule, outputs, field):
+    logs = tmp_path / "logs"
+    logs.mkdir()
+    log = logs / "bench.log"
+    before = tree(tmp_path)
+    status = bench_script(rule, [o.format(**places) for o in outputs], log)
+    lines = log.read_text().strip().splitlines()
+    assert status == 2, lines
+    assert len(lines) == 1 and lines[0].startswith("error: ") and field in lines[0], lines
+    assert tree(tmp_path) == sorted([*before, "logs/bench.log"]), "only the log is written"
+    assert not Path(places["new"]).exists()
+
+
+def test_numbers_and_paths_helpers(tmp_path):
+    assert options.number(3, "--n", lo=1, hi=5, whole=True) == 3
+    assert options.number(0.5, "--x", lo=0, lo_open=True) == 0.5
+    for bad in (float("nan"), float("inf"), -1.0, 0.0, True, "1"):
+        with pytest.raises(InputError, match="--x"):
+            options.number(bad, "--x", lo=0, lo_open=True, hi=10)
+    with pytest.raises(InputError, match="whole"):
+        options.number(1.5, "--n", whole=True)
+    with pytest.raises(InputError, match="given twice"):
+        options.chosen(["a", "a"], "--c", "ab")
+    target = tmp_path / "a" / "b" / "out.csv"
+    assert options.output_file(target, "-o", suffixes=(".csv",)) == target
+    assert not (tmp_path / "a").exists(), "checking a path creates nothing"
+    written = options.write_csv(target, [{"x": 1, "y": 2}])
+    assert written.read_bytes() == b"x,y\r\n1,2\r\n"  # as csv writes it
+    assert [p.name for p in target.parent.iterdir()] == ["out.csv"], "no temporary file left"
+
+
+def test_an_output_is_never_an_empty_path_or_a_foreign_file(tmp_path, capsys):
+    """An empty --out would be the current folder; a .nc output replaces only an earlier
+    NetCDF result, not a file of another kind bearing the name."""
+    refused(restitution.main, ["--out", ""], "--out", tmp_path, capsys)
+    refused(skipping.main, ["--out", " ", "--limit", "1"], "--out", tmp_path, capsys)
+    foreign = tmp_path / "notes.nc"
+    foreign.write_text("my notes\n")
+    refused(restitution.main, ["--out", str(foreign)], "--out", tmp_path, capsys)
+    refused(fuzz.main, ["--out", str(foreign)], "--out", tmp_path, capsys)
+    assert foreign.read_text() == "my notes\n"

@@ -128,7 +128,7 @@ def test_run_wall_from_a_mapping_and_from_a_case_file():
 
 
 @pytest.mark.parametrize("case, message", [
-    (ROOT / "no_such_wall.yaml", "case file not found; give the path of a wall case YAML file"),
+    (ROOT / "no_such_wall.yaml", "a wall case file not found; check the path"),
     ({**small_wall(), "joints": {"kind": "dry", "mu": -1.0, "k_n": 2.4e9, "k_t": 1.0e9}}, "joints.mu"),
     (3.5, "case: expected a wall case file path or a mapping, got float"),
 ])

@@ -111,3 +111,57 @@ def test_stability_limit_from_broad_phase_pairs_equals_the_all_pairs_scan(monkey
     fast = sim.stability_limit(scene)
     monkeypatch.setattr(sim, "box_pairs", lambda lo, hi, margin: list(itertools.combinations(range(len(lo)), 2)))
     assert sim.stability_limit(scene) == fast, "the broad phase must not miss a touching neighbour"
+
+
+def _base():
+    return {"name": "base", "box": {"width": 4, "height": 0.5, "center": [0, -0.25]}, "driven": True}
+
+
+def _block(x=0.0, bottom=0.0, **extra):
+    return {"name": "block", "box": {"width": 0.25, "height": 1.0, "center": [x, bottom + 0.5]}, **extra}
+
+
+def test_a_scene_with_nothing_driven_is_refused_not_run_into_a_collapse():
+    # `stonedem run` of this scene reported "stopped at collapse" at t = 0.32 s: the block
+    # had fallen half its height with nothing under it
+    from stonedem.engine.simulate import preflight
+    from stonedem.errors import InputError
+
+    spec = {"bodies": [_block()], "solver": {"duration": 1.0}, "output": {"every": 0.01}}
+    for run in (preflight, simulate, run_scene):
+        with pytest.raises(InputError, match="free fall") as err:
+            run(scene_from_dict(spec))
+        assert err.value.field == "bodies" and "driven" in err.value.fix
+    # the base under it, out of reach beside it: the block still has nothing to land on
+    spec["bodies"] = [_base(), _block(x=3.0)]
+    with pytest.raises(InputError, match="free fall") as err:
+        run_scene(scene_from_dict(spec))
+    assert err.value.field == "bodies[1] (block)"
+    # weightless, nothing falls: a scene of free bodies is fine
+    spec.update(bodies=[_block(velocity=[0.1, 0.0, 0.0])], gravity=0.0)
+    assert int(run_scene(scene_from_dict(spec)).collapsed) == 0
+
+
+def test_a_block_released_above_the_base_lands_and_did_not_collapse():
+    from stonedem.engine.pack import landing_drops
+
+    # released 0.8 m above the base (more than half its height: the old fall test fired in
+    # the air, "stopped at collapse"), area law damped near critical: it lands at 0.4 s and stands
+    spec = {"bodies": [_base(), _block(bottom=0.8)], "friction": 0.5,
+            "contact": {"model": "area", "k_n": 1e9, "c_n": 5e5},
+            "solver": {"duration": 1.0}, "output": {"every": 0.01}}
+    scene = scene_from_dict(spec)
+    assert landing_drops(scene) == pytest.approx([0.0, 0.8])
+    ds = run_scene(scene)
+    assert ds.attrs["status"] == "completed" and int(ds.collapsed) == 0
+    assert float(ds.y.sel(body="block")[-1]) == pytest.approx(0.5, abs=1e-3), "at rest on the base"
+    # a stack in the air falls together; a stacked structure drops nothing
+    spec["bodies"].append({"name": "top", "box": {"width": 0.25, "height": 0.5, "center": [0.05, 2.05]}})
+    assert landing_drops(scene_from_dict(spec)) == pytest.approx([0.0, 0.8, 0.8 + 0.0])
+    spec["bodies"][-1]["box"]["center"] = [0.05, 2.25]
+    assert landing_drops(scene_from_dict(spec)) == pytest.approx([0.0, 0.8, 0.8 + 0.2])
+    for structure in ({"kind": "column", "n_drums": 4, "capital": {"height": 0.6, "width": 1.4}},
+                      {"kind": "colonnade", "n_columns": 3, "n_drums": 2, "taper": 1.5},
+                      {"kind": "two_tier_colonnade"}):
+        built = scene_from_dict({"structure": structure, "solver": {"duration": 1.0}})
+        assert np.abs(landing_drops(built)).max() < 1e-9

@@ -34,6 +34,10 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         law=step.Law(kind=step.CONTACT_AREA, k_n=1e8, damping=0.0, impact=False, k_t=1e6, c_t=0.0,
                      frame_rule=FRAME_BOUNDARY),
         horizontal=still, vertical=still,
+        watch=step.Watch(rocking=np.ones(1), n_rocking=1.0, onset_rocking=np.pi / 4 / 30,
+                         support=np.full(1, -1), slide_x=np.zeros(1), slide_y=np.zeros(1),
+                         slide_support_x=np.zeros(1), slide_support_y=np.zeros(1), slide_offset=np.zeros(1),
+                         epistyle=np.zeros(1), n_epistyle=0.0, x0=np.zeros(1)),
     )
     settings = step.Settings(dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=False,
                              rest_speed=1e-3, rest_samples=1)
@@ -41,7 +45,8 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         body_x=np.zeros(1), body_y=np.zeros(1), body_theta=np.zeros(1),
         body_vx=np.array([v0[0]]), body_vy=np.array([v0[1]]), body_omega=np.array([v0[2]]),
         pair_ft=np.zeros((1, 1)), pair_memory=np.zeros((1, 1, N_MEMORY)), energy_acc=np.zeros(N_ENERGY_ACC),
-        rest_count=np.zeros(1, dtype=np.int64),
+        rest_count=np.zeros(1, dtype=np.int64), peaks=np.zeros(step.N_PEAK), peak_theta=np.zeros(1),
+        events=np.full(step.N_EVENT, -1, dtype=np.int64),
     )
     n_out = n_steps // out_every + 2
     samples = step.Samples(step=np.zeros(n_out, dtype=np.int64), x=np.zeros((n_out, 1)),
@@ -125,3 +130,36 @@ def test_power_booking_takes_the_base_work_from_the_driven_bodies_force():
     assert work.power[E_BASE_WORK] == pytest.approx(2.0 * 0.5 - 3.0)
     step.book_energy(state, work, 0.1)
     assert state.energy_acc == pytest.approx([0.5, 0.7, -0.2])
+
+
+def test_peaks_and_first_events_are_kept_at_every_step_not_at_the_samples():
+    # the box spins at 0.5 rad/s: |theta| = 0.5 t, sampled every 10 steps of 1 ms
+    n_steps, dt = 1000, 1e-3
+    model, settings, state, samples = box_bundles(n_steps, dt)
+    step.run(model, settings, state, samples, 0, 457, 0, n_steps + 1, 0, -1)
+    # the peak is that of step 456, not of the sample at step 450
+    assert state.peak_theta[0] == pytest.approx(0.5 * 0.456, rel=1e-12)
+    assert state.peaks[step.PEAK_ROCKING] == pytest.approx(0.5 * 0.456, rel=1e-12)
+    assert samples.theta[:46, 0].max() == pytest.approx(0.5 * 0.450, rel=1e-12)
+    # onset at theta_cr / 30 = pi / 120: 0.5 t > 0.02618 first at step 53, between samples
+    assert state.events[step.EVENT_ONSET] == 53
+    assert state.events[step.EVENT_COLLAPSE] == -1, "0.23 rad < theta_cr = pi / 4"
+    assert state.peaks[step.PEAK_SLIDING] == 0.0 and state.peaks[step.PEAK_EPISTYLE] == 0.0, "nothing to measure"
+
+
+def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
+    n_steps, dt = 1000, 1e-3
+    model, settings, state, samples = box_bundles(n_steps, dt)
+    # theta_cr 0.0333 rad: 0.5 t passes it first at step 67
+    model = model._replace(group_theta_cr=np.full(1, 0.0333))
+    status, n_sample, collapse_sample = step.run(model, settings._replace(stop_on_collapse=True), state, samples,
+                                                 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+    assert status == step.STATUS_COLLAPSED and state.events[step.EVENT_COLLAPSE] == 67
+    assert collapse_sample == n_sample - 1 == 7 and samples.step[collapse_sample] == 67
+    assert samples.theta[collapse_sample, 0] == pytest.approx(0.5 * 0.067, rel=1e-12)
+    # not stopping: the collapse step is kept, and the first sample after it is flagged
+    model2, settings2, state2, samples2 = box_bundles(n_steps, dt)
+    status, n_sample, collapse_sample = step.run(model2._replace(group_theta_cr=np.full(1, 0.0333)), settings2,
+                                                 state2, samples2, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+    assert status == step.STATUS_OK and n_sample == 101
+    assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70

@@ -4,11 +4,20 @@
   the body it rests on (its support at rest), in m (the thesis plots cm);
 - rocking: mean absolute rotation of the drums (all free bodies when there are no drums);
 - rocking onset: first time rocking exceeds theta_cr / 30, theta_cr = atan(b/h) (thesis Eq. 6.2);
+  theta_cr is the smallest of the rocking bodies' groups (:func:`rocking_theta_cr`);
 - collapse: the engine's flag (mean rotation beyond theta_cr or a body fallen off its support);
 - displacement relative to the base: x(t) - x(0) - d_base(t), per body (epistyles in particular).
+
+These functions read sampled histories (the dataset's time series). A peak or a first
+time must not depend on how often the run is sampled, so the compiled loop tracks them at
+every step (:func:`stonedem.kernels.step.track`) from the same definitions, which
+:func:`stonedem.engine.pack.watch_arrays` takes from here (rocking bodies, supports,
+sliding frames, epistyles).
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -50,29 +59,70 @@ def relative_sliding(scene: Scene, x, y, theta, support: list[int]) -> np.ndarra
     """Sliding of each body along its support's top face since t = 0 (n_time, n_body) [m]; 0 without support.
 
     The bottom-centre point of the body and the material point of the support under it at
-    t = 0 are followed; their separation along the support's rotated x axis is the sliding.
+    t = 0 are followed; their separation along the support's rotated x axis is the sliding
+    (:func:`sliding_frames`; the compiled loop tracks its peak at every step from the same frames).
     """
     n_time, n_body = x.shape
     out = np.zeros((n_time, n_body))
+    frames = sliding_frames(scene, support, x[0], y[0], theta[0])
+    for i, s in enumerate(support):
+        if s < 0:
+            continue
+        sep = _separation(frames, i, s, x, y, theta)
+        out[:, i] = sep - frames.offset[i]
+    return out
+
+
+class SlidingFrames(NamedTuple):
+    """The material point each body's sliding follows (the bottom centre at t = 0), in the
+    body's frame (body_x, body_y) and in its support's (support_x, support_y) [m], and their
+    separation along the support's x axis at t = 0 (offset) [m]; (n_body,) each, 0 without support."""
+
+    body_x: np.ndarray
+    body_y: np.ndarray
+    support_x: np.ndarray
+    support_y: np.ndarray
+    offset: np.ndarray
+
+
+def sliding_frames(scene: Scene, support: list[int], x0, y0, theta0) -> SlidingFrames:
+    """:class:`SlidingFrames` from the poses at t = 0 (x0, y0, theta0 (n_body,))."""
+    n_body = len(support)
+    frames = SlidingFrames(*(np.zeros(n_body) for _ in range(5)))
     for i, s in enumerate(support):
         if s < 0:
             continue
         point = bottom_centre(posed_vertices(scene.bodies[i]))
-        p_i = _follow(point, x[:, i], y[:, i], theta[:, i])
-        p_s = _follow(point, x[:, s], y[:, s], theta[:, s])
-        tangent = np.stack([np.cos(theta[:, s]), np.sin(theta[:, s])], axis=1)
-        sep = np.sum((p_i - p_s) * tangent, axis=1)
-        out[:, i] = sep - sep[0]
-    return out
+        frames.body_x[i], frames.body_y[i] = _local(point, x0[i], y0[i], theta0[i])
+        frames.support_x[i], frames.support_y[i] = _local(point, x0[s], y0[s], theta0[s])
+    for i, s in enumerate(support):
+        if s >= 0:
+            frames.offset[i] = _separation(frames, i, s, x0[[i]], y0[[i]], theta0[[i]],
+                                           x0[[s]], y0[[s]], theta0[[s]])[0]
+    return frames
 
 
-def _follow(point, x, y, theta):
-    """World positions over time of the material point that is at ``point`` at t = 0."""
-    local = point - np.array([x[0], y[0]])
-    c0, s0 = np.cos(-theta[0]), np.sin(-theta[0])
-    lx, ly = c0 * local[0] - s0 * local[1], s0 * local[0] + c0 * local[1]
+def _separation(frames: SlidingFrames, i, s, x, y, theta, xs=None, ys=None, thetas=None):
+    """Separation of body i's followed point from its support s's along the support's x axis [m]:
+    poses (n_time, n_body), or body i's (x, y, theta) and the support's (xs, ys, thetas) (n_time,)."""
+    if xs is None:
+        x, y, theta, xs, ys, thetas = x[:, i], y[:, i], theta[:, i], x[:, s], y[:, s], theta[:, s]
+    p_i = _world(frames.body_x[i], frames.body_y[i], x, y, theta)
+    p_s = _world(frames.support_x[i], frames.support_y[i], xs, ys, thetas)
+    return (p_i[0] - p_s[0]) * np.cos(thetas) + (p_i[1] - p_s[1]) * np.sin(thetas)
+
+
+def _local(point, x0, y0, theta0):
+    """Coordinates in a body's frame of ``point`` [m], the body at (x0, y0, theta0)."""
+    lx, ly = point[0] - x0, point[1] - y0
+    c0, s0 = np.cos(-theta0), np.sin(-theta0)
+    return c0 * lx - s0 * ly, s0 * lx + c0 * ly
+
+
+def _world(lx, ly, x, y, theta):
+    """World positions over time of the material point at (lx, ly) in a body's frame."""
     c, s = np.cos(theta), np.sin(theta)
-    return np.stack([x + c * lx - s * ly, y + s * lx + c * ly], axis=1)
+    return x + c * lx - s * ly, y + s * lx + c * ly
 
 
 def rocking_bodies(scene: Scene) -> np.ndarray:
@@ -83,7 +133,22 @@ def rocking_bodies(scene: Scene) -> np.ndarray:
     return np.array([i for i, b in enumerate(scene.bodies) if not b.driven and b.role != "epistyle"])
 
 
+def rocking_theta_cr(scene: Scene, body_group: np.ndarray, group_theta_cr: np.ndarray) -> float:
+    """theta_cr [rad] of the rocking measure: the smallest of its bodies' collapse groups."""
+    groups = np.unique(body_group[rocking_bodies(scene)])
+    return float(group_theta_cr[groups].min())
+
+
+def epistyle_bodies(scene: Scene) -> list[int]:
+    """Indices whose mean displacement relative to the base is the epistyle displacement."""
+    return [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
+
+
+ONSET_FRACTION = 1.0 / 30.0  # rocking onset: mean rotation above this share of theta_cr (thesis 6.3.1)
+
+
 def rocking_onset_time(time, rocking, theta_cr) -> float:
-    """First time [s] the mean rotation exceeds theta_cr / 30 (thesis 6.3.1); NaN if never."""
-    above = np.flatnonzero(rocking > theta_cr / 30.0)
+    """First time [s] of the samples at which the mean rotation exceeds theta_cr / 30 (thesis
+    6.3.1); NaN if never. A run's own onset is found at every step (stonedem.kernels.step.track)."""
+    above = np.flatnonzero(rocking > theta_cr * ONSET_FRACTION)
     return float(time[above[0]]) if len(above) else float("nan")

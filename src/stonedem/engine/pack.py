@@ -12,8 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stonedem.engine import measures
 from stonedem.engine.laws import LAWS
-from stonedem.engine.scene import Scene, initial_pose
+from stonedem.engine.scene import Scene, initial_pose, posed_vertices
+from stonedem.errors import InputError
 from stonedem.kernels import step
 from stonedem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 
@@ -100,7 +102,9 @@ def pack_scene(scene: Scene) -> SceneArrays:
         verts = np.vstack([bodies[i].vertices for i in members])
         width, height = np.ptp(verts, axis=0)
         group_theta_cr[g] = math.atan2(width, height)  # thesis Eq. 6.2
-    fall_depth = np.array([0.5 * np.ptp(b.vertices[:, 1]) for b in bodies])
+    # a body fell once its centroid is half its height below where it rests; a body released
+    # in the air rests where it lands, so its drop to there is no fall (landing_drops)
+    fall_depth = np.array([0.5 * np.ptp(b.vertices[:, 1]) for b in bodies]) + landing_drops(scene)
 
     extent = np.ptp(np.vstack([b.vertices for b in bodies if not b.driven]), axis=0)
     free_sizes = np.array([np.ptp(b.vertices, axis=0).min() for b in bodies if not b.driven])
@@ -115,6 +119,88 @@ def pack_scene(scene: Scene) -> SceneArrays:
         sweep_axis=int(extent[1] >= extent[0]),
         margin=0.1 * float(free_sizes.min()),
     )
+
+
+def landing_drops(scene: Scene) -> np.ndarray:
+    """How far each body drops straight down from its pose at t = 0 onto what will hold it [m].
+
+    0 for driven bodies and for bodies resting on something that rests on a driven body
+    (all of a stacked structure); the height of the gap below a body released in the air
+    (plus the drop of what it lands on: an airborne stack falls together); inf for a thrown
+    body (an initial velocity) with nothing under it, which may land anywhere, and for every
+    free body of a weightless scene. Under a body, "driven" reaches as far as the base sways
+    (its largest horizontal displacement). Refused with an InputError naming the body: a
+    scene with gravity in which nothing is driven, or a body with nothing under it to land
+    on: it would fall freely for ever, which the run would report as a collapse.
+    """
+    driven = np.array([b.driven for b in scene.bodies])
+    drops = np.where(driven, 0.0, np.inf)
+    if scene.gravity == 0.0:
+        return drops
+    if not driven.any():
+        raise InputError("bodies", "no body is driven, so nothing holds the others up: every body would fall "
+                         "freely (a free fall, not a collapse)",
+                         "add the ground under them as a driven body (driven: true, role: base), or build a "
+                         "structure: (its base is driven)")
+    posed = [posed_vertices(b) for b in scene.bodies]
+    lo = np.array([p.min(axis=0) for p in posed])
+    hi = np.array([p.max(axis=0) for p in posed])
+    size = np.ptp(np.stack([lo, hi]), axis=0)
+    # touching (bodies may overlap by a sliver at t = 0) and x ranges that share a length
+    touch = 1e-3 * size[:, 1]
+    share = 1e-9 * float(size.max())
+    reach = None
+    for i in np.argsort(lo[:, 1], kind="stable"):  # bottom up: what lies below is done first
+        if driven[i]:
+            continue
+        width = np.minimum(hi[i, 0], hi[:, 0]) - np.maximum(lo[i, 0], lo[:, 0])
+        under = (width > share) & np.isfinite(drops)
+        under[i] = False
+        best = np.inf
+        # nearest first by a lower bound of the gap (the bounds'), until none can be nearer
+        for j in sorted(np.flatnonzero(under), key=lambda j: lo[i, 1] - hi[j, 1] + drops[j]):
+            if lo[i, 1] - hi[j, 1] + drops[j] >= best:
+                break
+            gap = _vertical_gap(posed[i], posed[j], max(lo[i, 0], lo[j, 0]), min(hi[i, 0], hi[j, 0]))
+            if gap > -min(touch[i], touch[j]):  # else j reaches above body i's bottom: beside it
+                best = min(best, max(gap, 0.0) + drops[j])
+        if math.isinf(best):  # the base may sway under it
+            if reach is None:
+                grid = np.arange(0.0, scene.duration + 1e-3, 1e-3)
+                reach = float(np.abs(scene.horizontal.evaluate(grid)[0]).max())
+            near = driven & (lo[:, 0] - reach < hi[i, 0] - share) & (hi[:, 0] + reach > lo[i, 0] + share) & (
+                hi[:, 1] <= lo[i, 1] + touch[i])
+            if near.any():
+                best = max(float(lo[i, 1] - hi[near, 1].max()), 0.0)
+        if math.isinf(best) and scene.bodies[i].velocity is None:
+            raise InputError(f"bodies[{i}] ({scene.bodies[i].name})", "nothing under it leads down to a driven "
+                             "body: it would fall freely (a free fall, not a collapse)",
+                             "place it above the base, or on a body that rests on it")
+        drops[i] = best
+    return drops
+
+
+def _vertical_gap(above: np.ndarray, below: np.ndarray, x_from: float, x_to: float) -> float:
+    """Smallest vertical distance from the convex polygon ``above`` down to ``below`` over x
+    in [x_from, x_to] [m] (it is piecewise linear: its least is at a vertex's x or an end);
+    negative where ``below`` reaches higher (it is not below)."""
+    xs = np.concatenate([above[:, 0], below[:, 0], [x_from, x_to]])
+    xs = xs[(xs >= x_from) & (xs <= x_to)]
+    return float((_span(above, xs)[0] - _span(below, xs)[1]).min())
+
+
+def _span(vertices: np.ndarray, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lowest, highest) y of a convex polygon on the vertical lines at xs [m] (clipped into it)."""
+    xs = np.clip(xs, vertices[:, 0].min(), vertices[:, 0].max())[:, None]
+    x1, y1 = vertices[:, 0], vertices[:, 1]
+    x2, y2 = np.roll(x1, -1), np.roll(y1, -1)
+    crossing = (np.minimum(x1, x2) <= xs) & (xs <= np.maximum(x1, x2))
+    slanted = x2 != x1
+    y = np.where(slanted, y1 + (xs - x1) / np.where(slanted, x2 - x1, 1.0) * (y2 - y1), y1)
+    # a vertical edge on the line spans from y1 to y2
+    low = np.where(crossing, np.minimum(y, np.where(slanted, y, y2)), np.inf).min(axis=1)
+    high = np.where(crossing, np.maximum(y, np.where(slanted, y, y2)), -np.inf).max(axis=1)
+    return low, high
 
 
 def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
@@ -137,4 +223,36 @@ def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
                      impact=law.impact == "plastic", k_t=law.k_t, c_t=law.c_t,
                      frame_rule=FRAME_RULES[law.frame]),
         horizontal=excitation(scene.horizontal), vertical=excitation(scene.vertical),
+        watch=watch_arrays(scene, arrays),
+    )
+
+
+def initial_poses(scene: Scene, arrays: SceneArrays) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x, y, theta) (n_body,) at step 0 as the compiled loop has them: free bodies at their
+    initial pose, driven ones at their reference shifted by the base displacement at t = 0."""
+    d_h, _, _ = scene.horizontal.evaluate(np.array([0.0]))
+    d_v, _, _ = scene.vertical.evaluate(np.array([0.0]))
+    driven = arrays.body_driven
+    return (np.where(driven, arrays.ref_x + d_h[0], arrays.init_x),
+            np.where(driven, arrays.ref_y + d_v[0], arrays.init_y),
+            np.where(driven, arrays.ref_theta, arrays.init_theta))
+
+
+def watch_arrays(scene: Scene, arrays: SceneArrays) -> step.Watch:
+    """The response measures' definitions (:mod:`stonedem.engine.measures`) as
+    :func:`stonedem.kernels.step.track` reads them to keep their peaks at every step."""
+    n = len(scene.bodies)
+    rocking = np.zeros(n)
+    rocking[measures.rocking_bodies(scene).astype(np.int64)] = 1.0
+    theta_cr = measures.rocking_theta_cr(scene, arrays.body_group, arrays.group_theta_cr) if rocking.any() else np.inf
+    support = np.array(measures.supports(scene), dtype=np.int64)
+    x0, y0, theta0 = initial_poses(scene, arrays)
+    frames = measures.sliding_frames(scene, list(support), x0, y0, theta0)
+    epistyle = np.zeros(n)
+    epistyle[measures.epistyle_bodies(scene)] = 1.0
+    return step.Watch(
+        rocking=rocking, n_rocking=float(rocking.sum()), onset_rocking=theta_cr * measures.ONSET_FRACTION,
+        support=support, slide_x=frames.body_x, slide_y=frames.body_y,
+        slide_support_x=frames.support_x, slide_support_y=frames.support_y, slide_offset=frames.offset,
+        epistyle=epistyle, n_epistyle=float(epistyle.sum()), x0=x0,
     )

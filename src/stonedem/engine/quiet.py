@@ -5,6 +5,11 @@ quiet to slide or rock anything (:func:`quiet_threshold`), and once everything i
 on a base that is quiet for good. :func:`quiet_steps` plans those phases before the run;
 :func:`rigid_motion` and :func:`carry` fill their samples; :func:`settled_state` starts the
 loop again from a settled state carried to the first loud instant.
+
+A stretch carried at rest adds nothing to the running peaks of the response measures
+(:func:`stonedem.kernels.step.track`): the bodies keep their rotations and their poses
+relative to the base and to each other, so every measure keeps the value of the state the
+loop left there, which it has already counted.
 """
 
 from __future__ import annotations
@@ -13,7 +18,7 @@ import math
 
 import numpy as np
 
-from stonedem.engine.pack import SceneArrays
+from stonedem.engine.pack import SceneArrays, landing_drops
 from stonedem.engine.scene import Scene, posed_vertices
 from stonedem.kernels import step
 
@@ -62,7 +67,9 @@ def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[
         first_loud, last_loud = 0.0, 0.0  # nothing to skip but the settled rest at the end
     else:
         first_loud, last_loud = grid[np.argmax(loud)], grid[len(loud) - 1 - np.argmax(loud[::-1])]
-    at_rest = all(b.driven or (b.tilt_angle == 0.0 and b.velocity is None) for b in scene.bodies)
+    # released in the air, a body falls first (stonedem.engine.pack.landing_drops)
+    at_rest = all(b.driven or (b.tilt_angle == 0.0 and b.velocity is None) for b in scene.bodies) and not (
+        landing_drops(scene) > 0.0).any()
     n_first = 0
     if at_rest:
         n_first = max(0, int((first_loud - spacing) / dt)) // out_every * out_every

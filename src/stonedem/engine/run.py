@@ -96,10 +96,9 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
     rock_idx = measures.rocking_bodies(scene)
     rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
-    groups = np.unique(result.arrays.body_group[rock_idx])
-    theta_cr = float(result.arrays.group_theta_cr[groups].min())
+    theta_cr = measures.rocking_theta_cr(scene, result.arrays.body_group, result.arrays.group_theta_cr)
     rel = result.x - result.x[0] - d_h[:, None]
-    epistyles = [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
+    epistyles = measures.epistyle_bodies(scene)
     epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
 
     kinetic = e[:, step.ENERGY_KINETIC]
@@ -112,8 +111,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     balance = balance - (kinetic[0] + elastic[0])
     if checks is None:
         checks = run_checks(scene, result)
-    collapsed = result.collapse_sample >= 0 and checks["status"] != "penetrated"
-    collapse_time = float(time[result.collapse_sample]) if collapsed else float("nan")
+    collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
+    collapse_time = result.collapse_time if collapsed else float("nan")
 
     tb = ("time", "body")
     data_vars = schema_variables({
@@ -137,15 +136,16 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "energy_base_work": (("time",), base_work),
         "energy_balance_error": (("time",), balance),
         "n_contact": (("time",), result.n_contact.astype(np.int32)),
-        "max_abs_theta": (("body",), np.abs(result.theta).max(axis=0)),
-        "max_total_sliding": ((), float(total_sliding.max())),
+        # peaks and first times over every step of the run, not the samples (stonedem.kernels.step.track)
+        "max_abs_theta": (("body",), result.peak_theta),
+        "max_total_sliding": ((), result.max_total_sliding),
         "residual_total_sliding": ((), float(total_sliding[-1])),
-        "max_rocking": ((), float(rocking.max())),
+        "max_rocking": ((), result.max_rocking),
         "theta_cr": ((), theta_cr),
-        "rocking_onset_time": ((), measures.rocking_onset_time(time, rocking, theta_cr)),
+        "rocking_onset_time": ((), result.rocking_onset_time),
         "collapsed": ((), np.int8(collapsed)),
         "collapse_time": ((), collapse_time),
-        "max_epistyle_displacement": ((), float(np.nanmax(np.abs(epi))) if epistyles else float("nan")),
+        "max_epistyle_displacement": ((), result.max_epistyle_displacement if epistyles else float("nan")),
     })
     coords = schema_variables({
         "time": (("time",), time),

@@ -23,7 +23,7 @@ from stonedem.errors import InputError
 from stonedem.kernels import step
 from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from stonedem.engine.laws import LAWS
-from stonedem.engine.pack import SceneArrays, kernel_model, pack_scene
+from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
 from stonedem.engine.scene import Scene, box_pairs, posed_vertices
 
@@ -190,7 +190,7 @@ class RunResult:
     energy: np.ndarray  # (n_sample, N_ENERGY) [J], columns step.ENERGY_*
     n_contact: np.ndarray  # (n_sample,)
     status: int
-    collapse_sample: int
+    collapse_sample: int  # first sample at or after the collapse (the last one when it stopped the run), -1: none
     dt: float
     dt_limit: float
     out_every: int
@@ -200,6 +200,37 @@ class RunResult:
     arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
     quiet_lead: float = 0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
     rest_time: float = math.nan  # [s] at rest on a quiet base from here on (not integrated), NaN if never
+    # running maxima over every step run (stonedem.kernels.step.track; a stretch the base
+    # carries at rest adds nothing to them), slots step.PEAK_*, and each body's max |theta|
+    peaks: np.ndarray = None  # (N_PEAK,)
+    peak_theta: np.ndarray = None  # (n_body,) [rad]
+    onset_step: int = -1  # first step at which rocking exceeds theta_cr / 30, -1: never
+    collapse_step: int = -1  # first step at which the structure collapsed, -1: never
+
+    @property
+    def max_rocking(self) -> float:
+        """Peak mean absolute rotation of the rocking bodies over every step [rad]."""
+        return float(self.peaks[step.PEAK_ROCKING])
+
+    @property
+    def max_total_sliding(self) -> float:
+        """Peak total sliding over every step [m]."""
+        return float(self.peaks[step.PEAK_SLIDING])
+
+    @property
+    def max_epistyle_displacement(self) -> float:
+        """Peak |mean epistyle displacement relative to the base| over every step [m]."""
+        return float(self.peaks[step.PEAK_EPISTYLE])
+
+    @property
+    def rocking_onset_time(self) -> float:
+        """First time rocking exceeds theta_cr / 30 [s], found at every step; NaN if never."""
+        return self.onset_step * self.dt if self.onset_step >= 0 else math.nan
+
+    @property
+    def collapse_time(self) -> float:
+        """Time of collapse [s], found at every step; NaN if none."""
+        return self.collapse_step * self.dt if self.collapse_step >= 0 else math.nan
 
 
 @dataclass
@@ -270,6 +301,7 @@ def initial_state(arrays: SceneArrays) -> step.State:
         body_vx=arrays.init_vx.copy(), body_vy=arrays.init_vy.copy(), body_omega=arrays.init_omega.copy(),
         pair_ft=np.zeros((n_body, n_body)), pair_memory=np.zeros((n_body, n_body, N_MEMORY)),
         energy_acc=np.zeros(N_ENERGY_ACC), rest_count=np.zeros(1, dtype=np.int64),
+        peaks=np.zeros(step.N_PEAK), peak_theta=np.zeros(n_body), events=np.full(step.N_EVENT, -1, dtype=np.int64),
     )
 
 
@@ -330,7 +362,8 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
         energy=samples.energy[:n], n_contact=samples.n_contact[:n], status=int(status),
         collapse_sample=int(cursor.collapse), dt=dt, dt_limit=limit, out_every=out_every, n_steps=n_steps,
         steps_run=int(cursor.steps), wall_seconds=cursor.wall, quiet_lead=quiet_lead, rest_time=rest_time,
-        arrays=arrays,
+        arrays=arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
+        onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
     )
 
 
@@ -419,11 +452,13 @@ MIN_STEPS_PER_PERIOD = 20
 def preflight(scene: Scene) -> tuple[float, float, int]:
     """(dt, stability limit [s], steps) of a scene, or an InputError before any computing.
 
-    Refused: a stability limit that is not a positive finite time, more than MAX_STEPS
+    Refused: a scene whose bodies would fall freely (nothing driven, or a body with nothing
+    under it to land on: :func:`stonedem.engine.pack.landing_drops`), a stability limit that is not a positive finite time, more than MAX_STEPS
     steps, more than MAX_SAMPLE_BYTES of samples, and a step that resolves the excitation's
     shortest period in fewer than MIN_STEPS_PER_PERIOD steps (it would read an 8 kHz
     harmonic at its zeros).
     """
+    landing_drops(scene)
     dt, limit = choose_time_step(scene)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
         raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",

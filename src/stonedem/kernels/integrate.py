@@ -15,11 +15,16 @@ from stonedem.kernels import JIT_OPTIONS
 
 @njit(**JIT_OPTIONS)
 def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
-                          world_x, world_y):
-    """World coordinates of every vertex from body pose: w = x + R(theta) v_local [m]."""
+                          world_x, world_y, cos_theta, sin_theta):
+    """World coordinates of every vertex from body pose: w = x + R(theta) v_local [m].
+
+    cos_theta, sin_theta (n_body,) receive each body's cos and sin of theta (the time loop
+    reuses them for its measures)."""
     for b in range(n_body):
         c = np.cos(body_theta[b])
         s = np.sin(body_theta[b])
+        cos_theta[b] = c
+        sin_theta[b] = s
         for k in range(vert_start[b], vert_start[b + 1]):
             world_x[k] = body_x[b] + c * local_x[k] - s * local_y[k]
             world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]

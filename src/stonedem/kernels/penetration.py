@@ -35,12 +35,15 @@ def deepest_overlap(vert_start, local_x, local_y, body_area, x, y, theta):
     out_y = np.empty(MAX_OVERLAP_VERTICES)
     tmp_x = np.empty(MAX_OVERLAP_VERTICES)
     tmp_y = np.empty(MAX_OVERLAP_VERTICES)
+    cos_theta = np.empty(n_body)
+    sin_theta = np.empty(n_body)
     worst = 0.0
     at = (-1, -1, -1)
     for s in range(n_sample):
         if not (np.all(np.isfinite(x[s])) and np.all(np.isfinite(y[s])) and np.all(np.isfinite(theta[s]))):
             continue
-        update_world_vertices(n_body, vert_start, local_x, local_y, x[s], y[s], theta[s], wx, wy)
+        update_world_vertices(n_body, vert_start, local_x, local_y, x[s], y[s], theta[s], wx, wy,
+                              cos_theta, sin_theta)
         for b in range(n_body):
             lo_x[b] = wx[vert_start[b]:vert_start[b + 1]].min()
             hi_x[b] = wx[vert_start[b]:vert_start[b + 1]].max()

@@ -9,13 +9,16 @@ call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocitie
 Stages of one step at time t_n = n dt, numbered as in :func:`run`:
 
 1. place the bodies   base_motion, drive_bodies, update_world_vertices, body_bounds
+   watch              track: running peaks of the response measures at t_n; collapsed
+                      (every step, so neither depends on the sampling; a collapse with
+                      stop_on_collapse is sampled at its own step and ends the run)
 2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
 3. contact forces     clear_forces, then the scene's law from the velocities v_{n-1/2}
                       (area_contact_forces or point_contact_forces)
 4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
 5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
-6. sampling           every ``out_every`` steps and at the last: sample_state, then at_rest
-                      and collapsed may end the run
+6. sampling           every ``out_every`` steps, at the last and at a collapse that stops
+                      the run: sample_state, then at_rest may end the run
 7. integrate          book_energy, central_difference_step: v_{n+1/2} = v_{n-1/2} + dt a_n
                       (first step: a half kick), x_{n+1} = x_n + dt v_{n+1/2}
 
@@ -70,6 +73,17 @@ ENERGY_TANGENTIAL = ENERGY_ACCUMULATED + E_TANGENTIAL  # dissipated by slip and 
 ENERGY_BASE_WORK = ENERGY_ACCUMULATED + E_BASE_WORK  # work done by the driven bodies
 N_ENERGY = ENERGY_ACCUMULATED + N_ENERGY_ACC
 
+# Slots of State.peaks: running maxima over every step of the run (:func:`track`), with the
+# definitions of stonedem.engine.measures (thesis 6.3.1) [rad], [m], [m]
+PEAK_ROCKING = 0  # mean |theta| of the rocking bodies (Watch.rocking)
+PEAK_SLIDING = 1  # total sliding: sum over bodies of |sliding along the support's top face|
+PEAK_EPISTYLE = 2  # |mean displacement of the epistyles relative to the base|
+N_PEAK = 3
+# Slots of State.events: the step at which something first happened, -1 while it has not
+EVENT_ONSET = 0  # rocking first exceeds Watch.onset_rocking (theta_cr / 30)
+EVENT_COLLAPSE = 1  # :func:`collapsed` first true
+N_EVENT = 2
+
 
 class Law(NamedTuple):
     """The contact law of a scene (:mod:`stonedem.kernels.contact`, :mod:`stonedem.kernels.point_contact`)."""
@@ -92,6 +106,24 @@ class Excitation(NamedTuple):
     table_vel: np.ndarray
     table_disp: np.ndarray
     table_dt: float  # [s]
+
+
+class Watch(NamedTuple):
+    """What :func:`track` measures at every step: the response measures' definitions
+    (:func:`stonedem.engine.pack.watch_arrays`, from :mod:`stonedem.engine.measures`)."""
+
+    rocking: np.ndarray  # 1.0 where the body counts in the rocking measure, else 0.0 (n_body,)
+    n_rocking: float  # how many do (0: rocking not tracked)
+    onset_rocking: float  # rocking above this is its onset, theta_cr / 30 [rad]
+    support: np.ndarray  # body whose top face the body slides on, -1 for none (n_body,) int64
+    slide_x: np.ndarray  # material point followed for sliding (the bottom centre at t = 0), in
+    slide_y: np.ndarray  # the body's frame (n_body,) [m]
+    slide_support_x: np.ndarray  # the same point in the support's frame at t = 0 (n_body,) [m]
+    slide_support_y: np.ndarray
+    slide_offset: np.ndarray  # their separation along the support's x axis at t = 0 (n_body,) [m]
+    epistyle: np.ndarray  # 1.0 where the body counts in the epistyle displacement, else 0.0 (n_body,)
+    n_epistyle: float
+    x0: np.ndarray  # centroid x at t = 0 (n_body,) [m]
 
 
 class Model(NamedTuple):
@@ -118,6 +150,7 @@ class Model(NamedTuple):
     law: Law
     horizontal: Excitation
     vertical: Excitation
+    watch: Watch
 
 
 class Settings(NamedTuple):
@@ -144,6 +177,9 @@ class State(NamedTuple):
     pair_memory: np.ndarray  # contact memory, slots MEM_* of stonedem.kernels.contact (n_body, n_body, N_MEMORY)
     energy_acc: np.ndarray  # energy accumulators, slots E_* of stonedem.kernels.contact (N_ENERGY_ACC,) [J]
     rest_count: np.ndarray  # samples at rest in a row so far (1,) int64
+    peaks: np.ndarray  # running maxima over the steps run so far, slots PEAK_* (N_PEAK,)
+    peak_theta: np.ndarray  # running maximum of each body's |theta| (n_body,) [rad]
+    events: np.ndarray  # step of each first event, slots EVENT_*, -1: not yet (N_EVENT,) int64
 
 
 class Samples(NamedTuple):
@@ -162,6 +198,8 @@ class Work(NamedTuple):
 
     world_x: np.ndarray  # world vertices (n_vert,) [m]
     world_y: np.ndarray
+    cos_theta: np.ndarray  # cos and sin of each body's theta at t_n (n_body,)
+    sin_theta: np.ndarray
     lo_x: np.ndarray  # bounds of each body (n_body,) [m]
     lo_y: np.ndarray
     hi_x: np.ndarray
@@ -190,7 +228,7 @@ def allocate_work(model):
     n_vert = model.local_x.shape[0]
     n_group = model.group_theta_cr.shape[0]
     return Work(
-        world_x=np.empty(n_vert), world_y=np.empty(n_vert),
+        world_x=np.empty(n_vert), world_y=np.empty(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
         base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
@@ -382,13 +420,78 @@ def collapsed(model, state, work, d_v):
 
 
 @njit(**JIT_OPTIONS)
+def track(model, state, work, n, d_h, d_v, tilt_alarm):
+    """Fold the response measures at t_n (step n) into the running peaks and first events;
+    True if the state may have collapsed (:func:`collapsed` can be true only then).
+
+    The definitions of :mod:`stonedem.engine.measures`, as model.watch holds them: rocking,
+    the mean |theta| of the rocking bodies; total sliding, the sum over bodies of the
+    sliding of the followed material point along the support's rotated x axis since t = 0;
+    the epistyles' mean x - x(0) - d_h (d_h, d_v: base displacement at t_n [m]); each body's
+    |theta|. State.peaks, peak_theta and events[EVENT_ONSET] take them. A few flops a body:
+    the cos and sin of theta are the ones update_world_vertices left in work, and the
+    collapse check's group means are left to :func:`collapsed`, needed only once some body
+    has fallen or turned past tilt_alarm (the smallest theta_cr of a group) [rad].
+    """
+    watch = model.watch
+    rocking, support, epistyle, x0 = watch.rocking, watch.support, watch.epistyle, watch.x0
+    slide_x, slide_y, slide_support_x, slide_support_y = (watch.slide_x, watch.slide_y, watch.slide_support_x,
+                                                          watch.slide_support_y)
+    slide_offset = watch.slide_offset
+    ref_y, fall_depth = model.ref_y, model.fall_depth
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    cos_theta, sin_theta = work.cos_theta, work.sin_theta
+    peaks, peak_theta, events = state.peaks, state.peak_theta, state.events
+    rock_sum = 0.0
+    slide_sum = 0.0
+    epistyle_sum = 0.0
+    suspect = False
+    for b in range(body_theta.shape[0]):
+        a = abs(body_theta[b])
+        if a > peak_theta[b]:
+            peak_theta[b] = a
+        # driven bodies never turn or drop relative to the base
+        if a > tilt_alarm or ref_y[b] - (body_y[b] - d_v) > fall_depth[b]:
+            suspect = True
+        rock_sum += rocking[b] * a
+        epistyle_sum += epistyle[b] * (body_x[b] - x0[b] - d_h)
+        s = support[b]
+        if s >= 0:
+            c_b = cos_theta[b]
+            s_b = sin_theta[b]
+            c_s = cos_theta[s]
+            s_s = sin_theta[s]
+            dx = (body_x[b] + c_b * slide_x[b] - s_b * slide_y[b]) - (
+                body_x[s] + c_s * slide_support_x[b] - s_s * slide_support_y[b])
+            dy = (body_y[b] + s_b * slide_x[b] + c_b * slide_y[b]) - (
+                body_y[s] + s_s * slide_support_x[b] + c_s * slide_support_y[b])
+            slide_sum += abs(dx * c_s + dy * s_s - slide_offset[b])
+    if watch.n_rocking > 0.0:
+        rock = rock_sum / watch.n_rocking
+        if rock > peaks[PEAK_ROCKING]:
+            peaks[PEAK_ROCKING] = rock
+        if events[EVENT_ONSET] < 0 and rock > watch.onset_rocking:
+            events[EVENT_ONSET] = n
+    if slide_sum > peaks[PEAK_SLIDING]:
+        peaks[PEAK_SLIDING] = slide_sum
+    if watch.n_epistyle > 0.0:
+        epi = abs(epistyle_sum / watch.n_epistyle)
+        if epi > peaks[PEAK_EPISTYLE]:
+            peaks[PEAK_EPISTYLE] = epi
+    return suspect
+
+
+@njit(**JIT_OPTIONS)
 def run(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
         n_sample, collapse_sample):
     """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
 
     model, settings, state, samples: :class:`Model`, :class:`Settings`, :class:`State`,
     :class:`Samples`. Samples are written from index n_sample on; collapse_sample is the
-    first collapsed sample, or -1. step_first: the step the run starts from (its kick is a
+    first sample at or after the collapse (state.events[EVENT_COLLAPSE], checked at every
+    step; with settings.stop_on_collapse the collapse step is sampled and ends the run with
+    STATUS_COLLAPSED), or -1. Every step also folds into the running peaks and first events
+    of state (:func:`track`). step_first: the step the run starts from (its kick is a
     half step; state holds the velocities at that instant). From step rest_from_step on
     (the base motion is quiet for good), settings.rest_samples samples in a row at which
     every free body is at rest (:func:`at_rest`) end the run with STATUS_AT_REST;
@@ -411,13 +514,14 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_ft, pair_memory = state.pair_ft, state.pair_memory
-    energy_acc, rest_count = state.energy_acc, state.rest_count
-    world_x, world_y = work.world_x, work.world_y
+    energy_acc, rest_count, events = state.energy_acc, state.rest_count, state.events
+    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
 
+    tilt_alarm = model.group_theta_cr.min() if model.group_theta_cr.shape[0] > 0 else np.inf
     pair_a = np.zeros(0, dtype=np.int64)
     pair_b = np.zeros(0, dtype=np.int64)
     need_sweep = True  # the pair list does not outlive a call
@@ -430,8 +534,16 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
         drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
                      body_x, body_y, body_theta, body_vx, body_vy, body_omega)
         update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
-                              world_x, world_y)
+                              world_x, world_y, cos_theta, sin_theta)
         body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+
+        # the measures at t_n, at every step: peaks and events do not depend on the sampling;
+        # a collapse that stops the run is sampled at its step
+        suspect = track(model, state, work, n, d_h, d_v, tilt_alarm)
+        stop = False
+        if suspect and events[EVENT_COLLAPSE] < 0 and collapsed(model, state, work, d_v):
+            events[EVENT_COLLAPSE] = n
+            stop = settings.stop_on_collapse
 
         # 2. candidate pairs, found again once some body has moved half the margin
         if need_sweep or needs_resweep(model, state, work):
@@ -440,7 +552,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
 
         # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is a
         # function with these arguments and a branch here
-        sample = n % settings.out_every == 0 or n == n_steps
+        sample = n % settings.out_every == 0 or n == n_steps or stop
         clear_forces(work)
         if law.kind == CONTACT_POINT:
             n_contact, elastic = point_contact_forces(
@@ -472,6 +584,11 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
             if not finite:
                 status = STATUS_NONFINITE
                 break
+            if collapse_sample < 0 and events[EVENT_COLLAPSE] >= 0:
+                collapse_sample = n_sample - 1
+            if stop:
+                status = STATUS_COLLAPSED
+                break
             if n >= rest_from_step and at_rest(model, work, vel_h, vel_v, settings.rest_speed):
                 rest_count[0] += 1
                 if rest_count[0] >= settings.rest_samples:
@@ -479,11 +596,6 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
                     break
             else:
                 rest_count[0] = 0
-            if collapse_sample < 0 and collapsed(model, state, work, d_v):
-                collapse_sample = n_sample - 1
-                if settings.stop_on_collapse:
-                    status = STATUS_COLLAPSED
-                    break
         if n == n_steps:
             break
 

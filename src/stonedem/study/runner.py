@@ -89,6 +89,13 @@ class CaseStore:
         tmp = output.with_name(f".{output.name}.restore")
         try:
             shutil.copyfile(stored, tmp)
+        except OSError as err:
+            # the copy failed (a full disk, a quota): the entry may well be good, so it stays
+            tmp.unlink(missing_ok=True)
+            progress_print(log or sys.stderr, f"warning: case store entry {stored.name} could not be copied "
+                           f"({err.strerror}); simulating the case again")
+            return False
+        try:
             good = _sha256(tmp) == _read_checksum(stored)
         except OSError:
             good = False

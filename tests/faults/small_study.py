@@ -1,0 +1,206 @@
+"""A small copy of the study for the fault-injection suite (issue 31, part 4): the repo's
+Snakefile, workflow/, config/, profiles/ and records/ in a folder of its own, with a config of
+three tiny studies (two simulated cases, a threshold search of two runs, one ramp case), run
+to its cubes and tables only (no figures, walls or validations): ~10-20 s on 2 cores once the
+compiled kernels are in the numba cache (~/.cache/stonedem).
+
+``reference()`` is that study run once, uninterrupted, per test process; each fault is
+compared with it variable by variable, coordinate by coordinate (``assert_same_results``).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+COPIED = ("Snakefile", "workflow", "config", "profiles", "records")
+STUDIES = {
+    # two harmonic cases of a 1-drum column, 0.5 s each: one simulate job, one table
+    "small_column_friction": {"solver": {"duration": 0.5}, "grid": {"friction": [0.68], "frequency": [2.0, 20.0]}},
+    # a threshold search of two runs (2 and 8 m/s2, 1 s of the Mexico City stand-in): a search file
+    "standalone_records": {"solver": {"duration": 1.0}, "grid": {"record": ["mexico_standin_chichi_tcu102"],
+                                                                 "n_drums": [1]},
+                           "search": {"start": 2.0, "factor": 4.0, "maximum": 8.0, "tolerance": 0.5, "fill": 0}},
+    # one ramp case of a 1-drum column (thesis Fig. 6.10's table)
+    "ramp_drums": {"solver": {"duration": 1.0}, "grid": {"n_drums": [1]}},
+}
+# the study's cubes and tables (common.smk: rules cubes_<k>, tables_<k>)
+CUBES = [f"results/cubes/{study}.nc" for study in STUDIES]
+TABLES = ["results/tables/frequency_response_small_column_friction.csv", "results/tables/thesis_fig_6_10.csv"]
+TARGETS = CUBES + TABLES
+RECORD = "records/mexico_standin_chichi_tcu102.nc"
+# attrs that hold the clock time or the machine of a run: the only thing allowed to differ
+CLOCK_ATTRS = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host",
+               "elapsed", "run_seconds")
+
+
+def make_study(directory: Path) -> Path:
+    """The workflow in ``directory`` (created) with the small config as config/config.yaml."""
+    from stonedem.study.grid import load_config
+
+    directory.mkdir(parents=True, exist_ok=True)
+    for item in COPIED:
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, directory / item)
+    config = load_config(ROOT / "config" / "config.yaml")
+    config["studies"] = {name: {**config["studies"][name], **spec} for name, spec in STUDIES.items()}
+    config.update(wall_cases=[], run_validation=False)
+    config.pop("fragility", None)
+    (directory / "config" / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+    return directory
+
+
+def snakemake_command(*args, cores: int = 2) -> list[str]:
+    return [sys.executable, "-m", "snakemake", f"-j{cores}", *args, *TARGETS]
+
+
+def snakemake(directory: Path, *args, cores: int = 2, timeout: float = 300) -> subprocess.CompletedProcess:
+    """One snakemake call on the study's cubes and tables, output captured."""
+    return subprocess.run(snakemake_command(*args, cores=cores), cwd=directory, capture_output=True, text=True,
+                          timeout=timeout, check=False)
+
+
+def tail(proc, n: int = 3000) -> str:
+    return f"exit {proc.returncode}\n--- stdout\n{proc.stdout[-n:]}\n--- stderr\n{proc.stderr[-n:]}"
+
+
+def result_files(directory: Path) -> list[str]:
+    """The study's cubes and tables and the case and search files under them (relative paths)."""
+    results = directory / "results"
+    found = [p for kind in ("cubes", "tables", "cases", "searches") for p in (results / kind).rglob("*")
+             if p.is_file() and not p.name.startswith(".")]
+    return sorted(str(p.relative_to(directory)) for p in found)
+
+
+_REFERENCE: list[Path] = []
+
+
+def reference(tmp_path_factory) -> Path:
+    """The small study run once, uninterrupted (per test process): the folder it ran in."""
+    if not _REFERENCE:
+        directory = make_study(tmp_path_factory.mktemp("reference") / "study")
+        proc = snakemake(directory)
+        assert proc.returncode == 0, tail(proc)
+        assert all((directory / t).is_file() for t in TARGETS), result_files(directory)
+        _REFERENCE.append(directory)
+    return _REFERENCE[0]
+
+
+def copy_study(source: Path, directory: Path) -> Path:
+    """A copy of a finished study (results, .snakemake metadata, mtimes kept)."""
+    shutil.copytree(source, directory, symlinks=True)
+    return directory
+
+
+def _same_values(x, y) -> bool:
+    x, y = np.asarray(x), np.asarray(y)
+    if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
+        return False
+    if x.dtype.kind in "fc":
+        return np.array_equal(x, y, equal_nan=True)
+    if x.dtype.kind == "O":
+        return np.array_equal(x.astype(str), y.astype(str))
+    return np.array_equal(x, y)
+
+
+def _attrs(attrs: dict) -> dict:
+    return {k: v for k, v in attrs.items() if k not in CLOCK_ATTRS}
+
+
+def assert_same_dataset(path_a: Path, path_b: Path, label: str) -> None:
+    """Every variable and coordinate bit-identical (NaN where NaN), their attrs and the
+    file's attrs equal but for the clock-time ones."""
+    with xr.open_dataset(path_a, decode_times=False) as a, xr.open_dataset(path_b, decode_times=False) as b:
+        assert set(a.variables) == set(b.variables), f"{label}: variables {set(a.variables) ^ set(b.variables)}"
+        assert dict(a.sizes) == dict(b.sizes), f"{label}: sizes {dict(a.sizes)} != {dict(b.sizes)}"
+        for name in a.variables:
+            assert a[name].dims == b[name].dims, f"{label}:{name} dims"
+            assert _same_values(a[name].values, b[name].values), f"{label}:{name} differs"
+            assert _attrs(a[name].attrs) == _attrs(b[name].attrs), f"{label}:{name} attrs"
+        differ = {k for k in set(_attrs(a.attrs)) | set(_attrs(b.attrs))
+                  if not _same_values(a.attrs.get(k), b.attrs.get(k))}
+        assert not differ, f"{label}: attrs {sorted(differ)} differ"
+
+
+def assert_same_results(directory: Path, ref: Path) -> None:
+    """The study in ``directory`` holds the reference's cubes, tables, cases and searches,
+    bit-identical: the CSV tables byte for byte, the NetCDF files by variable."""
+    files = result_files(ref)
+    assert result_files(directory) == files, set(result_files(directory)) ^ set(files)
+    for rel in files:
+        if rel.endswith(".csv"):
+            assert (directory / rel).read_bytes() == (ref / rel).read_bytes(), f"{rel} differs"
+        else:
+            assert_same_dataset(directory / rel, ref / rel, rel)
+
+
+def truncate(path: Path, size: int | None = None) -> None:
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2 if size is None else size])
+
+
+def stonedem_command(*args) -> list[str]:
+    return [sys.executable, "-m", "stonedem", *args]
+
+
+def child_env() -> dict:
+    return {**os.environ, "PYTHONUNBUFFERED": "1"}
+
+
+# --- a read-only folder for root: root ignores permission bits through three capabilities ----
+PR_CAPBSET_DROP = 24
+FILE_POWERS = (1, 2, 3)  # CAP_DAC_OVERRIDE, CAP_DAC_READ_SEARCH, CAP_FOWNER
+
+
+def as_plain_owner() -> None:
+    """preexec_fn: drop root's file-permission capabilities from the bounding set, so the
+    program run next (and everything it starts) obeys permission bits like any owner."""
+    import ctypes
+
+    if os.geteuid() != 0:
+        return
+    libc = ctypes.CDLL(None, use_errno=True)
+    for cap in FILE_POWERS:
+        if libc.prctl(PR_CAPBSET_DROP, cap, 0, 0, 0) != 0:
+            raise OSError(ctypes.get_errno(), "prctl(PR_CAPBSET_DROP) refused")
+
+
+def read_only_works(folder: Path) -> bool:
+    """Whether a child started with ``as_plain_owner`` is refused a new file in ``folder``
+    (chmod 0o555 already applied)."""
+    try:
+        proc = subprocess.run([sys.executable, "-c", f"open({str(folder / 'probe')!r}, 'w')"],
+                              preexec_fn=as_plain_owner, capture_output=True, text=True, timeout=60, check=False)
+    except (OSError, subprocess.SubprocessError):
+        return False
+    (folder / "probe").unlink(missing_ok=True)
+    return proc.returncode != 0 and "PermissionError" in proc.stderr
+
+
+def descendants(pid: int) -> list[int]:
+    """The process ids below ``pid`` (children, their children...), from /proc."""
+    found, queue = [], [pid]
+    while queue:
+        parent = queue.pop()
+        try:
+            tasks = os.listdir(f"/proc/{parent}/task")
+        except OSError:
+            continue
+        for task in tasks:
+            try:
+                children = Path(f"/proc/{parent}/task/{task}/children").read_text().split()
+            except OSError:
+                continue
+            for child in map(int, children):
+                if child not in found:
+                    found.append(child)
+                    queue.append(child)
+    return found

@@ -49,25 +49,40 @@ def test_failed_write_leaves_no_file(tmp_path, rocking_dataset):
     assert not target.exists() and list(tmp_path.iterdir()) == []
 
 
-HARMONIC_8_DRUMS = {  # a study case (harmonic_frequency, 20 Hz x 0.25 m) that drifts 1.7 % at dt_safety 1.0
+# a study-like case (8 drums, 20 Hz x 0.2 m) whose energy balance drifts 0.038 % at dt_safety 1.0:
+# no shipped scene drifts past the 1 % tolerance any more (the 20 Hz x 0.25 m case that drifted
+# 1.7 % runs at 0.003 % since the automatic step divides the 1 ms clock), so the mechanism is
+# tested against a tolerance of 0.01 %, patched in by the fixture below
+HARMONIC_8_DRUMS = {
     "name": "drift", "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
     "density": 2000.0, "friction": 0.48, "contact": {"model": "point", "k_n": 1.0e10},
-    "excitation": {"kind": "harmonic", "frequency": 20.0, "amplitude": 0.25},
-    "solver": {"duration": 10.0, "dt": "auto", "dt_safety": 1.0}, "output": {"every": 0.01},
+    "excitation": {"kind": "harmonic", "frequency": 20.0, "amplitude": 0.2},
+    "solver": {"duration": 10.0, "dt": "auto", "dt_safety": 1.0, "stop_on_collapse": False},
+    "output": {"every": 0.01},
 }
+TIGHT_TOLERANCE = 1.0e-4
 
 
-def test_auto_step_is_halved_when_the_energy_balance_drifts():
+@pytest.fixture
+def tight_energy_tolerance(monkeypatch):
+    import stonedem.engine.run
+    import stonedem.engine.simulate
+
+    monkeypatch.setattr(stonedem.engine.simulate, "ENERGY_TOLERANCE", TIGHT_TOLERANCE)
+    monkeypatch.setattr(stonedem.engine.run, "ENERGY_TOLERANCE", TIGHT_TOLERANCE)
+
+
+def test_auto_step_is_halved_when_the_energy_balance_drifts(tight_energy_tolerance):
     from stonedem.engine.scene import scene_from_dict
 
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_safety_requested"] == 1.0
     assert ds.attrs["dt_halvings"] >= 1 and ds.attrs["dt_safety"] == 1.0 / 2 ** ds.attrs["dt_halvings"]
     assert ds.attrs["status"] != "energy balance error"
-    assert ds.attrs["energy_error"] <= ds.attrs["energy_error_limit"]
+    assert ds.attrs["energy_error"] <= ds.attrs["energy_error_limit"] == TIGHT_TOLERANCE
 
 
-def test_a_given_step_is_never_changed():
+def test_a_given_step_is_never_changed(tight_energy_tolerance):
     from stonedem.engine.scene import scene_from_dict
     from stonedem.engine.simulate import simulate
 
@@ -78,11 +93,11 @@ def test_a_given_step_is_never_changed():
     assert ds.attrs["status"] == "energy balance error"  # reported, not hidden
 
 
-def test_no_repeat_beyond_the_engines_step_limit(monkeypatch):
+def test_no_repeat_beyond_the_engines_step_limit(monkeypatch, tight_energy_tolerance):
     import stonedem.engine.simulate
     from stonedem.engine.scene import scene_from_dict
 
-    monkeypatch.setattr(stonedem.engine.simulate, "MAX_STEPS", 60000)  # the run takes 58,000 steps, its repeat 116,000
+    monkeypatch.setattr(stonedem.engine.simulate, "MAX_STEPS", 61000)  # the run takes 60,000 steps, its repeat 120,000
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt_safety"] == 1.0
     assert ds.attrs["status"] == "energy balance error"

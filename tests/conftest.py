@@ -12,4 +12,7 @@ settings.register_profile("ci", max_examples=50, deadline=None, derandomize=True
                           suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("fuzz", max_examples=10_000, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
+# another count for one run of the fuzz profile (e.g. 1000 for the slow argv fuzz of the subcommands)
+settings.register_profile("fuzz_n", parent=settings.get_profile("fuzz"),
+                          max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "10000")))
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))

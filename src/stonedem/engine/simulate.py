@@ -230,7 +230,7 @@ class RunResult:
 
     @property
     def max_epistyle_displacement(self) -> float:
-        """Peak |mean epistyle displacement relative to the base| over every step [m]."""
+        """Peak absolute value of the mean epistyle displacement relative to the base, over every step [m]."""
         return float(self.peaks[step.PEAK_EPISTYLE])
 
     @property

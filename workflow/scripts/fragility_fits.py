@@ -5,22 +5,22 @@ import sys
 
 from stonedem.entry import workflow_log
 
+from stonedem.io.atomic import write_csv
 from stonedem.io.netcdf import open_result, write_dataset
 from stonedem.fragility.fit import fragility_dataset, fragility_table
 from stonedem.fragility.checks import ordering_checks, pulse_check, pulse_rows
-from stonedem.study.reduce import write_csv
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 params, output = snakemake.params, snakemake.output  # noqa: F821
 cube = open_result(snakemake.input[0])  # noqa: F821
 fits = fragility_dataset(cube, samples=params.bootstrap)
 write_dataset(fits, output.fits)
-write_csv(fragility_table(fits), output.table)
+write_csv(output.table, fragility_table(fits))
 rows = ordering_checks(cube, fits, params.structures)
 if params.pulse_structure:
     check = pulse_check(cube, params.pulse_structure, params.structures[params.pulse_structure]["structure"])
     write_dataset(check, output.pulse[0])
     rows += pulse_rows(check)
-write_csv(rows, output.checks)
+write_csv(output.checks, rows)
 for row in rows:
     print(f"{row['check']}: {row['subject']}: {row['measured']} -> {row['holds']}", file=sys.stderr)

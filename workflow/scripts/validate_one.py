@@ -15,6 +15,7 @@ from stonedem.validation import cases as validation
 
 from stonedem.validation import plots as validation_plots
 from stonedem.entry import logged_seconds, workflow_log
+from stonedem.io.atomic import write_text
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
 workflow_log(sm.log[0])
@@ -38,7 +39,7 @@ def validation_figures():
 
 def validation_summary():
     table = validation.summary_table(sm.input)
-    validation.write_text_atomic(table, sm.output[0])
+    write_text(sm.output[0], table)
     failed = [row.split(",")[0] for row in table.splitlines()[1:] if row.endswith(",0")]
     print(f"failed: {', '.join(failed) or 'none'}", file=sys.stderr)
 

@@ -4,7 +4,8 @@ import sys
 
 from stonedem.entry import workflow_log
 
-from stonedem.wall.validation import limit_load_table, write_table
+from stonedem.io.atomic import write_csv
+from stonedem.wall.validation import limit_load_table
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-write_table(limit_load_table(snakemake.input), snakemake.output[0])  # noqa: F821
+write_csv(snakemake.output[0], limit_load_table(snakemake.input))  # noqa: F821

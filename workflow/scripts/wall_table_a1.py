@@ -4,7 +4,8 @@ import sys
 
 from stonedem.entry import workflow_log
 
-from stonedem.wall.validation import table_a1, write_table
+from stonedem.io.atomic import write_csv
+from stonedem.wall.validation import table_a1
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-write_table(table_a1(), snakemake.output[0])  # noqa: F821
+write_csv(snakemake.output[0], table_a1())  # noqa: F821

@@ -16,8 +16,6 @@ new entry, which is tried and removed at once (``os.access`` says yes to root ev
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import os
 import stat
@@ -25,6 +23,7 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 from stonedem.entry import Parser, check_output_path, guarded
+from stonedem.io.atomic import write_csv, write_text  # noqa: F401 - the scripts' writers
 from stonedem.errors import InputError, one_line
 
 
@@ -202,26 +201,15 @@ def input_file(path: str | Path, field: str, what: str = "file") -> Path:
 
 # --- writing --------------------------------------------------------------------------------
 
-def write_text(path: str | Path, text: str) -> Path:
-    """Write text atomically (a temporary file beside ``path``, renamed over it)."""
-    from stonedem.io.atomic import write_atomically
+def workflow_config(paths: Iterable[str | Path], field: str = "--config") -> dict:
+    """The merged workflow config of ``paths`` (:func:`stonedem.study.grid.load_config`, whose
+    reader refuses every unreadable file in one line); a refusal names the option too."""
+    from stonedem.study.grid import load_config
 
-    def write(tmp):
-        with open(tmp, "w", newline="") as handle:
-            handle.write(text)
-
-    return write_atomically(path, write)
-
-
-def write_csv(path: str | Path, rows: list[dict], fieldnames: Sequence[str] | None = None,
-              restval: str = "") -> Path:
-    """Write rows of dicts as CSV, atomically; fieldnames default to the first row's keys."""
-    buffer = io.StringIO()
-    names = list(fieldnames or (rows[0] if rows else []))
-    writer = csv.DictWriter(buffer, fieldnames=names, restval=restval)
-    writer.writeheader()
-    writer.writerows(rows)
-    return write_text(path, buffer.getvalue())
+    try:
+        return load_config(*paths)
+    except InputError as err:
+        raise InputError(f"{field}: {err.field}", err.problem, err.fix) from None
 
 
 def save_figure(fig, path: str | Path, **savefig) -> Path:

@@ -76,7 +76,7 @@ from stonedem.engine.laws import DEFAULT_LAW, LAWS as CONTACT_LAWS
 from stonedem.engine.scene import Scene, scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import build_structure
-from stonedem.study.grid import config_cases, load_config
+from stonedem.study.grid import config_cases
 from stonedem.validation.cases import calibrate_restitution
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -510,8 +510,6 @@ def build_parser():
 
 def check_args(args):
     """(output path, config, columns, monolith), or an InputError before anything runs."""
-    import yaml
-
     from stonedem.bench import options
 
     options.chosen(args.laws, "--laws", LAWS)
@@ -522,16 +520,7 @@ def check_args(args):
         path = options.output_folder(out, "--out", files=("restitution.nc",)) / "restitution.nc"
     for config_path in args.config:
         options.input_file(config_path, "--config", "YAML config file")
-    try:
-        config = load_config(*args.config)
-    except InputError as err:
-        raise InputError(f"--config: {err.field}", err.problem, err.fix) from None
-    except (yaml.YAMLError, UnicodeDecodeError, OSError) as err:
-        raise InputError("--config", f"not readable YAML ({type(err).__name__})",
-                         "give the workflow's config file(s), e.g. config/config.yaml") from None
-    except (AttributeError, TypeError):
-        raise InputError("--config", "a config file is not a mapping",
-                         "give the workflow's config file(s), e.g. config/config.yaml") from None
+    config = options.workflow_config(args.config)
     if not isinstance(config.get("studies"), dict) or not config["studies"]:
         raise InputError("--config", "no studies: mapping in the config",
                          "give the workflow's config file(s), e.g. config/config.yaml")

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.study.grid import config_cases, load_config, run_case
+from stonedem.study.grid import config_cases, run_case
 
 WAYS = {"everything": {"stop_on_collapse": False, "skip_quiet": False},
         "stop_at_collapse": {"stop_on_collapse": True, "skip_quiet": False},
@@ -29,12 +29,6 @@ WAYS = {"everything": {"stop_on_collapse": False, "skip_quiet": False},
 MEASURES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding", "residual_total_sliding",
             "max_epistyle_displacement")
 STUDIES = ("standalone_records", "colonnade_records", "small_column_pga", "ramp_drums")
-
-
-def study_cases(config_path: Path, studies=STUDIES):
-    """The cases of ``studies`` as the workflow builds them from a config file (over config.yaml)."""
-    config = load_config(Path(config_path).parent / "config.yaml", config_path)
-    return [case for cases in config_cases(config, studies).values() for case in cases]
 
 
 def run_ways(case, base_dir="records"):
@@ -124,8 +118,6 @@ def build_parser():
 def check_args(args):
     """(cases, output path), every case's scene built once (records found), or an InputError
     before anything runs."""
-    import yaml
-
     from stonedem.bench import options
     from stonedem.engine.scene import scene_from_dict
     from stonedem.study.grid import natural_duration
@@ -138,16 +130,7 @@ def check_args(args):
     if not RECORDS.is_dir():
         raise InputError("records", f"no folder {RECORDS} here (the cases' records)",
                          "run from the repository root")
-    try:
-        config = load_config(Path(args.config).parent / "config.yaml", args.config)
-    except InputError as err:
-        raise InputError(f"--config: {err.field}", err.problem, err.fix) from None
-    except (yaml.YAMLError, UnicodeDecodeError, OSError) as err:
-        raise InputError("--config", f"not readable YAML ({type(err).__name__})",
-                         "give a workflow config file, e.g. config/quick.yaml") from None
-    except (AttributeError, TypeError):
-        raise InputError("--config", "a config file is not a mapping",
-                         "give a workflow config file, e.g. config/quick.yaml") from None
+    config = options.workflow_config([Path(args.config).parent / "config.yaml", args.config])
     known = list(config.get("studies") or {}) if isinstance(config.get("studies"), dict) else []
     studies = options.chosen(args.studies, "--studies", known)
     cases = [case for group in config_cases(config, studies).values() for case in group]

@@ -88,20 +88,20 @@ class Figure:
 
 @dataclass(frozen=True)
 class Reduction:
-    """A CSV table: a stonedem.study.reduce function of the input cubes, written by stonedem.study.reduce.write_csv."""
+    """A CSV table: a stonedem.study.reduce function of the input cubes, written by stonedem.io.atomic.write_csv."""
 
     inputs: tuple  # Cube refs, in the order reduce() takes the cubes
     reduce: Callable  # reduce(*cubes) -> rows (list of dicts)
 
     def write(self, paths: list, path) -> Path:
         from stonedem.io.netcdf import open_result  # xarray: only when reducing
-        from stonedem.study.reduce import write_csv
+        from stonedem.io.atomic import write_csv
 
         cubes = []
         for file in paths:
             with open_result(file) as cube:
                 cubes.append(cube.load())
-        return write_csv(self.reduce(*cubes), path)
+        return write_csv(path, self.reduce(*cubes))
 
 
 def available(entries: dict, studies: dict, tables=()) -> dict:

@@ -11,11 +11,13 @@ stray ``.<name>.*.tmp<suffix>`` (never read).
 
 from __future__ import annotations
 
+import csv
+import io
 import os
 import tempfile
 import threading
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Sequence
 
 from stonedem.errors import InputError
 
@@ -125,3 +127,23 @@ def _clean(tmp: str | None, created: list[Path]) -> None:
             folder.rmdir()
         except OSError:
             break
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` atomically (newlines as given)."""
+
+    def write(tmp):
+        with open(tmp, "w", newline="") as handle:
+            handle.write(text)
+
+    return write_atomically(path, write)
+
+
+def write_csv(path: str | Path, rows: list[dict], fieldnames: Sequence[str] | None = None,
+              restval: str = "") -> Path:
+    """Write rows of dicts as CSV, atomically; fieldnames default to the first row's keys."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(fieldnames or (rows[0] if rows else [])), restval=restval)
+    writer.writeheader()
+    writer.writerows(rows)
+    return write_text(path, buffer.getvalue())

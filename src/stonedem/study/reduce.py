@@ -2,13 +2,9 @@
 
 from __future__ import annotations
 
-import csv
-from pathlib import Path
-
 import numpy as np
 import xarray as xr
 
-from stonedem.io.atomic import write_atomically
 from stonedem.units import GRAVITY
 from stonedem.study.search import Run, bracket
 
@@ -77,17 +73,6 @@ def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
         out.append({**row, **bracket(runs), "n_runs": len(runs), "status": status,
                     "map": " ".join(f"{r.value:g}:{'X' if r.collapsed else '.'}" for r in runs)})
     return out
-
-
-def write_csv(rows: list[dict], path: str | Path) -> Path:
-    """Write rows atomically (stonedem.io.atomic)."""
-    def write(tmp):
-        with open(tmp, "w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
-
-    return write_atomically(path, write)
 
 
 def _excitation(cube: xr.Dataset) -> dict:

@@ -35,7 +35,7 @@ import xarray as xr
 from scipy.optimize import brentq
 
 from stonedem.reference import analytic
-from stonedem.io.atomic import write_atomically
+from stonedem.io.atomic import write_text
 from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.engine.run import run_scene
 from stonedem.motion.excitation import RECORDS_DIR
@@ -1026,11 +1026,6 @@ def write_result(result: ValidationResult, path: Path) -> Path:
     return write_dataset(annotate(result), path)
 
 
-def write_text_atomic(text: str, path: Path) -> Path:
-    """Write a text file atomically (stonedem.io.atomic)."""
-    return write_atomically(path, lambda tmp: Path(tmp).write_text(text))
-
-
 SUMMARY_COLUMNS = ("name", "error", "tolerance", "passed")
 
 
@@ -1064,5 +1059,5 @@ def run_all(out_dir: Path, names=None) -> list[str]:
             lines.append(f"{name},{int(result.passed)},{k},{v:.6g}")
         if not result.passed:
             failed.append(name)
-    write_text_atomic("\n".join(lines) + "\n", out_dir / "summary.csv")
+    write_text(out_dir / "summary.csv", "\n".join(lines) + "\n")
     return failed

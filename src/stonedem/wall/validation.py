@@ -6,7 +6,6 @@ relative errors and ``within_tolerance`` (10 % of the manuscript DEM column; 0.0
 
 from __future__ import annotations
 
-import csv
 
 import numpy as np
 
@@ -86,13 +85,3 @@ def limit_load_table(paths):
     return [limit_load_row(open_result(p)) for p in paths]
 
 
-def write_table(rows, path):
-    from stonedem.io.atomic import write_atomically
-
-    def write(tmp):
-        with open(tmp, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-
-    return write_atomically(path, write)

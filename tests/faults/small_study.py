@@ -10,6 +10,7 @@ compared with it variable by variable, coordinate by coordinate (``assert_same_r
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import subprocess
@@ -17,6 +18,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 import xarray as xr
 import yaml
 
@@ -183,6 +185,19 @@ def read_only_works(folder: Path) -> bool:
         return False
     (folder / "probe").unlink(missing_ok=True)
     return proc.returncode != 0 and "PermissionError" in proc.stderr
+
+
+@contextlib.contextmanager
+def read_only(folder: Path):
+    """``folder`` at mode 0o555 within (the test is skipped where no child can be refused a
+    write there), 0o755 again after."""
+    folder.chmod(0o555)
+    try:
+        if not read_only_works(folder):
+            pytest.skip("cannot make a read-only folder here (root without a way to drop CAP_DAC_OVERRIDE)")
+        yield folder
+    finally:
+        folder.chmod(0o755)
 
 
 def descendants(pid: int) -> list[int]:

@@ -20,7 +20,7 @@ from tests.faults.small_study import (
     ROOT,
     as_plain_owner,
     assert_same_dataset,
-    read_only_works,
+    read_only,
     stonedem_command,
     truncate,
 )
@@ -110,14 +110,9 @@ def test_a_read_only_output_folder_is_refused_in_one_line(undisturbed, tmp_path)
     scene, good = undisturbed
     folder = tmp_path / "read only é"
     folder.mkdir()
-    folder.chmod(0o555)
-    try:
-        if not read_only_works(folder):
-            pytest.skip("cannot make a read-only folder here (root without a way to drop CAP_DAC_OVERRIDE)")
+    with read_only(folder):
         proc = run(scene, folder / "x.nc", preexec_fn=as_plain_owner)
         nested = run(scene, folder / "sub" / "x.nc", preexec_fn=as_plain_owner)
-    finally:
-        folder.chmod(0o755)
     assert_one_error_line(proc, str(folder))
     assert_one_error_line(nested, str(folder / "sub"))
     assert not any(folder.iterdir())

@@ -22,7 +22,7 @@ import time
 import pytest
 
 from tests.faults.small_study import (RECORD, ROOT, as_plain_owner, assert_same_results, copy_study, descendants,
-                                      make_study, read_only_works, reference, result_files, snakemake,
+                                      make_study, read_only, reference, result_files, snakemake,
                                       snakemake_command, tail, truncate)
 
 SEARCH = "results/searches/standalone_records/rec-mexico_standin_chichi_tcu102_drums-1.nc"
@@ -139,14 +139,9 @@ def test_a_read_only_results_folder_fails_clearly_and_a_rerun_is_identical(ref, 
     study = make_study(tmp_path / "study")
     results = study / "results"
     results.mkdir()
-    results.chmod(0o555)
-    try:
-        if not read_only_works(results):
-            pytest.skip("cannot make a read-only folder here (root without a way to drop CAP_DAC_OVERRIDE)")
+    with read_only(results):
         proc = subprocess.run(snakemake_command(), cwd=study, capture_output=True, text=True, timeout=300,
                               preexec_fn=as_plain_owner, check=False)
-    finally:
-        results.chmod(0o755)
     # Snakemake's own words (it makes the output folders) or the workflow's: one line naming
     # the folder and the cause, a non-zero exit, no traceback
     out = proc.stdout + proc.stderr

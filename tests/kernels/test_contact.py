@@ -28,7 +28,7 @@ def call(depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_
     bfx, bfy = np.zeros(2), np.zeros(2)
     energy = np.zeros(N_ENERGY_ACC)
     n = contact_forces(
-        np.array([0]), np.array([1]), start, verts[:, 0].copy(), verts[:, 1].copy(),
+        np.array([0]), np.array([1]), 1, start, verts[:, 0].copy(), verts[:, 1].copy(),
         lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
         centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, vel_block[0]]),
         np.array([0.0, vel_block[1]]), np.array([0.0, vel_block[2]]), np.array([True, False]),
@@ -75,7 +75,7 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
     lo, hi = np.array([base.min(0), block.min(0)]), np.array([base.max(0), block.max(0)])
     fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
     n = contact_forces(
-        np.array([0]), np.array([1]), start, verts[:, 0].copy(), verts[:, 1].copy(),
+        np.array([0]), np.array([1]), 1, start, verts[:, 0].copy(), verts[:, 1].copy(),
         lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
         centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, 0.3]), np.array([0.0, -0.2]),
         np.array([0.0, 0.5]), np.array([True, False]), np.full((2, 2), 0.4), 1e8, 1e4, 1e8, 1e3,

@@ -28,7 +28,7 @@ def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=Fal
     fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
     memory = np.zeros((2, 2, N_MEMORY)) if memory is None else memory
     n, stored = point_contact_forces(
-        np.array([0]), np.array([1]), np.array([0, 4, 8]), wx, wy, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
+        np.array([0]), np.array([1]), 1, np.array([0, 4, 8]), wx, wy, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
         bx, by, np.array([0.0, vel[0]]), np.array([0.0, vel[1]]), np.array([0.0, vel[2]]),
         np.array([True, False]), np.array([1e9, mass]), np.array([1e9, mass / 6.0]),
         np.full((2, 2), 10.0), K_N, damping, impact, K_N, 0.0, 1e-4, 0, np.zeros((2, 2)), memory,

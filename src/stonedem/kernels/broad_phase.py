@@ -9,10 +9,10 @@ sweep runs rarely and the narrow phase never misses a pair (a Verlet list).
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y):
     """Axis-aligned bounds of every body from its world vertices, written to lo/hi (n_body,) [m]."""
     for b in range(n_body):

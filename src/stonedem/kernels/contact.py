@@ -33,7 +33,7 @@ potential + stored + dissipated - base work) checks the integrator and the conta
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.overlap import clip_convex_polygons, contact_frame, polygon_area_centroid
 
 # energy accumulator slots
@@ -62,7 +62,7 @@ END_FT = 3
 N_MEMORY = MEM_END + 2 * END_SLOTS
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc):
     """Forget the stored state of pair (a, b) once it has separated; its spring energy is lost."""
     energy_acc[E_TANGENTIAL] += 0.5 * pair_ft[a, b] ** 2 / k_t
@@ -74,7 +74,7 @@ def release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc):
         pair_memory[a, b, k] = 0.0
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def winkler_integral(x, y, n, tx, ty, nx, ny):
     """int depth(s)^2 ds [m3] of the overlap polygon x[:n], y[:n] over its chord along t.
 
@@ -121,7 +121,7 @@ def winkler_integral(x, y, n, tx, ty, nx, ny):
     return total
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b, px, py, nx, ny, tx, ty):
     """(approach speed v_N, > 0 closing; tangential v_T) of b relative to a at point p [m s-1]."""
     vax = body_vx[a] - body_omega[a] * (py - body_y[a])
@@ -133,7 +133,7 @@ def relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b, px, py
     return -(rel_x * nx + rel_y * ny), rel_x * tx + rel_y * ty
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
     """Force (fx, fy) on b at point p and its opposite on a, with their moments about the centroids."""
     force_x[b] += fx
@@ -144,7 +144,7 @@ def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
     torque[a] -= (px - body_x[a]) * fy - (py - body_y[a]) * fx
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def record_point_force(mem, k, px, py, nx, ny, force, f_t=0.0):
     """Record point force k of a pair on b at (px, py) [m]: normal dashpot force [N] along
     (nx, ny) and tangential force F_T [N] (b receives -F_T t), for :func:`contact_power`."""
@@ -157,7 +157,7 @@ def record_point_force(mem, k, px, py, nx, ny, force, f_t=0.0):
     mem[base + 5] = f_t
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def tangential_force(ft_old, mu, f_n, v_t, k_t, c_t, dt, energy_acc):
     """Thesis Eq. 3.5-3.6: (F_T, elastic part) of a tangential spring after this step [N].
 
@@ -175,7 +175,7 @@ def tangential_force(ft_old, mu, f_n, v_t, k_t, c_t, dt, energy_acc):
     return f_t, ft_el
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def push_pair(a, b, body_x, body_y, body_driven, px, py, fx, fy, force_x, force_y, torque,
               base_force_x, base_force_y):
     """Force (fx, fy) on b at p and its opposite on a; booked as base force if the other is driven."""
@@ -188,9 +188,9 @@ def push_pair(a, b, body_x, body_y, body_driven, px, py, fx, fy, force_x, force_
     apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque)
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def area_contact_forces(
-    pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+    pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
     k_n, c_n, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
@@ -201,7 +201,7 @@ def area_contact_forces(
     Returns (n_contact, stored elastic energy [J]); the energy is evaluated only when
     want_energy is true (sample steps), else 0.
 
-    pair_a, pair_b: candidate pairs, a < b (n_pair,)
+    pair_a, pair_b: candidate pairs, a < b, in their first n_pair entries
     vert_start: body b's vertices are world_x[vert_start[b]:vert_start[b+1]] (n_body + 1,)
     lo_*, hi_*: current bounds of each body (n_body,) [m]
     body_x, body_y, body_omega...: centroid position [m], velocity [m s-1], spin [rad s-1]
@@ -221,7 +221,7 @@ def area_contact_forces(
     stored = 0.0
     out_x = scratch[0]
     out_y = scratch[1]
-    for p in range(pair_a.shape[0]):
+    for p in range(n_pair):
         a = pair_a[p]
         b = pair_b[p]
         # narrow phase: bounds, overlap polygon, area, frame; written out here (and in the
@@ -305,8 +305,8 @@ def area_contact_forces(
     return n_contact, stored
 
 
-@njit(**JIT_OPTIONS)
-def contact_power(pair_a, pair_b, pair_memory, body_x, body_y, body_vx, body_vy, body_omega):
+@njit(**INLINE_OPTIONS)
+def contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, body_vx, body_vy, body_omega):
     """(dashpot power, tangential work rate) [W] of this step's contact forces at the given velocities.
 
     Called with the velocities at t_n (the mean of the two half-step velocities), the same
@@ -314,7 +314,7 @@ def contact_power(pair_a, pair_b, pair_memory, body_x, body_y, body_vx, body_vy,
     """
     p_damp = 0.0
     p_tan = 0.0
-    for p in range(pair_a.shape[0]):
+    for p in range(n_pair):
         a = pair_a[p]
         b = pair_b[p]
         mem = pair_memory[a, b]

@@ -22,7 +22,7 @@ All kinds are at rest for t < 0.
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import JIT_OPTIONS, NO_ALLOC_OPTIONS
 
 KIND_NONE = 0
 KIND_HARMONIC = 1
@@ -32,7 +32,7 @@ KIND_RAMP = 4
 KIND_TABLE = 5
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
     """(d [m], v [m s-1], a [m s-2]) of the base at time t [s] for the given kind and params (4,)."""
     if t < 0.0 or kind == KIND_NONE:

@@ -10,10 +10,10 @@ integrated: their position and velocity are set from the base motion.
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
                           world_x, world_y, cos_theta, sin_theta):
     """World coordinates of every vertex from body pose: w = x + R(theta) v_local [m].
@@ -30,7 +30,7 @@ def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, 
             world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, v_h, d_v, v_v,
                  body_x, body_y, body_theta, body_vx, body_vy, body_omega):
     """Set driven bodies to their reference pose shifted by the base displacement (d_h, d_v) [m]."""
@@ -44,7 +44,7 @@ def drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, v_h, d_v, v_
             body_omega[b] = 0.0
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def central_difference_step(n_body, body_driven, body_mass, body_inertia, gravity, kick, dt,
                             force_x, force_y, torque,
                             body_x, body_y, body_theta, body_vx, body_vy, body_omega):

@@ -22,7 +22,7 @@ Two contact frames are offered (``FRAME_*``):
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import NO_ALLOC_OPTIONS
 
 MAX_OVERLAP_VERTICES = 64
 FRAME_BOUNDARY = 0
@@ -32,7 +32,7 @@ FRAME_THESIS = 1
 DUPLICATE_VERTEX_TOLERANCE = 1e-12
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def clip_convex_polygons(ax, ay, bx, by, out_x, out_y, tmp_x, tmp_y):
     """Clip convex polygon a by convex polygon b; return the vertex count written to out.
 
@@ -109,7 +109,7 @@ def clip_convex_polygons(ax, ay, bx, by, out_x, out_y, tmp_x, tmp_y):
     return m
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def polygon_area_centroid(x, y, n):
     """Area [m2] and centroid [m] of the polygon x[:n], y[:n] (thesis Eq. 3.1-3.3).
 
@@ -136,7 +136,7 @@ def polygon_area_centroid(x, y, n):
     return 0.5 * area2, x0 + cx / (3.0 * area2), y0 + cy / (3.0 * area2)
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def contact_tangent(x, y, n):
     """Unit tangent (tx, ty) and its chord length [m] of the overlap polygon x[:n], y[:n].
 
@@ -163,7 +163,7 @@ def contact_tangent(x, y, n):
     return bx / length, by / length, length
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def on_boundary(px, py, vx, vy, tol):
     """True when point p lies on an edge of the polygon (vx, vy), within distance tol [m]."""
     n = vx.shape[0]
@@ -183,7 +183,7 @@ def on_boundary(px, py, vx, vy, tol):
     return False
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def boundary_normal(x, y, n, ax, ay, bx, by, tol):
     """Unnormalised contact normal (from a to b) of the overlap polygon x[:n], y[:n].
 
@@ -212,7 +212,7 @@ def boundary_normal(x, y, n, ax, ay, bx, by, tol):
     return dx, dy
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def contact_frame(x, y, n, ax, ay, bx, by, from_x, from_y, to_x, to_y, frame_rule):
     """Contact normal (nx, ny), tangent (tx, ty) and chord length of an overlap polygon.
 

@@ -39,7 +39,7 @@ took 430 ns of the ~800 ns per contact and step; the separating-axis test takes 
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_END, MEM_M_DAMP, push_pair, record_point_force, relative_velocity, release_contact, tangential_force)
 from stonedem.kernels.overlap import clip_convex_polygons, polygon_area_centroid
 
@@ -51,7 +51,7 @@ SHARED_END_TOLERANCE = 1e-9
 FACE_SWITCH_TOLERANCE = 1e-9
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def deepest_face(ax, ay, bx, by):
     """(separation [m], edge k) of b from the edges of the counter-clockwise polygon a.
 
@@ -85,7 +85,7 @@ def deepest_face(ax, ay, bx, by):
     return best, best_k
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def contact_face(xs, ys, dir_x, dir_y):
     """Index k of the edge k -> k+1 of the counter-clockwise polygon whose outward normal
     is closest to (dir_x, dir_y), and that edge's length [m]."""
@@ -108,7 +108,7 @@ def contact_face(xs, ys, dir_x, dir_y):
     return best_k, best_len
 
 
-@njit(**JIT_OPTIONS)
+@njit(**INLINE_OPTIONS)
 def release_end(mem, slot, k_end_t, energy_acc):
     """An end that no longer touches: forget it; its tangential spring's energy is lost."""
     energy_acc[E_TANGENTIAL] += 0.5 * mem[slot + END_FT] ** 2 / k_end_t
@@ -117,7 +117,7 @@ def release_end(mem, slot, k_end_t, energy_acc):
     mem[slot + END_FT] = 0.0
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega):
     """Kinetic energy of body b [J], 0 for a driven body."""
     if body_driven[b]:
@@ -126,7 +126,7 @@ def kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, bo
                   + body_inertia[b] * body_omega[b] ** 2)
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, body_omega,
                     body_mass, body_inertia, body_driven, energy_acc):
     """Housner's impact at a landing point p: stop its relative motion in one impulse.
@@ -198,9 +198,9 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
     energy_acc[E_DAMPING] += before - after + work
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def point_contact_forces(
-    pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+    pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia, pair_mu,
     k_n, damping, impact, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
@@ -221,7 +221,7 @@ def point_contact_forces(
     stored = 0.0
     out_x = scratch[0]
     out_y = scratch[1]
-    for p in range(pair_a.shape[0]):
+    for p in range(n_pair):
         a = pair_a[p]
         b = pair_b[p]
         if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):

@@ -44,7 +44,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS
+from stonedem.kernels import JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
 from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, area_contact_forces, contact_power)
 from stonedem.kernels.excitation import base_motion
@@ -217,6 +217,8 @@ class Work(NamedTuple):
     sweep_y: np.ndarray
     sweep_theta: np.ndarray
     scratch: np.ndarray  # overlap polygons (4, MAX_OVERLAP_VERTICES)
+    pair_a: np.ndarray  # candidate pairs of the last sweep in their first n_pair entries: a buffer
+    pair_b: np.ndarray  # of every possible pair, n_body (n_body - 1) / 2, so the loop never reallocates
     group_sum: np.ndarray  # sum of |theta| over each collapse group (n_group,) [rad]
     group_count: np.ndarray  # bodies in each collapse group (n_group,)
 
@@ -236,11 +238,13 @@ def allocate_work(model):
         power=np.zeros(N_ENERGY_ACC),
         sweep_x=np.empty(n_body), sweep_y=np.empty(n_body), sweep_theta=np.empty(n_body),
         scratch=np.zeros((4, MAX_OVERLAP_VERTICES)),
+        pair_a=np.zeros(max(1, n_body * (n_body - 1) // 2), dtype=np.int64),
+        pair_b=np.zeros(max(1, n_body * (n_body - 1) // 2), dtype=np.int64),
         group_sum=np.zeros(n_group), group_count=np.zeros(n_group),
     )
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def needs_resweep(model, state, work):
     """True once some body has moved (translation + radius x rotation) half the margin since the sweep."""
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
@@ -256,23 +260,27 @@ def needs_resweep(model, state, work):
 
 @njit(**JIT_OPTIONS)
 def sweep(model, state, work):
-    """Candidate pairs (pair_a, pair_b) from the current bounds; the poses are kept for needs_resweep.
+    """Candidate pairs from the current bounds into work.pair_a, pair_b; returns their number.
+    The poses are kept for needs_resweep.
 
-    Not a leaf (it calls the broad phase), so it pays reference counting on the bundles, but
-    it runs only when the pair list has gone stale.
+    Not a leaf (the broad phase allocates), so it pays reference counting on the bundles,
+    but it runs only when the pair list has gone stale.
     """
-    pair_a, pair_b = find_candidate_pairs(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
-                                          work.hi_x, work.hi_y, model.margin, model.sweep_axis)
+    found_a, found_b = find_candidate_pairs(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
+                                            work.hi_x, work.hi_y, model.margin, model.sweep_axis)
+    n_pair = found_a.shape[0]
+    work.pair_a[:n_pair] = found_a
+    work.pair_b[:n_pair] = found_b
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     for b in range(body_x.shape[0]):
         sweep_x[b] = body_x[b]
         sweep_y[b] = body_y[b]
         sweep_theta[b] = body_theta[b]
-    return pair_a, pair_b
+    return n_pair
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def clear_forces(work):
     """Zero the force, torque and base-force accumulators before a contact law adds to them."""
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
@@ -285,7 +293,7 @@ def clear_forces(work):
         base_force_y[b] = 0.0
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def velocities_at_step(model, state, work, half):
     """work.vel_*: velocities at t_n, half [s] of a kick on from v_{n-1/2}.
 
@@ -306,7 +314,7 @@ def velocities_at_step(model, state, work, half):
             vel_om[b] = body_omega[b] + half * torque[b] / body_inertia[b]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def book_power(work, p_damp, p_tan, vel_h, vel_v):
     """work.power: this step's powers at t_n [W] by accumulator slot; the base's from work.base_force_*.
 
@@ -324,7 +332,7 @@ def book_power(work, p_damp, p_tan, vel_h, vel_v):
     work.power[E_BASE_WORK] = p_base
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def book_energy(state, work, kick):
     """Add kick [s] x this step's powers to the energy accumulators."""
     energy_acc, power = state.energy_acc, work.power
@@ -332,7 +340,7 @@ def book_energy(state, work, kick):
         energy_acc[slot] += kick * power[slot]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
     """Write sample k of step n: poses, energies at t_n, contact count. True if all of it is finite.
 
@@ -372,7 +380,7 @@ def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
     return finite
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def at_rest(model, work, vel_h, vel_v, rest_speed):
     """True when every free body moves slower than rest_speed [m s-1] relative to the base.
 
@@ -389,7 +397,7 @@ def at_rest(model, work, vel_h, vel_v, rest_speed):
     return True
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def collapsed(model, state, work, d_v):
     """True when a group's mean |theta| exceeds its theta_cr, or a body dropped below its support.
 
@@ -419,7 +427,7 @@ def collapsed(model, state, work, d_v):
     return False
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def track(model, state, work, n, d_h, d_v, tilt_alarm):
     """Fold the response measures at t_n (step n) into the running peaks and first events;
     True if the state may have collapsed (:func:`collapsed` can be true only then).
@@ -522,8 +530,8 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
 
     tilt_alarm = model.group_theta_cr.min() if model.group_theta_cr.shape[0] > 0 else np.inf
-    pair_a = np.zeros(0, dtype=np.int64)
-    pair_b = np.zeros(0, dtype=np.int64)
+    pair_a, pair_b = work.pair_a, work.pair_b
+    n_pair = 0
     need_sweep = True  # the pair list does not outlive a call
     status = STATUS_OK
     for n in range(step_start, min(step_stop, n_steps + 1)):
@@ -547,7 +555,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
 
         # 2. candidate pairs, found again once some body has moved half the margin
         if need_sweep or needs_resweep(model, state, work):
-            pair_a, pair_b = sweep(model, state, work)
+            n_pair = sweep(model, state, work)
             need_sweep = False
 
         # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is a
@@ -556,7 +564,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
         clear_forces(work)
         if law.kind == CONTACT_POINT:
             n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
                 body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
                 pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
                 pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
@@ -564,7 +572,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
             )
         else:
             n_contact, elastic = area_contact_forces(
-                pair_a, pair_b, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
                 body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
                 law.k_n, law.damping, law.k_t, law.c_t, dt, law.frame_rule,
                 pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
@@ -574,7 +582,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
         # 4. velocities at t_n; 5. powers at t_n
         half = 0.0 if n == step_first else 0.5 * dt
         velocities_at_step(model, state, work, half)
-        p_damp, p_tan = contact_power(pair_a, pair_b, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
+        p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
         book_power(work, p_damp, p_tan, vel_h, vel_v)
 
         # 6. a sample, which may end the run

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from stonedem.kernels.broad_phase import find_candidate_pairs
+from stonedem.kernels.broad_phase import candidate_pairs_into, find_candidate_pairs
 
 
 def brute_force(lo, hi, driven, margin):
@@ -39,3 +39,21 @@ def test_stack_of_drums_has_linear_pair_count():
         a, b = find_candidate_pairs(n, np.zeros(n, dtype=bool), lo[:, 0].copy(), lo[:, 1].copy(),
                                     hi[:, 0].copy(), hi[:, 1].copy(), 0.07, 1)
         assert len(a) == n - 1, "each drum pairs only with its neighbour"
+
+
+def test_pairs_come_sorted_and_a_short_buffer_reports_the_full_count():
+    rng = np.random.default_rng(7)
+    n = 40
+    lo = rng.uniform(0, 3, (n, 2))
+    hi = lo + rng.uniform(0.5, 2.0, (n, 2))
+    args = (n, np.zeros(n, dtype=bool), lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(), 0.05, 0)
+    a, b = find_candidate_pairs(*args)
+    keys = a * n + b
+    assert len(a) > 4 * n + 16, "dense enough to outgrow the first buffer"
+    assert np.array_equal(keys, np.sort(keys)), "sorted by (a, b)"
+    short = [np.zeros(10, dtype=np.int64) for _ in range(4)]
+    assert candidate_pairs_into(*args, np.arange(n), *short) == len(a)
+    # a permutation kept from an earlier sweep gives the same list
+    full = [np.zeros(len(a), dtype=np.int64) for _ in range(4)]
+    assert candidate_pairs_into(*args, rng.permutation(n), *full) == len(a)
+    assert np.array_equal(full[0], a) and np.array_equal(full[1], b)

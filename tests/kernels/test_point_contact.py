@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
-from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces
+from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces, world_edges
 
 K_N = 1e9
 
@@ -27,8 +27,11 @@ def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=Fal
     by = np.array([base[:, 1].mean(), block[:, 1].mean()])
     fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
     memory = np.zeros((2, 2, N_MEMORY)) if memory is None else memory
+    start = np.array([0, 4, 8])
+    edge = [np.zeros(8) for _ in range(5)]
+    world_edges(2, start, wx, wy, *edge)
     n, stored = point_contact_forces(
-        np.array([0]), np.array([1]), 1, np.array([0, 4, 8]), wx, wy, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
+        np.array([0]), np.array([1]), 1, start, wx, wy, *edge, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
         bx, by, np.array([0.0, vel[0]]), np.array([0.0, vel[1]]), np.array([0.0, vel[2]]),
         np.array([True, False]), np.array([1e9, mass]), np.array([1e9, mass / 6.0]),
         np.full((2, 2), 10.0), K_N, damping, impact, K_N, 0.0, 1e-4, 0, np.zeros((2, 2)), memory,
@@ -91,22 +94,35 @@ def square(cx, cy, half=0.5, angle=0.0):
     return (np.array([cx + c * x - s * y for x, y in local]), np.array([cy + s * x + c * y for x, y in local]))
 
 
+def edges(xs, ys):
+    """(ex, ey, length, nx, ny) of every edge of one polygon (world_edges on one body)."""
+    out = [np.zeros(len(xs)) for _ in range(5)]
+    world_edges(1, np.array([0, len(xs)]), xs, ys, *out)
+    return out
+
+
+def depth_of(ax, ay, bx, by):
+    """deepest_face of b against a's edges."""
+    _, _, length, nx, ny = edges(ax, ay)
+    return deepest_face(ax, ay, length, nx, ny, bx, by)
+
+
 def test_deepest_face_finds_the_overlap_depth_and_the_separating_axis():
     ax, ay = square(0.0, 0.0)
     # b sits 0.1 m into a's top face (edge 2: (0.5, 0.5) -> (-0.5, 0.5), outward normal +y)
     bx, by = square(0.0, 0.9)
-    sep, k = deepest_face(ax, ay, bx, by)
+    sep, k = depth_of(ax, ay, bx, by)
     assert k == 2 and sep == pytest.approx(-0.1, abs=1e-12)
     # ... and a sits 0.1 m into b's bottom face (edge 0)
-    sep, k = deepest_face(bx, by, ax, ay)
+    sep, k = depth_of(bx, by, ax, ay)
     assert k == 0 and sep == pytest.approx(-0.1, abs=1e-12)
     # 0.2 m apart sideways: a's right face (edge 1) separates them by 0.2
     bx, by = square(1.2, 0.0)
-    sep, k = deepest_face(ax, ay, bx, by)
+    sep, k = depth_of(ax, ay, bx, by)
     assert k == 1 and sep == pytest.approx(0.2, abs=1e-12)
     # a corner of a tilted b dips 1 mm into a's top face
     tilt = 0.05
     dip = 0.5 * math.sqrt(2.0) * math.cos(math.pi / 4 - tilt)  # centre to lowest corner, vertically
     bx, by = square(0.3, 0.5 + dip - 1e-3, angle=tilt)
-    sep, k = deepest_face(ax, ay, bx, by)
+    sep, k = depth_of(ax, ay, bx, by)
     assert k == 2 and sep == pytest.approx(-1e-3, abs=1e-12)

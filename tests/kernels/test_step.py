@@ -98,7 +98,7 @@ def test_run_stops_when_the_box_comes_to_rest_and_on_nan():
 
 def test_collapsed_by_mean_rotation_of_a_group_or_by_a_fall():
     model, _, state, _ = box_bundles(10, 1e-3)
-    work = step.allocate_work(model)
+    work = step.allocate_work(model, 16)
     state.body_theta[0] = 0.9 * np.pi / 4
     assert not step.collapsed(model, state, work, 0.0)
     state.body_theta[0] = -1.1 * np.pi / 4
@@ -112,7 +112,7 @@ def test_collapsed_by_mean_rotation_of_a_group_or_by_a_fall():
 
 def test_resweep_once_moved_half_the_margin():
     model, _, state, _ = box_bundles(10, 1e-3)
-    work = step.allocate_work(model)
+    work = step.allocate_work(model, 16)
     step.sweep(model, state, work)
     state.body_x[0] = 0.02
     state.body_theta[0] = 0.02 / model.body_radius[0]
@@ -123,7 +123,7 @@ def test_resweep_once_moved_half_the_margin():
 
 def test_power_booking_takes_the_base_work_from_the_driven_bodies_force():
     model, _, state, _ = box_bundles(10, 1e-3)
-    work = step.allocate_work(model)
+    work = step.allocate_work(model, 16)
     work.base_force_x[0], work.base_force_y[0] = 2.0, 3.0
     step.book_power(work, 5.0, 7.0, 0.5, -1.0)
     assert work.power[E_DAMPING] == 5.0 and work.power[E_TANGENTIAL] == 7.0
@@ -163,3 +163,39 @@ def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
                                                  state2, samples2, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
     assert status == step.STATUS_OK and n_sample == 101
     assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70
+
+
+def test_run_steps_goes_on_with_a_larger_bundle_when_the_pairs_do_not_fit():
+    """run grows Work when the pairs outgrow it: run_steps stops before that step's forces, and
+    going on from there with more room gives the same run, bit for bit."""
+    from stonedem.engine.pack import kernel_model, pack_scene
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import empty_samples, initial_state, run_time_step
+    from stonedem.validation.cases import block_scene
+
+    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=0.1,
+                                        duration=0.3, every=0.01))
+    dt, _ = run_time_step(scene)
+    arrays = pack_scene(scene)
+    n_steps = int(np.ceil(scene.duration / dt - 1e-9))
+    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=max(1, round(0.01 / dt)), stop_on_collapse=False,
+                             rest_speed=1e-3, rest_samples=10**6)
+    model = kernel_model(scene, arrays)
+    runs = []
+    for capacities in ((None,), (0, 1)):
+        state, samples = initial_state(arrays), empty_samples(n_steps + 2, 2)
+        if capacities == (None,):
+            result = step.run(model, settings, state, samples, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+        else:
+            status, n_sample, collapse, n = step.run_steps(model, settings, state, samples,
+                                                           step.allocate_work(model, 1)._replace(
+                                                               pair_a=np.zeros(0, dtype=np.int64)),
+                                                           0, n_steps + 1, 0, n_steps + 1, 0, -1)
+            assert (status, n_sample, n) == (step.STATUS_PAIRS_FULL, 0, 0)
+            result = step.run_steps(model, settings, state, samples, step.allocate_work(model, 1), n,
+                                    n_steps + 1, 0, n_steps + 1, n_sample, collapse)[:3]
+        runs.append((result, state, samples))
+    (first, state_1, samples_1), (second, state_2, samples_2) = runs
+    assert first == second and first[0] == step.STATUS_OK
+    for a, b in zip(state_1 + samples_1, state_2 + samples_2):
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f")

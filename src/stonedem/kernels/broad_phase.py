@@ -39,12 +39,32 @@ def body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y):
         hi_y[b] = y1
 
 
-@njit(**JIT_OPTIONS)
-def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis):
-    """Pairs (a < b) whose bounds, inflated by ``margin`` [m], overlap; driven-driven pairs skipped.
+@njit(**NO_ALLOC_OPTIONS)
+def sort_by_key(index, key, n):
+    """Order index[:n] by key[index[k]], stably, in place (insertion sort: a list kept from
+    the last sweep is nearly sorted already, so this is about n comparisons)."""
+    for i in range(1, n):
+        item = index[i]
+        value = key[item]
+        j = i - 1
+        while j >= 0 and key[index[j]] > value:
+            index[j + 1] = index[j]
+            j -= 1
+        index[j + 1] = item
 
-    sweep_axis: 0 sorts along x, 1 along y (choose the axis the scene extends along)
-    Returns pair_a, pair_b (n_pair,) int64, sorted by (a, b) so runs are deterministic.
+
+@njit(**NO_ALLOC_OPTIONS)
+def candidate_pairs_into(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis, order,
+                         pair_a, pair_b, pair_key, pair_order):
+    """Pairs (a < b) whose bounds, inflated by ``margin`` [m], overlap, into pair_a, pair_b;
+    returns their number. Driven-driven pairs are skipped.
+
+    sweep_axis: 0 sorts along x, 1 along y (choose the axis the scene extends along).
+    order (n_body,) holds a permutation of the bodies, kept from call to call (sorted here);
+    pair_a, pair_b, pair_key, pair_order: buffers of the same length. The pairs come out
+    sorted by (a, b), so runs are deterministic whatever the order of ties. If there are more
+    pairs than the buffers hold, only their number is right: the caller grows the buffers
+    and sweeps again. Nothing is allocated, so the time loop runs without Numba's runtime.
     """
     if sweep_axis == 0:
         lo_s = lo_x
@@ -56,10 +76,8 @@ def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sw
         hi_s = hi_y
         lo_o = lo_x
         hi_o = hi_x
-    order = np.argsort(lo_s, kind="mergesort")
-    capacity = 4 * n_body + 16
-    pa = np.empty(capacity, dtype=np.int64)
-    pb = np.empty(capacity, dtype=np.int64)
+    sort_by_key(order, lo_s, n_body)
+    capacity = pair_a.shape[0]
     n_pair = 0
     for oi in range(n_body):
         i = order[oi]
@@ -71,17 +89,37 @@ def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sw
                 continue
             if lo_o[j] - margin > hi_o[i] + margin or lo_o[i] - margin > hi_o[j] + margin:
                 continue
-            if n_pair == capacity:
-                capacity *= 2
-                new_a = np.empty(capacity, dtype=np.int64)
-                new_b = np.empty(capacity, dtype=np.int64)
-                new_a[:n_pair] = pa[:n_pair]
-                new_b[:n_pair] = pb[:n_pair]
-                pa = new_a
-                pb = new_b
-            pa[n_pair] = min(i, j)
-            pb[n_pair] = max(i, j)
+            if n_pair < capacity:
+                a = min(i, j)
+                b = max(i, j)
+                pair_key[n_pair] = a * n_body + b
+                pair_order[n_pair] = n_pair
             n_pair += 1
-    key = pa[:n_pair] * n_body + pb[:n_pair]
-    sort = np.argsort(key, kind="mergesort")
-    return pa[:n_pair][sort].copy(), pb[:n_pair][sort].copy()
+    if n_pair > capacity:
+        return n_pair
+    sort_by_key(pair_order, pair_key, n_pair)
+    # apply the permutation through the key buffer: keys are unique, a = key // n, b = key % n
+    for k in range(n_pair):
+        pair_a[k] = pair_key[pair_order[k]]
+    for k in range(n_pair):
+        key = pair_a[k]
+        pair_a[k] = key // n_body
+        pair_b[k] = key - (key // n_body) * n_body
+    return n_pair
+
+
+@njit(**JIT_OPTIONS)
+def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis):
+    """:func:`candidate_pairs_into` into fresh buffers: pair_a, pair_b (n_pair,) int64, sorted by (a, b)."""
+    capacity = 4 * n_body + 16
+    order = np.arange(n_body)
+    while True:
+        pa = np.empty(capacity, dtype=np.int64)
+        pb = np.empty(capacity, dtype=np.int64)
+        key = np.empty(capacity, dtype=np.int64)
+        sort = np.empty(capacity, dtype=np.int64)
+        n_pair = candidate_pairs_into(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis, order,
+                                      pa, pb, key, sort)
+        if n_pair <= capacity:
+            return pa[:n_pair].copy(), pb[:n_pair].copy()
+        capacity = n_pair

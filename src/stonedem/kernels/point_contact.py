@@ -52,26 +52,49 @@ FACE_SWITCH_TOLERANCE = 1e-9
 
 
 @njit(**INLINE_OPTIONS)
-def deepest_face(ax, ay, bx, by):
+def world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny):
+    """Every edge k -> k+1 of every body at this step: (ex, ey), length [m], outward unit normal.
+
+    Once a step and body, not once per pair and direction: a column's drum has two pairs, each
+    of which looked at both bodies' edges three times. A zero-length edge has normal (0, 0).
+    """
+    for b in range(n_body):
+        s = vert_start[b]
+        e = vert_start[b + 1]
+        for k in range(s, e):
+            k1 = k + 1 if k + 1 < e else s
+            ex = world_x[k1] - world_x[k]
+            ey = world_y[k1] - world_y[k]
+            length = np.sqrt(ex * ex + ey * ey)
+            edge_ex[k] = ex
+            edge_ey[k] = ey
+            edge_len[k] = length
+            if length > 0.0:
+                edge_nx[k] = ey / length
+                edge_ny[k] = -ex / length
+            else:
+                edge_nx[k] = 0.0
+                edge_ny[k] = 0.0
+
+
+@njit(**INLINE_OPTIONS)
+def deepest_face(ax, ay, a_len, a_nx, a_ny, bx, by):
     """(separation [m], edge k) of b from the edges of the counter-clockwise polygon a.
 
-    For each edge k -> k+1 of a, the signed distance of b's deepest vertex along its
-    outward normal; returned for the edge where that is largest. It is >= 0 when that
-    edge separates the polygons (returned at once), else minus the overlap depth along it.
+    a_len, a_nx, a_ny: length and outward unit normal of a's edge k -> k+1 (:func:`world_edges`).
+    For each edge, the signed distance of b's deepest vertex along its outward normal;
+    returned for the edge where that is largest. It is >= 0 when that edge separates the
+    polygons (returned at once), else minus the overlap depth along it.
     """
     na = ax.shape[0]
     nb = bx.shape[0]
     best = -np.inf
     best_k = 0
     for k in range(na):
-        k1 = k + 1 if k + 1 < na else 0
-        ex = ax[k1] - ax[k]
-        ey = ay[k1] - ay[k]
-        length = np.sqrt(ex * ex + ey * ey)
-        if length <= 0.0:
+        if a_len[k] <= 0.0:
             continue
-        nx = ey / length
-        ny = -ex / length
+        nx = a_nx[k]
+        ny = a_ny[k]
         deepest = np.inf
         for j in range(nb):
             d = (bx[j] - ax[k]) * nx + (by[j] - ay[k]) * ny
@@ -86,21 +109,18 @@ def deepest_face(ax, ay, bx, by):
 
 
 @njit(**INLINE_OPTIONS)
-def contact_face(xs, ys, dir_x, dir_y):
-    """Index k of the edge k -> k+1 of the counter-clockwise polygon whose outward normal
-    is closest to (dir_x, dir_y), and that edge's length [m]."""
-    n = xs.shape[0]
+def contact_face(ex, ey, lengths, dir_x, dir_y):
+    """Index k of the edge k -> k+1 (vector ex, ey, length) of a counter-clockwise polygon
+    whose outward normal is closest to (dir_x, dir_y), and that edge's length [m]."""
+    n = ex.shape[0]
     best = -np.inf
     best_k = 0
     best_len = 0.0
     for k in range(n):
-        k1 = k + 1 if k + 1 < n else 0
-        ex = xs[k1] - xs[k]
-        ey = ys[k1] - ys[k]
-        length = np.sqrt(ex * ex + ey * ey)
+        length = lengths[k]
         if length <= 0.0:
             continue
-        score = (ey * dir_x - ex * dir_y) / length  # outward normal (ey, -ex) / length
+        score = (ey[k] * dir_x - ex[k] * dir_y) / length  # outward normal (ey, -ex) / length
         if score > best:
             best = score
             best_k = k
@@ -200,7 +220,8 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
 
 @njit(**NO_ALLOC_OPTIONS)
 def point_contact_forces(
-    pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+    pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+    lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia, pair_mu,
     k_n, damping, impact, k_t, c_t, dt, frame_rule,
     pair_ft, pair_memory,
@@ -208,7 +229,8 @@ def point_contact_forces(
 ):
     """Point contacts at the contact face's end vertices: add every pair's forces.
 
-    Arguments as :func:`stonedem.kernels.contact.area_contact_forces`, except: k_n is the
+    Arguments as :func:`stonedem.kernels.contact.area_contact_forces`, plus every body's edges
+    at this step (edge_*, :func:`world_edges`), except: k_n is the
     normal stiffness per unit contact length [N m-2]; damping is the dashpot of each end as
     a fraction of critical, zeta [1]; body_mass, body_inertia (n_body,) [kg], [kg m2];
     impact: if true, an end that starts to touch lands plastically (:func:`plastic_impulse`)
@@ -237,11 +259,12 @@ def point_contact_forces(
         bx = world_x[sb:sb + nb]
         by = world_y[sb:sb + nb]
         # narrow phase by separating axes: touching iff no edge normal separates the pair
-        sep_a, ref_a = deepest_face(ax, ay, bx, by)
+        sep_a, ref_a = deepest_face(ax, ay, edge_len[sa:sa + na], edge_nx[sa:sa + na], edge_ny[sa:sa + na], bx, by)
         sep_b = 0.0
         ref_b = 0
         if sep_a < 0.0:
-            sep_b, ref_b = deepest_face(bx, by, ax, ay)
+            sep_b, ref_b = deepest_face(bx, by, edge_len[sb:sb + nb], edge_nx[sb:sb + nb], edge_ny[sb:sb + nb],
+                                        ax, ay)
         if sep_a >= 0.0 or sep_b >= 0.0:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
@@ -252,13 +275,15 @@ def point_contact_forces(
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
             kb1 = kb + 1 if kb + 1 < nb else 0
-            len_b = np.sqrt((bx[kb1] - bx[kb]) ** 2 + (by[kb1] - by[kb]) ** 2)
-            ka, len_a = contact_face(ax, ay, -(by[kb1] - by[kb]) / len_b, (bx[kb1] - bx[kb]) / len_b)
+            len_b = edge_len[sb + kb]
+            ka, len_a = contact_face(edge_ex[sa:sa + na], edge_ey[sa:sa + na], edge_len[sa:sa + na],
+                                     -(by[kb1] - by[kb]) / len_b, (bx[kb1] - bx[kb]) / len_b)
         else:
             ka = ref_a
             ka1 = ka + 1 if ka + 1 < na else 0
-            len_a = np.sqrt((ax[ka1] - ax[ka]) ** 2 + (ay[ka1] - ay[ka]) ** 2)
-            kb, len_b = contact_face(bx, by, -(ay[ka1] - ay[ka]) / len_a, (ax[ka1] - ax[ka]) / len_a)
+            len_a = edge_len[sa + ka]
+            kb, len_b = contact_face(edge_ex[sb:sb + nb], edge_ey[sb:sb + nb], edge_len[sb:sb + nb],
+                                     -(ay[ka1] - ay[ka]) / len_a, (ax[ka1] - ax[ka]) / len_a)
         ka1 = ka + 1 if ka + 1 < na else 0
         kb1 = kb + 1 if kb + 1 < nb else 0
         # outward unit normals of the two faces

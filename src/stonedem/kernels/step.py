@@ -14,7 +14,7 @@ Stages of one step at time t_n = n dt, numbered as in :func:`run`:
                       stop_on_collapse is sampled at its own step and ends the run)
 2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
 3. contact forces     clear_forces, then the scene's law from the velocities v_{n-1/2}
-                      (area_contact_forces or point_contact_forces)
+                      (area_contact_forces, or world_edges and point_contact_forces)
 4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
 5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
 6. sampling           every ``out_every`` steps, at the last and at a collapse that stops
@@ -45,17 +45,18 @@ import numpy as np
 from numba import njit
 
 from stonedem.kernels import JIT_OPTIONS, NO_ALLOC_OPTIONS
-from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
+from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, area_contact_forces, contact_power)
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
-from stonedem.kernels.point_contact import point_contact_forces
+from stonedem.kernels.point_contact import point_contact_forces, world_edges
 
 STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
 STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
 STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
+STATUS_PAIRS_FULL = 4  # run_steps only: more candidate pairs than Work holds; run grows it and goes on
 
 CONTACT_AREA = 0  # thesis overlap-area law (stonedem.kernels.contact)
 CONTACT_POINT = 1  # point contacts at the face ends (stonedem.kernels.point_contact)
@@ -198,6 +199,11 @@ class Work(NamedTuple):
 
     world_x: np.ndarray  # world vertices (n_vert,) [m]
     world_y: np.ndarray
+    edge_ex: np.ndarray  # point law: edge k -> k+1 of each body, its length and outward unit normal
+    edge_ey: np.ndarray  # (n_vert,) [m], [m], [1] (stonedem.kernels.point_contact.world_edges)
+    edge_len: np.ndarray
+    edge_nx: np.ndarray
+    edge_ny: np.ndarray
     cos_theta: np.ndarray  # cos and sin of each body's theta at t_n (n_body,)
     sin_theta: np.ndarray
     lo_x: np.ndarray  # bounds of each body (n_body,) [m]
@@ -217,20 +223,25 @@ class Work(NamedTuple):
     sweep_y: np.ndarray
     sweep_theta: np.ndarray
     scratch: np.ndarray  # overlap polygons (4, MAX_OVERLAP_VERTICES)
-    pair_a: np.ndarray  # candidate pairs of the last sweep in their first n_pair entries: a buffer
-    pair_b: np.ndarray  # of every possible pair, n_body (n_body - 1) / 2, so the loop never reallocates
+    pair_a: np.ndarray  # candidate pairs of the last sweep in their first n_pair entries (capacity,)
+    pair_b: np.ndarray
+    pair_key: np.ndarray  # the broad phase's sort buffers (capacity,) (broad_phase.candidate_pairs_into)
+    pair_order: np.ndarray
+    order: np.ndarray  # bodies sorted along the sweep axis at the last sweep (n_body,)
     group_sum: np.ndarray  # sum of |theta| over each collapse group (n_group,) [rad]
     group_count: np.ndarray  # bodies in each collapse group (n_group,)
 
 
 @njit(**JIT_OPTIONS)
-def allocate_work(model):
-    """A :class:`Work` bundle for the model's bodies and vertices."""
+def allocate_work(model, capacity):
+    """A :class:`Work` bundle for the model's bodies and vertices, with room for ``capacity`` pairs."""
     n_body = model.body_mass.shape[0]
     n_vert = model.local_x.shape[0]
     n_group = model.group_theta_cr.shape[0]
     return Work(
-        world_x=np.empty(n_vert), world_y=np.empty(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
+        world_x=np.empty(n_vert), world_y=np.empty(n_vert),
+        edge_ex=np.zeros(n_vert), edge_ey=np.zeros(n_vert), edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert),
+        edge_ny=np.zeros(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
         base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
@@ -238,8 +249,9 @@ def allocate_work(model):
         power=np.zeros(N_ENERGY_ACC),
         sweep_x=np.empty(n_body), sweep_y=np.empty(n_body), sweep_theta=np.empty(n_body),
         scratch=np.zeros((4, MAX_OVERLAP_VERTICES)),
-        pair_a=np.zeros(max(1, n_body * (n_body - 1) // 2), dtype=np.int64),
-        pair_b=np.zeros(max(1, n_body * (n_body - 1) // 2), dtype=np.int64),
+        pair_a=np.zeros(capacity, dtype=np.int64), pair_b=np.zeros(capacity, dtype=np.int64),
+        pair_key=np.zeros(capacity, dtype=np.int64), pair_order=np.zeros(capacity, dtype=np.int64),
+        order=np.arange(n_body),
         group_sum=np.zeros(n_group), group_count=np.zeros(n_group),
     )
 
@@ -258,19 +270,14 @@ def needs_resweep(model, state, work):
     return False
 
 
-@njit(**JIT_OPTIONS)
+@njit(**NO_ALLOC_OPTIONS)
 def sweep(model, state, work):
-    """Candidate pairs from the current bounds into work.pair_a, pair_b; returns their number.
-    The poses are kept for needs_resweep.
-
-    Not a leaf (the broad phase allocates), so it pays reference counting on the bundles,
-    but it runs only when the pair list has gone stale.
-    """
-    found_a, found_b = find_candidate_pairs(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
-                                            work.hi_x, work.hi_y, model.margin, model.sweep_axis)
-    n_pair = found_a.shape[0]
-    work.pair_a[:n_pair] = found_a
-    work.pair_b[:n_pair] = found_b
+    """Candidate pairs from the current bounds into work.pair_a, pair_b; returns their number,
+    which exceeds the buffers' length when they are too short. The poses are kept for
+    needs_resweep."""
+    n_pair = candidate_pairs_into(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
+                                  work.hi_x, work.hi_y, model.margin, model.sweep_axis, work.order,
+                                  work.pair_a, work.pair_b, work.pair_key, work.pair_order)
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     for b in range(body_x.shape[0]):
@@ -504,14 +511,37 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     (the base motion is quiet for good), settings.rest_samples samples in a row at which
     every free body is at rest (:func:`at_rest`) end the run with STATUS_AT_REST;
     state.rest_count carries the count from one call to the next.
+
+    The only part that allocates: a :class:`Work` bundle, then :func:`run_steps` (compiled
+    without Numba's runtime, so no array it hands on costs reference counting). When the
+    candidate pairs outgrow the bundle, run_steps stops before that step's forces and the
+    bundle is made twice as large (every field of Work is rebuilt at each step).
     """
+    n_body = model.body_mass.shape[0]
+    capacity = min(max(1, n_body * (n_body - 1) // 2), 4 * n_body + 16)
+    n = step_start
+    while True:
+        work = allocate_work(model, capacity)
+        status, n_sample, collapse_sample, n = run_steps(
+            model, settings, state, samples, work, n, step_stop, step_first, rest_from_step, n_sample,
+            collapse_sample)
+        if status != STATUS_PAIRS_FULL:
+            return status, n_sample, collapse_sample
+        capacity *= 2
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def run_steps(model, settings, state, samples, work, step_start, step_stop, step_first, rest_from_step,
+              n_sample, collapse_sample):
+    """:func:`run` with its :class:`Work` bundle; returns (status, n_sample, collapse_sample,
+    the step to go on from). STATUS_PAIRS_FULL: the pairs do not fit in work; that step's
+    forces are not computed yet and :func:`run` calls again from it with a larger bundle."""
     dt = settings.dt
     n_steps = settings.n_steps
     n_body = model.body_mass.shape[0]
     law = model.law
     h = model.horizontal
     v = model.vertical
-    work = allocate_work(model)
     # the arrays the other modules' kernels take, unpacked once per call: taken from the
     # bundles inside the loop they would cost reference counting at every step (module docstring)
     vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
@@ -524,12 +554,15 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     pair_ft, pair_memory = state.pair_ft, state.pair_memory
     energy_acc, rest_count, events = state.energy_acc, state.rest_count, state.events
     world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
+    edge_ex, edge_ey, edge_len, edge_nx, edge_ny = work.edge_ex, work.edge_ey, work.edge_len, work.edge_nx, work.edge_ny
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
 
-    tilt_alarm = model.group_theta_cr.min() if model.group_theta_cr.shape[0] > 0 else np.inf
+    tilt_alarm = np.inf  # the smallest critical rotation of a group
+    for g in range(model.group_theta_cr.shape[0]):
+        tilt_alarm = min(tilt_alarm, model.group_theta_cr[g])
     pair_a, pair_b = work.pair_a, work.pair_b
     n_pair = 0
     need_sweep = True  # the pair list does not outlive a call
@@ -548,23 +581,27 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
         # the measures at t_n, at every step: peaks and events do not depend on the sampling;
         # a collapse that stops the run is sampled at its step
         suspect = track(model, state, work, n, d_h, d_v, tilt_alarm)
-        stop = False
         if suspect and events[EVENT_COLLAPSE] < 0 and collapsed(model, state, work, d_v):
             events[EVENT_COLLAPSE] = n
-            stop = settings.stop_on_collapse
+        # (so also when run_steps is called again from this step)
+        stop = settings.stop_on_collapse and events[EVENT_COLLAPSE] == n
 
         # 2. candidate pairs, found again once some body has moved half the margin
         if need_sweep or needs_resweep(model, state, work):
             n_pair = sweep(model, state, work)
             need_sweep = False
+            if n_pair > pair_a.shape[0]:
+                return STATUS_PAIRS_FULL, n_sample, collapse_sample, n
 
         # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is a
         # function with these arguments and a branch here
         sample = n % settings.out_every == 0 or n == n_steps or stop
         clear_forces(work)
         if law.kind == CONTACT_POINT:
+            world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny)
             n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+                lo_x, lo_y, hi_x, hi_y,
                 body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
                 pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
                 pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
@@ -613,4 +650,4 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
         central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, kick, dt,
                                 force_x, force_y, torque,
                                 body_x, body_y, body_theta, body_vx, body_vy, body_omega)
-    return status, n_sample, collapse_sample
+    return status, n_sample, collapse_sample, step_stop

@@ -1,0 +1,512 @@
+"""Inside the step: nanoseconds per step and per contact-step of the compiled loop, stage by
+stage, beside the parent commit (``snakemake bench_kernel``; issue 32).
+
+For each scene of :data:`SCENES` (a lone rocking block, columns of 1, 8 and 30 drums, a
+3 x 3 colonnade and a row of ten 3-drum columns under one epistyle) the benchmark reports:
+
+- **ns per step** of :func:`stonedem.kernels.step.run` (the compiled loop's own wall time,
+  :attr:`stonedem.engine.simulate.RunResult.wall_seconds`, over the steps it integrated), best
+  of ``--repeats``, and per contact-step (over the mean number of touching pairs);
+- the same for the **parent commit**, imported in the same process from a git worktree (its
+  package copied under another name, so both engines are compiled side by side), the runs
+  interleaved current / parent, and their ratio;
+- the **share of each stage** of the staged step (:mod:`stonedem.kernels.step`): each
+  stage's kernels are timed alone in a compiled loop over the scene's state half-way through
+  the run, with the arrays unpacked as the time loop does; ``rest`` is what the loop costs
+  beyond them (branches, the sample decision, the at-rest and collapse checks);
+- the Python around the loop per step (set-up, chunks, signals): the wall time of
+  :func:`stonedem.engine.simulate.simulate` minus the loop's.
+
+Writes results/bench/kernel.nc (and .csv) and results/figures/kernel_cost.png (ns per step
+against bodies). One thread; timings want a quiet machine.
+
+    python -m stonedem.bench.kernel [--quick] [--parent REV|none] [--out results/bench] [--figure PNG]
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from stonedem.kernels import NO_ALLOC_OPTIONS
+from stonedem.kernels import step as kstep
+from stonedem.kernels.broad_phase import body_bounds
+from stonedem.kernels.contact import contact_power
+from stonedem.kernels.excitation import base_motion
+from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
+from stonedem.kernels.contact import area_contact_forces
+from stonedem.kernels.point_contact import point_contact_forces, world_edges
+
+ROOT = Path(__file__).resolve().parents[3]
+RECORD = "records/athens_standin_kocaeli_arc000.nc"  # the Athens stand-in (thesis Table 6.1)
+STAGES = ("place", "watch", "broad_phase", "contact_forces", "velocities_power", "sampling", "integrate", "rest")
+STAGE_TITLES = {
+    "place": "base motion, driven bodies, world vertices, bounds",
+    "watch": "running peaks and the collapse check (track, collapsed)",
+    "broad_phase": "the Verlet-list check (needs_resweep; a sweep is rare)",
+    "contact_forces": "clear forces and the contact law",
+    "velocities_power": "velocities at t_n and the contact power booking",
+    "sampling": "a sample (sample_state) over the steps between samples",
+    "integrate": "energy booking and the central-difference step",
+    "rest": "the loop beyond the stages: branches, the sample decision, rest checks",
+}
+
+
+def _column(n_drums, duration):
+    return {"structure": {"kind": "column", "n_drums": n_drums, "height": 6.0, "width": 1.0,
+                          "capital": {"height": 0.6, "width": 1.4}},
+            "friction": 0.485, "contact": {"model": "point", "k_n": 1e10},
+            "excitation": {"kind": "record", "file": RECORD, "pga": 4.0},
+            "solver": {"duration": duration, "dt": "auto", "dt_safety": 1.0, "stop_on_collapse": False},
+            "output": {"every": 0.01}}
+
+
+def _colonnade(n_columns, duration):
+    spec = _column(3, duration)
+    spec["structure"] = {"kind": "colonnade", "n_columns": n_columns, "n_drums": 3, "height": 6.0, "width": 1.0,
+                         "clear_distance": 2.0, "epistyle_type": "a", "capital": {"height": 0.6, "width": 1.4}}
+    return spec
+
+
+def _lone_block(duration):
+    from stonedem.validation.cases import block_scene
+
+    # released from 0.1 rad (alpha = 0.245 rad): rocks freely and comes to rest
+    return block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=0.1, duration=duration,
+                       every=0.01, friction=0.7)
+
+
+# name -> (title, scene dict builder of the duration [s]); point law, k_n 1e10, auto dt,
+# output every 0.01 s (the study's settings), Athens stand-in at 4 m/s2 where excited
+SCENES = {
+    "lone_block": ("lone 0.4 x 1.6 m block rocking freely from 0.1 rad", _lone_block),
+    "column_1": ("6 x 1 m column, 1 drum + capital", lambda d: _column(1, d)),
+    "column_8": ("6 x 1 m column, 8 drums + capital", lambda d: _column(8, d)),
+    "column_30": ("6 x 1 m column, 30 drums + capital", lambda d: _column(30, d)),
+    "colonnade_3x3": ("colonnade, 3 columns x 3 drums, epistyle type a", lambda d: _colonnade(3, d)),
+    "colonnade_10x3": ("a row of 10 columns x 3 drums under epistyles type a", lambda d: _colonnade(10, d)),
+}
+
+
+# --- the stages, each alone in a compiled loop ------------------------------------------
+# The arrays are unpacked once and compiled without Numba's runtime, as
+# stonedem.kernels.step.run_steps is, so a stage costs here what it costs there. Each returns a number that depends on the work, so nothing is optimised away.
+
+@njit(**NO_ALLOC_OPTIONS)
+def _place(model, state, work, t, n_rep):
+    vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
+    body_driven, ref_x, ref_y, ref_theta = model.body_driven, model.ref_x, model.ref_y, model.ref_theta
+    h, v = model.horizontal, model.vertical
+    h_params, h_accel, h_vel, h_disp = h.params, h.table_accel, h.table_vel, h.table_disp
+    v_params, v_accel, v_vel, v_disp = v.params, v.table_accel, v.table_vel, v.table_disp
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
+    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
+    n_body = body_x.shape[0]
+    acc = 0.0
+    for r in range(n_rep):
+        d_h, vel_h, _ = base_motion(t, h.kind, h_params, h_accel, h_vel, h_disp, h.table_dt)
+        d_v, vel_v, _ = base_motion(t, v.kind, v_params, v_accel, v_vel, v_disp, v.table_dt)
+        drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
+                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+        update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
+                              world_x, world_y, cos_theta, sin_theta)
+        body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+        acc += hi_x[0]
+    return acc
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _watch(model, state, work, n, d_h, d_v, n_rep):
+    tilt_alarm = np.inf
+    for g in range(model.group_theta_cr.shape[0]):
+        tilt_alarm = min(tilt_alarm, model.group_theta_cr[g])
+    count = 0
+    for r in range(n_rep):
+        if kstep.track(model, state, work, n, d_h, d_v, tilt_alarm) and kstep.collapsed(model, state, work, d_v):
+            count += 1
+    return count
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _broad_phase(model, state, work, n_rep):
+    count = 0
+    for r in range(n_rep):
+        if kstep.needs_resweep(model, state, work):
+            count += 1
+    return count
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
+    law = model.law
+    vert_start, body_mass, body_inertia = model.vert_start, model.body_mass, model.body_inertia
+    body_driven, pair_mu = model.body_driven, model.pair_mu
+    body_x, body_y = state.body_x, state.body_y
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
+    world_x, world_y = work.world_x, work.world_y
+    edge_ex, edge_ey, edge_len, edge_nx, edge_ny = work.edge_ex, work.edge_ey, work.edge_len, work.edge_nx, work.edge_ny
+    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
+    pair_a, pair_b = work.pair_a, work.pair_b
+    n_body = body_x.shape[0]
+    total = 0
+    for r in range(n_rep):
+        kstep.clear_forces(work)
+        if law.kind == kstep.CONTACT_POINT:
+            world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny)
+            n_contact, elastic = point_contact_forces(
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+                lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
+                pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
+                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
+                energy_acc, scratch, want_energy)
+        else:
+            n_contact, elastic = area_contact_forces(
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
+                body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
+                law.k_n, law.damping, law.k_t, law.c_t, dt, law.frame_rule,
+                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
+                energy_acc, scratch, want_energy)
+        total += n_contact
+    return total
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _velocities_power(model, state, work, n_pair, dt, n_rep):
+    pair_a, pair_b, pair_memory = work.pair_a, work.pair_b, state.pair_memory
+    body_x, body_y = state.body_x, state.body_y
+    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    acc = 0.0
+    for r in range(n_rep):
+        kstep.velocities_at_step(model, state, work, 0.5 * dt)
+        p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
+        kstep.book_power(work, p_damp, p_tan, 0.0, 0.0)
+        acc += p_damp
+    return acc
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _sampling(model, state, work, samples, dt, n_rep):
+    count = 0
+    for r in range(n_rep):
+        if kstep.sample_state(r, 0, model, state, work, samples, 1, 0.0, 0.5 * dt):
+            count += 1
+    return count
+
+
+@njit(**NO_ALLOC_OPTIONS)
+def _integrate(model, state, work, n_rep):
+    body_driven, body_mass, body_inertia = model.body_driven, model.body_mass, model.body_inertia
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    n_body = body_x.shape[0]
+    for r in range(n_rep):
+        # kick and drift of zero: the same arithmetic, and the state does not wander off
+        kstep.book_energy(state, work, 0.0)
+        central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, 0.0, 0.0,
+                                force_x, force_y, torque, body_x, body_y, body_theta, body_vx, body_vy, body_omega)
+    return body_x[0]
+
+
+def _best_ns(function, n_rep, repeats=3):
+    """Best-of-``repeats`` wall time of ``function(n_rep)`` per repetition [ns]."""
+    function(1)  # compile
+    best = np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function(n_rep)
+        best = min(best, time.perf_counter() - start)
+    return 1e9 * best / n_rep
+
+
+def stage_costs(spec: dict, n_rep: int = 20000, repeats: int = 3) -> dict:
+    """ns per step of each stage of :data:`STAGES` but ``rest``, on the scene's state half-way
+    through its run (the loop run to there first, so contacts, memory and pairs are live)."""
+    from stonedem.engine.pack import kernel_model, pack_scene
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import REST_SPEED, empty_samples, initial_state, run_time_step
+
+    scene = scene_from_dict(spec)
+    dt, _ = run_time_step(scene)
+    arrays = pack_scene(scene)
+    n_steps = int(np.ceil(scene.duration / dt - 1e-9))
+    out_every = max(1, int(round(scene.output_every / dt)))
+    settings = kstep.Settings(dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=False,
+                              rest_speed=REST_SPEED, rest_samples=10**9)
+    model = kernel_model(scene, arrays)
+    state = initial_state(arrays)
+    samples = empty_samples(n_steps // out_every + 2, len(scene.bodies))
+    n_mid = n_steps // 2
+    kstep.run(model, settings, state, samples, 0, n_mid, 0, n_steps + 1, 0, -1)
+    n_body = len(scene.bodies)
+    work = kstep.allocate_work(model, max(1, n_body * (n_body - 1) // 2))
+    t = n_mid * dt
+    _place(model, state, work, t, 1)
+    n_pair = kstep.sweep(model, state, work)
+    one = empty_samples(1, len(scene.bodies))
+    costs = {
+        "place": _best_ns(lambda n: _place(model, state, work, t, n), n_rep, repeats),
+        "watch": _best_ns(lambda n: _watch(model, state, work, n_mid, 0.0, 0.0, n), n_rep, repeats),
+        "broad_phase": _best_ns(lambda n: _broad_phase(model, state, work, n), n_rep, repeats),
+        "contact_forces": _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False),
+                                   n_rep, repeats),
+        "velocities_power": _best_ns(lambda n: _velocities_power(model, state, work, n_pair, dt, n), n_rep, repeats),
+        # a sample's cost spread over the steps between samples, with the stored energy the
+        # contact law then evaluates too
+        "sampling": (_best_ns(lambda n: _sampling(model, state, work, one, dt, n), n_rep, repeats)
+                     + max(0.0, _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, True),
+                                         n_rep, repeats)
+                           - _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False),
+                                      n_rep, repeats))) / out_every,
+        "integrate": _best_ns(lambda n: _integrate(model, state, work, n), n_rep, repeats),
+    }
+    return costs
+
+
+# --- the parent commit, imported beside this one -------------------------------------------
+
+PARENT_PACKAGE = "stonedem_parent"
+
+
+class ParentUnavailable(Exception):
+    """The parent commit cannot be imported here (no git checkout, no such commit)."""
+
+
+def import_parent(rev: str, workdir: Path):
+    """(scene_from_dict, simulate, commit) of commit ``rev``, from a git worktree whose
+    package is copied to ``workdir`` as :data:`PARENT_PACKAGE` (imports rewritten), so it is
+    compiled and run in this process beside the current code (its own Numba cache, keyed by
+    its kernels' sources)."""
+    import importlib
+
+    try:
+        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", f"{rev}^{{commit}}"],
+                                capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError) as exc:
+        raise ParentUnavailable(f"no commit {rev!r} in {ROOT} ({getattr(exc, 'stderr', '') or exc})".strip()) from exc
+    tree = workdir / "worktree"
+    try:
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(tree), commit],
+                       capture_output=True, text=True, check=True)
+    except subprocess.CalledProcessError as exc:
+        raise ParentUnavailable(f"git worktree add failed: {exc.stderr.strip()}") from exc
+    try:
+        source = tree / "src" / "stonedem"
+        if not source.is_dir():
+            raise ParentUnavailable(f"commit {commit[:10]} has no src/stonedem")
+        target = workdir / "packages" / PARENT_PACKAGE
+        shutil.copytree(source, target)
+    finally:
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], capture_output=True)
+    pattern = re.compile(r"\bstonedem(?=[.\s])")
+    for path in target.rglob("*.py"):
+        text = path.read_text()
+        lines = [pattern.sub(PARENT_PACKAGE, line) if re.match(r"\s*(from|import)\s+stonedem\b", line) else line
+                 for line in text.splitlines(keepends=True)]
+        path.write_text("".join(lines))
+    sys.path.insert(0, str(workdir / "packages"))
+    scene = importlib.import_module(f"{PARENT_PACKAGE}.engine.scene")
+    simulate = importlib.import_module(f"{PARENT_PACKAGE}.engine.simulate")
+    return scene.scene_from_dict, simulate.simulate, commit
+
+
+def time_engine(scene_from_dict, simulate, spec):
+    """(ns per step of the loop, ns per step of the Python around it, steps, mean contacts, dt)."""
+    scene = scene_from_dict(spec)
+    start = time.perf_counter()
+    result = simulate(scene)
+    total = time.perf_counter() - start
+    steps = max(result.steps_run, 1)
+    return (1e9 * result.wall_seconds / steps, 1e9 * (total - result.wall_seconds) / steps, result.steps_run,
+            float(np.mean(result.n_contact)), result.dt)
+
+
+# --- the benchmark ------------------------------------------------------------------------
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.bench.kernel", __doc__)
+    parser.add_argument("--quick", action="store_true", help="2 simulated seconds per scene, not 10 (CI)")
+    parser.add_argument("--parent", default="HEAD~1",
+                        help="the commit to compare against (default HEAD~1), or none")
+    parser.add_argument("--repeats", type=int, default=3, help="interleaved runs per engine and scene; best kept")
+    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of kernel.nc")
+    parser.add_argument("--figure", type=options.path_arg, default=None,
+                        help="the figure (default: <out>/../figures/kernel_cost.png)")
+    return parser
+
+
+def kernel_dataset(rows, stages, parent_commit, parent_note, quick):
+    import xarray as xr
+
+    from stonedem.io.netcdf import code_version
+
+    names = list(SCENES)
+    versions = ["current", "parent"]
+
+    def grid(key):
+        return xr.DataArray(np.array([[rows[s][v][key] for v in versions] for s in names], dtype=float),
+                            dims=("scene", "version"), coords={"scene": names, "version": versions})
+
+    ns_step = grid("ns_per_step")
+    contacts = grid("contacts")
+    ds = xr.Dataset(coords={
+        "scene": ("scene", names, {"long_name": "benchmark scene"}),
+        "version": ("version", versions, {"long_name": "engine: this commit or its parent"}),
+        "stage": ("stage", list(STAGES), {"long_name": "stage of the compiled step (stonedem.kernels.step)"}),
+    })
+    ds["n_body"] = ("scene", [rows[s]["n_body"] for s in names], {"long_name": "bodies, driven base included", "units": "1"})
+    ds["ns_per_step"] = ns_step.assign_attrs(long_name="wall time of the compiled loop per step, best of the repeats",
+                                              units="ns")
+    ds["ns_per_contact_step"] = (ns_step / contacts.where(contacts > 0)).assign_attrs(
+        long_name="wall time of the compiled loop per step and touching pair", units="ns")
+    ds["python_ns_per_step"] = grid("python_ns_per_step").assign_attrs(
+        long_name="wall time of simulate() outside the compiled loop (set-up, chunks, signals) per step", units="ns")
+    ds["contacts"] = contacts.assign_attrs(long_name="mean number of touching pairs over the samples", units="1")
+    ds["steps"] = grid("steps").assign_attrs(long_name="steps integrated", units="1")
+    ds["dt"] = grid("dt").assign_attrs(long_name="time step", units="s")
+    ds["speedup"] = (ns_step.sel(version="parent") / ns_step.sel(version="current")).assign_attrs(
+        long_name="parent's ns per step over this commit's", units="1")
+    ds["stage_ns_per_step"] = (("scene", "stage"), np.array([[stages[s][k] for k in STAGES] for s in names]),
+                               {"long_name": "wall time of each stage per step, this commit (rest: the loop "
+                                             "beyond the stages)", "units": "ns"})
+    ds["stage_share"] = (ds["stage_ns_per_step"] / ds["ns_per_step"].sel(version="current")).assign_attrs(
+        long_name="share of the loop's time per stage, this commit", units="1")
+    ds["scene_title"] = ("scene", [SCENES[s][0] for s in names], {"long_name": "what the scene is"})
+    ds.attrs.update({
+        "title": "ns per step of the compiled rigid-block loop, stage by stage, beside the parent commit",
+        "settings": "point law, k_n 1e10 N/m2, dt auto (dt_safety 1), output every 0.01 s, one thread, "
+                    f"{2.0 if quick else 10.0} simulated s per scene (skipped quiet stretches not counted)",
+        "profile": "quick" if quick else "full",
+        "parent_commit": parent_commit or "",
+        "parent_note": parent_note,
+        "stages": "; ".join(f"{k}: {v}" for k, v in STAGE_TITLES.items()),
+        "code_version": code_version(),
+    })
+    return ds
+
+
+def figure(ds, path: Path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from stonedem.bench.options import save_figure
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    order = np.argsort(ds["n_body"].values)
+    bodies = ds["n_body"].values[order]
+    for version, style in (("parent", "s--"), ("current", "o-")):
+        values = ds["ns_per_step"].sel(version=version).values[order]
+        if np.isfinite(values).any():
+            label = "this commit" if version == "current" else f"parent {ds.attrs['parent_commit'][:10]}"
+            ax.plot(bodies, values, style, label=label)
+    for name, n, value in zip(ds["scene"].values[order], bodies, ds["ns_per_step"].sel(version="current").values[order]):
+        ax.annotate(str(name), (n, value), textcoords="offset points", xytext=(4, -10), fontsize=7)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("bodies (driven base included)")
+    ax.set_ylabel("ns per step of the compiled loop")
+    ax.set_title("Cost of one step against scene size (one thread)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    save_figure(fig, path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    from stonedem.bench import options
+    from stonedem.errors import InputError
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        from stonedem.engine.scene import scene_from_dict
+        from stonedem.engine.simulate import simulate
+        from stonedem.io.netcdf import write_dataset
+
+        repeats = options.number(args.repeats, "--repeats", lo=1, hi=50, whole=True, example="3")
+        path = options.output_folder(args.out, "--out", files=("kernel.nc", "kernel.csv")) / "kernel.nc"
+        figure_path = options.output_file(args.figure or args.out.parent / "figures" / "kernel_cost.png",
+                                          "--figure", suffixes=(".png",))
+        if not args.parent.strip():
+            raise InputError("--parent", "an empty commit", "give a commit such as HEAD~1, or none")
+        duration = 2.0 if args.quick else 10.0
+        start = time.perf_counter()
+        with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
+            parent, parent_commit, parent_note = None, None, "compared"
+            if args.parent.lower() != "none":
+                try:
+                    parent_from_dict, parent_simulate, parent_commit = import_parent(args.parent, Path(workdir))
+                    parent = (parent_from_dict, parent_simulate)
+                except ParentUnavailable as exc:
+                    parent_note = f"parent not compared: {exc}"
+                    print(f"warning: {parent_note}", file=sys.stderr)
+            else:
+                parent_note = "parent not compared: --parent none"
+            rows, stages = {}, {}
+            for name, (title, build) in SCENES.items():
+                spec = build(duration)
+                engines = {"current": (scene_from_dict, simulate)}
+                if parent is not None:
+                    engines["parent"] = parent
+                best = {}
+                for engine in engines.values():  # warm: compile and cache
+                    time_engine(*engine, spec)
+                for _ in range(repeats):  # interleaved, so drifts of the machine hit both
+                    for version, engine in engines.items():
+                        timing = time_engine(*engine, spec)
+                        if version not in best or timing[0] < best[version][0]:
+                            best[version] = timing
+                n_body = len(scene_from_dict(spec).bodies)
+                rows[name] = {"n_body": n_body}
+                for version in ("current", "parent"):
+                    ns, py_ns, steps, contacts, dt = best.get(version, (np.nan,) * 5)
+                    rows[name][version] = {"ns_per_step": ns, "python_ns_per_step": py_ns, "steps": steps,
+                                           "contacts": contacts, "dt": dt}
+                costs = stage_costs(spec, n_rep=5000 if args.quick else 20000, repeats=3)
+                costs["rest"] = max(0.0, best["current"][0] - sum(costs.values()))
+                stages[name] = costs
+                ratio = best["parent"][0] / best["current"][0] if "parent" in best else np.nan
+                print(f"  {name:15s} {n_body:4d} bodies  {best['current'][0]:8.0f} ns/step"
+                      f"  parent {best.get('parent', (np.nan,))[0]:8.0f}  x{ratio:5.2f}  "
+                      + " ".join(f"{k} {v:.0f}" for k, v in costs.items()), file=sys.stderr, flush=True)
+        ds = kernel_dataset(rows, stages, parent_commit, parent_note, args.quick)
+        write_dataset(ds, path)
+        options.write_csv(path.with_suffix(".csv"), [
+            {"scene": name, "version": version, "n_body": int(ds["n_body"].sel(scene=name)),
+             "ns_per_step": f"{float(ds['ns_per_step'].sel(scene=name, version=version)):.1f}",
+             "ns_per_contact_step": f"{float(ds['ns_per_contact_step'].sel(scene=name, version=version)):.1f}"}
+            for name in SCENES for version in ("current", "parent")])
+        figure(ds, figure_path)
+        for name in SCENES:
+            cur = float(ds["ns_per_step"].sel(scene=name, version="current"))
+            print(f"{name}: {cur:.0f} ns/step, {float(ds['ns_per_contact_step'].sel(scene=name, version='current')):.0f}"
+                  f" ns/contact-step, x{float(ds['speedup'].sel(scene=name)):.2f} on the parent")
+        print(f"wrote {path} and {figure_path} in {time.perf_counter() - start:.0f} s")
+        return 0
+
+    return options.run(command)
+
+
+if __name__ == "__main__":
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    sys.exit(main())

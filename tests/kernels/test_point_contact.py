@@ -28,7 +28,7 @@ def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=Fal
     fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
     memory = np.zeros((2, 2, N_MEMORY)) if memory is None else memory
     start = np.array([0, 4, 8])
-    edge = [np.zeros(8) for _ in range(5)]
+    edge = [np.zeros(8) for _ in range(3)]
     world_edges(2, start, wx, wy, *edge)
     n, stored = point_contact_forces(
         np.array([0]), np.array([1]), 1, start, wx, wy, *edge, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
@@ -95,15 +95,15 @@ def square(cx, cy, half=0.5, angle=0.0):
 
 
 def edges(xs, ys):
-    """(ex, ey, length, nx, ny) of every edge of one polygon (world_edges on one body)."""
-    out = [np.zeros(len(xs)) for _ in range(5)]
+    """(length, nx, ny) of every edge of one polygon (world_edges on one body)."""
+    out = [np.zeros(len(xs)) for _ in range(3)]
     world_edges(1, np.array([0, len(xs)]), xs, ys, *out)
     return out
 
 
 def depth_of(ax, ay, bx, by):
     """deepest_face of b against a's edges."""
-    _, _, length, nx, ny = edges(ax, ay)
+    length, nx, ny = edges(ax, ay)
     return deepest_face(ax, ay, length, nx, ny, bx, by)
 
 

@@ -15,6 +15,11 @@ BENCH_OUTPUTS = {
     "bench_skipping": ["results/bench/skipping.nc"],
     "bench_restitution": ["results/bench/restitution.nc"],
     "bench_fuzz": ["results/bench/fuzz.nc"],
+    "bench_kernel": [
+        "results/bench/kernel.nc",
+        "results/bench/kernel.csv",
+        "results/figures/kernel_cost.png",
+    ],
 }
 
 
@@ -104,6 +109,26 @@ rule bench_fuzz:
         "../envs/stonedem.yaml"
     shell:
         "python -m stonedem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
+
+
+# ns per step of the compiled loop, stage by stage, for six scenes from a lone block to a row
+# of ten columns, beside the parent commit (config bench_parent, default HEAD~1; "none" skips
+# it) imported from a git worktree into the same process; quick: 2 simulated s per scene
+rule bench_kernel:
+    input:
+        "records/athens_standin_kocaeli_arc000.nc",
+    output:
+        BENCH_OUTPUTS["bench_kernel"],
+    params:
+        quick="--quick" if BENCH_QUICK else "",
+        parent=config.get("bench_parent", "HEAD~1"),
+    log:
+        "results/logs/bench/kernel.log",
+    conda:
+        "../envs/stonedem.yaml"
+    shell:
+        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} --parent {params.parent:q} "
+        "--out $(dirname {output[0]}) --figure {output[2]} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

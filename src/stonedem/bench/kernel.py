@@ -156,7 +156,7 @@ def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
     world_x, world_y = work.world_x, work.world_y
-    edge_ex, edge_ey, edge_len, edge_nx, edge_ny = work.edge_ex, work.edge_ey, work.edge_len, work.edge_nx, work.edge_ny
+    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
@@ -166,9 +166,9 @@ def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
     for r in range(n_rep):
         kstep.clear_forces(work)
         if law.kind == kstep.CONTACT_POINT:
-            world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny)
+            world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
             n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
                 lo_x, lo_y, hi_x, hi_y,
                 body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
                 pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,

@@ -52,8 +52,8 @@ FACE_SWITCH_TOLERANCE = 1e-9
 
 
 @njit(**INLINE_OPTIONS)
-def world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny):
-    """Every edge k -> k+1 of every body at this step: (ex, ey), length [m], outward unit normal.
+def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """Every edge k -> k+1 of every body at this step: its length [m] and outward unit normal.
 
     Once a step and body, not once per pair and direction: a column's drum has two pairs, each
     of which looked at both bodies' edges three times. A zero-length edge has normal (0, 0).
@@ -66,8 +66,6 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len
             ex = world_x[k1] - world_x[k]
             ey = world_y[k1] - world_y[k]
             length = np.sqrt(ex * ex + ey * ey)
-            edge_ex[k] = ex
-            edge_ey[k] = ey
             edge_len[k] = length
             if length > 0.0:
                 edge_nx[k] = ey / length
@@ -109,10 +107,11 @@ def deepest_face(ax, ay, a_len, a_nx, a_ny, bx, by):
 
 
 @njit(**INLINE_OPTIONS)
-def contact_face(ex, ey, lengths, dir_x, dir_y):
-    """Index k of the edge k -> k+1 (vector ex, ey, length) of a counter-clockwise polygon
-    whose outward normal is closest to (dir_x, dir_y), and that edge's length [m]."""
-    n = ex.shape[0]
+def contact_face(lengths, nx, ny, dir_x, dir_y):
+    """Index k of the edge k -> k+1 (length, outward unit normal nx, ny; :func:`world_edges`)
+    of a counter-clockwise polygon whose outward normal is closest to (dir_x, dir_y), and
+    that edge's length [m]."""
+    n = lengths.shape[0]
     best = -np.inf
     best_k = 0
     best_len = 0.0
@@ -120,7 +119,7 @@ def contact_face(ex, ey, lengths, dir_x, dir_y):
         length = lengths[k]
         if length <= 0.0:
             continue
-        score = (ey[k] * dir_x - ex[k] * dir_y) / length  # outward normal (ey, -ex) / length
+        score = nx[k] * dir_x + ny[k] * dir_y
         if score > best:
             best = score
             best_k = k
@@ -220,7 +219,7 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
 
 @njit(**NO_ALLOC_OPTIONS)
 def point_contact_forces(
-    pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+    pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
     lo_x, lo_y, hi_x, hi_y,
     body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia, pair_mu,
     k_n, damping, impact, k_t, c_t, dt, frame_rule,
@@ -274,23 +273,21 @@ def point_contact_forces(
         size = max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a], hi_x[b] - lo_x[b], hi_y[b] - lo_y[b])
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
-            kb1 = kb + 1 if kb + 1 < nb else 0
             len_b = edge_len[sb + kb]
-            ka, len_a = contact_face(edge_ex[sa:sa + na], edge_ey[sa:sa + na], edge_len[sa:sa + na],
-                                     -(by[kb1] - by[kb]) / len_b, (bx[kb1] - bx[kb]) / len_b)
+            ka, len_a = contact_face(edge_len[sa:sa + na], edge_nx[sa:sa + na], edge_ny[sa:sa + na],
+                                     -edge_nx[sb + kb], -edge_ny[sb + kb])
         else:
             ka = ref_a
-            ka1 = ka + 1 if ka + 1 < na else 0
             len_a = edge_len[sa + ka]
-            kb, len_b = contact_face(edge_ex[sb:sb + nb], edge_ey[sb:sb + nb], edge_len[sb:sb + nb],
-                                     -(ay[ka1] - ay[ka]) / len_a, (ax[ka1] - ax[ka]) / len_a)
+            kb, len_b = contact_face(edge_len[sb:sb + nb], edge_nx[sb:sb + nb], edge_ny[sb:sb + nb],
+                                     -edge_nx[sa + ka], -edge_ny[sa + ka])
         ka1 = ka + 1 if ka + 1 < na else 0
         kb1 = kb + 1 if kb + 1 < nb else 0
         # outward unit normals of the two faces
-        fa_nx = (ay[ka1] - ay[ka]) / len_a
-        fa_ny = -(ax[ka1] - ax[ka]) / len_a
-        fb_nx = (by[kb1] - by[kb]) / len_b
-        fb_ny = -(bx[kb1] - bx[kb]) / len_b
+        fa_nx = edge_nx[sa + ka]
+        fa_ny = edge_ny[sa + ka]
+        fb_nx = edge_nx[sb + kb]
+        fb_ny = edge_ny[sb + kb]
         # the frame: n from a to b, the bisector of a's outward and b's inward face normal
         nx = fa_nx - fb_nx
         ny = fa_ny - fb_ny

@@ -199,10 +199,8 @@ class Work(NamedTuple):
 
     world_x: np.ndarray  # world vertices (n_vert,) [m]
     world_y: np.ndarray
-    edge_ex: np.ndarray  # point law: edge k -> k+1 of each body, its length and outward unit normal
-    edge_ey: np.ndarray  # (n_vert,) [m], [m], [1] (stonedem.kernels.point_contact.world_edges)
-    edge_len: np.ndarray
-    edge_nx: np.ndarray
+    edge_len: np.ndarray  # point law: length and outward unit normal of each body's edge k -> k+1
+    edge_nx: np.ndarray  # (n_vert,) [m], [1] (stonedem.kernels.point_contact.world_edges)
     edge_ny: np.ndarray
     cos_theta: np.ndarray  # cos and sin of each body's theta at t_n (n_body,)
     sin_theta: np.ndarray
@@ -240,8 +238,7 @@ def allocate_work(model, capacity):
     n_group = model.group_theta_cr.shape[0]
     return Work(
         world_x=np.empty(n_vert), world_y=np.empty(n_vert),
-        edge_ex=np.zeros(n_vert), edge_ey=np.zeros(n_vert), edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert),
-        edge_ny=np.zeros(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
+        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
         base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
@@ -554,7 +551,7 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     pair_ft, pair_memory = state.pair_ft, state.pair_memory
     energy_acc, rest_count, events = state.energy_acc, state.rest_count, state.events
     world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
-    edge_ex, edge_ey, edge_len, edge_nx, edge_ny = work.edge_ex, work.edge_ey, work.edge_len, work.edge_nx, work.edge_ny
+    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
@@ -598,9 +595,9 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
         sample = n % settings.out_every == 0 or n == n_steps or stop
         clear_forces(work)
         if law.kind == CONTACT_POINT:
-            world_edges(n_body, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny)
+            world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
             n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_ex, edge_ey, edge_len, edge_nx, edge_ny,
+                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
                 lo_x, lo_y, hi_x, hi_y,
                 body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
                 pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,

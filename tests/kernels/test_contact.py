@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 from stonedem.engine import geometry
-from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY, winkler_integral
+from stonedem.kernels import step
+from stonedem.kernels.contact import winkler_integral
 from stonedem.kernels.contact import area_contact_forces as contact_forces
-from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
+from tests.kernels.bundles import law_bundles
 
 
 def two_boxes(depth, shift_x=0.0):
@@ -19,22 +20,15 @@ def two_boxes(depth, shift_x=0.0):
 
 def call(depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_t=0.0, ft=0.0, dt=1e-4):
     verts, start, centres = two_boxes(depth)
-    lo = np.array([verts[s:e].min(axis=0) for s, e in zip(start[:-1], start[1:])])
-    hi = np.array([verts[s:e].max(axis=0) for s, e in zip(start[:-1], start[1:])])
     pair_ft = np.zeros((2, 2))
     pair_ft[0, 1] = ft
-    memory = np.zeros((2, 2, N_MEMORY))
-    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
-    bfx, bfy = np.zeros(2), np.zeros(2)
-    energy = np.zeros(N_ENERGY_ACC)
-    n = contact_forces(
-        np.array([0]), np.array([1]), 1, start, verts[:, 0].copy(), verts[:, 1].copy(),
-        lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
-        centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, vel_block[0]]),
-        np.array([0.0, vel_block[1]]), np.array([0.0, vel_block[2]]), np.array([True, False]),
-        np.full((2, 2), mu), k_n, c_n, k_t, c_t, dt, 0, pair_ft, memory, fx, fy, tq, bfx, bfy, energy,
-        np.zeros((4, MAX_OVERLAP_VERTICES)), True)
-    return n[0], fx, fy, tq, pair_ft, memory
+    law = step.Law(kind=step.CONTACT_AREA, k_n=k_n, damping=c_n, impact=False, k_t=k_t, c_t=c_t, frame_rule=0)
+    # masses do not enter the area law
+    model, state, work = law_bundles(verts, start, centres, law, mass=[1.0, 1.0], inertia=[1.0, 1.0],
+                                     driven=[True, False], vel=[(0.0, 0.0, 0.0), vel_block], mu=mu,
+                                     pair_ft=pair_ft)
+    n = contact_forces(model, state, work, 1, dt, True)
+    return n[0], work.force_x, work.force_y, work.torque, state.pair_ft, state.pair_memory
 
 
 def test_normal_force_is_stiffness_times_overlap_area():
@@ -72,15 +66,11 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
     verts = np.vstack([base, block])
     start = np.array([0, 4, 8])
     centres = np.array([[0.0, -0.25], block.mean(axis=0)])
-    lo, hi = np.array([base.min(0), block.min(0)]), np.array([base.max(0), block.max(0)])
-    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
-    n = contact_forces(
-        np.array([0]), np.array([1]), 1, start, verts[:, 0].copy(), verts[:, 1].copy(),
-        lo[:, 0].copy(), lo[:, 1].copy(), hi[:, 0].copy(), hi[:, 1].copy(),
-        centres[:, 0].copy(), centres[:, 1].copy(), np.array([0.0, 0.3]), np.array([0.0, -0.2]),
-        np.array([0.0, 0.5]), np.array([True, False]), np.full((2, 2), 0.4), 1e8, 1e4, 1e8, 1e3,
-        1e-4, 0, np.zeros((2, 2)), np.zeros((2, 2, N_MEMORY)), fx, fy, tq, np.zeros(2),
-        np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, MAX_OVERLAP_VERTICES)), False)
+    law = step.Law(kind=step.CONTACT_AREA, k_n=1e8, damping=1e4, impact=False, k_t=1e8, c_t=1e3, frame_rule=0)
+    model, state, work = law_bundles(verts, start, centres, law, mass=[1.0, 1.0], inertia=[1.0, 1.0],
+                                     driven=[True, False], vel=[(0.0, 0.0, 0.0), (0.3, -0.2, 0.5)], mu=0.4)
+    n = contact_forces(model, state, work, 1, 1e-4, False)
+    fx, fy, tq = work.force_x, work.force_y, work.torque
     assert n[0] == 1 and tq[1] != 0.0
     moment = tq.sum() + np.sum(centres[:, 0] * fy - centres[:, 1] * fx)
     assert moment == pytest.approx(0.0, abs=1e-9 * abs(fy[1])), "no net moment about the origin"

@@ -5,8 +5,11 @@ import math
 import numpy as np
 import pytest
 
+from stonedem.kernels import step
 from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
 from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces, world_edges
+
+from tests.kernels.bundles import law_bundles
 
 K_N = 1e9
 
@@ -20,23 +23,12 @@ def box(cx, cy, w, h, angle=0.0):
 def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=False, memory=None):
     """(force_x, force_y, torque, n_contact, stored, memory) of a driven base (body 0) and a block (body 1)."""
     verts = np.vstack([base, block])
-    wx, wy = verts[:, 0].copy(), verts[:, 1].copy()
-    lo = np.array([base.min(0), block.min(0)])
-    hi = np.array([base.max(0), block.max(0)])
-    bx = np.array([base[:, 0].mean(), block[:, 0].mean()])
-    by = np.array([base[:, 1].mean(), block[:, 1].mean()])
-    fx, fy, tq = np.zeros(2), np.zeros(2), np.zeros(2)
-    memory = np.zeros((2, 2, N_MEMORY)) if memory is None else memory
-    start = np.array([0, 4, 8])
-    edge = [np.zeros(8) for _ in range(3)]
-    world_edges(2, start, wx, wy, *edge)
-    n, stored = point_contact_forces(
-        np.array([0]), np.array([1]), 1, start, wx, wy, *edge, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
-        bx, by, np.array([0.0, vel[0]]), np.array([0.0, vel[1]]), np.array([0.0, vel[2]]),
-        np.array([True, False]), np.array([1e9, mass]), np.array([1e9, mass / 6.0]),
-        np.full((2, 2), 10.0), K_N, damping, impact, K_N, 0.0, 1e-4, 0, np.zeros((2, 2)), memory,
-        fx, fy, tq, np.zeros(2), np.zeros(2), np.zeros(N_ENERGY_ACC), np.zeros((4, 64)), True)
-    return fx, fy, tq, n, stored, memory
+    law = step.Law(kind=step.CONTACT_POINT, k_n=K_N, damping=damping, impact=impact, k_t=K_N, c_t=0.0, frame_rule=0)
+    model, state, work = law_bundles(
+        verts, [0, 4, 8], [base.mean(0), block.mean(0)], law, mass=[1e9, mass], inertia=[1e9, mass / 6.0],
+        driven=[True, False], vel=[(0.0, 0.0, 0.0), vel], mu=10.0, memory=memory)
+    n, stored = point_contact_forces(model, state, work, 1, 1e-4, True)
+    return work.force_x, work.force_y, work.torque, n, stored, state.pair_memory
 
 
 def test_flat_block_is_carried_by_its_two_corners_like_a_face():

@@ -44,7 +44,7 @@ from stonedem.kernels.contact import contact_power
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.contact import area_contact_forces
-from stonedem.kernels.point_contact import point_contact_forces, world_edges
+from stonedem.kernels.point_contact import point_contact_forces
 
 ROOT = Path(__file__).resolve().parents[3]
 RECORD = "records/athens_standin_kocaeli_arc000.nc"  # the Athens stand-in (thesis Table 6.1)
@@ -149,38 +149,13 @@ def _broad_phase(model, state, work, n_rep):
 
 @njit(**NO_ALLOC_OPTIONS)
 def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
-    law = model.law
-    vert_start, body_mass, body_inertia = model.vert_start, model.body_mass, model.body_inertia
-    body_driven, pair_mu = model.body_driven, model.pair_mu
-    body_x, body_y = state.body_x, state.body_y
-    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
-    pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
-    world_x, world_y = work.world_x, work.world_y
-    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
-    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
-    force_x, force_y, torque = work.force_x, work.force_y, work.torque
-    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
-    pair_a, pair_b = work.pair_a, work.pair_b
-    n_body = body_x.shape[0]
     total = 0
     for r in range(n_rep):
         kstep.clear_forces(work)
-        if law.kind == kstep.CONTACT_POINT:
-            world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
-            n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
-                lo_x, lo_y, hi_x, hi_y,
-                body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
-                pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
-                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
-                energy_acc, scratch, want_energy)
+        if model.law.kind == kstep.CONTACT_POINT:
+            n_contact, elastic = point_contact_forces(model, state, work, n_pair, dt, want_energy)
         else:
-            n_contact, elastic = area_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
-                body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-                law.k_n, law.damping, law.k_t, law.c_t, dt, law.frame_rule,
-                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
-                energy_acc, scratch, want_energy)
+            n_contact, elastic = area_contact_forces(model, state, work, n_pair, dt, want_energy)
         total += n_contact
     return total
 
@@ -398,6 +373,7 @@ def kernel_dataset(rows, stages, parent_commit, parent_note, quick):
         "parent_note": parent_note,
         "stages": "; ".join(f"{k}: {v}" for k, v in STAGE_TITLES.items()),
         "code_version": code_version(),
+        "machine": f"{os.cpu_count()} cores, {sys.platform}",
     })
     return ds
 

@@ -188,35 +188,37 @@ def push_pair(a, b, body_x, body_y, body_driven, px, py, fx, fy, force_x, force_
     apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque)
 
 
-@njit(**NO_ALLOC_OPTIONS)
-def area_contact_forces(
-    pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
-    body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-    k_n, c_n, k_t, c_t, dt, frame_rule,
-    pair_ft, pair_memory,
-    force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, want_energy,
-):
-    """The thesis' overlap-area law (``contact.model: area``): add every pair's forces.
+@njit(**INLINE_OPTIONS)
+def area_contact_forces(model, state, work, n_pair, dt, want_energy):
+    """The thesis' overlap-area law (``contact.model: area``): add every candidate pair's forces.
 
     Returns (n_contact, stored elastic energy [J]); the energy is evaluated only when
     want_energy is true (sample steps), else 0.
 
-    pair_a, pair_b: candidate pairs, a < b, in their first n_pair entries
-    vert_start: body b's vertices are world_x[vert_start[b]:vert_start[b+1]] (n_body + 1,)
-    lo_*, hi_*: current bounds of each body (n_body,) [m]
-    body_x, body_y, body_omega...: centroid position [m], velocity [m s-1], spin [rad s-1]
-    body_driven: 1 for bodies following the base motion (n_body,)
-    pair_mu: friction coefficient of every pair (n_body, n_body) [1]
-    k_n: normal stiffness per unit overlap area [N m-2]; k_t: tangential stiffness [N m-1]
-    c_n, c_t: dashpot coefficients [N s m-1];  dt: time step [s]
-    frame_rule: contact frame, FRAME_BOUNDARY or FRAME_THESIS (:mod:`stonedem.kernels.overlap`)
-    pair_ft: stored elastic tangential force, in the contact frame (n_body, n_body) [N]
-    pair_memory: per-pair contact flag and this step's forces, slots MEM_* (n_body, n_body, N_MEMORY)
-    force_x, force_y, torque: accumulators (n_body,) [N], [N m]
-    base_force_x, base_force_y: accumulators of the force from driven bodies (n_body,) [N]
-    energy_acc: accumulators, slots E_* (N_ENERGY_ACC,) [J]
-    scratch: work array (4, MAX_OVERLAP_VERTICES)
+    model, state, work: the time loop's bundles (:mod:`stonedem.kernels.step`). Read: work's
+    world vertices (body b's are world_x[vert_start[b]:vert_start[b+1]]), bounds and first
+    n_pair candidate pairs (a < b); state's poses and mid-step velocities; model's masses,
+    driven flags, pair friction and law: k_n, the normal stiffness per unit overlap area
+    [N m-2]; damping, the normal dashpot c_n [N s m-1]; k_t [N m-1] and c_t [N s m-1], the
+    tangential spring and dashpot; frame_rule, FRAME_BOUNDARY or FRAME_THESIS
+    (:mod:`stonedem.kernels.overlap`). Written: work's force, torque and base-force
+    accumulators (what driven bodies exert), state's pair_ft (elastic tangential force in
+    the contact frame), pair_memory (slots MEM_*) and energy accumulators (slots E_*). dt:
+    the time step [s].
+
+    Inlined into the loop by Numba, so handing it the bundles costs nothing.
     """
+    law = model.law
+    k_n, c_n, k_t, c_t, frame_rule = law.k_n, law.damping, law.k_t, law.c_t, law.frame_rule
+    vert_start, body_driven, pair_mu = model.vert_start, model.body_driven, model.pair_mu
+    body_x, body_y = state.body_x, state.body_y
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
+    world_x, world_y = work.world_x, work.world_y
+    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
+    pair_a, pair_b = work.pair_a, work.pair_b
     n_contact = 0
     stored = 0.0
     out_x = scratch[0]

@@ -217,27 +217,39 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
     energy_acc[E_DAMPING] += before - after + work
 
 
-@njit(**NO_ALLOC_OPTIONS)
-def point_contact_forces(
-    pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
-    lo_x, lo_y, hi_x, hi_y,
-    body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia, pair_mu,
-    k_n, damping, impact, k_t, c_t, dt, frame_rule,
-    pair_ft, pair_memory,
-    force_x, force_y, torque, base_force_x, base_force_y, energy_acc, scratch, want_energy,
-):
-    """Point contacts at the contact face's end vertices: add every pair's forces.
+@njit(**INLINE_OPTIONS)
+def point_contact_forces(model, state, work, n_pair, dt, want_energy):
+    """Point contacts at the contact face's end vertices: add every candidate pair's forces.
 
-    Arguments as :func:`stonedem.kernels.contact.area_contact_forces`, plus every body's edges
-    at this step (edge_*, :func:`world_edges`), except: k_n is the
-    normal stiffness per unit contact length [N m-2]; damping is the dashpot of each end as
-    a fraction of critical, zeta [1]; body_mass, body_inertia (n_body,) [kg], [kg m2];
-    impact: if true, an end that starts to touch lands plastically (:func:`plastic_impulse`)
-    and the depth it reached within that step is forgiven (a plastic offset that only
-    shrinks), so the landing neither bounces nor depends on dt. frame_rule is not used (the
-    frame comes from the contact faces); it is taken so both laws share one signature.
+    model, state, work: the time loop's bundles (:mod:`stonedem.kernels.step`); this reads the
+    world vertices and bounds of work and its first n_pair candidate pairs, writes every
+    body's edges (:func:`world_edges`), adds to work's force, torque and base-force
+    accumulators and to state's contact memory and energy accumulators. The law
+    (model.law): k_n, the normal stiffness per unit contact length [N m-2]; damping, the
+    dashpot of each end as a fraction of critical, zeta [1]; k_t, c_t, each contact's
+    tangential spring [N m-1] and dashpot [N s m-1], half of each per end; impact: if true,
+    an end that starts to touch lands plastically (:func:`plastic_impulse`) and the depth it
+    reached within that step is forgiven (a plastic offset that only shrinks), so the
+    landing neither bounces nor depends on dt. dt [s]: the time step.
     Returns (n_contact, stored elastic energy [J], evaluated only when want_energy).
+
+    Inlined into the loop by Numba, so handing it the bundles costs nothing (as a call it
+    took ~85 ns a step to pass its 41 arguments).
     """
+    law = model.law
+    k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
+    vert_start, body_driven, body_mass, body_inertia = model.vert_start, model.body_driven, model.body_mass, model.body_inertia
+    pair_mu = model.pair_mu
+    body_x, body_y = state.body_x, state.body_y
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
+    world_x, world_y = work.world_x, work.world_y
+    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
+    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
+    pair_a, pair_b = work.pair_a, work.pair_b
+    world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
     out_x = scratch[0]
@@ -270,7 +282,7 @@ def point_contact_forces(
             continue
         n_contact += 1
         # contact faces: the reference face and the other body's edge most opposed to it
-        size = max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a], hi_x[b] - lo_x[b], hi_y[b] - lo_y[b])
+        size = max(max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a]), max(hi_x[b] - lo_x[b], hi_y[b] - lo_y[b]))
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
             len_b = edge_len[sb + kb]

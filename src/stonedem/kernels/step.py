@@ -14,7 +14,7 @@ Stages of one step at time t_n = n dt, numbered as in :func:`run`:
                       stop_on_collapse is sampled at its own step and ends the run)
 2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
 3. contact forces     clear_forces, then the scene's law from the velocities v_{n-1/2}
-                      (area_contact_forces, or world_edges and point_contact_forces)
+                      (area_contact_forces or point_contact_forces, inlined)
 4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
 5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
 6. sampling           every ``out_every`` steps, at the last and at a collapse that stops
@@ -50,7 +50,7 @@ from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_EN
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
-from stonedem.kernels.point_contact import point_contact_forces, world_edges
+from stonedem.kernels.point_contact import point_contact_forces
 
 STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
@@ -238,7 +238,8 @@ def allocate_work(model, capacity):
     n_group = model.group_theta_cr.shape[0]
     return Work(
         world_x=np.empty(n_vert), world_y=np.empty(n_vert),
-        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert), cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
+        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
+        cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
         base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
@@ -551,7 +552,6 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     pair_ft, pair_memory = state.pair_ft, state.pair_memory
     energy_acc, rest_count, events = state.energy_acc, state.rest_count, state.events
     world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
-    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
@@ -590,28 +590,14 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
             if n_pair > pair_a.shape[0]:
                 return STATUS_PAIRS_FULL, n_sample, collapse_sample, n
 
-        # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is a
-        # function with these arguments and a branch here
+        # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is an
+        # inlined function of the bundles and a branch here
         sample = n % settings.out_every == 0 or n == n_steps or stop
         clear_forces(work)
         if law.kind == CONTACT_POINT:
-            world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
-            n_contact, elastic = point_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny,
-                lo_x, lo_y, hi_x, hi_y,
-                body_x, body_y, body_vx, body_vy, body_omega, body_driven, body_mass, body_inertia,
-                pair_mu, law.k_n, law.damping, law.impact, law.k_t, law.c_t, dt, law.frame_rule,
-                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
-                energy_acc, scratch, sample,
-            )
+            n_contact, elastic = point_contact_forces(model, state, work, n_pair, dt, sample)
         else:
-            n_contact, elastic = area_contact_forces(
-                pair_a, pair_b, n_pair, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y,
-                body_x, body_y, body_vx, body_vy, body_omega, body_driven, pair_mu,
-                law.k_n, law.damping, law.k_t, law.c_t, dt, law.frame_rule,
-                pair_ft, pair_memory, force_x, force_y, torque, base_force_x, base_force_y,
-                energy_acc, scratch, sample,
-            )
+            n_contact, elastic = area_contact_forces(model, state, work, n_pair, dt, sample)
 
         # 4. velocities at t_n; 5. powers at t_n
         half = 0.0 if n == step_first else 0.5 * dt

@@ -1,0 +1,93 @@
+"""Wall time of a whole Snakemake target from a fresh clone, this commit beside its parent (issue 32).
+
+Each commit is cloned afresh into a temporary folder and runs ``python -m snakemake -j2
+TARGET`` there with its own, empty Numba cache (so compiling counts, as on a fresh machine)
+and its own package on PYTHONPATH. The two run one after the other on the same machine in the
+same session, so the parent's time checks the machine's speed. Writes
+results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs).
+
+    python benchmarks/study_time.py [--parent 55e0c02] [--target all] [--configfile config/quick.yaml]
+                                    [--out results/bench/study_time.csv]
+
+The full study takes 7-8 min per commit on 2 cores; the full IDA (``--target fragility``) about
+an hour for the parent.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from stonedem.bench import options
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def commit_of(rev: str) -> str:
+    try:
+        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", f"{rev}^{{commit}}"],
+                              capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        from stonedem.errors import InputError
+
+        raise InputError("--parent" if rev != "HEAD" else "checkout", f"no commit {rev!r} in {ROOT}",
+                         "give a commit of this repository's history") from None
+
+
+def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) -> dict:
+    """Clone ``commit`` into workdir and time ``snakemake -j2 target`` there."""
+    clone = workdir / commit[:10]
+    subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
+    subprocess.run(["git", "-C", str(clone), "checkout", "--quiet", commit], check=True)
+    env = dict(os.environ, PYTHONPATH=str(clone / "src"), XDG_CACHE_HOME=str(workdir / f"cache-{commit[:10]}"))
+    env.pop("NUMBA_CACHE_DIR", None)
+    command = [sys.executable, "-m", "snakemake", "-j2", target]
+    for path in configfiles:
+        command += ["--configfile", path]
+    log = clone / "study_time.log"
+    start = time.perf_counter()
+    with open(log, "w") as out:
+        status = subprocess.run(command, cwd=clone, env=env, stdout=out, stderr=subprocess.STDOUT).returncode
+    wall = time.perf_counter() - start
+    jobs = sum(1 for line in log.read_text(errors="replace").splitlines() if line.startswith("Finished job"))
+    return {"wall_seconds": round(wall, 1), "exit_status": status, "jobs": jobs}
+
+
+def main(argv=None) -> int:
+    parser = options.parser("python benchmarks/study_time.py", __doc__)
+    parser.add_argument("--parent", default="HEAD~1", help="the commit to compare against (default HEAD~1)")
+    parser.add_argument("--target", default="all", help="the Snakemake target (default all: the study)")
+    parser.add_argument("--configfile", action="append", default=[], help="extra config files, as snakemake takes them")
+    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results/bench/study_time.csv")
+    args = parser.parse_args(argv)
+
+    def command():
+        path = options.output_file(args.out, "--out", suffixes=(".csv",))
+        for config in args.configfile:
+            options.input_file(ROOT / config, "--configfile", "YAML config file")
+        commits = {"current": commit_of("HEAD"), "parent": commit_of(args.parent)}
+        rows = []
+        with tempfile.TemporaryDirectory(prefix="stonedem-study-time-") as tmp:
+            for version, commit in commits.items():
+                print(f"{version} {commit[:10]}: snakemake -j2 {args.target} ...", file=sys.stderr, flush=True)
+                timing = run_target(commit, args.target, args.configfile, Path(tmp))
+                print(f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, {timing['jobs']} jobs",
+                      file=sys.stderr, flush=True)
+                rows.append({"target": args.target, "config": " ".join(args.configfile) or "config/config.yaml",
+                             "version": version, "commit": commit[:10], **timing,
+                             "machine": f"{os.cpu_count()} cores"})
+        options.write_csv(path, rows)
+        speedup = rows[1]["wall_seconds"] / rows[0]["wall_seconds"]
+        print(f"{args.target}: {rows[0]['wall_seconds']:.0f} s, parent {rows[1]['wall_seconds']:.0f} s "
+              f"(x{speedup:.2f}); wrote {path}")
+        return 0 if all(row["exit_status"] == 0 for row in rows) else 1
+
+    return options.run(command)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

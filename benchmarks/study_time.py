@@ -7,7 +7,7 @@ same session, so the parent's time checks the machine's speed. Writes
 results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs).
 
     python benchmarks/study_time.py [--parent 55e0c02] [--target all] [--configfile config/quick.yaml]
-                                    [--out results/bench/study_time.csv]
+                                    [--out results/bench/study_time.csv] [--keep FOLDER]
 
 The full study takes 7-8 min per commit on 2 cores; the full IDA (``--target fragility``) about
 an hour for the parent.
@@ -63,6 +63,8 @@ def main(argv=None) -> int:
     parser.add_argument("--target", default="all", help="the Snakemake target (default all: the study)")
     parser.add_argument("--configfile", action="append", default=[], help="extra config files, as snakemake takes them")
     parser.add_argument("--out", type=options.path_arg, default=ROOT / "results/bench/study_time.csv")
+    parser.add_argument("--keep", type=options.path_arg, default=None,
+                        help="clone into this new folder and keep it (its results/ to compare); default: a temporary one")
     args = parser.parse_args(argv)
 
     def command():
@@ -71,7 +73,14 @@ def main(argv=None) -> int:
             options.input_file(ROOT / config, "--configfile", "YAML config file")
         commits = {"current": commit_of("HEAD"), "parent": commit_of(args.parent)}
         rows = []
+        if args.keep is not None and args.keep.exists():
+            from stonedem.errors import InputError
+
+            raise InputError("--keep", f"{args.keep} exists", "give a folder that does not exist yet")
         with tempfile.TemporaryDirectory(prefix="stonedem-study-time-") as tmp:
+            if args.keep is not None:
+                args.keep.mkdir(parents=True)
+                tmp = args.keep
             for version, commit in commits.items():
                 print(f"{version} {commit[:10]}: snakemake -j2 {args.target} ...", file=sys.stderr, flush=True)
                 timing = run_target(commit, args.target, args.configfile, Path(tmp))

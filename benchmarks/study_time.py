@@ -7,7 +7,7 @@ same session, so the parent's time checks the machine's speed. Writes
 results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs).
 
     python benchmarks/study_time.py [--parent 55e0c02] [--target all] [--configfile config/quick.yaml]
-                                    [--out results/bench/study_time.csv] [--keep FOLDER]
+                                    [--out results/bench/study_time.csv] [--out-clones FOLDER]
 
 The full study takes 7-8 min per commit on 2 cores; the full IDA (``--target fragility``) about
 an hour for the parent.
@@ -23,17 +23,17 @@ import time
 from pathlib import Path
 
 from stonedem.bench import options
+from stonedem.entry import check_output_path
+from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit_of(rev: str) -> str:
     try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", f"{rev}^{{commit}}"],
+        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"],
                               capture_output=True, text=True, check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
-        from stonedem.errors import InputError
-
         raise InputError("--parent" if rev != "HEAD" else "checkout", f"no commit {rev!r} in {ROOT}",
                          "give a commit of this repository's history") from None
 
@@ -60,27 +60,30 @@ def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) 
 def main(argv=None) -> int:
     parser = options.parser("python benchmarks/study_time.py", __doc__)
     parser.add_argument("--parent", default="HEAD~1", help="the commit to compare against (default HEAD~1)")
-    parser.add_argument("--target", default="all", help="the Snakemake target (default all: the study)")
+    parser.add_argument("--target", default="all", choices=("all", "fragility"),
+                        help="the Snakemake target: all (the study, default) or fragility (the IDA)")
     parser.add_argument("--configfile", action="append", default=[], help="extra config files, as snakemake takes them")
     parser.add_argument("--out", type=options.path_arg, default=ROOT / "results/bench/study_time.csv")
-    parser.add_argument("--keep", type=options.path_arg, default=None,
+    parser.add_argument("--out-clones", type=options.path_arg, default=None,
                         help="clone into this new folder and keep it (its results/ to compare); default: a temporary one")
     args = parser.parse_args(argv)
 
     def command():
         path = options.output_file(args.out, "--out", suffixes=(".csv",))
+        if args.out_clones is not None:
+            check_output_path(args.out_clones, "--out-clones")  # writable, creates nothing
+            if args.out_clones.exists():
+                raise InputError("--out-clones", f"{args.out_clones} exists", "give a folder that does not exist yet")
         for config in args.configfile:
             options.input_file(ROOT / config, "--configfile", "YAML config file")
+        if args.configfile:  # read as the workflow reads it: a file it cannot take is refused here
+            options.workflow_config([ROOT / "config/config.yaml"] + [ROOT / c for c in args.configfile], "--configfile")
         commits = {"current": commit_of("HEAD"), "parent": commit_of(args.parent)}
         rows = []
-        if args.keep is not None and args.keep.exists():
-            from stonedem.errors import InputError
-
-            raise InputError("--keep", f"{args.keep} exists", "give a folder that does not exist yet")
         with tempfile.TemporaryDirectory(prefix="stonedem-study-time-") as tmp:
-            if args.keep is not None:
-                args.keep.mkdir(parents=True)
-                tmp = args.keep
+            if args.out_clones is not None:
+                args.out_clones.mkdir(parents=True)
+                tmp = args.out_clones
             for version, commit in commits.items():
                 print(f"{version} {commit[:10]}: snakemake -j2 {args.target} ...", file=sys.stderr, flush=True)
                 timing = run_target(commit, args.target, args.configfile, Path(tmp))

@@ -15,7 +15,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from stonedem.bench import contact_cost, fuzz, options, restitution, skipping, stability, work_precision
+from stonedem.bench import contact_cost, fuzz, kernel, options, restitution, skipping, stability, work_precision
 from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -43,11 +43,11 @@ def script(name):
     return module
 
 
-SCRIPTS = {name: None for name in ("engine_speed", "table_a1_fits", "wall_supports", "wall_tables")}
+SCRIPTS = {name: None for name in ("engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables")}
 
 
 def main_of(name):
-    modules = {"contact_cost": contact_cost, "fuzz": fuzz, "restitution": restitution, "skipping": skipping,
+    modules = {"contact_cost": contact_cost, "fuzz": fuzz, "kernel": kernel, "restitution": restitution, "skipping": skipping,
                "stability": stability, "work_precision": work_precision}
     if name in modules:
         return modules[name].main
@@ -98,6 +98,23 @@ def places(tmp_path):
 
 # (script, argv with {place} fields, the field the error line names)
 CASES = [
+    # stonedem.bench.kernel
+    ("kernel", ["--repeats", "0", "--out", "{new}"], "--repeats"),
+    ("kernel", ["--repeats", "1000", "--out", "{new}"], "--repeats"),
+    ("kernel", ["--parent", "no-such-commit", "--out", "{new}"], "--parent"),
+    ("kernel", ["--parent", "", "--out", "{new}"], "--parent"),
+    ("kernel", ["--out", "{file}"], "--out"),
+    ("kernel", ["--out", "{proc}"], "--out"),
+    ("kernel", ["--out", "{new}", "--figure", "{new}/k.txt"], "--figure"),
+    ("kernel", ["--out", "{new}", "--figure", "{folder}"], "--figure"),
+    # benchmarks/study_time.py
+    ("study_time", ["--parent", "no-such-commit", "--out", "{new}/t.csv"], "--parent"),
+    ("study_time", ["--target", "everything", "--out", "{new}/t.csv"], "--target"),
+    ("study_time", ["--out", "{new}/t.nc"], "--out"),
+    ("study_time", ["--out", "{proc}/t.csv"], "--out"),
+    ("study_time", ["--out", "{new}/t.csv", "--configfile", "{missing}"], "--configfile"),
+    ("study_time", ["--out", "{new}/t.csv", "--out-clones", "{folder}"], "--out-clones"),
+    ("study_time", ["--out", "{new}/t.csv", "--out-clones", "{file}"], "--out-clones"),
     # stonedem.bench.contact_cost
     ("contact_cost", ["--sizes", "0", "--out", "{new}"], "--sizes"),
     ("contact_cost", ["--sizes", "-5", "--out", "{new}"], "--sizes"),

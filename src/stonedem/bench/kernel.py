@@ -262,18 +262,24 @@ class ParentUnavailable(Exception):
     """The parent commit cannot be imported here (no git checkout, no such commit)."""
 
 
-def import_parent(rev: str, workdir: Path):
-    """(scene_from_dict, simulate, commit) of commit ``rev``, from a git worktree whose
-    package is copied to ``workdir`` as :data:`PARENT_PACKAGE` (imports rewritten), so it is
-    compiled and run in this process beside the current code (its own Numba cache, keyed by
-    its kernels' sources)."""
+def resolve_commit(rev: str) -> str:
+    """The full hash of commit ``rev`` of this checkout, or ParentUnavailable saying why."""
+    try:
+        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"],
+                              capture_output=True, text=True, check=True, timeout=60).stdout.strip()
+    except FileNotFoundError:
+        raise ParentUnavailable("git is not installed") from None
+    except (OSError, subprocess.SubprocessError):
+        raise ParentUnavailable(f"no commit {rev!r} in {ROOT} (not a git checkout, a shallow clone, "
+                                "or no such commit)") from None
+
+
+def import_parent(commit: str, workdir: Path):
+    """(scene_from_dict, simulate) of ``commit``, from a git worktree whose package is copied to
+    ``workdir`` as :data:`PARENT_PACKAGE` (imports rewritten), so it is compiled and run in
+    this process beside the current code (its own Numba cache, keyed by its kernels' sources)."""
     import importlib
 
-    try:
-        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", f"{rev}^{{commit}}"],
-                                capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError) as exc:
-        raise ParentUnavailable(f"no commit {rev!r} in {ROOT} ({getattr(exc, 'stderr', '') or exc})".strip()) from exc
     tree = workdir / "worktree"
     try:
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(tree), commit],
@@ -297,7 +303,7 @@ def import_parent(rev: str, workdir: Path):
     sys.path.insert(0, str(workdir / "packages"))
     scene = importlib.import_module(f"{PARENT_PACKAGE}.engine.scene")
     simulate = importlib.import_module(f"{PARENT_PACKAGE}.engine.simulate")
-    return scene.scene_from_dict, simulate.simulate, commit
+    return scene.scene_from_dict, simulate.simulate
 
 
 def time_engine(scene_from_dict, simulate, spec):
@@ -318,8 +324,8 @@ def build_parser():
 
     parser = options.parser("python -m stonedem.bench.kernel", __doc__)
     parser.add_argument("--quick", action="store_true", help="2 simulated seconds per scene, not 10 (CI)")
-    parser.add_argument("--parent", default="HEAD~1",
-                        help="the commit to compare against (default HEAD~1), or none")
+    parser.add_argument("--parent", default=None,
+                        help="the commit to compare against, or none (default HEAD~1, if this is a git checkout that has it)")
     parser.add_argument("--repeats", type=int, default=3, help="interleaved runs per engine and scene; best kept")
     parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of kernel.nc")
     parser.add_argument("--figure", type=options.path_arg, default=None,
@@ -423,21 +429,31 @@ def main(argv=None) -> int:
         path = options.output_folder(args.out, "--out", files=("kernel.nc", "kernel.csv")) / "kernel.nc"
         figure_path = options.output_file(args.figure or args.out.parent / "figures" / "kernel_cost.png",
                                           "--figure", suffixes=(".png",))
-        if not args.parent.strip():
-            raise InputError("--parent", "an empty commit", "give a commit such as HEAD~1, or none")
+        parent_commit, parent_note = None, "compared"
+        if args.parent is None:  # the default: compared where the checkout has it
+            try:
+                parent_commit = resolve_commit("HEAD~1")
+            except ParentUnavailable as exc:
+                parent_note = f"parent not compared: {exc}"
+                print(f"warning: {parent_note}", file=sys.stderr)
+        elif args.parent.strip().lower() == "none":
+            parent_note = "parent not compared: --parent none"
+        else:
+            try:
+                parent_commit = resolve_commit(args.parent)
+            except ParentUnavailable as exc:
+                raise InputError("--parent", str(exc), "give a commit of this checkout's history, "
+                                 "such as HEAD~1, or none") from None
         duration = 2.0 if args.quick else 10.0
         start = time.perf_counter()
         with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
-            parent, parent_commit, parent_note = None, None, "compared"
-            if args.parent.lower() != "none":
+            parent = None
+            if parent_commit is not None:
                 try:
-                    parent_from_dict, parent_simulate, parent_commit = import_parent(args.parent, Path(workdir))
-                    parent = (parent_from_dict, parent_simulate)
+                    parent = import_parent(parent_commit, Path(workdir))
                 except ParentUnavailable as exc:
-                    parent_note = f"parent not compared: {exc}"
+                    parent_commit, parent_note = None, f"parent not compared: {exc}"
                     print(f"warning: {parent_note}", file=sys.stderr)
-            else:
-                parent_note = "parent not compared: --parent none"
             rows, stages = {}, {}
             for name, (title, build) in SCENES.items():
                 spec = build(duration)
@@ -445,8 +461,15 @@ def main(argv=None) -> int:
                 if parent is not None:
                     engines["parent"] = parent
                 best = {}
-                for engine in engines.values():  # warm: compile and cache
-                    time_engine(*engine, spec)
+                for version, engine in list(engines.items()):  # warm: compile and cache
+                    try:
+                        time_engine(*engine, spec)
+                    except Exception as exc:  # noqa: BLE001 - an older engine may not take the scene
+                        if version == "current":
+                            raise
+                        del engines[version]
+                        parent_note = f"parent not compared on {name}: {type(exc).__name__}: {exc}"
+                        print(f"warning: {parent_note}", file=sys.stderr)
                 for _ in range(repeats):  # interleaved, so drifts of the machine hit both
                     for version, engine in engines.items():
                         timing = time_engine(*engine, spec)

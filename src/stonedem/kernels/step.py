@@ -4,9 +4,10 @@
 builds in plain Python: :class:`Model` (the scene, read only), :class:`Settings` (time step,
 sampling, stopping rules), :class:`State` (poses, velocities, contact memory, energy
 accumulators: carried from one call to the next) and :class:`Samples` (output buffers). Each
-call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocities at t_n).
+call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocities at t_n,
+candidate pairs).
 
-Stages of one step at time t_n = n dt, numbered as in :func:`run`:
+Stages of one step at time t_n = n dt, numbered as in :func:`run_steps`:
 
 1. place the bodies   base_motion, drive_bodies, update_world_vertices, body_bounds
    watch              track: running peaks of the response measures at t_n; collapsed
@@ -23,20 +24,20 @@ Stages of one step at time t_n = n dt, numbered as in :func:`run`:
                       (first step: a half kick), x_{n+1} = x_n + dt v_{n+1/2}
 
 Python never sees a single step: :func:`run` is called once per simulation phase, or in a
-few chunks for progress reports.
+few chunks for progress reports. It allocates the :class:`Work` bundle and hands over to
+:func:`run_steps`, the loop itself.
 
-Performance (8-drum column: ~5.6 us per step under the area law, ~3.6 under the point law). The stage functions run
-every step or sample are leaves: loops that call no other compiled function, which LLVM
-inlines into the loop and whose reference counting Numba prunes, so taking the bundles costs
-them nothing. A compiled function that calls another one keeps its reference counting (the
-error return after the call skips the decrement, so Numba cannot pair them up): it pays an
-atomic increment and decrement on every array it is handed, at every call. Routing the
-bundles through such stages made the step 40-60 % slower, and a dispatch function between
-the loop and the contact law alone cost 8 %. So :func:`run` unpacks the arrays that the
-kernels of the other modules take once per call, calls those kernels itself, and picks the
-contact law with a branch: a new law is a function taking the same arrays and one more
-branch there. Within a law, the per-pair work stays written out (a narrow phase called per
-pair made the step 1.6x slower).
+Performance (``snakemake bench_kernel``, results/bench/kernel.nc; issue 32). Nothing the loop
+calls allocates, so :func:`run_steps` and every kernel it calls are compiled without Numba's
+runtime (``NO_ALLOC_OPTIONS``): with it, a compiled function handed arrays paid an atomic
+increment and decrement on each of them at every call, ~40 % of a lone block's step. The
+stage functions, the small kernels and both contact laws are inlined by Numba
+(``INLINE_OPTIONS``: LLVM declined the larger ones, and a call that hands over 41 arrays
+costs ~85 ns), so taking the bundles costs nothing and a new law is an inlined function of
+(model, state, work, n_pair, dt, want_energy) and one more branch in the loop. The pair
+list lives in Work's buffers (the broad phase sorts in place), and the point law computes
+every body's edge normals once a step, not once per pair and direction. Lone block: ~1.2 us
+a step before, ~0.3 after; per contact, the arithmetic of the law dominates.
 """
 
 from typing import NamedTuple
@@ -540,8 +541,7 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     law = model.law
     h = model.horizontal
     v = model.vertical
-    # the arrays the other modules' kernels take, unpacked once per call: taken from the
-    # bundles inside the loop they would cost reference counting at every step (module docstring)
+    # the arrays the other modules' kernels take, unpacked once per call
     vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
     body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
     ref_x, ref_y, ref_theta, pair_mu = model.ref_x, model.ref_y, model.ref_theta, model.pair_mu

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from stonedem.kernels import step
-from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC, N_MEMORY
+from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC
 from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces, world_edges
 
 from tests.kernels.bundles import law_bundles

@@ -2,6 +2,8 @@
 # the stability map and the skips, each a dataset in results/bench/ and figures in
 # results/figures/. Not part of `all` (timings want a quiet machine): `snakemake bench -j1`.
 # config bench_profile: full (the sweeps) or quick (a few points per engine: CI).
+import shlex
+
 BENCH_QUICK = config.get("bench_profile", "full") == "quick"
 BENCH_OUTPUTS = {
     "bench_work_precision": ["results/bench/work_precision.nc"]
@@ -112,23 +114,26 @@ rule bench_fuzz:
 
 
 # ns per step of the compiled loop, stage by stage, for six scenes from a lone block to a row
-# of ten columns, beside the parent commit (config bench_parent, default HEAD~1; "none" skips
-# it) imported from a git worktree into the same process; quick: 2 simulated s per scene
+# of ten columns, beside the parent commit (config bench_parent, default HEAD~1 where the
+# checkout has it; "none" skips it) imported from a git worktree into the same process; quick: 2 simulated s per scene
 rule bench_kernel:
     input:
         "records/athens_standin_kocaeli_arc000.nc",
     output:
-        BENCH_OUTPUTS["bench_kernel"],
+        dataset=BENCH_OUTPUTS["bench_kernel"][0],
+        table=BENCH_OUTPUTS["bench_kernel"][1],
+        figure=BENCH_OUTPUTS["bench_kernel"][2],
     params:
         quick="--quick" if BENCH_QUICK else "",
-        parent=config.get("bench_parent", "HEAD~1"),
+        # no --parent: HEAD~1 where the checkout has it, else a warning and no comparison
+        parent=f"--parent {shlex.quote(str(config['bench_parent']))}" if config.get("bench_parent") else "",
     log:
         "results/logs/bench/kernel.log",
     conda:
         "../envs/stonedem.yaml"
     shell:
-        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} --parent {params.parent:q} "
-        "--out $(dirname {output[0]}) --figure {output[2]} > {log} 2>&1"
+        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} {params.parent} "
+        "--out $(dirname {output.dataset}) --figure {output.figure} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

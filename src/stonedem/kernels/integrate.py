@@ -10,7 +10,7 @@ integrated: their position and velocity are set from the base motion.
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS
 
 
 @njit(**INLINE_OPTIONS)

@@ -544,17 +544,15 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     # the arrays the other modules' kernels take, unpacked once per call
     vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
     body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
-    ref_x, ref_y, ref_theta, pair_mu = model.ref_x, model.ref_y, model.ref_theta, model.pair_mu
+    ref_x, ref_y, ref_theta = model.ref_x, model.ref_y, model.ref_theta
     h_params, h_accel, h_vel, h_disp = h.params, h.table_accel, h.table_vel, h.table_disp
     v_params, v_accel, v_vel, v_disp = v.params, v.table_accel, v.table_vel, v.table_disp
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
-    pair_ft, pair_memory = state.pair_ft, state.pair_memory
-    energy_acc, rest_count, events = state.energy_acc, state.rest_count, state.events
+    pair_memory, rest_count, events = state.pair_memory, state.rest_count, state.events
     world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
-    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
 
     tilt_alarm = np.inf  # the smallest critical rotation of a group

@@ -27,7 +27,7 @@ Python never sees a single step: :func:`run` is called once per simulation phase
 few chunks for progress reports. It allocates the :class:`Work` bundle and hands over to
 :func:`run_steps`, the loop itself.
 
-Performance (``snakemake bench_kernel``, results/bench/kernel.nc; issue 32). Nothing the loop
+Performance (``snakemake bench_kernel``, its dataset kernel.nc; issue 32). Nothing the loop
 calls allocates, so :func:`run_steps` and every kernel it calls are compiled without Numba's
 runtime (``NO_ALLOC_OPTIONS``): with it, a compiled function handed arrays paid an atomic
 increment and decrement on each of them at every call, ~40 % of a lone block's step. The

@@ -7,9 +7,11 @@ For each scene of :data:`SCENES` (a lone rocking block, columns of 1, 8 and 30 d
 - **ns per step** of :func:`stonedem.kernels.step.run` (the compiled loop's own wall time,
   :attr:`stonedem.engine.simulate.RunResult.wall_seconds`, over the steps it integrated), best
   of ``--repeats``, and per contact-step (over the mean number of touching pairs);
-- the same for the **parent commit**, imported in the same process from a git worktree (its
-  package copied under another name, so both engines are compiled side by side), the runs
-  interleaved current / parent, and their ratio;
+- the same for the **parent commit**, checked out from a git worktree into the user's cache
+  (kept, so its compiled kernels are cached too), each engine timed in its own process with
+  its kernels loaded from Numba's cache, the runs interleaved current / parent, and their
+  ratio (an engine compiled in the measuring process ran 1.2-1.7x slower than the same code
+  loaded from the cache, so the two are never timed in one process);
 - the **share of each stage** of the staged step (:mod:`stonedem.kernels.step`): each
   stage's kernels are timed alone in a compiled loop over the scene's state half-way through
   the run, with the arrays unpacked as the time loop does; ``rest`` is what the loop costs
@@ -25,8 +27,8 @@ against bodies). One thread; timings want a quiet machine.
 
 from __future__ import annotations
 
+import json
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -99,7 +101,8 @@ SCENES = {
 
 # --- the stages, each alone in a compiled loop ------------------------------------------
 # The arrays are unpacked once and compiled without Numba's runtime, as
-# stonedem.kernels.step.run_steps is, so a stage costs here what it costs there. Each returns a number that depends on the work, so nothing is optimised away.
+# stonedem.kernels.step.run_steps is, so a stage costs here what it costs there. Each returns
+# a number that depends on the work, so nothing is optimised away.
 
 @njit(**NO_ALLOC_OPTIONS)
 def _place(model, state, work, t, n_rep):
@@ -253,13 +256,37 @@ def stage_costs(spec: dict, n_rep: int = 20000, repeats: int = 3) -> dict:
     return costs
 
 
-# --- the parent commit, imported beside this one -------------------------------------------
+# --- the parent commit, run beside this one ------------------------------------------------
 
-PARENT_PACKAGE = "stonedem_parent"
+# Each engine runs in its own Python process, both with their kernels loaded from Numba's
+# cache. Not in one process: the engine compiled in the running process was measured 1.2-1.7x
+# slower than the same machine code loaded from the cache (identical commits, 2026-11-26),
+# which would have credited the newer commit with the difference.
+WORKER = """
+import json, sys, time
+args = json.loads(sys.argv[1])
+sys.path.insert(0, args["src"])
+import numpy as np
+from stonedem.engine.scene import scene_from_dict
+from stonedem.engine.simulate import simulate
+out = {}
+for name, spec in args["scenes"].items():
+    short = json.loads(json.dumps(spec))
+    short["solver"]["duration"] = 0.05
+    simulate(scene_from_dict(short))  # the kernels loaded (or compiled) before the clock starts
+    scene = scene_from_dict(spec)
+    start = time.perf_counter()
+    result = simulate(scene)
+    total = time.perf_counter() - start
+    steps = max(result.steps_run, 1)
+    out[name] = [1e9 * result.wall_seconds / steps, 1e9 * (total - result.wall_seconds) / steps,
+                 result.steps_run, float(np.mean(result.n_contact)), result.dt]
+print(json.dumps(out))
+"""
 
 
 class ParentUnavailable(Exception):
-    """The parent commit cannot be imported here (no git checkout, no such commit)."""
+    """The parent commit cannot be run here (no git checkout, no such commit)."""
 
 
 def resolve_commit(rev: str) -> str:
@@ -274,47 +301,43 @@ def resolve_commit(rev: str) -> str:
                                 "or no such commit)") from None
 
 
-def import_parent(commit: str, workdir: Path):
-    """(scene_from_dict, simulate) of ``commit``, from a git worktree whose package is copied to
-    ``workdir`` as :data:`PARENT_PACKAGE` (imports rewritten), so it is compiled and run in
-    this process beside the current code (its own Numba cache, keyed by its kernels' sources)."""
-    import importlib
-
-    tree = workdir / "worktree"
-    try:
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(tree), commit],
-                       capture_output=True, text=True, check=True)
-    except subprocess.CalledProcessError as exc:
-        raise ParentUnavailable(f"git worktree add failed: {exc.stderr.strip()}") from exc
-    try:
-        source = tree / "src" / "stonedem"
-        if not source.is_dir():
-            raise ParentUnavailable(f"commit {commit[:10]} has no src/stonedem")
-        target = workdir / "packages" / PARENT_PACKAGE
-        shutil.copytree(source, target)
-    finally:
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], capture_output=True)
-    pattern = re.compile(r"\bstonedem(?=[.\s])")
-    for path in target.rglob("*.py"):
-        text = path.read_text()
-        lines = [pattern.sub(PARENT_PACKAGE, line) if re.match(r"\s*(from|import)\s+stonedem\b", line) else line
-                 for line in text.splitlines(keepends=True)]
-        path.write_text("".join(lines))
-    sys.path.insert(0, str(workdir / "packages"))
-    scene = importlib.import_module(f"{PARENT_PACKAGE}.engine.scene")
-    simulate = importlib.import_module(f"{PARENT_PACKAGE}.engine.simulate")
-    return scene.scene_from_dict, simulate.simulate
+def parent_source(commit: str) -> Path:
+    """The ``src`` folder of ``commit``, checked out once (a git worktree, copied and removed)
+    into a folder of the user's cache that is kept, so its compiled kernels stay cached too."""
+    root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "stonedem" / "parents" / commit
+    source = root / "src"
+    if (source / "stonedem" / "__init__.py").is_file():
+        return source
+    with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
+        tree = Path(workdir) / "worktree"
+        try:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "--quiet", str(tree), commit],
+                           capture_output=True, text=True, check=True)
+        except subprocess.CalledProcessError as exc:
+            raise ParentUnavailable(f"git worktree add failed: {exc.stderr.strip()}") from exc
+        try:
+            if not (tree / "src" / "stonedem").is_dir():
+                raise ParentUnavailable(f"commit {commit[:10]} has no src/stonedem")
+            staging = root.with_name(root.name + ".part")
+            shutil.rmtree(staging, ignore_errors=True)
+            shutil.copytree(tree / "src", staging / "src")
+            shutil.rmtree(root, ignore_errors=True)
+            staging.rename(root)
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], capture_output=True)
+    return source
 
 
-def time_engine(scene_from_dict, simulate, spec):
-    """(ns per step of the loop, ns per step of the Python around it, steps, mean contacts, dt)."""
-    scene = scene_from_dict(spec)
-    start = time.perf_counter()
-    result = simulate(scene)
-    total = time.perf_counter() - start
-    steps = max(result.steps_run, 1)
-    return (1e9 * result.wall_seconds / steps, 1e9 * (total - result.wall_seconds) / steps, result.steps_run,
-            float(np.mean(result.n_contact)), result.dt)
+def time_engines(source: Path, specs: dict) -> dict:
+    """{scene: (ns per step of the loop, ns per step of the Python around it, steps, mean
+    contacts, dt)} of the engine in ``source`` (a ``src`` folder), one run each, in a fresh process."""
+    done = subprocess.run([sys.executable, "-c", WORKER, json.dumps({"src": str(source), "scenes": specs})],
+                          cwd=ROOT, capture_output=True, text=True,
+                          env=dict(os.environ, NUMBA_NUM_THREADS="1"))
+    if done.returncode != 0:
+        tail = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        raise RuntimeError(f"the engine in {source} failed: {tail}")
+    return {name: tuple(row) for name, row in json.loads(done.stdout.strip().splitlines()[-1]).items()}
 
 
 # --- the benchmark ------------------------------------------------------------------------
@@ -422,7 +445,6 @@ def main(argv=None) -> int:
 
     def command():
         from stonedem.engine.scene import scene_from_dict
-        from stonedem.engine.simulate import simulate
         from stonedem.io.netcdf import write_dataset
 
         repeats = options.number(args.repeats, "--repeats", lo=1, hi=50, whole=True, example="3")
@@ -446,48 +468,47 @@ def main(argv=None) -> int:
                                  "such as HEAD~1, or none") from None
         duration = 2.0 if args.quick else 10.0
         start = time.perf_counter()
-        with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
-            parent = None
-            if parent_commit is not None:
-                try:
-                    parent = import_parent(parent_commit, Path(workdir))
-                except ParentUnavailable as exc:
-                    parent_commit, parent_note = None, f"parent not compared: {exc}"
-                    print(f"warning: {parent_note}", file=sys.stderr)
-            rows, stages = {}, {}
-            for name, (title, build) in SCENES.items():
-                spec = build(duration)
-                engines = {"current": (scene_from_dict, simulate)}
-                if parent is not None:
-                    engines["parent"] = parent
-                best = {}
-                for version, engine in list(engines.items()):  # warm: compile and cache
-                    try:
-                        time_engine(*engine, spec)
-                    except Exception as exc:  # noqa: BLE001 - an older engine may not take the scene
-                        if version == "current":
-                            raise
-                        del engines[version]
-                        parent_note = f"parent not compared on {name}: {type(exc).__name__}: {exc}"
-                        print(f"warning: {parent_note}", file=sys.stderr)
-                for _ in range(repeats):  # interleaved, so drifts of the machine hit both
-                    for version, engine in engines.items():
-                        timing = time_engine(*engine, spec)
-                        if version not in best or timing[0] < best[version][0]:
-                            best[version] = timing
-                n_body = len(scene_from_dict(spec).bodies)
-                rows[name] = {"n_body": n_body}
-                for version in ("current", "parent"):
-                    ns, py_ns, steps, contacts, dt = best.get(version, (np.nan,) * 5)
-                    rows[name][version] = {"ns_per_step": ns, "python_ns_per_step": py_ns, "steps": steps,
-                                           "contacts": contacts, "dt": dt}
-                costs = stage_costs(spec, n_rep=5000 if args.quick else 20000, repeats=3)
-                costs["rest"] = max(0.0, best["current"][0] - sum(costs.values()))
-                stages[name] = costs
-                ratio = best["parent"][0] / best["current"][0] if "parent" in best else np.nan
-                print(f"  {name:15s} {n_body:4d} bodies  {best['current'][0]:8.0f} ns/step"
-                      f"  parent {best.get('parent', (np.nan,))[0]:8.0f}  x{ratio:5.2f}  "
-                      + " ".join(f"{k} {v:.0f}" for k, v in costs.items()), file=sys.stderr, flush=True)
+        specs = {name: build(duration) for name, (_, build) in SCENES.items()}
+        sources = {"current": ROOT / "src"}
+        if parent_commit is not None:
+            try:
+                sources["parent"] = parent_source(parent_commit)
+            except ParentUnavailable as exc:
+                parent_commit, parent_note = None, f"parent not compared: {exc}"
+                print(f"warning: {parent_note}", file=sys.stderr)
+        for version, source in list(sources.items()):  # compile into the cache (once per source)
+            try:
+                time_engines(source, {name: dict(spec, solver=dict(spec["solver"], duration=0.1))
+                                      for name, spec in specs.items()})
+            except RuntimeError as exc:
+                if version == "current":
+                    raise
+                del sources[version]
+                parent_commit, parent_note = None, f"parent not compared: {exc}"
+                print(f"warning: {parent_note}", file=sys.stderr)
+        best = {version: {} for version in sources}
+        for rep in range(repeats):  # interleaved, so drifts of the machine hit both
+            for version, source in sources.items():
+                for name, timing in time_engines(source, specs).items():
+                    if name not in best[version] or timing[0] < best[version][name][0]:
+                        best[version][name] = timing
+            print(f"  run {rep + 1} of {repeats} done", file=sys.stderr, flush=True)
+        rows, stages = {}, {}
+        for name, spec in specs.items():
+            n_body = len(scene_from_dict(spec).bodies)
+            rows[name] = {"n_body": n_body}
+            for version in ("current", "parent"):
+                ns, py_ns, steps, contacts, dt = best.get(version, {}).get(name, (np.nan,) * 5)
+                rows[name][version] = {"ns_per_step": ns, "python_ns_per_step": py_ns, "steps": steps,
+                                       "contacts": contacts, "dt": dt}
+            costs = stage_costs(spec, n_rep=5000 if args.quick else 20000, repeats=3)
+            current = rows[name]["current"]["ns_per_step"]
+            costs["rest"] = max(0.0, current - sum(costs.values()))
+            stages[name] = costs
+            parent_ns = rows[name]["parent"]["ns_per_step"]
+            print(f"  {name:15s} {n_body:4d} bodies  {current:8.0f} ns/step  parent {parent_ns:8.0f}"
+                  f"  x{parent_ns / current:5.2f}  " + " ".join(f"{k} {v:.0f}" for k, v in costs.items()),
+                  file=sys.stderr, flush=True)
         ds = kernel_dataset(rows, stages, parent_commit, parent_note, args.quick)
         write_dataset(ds, path)
         options.write_csv(path.with_suffix(".csv"), [

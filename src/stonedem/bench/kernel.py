@@ -41,12 +41,8 @@ from numba import njit
 
 from stonedem.kernels import NO_ALLOC_OPTIONS
 from stonedem.kernels import step as kstep
-from stonedem.kernels.broad_phase import body_bounds
 from stonedem.kernels.contact import contact_power
-from stonedem.kernels.excitation import base_motion
-from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
-from stonedem.kernels.contact import area_contact_forces
-from stonedem.kernels.point_contact import point_contact_forces
+from stonedem.kernels.integrate import central_difference_step
 
 ROOT = Path(__file__).resolve().parents[3]
 RECORD = "records/athens_standin_kocaeli_arc000.nc"  # the Athens stand-in (thesis Table 6.1)
@@ -106,34 +102,16 @@ SCENES = {
 
 @njit(**NO_ALLOC_OPTIONS)
 def _place(model, state, work, t, n_rep):
-    vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
-    body_driven, ref_x, ref_y, ref_theta = model.body_driven, model.ref_x, model.ref_y, model.ref_theta
-    h, v = model.horizontal, model.vertical
-    h_params, h_accel, h_vel, h_disp = h.params, h.table_accel, h.table_vel, h.table_disp
-    v_params, v_accel, v_vel, v_disp = v.params, v.table_accel, v.table_vel, v.table_disp
-    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
-    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
-    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
-    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
-    n_body = body_x.shape[0]
     acc = 0.0
     for r in range(n_rep):
-        d_h, vel_h, _ = base_motion(t, h.kind, h_params, h_accel, h_vel, h_disp, h.table_dt)
-        d_v, vel_v, _ = base_motion(t, v.kind, v_params, v_accel, v_vel, v_disp, v.table_dt)
-        drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
-                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
-        update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
-                              world_x, world_y, cos_theta, sin_theta)
-        body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
-        acc += hi_x[0]
+        d_h, vel_h, d_v, vel_v = kstep.place_bodies(model, state, work, t)
+        acc += work.hi_x[0] + d_h
     return acc
 
 
 @njit(**NO_ALLOC_OPTIONS)
 def _watch(model, state, work, n, d_h, d_v, n_rep):
-    tilt_alarm = np.inf
-    for g in range(model.group_theta_cr.shape[0]):
-        tilt_alarm = min(tilt_alarm, model.group_theta_cr[g])
+    tilt_alarm = kstep.smallest_theta_cr(model)
     count = 0
     for r in range(n_rep):
         if kstep.track(model, state, work, n, d_h, d_v, tilt_alarm) and kstep.collapsed(model, state, work, d_v):
@@ -154,11 +132,7 @@ def _broad_phase(model, state, work, n_rep):
 def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
     total = 0
     for r in range(n_rep):
-        kstep.clear_forces(work)
-        if model.law.kind == kstep.CONTACT_POINT:
-            n_contact, elastic = point_contact_forces(model, state, work, n_pair, dt, want_energy)
-        else:
-            n_contact, elastic = area_contact_forces(model, state, work, n_pair, dt, want_energy)
+        n_contact, elastic = kstep.contact_forces(model, state, work, n_pair, dt, want_energy)
         total += n_contact
     return total
 
@@ -237,20 +211,18 @@ def stage_costs(spec: dict, n_rep: int = 20000, repeats: int = 3) -> dict:
     _place(model, state, work, t, 1)
     n_pair = kstep.sweep(model, state, work)
     one = empty_samples(1, len(scene.bodies))
+    contact_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False), n_rep, repeats)
+    with_energy_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, True), n_rep, repeats)
     costs = {
         "place": _best_ns(lambda n: _place(model, state, work, t, n), n_rep, repeats),
         "watch": _best_ns(lambda n: _watch(model, state, work, n_mid, 0.0, 0.0, n), n_rep, repeats),
         "broad_phase": _best_ns(lambda n: _broad_phase(model, state, work, n), n_rep, repeats),
-        "contact_forces": _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False),
-                                   n_rep, repeats),
+        "contact_forces": contact_ns,
         "velocities_power": _best_ns(lambda n: _velocities_power(model, state, work, n_pair, dt, n), n_rep, repeats),
         # a sample's cost spread over the steps between samples, with the stored energy the
         # contact law then evaluates too
         "sampling": (_best_ns(lambda n: _sampling(model, state, work, one, dt, n), n_rep, repeats)
-                     + max(0.0, _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, True),
-                                         n_rep, repeats)
-                           - _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False),
-                                      n_rep, repeats))) / out_every,
+                     + max(0.0, with_energy_ns - contact_ns)) / out_every,
         "integrate": _best_ns(lambda n: _integrate(model, state, work, n), n_rep, repeats),
     }
     return costs

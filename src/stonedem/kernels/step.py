@@ -9,13 +9,13 @@ candidate pairs).
 
 Stages of one step at time t_n = n dt, numbered as in :func:`run_steps`:
 
-1. place the bodies   base_motion, drive_bodies, update_world_vertices, body_bounds
+1. place the bodies   place_bodies: base_motion, drive_bodies, update_world_vertices, body_bounds
    watch              track: running peaks of the response measures at t_n; collapsed
                       (every step, so neither depends on the sampling; a collapse with
                       stop_on_collapse is sampled at its own step and ends the run)
 2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
-3. contact forces     clear_forces, then the scene's law from the velocities v_{n-1/2}
-                      (area_contact_forces or point_contact_forces, inlined)
+3. contact forces     contact_forces: clear_forces, then the scene's law from the velocities
+                      v_{n-1/2} (area_contact_forces or point_contact_forces, inlined)
 4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
 5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
 6. sampling           every ``out_every`` steps, at the last and at a collapse that stops
@@ -45,7 +45,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from stonedem.kernels import JIT_OPTIONS, NO_ALLOC_OPTIONS
+from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, area_contact_forces, contact_power)
 from stonedem.kernels.excitation import base_motion
@@ -286,6 +286,36 @@ def sweep(model, state, work):
     return n_pair
 
 
+@njit(**INLINE_OPTIONS)
+def place_bodies(model, state, work, t):
+    """Stage 1: driven bodies at the base pose of time t [s], then every body's world vertices
+    (and the cos and sin of its theta) and bounds into work. Returns the base's (d_h, v_h,
+    d_v, v_v): displacement [m] and velocity [m s-1], horizontal and vertical."""
+    h, v = model.horizontal, model.vertical
+    vert_start = model.vert_start
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    world_x, world_y = work.world_x, work.world_y
+    n_body = body_x.shape[0]
+    d_h, vel_h, _ = base_motion(t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt)
+    d_v, vel_v, _ = base_motion(t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt)
+    drive_bodies(n_body, model.body_driven, model.ref_x, model.ref_y, model.ref_theta, d_h, vel_h, d_v, vel_v,
+                 body_x, body_y, body_theta, state.body_vx, state.body_vy, state.body_omega)
+    update_world_vertices(n_body, vert_start, model.local_x, model.local_y, body_x, body_y, body_theta,
+                          world_x, world_y, work.cos_theta, work.sin_theta)
+    body_bounds(n_body, vert_start, world_x, world_y, work.lo_x, work.lo_y, work.hi_x, work.hi_y)
+    return d_h, vel_h, d_v, vel_v
+
+
+@njit(**INLINE_OPTIONS)
+def smallest_theta_cr(model):
+    """The smallest critical rotation of a collapse group [rad], inf without groups: below it
+    no group can have collapsed by rotation (:func:`track`'s tilt alarm)."""
+    smallest = np.inf
+    for g in range(model.group_theta_cr.shape[0]):
+        smallest = min(smallest, model.group_theta_cr[g])
+    return smallest
+
+
 @njit(**NO_ALLOC_OPTIONS)
 def clear_forces(work):
     """Zero the force, torque and base-force accumulators before a contact law adds to them."""
@@ -297,6 +327,17 @@ def clear_forces(work):
         torque[b] = 0.0
         base_force_x[b] = 0.0
         base_force_y[b] = 0.0
+
+
+@njit(**INLINE_OPTIONS)
+def contact_forces(model, state, work, n_pair, dt, want_energy):
+    """Stage 3: clear work's force accumulators, then add every candidate pair's forces by the
+    scene's law (a new law is an inlined function of these arguments and a branch here).
+    Returns (n_contact, stored elastic energy [J], evaluated only when want_energy)."""
+    clear_forces(work)
+    if model.law.kind == CONTACT_POINT:
+        return point_contact_forces(model, state, work, n_pair, dt, want_energy)
+    return area_contact_forces(model, state, work, n_pair, dt, want_energy)
 
 
 @njit(**NO_ALLOC_OPTIONS)
@@ -538,26 +579,15 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     dt = settings.dt
     n_steps = settings.n_steps
     n_body = model.body_mass.shape[0]
-    law = model.law
-    h = model.horizontal
-    v = model.vertical
     # the arrays the other modules' kernels take, unpacked once per call
-    vert_start, local_x, local_y = model.vert_start, model.local_x, model.local_y
     body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
-    ref_x, ref_y, ref_theta = model.ref_x, model.ref_y, model.ref_theta
-    h_params, h_accel, h_vel, h_disp = h.params, h.table_accel, h.table_vel, h.table_disp
-    v_params, v_accel, v_vel, v_disp = v.params, v.table_accel, v.table_vel, v.table_disp
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_memory, rest_count, events = state.pair_memory, state.rest_count, state.events
-    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
-    lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
 
-    tilt_alarm = np.inf  # the smallest critical rotation of a group
-    for g in range(model.group_theta_cr.shape[0]):
-        tilt_alarm = min(tilt_alarm, model.group_theta_cr[g])
+    tilt_alarm = smallest_theta_cr(model)
     pair_a, pair_b = work.pair_a, work.pair_b
     n_pair = 0
     need_sweep = True  # the pair list does not outlive a call
@@ -565,13 +595,7 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     for n in range(step_start, min(step_stop, n_steps + 1)):
         t = n * dt
         # 1. driven bodies at the base pose of t_n; world vertices and bounds
-        d_h, vel_h, _ = base_motion(t, h.kind, h_params, h_accel, h_vel, h_disp, h.table_dt)
-        d_v, vel_v, _ = base_motion(t, v.kind, v_params, v_accel, v_vel, v_disp, v.table_dt)
-        drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, vel_h, d_v, vel_v,
-                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
-        update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
-                              world_x, world_y, cos_theta, sin_theta)
-        body_bounds(n_body, vert_start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+        d_h, vel_h, d_v, vel_v = place_bodies(model, state, work, t)
 
         # the measures at t_n, at every step: peaks and events do not depend on the sampling;
         # a collapse that stops the run is sampled at its step
@@ -588,14 +612,9 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
             if n_pair > pair_a.shape[0]:
                 return STATUS_PAIRS_FULL, n_sample, collapse_sample, n
 
-        # 3. contact forces from the velocities v_{n-1/2}, by the scene's law: a new law is an
-        # inlined function of the bundles and a branch here
+        # 3. contact forces from the velocities v_{n-1/2}, by the scene's law
         sample = n % settings.out_every == 0 or n == n_steps or stop
-        clear_forces(work)
-        if law.kind == CONTACT_POINT:
-            n_contact, elastic = point_contact_forces(model, state, work, n_pair, dt, sample)
-        else:
-            n_contact, elastic = area_contact_forces(model, state, work, n_pair, dt, sample)
+        n_contact, elastic = contact_forces(model, state, work, n_pair, dt, sample)
 
         # 4. velocities at t_n; 5. powers at t_n
         half = 0.0 if n == step_first else 0.5 * dt

@@ -30,11 +30,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit_of(rev: str) -> str:
+    """The full hash of ``rev`` (:func:`stonedem.bench.kernel.resolve_commit`), or one line naming the option."""
+    from stonedem.bench.kernel import ParentUnavailable, resolve_commit
+
     try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"],
-                              capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        raise InputError("--parent" if rev != "HEAD" else "checkout", f"no commit {rev!r} in {ROOT}",
+        return resolve_commit(rev, ROOT)
+    except ParentUnavailable as exc:
+        raise InputError("--parent" if rev != "HEAD" else "checkout", str(exc),
                          "give a commit of this repository's history") from None
 
 

@@ -261,15 +261,16 @@ class ParentUnavailable(Exception):
     """The parent commit cannot be run here (no git checkout, no such commit)."""
 
 
-def resolve_commit(rev: str) -> str:
-    """The full hash of commit ``rev`` of this checkout, or ParentUnavailable saying why."""
+def resolve_commit(rev: str, root: Path = ROOT) -> str:
+    """The full hash of commit ``rev`` of the checkout at ``root`` (default: this package's),
+    or ParentUnavailable saying why."""
     try:
-        return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"],
+        return subprocess.run(["git", "-C", str(root), "rev-parse", "--verify", "--quiet", f"{rev}^{{commit}}"],
                               capture_output=True, text=True, check=True, timeout=60).stdout.strip()
     except FileNotFoundError:
         raise ParentUnavailable("git is not installed") from None
     except (OSError, subprocess.SubprocessError):
-        raise ParentUnavailable(f"no commit {rev!r} in {ROOT} (not a git checkout, a shallow clone, "
+        raise ParentUnavailable(f"no commit {rev!r} in {root} (not a git checkout, a shallow clone, "
                                 "or no such commit)") from None
 
 

@@ -61,6 +61,28 @@ def test_a_search_job_writes_every_run_and_a_self_describing_bracket(tmp_path):
     assert cube.attrs["search_parameter"] == "amplitude" and cube.attrs["n_cases"] == len(runs)
 
 
+def test_a_search_summary_from_the_runs_in_memory_is_the_one_from_their_files(tmp_path):
+    """run_search builds its summary from the datasets it wrote, not by reading them back; a
+    search restored from the store reads the files. Both give the summary the files give."""
+    from stonedem.study.cube import search_dataset
+    from stonedem.study.grid import search_case
+    from stonedem.io.netcdf import open_result, write_dataset
+
+    study = {**BLOCK, "grid": {"friction": [0.7]},
+             "search": {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 0,
+                        "minimum": 0.005, "maximum": 0.64}}
+    (system,) = case_table("block", study)
+    store = CaseStore(tmp_path / "store", "records")
+    summaries = []
+    for k in range(2):  # simulated, then restored from the store
+        runs, result = run_search(system, tmp_path / f"runs{k}", tmp_path / f"search{k}.nc", store, io.StringIO())
+        files = [tmp_path / f"runs{k}" / f"{search_case(system, r.value).id}.nc" for r in runs]
+        write_dataset(search_dataset(system, runs, files, result), tmp_path / f"files{k}.nc")
+        summaries.append(open_result(tmp_path / f"search{k}.nc"))
+        assert summaries[-1].identical(open_result(tmp_path / f"files{k}.nc"))
+    assert summaries[0].identical(summaries[1]) and summaries[0].sizes["run"] >= 3
+
+
 def test_cheap_cases_share_jobs_and_each_search_is_one_job():
     grid = case_table("block", {**BLOCK, "grid": {"amplitude": [0.01, 0.02, 0.03, 0.04]}})
     searches = case_table("s", {**BLOCK, "grid": {"friction": [0.5, 0.7]}, "search": {"parameter": "amplitude",

@@ -7,6 +7,7 @@ In a search study's cube the searched parameter (e.g. ``pga``) is a coordinate o
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from dataclasses import asdict
 from pathlib import Path
 
@@ -28,14 +29,17 @@ def _attrs(name: str, parameter: str) -> dict:
     return attrs
 
 
-def search_dataset(system: Case, runs: list[Run], files: list[Path | str], result: dict) -> xr.Dataset:
+def search_dataset(system: Case, runs: list[Run], cases: list[Path | str | xr.Dataset], result: dict) -> xr.Dataset:
     """One system's search: every run's measures and histories along ``run`` (sorted by
-    value), its bracket and how the search went (stonedem.study.search.summary)."""
+    value), its bracket and how the search went (stonedem.study.search.summary).
+
+    ``cases``: each run's case file, or the case dataset that was written to it (the same
+    search as from the file, without reading it back: ~40 ms a run in the IDA)."""
     parameter = system.search.parameter
     order = sorted(range(len(runs)), key=lambda i: runs[i].value)
     pieces, attrs = [], []
     for i in order:
-        with open_result(files[i]) as ds:
+        with (nullcontext(cases[i]) if isinstance(cases[i], xr.Dataset) else open_result(cases[i])) as ds:
             pieces.append(case_piece(ds))
             attrs.append(dict(ds.attrs))
     cube = xr.concat(pieces, dim="run", coords="different", compat="equals", join="outer",

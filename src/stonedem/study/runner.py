@@ -158,10 +158,12 @@ def _sha256(path: Path) -> str:
     return digest.hexdigest()
 
 
-def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", log=None) -> dict:
+def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", log=None,
+            keep_dataset: bool = False) -> dict:
     """Simulate ``case`` into ``output`` (or restore it from the store); one log line.
 
-    Returns {collapsed, steps, kernel_seconds, seconds, restored}."""
+    Returns {collapsed, steps, kernel_seconds, seconds, restored}, and with ``keep_dataset``
+    ``dataset``: the case dataset written (None when restored: read the file)."""
     output = Path(output)
     start = wallclock.perf_counter()
     restored = store.restore(case, output, log)
@@ -172,6 +174,8 @@ def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", l
         write_dataset(ds, output)
         store.keep(case, output)
         info = _info(ds)
+    if keep_dataset:
+        info["dataset"] = None if restored else ds
     info.update(restored=restored, seconds=wallclock.perf_counter() - start)
     how = ("restored from the case store" if restored else
            f"{info['steps']} steps, {info['kernel_seconds']:.2f} s kernel, {info['seconds']:.2f} s in all")
@@ -208,12 +212,16 @@ def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, sto
     runs_dir = Path(runs_dir)
     settings = system.search
     files: dict[float, Path] = {}
+    # each run as written, or its file when restored from the store
+    written: dict[float, Path | xr.Dataset] = {}
 
     def simulate(value: float, phase: str) -> bool:
         case = search_case(system, value)
         files[value] = runs_dir / f"{case.id}.nc"
         n = len(files)
-        info = run_one(case, files[value], store, f"[{settings.parameter} run {n}, {phase}] ", log)
+        info = run_one(case, files[value], store, f"[{settings.parameter} run {n}, {phase}] ", log,
+                       keep_dataset=True)
+        written[value] = files[value] if info["dataset"] is None else info["dataset"]
         return info["collapsed"]
 
     runs: list[Run] = search(simulate, settings)
@@ -221,5 +229,5 @@ def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, sto
     progress_print(log or sys.stderr, f"{system.study}/{system.id}: {result['status']}, {settings.parameter} "
                         f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
                         f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
-    write_dataset(search_dataset(system, runs, [files[r.value] for r in runs], result), summary_path)
+    write_dataset(search_dataset(system, runs, [written[r.value] for r in runs], result), summary_path)
     return runs, result

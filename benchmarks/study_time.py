@@ -4,13 +4,15 @@ Each commit is cloned afresh into a temporary folder and runs ``python -m snakem
 TARGET`` there with its own, empty Numba cache (so compiling counts, as on a fresh machine)
 and its own package on PYTHONPATH. The two run one after the other on the same machine in the
 same session, so the parent's time checks the machine's speed. Writes
-results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs).
+results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs): the
+rows of this target and config replace those of an earlier run, the other targets' rows stay.
 
-    python benchmarks/study_time.py [--parent 55e0c02] [--target all] [--configfile config/quick.yaml]
+    python benchmarks/study_time.py [--parent 55e0c02|none] [--target all] [--configfile config/quick.yaml]
                                     [--out results/bench/study_time.csv] [--out-clones FOLDER]
 
-The full study takes 7-8 min per commit on 2 cores; the full IDA (``--target fragility``) about
-an hour for the parent.
+The full study takes 6-7 min per commit on 2 cores; the full IDA (``--target fragility``)
+about 68 min for 55e0c02's parent, so ``--parent none`` times this commit alone (check the
+machine's speed with the study's row, or a few IDA jobs of both commits).
 """
 
 from __future__ import annotations
@@ -40,6 +42,21 @@ def commit_of(rev: str) -> str:
                          "give a commit of this repository's history") from None
 
 
+FIELDS = ("target", "config", "version", "commit", "wall_seconds", "exit_status", "jobs", "machine")
+
+
+def earlier_rows(path: Path) -> list[dict]:
+    """The rows of an earlier run's CSV at path; none if it is missing or not one of ours."""
+    import csv
+
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.DictReader(f))
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return []
+    return rows if rows and set(rows[0]) == set(FIELDS) else []
+
+
 def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) -> dict:
     """Clone ``commit`` into workdir and time ``snakemake -j2 target`` there."""
     clone = workdir / commit[:10]
@@ -61,7 +78,8 @@ def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) 
 
 def main(argv=None) -> int:
     parser = options.parser("python benchmarks/study_time.py", __doc__)
-    parser.add_argument("--parent", default="HEAD~1", help="the commit to compare against (default HEAD~1)")
+    parser.add_argument("--parent", default="HEAD~1",
+                        help="the commit to compare against (default HEAD~1), or none: this commit alone")
     parser.add_argument("--target", default="all", choices=("all", "fragility"),
                         help="the Snakemake target: all (the study, default) or fragility (the IDA)")
     parser.add_argument("--configfile", action="append", default=[], help="extra config files, as snakemake takes them")
@@ -80,8 +98,11 @@ def main(argv=None) -> int:
             options.input_file(ROOT / config, "--configfile", "YAML config file")
         if args.configfile:  # read as the workflow reads it: a file it cannot take is refused here
             options.workflow_config([ROOT / "config/config.yaml"] + [ROOT / c for c in args.configfile], "--configfile")
-        commits = {"current": commit_of("HEAD"), "parent": commit_of(args.parent)}
-        rows = []
+        commits = {"current": commit_of("HEAD")}
+        if args.parent.lower() != "none":
+            commits["parent"] = commit_of(args.parent)
+        config = " ".join(args.configfile) or "config/config.yaml"
+        rows = [row for row in earlier_rows(path) if (row.get("target"), row.get("config")) != (args.target, config)]
         with tempfile.TemporaryDirectory(prefix="stonedem-study-time-") as tmp:
             if args.out_clones is not None:
                 args.out_clones.mkdir(parents=True)
@@ -91,14 +112,15 @@ def main(argv=None) -> int:
                 timing = run_target(commit, args.target, args.configfile, Path(tmp))
                 print(f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, {timing['jobs']} jobs",
                       file=sys.stderr, flush=True)
-                rows.append({"target": args.target, "config": " ".join(args.configfile) or "config/config.yaml",
-                             "version": version, "commit": commit[:10], **timing,
-                             "machine": f"{os.cpu_count()} cores"})
-        options.write_csv(path, rows)
-        speedup = rows[1]["wall_seconds"] / rows[0]["wall_seconds"]
-        print(f"{args.target}: {rows[0]['wall_seconds']:.0f} s, parent {rows[1]['wall_seconds']:.0f} s "
-              f"(x{speedup:.2f}); wrote {path}")
-        return 0 if all(row["exit_status"] == 0 for row in rows) else 1
+                rows.append({"target": args.target, "config": config, "version": version, "commit": commit[:10],
+                             **timing, "machine": f"{os.cpu_count()} cores"})
+        new = rows[-len(commits):]
+        options.write_csv(path, rows, fieldnames=FIELDS)
+        line = f"{args.target}: {new[0]['wall_seconds']:.0f} s"
+        if len(new) == 2:
+            line += f", parent {new[1]['wall_seconds']:.0f} s (x{new[1]['wall_seconds'] / new[0]['wall_seconds']:.2f})"
+        print(f"{line}; wrote {path}")
+        return 0 if all(row["exit_status"] == 0 for row in new) else 1
 
     return options.run(command)
 

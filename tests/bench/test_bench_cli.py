@@ -6,6 +6,7 @@ seconds. benchmarks/*.py are loaded from their files; workflow/scripts/bench.py 
 stand-in for Snakemake's ``snakemake`` object.
 """
 
+import csv
 import importlib.util
 import os
 import runpy
@@ -282,3 +283,26 @@ def test_an_output_is_never_an_empty_path_or_a_foreign_file(tmp_path, capsys):
     refused(restitution.main, ["--out", str(foreign)], "--out", tmp_path, capsys)
     refused(fuzz.main, ["--out", str(foreign)], "--out", tmp_path, capsys)
     assert foreign.read_text() == "my notes\n"
+
+
+def test_study_time_keeps_the_other_targets_rows_and_times_one_commit_with_parent_none(tmp_path, monkeypatch, capsys):
+    """A fragility run (--parent none: this commit alone) replaces only the fragility rows of
+    an earlier run's CSV; the study's rows stay (the clones are stood in for)."""
+    main_of("study_time")
+    module = SCRIPTS["study_time"]
+    calls = []
+
+    def fake_run(commit, target, configfiles, workdir):
+        calls.append((commit, target))
+        return {"wall_seconds": 10.0 * len(calls), "exit_status": 0, "jobs": 3}
+
+    monkeypatch.setattr(module, "run_target", fake_run)
+    out = tmp_path / "t.csv"
+    assert module.main(["--parent", "HEAD", "--out", str(out)]) == 0
+    assert module.main(["--parent", "none", "--target", "fragility", "--out", str(out)]) == 0
+    assert module.main(["--parent", "none", "--target", "fragility", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(out.open()))
+    assert [(r["target"], r["version"], r["wall_seconds"]) for r in rows] == [
+        ("all", "current", "10.0"), ("all", "parent", "20.0"), ("fragility", "current", "40.0")]
+    assert [target for _, target in calls] == ["all", "all", "fragility", "fragility"]
+    assert "fragility: 40 s; wrote" in capsys.readouterr().out

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from stonedem.bench import contact_cost, fuzz, kernel, options, restitution, skipping, stability, work_precision
@@ -306,3 +307,22 @@ def test_study_time_keeps_the_other_targets_rows_and_times_one_commit_with_paren
         ("all", "current", "10.0"), ("all", "parent", "20.0"), ("fragility", "current", "40.0")]
     assert [target for _, target in calls] == ["all", "all", "fragility", "fragility"]
     assert "fragility: 40 s; wrote" in capsys.readouterr().out
+
+
+def test_kernel_dataset_says_which_of_the_issue_targets_are_met():
+    """kernel.nc carries issue 32's bounds and, per scene, met (1), missed (0) or none (-1)."""
+    rows, stages = {}, {}
+    for name in kernel.SCENES:
+        ns = {"lone_block": 149.0, "column_8": 71.0 * 9}.get(name, 1000.0)
+        one = {"ns_per_step": ns, "contacts": 9.0 if name == "column_8" else 1.0, "python_ns_per_step": 1.0,
+               "steps": 10.0, "dt": 1e-4}
+        rows[name] = {"current": one, "parent": dict(one, ns_per_step=2 * ns), "n_body": 2}
+        stages[name] = {k: 1.0 for k in kernel.STAGES}
+    ds = kernel.kernel_dataset(rows, stages, "abc", "compared", True)
+    met = dict(zip(ds["scene"].values, ds["target_met"].values))
+    assert met["lone_block"] == 1 and met["column_8"] == 0 and met["colonnade_3x3"] == 0 and met["column_30"] == -1
+    assert float(ds["target_ns"].sel(scene="column_8")) == 70.0 and np.isnan(float(ds["target_ns"].sel(scene="column_1")))
+    assert ds["target_met"].attrs["flag_meanings"] == "no_target missed met"
+    from stonedem.io.schema import missing_metadata
+
+    assert missing_metadata(ds) == []

@@ -324,6 +324,91 @@ def empty_samples(n_out: int, n_body: int) -> step.Samples:
     )
 
 
+@dataclass
+class Plan:
+    """One scene's run, phase by phase: what :func:`simulate` and
+    :func:`stonedem.engine.ensemble.run_ensemble` hand the compiled loop, and where it stands."""
+
+    scene: Scene
+    arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
+    loop: CompiledLoop
+    dt: float
+    limit: float
+    n_first: int  # first step to integrate after the quiet lead (stonedem.engine.quiet.quiet_steps)
+    n_rest: int  # step from which the base is quiet for good
+    n_start: int = 0
+    step_first: int = 0
+    quiet_lead: float = 0.0
+    status: int = step.STATUS_OK
+
+
+def plan_run(scene: Scene, progress: bool = False) -> Plan:
+    """Time step, packed scene, bundles and quiet phases of one run; nothing integrated yet."""
+    dt, limit = run_time_step(scene)
+    arrays = pack_scene(scene)  # once per run: the checks and the dataset reuse it
+    n_steps = int(math.ceil(scene.duration / dt - 1e-9))
+    out_every = max(1, int(round(scene.output_every / dt)))
+    settings = step.Settings(
+        dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=scene.stop_on_collapse,
+        rest_speed=REST_SPEED, rest_samples=max(1, int(math.ceil(REST_SECONDS / (out_every * dt)))),
+    )
+    cursor = Cursor(empty_samples(n_steps // out_every + 2, len(scene.bodies)))
+    loop = CompiledLoop(kernel_model(scene, arrays), settings, initial_state(arrays), cursor,
+                        Progress() if progress else None)
+    n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
+    return Plan(scene, arrays, loop, dt, limit, n_first, n_rest)
+
+
+def settle_phase(plan: Plan) -> tuple[int, int, int, int] | None:
+    """(start, stop, first, rest_from) of the settling from t = 0, at most until the first
+    loud sample, or None when the run has no quiet lead."""
+    return (0, plan.n_first, 0, 0) if plan.n_first > 0 else None
+
+
+def after_settle(plan: Plan, status: int) -> None:
+    """Settled: carried by the base to the first loud sample; still settling there: carry
+    straight on; anything else ends the run with that status."""
+    cursor, state = plan.loop.cursor, plan.loop.state
+    settings = plan.loop.settings
+    if status == step.STATUS_AT_REST:
+        settled = cursor.n_sample - 1  # the last integrated sample
+        cursor.n_sample, last = carry(plan.scene, plan.arrays, cursor.samples, cursor.n_sample, plan.n_first,
+                                      plan.dt, settings.out_every)
+        settled_state(plan.scene, plan.arrays, cursor.samples, settled, last, state, plan.n_first, plan.dt)
+        plan.n_start, plan.step_first, plan.quiet_lead = plan.n_first, plan.n_first, (plan.n_first - last) * plan.dt
+    elif status == step.STATUS_OK:
+        plan.n_start = plan.n_first
+    else:
+        plan.status = status
+
+
+def main_phase(plan: Plan) -> tuple[int, int, int, int] | None:
+    """(start, stop, first, rest_from) of the run on from the settled state, or None if it ended."""
+    if plan.status != step.STATUS_OK:
+        return None
+    return plan.n_start, plan.loop.settings.n_steps + 1, plan.step_first, max(plan.n_rest, plan.n_start)
+
+
+def finish_run(plan: Plan) -> RunResult:
+    """The run's result: the quiet tail's samples filled when it came to rest on a quiet base."""
+    cursor, state, settings = plan.loop.cursor, plan.loop.state, plan.loop.settings
+    dt, n_steps, status = plan.dt, settings.n_steps, plan.status
+    rest_time = math.nan
+    if status == step.STATUS_AT_REST:  # the quiet tail; the kernel samples the last step too
+        cursor.n_sample, last = carry(plan.scene, plan.arrays, cursor.samples, cursor.n_sample, n_steps, dt,
+                                      settings.out_every, including=True)
+        rest_time, status = last * dt, step.STATUS_OK
+    n, samples = cursor.n_sample, cursor.samples
+    return RunResult(
+        time=samples.step[:n] * dt, x=samples.x[:n], y=samples.y[:n], theta=samples.theta[:n],
+        energy=samples.energy[:n], n_contact=samples.n_contact[:n], status=int(status),
+        collapse_sample=int(cursor.collapse), dt=dt, dt_limit=plan.limit, out_every=settings.out_every,
+        n_steps=n_steps, steps_run=int(cursor.steps), wall_seconds=cursor.wall, quiet_lead=plan.quiet_lead,
+        rest_time=rest_time, arrays=plan.arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
+        onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
+    )
+
+
 def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) -> RunResult:
     """Run a scene to its duration (or its collapse) and return the samples.
 
@@ -334,48 +419,18 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     for good and every body is at rest on it, the remaining samples are filled the same way.
     ``chunks``: calls of the compiled loop, for tests (default 1: chunks of CHUNK_SECONDS).
     """
-    dt, limit = run_time_step(scene)
-    arrays = pack_scene(scene)  # once per run: the checks and the dataset reuse it
-    n_steps = int(math.ceil(scene.duration / dt - 1e-9))
-    out_every = max(1, int(round(scene.output_every / dt)))
-    settings = step.Settings(
-        dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=scene.stop_on_collapse,
-        rest_speed=REST_SPEED, rest_samples=max(1, int(math.ceil(REST_SECONDS / (out_every * dt)))),
-    )
-    cursor = Cursor(empty_samples(n_steps // out_every + 2, len(scene.bodies)))
-    state = initial_state(arrays)
-    loop = CompiledLoop(kernel_model(scene, arrays), settings, state, cursor, Progress() if progress else None)
-    n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
-    n_start, step_first, quiet_lead, status = 0, 0, 0.0, step.STATUS_OK
+    plan = plan_run(scene, progress)
     try:
-        if n_first > 0:  # settle from t = 0, at most until the first loud sample
-            status = loop.run(0, n_first, 0, 0)
-            if status == step.STATUS_AT_REST:  # settled: carried by the base to n_first
-                settled = cursor.n_sample - 1  # the last integrated sample
-                cursor.n_sample, last = carry(scene, arrays, cursor.samples, cursor.n_sample, n_first, dt, out_every)
-                settled_state(scene, arrays, cursor.samples, settled, last, state, n_first, dt)
-                n_start, step_first, quiet_lead, status = n_first, n_first, (n_first - last) * dt, step.STATUS_OK
-            elif status == step.STATUS_OK:  # still settling at the first loud sample: carry straight on
-                n_start = n_first
-        if status == step.STATUS_OK:
-            status = loop.run(n_start, n_steps + 1, step_first, max(n_rest, n_start), chunks or 1)
+        phase = settle_phase(plan)
+        if phase is not None:
+            after_settle(plan, plan.loop.run(*phase))
+        phase = main_phase(plan)
+        if phase is not None:
+            plan.status = plan.loop.run(*phase, chunks or 1)
     finally:
-        if loop.reporter is not None:
-            loop.reporter.finish()
-    rest_time = math.nan
-    if status == step.STATUS_AT_REST:  # the quiet tail; the kernel samples the last step too
-        cursor.n_sample, last = carry(scene, arrays, cursor.samples, cursor.n_sample, n_steps, dt, out_every,
-                                      including=True)
-        rest_time, status = last * dt, step.STATUS_OK
-    n, samples = cursor.n_sample, cursor.samples
-    return RunResult(
-        time=samples.step[:n] * dt, x=samples.x[:n], y=samples.y[:n], theta=samples.theta[:n],
-        energy=samples.energy[:n], n_contact=samples.n_contact[:n], status=int(status),
-        collapse_sample=int(cursor.collapse), dt=dt, dt_limit=limit, out_every=out_every, n_steps=n_steps,
-        steps_run=int(cursor.steps), wall_seconds=cursor.wall, quiet_lead=quiet_lead, rest_time=rest_time,
-        arrays=arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
-        onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
-    )
+        if plan.loop.reporter is not None:
+            plan.loop.reporter.finish()
+    return finish_run(plan)
 
 
 # a run whose energy balance drifts by more than this share of the energy it moves says so

@@ -76,3 +76,6 @@ def test_no_members_and_bad_thread_counts(record):
     for bad in (0, -1, 10 ** 6, 1.5, True, "2"):
         with pytest.raises(InputError, match="threads"):
             run_ensemble([scene], threads=bad)
+    for bad in ([scene, {"structure": {}}], [None]):
+        with pytest.raises(InputError, match=r"scenes\[\d\]: expected a Scene"):
+            run_ensemble(bad)

@@ -35,6 +35,11 @@ def run_ensemble(scenes: list[Scene], threads: int | None = None) -> list[RunRes
                                 or not 1 <= threads <= available):
         raise InputError("threads", f"expected a whole number 1 ... {available}, got {threads!r}",
                          f"give e.g. threads={available}, or leave it out")
+    scenes = list(scenes)
+    for i, scene in enumerate(scenes):
+        if not isinstance(scene, Scene):
+            raise InputError(f"scenes[{i}]", f"expected a Scene, got {type(scene).__name__}",
+                             "build each member with stonedem.engine.scene.scene_from_dict")
     plans = [plan_run(scene) for scene in scenes]
     if not plans:
         return []

@@ -19,8 +19,6 @@ and no integration error enters through the base (thesis 6.3 harmonic and ramp m
 All kinds are at rest for t < 0.
 """
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -43,8 +41,8 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
         amp = params[0]
         w = params[1]
         t_ramp = params[2]
-        sn = math.sin(w * t)
-        cs = math.cos(w * t)
+        sn = np.sin(w * t)
+        cs = np.cos(w * t)
         e, de, dde = 1.0, 0.0, 0.0
         if t < t_ramp:
             x = t / t_ramp
@@ -64,8 +62,8 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
         w = params[1]
         period = params[2]
         if t < period:
-            return (a_p / w * (t - math.sin(w * t) / w), a_p / w * (1.0 - math.cos(w * t)),
-                    a_p * math.sin(w * t))
+            return (a_p / w * (t - np.sin(w * t) / w), a_p / w * (1.0 - np.cos(w * t)),
+                    a_p * np.sin(w * t))
         return a_p / w * period, 0.0, 0.0
     if kind == KIND_RAMP:
         rate = params[0]

@@ -36,8 +36,6 @@ Cost (8-drum column, one core): clipping the overlap polygon and its boundary-no
 took 430 ns of the ~800 ns per contact and step; the separating-axis test takes ~60.
 """
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -67,7 +65,7 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
             k1 = k + 1 if k + 1 < e else s
             ex = world_x[k1] - world_x[k]
             ey = world_y[k1] - world_y[k]
-            length = math.sqrt(ex * ex + ey * ey)
+            length = np.sqrt(ex * ex + ey * ey)
             edge_len[k] = length
             if length > 0.0:
                 edge_nx[k] = ey / length
@@ -305,7 +303,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         # the frame: n from a to b, the bisector of a's outward and b's inward face normal
         nx = fa_nx - fb_nx
         ny = fa_ny - fb_ny
-        norm = math.sqrt(nx * nx + ny * ny)
+        norm = np.sqrt(nx * nx + ny * ny)
         if norm > 0.0:
             nx /= norm
             ny /= norm
@@ -385,7 +383,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
                 body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
             # thesis Eq. 3.4 at the point: spring + dashpot, no tension
             f_el = stiffness * depth
-            f_damp = 2.0 * damping * math.sqrt(stiffness * mass) * v_n
+            f_damp = 2.0 * damping * np.sqrt(stiffness * mass) * v_n
             if f_el + f_damp < 0.0:
                 f_damp = -f_el
             f_end = f_el + f_damp

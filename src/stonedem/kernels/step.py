@@ -42,8 +42,6 @@ a step before, ~0.24 after; per contact, the arithmetic of the law dominates.
 
 from typing import NamedTuple
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -416,8 +414,8 @@ def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
         kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
         kinetic += 0.5 * body_inertia[b] * om * om
         potential += body_mass[b] * model.gravity * body_y[b]
-        if not (math.isfinite(body_x[b]) and math.isfinite(body_y[b])
-                and math.isfinite(body_theta[b]) and math.isfinite(om)):
+        if not (np.isfinite(body_x[b]) and np.isfinite(body_y[b])
+                and np.isfinite(body_theta[b]) and np.isfinite(om)):
             finite = False
     energy, energy_acc, power = samples.energy, state.energy_acc, work.power
     energy[k, ENERGY_KINETIC] = kinetic

@@ -4,9 +4,9 @@
 :func:`~stonedem.engine.simulate.simulate` gives it, bit for bit: the same plan
 (:func:`~stonedem.engine.simulate.plan_run`), phase by phase (the settling of a quiet lead,
 then the run), with each phase's compiled loop run for all members at once by
-:func:`stonedem.kernels.ensemble.run_members`. It runs in chunks of about CHUNK_SECONDS, so
-Ctrl-C ends it within a chunk. This is the CPU side of the ensemble engine; the members'
-scenes need not share a structure.
+:func:`stonedem.kernels.ensemble.run_members`. It runs in chunks of about ``CHUNK_SECONDS``
+of :mod:`stonedem.engine.simulate`, so Ctrl-C ends it within a chunk. This is the CPU side of
+the ensemble engine; the members' scenes need not share a structure.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import numpy as np
 from numba import typed
 
 from stonedem.engine.scene import Scene
-from stonedem.engine.simulate import (CHUNK_SECONDS, FIRST_CHUNK_STEPS, Plan, RunResult, after_settle, finish_run,
-                                      main_phase, plan_run, settle_phase)
+from stonedem.engine.simulate import (FIRST_CHUNK_STEPS, Plan, RunResult, after_settle, finish_run, main_phase,
+                                      next_chunk, plan_run, settle_phase)
 from stonedem.entry import check_interrupt, deferred_signals
 from stonedem.errors import InputError
 from stonedem.kernels import step
@@ -94,16 +94,11 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
             run_members(which, *bundles, samples, at, stop, first, rest_from, n_sample, collapse, status)
             elapsed = wallclock.perf_counter() - started
             for k in which:
-                cursor, n_steps = loops[k].cursor, loops[k].settings.n_steps
+                cursor = loops[k].cursor
                 cursor.n_sample, cursor.collapse = int(n_sample[k]), int(collapse[k])
-                cursor.wall += elapsed / which.size
-                # steps integrated: up to the sample that stopped the run, else the chunk's end
-                done = int(cursor.samples.step[cursor.n_sample - 1]) if status[k] != step.STATUS_OK else min(
-                    int(stop[k]), n_steps)
-                cursor.steps += done - int(at[k])
+                cursor.ran(at[k], stop[k], status[k], loops[k].settings.n_steps, elapsed / which.size)
                 at[k] = stop[k]
-            # next chunk: about CHUNK_SECONDS of work at the rate just measured
-            size = int(min(max(FIRST_CHUNK_STEPS, size / max(elapsed, 1e-6) * CHUNK_SECONDS), 4 * size))
+            size = next_chunk(size, elapsed)
             check_interrupt()
     for i, m in enumerate(members):
         statuses[m] = int(status[i])

@@ -255,6 +255,21 @@ class Cursor:
     wall: float = 0.0
     steps: int = 0
 
+    def ran(self, start: int, stop: int, status: int, n_steps: int, wall: float) -> None:
+        """Book a call of the loop over steps start..stop-1 that ended with ``status`` and took
+        ``wall`` [s]; n_sample and collapse already hold what it returned."""
+        self.wall += wall
+        # steps integrated: up to the sample that stopped the run, else the chunk's end
+        # (step n_steps is sampled, not integrated)
+        end = int(self.samples.step[self.n_sample - 1]) if status != step.STATUS_OK else min(int(stop), n_steps)
+        self.steps += end - int(start)
+
+
+def next_chunk(size: int, elapsed: float) -> int:
+    """Steps in the next chunk: about CHUNK_SECONDS of work at the rate the last one ran."""
+    rate = size / max(elapsed, 1e-6)
+    return int(min(max(FIRST_CHUNK_STEPS, rate * CHUNK_SECONDS), 4 * size))
+
 
 @dataclass
 class CompiledLoop:
@@ -286,16 +301,10 @@ class CompiledLoop:
                 step_first, rest_from, cursor.n_sample, cursor.collapse,
             )
             elapsed = wallclock.perf_counter() - start
-            cursor.wall += elapsed
-            # steps integrated: up to the sample that stopped the run, else the chunk's end
-            # (step n_steps is sampled, not integrated)
-            end = int(cursor.samples.step[cursor.n_sample - 1]) if status != step.STATUS_OK else min(int(stop), n_steps)
-            cursor.steps += end - int(n)
+            cursor.ran(n, stop, status, n_steps, elapsed)
             n = stop
             if n_chunks <= 1:
-                # next chunk: about CHUNK_SECONDS of work at the rate just measured
-                rate = size / max(elapsed, 1e-6)
-                size = int(min(max(FIRST_CHUNK_STEPS, rate * CHUNK_SECONDS), 4 * size))
+                size = next_chunk(size, elapsed)
             if self.reporter is not None:
                 self.reporter(n * dt, n_steps * dt, cursor.wall)
             if status != step.STATUS_OK:

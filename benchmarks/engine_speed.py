@@ -16,8 +16,6 @@ import sys
 import time
 from pathlib import Path
 
-os.environ.setdefault("NUMBA_NUM_THREADS", "1")
-
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 

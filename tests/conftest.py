@@ -6,6 +6,7 @@
 
 import os
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile("ci", max_examples=50, deadline=None, derandomize=True,
@@ -16,3 +17,19 @@ settings.register_profile("fuzz", max_examples=10_000, deadline=None,
 settings.register_profile("fuzz_n", parent=settings.get_profile("fuzz"),
                           max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "10000")))
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+@pytest.fixture(autouse=True)
+def numba_threads_unchanged():
+    """No test may leave NUMBA_NUM_THREADS changed: once a parallel loop has started Numba's
+    thread pool, a changed value makes Numba refuse every later compile in the process (the
+    ensemble tests failed in CI after a benchmark main had set it in-process)."""
+    before = os.environ.get("NUMBA_NUM_THREADS")
+    yield
+    after = os.environ.get("NUMBA_NUM_THREADS")
+    if after != before:
+        if before is None:
+            os.environ.pop("NUMBA_NUM_THREADS", None)
+        else:
+            os.environ["NUMBA_NUM_THREADS"] = before
+        pytest.fail(f"NUMBA_NUM_THREADS changed from {before!r} to {after!r} by this test")

@@ -8,7 +8,6 @@ stand-in for Snakemake's ``snakemake`` object.
 
 import csv
 import importlib.util
-import os
 import runpy
 import sys
 from pathlib import Path
@@ -23,25 +22,11 @@ from stonedem.errors import InputError
 ROOT = Path(__file__).resolve().parents[2]
 
 
-@pytest.fixture(autouse=True)
-def numba_threads_left_alone():
-    """contact_cost.main sets NUMBA_NUM_THREADS for its own run: put it back for the next tests."""
-    before = os.environ.get("NUMBA_NUM_THREADS")
-    yield
-    if before is None:
-        os.environ.pop("NUMBA_NUM_THREADS", None)
-    else:
-        os.environ["NUMBA_NUM_THREADS"] = before
-
-
 def script(name):
     """A benchmarks/<name>.py module, loaded from its file (it is not a package)."""
-    before = os.environ.get("NUMBA_NUM_THREADS")
     spec = importlib.util.spec_from_file_location(f"benchmarks_{name}", ROOT / "benchmarks" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    if before is None:  # engine_speed sets a default at import
-        os.environ.pop("NUMBA_NUM_THREADS", None)
     return module
 
 

@@ -1,6 +1,6 @@
 """Snakemake script of workflow/rules/bench.smk: one stonedem.bench module per rule, thin.
 
-The benchmark modules time one thread, so NUMBA_NUM_THREADS is set before numba loads.
+The benchmark modules time one thread (none of their loops is parallel).
 Each rule's outputs must be the files its module writes (the module is told their folders):
 a mismatch, an unknown rule or a refused option ends the job with one line in the log and
 exit 2, before anything runs; the job's exit status is the module's.
@@ -8,8 +8,6 @@ exit 2, before anything runs; the job's exit status is the module's.
 
 import os
 import sys
-
-os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 sm = snakemake  # noqa: F821 - provided by Snakemake
 sys.stderr = open(sm.log[0], "w")

@@ -55,8 +55,8 @@ PRELOAD = 1.0e-7  # initial overlap of stacked faces [m], under the scene check'
 # the point law at 1e10 N/m2, ~1e-4 m with the area law at 1e8 N/m2)
 FRICTION = 0.5
 FREQUENCY = 2.0  # [Hz] of the harmonic base motion
-# the laws timed (rows of stonedem.engine.laws.LAWS; numba is imported only in main, after
-# NUMBA_NUM_THREADS is set, so the registry is read where a scene is built)
+# the laws timed (rows of stonedem.engine.laws.LAWS; numba is imported only where a scene is
+# built, so the registry is read there)
 CONTACT_MODELS = ("point", "area")
 MODEL = "point"  # contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
 # point law: the study's; the plastic landing keeps every resting contact closed
@@ -148,7 +148,7 @@ def drum_wall(n_body: int, **kwargs):
 # ---------------------------------------------------------------- broad phase micro-benchmarks
 
 def _compiled():
-    """The njit micro-benchmark kernels (compiled lazily, after main has set NUMBA_NUM_THREADS)."""
+    """The njit micro-benchmark kernels (compiled lazily, on first use)."""
     global _KERNELS
     if _KERNELS is not None:
         return _KERNELS
@@ -604,7 +604,6 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options and output paths checked first (one line, exit 2); then the benchmark."""
-    os.environ["NUMBA_NUM_THREADS"] = "1"  # before numba is imported (single-core numbers)
     from stonedem.bench import options
 
     args = build_parser().parse_args(argv)

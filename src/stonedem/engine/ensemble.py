@@ -5,8 +5,16 @@
 (:func:`~stonedem.engine.simulate.plan_run`), phase by phase (the settling of a quiet lead,
 then the run), with each phase's compiled loop run for all members at once by
 :func:`stonedem.kernels.ensemble.run_members`. It runs in chunks of about ``CHUNK_SECONDS``
-of :mod:`stonedem.engine.simulate`, so Ctrl-C ends it within a chunk. This is the CPU side of
-the ensemble engine; the members' scenes need not share a structure.
+of :mod:`stonedem.engine.simulate`, so Ctrl-C ends it within a chunk. On the CPU the members'
+scenes need not share a structure.
+
+``device="gpu"`` runs each phase on an NVIDIA GPU instead, one CUDA thread per member
+(:mod:`stonedem.kernels.gpu`): the members' bundles are stacked
+(:mod:`stonedem.kernels.members`), so they must share a structure (bodies, contact law,
+excitation kinds; records may differ in length). The GPU's arithmetic is the same IEEE
+arithmetic, but its compiler may contract a*b+c into one rounding, so runs agree with the CPU
+to rounding over a short horizon, not bit for bit, and over a chaotic record only in their
+statistics and verdicts.
 """
 
 from __future__ import annotations
@@ -26,10 +34,16 @@ from stonedem.kernels import step
 from stonedem.kernels.ensemble import run_members
 
 
-def run_ensemble(scenes: list[Scene], threads: int | None = None) -> list[RunResult]:
+DEVICES = ("cpu", "gpu")
+
+
+def run_ensemble(scenes: list[Scene], threads: int | None = None, device: str = "cpu") -> list[RunResult]:
     """Every scene's run, as :func:`stonedem.engine.simulate.simulate` gives it, with the
     compiled loops of all of them run side by side on ``threads`` threads (default: all
-    Numba has, NUMBA_NUM_THREADS)."""
+    Numba has, NUMBA_NUM_THREADS), or on the GPU (``device="gpu"``, one thread per member;
+    a RuntimeError says why when none can run it)."""
+    if device not in DEVICES:
+        raise InputError("device", f"expected one of {', '.join(DEVICES)}, got {device!r}", "give device='cpu' or 'gpu'")
     available = numba.config.NUMBA_NUM_THREADS
     if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer))
                                 or not 1 <= threads <= available):
@@ -43,14 +57,23 @@ def run_ensemble(scenes: list[Scene], threads: int | None = None) -> list[RunRes
     plans = [plan_run(scene) for scene in scenes]
     if not plans:
         return []
+    if device == "gpu":
+        from stonedem.kernels.gpu import gpu_available
+
+        usable, why = gpu_available()
+        if not usable:
+            raise RuntimeError(f"device gpu: {why}")
+        phase_runner = run_phase_gpu
+    else:
+        phase_runner = run_phase
     before = numba.get_num_threads()
     numba.set_num_threads(threads or available)
     try:
-        statuses = run_phase(plans, [settle_phase(plan) for plan in plans])
+        statuses = phase_runner(plans, [settle_phase(plan) for plan in plans])
         for plan, status in zip(plans, statuses):
             if status is not None:
                 after_settle(plan, status)
-        statuses = run_phase(plans, [main_phase(plan) for plan in plans])
+        statuses = phase_runner(plans, [main_phase(plan) for plan in plans])
         for plan, status in zip(plans, statuses):
             if status is not None:
                 plan.status = status
@@ -100,6 +123,97 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
                 at[k] = stop[k]
             size = next_chunk(size, elapsed)
             check_interrupt()
+    for i, m in enumerate(members):
+        statuses[m] = int(status[i])
+    return statuses
+
+
+def pair_capacity(model: step.Model) -> int:
+    """Candidate pairs a member's Work holds at first (:func:`stonedem.kernels.step.run`'s rule)."""
+    n_body = model.body_mass.shape[0]
+    return min(max(1, n_body * (n_body - 1) // 2), 4 * n_body + 16)
+
+
+def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
+    """:func:`run_phase` on the GPU: the members' stacked bundles stay on the device for the
+    whole phase, which runs in chunks (one launch each, Ctrl-C between them); members whose
+    pairs overflow their Work go on from that step with twice the room."""
+    from numba import cuda
+
+    from stonedem.kernels.gpu import THREADS_PER_BLOCK, member_kernel
+    from stonedem.kernels.members import copy_back, stack
+
+    members = [m for m, phase in enumerate(phases) if phase is not None]
+    statuses: list[int | None] = [None] * len(plans)
+    if not members:
+        return statuses
+    loops = [plans[m].loop for m in members]
+    for loop in loops:
+        loop.state.rest_count[0] = 0
+    kernel = member_kernel()
+    capacity = max(pair_capacity(loop.model) for loop in loops)
+    bundles = [(loop.model, loop.settings, loop.state, loop.cursor.samples, step.allocate_work(loop.model, capacity))
+               for loop in loops]
+    try:
+        leaves, lengths = stack(bundles)
+    except ValueError as exc:
+        raise InputError("scenes", f"on the GPU the members must share one structure: {exc}",
+                         "run each structure's members in their own call, or use device='cpu'") from None
+    on_device = tuple(cuda.to_device(leaf) for leaf in leaves)
+    device_lengths = cuda.to_device(lengths)
+    n = len(members)
+    at = np.array([phases[m][0] for m in members], dtype=np.int64)
+    end = np.array([phases[m][1] for m in members], dtype=np.int64)
+    first = cuda.to_device(np.array([phases[m][2] for m in members], dtype=np.int64))
+    rest_from = cuda.to_device(np.array([phases[m][3] for m in members], dtype=np.int64))
+    n_sample = np.array([loop.cursor.n_sample for loop in loops], dtype=np.int64)
+    collapse = np.array([loop.cursor.collapse for loop in loops], dtype=np.int64)
+    status = np.full(n, step.STATUS_OK, dtype=np.int64)
+    threads = min(THREADS_PER_BLOCK, n)
+    blocks = (n + threads - 1) // threads
+    last: dict[int, tuple] = {}  # the chunk that stopped each member, booked once its samples are back
+    size = FIRST_CHUNK_STEPS
+    with deferred_signals():  # a signal is raised between launches, never inside one
+        while True:
+            running = (status == step.STATUS_OK) & (at < end)
+            if not running.any():
+                break
+            stop = np.where(running, np.minimum(at + size, end), at)
+            resume = stop.copy()
+            arrays = [cuda.to_device(a) for a in (at, stop, n_sample, collapse, status, resume)]
+            started = wallclock.perf_counter()
+            kernel[blocks, threads](on_device, device_lengths, arrays[0], arrays[1], first, rest_from,
+                                              arrays[2], arrays[3], arrays[4], arrays[5])
+            cuda.synchronize()
+            elapsed = wallclock.perf_counter() - started
+            n_sample, collapse, status, resume = (a.copy_to_host() for a in arrays[2:])
+            full = status == step.STATUS_PAIRS_FULL
+            if full.any():  # more room for every member, then on from where the full ones stopped
+                capacity *= 2
+                host = [leaf.copy_to_host() for leaf in on_device]
+                bundles = [(*b[:4], step.allocate_work(b[0], capacity)) for b in bundles]
+                copy_back(host, lengths, bundles)
+                leaves, lengths = stack(bundles)
+                on_device = tuple(cuda.to_device(leaf) for leaf in leaves)
+                device_lengths = cuda.to_device(lengths)
+                status[full] = step.STATUS_OK
+            ran = np.flatnonzero(running)
+            for k in ran:
+                cursor = loops[k].cursor
+                cursor.n_sample, cursor.collapse = int(n_sample[k]), int(collapse[k])
+                stopped_at = resume[k] if full[k] else stop[k]
+                booking = (at[k], stopped_at, status[k], loops[k].settings.n_steps, elapsed / ran.size)
+                if status[k] == step.STATUS_OK:
+                    cursor.ran(*booking)
+                else:  # Cursor.ran reads the last sample's step, which is still on the device
+                    last[k] = booking
+                at[k] = stopped_at
+            size = next_chunk(size, elapsed)
+            check_interrupt()
+    host = [leaf.copy_to_host() for leaf in on_device]
+    copy_back(host, lengths, bundles)
+    for k, booking in last.items():
+        loops[k].cursor.ran(*booking)
     for i, m in enumerate(members):
         statuses[m] = int(status[i])
     return statuses

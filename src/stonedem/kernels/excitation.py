@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from stonedem.kernels import JIT_OPTIONS, NO_ALLOC_OPTIONS
+from stonedem.kernels.scalar import cos, sin
 
 KIND_NONE = 0
 KIND_HARMONIC = 1
@@ -41,8 +42,8 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
         amp = params[0]
         w = params[1]
         t_ramp = params[2]
-        sn = np.sin(w * t)
-        cs = np.cos(w * t)
+        sn = sin(w * t)
+        cs = cos(w * t)
         e, de, dde = 1.0, 0.0, 0.0
         if t < t_ramp:
             x = t / t_ramp
@@ -62,8 +63,8 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
         w = params[1]
         period = params[2]
         if t < period:
-            return (a_p / w * (t - np.sin(w * t) / w), a_p / w * (1.0 - np.cos(w * t)),
-                    a_p * np.sin(w * t))
+            return (a_p / w * (t - sin(w * t) / w), a_p / w * (1.0 - cos(w * t)),
+                    a_p * sin(w * t))
         return a_p / w * period, 0.0, 0.0
     if kind == KIND_RAMP:
         rate = params[0]

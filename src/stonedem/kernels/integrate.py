@@ -7,10 +7,10 @@ M is diagonal (Eq. 3.17), so each body updates on its own. Driven bodies are not
 integrated: their position and velocity are set from the base motion.
 """
 
-import numpy as np
 from numba import njit
 
 from stonedem.kernels import INLINE_OPTIONS
+from stonedem.kernels.scalar import cos, sin
 
 
 @njit(**INLINE_OPTIONS)
@@ -21,8 +21,8 @@ def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, 
     cos_theta, sin_theta (n_body,) receive each body's cos and sin of theta (the time loop
     reuses them for its measures)."""
     for b in range(n_body):
-        c = np.cos(body_theta[b])
-        s = np.sin(body_theta[b])
+        c = cos(body_theta[b])
+        s = sin(body_theta[b])
         cos_theta[b] = c
         sin_theta[b] = s
         for k in range(vert_start[b], vert_start[b + 1]):

@@ -19,10 +19,10 @@ Two contact frames are offered (``FRAME_*``):
   normal by +-d/L, so a block resting flat feels a spurious sideways force of F_N d/L.
 """
 
-import numpy as np
 from numba import njit
 
 from stonedem.kernels import NO_ALLOC_OPTIONS
+from stonedem.kernels.scalar import sqrt
 
 MAX_OVERLAP_VERTICES = 64
 FRAME_BOUNDARY = 0
@@ -157,7 +157,7 @@ def contact_tangent(x, y, n):
                 best = d2
                 bx = dx
                 by = dy
-    length = np.sqrt(best)
+    length = sqrt(best)
     if length <= 0.0:
         return 1.0, 0.0, 0.0
     return bx / length, by / length, length
@@ -171,7 +171,7 @@ def on_boundary(px, py, vx, vy, tol):
         k1 = k + 1 if k + 1 < n else 0
         ex = vx[k1] - vx[k]
         ey = vy[k1] - vy[k]
-        length = np.sqrt(ex * ex + ey * ey)
+        length = sqrt(ex * ex + ey * ey)
         if length <= 0.0:
             continue
         rx = px - vx[k]
@@ -224,7 +224,7 @@ def contact_frame(x, y, n, ax, ay, bx, by, from_x, from_y, to_x, to_y, frame_rul
     if frame_rule == FRAME_BOUNDARY:
         scale = 1.0 + abs(x[0]) + abs(y[0])
         dx, dy = boundary_normal(x, y, n, ax, ay, bx, by, 1e-9 * scale)
-        norm = np.sqrt(dx * dx + dy * dy)
+        norm = sqrt(dx * dx + dy * dy)
         if norm > 0.0:
             nx = dx / norm
             ny = dy / norm

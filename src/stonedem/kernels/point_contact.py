@@ -42,6 +42,7 @@ from numba import njit
 from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_END, MEM_M_DAMP, push_pair, record_point_force, relative_velocity, release_contact, tangential_force)
 from stonedem.kernels.overlap import clip_convex_polygons, polygon_area_centroid
+from stonedem.kernels.scalar import sqrt
 
 # an end counts as shared by both bodies' vertices when they lie this close along the
 # tangent, relative to the contact length
@@ -65,7 +66,7 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
             k1 = k + 1 if k + 1 < e else s
             ex = world_x[k1] - world_x[k]
             ey = world_y[k1] - world_y[k]
-            length = np.sqrt(ex * ex + ey * ey)
+            length = sqrt(ex * ex + ey * ey)
             edge_len[k] = length
             if length > 0.0:
                 edge_nx[k] = ey / length
@@ -303,7 +304,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         # the frame: n from a to b, the bisector of a's outward and b's inward face normal
         nx = fa_nx - fb_nx
         ny = fa_ny - fb_ny
-        norm = np.sqrt(nx * nx + ny * ny)
+        norm = sqrt(nx * nx + ny * ny)
         if norm > 0.0:
             nx /= norm
             ny /= norm
@@ -383,7 +384,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
                 body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
             # thesis Eq. 3.4 at the point: spring + dashpot, no tension
             f_el = stiffness * depth
-            f_damp = 2.0 * damping * np.sqrt(stiffness * mass) * v_n
+            f_damp = 2.0 * damping * sqrt(stiffness * mass) * v_n
             if f_el + f_damp < 0.0:
                 f_damp = -f_el
             f_end = f_el + f_damp

@@ -52,6 +52,7 @@ from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
 from stonedem.kernels.point_contact import point_contact_forces
+from stonedem.kernels.scalar import isfinite
 
 STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
@@ -414,8 +415,8 @@ def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
         kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
         kinetic += 0.5 * body_inertia[b] * om * om
         potential += body_mass[b] * model.gravity * body_y[b]
-        if not (np.isfinite(body_x[b]) and np.isfinite(body_y[b])
-                and np.isfinite(body_theta[b]) and np.isfinite(om)):
+        if not (isfinite(body_x[b]) and isfinite(body_y[b])
+                and isfinite(body_theta[b]) and isfinite(om)):
             finite = False
     energy, energy_acc, power = samples.energy, state.energy_acc, work.power
     energy[k, ENERGY_KINETIC] = kinetic

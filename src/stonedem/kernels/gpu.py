@@ -1,0 +1,102 @@
+"""The time loop on an NVIDIA GPU: one CUDA thread runs one member (issue 33).
+
+Each thread takes its member's bundles out of the stacked leaves
+(:func:`stonedem.kernels.members.member_bundles`) and runs the loop the CPU runs,
+:func:`stonedem.kernels.step.run_steps`, compiled for the GPU by numba-cuda from the same
+source (the ``[gpu]`` extra). Under Numba's CUDA simulator (``NUMBA_ENABLE_CUDASIM=1``) the
+threads run on the CPU, which the tests use. The kernel is built on first use, so importing
+this module needs no GPU and no numba-cuda.
+"""
+
+import functools
+
+import numba
+
+from numba import njit
+
+from stonedem.kernels import NO_ALLOC_OPTIONS, scalar
+from stonedem.kernels.members import member_bundles
+from stonedem.kernels.step import STATUS_OK, run_steps
+
+THREADS_PER_BLOCK = 64  # members per block: the loop is long and branchy, so small blocks
+cuda = None  # numba.cuda, imported on first use; a global, so the simulator can stand in for it
+
+
+@njit(**{**NO_ALLOC_OPTIONS, "cache": False})  # member_bundles is not cacheable (stonedem.kernels.members)
+def run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):
+    """Member m's steps start[m]..stop[m]-1, unless its status is no longer STATUS_OK; writes
+    its status, n_sample, collapse_sample and the step to go on from (``resume``: where
+    STATUS_PAIRS_FULL stopped it) in place."""
+    if status[m] != STATUS_OK or start[m] >= stop[m]:
+        return
+    model, settings, state, samples, work = member_bundles(leaves, lengths, m)
+    s, n, c, go_on = run_steps(model, settings, state, samples, work, start[m], stop[m], first[m], rest_from[m],
+                               n_sample[m], collapse_sample[m])
+    status[m] = s
+    n_sample[m] = n
+    collapse_sample[m] = c
+    resume[m] = go_on
+
+
+def _host_array(a):
+    """The NumPy array behind one of the CUDA simulator's stand-ins for a device array."""
+    while hasattr(a, "_item"):
+        a = a._item
+    return getattr(a, "_ary", a)
+
+
+@functools.lru_cache(maxsize=None)
+def member_kernel():
+    """The CUDA kernel ``kernel[blocks, THREADS_PER_BLOCK](leaves, lengths, start, stop, first,
+    rest_from, n_sample, collapse_sample, status, resume)``: thread m runs :func:`run_member`.
+
+    Under the simulator the threads hand :func:`run_member`, compiled for the CPU, the NumPy
+    arrays behind the simulator's stand-ins (compiled code cannot take those): what it tests
+    is the stacking, the launches and the copies, with the loop the CPU runs; that the loop
+    compiles for a GPU is tests/kernels/test_cuda_compile.py's job."""
+    global cuda
+    from numba import cuda
+
+    if numba.config.ENABLE_CUDASIM:
+        @cuda.jit
+        def run_members_simulated(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample,
+                                  status, resume):
+            m = cuda.grid(1)
+            if m < start.shape[0]:
+                arrays = [_host_array(a) for a in (lengths, start, stop, first, rest_from, n_sample,
+                                                   collapse_sample, status, resume)]
+                run_member(tuple(_host_array(a) for a in leaves), arrays[0], m, *arrays[1:])
+
+        return run_members_simulated
+
+    scalar.register_cuda()
+
+    @cuda.jit
+    def run_members_cuda(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status,
+                         resume):
+        m = cuda.grid(1)
+        if m < start.shape[0]:
+            run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status,
+                       resume)
+
+    return run_members_cuda
+
+
+def gpu_available() -> tuple[bool, str]:
+    """(whether a CUDA GPU can run the loop, why not or which device) - never raises."""
+    try:
+        from numba import cuda
+
+        if numba.config.ENABLE_CUDASIM:
+            return True, "Numba's CUDA simulator (NUMBA_ENABLE_CUDASIM=1)"
+        if not cuda.is_available():
+            return False, "no CUDA GPU or driver found"
+        import importlib.util
+
+        if importlib.util.find_spec("numba_cuda") is None:
+            return False, "numba-cuda is not installed (pip install 'stonedem[gpu]')"
+        device = cuda.get_current_device()
+        return True, f"{device.name.decode() if isinstance(device.name, bytes) else device.name}, " \
+                     f"compute capability {device.compute_capability[0]}.{device.compute_capability[1]}"
+    except Exception as exc:  # a broken driver or toolkit: say why, fall back
+        return False, f"CUDA unusable: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}"

@@ -1,0 +1,130 @@
+"""The GPU ensemble (issue 33), under Numba's CUDA simulator: stacking, launches, chunking,
+pair-buffer growth and copies back give every member the run simulate gives it.
+
+The simulator runs each thread's loop compiled for the CPU (stonedem.kernels.gpu), so this
+checks everything but the GPU's own code generation (tests/kernels/test_cuda_compile.py) and
+its rounding, which only a GPU shows. Each check runs in a child process: the simulator is
+chosen when numba.cuda is first imported.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from stonedem.engine.ensemble import run_ensemble
+from stonedem.errors import InputError
+
+# agreement asked of the GPU over a short horizon (issue 33), on positions and rotations
+TOLERANCE = 1e-9
+
+CHILD = textwrap.dedent("""
+    import json, sys
+    import numpy as np
+    from stonedem.bench.kernel import SCENES
+    from stonedem.engine import ensemble
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import simulate
+
+    record = sys.argv[1]
+    def spec(name, duration, **changes):
+        s = SCENES[name][1](duration)
+        for key, value in changes.items():  # merged, unless it names another kind
+            s[key] = value if "kind" in value else {**s.get(key, {}), **value}
+        return s
+    groups = {
+        # a record with a quiet lead (settling, then carried), two lengths of record
+        "record": [{"structure": {"kind": "column", "n_drums": 1, "height": 3.0, "width": 0.6}, "friction": 0.6,
+                    "contact": {"model": "point", "k_n": 1e9},
+                    "excitation": {"kind": "record", "file": record, "baseline": False, "scale": scale},
+                    "solver": {"duration": duration}, "output": {"every": 0.01}}
+                   for scale, duration in ((1.0, 3.0), (2.5, 2.0), (4.0, 3.0))],
+        # a 1 x 4 m block under a 2 Hz harmonic: rocks at 0.05 m, overturns within 1.5 s at 0.4 m
+        "collapse": [{"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
+                      "contact": {"model": "point", "k_n": 1e9},
+                      "excitation": {"kind": "harmonic", "frequency": 2.0, "amplitude": amplitude},
+                      "solver": {"duration": 1.5, "stop_on_collapse": True}, "output": {"every": 0.01}}
+                     for amplitude in (0.05, 0.4)],
+        "column_8": [spec("column_8", 0.5, excitation={"pga": pga}) for pga in (2.0, 8.0)],
+        "colonnade": [spec("colonnade_3x3", 0.3, excitation={"kind": "harmonic", "pga": pga, "frequency": 2.0})
+                      for pga in (3.0, 6.0)],
+        "lone_block": [spec("lone_block", 0.5)],
+        "area_law": [spec("column_1", 0.5, contact={"model": "area", "k_n": 1e9, "c_n": 1e4},
+                          excitation={"pga": pga}) for pga in (6.0, 10.0)],
+    }
+    if sys.argv[2] == "small_pairs":  # one pair of room at first: the buffers must grow
+        ensemble.pair_capacity = lambda model: 1
+        groups = {"colonnade": groups["colonnade"]}
+    out = {}
+    for name, specs in groups.items():
+        scenes = [scene_from_dict(s) for s in specs]
+        rows = []
+        for scene, gpu in zip(scenes, ensemble.run_ensemble(scenes, device="gpu")):
+            cpu = simulate(scene)
+            same_shape = cpu.theta.shape == gpu.theta.shape
+            rows.append({
+                "status": [cpu.status, gpu.status], "steps": [cpu.steps_run, gpu.steps_run],
+                "collapse": [cpu.collapse_step, gpu.collapse_step], "onset": [cpu.onset_step, gpu.onset_step],
+                "samples": [len(cpu.time), len(gpu.time)],
+                "position": float(max(np.max(np.abs(cpu.x - gpu.x)), np.max(np.abs(cpu.y - gpu.y))))
+                if same_shape else None,
+                "theta": float(np.max(np.abs(cpu.theta - gpu.theta))) if same_shape else None,
+                "peaks": float(np.max(np.abs(cpu.peaks - gpu.peaks))),
+            })
+        out[name] = rows
+    print(json.dumps(out))
+""")
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory):
+    """1 s of silence, then a 2 Hz, 0.3 g sine for 1 s, then silence."""
+    t = np.arange(0.0, 3.0 + 1e-9, 0.005)
+    a = np.where((t >= 1.0) & (t < 2.0), 0.3 * 9.81 * np.sin(2 * np.pi * 2 * (t - 1.0)), 0.0)
+    path = tmp_path_factory.mktemp("gpu") / "quiet_sine.txt"
+    np.savetxt(path, np.column_stack([t, a]), header="time [s], acceleration [m/s2]")
+    return path
+
+
+def simulated(record, mode) -> dict:
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+    done = subprocess.run([sys.executable, "-c", CHILD, str(record), mode], env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads(done.stdout.splitlines()[-1])
+
+
+@pytest.mark.parametrize("mode", ["plain", "small_pairs"])
+def test_simulated_gpu_members_run_as_simulate_runs_them(record, mode):
+    groups = simulated(record, mode)
+    assert groups
+    for name, rows in groups.items():
+        for i, row in enumerate(rows):
+            where = f"{name}[{i}]"
+            for key in ("status", "steps", "collapse", "onset", "samples"):
+                assert row[key][0] == row[key][1], f"{where}: {key} cpu {row[key][0]}, gpu {row[key][1]}"
+            assert row["position"] <= TOLERANCE and row["theta"] <= TOLERANCE, where
+            assert row["peaks"] <= TOLERANCE, where
+    if mode == "plain":  # the groups do what they are there for
+        assert groups["collapse"][1]["collapse"][0] >= 0
+        assert groups["collapse"][0]["collapse"][0] < 0
+        assert len({row["samples"][0] for row in groups["record"]}) > 1  # records of two lengths
+
+
+def test_unknown_device_is_refused_in_one_line():
+    with pytest.raises(InputError, match="device"):
+        run_ensemble([], device="tpu")
+
+
+def test_gpu_without_one_says_why(monkeypatch):
+    from stonedem.bench.kernel import SCENES
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.kernels import gpu
+
+    monkeypatch.setattr(gpu, "gpu_available", lambda: (False, "no CUDA GPU or driver found"))
+    with pytest.raises(RuntimeError, match="^device gpu: no CUDA GPU"):
+        run_ensemble([scene_from_dict(SCENES["lone_block"][1](0.1))], device="gpu")

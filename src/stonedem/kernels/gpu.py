@@ -11,7 +11,7 @@ this module needs no GPU and no numba-cuda.
 import functools
 
 import numba
-
+import numpy as np
 from numba import njit
 
 from stonedem.kernels import NO_ALLOC_OPTIONS, scalar
@@ -69,17 +69,17 @@ def member_kernel():
 
         return run_members_simulated
 
+    if not hasattr(np, "row_stack"):  # numba-cuda 0.30.4 still calls it; NumPy 2.5 removed it
+        np.row_stack = np.vstack
     scalar.register_cuda()
+    return cuda.jit(run_members_on_gpu)
 
-    @cuda.jit
-    def run_members_cuda(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status,
-                         resume):
-        m = cuda.grid(1)
-        if m < start.shape[0]:
-            run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status,
-                       resume)
 
-    return run_members_cuda
+def run_members_on_gpu(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):
+    """The kernel's source (compiled by :func:`member_kernel`): thread m runs member m."""
+    m = cuda.grid(1)
+    if m < start.shape[0]:
+        run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status, resume)
 
 
 def gpu_available() -> tuple[bool, str]:

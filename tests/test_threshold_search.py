@@ -3,10 +3,13 @@
 import math
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from stonedem.errors import InputError
 from stonedem.study.grid import SEARCH_PARAMETERS
-from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value, search, summary)
+from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value, search,
+                                   search_together, summary)
 
 SETTINGS = SearchSettings()
 
@@ -71,3 +74,49 @@ def test_every_second_fill_run_looks_above_the_threshold_for_resurrections():
     assert [r.phase for r in runs if r.phase == "fill"] == ["fill"] * 3
     assert result["resurrections"] == [2.797] and not result["monotonic"]
     assert 1.8 < result["lower"] < 1.85 <= result["upper"] and result["status"] == BRACKETED
+
+
+# collapse as a function of the intensity: a threshold, windows of collapse below it (found by
+# fills or not), windows of survival above it (resurrections)
+windows = st.lists(st.tuples(st.floats(0.1, 70.0), st.floats(1.0, 1.5), st.booleans()), max_size=3)
+
+
+def outcome_rule(threshold, windows):
+    def collapses(value):
+        for low, ratio, collapse in windows:
+            if low <= value <= low * ratio:
+                return collapse
+        return value >= threshold
+    return collapses
+
+
+@given(st.lists(st.tuples(st.floats(0.1, 80.0), windows), min_size=1, max_size=4), st.sampled_from([1, 3, 8, 32]),
+       st.sampled_from([SETTINGS, SearchSettings(start=4.0, fill=5), SearchSettings(factor=3.0, tolerance=0.05, fill=0)]))
+def test_searches_together_make_exactly_the_runs_each_search_makes_alone(systems, width, settings):
+    rules = [outcome_rule(threshold, w) for threshold, w in systems]
+    asked = []
+
+    def run_many(requests):
+        asked.append(len(requests))
+        return [rules[i](value) for i, value, _ in requests]
+
+    together, rounds = search_together(run_many, [settings] * len(rules), width)
+    for rule, runs in zip(rules, together):
+        assert runs == search(lambda value, phase: rule(value), settings)
+    assert rounds == len(asked) and max(asked) <= width * len(rules)
+    if width == 1:  # one run a round: the sequential search itself
+        assert rounds == max(len(runs) for runs in together)
+    else:
+        assert rounds <= max(len(runs) for runs in together)
+
+
+def test_wide_rounds_need_fewer_rounds_than_runs():
+    runs, rounds = search_together(lambda requests: [value >= 12.3 for _, value, _ in requests], [SETTINGS], 16)
+    assert runs[0] == search(lambda value, phase: value >= 12.3, SETTINGS)
+    assert rounds <= len(runs[0]) / 2  # 3 rounds for 14 runs (measured)
+
+
+@pytest.mark.parametrize("width", [0, -1, 2.5, True, "8"])
+def test_a_bad_width_is_refused(width):
+    with pytest.raises(InputError, match="width"):
+        search_together(lambda requests: [], [SETTINGS], width)

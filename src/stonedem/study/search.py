@@ -10,6 +10,13 @@ and every survivor above the smallest collapse is a "resurrection", reported, ne
 The search is a pure function of the runs so far (:func:`next_value`), so it does not care
 what the intensity measure is (a record's PGA, its PGV, a scale factor): the caller runs a
 case at the value and reports whether it collapsed.
+
+A GPU wants many runs at once, not one after another. :func:`search_together` runs many
+searches in rounds: each round runs, for every search not yet done, the values the rule
+could ask for next under either outcome of the runs still unknown (the rule's decision
+tree, breadth first, up to ``width`` values), so the runs the rule does ask for are known a
+few levels ahead. Replayed on the known outcomes, the rule then makes exactly the runs
+:func:`search` makes: the same brackets, fills and resurrections; the other runs are spent.
 """
 
 from __future__ import annotations
@@ -161,6 +168,57 @@ def search(run: Callable[[float, str], bool], settings: SearchSettings,
         value, phase = step
         runs.append(Run(value, bool(run(value, phase)), phase))
     return runs
+
+
+def replay(outcomes: dict[float, bool], settings: SearchSettings) -> tuple[list[Run], tuple[float, str] | None]:
+    """The runs :func:`search` makes when each value's outcome is ``outcomes[value]``, as far
+    as they are known, and the next (value, phase) it needs (None: the search is done)."""
+    runs: list[Run] = []
+    while (step := next_value(runs, settings)) is not None and step[0] in outcomes:
+        runs.append(Run(step[0], outcomes[step[0]], step[1]))
+    return runs, step
+
+
+def speculative_values(outcomes: dict[float, bool], settings: SearchSettings, width: int) -> list[tuple[float, str]]:
+    """Up to ``width`` (value, phase) the search may need next: the rule's next value, then
+    breadth first the values it would ask for after each outcome of those (known values take
+    their known outcome). Empty when the search is done."""
+    runs, step = replay(outcomes, settings)
+    chosen: dict[float, str] = {}
+    queue = [runs]
+    while queue and len(chosen) < width:
+        runs = queue.pop(0)
+        step = next_value(runs, settings)
+        if step is None:
+            continue
+        value, phase = step
+        if value in outcomes:
+            queue.append(runs + [Run(value, outcomes[value], phase)])
+            continue
+        chosen.setdefault(value, phase)
+        queue += [runs + [Run(value, collapsed, phase)] for collapsed in (False, True)]
+    return list(chosen.items())
+
+
+def search_together(run_many: Callable[[list[tuple[int, float, str]]], list[bool]],
+                    settings: list[SearchSettings], width: int = 8) -> tuple[list[list[Run]], int]:
+    """Many searches in rounds (:func:`speculative_values`, ``width`` runs per search and
+    round): ``run_many([(search, value, phase), ...])`` simulates them all at once and returns
+    whether each collapsed. Returns each search's runs, as :func:`search` makes them, and the
+    number of rounds."""
+    if isinstance(width, bool) or not isinstance(width, int) or width < 1:
+        raise InputError("width", f"expected a whole number >= 1, got {width!r}", "give e.g. width=8")
+    outcomes: list[dict[float, bool]] = [{} for _ in settings]
+    rounds = 0
+    while True:
+        requests = [(i, value, phase) for i, s in enumerate(settings)
+                    for value, phase in speculative_values(outcomes[i], s, width)]
+        if not requests:
+            break
+        rounds += 1
+        for (i, value, _), collapsed in zip(requests, run_many(requests)):
+            outcomes[i][value] = bool(collapsed)
+    return [replay(known, s)[0] for known, s in zip(outcomes, settings)], rounds
 
 
 def bracket(runs: list[Run]) -> dict:

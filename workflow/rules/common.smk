@@ -1,3 +1,4 @@
+import math
 import sys
 from pathlib import Path
 
@@ -59,7 +60,12 @@ FIGURE_NAMES = list(FIGURES)
 
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
 # jobs sized to their cost (stonedem.study.jobs): cheap cases share a job, each search is one job
-JOBS = stonedem.study.jobs.plan_jobs({name: list(cases.values()) for name, cases in STUDIES.items()})
+# config device: gpu runs each search study's searches in one job, side by side on the GPU
+# (stonedem.study.runner.run_searches), so the device gets many members at once
+GPU_SEARCHES = config.get("device", "cpu") == "gpu"
+JOBS = stonedem.study.jobs.plan_jobs(
+    {name: list(cases.values()) for name, cases in STUDIES.items()}, search_seconds=math.inf if GPU_SEARCHES else 0.0
+)
 
 
 def requested_targets():
@@ -94,7 +100,11 @@ if config.get("fragility") is not None and fragility_requested():
         sys.exit(2)
 FRAGILITY_JOBS = stonedem.study.jobs.plan_jobs(
     {name: list(cases.values()) for name, cases in FRAGILITY_STUDIES.items()},
-    search_seconds=float(config.get("fragility", {}).get("job_seconds", stonedem.fragility.ida.DEFAULT_JOB_SECONDS)),
+    search_seconds=(
+        math.inf
+        if GPU_SEARCHES
+        else float(config.get("fragility", {}).get("job_seconds", stonedem.fragility.ida.DEFAULT_JOB_SECONDS))
+    ),
 )
 JOB_PRIORITY = stonedem.study.jobs.job_priority(JOBS + FRAGILITY_JOBS)
 # the jobs that are not packed (a wall pushover, a validation: up to ~40 s each) start before

@@ -1,15 +1,25 @@
-"""Snakemake script: the collapse-threshold searches of one job (stonedem.study.runner.run_search)."""
+"""Snakemake script: the collapse-threshold searches of one job (stonedem.study.runner).
+
+config device: cpu runs them one after another (run_search); gpu runs them together on the
+GPU (run_searches), or on every CPU core when no GPU can run them, saying why in one line.
+"""
 
 import sys
 
 from stonedem.entry import workflow_log
 
-from stonedem.study.runner import CaseStore, run_search
 from stonedem.study.grid import Case
+from stonedem.study.runner import CaseStore, choose_device, run_search, run_searches
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
-systems = snakemake.params.systems  # noqa: F821
-for i, (system, runs, search) in enumerate(zip(systems, snakemake.output.runs, snakemake.output.search)):  # noqa: F821
-    print(f"system {i + 1}/{len(systems)}", file=sys.stderr)
-    run_search(Case.from_dict(system), runs, search, store)
+systems = [Case.from_dict(system) for system in snakemake.params.systems]  # noqa: F821
+outputs = snakemake.output  # noqa: F821
+if snakemake.config.get("device", "cpu") == "gpu":  # noqa: F821
+    device, line = choose_device("gpu")
+    print(line, file=sys.stderr)
+    run_searches(systems, outputs.runs, outputs.search, store, device=device)
+else:
+    for i, (system, runs, search) in enumerate(zip(systems, outputs.runs, outputs.search)):
+        print(f"system {i + 1}/{len(systems)}", file=sys.stderr)
+        run_search(system, runs, search, store)

@@ -44,8 +44,25 @@ def _fits(scene: Scene) -> bool:
     return True
 
 
-def run_scene(scene: Scene, progress: bool = False) -> xr.Dataset:
+def run_scenes(scenes: list[Scene], device: str = "cpu", threads: int | None = None) -> list[xr.Dataset]:
+    """:func:`run_scene` of each scene, their first attempts run side by side
+    (:func:`stonedem.engine.ensemble.run_ensemble` on ``device``); a retry at a halved step
+    runs alone on the CPU. Each dataset's attrs say the device of its first attempt."""
+    from stonedem.engine.ensemble import run_ensemble
+
+    scenes = list(scenes)
+    for scene in scenes:
+        preflight(scene)
+    results = run_ensemble(scenes, threads=threads, device=device)
+    datasets = [run_scene(scene, first=result) for scene, result in zip(scenes, results)]
+    for ds in datasets:
+        ds.attrs["device"] = device
+    return datasets
+
+
+def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = None) -> xr.Dataset:
     """Simulate a scene and return its self-describing xarray Dataset (:func:`scene_dataset`).
+    ``first``: the first attempt, already run (:func:`run_scenes`).
 
     Refused before computing: :func:`stonedem.engine.simulate.preflight`. After it: a diverged run is an
     error; a penetration or energy drift past its limit is the dataset's ``status`` and a warning.
@@ -56,7 +73,7 @@ def run_scene(scene: Scene, progress: bool = False) -> xr.Dataset:
     preflight(scene)
     requested = scene.dt_safety
     for retry in range(ENERGY_RETRIES + 1):
-        result = simulate(scene, progress=progress)
+        result = first if retry == 0 and first is not None else simulate(scene, progress=progress)
         diverged = result.status == step.STATUS_NONFINITE
         checks = None if diverged else run_checks(scene, result)
         # an automatic step whose run diverges or drifts past the energy tolerance is halved

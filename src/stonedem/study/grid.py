@@ -606,13 +606,32 @@ def _located(error: InputError, case: Case, study: dict, defaults: dict, origin:
 def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
     """Simulate one case: the scene's dataset with the swept parameters as scalar coordinates."""
     from stonedem.engine.run import run_scene
+
+    return case_dataset(case, run_scene(case_scene(case, base_dir)))
+
+
+def run_cases_together(cases: list[Case], base_dir: Path | str = ".", device: str = "cpu") -> list[xr.Dataset]:
+    """:func:`run_case` of each case, simulated side by side on ``device``
+    (:func:`stonedem.engine.run.run_scenes`; on the GPU the cases must share a structure)."""
+    from stonedem.engine.run import run_scenes
+
+    scenes = [case_scene(case, base_dir) for case in cases]
+    return [case_dataset(case, ds) for case, ds in zip(cases, run_scenes(scenes, device=device))]
+
+
+def case_scene(case: Case, base_dir: Path | str = "."):
+    """The case's Scene; a record's own length (plus the rest after it) when it gives no duration."""
     from stonedem.engine.scene import scene_from_dict
 
     scene_spec = copy.deepcopy(case.scene)
     solver = scene_spec.setdefault("solver", {})
     if solver.get("duration") is None:
         solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
-    ds = run_scene(scene_from_dict(scene_spec, base_dir=base_dir))
+    return scene_from_dict(scene_spec, base_dir=base_dir)
+
+
+def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
+    """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
     for key, value in case.params.items():
         _, units, long_name, _ = PARAMETERS[key]
         ds = ds.assign_coords({key: xr.Variable((), value, {"units": units, "long_name": long_name})})

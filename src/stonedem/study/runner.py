@@ -30,8 +30,8 @@ from stonedem.io.netcdf import write_dataset
 from stonedem.entry import progress_print
 from stonedem.motion.suites import record_file_name
 from stonedem.study.cube import search_dataset
-from stonedem.study.grid import Case, run_case, search_case
-from stonedem.study.search import Run, search, summary
+from stonedem.study.grid import Case, run_case, run_cases_together, search_case
+from stonedem.study.search import Run, search, search_together, summary
 
 _SOURCE_FINGERPRINT: list[str] = []
 
@@ -231,3 +231,85 @@ def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, sto
                         f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
     write_dataset(search_dataset(system, runs, [written[r.value] for r in runs], result), summary_path)
     return runs, result
+
+
+# runs per search and round of run_searches (stonedem.study.search.search_together): 16 gives
+# 3 rounds for a 14-run search, 48 runs simulated
+SEARCH_WIDTH = 16
+
+
+def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, store: CaseStore, device: str = "cpu",
+                 width: int = SEARCH_WIDTH, log=None) -> list[tuple[list[Run], dict]]:
+    """The threshold searches of ``systems`` together, in rounds
+    (:func:`stonedem.study.search.search_together`): each round's runs restored from the store
+    where they are, the others simulated side by side on ``device``
+    (:func:`stonedem.study.grid.run_cases_together`). Each search's runs and summary are
+    those :func:`run_search` gives; its summary's attrs say the device and the plan."""
+    log = log or sys.stderr
+    outputs: list[dict[float, Path]] = [{} for _ in systems]
+    simulated = [0]
+
+    def run_many(requests):
+        collapsed: list[bool | None] = [None] * len(requests)
+        todo = []
+        for k, (i, value, _) in enumerate(requests):
+            case = search_case(systems[i], value)
+            output = outputs[i][value] = Path(runs_dirs[i]) / f"{case.id}.nc"
+            if store.restore(case, output, log):
+                collapsed[k] = _case_info(output)["collapsed"]
+            else:
+                todo.append((k, case, output))
+        start = wallclock.perf_counter()
+        if todo:
+            for (k, case, output), ds in zip(todo, run_cases_together([c for _, c, _ in todo], store.records_dir,
+                                                                        device)):
+                write_dataset(ds, output)
+                store.keep(case, output)
+                collapsed[k] = _info(ds)["collapsed"]
+        simulated[0] += len(todo)
+        progress_print(log, f"round of {len(requests)} runs over {len({i for i, _, _ in requests})} searches: "
+                            f"{len(todo)} simulated on the {device.upper()} in "
+                            f"{wallclock.perf_counter() - start:.1f} s, {len(requests) - len(todo)} restored")
+        return collapsed
+
+    all_runs, rounds = search_together(run_many, [system.search for system in systems], width)
+    plan = (f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
+            f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept")
+    out = []
+    for system, runs, known, summary_path in zip(systems, all_runs, outputs, summary_paths):
+        result = summary(runs, system.search)
+        progress_print(log, f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
+                            f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
+                            f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
+        ds = search_dataset(system, runs, [known[r.value] for r in runs], result)
+        ds.attrs.update(device=device, search_plan=plan, **library_versions())
+        write_dataset(ds, summary_path)
+        out.append((runs, result))
+    return out
+
+
+def choose_device(wanted: str) -> tuple[str, str]:
+    """(device to run on, one line saying which and why): the GPU when one can run the loop,
+    else the CPU ensemble on every core."""
+    if wanted != "gpu":
+        return "cpu", "device: cpu"
+    from stonedem.kernels.gpu import gpu_available
+
+    usable, why = gpu_available()
+    if usable:
+        return "gpu", f"device: gpu ({why})"
+    return "cpu", f"device: gpu asked for, but {why}: running the searches together on the CPU's cores instead"
+
+
+def library_versions() -> dict[str, str]:
+    """Versions of the libraries that computed a result (numba-cuda: 'not installed' without it)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    import numba
+    import numpy as np
+
+    try:
+        cuda = version("numba-cuda")
+    except PackageNotFoundError:
+        cuda = "not installed"
+    return {"numba_version": numba.__version__, "numpy_version": np.__version__, "numba_cuda_version": cuda}

@@ -102,3 +102,38 @@ def test_an_unknown_case_store_file_is_never_read_as_a_case(tmp_path):
     assert not store.restore(case, tmp_path / "out.nc") and not (tmp_path / "out.nc").exists()
     with xr.open_dataset(run_cases([case], [tmp_path / "out.nc"], store, io.StringIO()) and tmp_path / "out.nc") as ds:
         assert ds.attrs["case"] == case.id
+
+
+def test_searches_run_together_give_the_summaries_searches_run_alone_give(tmp_path):
+    """run_searches (rounds of runs side by side, the CPU ensemble here) makes each search's
+    runs exactly as run_search does, and its summaries differ only in the attributes that say
+    how they were computed; the device fallback says why in one line."""
+    from stonedem.io.netcdf import open_result
+    from stonedem.study.runner import choose_device, run_searches
+
+    study = {**BLOCK, "grid": {"friction": [0.5, 0.7]},
+             "search": {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 1,
+                        "minimum": 0.005, "maximum": 0.64}}
+    systems = case_table("block", study)
+    alone = [run_search(s, tmp_path / f"alone{i}", tmp_path / f"alone{i}.nc", CaseStore(None), io.StringIO())
+             for i, s in enumerate(systems)]
+    log = io.StringIO()
+    together = run_searches(systems, [tmp_path / f"together{i}" for i in range(2)],
+                            [tmp_path / f"together{i}.nc" for i in range(2)], CaseStore(None), "cpu", width=4, log=log)
+    assert [runs for runs, _ in together] == [runs for runs, _ in alone]
+    for i in range(2):
+        a, b = open_result(tmp_path / f"alone{i}.nc"), open_result(tmp_path / f"together{i}.nc")
+        assert a.drop_attrs(deep=False).equals(b.drop_attrs(deep=False))
+        assert b.attrs["device"] == "cpu" and "rounds" in b.attrs["search_plan"] and "numba_version" in b.attrs
+    assert "round of" in log.getvalue()
+    device, line = choose_device("cpu")
+    assert (device, line) == ("cpu", "device: cpu")
+
+
+def test_a_gpu_asked_for_without_one_falls_back_to_the_cpu_in_one_line(monkeypatch):
+    from stonedem.kernels import gpu
+    from stonedem.study.runner import choose_device
+
+    monkeypatch.setattr(gpu, "gpu_available", lambda: (False, "no CUDA GPU or driver found"))
+    device, line = choose_device("gpu")
+    assert device == "cpu" and "\n" not in line and "no CUDA GPU" in line and "CPU" in line

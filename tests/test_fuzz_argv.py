@@ -202,7 +202,7 @@ def test_fuzz_argv_of_every_subcommand(arena, command, data):
 
 # --- benchmark scripts ------------------------------------------------------------------
 
-BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.fuzz", "stonedem.bench.kernel",
+BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "stonedem.bench.fuzz", "stonedem.bench.kernel",
                  "stonedem.bench.restitution", "stonedem.bench.skipping", "stonedem.bench.stability",
                  "stonedem.bench.work_precision"]
 BENCH_SCRIPTS = ["engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables"]
@@ -247,7 +247,8 @@ def _bench_options(main) -> dict:
 
 # output options that name a file (the others name a folder)
 FILE_OUTPUTS = {("stonedem.bench.fuzz", "--out"), ("table_a1_fits", "--output"), ("stonedem.bench.stability", "--figure"),
-                ("stonedem.bench.kernel", "--figure"), ("study_time", "--out")}
+                ("stonedem.bench.kernel", "--figure"),
+                ("stonedem.bench.ensemble", "--figure"), ("study_time", "--out")}
 # wrong for any number, count, name or input file an option may take
 BAD_VALUES = ["nan", "-inf", "inf", "1e309", "-1", "abc", "", "0x10", "é", "1e3e3"]
 

@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from stonedem.bench import contact_cost, fuzz, kernel, options, restitution, skipping, stability, work_precision
+from stonedem.bench import contact_cost, ensemble, fuzz, kernel, options, restitution, skipping, stability, work_precision
 from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -34,7 +34,7 @@ SCRIPTS = {name: None for name in ("engine_speed", "study_time", "table_a1_fits"
 
 
 def main_of(name):
-    modules = {"contact_cost": contact_cost, "fuzz": fuzz, "kernel": kernel, "restitution": restitution, "skipping": skipping,
+    modules = {"contact_cost": contact_cost, "ensemble": ensemble, "fuzz": fuzz, "kernel": kernel, "restitution": restitution, "skipping": skipping,
                "stability": stability, "work_precision": work_precision}
     if name in modules:
         return modules[name].main
@@ -94,6 +94,13 @@ CASES = [
     ("kernel", ["--out", "{proc}"], "--out"),
     ("kernel", ["--out", "{new}", "--figure", "{new}/k.txt"], "--figure"),
     ("kernel", ["--out", "{new}", "--figure", "{folder}"], "--figure"),
+    # stonedem.bench.ensemble
+    ("ensemble", ["--members", "0", "--out", "{new}"], "--members"),
+    ("ensemble", ["--members", "1000000", "--out", "{new}"], "--members"),
+    ("ensemble", ["--scene", "nope", "--out", "{new}"], "--scene"),
+    ("ensemble", ["--repeats", "0", "--out", "{new}"], "--repeats"),
+    ("ensemble", ["--out", "{file}"], "--out"),
+    ("ensemble", ["--out", "{new}", "--figure", "{new}/e.txt"], "--figure"),
     # benchmarks/study_time.py
     ("study_time", ["--parent", "no-such-commit", "--out", "{new}/t.csv"], "--parent"),
     ("study_time", ["--target", "everything", "--out", "{new}/t.csv"], "--target"),

@@ -22,6 +22,7 @@ BENCH_OUTPUTS = {
         "results/bench/kernel.csv",
         "results/figures/kernel_cost.png",
     ],
+    "bench_gpu": ["results/bench/ensemble.nc", "results/figures/ensemble_throughput.png"],
 }
 
 
@@ -134,6 +135,25 @@ rule bench_kernel:
     shell:
         "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} {params.parent} "
         "--out $(dirname {output.dataset}) --figure {output.figure} > {log} 2>&1"
+
+
+# member-steps per second of the ensemble engine against members, on one CPU thread, every CPU
+# thread and the GPU where one can run the loop (issue 33); quick: 1-4 members, 0.5 s each
+rule bench_gpu:
+    input:
+        "records/athens_standin_kocaeli_arc000.nc",
+    output:
+        dataset=BENCH_OUTPUTS["bench_gpu"][0],
+        figure=BENCH_OUTPUTS["bench_gpu"][1],
+    params:
+        quick="--quick" if BENCH_QUICK else "",
+    log:
+        "results/logs/bench/ensemble.log",
+    conda:
+        "../envs/stonedem.yaml"
+    shell:
+        "python -m stonedem.bench.ensemble {params.quick} --out $(dirname {output.dataset}) "
+        "--figure {output.figure} > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

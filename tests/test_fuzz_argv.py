@@ -202,7 +202,8 @@ def test_fuzz_argv_of_every_subcommand(arena, command, data):
 
 # --- benchmark scripts ------------------------------------------------------------------
 
-BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "stonedem.bench.fuzz", "stonedem.bench.kernel",
+BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "stonedem.bench.fuzz",
+                 "stonedem.bench.gpu_check", "stonedem.bench.kernel",
                  "stonedem.bench.restitution", "stonedem.bench.skipping", "stonedem.bench.stability",
                  "stonedem.bench.work_precision"]
 BENCH_SCRIPTS = ["engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables"]

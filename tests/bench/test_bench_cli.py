@@ -16,8 +16,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from stonedem.bench import contact_cost, ensemble, fuzz, kernel, options, restitution, skipping, stability, work_precision
+from stonedem.bench import contact_cost, ensemble, fuzz, gpu_check, kernel, options, restitution, skipping, stability, work_precision
 from stonedem.errors import InputError
+from stonedem.kernels.gpu import gpu_available
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -30,11 +31,13 @@ def script(name):
     return module
 
 
+# on a machine whose GPU can run the loop, gpu_check runs instead of refusing
+NO_GPU_REFUSAL_SKIPPED = gpu_available()[0]
 SCRIPTS = {name: None for name in ("engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables")}
 
 
 def main_of(name):
-    modules = {"contact_cost": contact_cost, "ensemble": ensemble, "fuzz": fuzz, "kernel": kernel, "restitution": restitution, "skipping": skipping,
+    modules = {"contact_cost": contact_cost, "ensemble": ensemble, "fuzz": fuzz, "gpu_check": gpu_check, "kernel": kernel, "restitution": restitution, "skipping": skipping,
                "stability": stability, "work_precision": work_precision}
     if name in modules:
         return modules[name].main
@@ -101,6 +104,11 @@ CASES = [
     ("ensemble", ["--repeats", "0", "--out", "{new}"], "--repeats"),
     ("ensemble", ["--out", "{file}"], "--out"),
     ("ensemble", ["--out", "{new}", "--figure", "{new}/e.txt"], "--figure"),
+    # stonedem.bench.gpu_check (without a GPU: refused before anything runs)
+    *([("gpu_check", ["--out", "{new}"], "device")] if not NO_GPU_REFUSAL_SKIPPED else []),
+    ("gpu_check", ["--records", "-1", "--out", "{new}"], "--records"),
+    ("gpu_check", ["--config", "{missing}", "--out", "{new}"], "--config"),
+    ("gpu_check", ["--out", "{file}"], "--out"),
     # benchmarks/study_time.py
     ("study_time", ["--parent", "no-such-commit", "--out", "{new}/t.csv"], "--parent"),
     ("study_time", ["--target", "everything", "--out", "{new}/t.csv"], "--target"),

@@ -72,7 +72,7 @@ def member_kernel():
     if not hasattr(np, "row_stack"):  # numba-cuda 0.30.4 still calls it; NumPy 2.5 removed it
         np.row_stack = np.vstack
     scalar.register_cuda()
-    return cuda.jit(run_members_on_gpu)
+    return cuda.jit(cache=True)(run_members_on_gpu)  # cached under the kernel-source hash (stonedem.kernels)
 
 
 def run_members_on_gpu(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):

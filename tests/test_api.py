@@ -251,3 +251,18 @@ def test_every_public_name_has_a_numpydoc_docstring():
             continue
         doc = getattr(stonedem, name).__doc__ or ""
         assert "Parameters\n" in doc and "----------" in doc, f"stonedem.{name}: no numpydoc Parameters section"
+
+
+def test_run_scenes_gives_each_scene_what_run_scene_gives_it():
+    spec = {"bodies": [
+        {"name": "base", "box": {"width": 2.0, "height": 0.2, "center": [0.0, -0.1]}, "driven": True},
+        {"name": "block", "box": {"width": 0.2, "height": 1.0, "center": [0.0, 0.5]},
+         "tilt": {"angle": 0.05, "about": "bottom_right"}}], "solver": {"duration": 0.3}}
+    other = {**spec, "solver": {"duration": 0.2}}
+    together = stonedem.run_scenes([spec, other])
+    for source, ds in zip([spec, other], together):
+        alone = stonedem.run_scene(source)
+        assert ds.attrs["device"] == "cpu"
+        assert ds["theta"].equals(alone["theta"]) and ds["x"].equals(alone["x"])
+    with pytest.raises(stonedem.InputError, match="device"):
+        stonedem.run_scenes([spec], device="abacus")

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from stonedem.engine.scene import Scene
 
 __all__ = ["InputError", "load_scene", "open_cube", "open_fragility", "open_ida", "open_search",
-           "run_scene", "run_wall", "write_dataset"]
+           "run_scene", "run_scenes", "run_wall", "write_dataset"]
 
 # The kinds of NetCDF file the project writes, told apart by the start of attrs["title"]
 # (each writer sets it): what the file is, who writes it, and the function that opens it.
@@ -152,6 +152,42 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
 
     scene = scene_or_source if isinstance(scene_or_source, Scene) else load_scene(scene_or_source)
     return simulate_scene(scene, progress=progress)
+
+
+def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = None) -> list[xr.Dataset]:
+    """Simulate many scenes at once: what :func:`run_scene` gives each, their loops run side by side.
+
+    Parameters
+    ----------
+    scenes_or_sources : iterable of Scene, str, os.PathLike or Mapping
+        What :func:`run_scene` takes, one per member.
+    device : {"cpu", "gpu"}, default "cpu"
+        ``cpu``: one thread per member on the CPU's cores, each run bit for bit
+        :func:`run_scene`'s. ``gpu``: one CUDA thread per member on an NVIDIA GPU (the
+        ``[gpu]`` extra); the members must then share a structure (records may differ), and
+        runs agree with the CPU's to rounding over a short horizon, in their verdicts over a
+        whole record.
+    threads : int, optional
+        CPU threads (default: all Numba has).
+
+    Returns
+    -------
+    list of xarray.Dataset
+        One dataset per member, as :func:`run_scene` returns it, ``attrs["device"]`` saying
+        where it ran.
+
+    Raises
+    ------
+    InputError
+        Bad scene input, an unknown device, members of different structures on the GPU.
+    RuntimeError
+        ``device="gpu"`` where no GPU can run the loop (the message says why).
+    """
+    from stonedem.engine.run import run_scenes as simulate_scenes
+    from stonedem.engine.scene import Scene
+
+    scenes = [s if isinstance(s, Scene) else load_scene(s) for s in scenes_or_sources]
+    return simulate_scenes(scenes, device=device, threads=threads)
 
 
 # --- the 3D wall solver ---------------------------------------------------------------------

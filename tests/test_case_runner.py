@@ -1,6 +1,7 @@
 """Jobs of many cases (stonedem.study.runner): one log line per case, the case store, a search."""
 
 import io
+import re
 
 import numpy as np
 import pytest
@@ -104,6 +105,10 @@ def test_an_unknown_case_store_file_is_never_read_as_a_case(tmp_path):
         assert ds.attrs["case"] == case.id
 
 
+def tree(folder):
+    return sorted(p.name for p in folder.iterdir())
+
+
 def test_searches_run_together_give_the_summaries_searches_run_alone_give(tmp_path):
     """run_searches (rounds of runs side by side, the CPU ensemble here) makes each search's
     runs exactly as run_search does, and its summaries differ only in the attributes that say
@@ -117,15 +122,21 @@ def test_searches_run_together_give_the_summaries_searches_run_alone_give(tmp_pa
     systems = case_table("block", study)
     alone = [run_search(s, tmp_path / f"alone{i}", tmp_path / f"alone{i}.nc", CaseStore(None), io.StringIO())
              for i, s in enumerate(systems)]
-    log = io.StringIO()
-    together = run_searches(systems, [tmp_path / f"together{i}" for i in range(2)],
-                            [tmp_path / f"together{i}.nc" for i in range(2)], CaseStore(None), "cpu", width=4, log=log)
-    assert [runs for runs, _ in together] == [runs for runs, _ in alone]
-    for i in range(2):
-        a, b = open_result(tmp_path / f"alone{i}.nc"), open_result(tmp_path / f"together{i}.nc")
-        assert a.drop_attrs(deep=False).equals(b.drop_attrs(deep=False))
-        assert b.attrs["device"] == "cpu" and "rounds" in b.attrs["search_plan"] and "numba_version" in b.attrs
-    assert "round of" in log.getvalue()
+    store = CaseStore(tmp_path / "store", "records")
+    for k in range(2):  # simulated, then restored from the store (speculative runs were never kept)
+        log = io.StringIO()
+        together = run_searches(systems, [tmp_path / f"together{k}_{i}" for i in range(2)],
+                                [tmp_path / f"together{k}_{i}.nc" for i in range(2)], store, "cpu", width=4, log=log)
+        assert [runs for runs, _ in together] == [runs for runs, _ in alone]
+        for i in range(2):
+            a, b = open_result(tmp_path / f"alone{i}.nc"), open_result(tmp_path / f"together{k}_{i}.nc")
+            assert a.drop_attrs(deep=False).equals(b.drop_attrs(deep=False))
+            assert b.attrs["device"] == "cpu" and "rounds" in b.attrs["search_plan"] and "numba_version" in b.attrs
+            # the run files are the ones the search alone writes: the speculative runs are dropped
+            assert tree(tmp_path / f"together{k}_{i}") == tree(tmp_path / f"alone{i}")
+        assert "round of" in log.getvalue()
+    # the second time the runs on the paths come from the store; only speculative ones run again
+    assert re.search(r"round of 8 runs over 2 searches: [0-7] simulated on the CPU, [1-8] restored", log.getvalue())
     device, line = choose_device("cpu")
     assert (device, line) == ("cpu", "device: cpu")
 
@@ -137,3 +148,29 @@ def test_a_gpu_asked_for_without_one_falls_back_to_the_cpu_in_one_line(monkeypat
     monkeypatch.setattr(gpu, "gpu_available", lambda: (False, "no CUDA GPU or driver found"))
     device, line = choose_device("gpu")
     assert device == "cpu" and "\n" not in line and "no CUDA GPU" in line and "CPU" in line
+
+
+def test_a_speculative_run_dropped_and_later_reached_is_simulated_again_and_written(tmp_path, monkeypatch):
+    """With collapse from an amplitude of 0.535 (the verdicts stand in for the physics), the
+    search's path reaches 0.2828 through a branch other than the one it was first run in, after
+    its dataset was dropped: it is simulated once more and written, so every run on the path
+    has its file (found by a search over rules with stonedem.study.search alone)."""
+    from stonedem.study import runner
+    from stonedem.study.runner import run_searches
+
+    real = runner._info
+    monkeypatch.setattr(runner, "_info", lambda ds: {**real(ds), "collapsed": float(ds["amplitude"]) >= 0.535})
+    study = {**BLOCK, "grid": {"friction": [0.7]},
+             "search": {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 1,
+                        "minimum": 0.005, "maximum": 0.64}}
+    systems = case_table("block", study)
+    simulated = []
+    together = runner.run_cases_together
+    monkeypatch.setattr(runner, "run_cases_together",
+                        lambda cases, *a: simulated.extend(c.id for c in cases) or together(cases, *a))
+    ((runs, result),) = run_searches(systems, [tmp_path / "runs"], [tmp_path / "search.nc"], CaseStore(None),
+                                     "cpu", width=4, log=io.StringIO())
+    assert 0.2828 in [r.value for r in runs]
+    late = [i for i in simulated if i.endswith("_A-0.2828")]
+    assert len(late) == 2, simulated  # speculative, dropped; then again on the path
+    assert len(tree(tmp_path / "runs")) == len(runs) == result["n_runs"]

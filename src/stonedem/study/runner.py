@@ -31,7 +31,7 @@ from stonedem.entry import progress_print
 from stonedem.motion.suites import record_file_name
 from stonedem.study.cube import search_dataset
 from stonedem.study.grid import Case, run_case, run_cases_together, search_case
-from stonedem.study.search import Run, search, search_together, summary
+from stonedem.study.search import Run, replay, search, search_together, summary
 
 _SOURCE_FINGERPRINT: list[str] = []
 
@@ -243,45 +243,79 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
     """The threshold searches of ``systems`` together, in rounds
     (:func:`stonedem.study.search.search_together`): each round's runs restored from the store
     where they are, the others simulated side by side on ``device``
-    (:func:`stonedem.study.grid.run_cases_together`). Each search's runs and summary are
-    those :func:`run_search` gives; its summary's attrs say the device and the plan."""
+    (:func:`stonedem.study.grid.run_cases_together`). Each search's runs, run files and
+    summary are those :func:`run_search` gives: a run is written (and kept in the store) once
+    it is on the search's path; the speculative runs off it are dropped. The summary's attrs
+    say the device and the plan."""
     log = log or sys.stderr
-    outputs: list[dict[float, Path]] = [{} for _ in systems]
+    settings = [system.search for system in systems]
+    known: list[dict[float, bool]] = [{} for _ in systems]  # value -> collapsed, as search_together has it
+    files: list[dict[float, Path]] = [{} for _ in systems]  # the runs written, on the path
     simulated = [0]
 
+    def output(i: int, value: float) -> tuple[Case, Path]:
+        case = search_case(systems[i], value)
+        return case, Path(runs_dirs[i]) / f"{case.id}.nc"
+
+    def simulate(items: list[tuple[int, float]]) -> list[xr.Dataset]:
+        simulated[0] += len(items)
+        return run_cases_together([output(i, value)[0] for i, value in items], store.records_dir, device)
+
+    def write(i: int, value: float, ds: xr.Dataset) -> None:
+        case, path = output(i, value)
+        write_dataset(ds, path)
+        store.keep(case, path)
+        files[i][value] = path
+
     def run_many(requests):
+        start = wallclock.perf_counter()
         collapsed: list[bool | None] = [None] * len(requests)
         todo = []
         for k, (i, value, _) in enumerate(requests):
-            case = search_case(systems[i], value)
-            output = outputs[i][value] = Path(runs_dirs[i]) / f"{case.id}.nc"
-            if store.restore(case, output, log):
-                collapsed[k] = _case_info(output)["collapsed"]
+            case, path = output(i, value)
+            if store.restore(case, path, log):
+                files[i][value] = path
+                collapsed[k] = _case_info(path)["collapsed"]
             else:
-                todo.append((k, case, output))
-        start = wallclock.perf_counter()
-        if todo:
-            for (k, case, output), ds in zip(todo, run_cases_together([c for _, c, _ in todo], store.records_dir,
-                                                                        device)):
-                write_dataset(ds, output)
-                store.keep(case, output)
-                collapsed[k] = _info(ds)["collapsed"]
-        simulated[0] += len(todo)
+                todo.append(k)
+        pending: dict[tuple[int, float], xr.Dataset] = {}
+        for k, ds in zip(todo, simulate([requests[k][:2] for k in todo])):
+            collapsed[k] = _info(ds)["collapsed"]
+            pending[requests[k][:2]] = ds
+        for (i, value, _), c in zip(requests, collapsed):
+            known[i][value] = c
+        for i in {i for i, _, _ in requests}:  # runs now on the path are final: write them
+            for run in replay(known[i], settings[i])[0]:
+                if (i, run.value) in pending:
+                    write(i, run.value, pending[(i, run.value)])
         progress_print(log, f"round of {len(requests)} runs over {len({i for i, _, _ in requests})} searches: "
-                            f"{len(todo)} simulated on the {device.upper()} in "
-                            f"{wallclock.perf_counter() - start:.1f} s, {len(requests) - len(todo)} restored")
+                            f"{len(todo)} simulated on the {device.upper()}, {len(requests) - len(todo)} restored, "
+                            f"{wallclock.perf_counter() - start:.1f} s")
         return collapsed
 
-    all_runs, rounds = search_together(run_many, [system.search for system in systems], width)
+    all_runs, rounds = search_together(run_many, settings, width)
+    # a run dropped as speculative that the path reached later, through another branch: again
+    late = [(i, r.value) for i, runs in enumerate(all_runs) for r in runs if r.value not in files[i]]
+    for (i, value), ds in zip(late, simulate(late)):
+        if _info(ds)["collapsed"] != known[i][value]:
+            raise RuntimeError(f"{systems[i].study}/{output(i, value)[0].id}: simulated again, its collapse "
+                               f"verdict changed; the device does not repeat runs bit for bit")
+        write(i, value, ds)
+    for i, runs in enumerate(all_runs):  # files restored from the store off the path
+        on_path = {r.value for r in runs}
+        for value, path in list(files[i].items()):
+            if value not in on_path:
+                path.unlink(missing_ok=True)
+                del files[i][value]
     plan = (f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
             f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept")
     out = []
-    for system, runs, known, summary_path in zip(systems, all_runs, outputs, summary_paths):
+    for system, runs, written, summary_path in zip(systems, all_runs, files, summary_paths):
         result = summary(runs, system.search)
         progress_print(log, f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
                             f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
                             f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
-        ds = search_dataset(system, runs, [known[r.value] for r in runs], result)
+        ds = search_dataset(system, runs, [written[r.value] for r in runs], result)
         ds.attrs.update(device=device, search_plan=plan, **library_versions())
         write_dataset(ds, summary_path)
         out.append((runs, result))

@@ -33,3 +33,16 @@ def numba_threads_unchanged():
         else:
             os.environ["NUMBA_NUM_THREADS"] = before
         pytest.fail(f"NUMBA_NUM_THREADS changed from {before!r} to {after!r} by this test")
+
+
+@pytest.fixture(scope="session")
+def quiet_sine_record(tmp_path_factory):
+    """A record file: 1 s of silence, 1 s of a 2 Hz, 0.4 g sine, then silence to 4 s (a run
+    with a quiet lead and a quiet tail)."""
+    import numpy as np
+
+    t = np.arange(0.0, 4.0 + 1e-9, 0.005)
+    a = np.where((t >= 1.0) & (t < 2.0), 0.4 * 9.81 * np.sin(2 * np.pi * 2 * (t - 1.0)), 0.0)
+    path = tmp_path_factory.mktemp("records") / "silence_sine_silence.txt"
+    np.savetxt(path, np.column_stack([t, a]), header="time [s], acceleration [m/s2]")
+    return path

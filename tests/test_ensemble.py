@@ -44,19 +44,9 @@ def _members(record):
     return [scene_from_dict(s) for s in specs]
 
 
-@pytest.fixture(scope="module")
-def record(tmp_path_factory):
-    """1 s of silence, 1 s of a 2 Hz, 0.4 g sine, then silence to 4 s."""
-    t = np.arange(0.0, 4.0 + 1e-9, 0.005)
-    a = np.where((t >= 1.0) & (t < 2.0), 0.4 * 9.81 * np.sin(2 * np.pi * 2 * (t - 1.0)), 0.0)
-    path = tmp_path_factory.mktemp("ensemble") / "silence_sine_silence.txt"
-    np.savetxt(path, np.column_stack([t, a]), header="time [s], acceleration [m/s2]")
-    return path
-
-
 @pytest.mark.parametrize("threads", [None, 1])
-def test_every_member_runs_bit_for_bit_as_simulate_runs_it(record, threads):
-    scenes = _members(record)
+def test_every_member_runs_bit_for_bit_as_simulate_runs_it(quiet_sine_record, threads):
+    scenes = _members(quiet_sine_record)
     together = run_ensemble(scenes, threads=threads)
     kinds = set()
     for scene, got in zip(scenes, together):
@@ -70,9 +60,9 @@ def test_every_member_runs_bit_for_bit_as_simulate_runs_it(record, threads):
     assert any(k[0] for k in kinds) and any(k[1] for k in kinds) and any(k[2] for k in kinds), kinds
 
 
-def test_no_members_and_bad_thread_counts(record):
+def test_no_members_and_bad_thread_counts(quiet_sine_record):
     assert run_ensemble([]) == []
-    scene = _members(record)[4]
+    scene = _members(quiet_sine_record)[4]
     for bad in (0, -1, 10 ** 6, 1.5, True, "2"):
         with pytest.raises(InputError, match="threads"):
             run_ensemble([scene], threads=bad)

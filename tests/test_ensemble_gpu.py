@@ -13,7 +13,6 @@ import subprocess
 import sys
 import textwrap
 
-import numpy as np
 import pytest
 
 from stonedem.engine.ensemble import run_ensemble
@@ -80,16 +79,6 @@ CHILD = textwrap.dedent("""
 """)
 
 
-@pytest.fixture(scope="module")
-def record(tmp_path_factory):
-    """1 s of silence, then a 2 Hz, 0.3 g sine for 1 s, then silence."""
-    t = np.arange(0.0, 3.0 + 1e-9, 0.005)
-    a = np.where((t >= 1.0) & (t < 2.0), 0.3 * 9.81 * np.sin(2 * np.pi * 2 * (t - 1.0)), 0.0)
-    path = tmp_path_factory.mktemp("gpu") / "quiet_sine.txt"
-    np.savetxt(path, np.column_stack([t, a]), header="time [s], acceleration [m/s2]")
-    return path
-
-
 def simulated(record, mode) -> dict:
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
     done = subprocess.run([sys.executable, "-c", CHILD, str(record), mode], env=env, capture_output=True,
@@ -99,8 +88,8 @@ def simulated(record, mode) -> dict:
 
 
 @pytest.mark.parametrize("mode", ["plain", "small_pairs"])
-def test_simulated_gpu_members_run_as_simulate_runs_them(record, mode):
-    groups = simulated(record, mode)
+def test_simulated_gpu_members_run_as_simulate_runs_them(quiet_sine_record, mode):
+    groups = simulated(quiet_sine_record, mode)
     assert groups
     for name, rows in groups.items():
         for i, row in enumerate(rows):

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import functools
 import subprocess
+import sys
+from datetime import datetime, timezone
 from pathlib import Path
 
 import xarray as xr
@@ -35,6 +37,14 @@ def code_version() -> str:
     return f"stonedem {__version__}"
 
 
+def history_line() -> str:
+    """A line of CF's ``history``: when (UTC), the command that wrote the file, the code version."""
+    when = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    argv = sys.argv or [""]
+    command = " ".join([Path(argv[0]).name or "python", *argv[1:]])
+    return f"{when} {one_line(command, 400)} ({code_version()})"
+
+
 def schema_variables(arrays: dict) -> dict[str, xr.Variable]:
     """name -> (dims, data) as variables with the units and long names of :mod:`stonedem.io.schema`."""
     return {name: xr.Variable(dims, data, attrs=attrs_for(name)) for name, (dims, data) in arrays.items()}
@@ -46,7 +56,8 @@ def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None
     The file is written to a temporary file beside ``path`` and renamed over it, so a crash
     or a full disk never leaves a partial file under the final name.
     :func:`stonedem.io.schema.cf_conventions` applies the layout: coordinates without a fill
-    value, one ``units`` per numeric variable; float data are compressed (zlib, level 4).
+    value, one ``units`` per numeric variable; float data are compressed (zlib, level 4). A
+    line goes on top of the ``history`` attribute: the date, the command, the code version.
 
     Parameters
     ----------
@@ -63,6 +74,8 @@ def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None
         The path written.
     """
     ds = cf_conventions(ds)
+    # CF 2.6.2: newest line first, over what the data went through before
+    ds.attrs["history"] = "\n".join(line for line in (history_line(), ds.attrs.get("history")) if line)
     given = encoding or {}
     encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
                 if v.dtype.kind == "f" and v.ndim > 0}

@@ -4,6 +4,7 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
+import stonedem.study.cluster
 import stonedem.study.grid
 from stonedem.errors import InputError
 from stonedem.motion.suites import record_file_name
@@ -240,3 +241,9 @@ def wall_figure_caption_file(number):
     return caption_file(f"manuscript_fig_{number}",
                         f"Regenerates manuscript Fig. {number}: {kind.lower()} of {cases} "
                         "(interfaces: elastic, shear, flexural, shear and flexural, detached).\n")
+
+
+# on a SLURM cluster, a profile that could not see its jobs finish ends the run in one line
+# before the first job, instead of waiting for ever (stonedem.study.cluster)
+onstart:
+    stonedem.study.cluster.check_executor(workflow)

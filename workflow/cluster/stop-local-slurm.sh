@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Stop what start-local-slurm.sh started: slurmd, slurmctld and munged, each by the PID in its
+# PID file (never by process name: other daemons of the machine are left alone).
+set -uo pipefail
+STATE=${STONEDEM_SLURM_STATE:-/var/tmp/stonedem-slurm}
+for pidfile in "$STATE/slurmd.pid" "$STATE/slurmctld.pid" /run/munge/munged.pid; do
+    [ -s "$pidfile" ] || continue
+    pid=$(cat "$pidfile")
+    if kill -0 "$pid" 2>/dev/null; then
+        kill "$pid"
+        for _ in $(seq 1 40); do kill -0 "$pid" 2>/dev/null || break; sleep 0.25; done
+        kill -0 "$pid" 2>/dev/null && kill -9 "$pid"
+    fi
+    rm -f "$pidfile"
+done
+echo "local SLURM stopped"

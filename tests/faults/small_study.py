@@ -17,10 +17,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
-import xarray as xr
 import yaml
+
+from stonedem.study.compare import dataset_differences, result_differences, result_files
 
 ROOT = Path(__file__).resolve().parents[2]
 COPIED = ("Snakefile", "workflow", "config", "profiles", "records")
@@ -39,9 +39,6 @@ CUBES = [f"results/cubes/{study}.nc" for study in STUDIES]
 TABLES = ["results/tables/frequency_response_small_column_friction.csv", "results/tables/thesis_fig_6_10.csv"]
 TARGETS = CUBES + TABLES
 RECORD = "records/mexico_standin_chichi_tcu102.nc"
-# attrs that hold the clock time or the machine of a run: the only thing allowed to differ
-CLOCK_ATTRS = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host",
-               "elapsed", "run_seconds")
 
 
 def make_study(directory: Path) -> Path:
@@ -74,14 +71,6 @@ def tail(proc, n: int = 3000) -> str:
     return f"exit {proc.returncode}\n--- stdout\n{proc.stdout[-n:]}\n--- stderr\n{proc.stderr[-n:]}"
 
 
-def result_files(directory: Path) -> list[str]:
-    """The study's cubes and tables and the case and search files under them (relative paths)."""
-    results = directory / "results"
-    found = [p for kind in ("cubes", "tables", "cases", "searches") for p in (results / kind).rglob("*")
-             if p.is_file() and not p.name.startswith(".")]
-    return sorted(str(p.relative_to(directory)) for p in found)
-
-
 _REFERENCE: list[Path] = []
 
 
@@ -102,46 +91,18 @@ def copy_study(source: Path, directory: Path) -> Path:
     return directory
 
 
-def _same_values(x, y) -> bool:
-    x, y = np.asarray(x), np.asarray(y)
-    if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
-        return False
-    if x.dtype.kind in "fc":
-        return np.array_equal(x, y, equal_nan=True)
-    if x.dtype.kind == "O":
-        return np.array_equal(x.astype(str), y.astype(str))
-    return np.array_equal(x, y)
-
-
-def _attrs(attrs: dict) -> dict:
-    return {k: v for k, v in attrs.items() if k not in CLOCK_ATTRS}
-
-
 def assert_same_dataset(path_a: Path, path_b: Path, label: str) -> None:
     """Every variable and coordinate bit-identical (NaN where NaN), their attrs and the
     file's attrs equal but for the clock-time ones."""
-    with xr.open_dataset(path_a, decode_times=False) as a, xr.open_dataset(path_b, decode_times=False) as b:
-        assert set(a.variables) == set(b.variables), f"{label}: variables {set(a.variables) ^ set(b.variables)}"
-        assert dict(a.sizes) == dict(b.sizes), f"{label}: sizes {dict(a.sizes)} != {dict(b.sizes)}"
-        for name in a.variables:
-            assert a[name].dims == b[name].dims, f"{label}:{name} dims"
-            assert _same_values(a[name].values, b[name].values), f"{label}:{name} differs"
-            assert _attrs(a[name].attrs) == _attrs(b[name].attrs), f"{label}:{name} attrs"
-        differ = {k for k in set(_attrs(a.attrs)) | set(_attrs(b.attrs))
-                  if not _same_values(a.attrs.get(k), b.attrs.get(k))}
-        assert not differ, f"{label}: attrs {sorted(differ)} differ"
+    differences = dataset_differences(path_a, path_b, label)
+    assert not differences, differences
 
 
 def assert_same_results(directory: Path, ref: Path) -> None:
     """The study in ``directory`` holds the reference's cubes, tables, cases and searches,
     bit-identical: the CSV tables byte for byte, the NetCDF files by variable."""
-    files = result_files(ref)
-    assert result_files(directory) == files, set(result_files(directory)) ^ set(files)
-    for rel in files:
-        if rel.endswith(".csv"):
-            assert (directory / rel).read_bytes() == (ref / rel).read_bytes(), f"{rel} differs"
-        else:
-            assert_same_dataset(directory / rel, ref / rel, rel)
+    differences = result_differences(directory, ref)
+    assert not differences, differences
 
 
 def truncate(path: Path, size: int | None = None) -> None:

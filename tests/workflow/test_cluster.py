@@ -60,3 +60,15 @@ def test_a_slurm_run_with_a_bad_setting_ends_before_its_first_job(monkeypatch, c
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("Bad cluster setting:")
     check_executor(SimpleNamespace(executor_plugin=SimpleNamespace(name="local")))  # not SLURM: nothing to say
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "geteuid") or __import__("os").geteuid() != 0
+                    or __import__("shutil").which("runuser") is None, reason="needs root and runuser to act as nobody")
+def test_the_local_cluster_script_says_in_one_line_why_it_cannot_start():
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[2] / "workflow" / "cluster" / "start-local-slurm.sh"
+    done = subprocess.run(["runuser", "-u", "nobody", "--", "bash", str(script)], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 3
+    assert done.stderr.strip() == "local SLURM not started: not root (it installs packages and starts daemons)"

@@ -113,6 +113,12 @@ JOB_PRIORITY = stonedem.study.jobs.job_priority(JOBS + FRAGILITY_JOBS)
 UNPACKED_PRIORITY = max(JOB_PRIORITY.values(), default=0) + 1
 
 
+def job_runtime(job):
+    """A job's SLURM time limit [min] from the job plan's estimate (stonedem.study.jobs; the
+    estimate runs ~2.3x the measured kernel time): three times it, at least 10 min."""
+    return max(10, math.ceil(3 * job.cost / 60))
+
+
 def case_path(case):
     return f"results/cases/{case.study}/{case.id}.nc"
 

@@ -102,7 +102,7 @@ def result_differences(directory: Path, reference: Path, kinds=KINDS, clock_colu
 def main(argv=None) -> int:
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 2 or not all((Path(a) / "results").is_dir() for a in args):
-        print("usage: python -m stonedem.study.compare STUDY_A STUDY_B (folders holding results/)", file=sys.stderr)
+        print("usage: python -m stonedem.study.compare STUDY_A STUDY_B (study folders, each holding its results folder)", file=sys.stderr)
         return 2
     differences = result_differences(Path(args[0]), Path(args[1]), clock_columns=True)
     for line in differences:

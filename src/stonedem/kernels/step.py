@@ -232,6 +232,13 @@ class Work(NamedTuple):
     group_count: np.ndarray  # bodies in each collapse group (n_group,)
 
 
+@njit(**INLINE_OPTIONS)
+def first_pair_capacity(n_body):
+    """Candidate pairs a Work bundle holds at first: every pair of a small scene, ~4 per body
+    of a large one (the bundle doubles when they outgrow it)."""
+    return min(max(1, n_body * (n_body - 1) // 2), 4 * n_body + 16)
+
+
 @njit(**JIT_OPTIONS)
 def allocate_work(model, capacity):
     """A :class:`Work` bundle for the model's bodies and vertices, with room for ``capacity`` pairs."""
@@ -558,8 +565,7 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     candidate pairs outgrow the bundle, run_steps stops before that step's forces and the
     bundle is made twice as large (every field of Work is rebuilt at each step).
     """
-    n_body = model.body_mass.shape[0]
-    capacity = min(max(1, n_body * (n_body - 1) // 2), 4 * n_body + 16)
+    capacity = first_pair_capacity(model.body_mass.shape[0])
     n = step_start
     while True:
         work = allocate_work(model, capacity)

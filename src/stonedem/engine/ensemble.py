@@ -89,23 +89,11 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
     A member's cursor (samples, steps, wall time) moves on as in
     :meth:`stonedem.engine.simulate.CompiledLoop.run`; its wall time is its share of each
     chunk's (the chunk's wall time over the members it ran)."""
-    members = [m for m, phase in enumerate(phases) if phase is not None]
-    statuses: list[int | None] = [None] * len(plans)
+    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
     if not members:
-        return statuses
-    for m in members:
-        plans[m].loop.state.rest_count[0] = 0
-    loops = [plans[m].loop for m in members]
+        return statuses_of(plans, members, status)
     bundles = [typed.List([getattr(loop, name) for loop in loops]) for name in ("model", "settings", "state")]
     samples = typed.List([loop.cursor.samples for loop in loops])
-    n = len(members)
-    at = np.array([phases[m][0] for m in members], dtype=np.int64)
-    end = np.array([phases[m][1] for m in members], dtype=np.int64)
-    first = np.array([phases[m][2] for m in members], dtype=np.int64)
-    rest_from = np.array([phases[m][3] for m in members], dtype=np.int64)
-    n_sample = np.array([loop.cursor.n_sample for loop in loops], dtype=np.int64)
-    collapse = np.array([loop.cursor.collapse for loop in loops], dtype=np.int64)
-    status = np.full(n, step.STATUS_OK, dtype=np.int64)
     size = FIRST_CHUNK_STEPS
     with deferred_signals():  # a signal is raised between chunks, never inside the kernel
         while True:
@@ -123,15 +111,36 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
                 at[k] = stop[k]
             size = next_chunk(size, elapsed)
             check_interrupt()
+    return statuses_of(plans, members, status)
+
+
+def phase_members(plans: list[Plan], phases: list):
+    """What both phase runners start from: the members that have a phase, their loops (rest
+    counts reset), int64 arrays of their phases' (start, stop, first, rest_from) and of their
+    cursors' n_sample and collapse sample, and their statuses (all STATUS_OK)."""
+    members = [m for m, phase in enumerate(phases) if phase is not None]
+    loops = [plans[m].loop for m in members]
+    for loop in loops:
+        loop.state.rest_count[0] = 0
+    at, end, first, rest_from = np.array([phases[m] for m in members], dtype=np.int64).reshape(-1, 4).T.copy()
+    n_sample = np.array([loop.cursor.n_sample for loop in loops], dtype=np.int64)
+    collapse = np.array([loop.cursor.collapse for loop in loops], dtype=np.int64)
+    status = np.full(len(members), step.STATUS_OK, dtype=np.int64)
+    return members, loops, at, end, first, rest_from, n_sample, collapse, status
+
+
+def statuses_of(plans: list[Plan], members: list[int], status: np.ndarray) -> list[int | None]:
+    """Each plan's kernel status after a phase, None where it had no phase."""
+    out: list[int | None] = [None] * len(plans)
     for i, m in enumerate(members):
-        statuses[m] = int(status[i])
-    return statuses
+        out[m] = int(status[i])
+    return out
 
 
 def pair_capacity(model: step.Model) -> int:
-    """Candidate pairs a member's Work holds at first (:func:`stonedem.kernels.step.run`'s rule)."""
-    n_body = model.body_mass.shape[0]
-    return min(max(1, n_body * (n_body - 1) // 2), 4 * n_body + 16)
+    """Candidate pairs a member's Work holds at first (the rule :func:`stonedem.kernels.step.run`
+    uses, :func:`stonedem.kernels.step.first_pair_capacity`)."""
+    return int(step.first_pair_capacity(model.body_mass.shape[0]))
 
 
 def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
@@ -143,13 +152,9 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     from stonedem.kernels.gpu import THREADS_PER_BLOCK, member_kernel
     from stonedem.kernels.members import copy_back, stack
 
-    members = [m for m, phase in enumerate(phases) if phase is not None]
-    statuses: list[int | None] = [None] * len(plans)
+    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
     if not members:
-        return statuses
-    loops = [plans[m].loop for m in members]
-    for loop in loops:
-        loop.state.rest_count[0] = 0
+        return statuses_of(plans, members, status)
     kernel = member_kernel()
     capacity = max(pair_capacity(loop.model) for loop in loops)
     bundles = [(loop.model, loop.settings, loop.state, loop.cursor.samples, step.allocate_work(loop.model, capacity))
@@ -162,13 +167,7 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     on_device = tuple(cuda.to_device(leaf) for leaf in leaves)
     device_lengths = cuda.to_device(lengths)
     n = len(members)
-    at = np.array([phases[m][0] for m in members], dtype=np.int64)
-    end = np.array([phases[m][1] for m in members], dtype=np.int64)
-    first = cuda.to_device(np.array([phases[m][2] for m in members], dtype=np.int64))
-    rest_from = cuda.to_device(np.array([phases[m][3] for m in members], dtype=np.int64))
-    n_sample = np.array([loop.cursor.n_sample for loop in loops], dtype=np.int64)
-    collapse = np.array([loop.cursor.collapse for loop in loops], dtype=np.int64)
-    status = np.full(n, step.STATUS_OK, dtype=np.int64)
+    first, rest_from = cuda.to_device(first), cuda.to_device(rest_from)
     threads = min(THREADS_PER_BLOCK, n)
     blocks = (n + threads - 1) // threads
     last: dict[int, tuple] = {}  # the chunk that stopped each member, booked once its samples are back
@@ -183,7 +182,7 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
             arrays = [cuda.to_device(a) for a in (at, stop, n_sample, collapse, status, resume)]
             started = wallclock.perf_counter()
             kernel[blocks, threads](on_device, device_lengths, arrays[0], arrays[1], first, rest_from,
-                                              arrays[2], arrays[3], arrays[4], arrays[5])
+                                    arrays[2], arrays[3], arrays[4], arrays[5])
             cuda.synchronize()
             elapsed = wallclock.perf_counter() - started
             n_sample, collapse, status, resume = (a.copy_to_host() for a in arrays[2:])
@@ -214,6 +213,4 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     copy_back(host, lengths, bundles)
     for k, booking in last.items():
         loops[k].cursor.ran(*booking)
-    for i, m in enumerate(members):
-        statuses[m] = int(status[i])
-    return statuses
+    return statuses_of(plans, members, status)

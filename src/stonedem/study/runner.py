@@ -226,11 +226,16 @@ def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, sto
 
     runs: list[Run] = search(simulate, settings)
     result = summary(runs, settings)
-    progress_print(log or sys.stderr, f"{system.study}/{system.id}: {result['status']}, {settings.parameter} "
-                        f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
-                        f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
+    progress_print(log or sys.stderr, search_line(system, result))
     write_dataset(search_dataset(system, runs, [written[r.value] for r in runs], result), summary_path)
     return runs, result
+
+
+def search_line(system: Case, result: dict) -> str:
+    """The log line of a finished search: how it ended, its bracket, runs and resurrections."""
+    return (f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
+            f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
+            f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
 
 
 # runs per search and round of run_searches (stonedem.study.search.search_together): 16 gives
@@ -250,7 +255,9 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
     log = log or sys.stderr
     settings = [system.search for system in systems]
     known: list[dict[float, bool]] = [{} for _ in systems]  # value -> collapsed, as search_together has it
-    files: list[dict[float, Path]] = [{} for _ in systems]  # the runs written, on the path
+    # the files of the runs kept (on the path, or restored from the store); the summaries read
+    # them back: every search's datasets held at once could outgrow the memory of a job
+    files: list[dict[float, Path]] = [{} for _ in systems]
     simulated = [0]
 
     def output(i: int, value: float) -> tuple[Case, Path]:
@@ -303,18 +310,14 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
         write(i, value, ds)
     for i, runs in enumerate(all_runs):  # files restored from the store off the path
         on_path = {r.value for r in runs}
-        for value, path in list(files[i].items()):
-            if value not in on_path:
-                path.unlink(missing_ok=True)
-                del files[i][value]
+        for value in [v for v in files[i] if v not in on_path]:
+            files[i].pop(value).unlink(missing_ok=True)
     plan = (f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
             f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept")
     out = []
     for system, runs, written, summary_path in zip(systems, all_runs, files, summary_paths):
         result = summary(runs, system.search)
-        progress_print(log, f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
-                            f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
-                            f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
+        progress_print(log, search_line(system, result))
         ds = search_dataset(system, runs, [written[r.value] for r in runs], result)
         ds.attrs.update(device=device, search_plan=plan, **library_versions())
         write_dataset(ds, summary_path)

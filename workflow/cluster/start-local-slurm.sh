@@ -7,7 +7,7 @@
 #   bash workflow/cluster/start-local-slurm.sh     # exit 0: up; 3: cannot start here (one line why)
 #
 # No accounting database (slurmdbd): sacct answers "accounting storage is disabled", so
-# Snakemake's SLURM executor must ask squeue (config/profiles/slurm-local).
+# Snakemake's SLURM executor must ask squeue, as config/profiles/slurm does.
 set -uo pipefail
 STATE=${STONEDEM_SLURM_STATE:-/var/tmp/stonedem-slurm}
 cannot() { echo "local SLURM not started: $*" >&2; exit 3; }

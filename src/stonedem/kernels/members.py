@@ -24,11 +24,16 @@ WRITTEN = (step.State, step.Samples)
 SCALAR_DTYPES = {float: np.float64, int: np.int64, bool: np.bool_}
 
 
+def _is_bundle(kind) -> bool:
+    """Whether a field's annotation is a named tuple class (a bundle within the bundle)."""
+    return isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields")
+
+
 def leaf_kinds(cls) -> list[tuple[str, object]]:
     """(dotted path, np.ndarray or float, int, bool) of each leaf of a bundle class, depth first."""
     out = []
     for name, kind in cls.__annotations__.items():
-        if isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields"):
+        if _is_bundle(kind):
             out += [(f"{name}.{path}", leaf) for path, leaf in leaf_kinds(kind)]
         elif kind is np.ndarray or kind in SCALAR_DTYPES:
             out.append((name, kind))
@@ -42,7 +47,7 @@ def _constructor(cls, first: int) -> tuple[str, int]:
     parts = []
     k = first
     for name, kind in cls.__annotations__.items():
-        if isinstance(kind, type) and issubclass(kind, tuple) and hasattr(kind, "_fields"):
+        if _is_bundle(kind):
             source, k = _constructor(kind, k)
             parts.append(source)
         elif kind is np.ndarray:
@@ -85,6 +90,11 @@ def leaves_of(bundle) -> list:
     return out
 
 
+def member_leaves(member: tuple) -> list:
+    """The leaves of a member's (model, settings, state, samples, work), in stacking order."""
+    return [leaf for bundle in member for leaf in leaves_of(bundle)]
+
+
 def stack(members: list[tuple]) -> tuple[tuple, np.ndarray]:
     """(leaves, lengths) of members, each a (model, settings, state, samples, work) tuple:
     every leaf stacked over the members, arrays padded along their first axis (the padding
@@ -92,7 +102,7 @@ def stack(members: list[tuple]) -> tuple[tuple, np.ndarray]:
     axis (one structure); a ValueError names the leaf that differs."""
     names = [f"{cls.__name__}.{path}" for cls in BUNDLES for path, _ in leaf_kinds(cls)]
     kinds = [kind for cls in BUNDLES for _, kind in leaf_kinds(cls)]
-    flat = [[leaf for bundle in member for leaf in leaves_of(bundle)] for member in members]
+    flat = [member_leaves(member) for member in members]
     n = len(members)
     lengths = np.zeros((n, N_LEAVES), dtype=np.int64)
     leaves = []
@@ -126,7 +136,7 @@ def written_leaves() -> list[int]:
 
 def copy_back(leaves, lengths, members: list[tuple]) -> None:
     """Copy the written leaves (State, Samples) of each member back into its own arrays."""
-    flat = [[leaf for bundle in member for leaf in leaves_of(bundle)] for member in members]
+    flat = [member_leaves(member) for member in members]
     for k in written_leaves():
         for m, member in enumerate(flat):
             member[k][...] = leaves[k][m, :lengths[m, k]]

@@ -1,28 +1,50 @@
 #!/usr/bin/env bash
 # The device checks of issue 33 in one script, sized for a session lent a GPU (15 minutes of
-# device time, starts included): the GPU against the CPU (stonedem.bench.gpu_check), the
-# throughput against members (stonedem.bench.ensemble) and the full IDA on the GPU, timed.
+# device time, starts included):
+#   1. the full IDA on the GPU (`snakemake fragility --config device=gpu`), timed from cold
+#      caches: compile included;
+#   2. the GPU against the CPU ensemble and the engine (stonedem.bench.gpu_check);
+#   3. throughput against members (stonedem.bench.ensemble).
 #
 #   bash benchmarks/gpu_device_run.sh          # writes under $OUT (default results/device)
 #
-# numba-cuda and its compiler (NVVM) must be importable there: the device machine reaches no
-# network, so they are installed from a wheelhouse carried in shared/wheels when one is.
+# The device machine reaches no network. Its image has numba and numba-cuda; what the project
+# needs beside them (snakemake, netCDF4 and their dependencies) is installed from wheels
+# carried in .whl (see docs/method/engine.md, "Checking on a GPU"), only when missing.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-results/device}
 mkdir -p "$OUT"
-nvidia-smi -L 2>&1 | tee "$OUT/device.txt"
-if ! python3 -c "import numba_cuda" 2>/dev/null; then
-    python3 -m pip install -q --no-index --find-links shared/wheels -e '.[gpu]' 2>&1 | tail -1
+export PYTHONUNBUFFERED=1
+t0=$(date +%s)
+stamp() { echo "[$(($(date +%s) - t0)) s] $*"; }
+{ nvidia-smi -L; echo "cores: $(nproc)"; python3 --version; } 2>&1 | tee "$OUT/device.txt"
+if [ -d .whl ] && ! python3 -c "import snakemake, netCDF4" 2>/dev/null; then
+    python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl 2>&1 | tail -3
+    export PYTHONPATH=/tmp/site
 fi
-python3 -c "import numba_cuda, numba; print('numba', numba.__version__, 'numba-cuda', numba_cuda.__version__)" \
-    | tee -a "$OUT/device.txt" || { echo "numba-cuda is not importable: nothing to check" >&2; exit 2; }
+export PYTHONPATH=$PWD/src${PYTHONPATH:+:$PYTHONPATH}
+python3 -c "import numpy, numba, numba_cuda, snakemake, netCDF4, xarray; print('numpy', numpy.__version__, 'numba', numba.__version__, 'numba-cuda', numba_cuda.__version__, 'snakemake', snakemake.__version__, 'xarray', xarray.__version__)" 2>&1 \
+    | tee -a "$OUT/device.txt"
+python3 -c "from stonedem.kernels.gpu import gpu_available; print(gpu_available())" 2>&1 | tee -a "$OUT/device.txt"
+
+stamp "1. full IDA on the GPU, cold caches"
 start=$(date +%s)
-timeout 240 python3 -m stonedem.bench.gpu_check --records 20 --out "$OUT" 2>&1 | tee "$OUT/gpu_check.txt"
-echo "gpu_check: $(( $(date +%s) - start )) s" | tee -a "$OUT/gpu_check.txt"
-timeout 120 python3 -m stonedem.bench.ensemble --out "$OUT" --figure "$OUT/ensemble_throughput.png" 2>&1 \
-    | tail -12 | tee "$OUT/ensemble.txt"
-start=$(date +%s)
-timeout 300 python3 -m snakemake fragility -j1 --config device=gpu > "$OUT/ida_gpu.log" 2>&1
-echo "full IDA, device=gpu: exit $?, $(( $(date +%s) - start )) s" | tee "$OUT/ida_gpu.txt"
-cp results/logs/jobs/search_ida_*.log "$OUT/" 2>/dev/null || true
+timeout "${IDA_SECONDS:-300}" python3 -m snakemake fragility --cores "$(nproc)" --config device=gpu >"$OUT/ida_gpu.log" 2>&1
+code=$?
+echo "full IDA, device=gpu: exit $code, $(($(date +%s) - start)) s wall" | tee "$OUT/ida_gpu.txt"
+tail -5 "$OUT/ida_gpu.log"
+grep -h "device\|finished\|searches" results/logs/jobs/search_ida_*.log 2>/dev/null | tail -12
+
+stamp "2. GPU against CPU (gpu_check)"
+timeout "${CHECK_SECONDS:-150}" python3 -m stonedem.bench.gpu_check --records "${CHECK_RECORDS:-20}" --out "$OUT" 2>&1 \
+    | tee "$OUT/gpu_check.txt"
+
+stamp "3. throughput against members"
+timeout "${ENSEMBLE_SECONDS:-100}" python3 -m stonedem.bench.ensemble --out "$OUT" --figure "$OUT/ensemble_throughput.png" 2>&1 \
+    | tee "$OUT/ensemble.txt"
+stamp "done"
+# at most 8 files come back: the small ones above, and one archive of the IDA's outputs and logs
+tar czf "$OUT/ida_gpu.tar.gz" results/fragility results/tables/fragility*.csv results/logs/jobs results/logs/fragility \
+    2>/dev/null || true
+ls -la "$OUT"

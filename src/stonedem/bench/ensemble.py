@@ -143,6 +143,10 @@ def build_parser():
                         help=f"member counts (default {' '.join(map(str, MEMBERS))}; on a GPU also "
                              f"{' '.join(map(str, GPU_MEMBERS))})")
     parser.add_argument("--repeats", type=int, default=2, help="timed calls per point; best kept")
+    parser.add_argument("--backend", nargs="+", default=None,
+                        help="backends to time: cpu_1_thread, cpu_all_threads, gpu (default: all this machine has)")
+    parser.add_argument("--threads-per-block", type=int, default=None,
+                        help="GPU threads (members) per block (default: stonedem.kernels.gpu.THREADS_PER_BLOCK)")
     parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of ensemble.nc")
     parser.add_argument("--figure", type=options.path_arg, default=None,
                         help="the figure (default: <out>/../figures/ensemble_throughput.png)")
@@ -168,9 +172,21 @@ def main(argv=None) -> int:
         figure_path = options.output_file(args.figure or args.out.parent / "figures" / "ensemble_throughput.png",
                                           "--figure", suffixes=(".png",))
         duration = QUICK_DURATION if args.quick else DURATION
+        available = backends()
+        chosen = options.chosen(args.backend or list(available), "--backend", available)
+        if args.threads_per_block is not None:
+            from stonedem.kernels import gpu
+
+            gpu.THREADS_PER_BLOCK = options.number(args.threads_per_block, "--threads-per-block", lo=1, hi=1024,
+                                                   whole=True, example="64")
         start = time.perf_counter()
         table, described = {}, {}
-        for name, (device, threads, what) in backends().items():
+        for name in chosen:
+            device, threads, what = available[name]
+            if device == "gpu":
+                from stonedem.kernels import gpu
+
+                what = f"{what}, {gpu.THREADS_PER_BLOCK} members per block"
             described[name] = what
             counts = members + ([n for n in GPU_MEMBERS if n > max(members)]
                                 if device == "gpu" and not args.members and not args.quick else [])

@@ -149,18 +149,18 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     pairs overflow their Work go on from that step with twice the room."""
     from numba import cuda
 
-    from stonedem.kernels.gpu import THREADS_PER_BLOCK, member_kernel
+    from stonedem.kernels import gpu
     from stonedem.kernels.members import copy_back, stack
 
     members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
     if not members:
         return statuses_of(plans, members, status)
-    kernel = member_kernel()
+    kernel = gpu.member_kernel()
     capacity = max(pair_capacity(loop.model) for loop in loops)
     bundles = [(loop.model, loop.settings, loop.state, loop.cursor.samples, step.allocate_work(loop.model, capacity))
                for loop in loops]
     try:
-        leaves, lengths = stack(bundles)
+        leaves, lengths = stack(bundles, member_fastest=gpu.MEMBER_FASTEST)
     except ValueError as exc:
         raise InputError("scenes", f"on the GPU the members must share one structure: {exc}",
                          "run each structure's members in their own call, or use device='cpu'") from None
@@ -168,7 +168,7 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     device_lengths = cuda.to_device(lengths)
     n = len(members)
     first, rest_from = cuda.to_device(first), cuda.to_device(rest_from)
-    threads = min(THREADS_PER_BLOCK, n)
+    threads = min(gpu.THREADS_PER_BLOCK, n)
     blocks = (n + threads - 1) // threads
     last: dict[int, tuple] = {}  # the chunk that stopped each member, booked once its samples are back
     size = FIRST_CHUNK_STEPS
@@ -192,7 +192,7 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
                 host = [leaf.copy_to_host() for leaf in on_device]
                 bundles = [(*b[:4], step.allocate_work(b[0], capacity)) for b in bundles]
                 copy_back(host, lengths, bundles)
-                leaves, lengths = stack(bundles)
+                leaves, lengths = stack(bundles, member_fastest=gpu.MEMBER_FASTEST)
                 on_device = tuple(cuda.to_device(leaf) for leaf in leaves)
                 device_lengths = cuda.to_device(lengths)
                 status[full] = step.STATUS_OK

@@ -19,6 +19,9 @@ from stonedem.kernels.members import member_bundles
 from stonedem.kernels.step import STATUS_OK, run_steps
 
 THREADS_PER_BLOCK = 64  # members per block: the loop is long and branchy, so small blocks
+# the stacked arrays with the member index fastest in memory (stonedem.kernels.members.stack):
+# a warp's loads coalesce
+MEMBER_FASTEST = True
 cuda = None  # numba.cuda, imported on first use; a global, so the simulator can stand in for it
 
 
@@ -72,7 +75,31 @@ def member_kernel():
     if not hasattr(np, "row_stack"):  # numba-cuda 0.30.4 still calls it; NumPy 2.5 removed it
         np.row_stack = np.vstack
     scalar.register_cuda()
+    compile_without_contraction()
     return cuda.jit(cache=True)(run_members_on_gpu)  # cached under the kernel-source hash (stonedem.kernels)
+
+
+def compile_without_contraction() -> None:
+    """Have NVVM keep ``a * b + c`` as two roundings, as the CPU does (once per process).
+
+    NVVM fuses a multiply and an add into one FMA by default (``-fma=1``); Numba's CPU target
+    does not. Fused, the GPU's numbers left the CPU's at rounding level and rocking impacts
+    amplified that: 1e-6 m apart after 0.5 s on a lone block (H100, 2026-11-27). numba-cuda's
+    ``cuda.jit`` passes NVVM no such option, so its compile call gets it here, unless the
+    caller asked for fast math."""
+    from numba.cuda.cudadrv import nvvm
+
+    if getattr(nvvm.compile_ir, "keeps_two_roundings", False):
+        return
+    fused = nvvm.compile_ir
+
+    def compile_ir(llvmir, **options):
+        if not options.get("fastmath"):
+            options.setdefault("fma", False)
+        return fused(llvmir, **options)
+
+    compile_ir.keeps_two_roundings = True
+    nvvm.compile_ir = compile_ir
 
 
 def run_members_on_gpu(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):

@@ -58,6 +58,10 @@ CHILD = textwrap.dedent("""
     if sys.argv[2] == "small_pairs":  # one pair of room at first: the buffers must grow
         ensemble.pair_capacity = lambda model: 1
         groups = {"colonnade": groups["colonnade"]}
+    if sys.argv[2] == "member_fastest":  # the coalescing layout (stonedem.kernels.members.stack)
+        from stonedem.kernels import gpu
+        gpu.MEMBER_FASTEST = True
+        groups = {"record": groups["record"], "column_8": groups["column_8"]}
     out = {}
     for name, specs in groups.items():
         scenes = [scene_from_dict(s) for s in specs]
@@ -87,7 +91,7 @@ def simulated(record, mode) -> dict:
     return json.loads(done.stdout.splitlines()[-1])
 
 
-@pytest.mark.parametrize("mode", ["plain", "small_pairs"])
+@pytest.mark.parametrize("mode", ["plain", "small_pairs", "member_fastest"])
 def test_simulated_gpu_members_run_as_simulate_runs_them(quiet_sine_record, mode):
     groups = simulated(quiet_sine_record, mode)
     assert groups

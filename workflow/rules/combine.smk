@@ -16,6 +16,7 @@ for k, batch in enumerate(CUBE_BATCHES):
             },
         log:
             f"results/logs/cubes/cubes_{k}.log",
+        group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"
         script:

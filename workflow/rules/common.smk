@@ -59,6 +59,10 @@ FIGURES = stonedem.figures.figure_table(STUDIES, config)
 FIGURE_NAMES = list(FIGURES)
 
 
+# On a cluster (config/profiles/slurm: group-components) jobs of one kind share a submission, so a
+# cluster job starts one Snakemake for several of ours; local runs ignore groups.
+SIMULATION_GROUP = "simulations"  # simulation, search, wall and validation jobs
+REDUCTION_GROUP = "reductions"  # cubes, tables and figures
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
 # jobs sized to their cost (stonedem.study.jobs): cheap cases share a job, each search is one job
 # config device: gpu runs each search study's searches in one job, side by side on the GPU

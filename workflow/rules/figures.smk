@@ -20,6 +20,7 @@ for k, batch in enumerate(FIGURE_BATCHES):
             figures={name: figure_inputs(name) for name in batch},
         log:
             f"results/logs/figures/figures_{k}.log",
+        group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"
         script:

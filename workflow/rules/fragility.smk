@@ -42,6 +42,7 @@ rule ida_cube:
         suites=FRAGILITY.get("suites"),
     log:
         "results/logs/fragility/ida_cube.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -62,6 +63,7 @@ rule fragility_fits:
         pulse_structure=PULSE_STRUCTURE,
     log:
         "results/logs/fragility/fragility_fits.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -93,6 +95,7 @@ rule fragility_figures:
         structures=FRAGILITY_STRUCTURES,
     log:
         "results/logs/fragility/fragility_figures.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:

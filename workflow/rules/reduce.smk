@@ -12,6 +12,7 @@ for k, batch in enumerate(TABLE_BATCHES):
             tables={name: table_inputs(name) for name in batch},
         log:
             f"results/logs/tables/tables_{k}.log",
+        group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"
         script:

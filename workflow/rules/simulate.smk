@@ -19,6 +19,7 @@ for job in JOBS:
         resources:
             runtime=job_runtime(job),
         priority: JOB_PRIORITY[job.name]
+        group: SIMULATION_GROUP
         conda:
             "../envs/stonedem.yaml"
         script:
@@ -46,6 +47,7 @@ for job in JOBS + FRAGILITY_JOBS:
         resources:
             runtime=job_runtime(job),
         priority: JOB_PRIORITY[job.name]
+        group: SIMULATION_GROUP
         conda:
             "../envs/stonedem.yaml"
         script:

@@ -43,6 +43,7 @@ rule validate_one:
     priority: UNPACKED_PRIORITY
     wildcard_constraints:
         validation="|".join(VALIDATION_NAMES),
+    group: SIMULATION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -68,6 +69,7 @@ rule validation_figures:
         figures=VALIDATION_FIGURE_INPUT,
     log:
         "results/logs/validation/figures.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -81,6 +83,7 @@ rule validation_summary:
         "results/tables/validation_summary.csv",
     log:
         "results/logs/validation/validation_summary.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:

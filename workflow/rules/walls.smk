@@ -17,6 +17,7 @@ rule wall_case:
     priority: UNPACKED_PRIORITY
     params:
         limit_analysis=config.get("wall_limit_analysis", True),
+    group: SIMULATION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -30,6 +31,7 @@ rule wall_table:
         "results/tables/manuscript_table_{wall_table}.csv",
     log:
         "results/logs/walls/table_{wall_table}.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -41,6 +43,7 @@ rule wall_table_a1:
         "results/tables/manuscript_table_a1.csv",
     log:
         "results/logs/walls/table_a1.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -68,6 +71,7 @@ rule wall_figures:
         },
     log:
         "results/logs/walls/figures.log",
+    group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:

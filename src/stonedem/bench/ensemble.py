@@ -58,8 +58,9 @@ def time_ensemble(scene: str, n: int, duration: float, device: str, threads: int
     return best, steps
 
 
-def backends() -> dict[str, tuple[str, int | None, str]]:
-    """{name: (device, threads, what it is)} of the backends this machine has."""
+def backends() -> tuple[dict[str, tuple[str, int | None, str]], str]:
+    """({name: (device, threads, what it is)} of the backends this machine has, why no GPU is
+    among them or "")."""
     import numba
 
     from stonedem.kernels.gpu import gpu_available
@@ -70,9 +71,8 @@ def backends() -> dict[str, tuple[str, int | None, str]]:
     usable, why = gpu_available()
     if usable and not numba.config.ENABLE_CUDASIM:  # the simulator's timings mean nothing
         out["gpu"] = ("gpu", None, why)
-    else:
-        print(f"note: no GPU timed ({why if not usable else 'the CUDA simulator is on'})", file=sys.stderr)
-    return out
+        return out, ""
+    return out, why if not usable else "the CUDA simulator is on"
 
 
 def ensemble_dataset(table: dict, members: list[int], described: dict, scene: str, duration: float,
@@ -147,6 +147,8 @@ def build_parser():
                         help="backends to time: cpu_1_thread, cpu_all_threads, gpu (default: all this machine has)")
     parser.add_argument("--threads-per-block", type=int, default=None,
                         help="GPU threads (members) per block (default: stonedem.kernels.gpu.THREADS_PER_BLOCK)")
+    parser.add_argument("--member-fastest", action="store_true",
+                        help="on the GPU, lay the stacked arrays out member index fastest (coalesced loads)")
     parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of ensemble.nc")
     parser.add_argument("--figure", type=options.path_arg, default=None,
                         help="the figure (default: <out>/../figures/ensemble_throughput.png)")
@@ -161,6 +163,7 @@ def main(argv=None) -> int:
 
     def command():
         from stonedem.bench.kernel import SCENES
+        from stonedem.errors import InputError
         from stonedem.io.netcdf import write_dataset
 
         scene = options.chosen([args.scene], "--scene", SCENES)[0]
@@ -172,25 +175,30 @@ def main(argv=None) -> int:
         figure_path = options.output_file(args.figure or args.out.parent / "figures" / "ensemble_throughput.png",
                                           "--figure", suffixes=(".png",))
         duration = QUICK_DURATION if args.quick else DURATION
-        available = backends()
+        available, no_gpu = backends()
+        if args.backend and "gpu" in args.backend and no_gpu:
+            raise InputError("--backend", f"gpu: none to time here ({no_gpu})", "leave gpu out, or run on a GPU")
         chosen = options.chosen(args.backend or list(available), "--backend", available)
-        if args.threads_per_block is not None:
-            from stonedem.kernels import gpu
+        from stonedem.kernels import gpu
 
+        if args.threads_per_block is not None:
             gpu.THREADS_PER_BLOCK = options.number(args.threads_per_block, "--threads-per-block", lo=1, hi=1024,
                                                    whole=True, example="64")
+        gpu.MEMBER_FASTEST = gpu.MEMBER_FASTEST or args.member_fastest
+        if no_gpu and not args.backend:
+            print(f"note: no GPU timed ({no_gpu})", file=sys.stderr)
         start = time.perf_counter()
         table, described = {}, {}
         for name in chosen:
             device, threads, what = available[name]
             if device == "gpu":
-                from stonedem.kernels import gpu
-
-                what = f"{what}, {gpu.THREADS_PER_BLOCK} members per block"
+                what = f"{what}, {gpu.THREADS_PER_BLOCK} members per block" + (
+                    ", member index fastest" if gpu.MEMBER_FASTEST else "")
             described[name] = what
             counts = members + ([n for n in GPU_MEMBERS if n > max(members)]
                                 if device == "gpu" and not args.members and not args.quick else [])
-            time_ensemble(scene, 1, 0.05, device, threads, 1)  # compiles
+            # compiles; two members, as one member's arrays may be typed with another layout
+            time_ensemble(scene, 2, 0.05, device, threads, 1)
             for n in counts:
                 table[name, n] = time_ensemble(scene, n, duration, device, threads, repeats)
                 wall, steps = table[name, n]

@@ -19,9 +19,12 @@ from stonedem.kernels.members import member_bundles
 from stonedem.kernels.step import STATUS_OK, run_steps
 
 THREADS_PER_BLOCK = 64  # members per block: the loop is long and branchy, so small blocks
-# the stacked arrays with the member index fastest in memory (stonedem.kernels.members.stack):
-# a warp's loads coalesce
-MEMBER_FASTEST = True
+# the stacked arrays with the member index fastest in memory (stonedem.kernels.members.stack), so
+# that a warp's loads coalesce. Off: on an H100 (2026-11-27) it was not shown to pay (1 181 ns per
+# member-step at 1 024 members, against 2 488 at 256 laid out per member; no like-for-like pair
+# was measured, docs/notebook.md). A lone member's Fortran-ordered arrays are C-contiguous too,
+# so Numba would compile the kernel a second time for it.
+MEMBER_FASTEST = False
 cuda = None  # numba.cuda, imported on first use; a global, so the simulator can stand in for it
 
 

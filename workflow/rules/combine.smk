@@ -16,6 +16,8 @@ for k, batch in enumerate(CUBE_BATCHES):
             },
         log:
             f"results/logs/cubes/cubes_{k}.log",
+        benchmark:
+            f"results/logs/benchmarks/cubes/cubes_{k}.tsv",
         group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"

@@ -20,6 +20,8 @@ for k, batch in enumerate(FIGURE_BATCHES):
             figures={name: figure_inputs(name) for name in batch},
         log:
             f"results/logs/figures/figures_{k}.log",
+        benchmark:
+            f"results/logs/benchmarks/figures/figures_{k}.tsv",
         group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"

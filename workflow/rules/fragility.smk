@@ -42,6 +42,8 @@ rule ida_cube:
         suites=FRAGILITY.get("suites"),
     log:
         "results/logs/fragility/ida_cube.log",
+    benchmark:
+        "results/logs/benchmarks/fragility/ida_cube.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
@@ -63,6 +65,8 @@ rule fragility_fits:
         pulse_structure=PULSE_STRUCTURE,
     log:
         "results/logs/fragility/fragility_fits.log",
+    benchmark:
+        "results/logs/benchmarks/fragility/fragility_fits.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
@@ -95,6 +99,8 @@ rule fragility_figures:
         structures=FRAGILITY_STRUCTURES,
     log:
         "results/logs/fragility/fragility_figures.log",
+    benchmark:
+        "results/logs/benchmarks/fragility/fragility_figures.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"

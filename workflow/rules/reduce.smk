@@ -12,6 +12,8 @@ for k, batch in enumerate(TABLE_BATCHES):
             tables={name: table_inputs(name) for name in batch},
         log:
             f"results/logs/tables/tables_{k}.log",
+        benchmark:
+            f"results/logs/benchmarks/tables/tables_{k}.tsv",
         group: REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"

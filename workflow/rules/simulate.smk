@@ -16,6 +16,8 @@ for job in JOBS:
             cases=[case.as_dict() for case in job.cases],
         log:
             f"results/logs/jobs/{job.name}.log",
+        benchmark:
+            f"results/logs/benchmarks/jobs/{job.name}.tsv",
         resources:
             runtime=job_runtime(job),
         priority: JOB_PRIORITY[job.name]
@@ -44,6 +46,8 @@ for job in JOBS + FRAGILITY_JOBS:
             systems=[system.as_dict() for system in job.cases],
         log:
             f"results/logs/jobs/{job.name}.log",
+        benchmark:
+            f"results/logs/benchmarks/jobs/{job.name}.tsv",
         resources:
             runtime=job_runtime(job),
         priority: JOB_PRIORITY[job.name]

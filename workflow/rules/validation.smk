@@ -40,6 +40,8 @@ rule validate_one:
         "results/validation/{validation}.nc",
     log:
         "results/logs/validation/{validation}.log",
+    benchmark:
+        "results/logs/benchmarks/validation/{validation}.tsv",
     priority: UNPACKED_PRIORITY
     wildcard_constraints:
         validation="|".join(VALIDATION_NAMES),
@@ -69,6 +71,8 @@ rule validation_figures:
         figures=VALIDATION_FIGURE_INPUT,
     log:
         "results/logs/validation/figures.log",
+    benchmark:
+        "results/logs/benchmarks/validation/figures.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
@@ -83,6 +87,8 @@ rule validation_summary:
         "results/tables/validation_summary.csv",
     log:
         "results/logs/validation/validation_summary.log",
+    benchmark:
+        "results/logs/benchmarks/validation/validation_summary.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"

@@ -14,6 +14,8 @@ rule wall_case:
         "results/walls/{wall_case}.nc",
     log:
         "results/logs/walls/{wall_case}.log",
+    benchmark:
+        "results/logs/benchmarks/walls/{wall_case}.tsv",
     priority: UNPACKED_PRIORITY
     params:
         limit_analysis=config.get("wall_limit_analysis", True),
@@ -31,6 +33,8 @@ rule wall_table:
         "results/tables/manuscript_table_{wall_table}.csv",
     log:
         "results/logs/walls/table_{wall_table}.log",
+    benchmark:
+        "results/logs/benchmarks/walls/table_{wall_table}.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
@@ -43,6 +47,8 @@ rule wall_table_a1:
         "results/tables/manuscript_table_a1.csv",
     log:
         "results/logs/walls/table_a1.log",
+    benchmark:
+        "results/logs/benchmarks/walls/table_a1.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
@@ -71,6 +77,8 @@ rule wall_figures:
         },
     log:
         "results/logs/walls/figures.log",
+    benchmark:
+        "results/logs/benchmarks/walls/figures.tsv",
     group: REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"

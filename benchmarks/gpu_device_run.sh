@@ -10,7 +10,7 @@
 #
 # The device machine reaches no network. Its image has numba and numba-cuda; what the project
 # needs beside them (snakemake, netCDF4 and their dependencies) is installed from wheels
-# carried in .whl (see docs/method/engine.md, "Checking on a GPU"), only when missing.
+# carried in .whl (docs/method/engine.md, "Many runs at once"), only when missing.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-results/device}

@@ -34,15 +34,15 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
     """
     rows = []
     for system, cube in (("colonnade", colonnade), ("single column", standalone)):
-        for bracket in collapse_brackets(cube, "pga"):
-            key = thesis_record(bracket["record"])
-            thesis = THESIS_TABLE_7_1.get((system, bracket["n_drums"]), {}).get(key, float("nan"))
-            rows.append({"system": system, "n_drums": bracket["n_drums"], "record": bracket["record"],
-                         "thesis_record": key, "collapse_pga_m_s2": bracket["upper"],
-                         "survived_pga_m_s2": bracket["lower"], "bracket_width": bracket["width"],
-                         "n_runs": bracket["n_runs"], "monotonic": int(bracket["monotonic"]),
-                         "resurrections_m_s2": " ".join(f"{v:g}" for v in bracket["resurrections"]),
-                         "search_status": bracket["status"], "collapse_map": bracket["map"],
+        for found in collapse_brackets(cube, "pga"):
+            key = thesis_record(found["record"])
+            thesis = THESIS_TABLE_7_1.get((system, found["n_drums"]), {}).get(key, float("nan"))
+            rows.append({"system": system, "n_drums": found["n_drums"], "record": found["record"],
+                         "thesis_record": key, "collapse_pga_m_s2": found["upper"],
+                         "survived_pga_m_s2": found["lower"], "bracket_width": found["width"],
+                         "n_runs": found["n_runs"], "monotonic": int(found["monotonic"]),
+                         "resurrections_m_s2": " ".join(f"{v:g}" for v in found["resurrections"]),
+                         "search_status": found["status"], "collapse_map": found["map"],
                          "thesis_accel_to_failure_m_s2": thesis})
     return rows
 

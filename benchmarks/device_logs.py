@@ -5,13 +5,14 @@ so what they measured is in the lines it printed as it went (``ensemble_run*.txt
 printed). This reads those lines back; the settings of each section are the run's own, from
 the folder's README.
 
-    python benchmarks/device_logs.py [benchmarks/device/h100-2026-11-27]
+    python benchmarks/device_logs.py [--folder benchmarks/device/h100-2026-11-27]
 """
 
-import csv
 import re
 import sys
 from pathlib import Path
+
+from stonedem.bench import options
 
 LINE = re.compile(r"^\s+(\S+)\s+(\d+) members\s+(\S+) member-steps/s\s+(\S+) ns each$")
 # (log, the section's marker or None for the whole log): layout, NVVM contraction, members per block
@@ -20,8 +21,10 @@ SECTIONS = {
     ("ensemble_run2.txt", "ens64"): ("member index fastest (F order)", "two roundings", 64),
     ("ensemble_run2.txt", "ens32"): ("member index fastest (F order)", "two roundings", 32),
 }
+# rows whose timing is known to hold something else (the folder's README says how it is known)
+NOTES = {("ensemble_run2.txt", "ens64", "gpu", 256): "includes a kernel compile (a one-member warm-up was typed C-ordered)"}
 COLUMNS = ["log", "layout", "multiply_add", "threads_per_block", "backend", "members", "member_steps_per_s",
-           "ns_per_member_step"]
+           "ns_per_member_step", "note"]
 
 
 def rows(folder: Path) -> list[dict]:
@@ -35,27 +38,33 @@ def rows(folder: Path) -> list[dict]:
             match = LINE.match(line)
             if match and (marker is None or section == marker):
                 backend, members, rate, ns = match.groups()
+                note = NOTES.get((log, marker, backend, int(members)), "")
                 out.append(dict(zip(COLUMNS, (log, layout, fma if backend == "gpu" else "", block if backend == "gpu" else "",
-                                              backend, int(members), float(rate), float(ns)))))
+                                              backend, int(members), float(rate), float(ns), note))))
     return out
 
 
-def main(argv: list[str]) -> int:
-    folder = Path(argv[0] if argv else "benchmarks/device/h100-2026-11-27")
-    if not (folder / "ensemble_run1.txt").is_file():
-        print(f"error: {folder}: no ensemble_run1.txt there; give a folder of benchmarks/device", file=sys.stderr)
-        return 2
-    table = rows(folder)
-    path = folder / "ensemble.csv"
-    tmp = path.with_suffix(".csv.tmp")
-    with tmp.open("w", newline="") as f:
-        writer = csv.DictWriter(f, COLUMNS)
-        writer.writeheader()
-        writer.writerows(table)
-    tmp.replace(path)
-    print(f"wrote {path}: {len(table)} rows")
-    return 0
+def build_parser():
+    parser = options.parser("python benchmarks/device_logs.py", __doc__)
+    parser.add_argument("--folder", type=options.path_arg, default=Path("benchmarks/device/h100-2026-11-27"),
+                        help="a run's folder of benchmarks/device (it gets ensemble.csv)")
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+
+    def command():
+        for log in sorted({log for log, _ in SECTIONS}):
+            options.input_file(args.folder / log, "--folder", f"folder holding {log}")
+        path = options.output_file(args.folder / "ensemble.csv", "--folder", suffixes=(".csv",))
+        table = rows(args.folder)
+        options.write_csv(path, table)
+        print(f"wrote {path}: {len(table)} rows")
+        return 0
+
+    return options.run(command)
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main())

@@ -206,7 +206,7 @@ BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "ston
                  "stonedem.bench.gpu_check", "stonedem.bench.kernel",
                  "stonedem.bench.restitution", "stonedem.bench.skipping", "stonedem.bench.stability",
                  "stonedem.bench.work_precision"]
-BENCH_SCRIPTS = ["engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables"]
+BENCH_SCRIPTS = ["device_logs", "engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables"]
 
 
 @functools.lru_cache(maxsize=None)

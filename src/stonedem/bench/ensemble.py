@@ -12,6 +12,7 @@ results/bench/ensemble.nc and results/figures/ensemble_throughput.png.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import platform
 import sys
@@ -73,6 +74,20 @@ def backends() -> tuple[dict[str, tuple[str, int | None, str]], str]:
         out["gpu"] = ("gpu", None, why)
         return out, ""
     return out, why if not usable else "the CUDA simulator is on"
+
+
+@contextlib.contextmanager
+def gpu_layout(threads_per_block: int, member_fastest: bool):
+    """The GPU ensemble's launch width and stacking layout (stonedem.kernels.gpu) for the
+    timings, and back as they were after them (main may run inside another program)."""
+    from stonedem.kernels import gpu
+
+    saved = gpu.THREADS_PER_BLOCK, gpu.MEMBER_FASTEST
+    gpu.THREADS_PER_BLOCK, gpu.MEMBER_FASTEST = threads_per_block, member_fastest
+    try:
+        yield
+    finally:
+        gpu.THREADS_PER_BLOCK, gpu.MEMBER_FASTEST = saved
 
 
 def ensemble_dataset(table: dict, members: list[int], described: dict, scene: str, duration: float,
@@ -181,29 +196,28 @@ def main(argv=None) -> int:
         chosen = options.chosen(args.backend or list(available), "--backend", available)
         from stonedem.kernels import gpu
 
-        if args.threads_per_block is not None:
-            gpu.THREADS_PER_BLOCK = options.number(args.threads_per_block, "--threads-per-block", lo=1, hi=1024,
-                                                   whole=True, example="64")
-        gpu.MEMBER_FASTEST = gpu.MEMBER_FASTEST or args.member_fastest
+        block = gpu.THREADS_PER_BLOCK if args.threads_per_block is None else options.number(
+            args.threads_per_block, "--threads-per-block", lo=1, hi=1024, whole=True, example="64")
+        fastest = gpu.MEMBER_FASTEST or args.member_fastest
         if no_gpu and not args.backend:
             print(f"note: no GPU timed ({no_gpu})", file=sys.stderr)
         start = time.perf_counter()
         table, described = {}, {}
-        for name in chosen:
-            device, threads, what = available[name]
-            if device == "gpu":
-                what = f"{what}, {gpu.THREADS_PER_BLOCK} members per block" + (
-                    ", member index fastest" if gpu.MEMBER_FASTEST else "")
-            described[name] = what
-            counts = members + ([n for n in GPU_MEMBERS if n > max(members)]
-                                if device == "gpu" and not args.members and not args.quick else [])
-            # compiles; two members, as one member's arrays may be typed with another layout
-            time_ensemble(scene, 2, 0.05, device, threads, 1)
-            for n in counts:
-                table[name, n] = time_ensemble(scene, n, duration, device, threads, repeats)
-                wall, steps = table[name, n]
-                print(f"  {name:16s} {n:6d} members  {steps / wall:10.3e} member-steps/s  "
-                      f"{1e9 * wall / steps:8.1f} ns each", file=sys.stderr, flush=True)
+        with gpu_layout(block, fastest):
+            for name in chosen:
+                device, threads, what = available[name]
+                if device == "gpu":
+                    what = f"{what}, {block} members per block" + (", member index fastest" if fastest else "")
+                described[name] = what
+                counts = members + ([n for n in GPU_MEMBERS if n > max(members)]
+                                    if device == "gpu" and not args.members and not args.quick else [])
+                # compiles; two members, as one member's arrays may be typed with another layout
+                time_ensemble(scene, 2, 0.05, device, threads, 1)
+                for n in counts:
+                    table[name, n] = time_ensemble(scene, n, duration, device, threads, repeats)
+                    wall, steps = table[name, n]
+                    print(f"  {name:16s} {n:6d} members  {steps / wall:10.3e} member-steps/s  "
+                          f"{1e9 * wall / steps:8.1f} ns each", file=sys.stderr, flush=True)
         all_members = sorted({n for _, n in table})
         ds = ensemble_dataset(table, all_members, described, scene, duration, args.quick)
         write_dataset(ds, path)

@@ -86,10 +86,10 @@ def compile_without_contraction() -> None:
     """Have NVVM keep ``a * b + c`` as two roundings, as the CPU does (once per process).
 
     NVVM fuses a multiply and an add into one FMA by default (``-fma=1``); Numba's CPU target
-    does not. Fused, the GPU's numbers left the CPU's at rounding level and rocking impacts
-    amplified that: 1e-6 m apart after 0.5 s on a lone block (H100, 2026-11-27). numba-cuda's
-    ``cuda.jit`` passes NVVM no such option, so its compile call gets it here, unless the
-    caller asked for fast math."""
+    does not, so fused the two round differently and rocking impacts amplify it: fused, a lone
+    block was 1e-6 m from the CPU's after 0.5 s (H100, 2026-11-27; unfused not yet measured on
+    a GPU). numba-cuda's ``cuda.jit`` passes NVVM no such option, so its compile call gets it
+    here, unless the caller asked for fast math."""
     from numba.cuda.cudadrv import nvvm
 
     if getattr(nvvm.compile_ir, "keeps_two_roundings", False):

@@ -53,50 +53,67 @@ FACE_SWITCH_TOLERANCE = 1e-9
 
 
 @njit(**INLINE_OPTIONS)
-def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny):
-    """Every edge k -> k+1 of every body at this step: its length [m] and outward unit normal.
-
-    Once a step and body, not once per pair and direction: a column's drum has two pairs, each
-    of which looked at both bodies' edges three times. A zero-length edge has normal (0, 0).
-    """
-    for b in range(n_body):
+def local_edges(vert_start, local_x, local_y, edge_len, local_nx, local_ny):
+    """Every edge k -> k+1 of every body in its own frame: its length [m] and outward unit
+    normal, constant for a rigid body (a zero-length edge has normal (0, 0)). Computed once a
+    run (:func:`stonedem.kernels.step.allocate_work`); :func:`world_normals` turns the normals."""
+    for b in range(vert_start.shape[0] - 1):
         s = vert_start[b]
         e = vert_start[b + 1]
         for k in range(s, e):
             k1 = k + 1 if k + 1 < e else s
-            ex = world_x[k1] - world_x[k]
-            ey = world_y[k1] - world_y[k]
+            ex = local_x[k1] - local_x[k]
+            ey = local_y[k1] - local_y[k]
             length = sqrt(ex * ex + ey * ey)
             edge_len[k] = length
             if length > 0.0:
-                edge_nx[k] = ey / length
-                edge_ny[k] = -ex / length
+                local_nx[k] = ey / length
+                local_ny[k] = -ex / length
             else:
-                edge_nx[k] = 0.0
-                edge_ny[k] = 0.0
+                local_nx[k] = 0.0
+                local_ny[k] = 0.0
 
 
 @njit(**INLINE_OPTIONS)
-def deepest_face(ax, ay, a_len, a_nx, a_ny, bx, by):
-    """(separation [m], edge k) of b from the edges of the counter-clockwise polygon a.
+def world_normals(n_body, vert_start, cos_theta, sin_theta, local_nx, local_ny, edge_nx, edge_ny):
+    """Every edge's outward unit normal at this step: its body-frame normal turned by theta.
 
-    a_len, a_nx, a_ny: length and outward unit normal of a's edge k -> k+1 (:func:`world_edges`).
-    For each edge, the signed distance of b's deepest vertex along its outward normal;
-    returned for the edge where that is largest. It is >= 0 when that edge separates the
-    polygons (returned at once), else minus the overlap depth along it.
+    Once a step and body, not once per pair and direction; a turn (four products) instead of
+    a square root and two divisions per edge from the world vertices, which differ from it
+    only by rounding.
     """
-    na = ax.shape[0]
-    nb = bx.shape[0]
+    for b in range(n_body):
+        c = cos_theta[b]
+        s = sin_theta[b]
+        for k in range(vert_start[b], vert_start[b + 1]):
+            edge_nx[k] = c * local_nx[k] - s * local_ny[k]
+            edge_ny[k] = s * local_nx[k] + c * local_ny[k]
+
+
+@njit(**INLINE_OPTIONS)
+def deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb):
+    """(separation [m], edge k) of polygon b from the edges of the counter-clockwise polygon a.
+
+    a is vertices sa..sa+na-1 of the world arrays, b vertices sb..sb+nb-1 (offsets, not
+    slices: a slice is a view built with its bounds checks, ten a pair); edge_len, edge_nx,
+    edge_ny: length and outward unit normal of each edge k -> k+1 (:func:`world_normals`).
+    For each of a's edges, the signed distance of b's deepest vertex along its outward
+    normal; returned for the edge where that is largest, k counted from sa. It is >= 0
+    when that edge separates the polygons (returned at once), else minus the overlap depth.
+    """
     best = -np.inf
     best_k = 0
     for k in range(na):
-        if a_len[k] <= 0.0:
+        i = sa + k
+        if edge_len[i] <= 0.0:
             continue
-        nx = a_nx[k]
-        ny = a_ny[k]
+        nx = edge_nx[i]
+        ny = edge_ny[i]
+        ox = world_x[i]
+        oy = world_y[i]
         deepest = np.inf
-        for j in range(nb):
-            d = (bx[j] - ax[k]) * nx + (by[j] - ay[k]) * ny
+        for j in range(sb, sb + nb):
+            d = (world_x[j] - ox) * nx + (world_y[j] - oy) * ny
             if d < deepest:
                 deepest = d
         if deepest >= 0.0:
@@ -108,19 +125,18 @@ def deepest_face(ax, ay, a_len, a_nx, a_ny, bx, by):
 
 
 @njit(**INLINE_OPTIONS)
-def contact_face(lengths, nx, ny, dir_x, dir_y):
-    """Index k of the edge k -> k+1 (length, outward unit normal nx, ny; :func:`world_edges`)
-    of a counter-clockwise polygon whose outward normal is closest to (dir_x, dir_y), and
-    that edge's length [m]."""
-    n = lengths.shape[0]
+def contact_face(edge_len, edge_nx, edge_ny, s, n, dir_x, dir_y):
+    """Index k (from s) of the edge k -> k+1 of the counter-clockwise polygon of vertices
+    s..s+n-1 whose outward normal is closest to (dir_x, dir_y), and that edge's length [m]
+    (lengths and unit normals: :func:`world_normals`)."""
     best = -np.inf
     best_k = 0
     best_len = 0.0
     for k in range(n):
-        length = lengths[k]
+        length = edge_len[s + k]
         if length <= 0.0:
             continue
-        score = nx[k] * dir_x + ny[k] * dir_y
+        score = edge_nx[s + k] * dir_x + edge_ny[s + k] * dir_y
         if score > best:
             best = score
             best_k = k
@@ -224,7 +240,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
 
     model, state, work: the time loop's bundles (:mod:`stonedem.kernels.step`); this reads the
     world vertices and bounds of work and its first n_pair candidate pairs, writes every
-    body's edges (:func:`world_edges`), adds to work's force, torque and base-force
+    body's edge normals (:func:`world_normals`), adds to work's force, torque and base-force
     accumulators and to state's contact memory and energy accumulators. The law
     (model.law): k_n, the normal stiffness per unit contact length [N m-2]; damping, the
     dashpot of each end as a fraction of critical, zeta [1]; k_t, c_t, each contact's
@@ -250,7 +266,8 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     pair_a, pair_b = work.pair_a, work.pair_b
-    world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
+    world_normals(body_x.shape[0], vert_start, work.cos_theta, work.sin_theta, work.edge_local_nx, work.edge_local_ny,
+                  edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
     out_x = scratch[0]
@@ -266,17 +283,12 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         na = vert_start[a + 1] - sa
         sb = vert_start[b]
         nb = vert_start[b + 1] - sb
-        ax = world_x[sa:sa + na]
-        ay = world_y[sa:sa + na]
-        bx = world_x[sb:sb + nb]
-        by = world_y[sb:sb + nb]
         # narrow phase by separating axes: touching iff no edge normal separates the pair
-        sep_a, ref_a = deepest_face(ax, ay, edge_len[sa:sa + na], edge_nx[sa:sa + na], edge_ny[sa:sa + na], bx, by)
+        sep_a, ref_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
         sep_b = 0.0
         ref_b = 0
         if sep_a < 0.0:
-            sep_b, ref_b = deepest_face(bx, by, edge_len[sb:sb + nb], edge_nx[sb:sb + nb], edge_ny[sb:sb + nb],
-                                        ax, ay)
+            sep_b, ref_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
         if sep_a >= 0.0 or sep_b >= 0.0:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
@@ -287,13 +299,11 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
             len_b = edge_len[sb + kb]
-            ka, len_a = contact_face(edge_len[sa:sa + na], edge_nx[sa:sa + na], edge_ny[sa:sa + na],
-                                     -edge_nx[sb + kb], -edge_ny[sb + kb])
+            ka, len_a = contact_face(edge_len, edge_nx, edge_ny, sa, na, -edge_nx[sb + kb], -edge_ny[sb + kb])
         else:
             ka = ref_a
             len_a = edge_len[sa + ka]
-            kb, len_b = contact_face(edge_len[sb:sb + nb], edge_nx[sb:sb + nb], edge_ny[sb:sb + nb],
-                                     -edge_nx[sa + ka], -edge_ny[sa + ka])
+            kb, len_b = contact_face(edge_len, edge_nx, edge_ny, sb, nb, -edge_nx[sa + ka], -edge_ny[sa + ka])
         ka1 = ka + 1 if ka + 1 < na else 0
         kb1 = kb + 1 if kb + 1 < nb else 0
         # outward unit normals of the two faces
@@ -314,10 +324,10 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         tx = ny
         ty = -nx
         # the faces' end vertices along the tangent, low end first
-        sa0 = ax[ka] * tx + ay[ka] * ty
-        sa1 = ax[ka1] * tx + ay[ka1] * ty
-        sb0 = bx[kb] * tx + by[kb] * ty
-        sb1 = bx[kb1] * tx + by[kb1] * ty
+        sa0 = world_x[sa + ka] * tx + world_y[sa + ka] * ty
+        sa1 = world_x[sa + ka1] * tx + world_y[sa + ka1] * ty
+        sb0 = world_x[sb + kb] * tx + world_y[sb + kb] * ty
+        sb1 = world_x[sb + kb1] * tx + world_y[sb + kb1] * ty
         ia_lo, ia_hi = (ka, ka1) if sa0 <= sa1 else (ka1, ka)
         ib_lo, ib_hi = (kb, kb1) if sb0 <= sb1 else (kb1, kb)
         sa_lo = min(sa0, sa1)
@@ -333,6 +343,10 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         stiffness = 0.5 * k_n * max(length, 0.0)
         k_end_t = 0.5 * k_t  # each end's tangential spring and dashpot: half the contact's
         c_end_t = 0.5 * c_t
+        mu = pair_mu[a, b]
+        mass = body_mass[a] if body_driven[b] else (
+            body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
+        c_end = 2.0 * damping * sqrt(stiffness * mass)  # each end's dashpot, zeta of critical
         for end in range(2):
             if length <= 0.0:
                 release_end(mem, MEM_END + end * END_SLOTS, k_end_t, energy_acc)
@@ -347,18 +361,18 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
                 ib = ib_hi
             if use_a:
                 # a's vertex behind b's face: pushes b along -(b's outward normal)
-                px = ax[ia]
-                py = ay[ia]
+                px = world_x[sa + ia]
+                py = world_y[sa + ia]
                 enx = -fb_nx
                 eny = -fb_ny
-                depth = (px - bx[kb]) * enx + (py - by[kb]) * eny
+                depth = (px - world_x[sb + kb]) * enx + (py - world_y[sb + kb]) * eny
                 vertex = float(ia + 1)
             else:
-                px = bx[ib]
-                py = by[ib]
+                px = world_x[sb + ib]
+                py = world_y[sb + ib]
                 enx = fa_nx
                 eny = fa_ny
-                depth = -((px - ax[ka]) * enx + (py - ay[ka]) * eny)
+                depth = -((px - world_x[sa + ka]) * enx + (py - world_y[sa + ka]) * eny)
                 vertex = -float(ib + 1)
             slot = MEM_END + end * END_SLOTS
             touched = mem[slot] != 0.0 and mem[slot + 1] == vertex
@@ -371,7 +385,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
                 offset = 0.0
                 if impact and mem[slot] == 0.0:
                     offset = depth
-                    plastic_impulse(a, b, px, py, enx, eny, pair_mu[a, b], body_x, body_y,
+                    plastic_impulse(a, b, px, py, enx, eny, mu, body_x, body_y,
                                     body_vx, body_vy, body_omega, body_mass, body_inertia,
                                     body_driven, energy_acc)
             mem[slot] = 1.0
@@ -380,17 +394,15 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
             depth -= offset
             v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
                                          px, py, enx, eny, eny, -enx)
-            mass = body_mass[a] if body_driven[b] else (
-                body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
             # thesis Eq. 3.4 at the point: spring + dashpot, no tension
             f_el = stiffness * depth
-            f_damp = 2.0 * damping * sqrt(stiffness * mass) * v_n
+            f_damp = c_end * v_n
             if f_el + f_damp < 0.0:
                 f_damp = -f_el
             f_end = f_el + f_damp
             # thesis Eq. 3.5-3.6 at the point, with its own spring (UDEC: one shear spring per
             # contact point), so the tangential law stays conservative as the load moves
-            f_t, ft_el = tangential_force(mem[slot + END_FT], pair_mu[a, b], f_end, v_t, k_end_t,
+            f_t, ft_el = tangential_force(mem[slot + END_FT], mu, f_end, v_t, k_end_t,
                                           c_end_t, dt, energy_acc)
             mem[slot + END_FT] = ft_el
             record_point_force(mem, n_end, px, py, enx, eny, f_damp, f_t)
@@ -404,7 +416,8 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         if n_end == 0:
             # both ends clear while the polygons overlap: the area law's k_n A at the
             # centroid, without friction, so nothing tunnels
-            n_over = clip_convex_polygons(ax, ay, bx, by, out_x, out_y, scratch[2], scratch[3])
+            n_over = clip_convex_polygons(world_x[sa:sa + na], world_y[sa:sa + na], world_x[sb:sb + nb],
+                                          world_y[sb:sb + nb], out_x, out_y, scratch[2], scratch[3])
             if n_over >= 3:
                 area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
                 f_fallback = k_n * area

@@ -7,7 +7,7 @@ import pytest
 
 from stonedem.kernels import step
 from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC
-from stonedem.kernels.point_contact import deepest_face, local_edges, plastic_impulse, point_contact_forces, world_normals
+from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces, world_edges
 
 from tests.kernels.bundles import law_bundles
 
@@ -87,9 +87,9 @@ def square(cx, cy, half=0.5, angle=0.0):
 
 
 def edges(xs, ys):
-    """(length, nx, ny) of every edge of one polygon given in its own frame (local_edges on one body)."""
+    """(length, nx, ny) of every edge of one polygon (world_edges on one body)."""
     out = [np.zeros(len(xs)) for _ in range(3)]
-    local_edges(np.array([0, len(xs)]), xs, ys, *out)
+    world_edges(1, np.array([0, len(xs)]), xs, ys, *out)
     return out
 
 
@@ -99,21 +99,6 @@ def depth_of(ax, ay, bx, by):
     pad = np.zeros(len(bx))
     return deepest_face(np.concatenate([ax, bx]), np.concatenate([ay, by]), np.concatenate([length, pad]),
                         np.concatenate([nx, pad]), np.concatenate([ny, pad]), 0, len(ax), len(ax), len(bx))
-
-
-def test_world_normals_turn_the_body_frame_normals():
-    """A square turned by theta: its edge normals are its body-frame normals turned by theta,
-    and the same as those of the turned vertices to rounding."""
-    theta = 0.3
-    lx, ly = square(0.0, 0.0)
-    length, lnx, lny = edges(lx, ly)
-    assert length == pytest.approx([1.0] * 4, abs=1e-15)
-    nx, ny = np.zeros(4), np.zeros(4)
-    world_normals(1, np.array([0, 4]), np.array([math.cos(theta)]), np.array([math.sin(theta)]), lnx, lny, nx, ny)
-    wx, wy = square(2.0, -1.0, angle=theta)
-    _, wnx, wny = edges(wx, wy)
-    assert nx == pytest.approx(wnx, abs=1e-15) and ny == pytest.approx(wny, abs=1e-15)
-    assert (nx[0], ny[0]) == pytest.approx((math.sin(theta), -math.cos(theta)), abs=1e-15)
 
 
 def test_deepest_face_finds_the_overlap_depth_and_the_separating_axis():

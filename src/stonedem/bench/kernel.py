@@ -274,12 +274,30 @@ def resolve_commit(rev: str, root: Path = ROOT) -> str:
                                 "or no such commit)") from None
 
 
+KEPT_PARENTS = 4  # parent checkouts kept in the cache, the most recently used
+
+
+def prune_parents(folder: Path, keep: int = KEPT_PARENTS) -> list[Path]:
+    """Remove all but the ``keep`` most recently used checkouts in ``folder`` (each one's
+    folder time is set when it is used); returns those removed."""
+    if not folder.is_dir():
+        return []
+    checkouts = sorted((p for p in folder.iterdir() if p.is_dir() and not p.name.endswith(".part")),
+                       key=lambda p: p.stat().st_mtime, reverse=True)
+    for old in checkouts[keep:]:
+        shutil.rmtree(old, ignore_errors=True)
+    return checkouts[keep:]
+
+
 def parent_source(commit: str) -> Path:
     """The ``src`` folder of ``commit``, checked out once (a git worktree, copied and removed)
-    into a folder of the user's cache that is kept, so its compiled kernels stay cached too."""
+    into a folder of the user's cache that is kept, so its compiled kernels stay cached too;
+    only the :data:`KEPT_PARENTS` most recently used checkouts stay there."""
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "stonedem" / "parents" / commit
     source = root / "src"
     if (source / "stonedem" / "__init__.py").is_file():
+        os.utime(root)
+        prune_parents(root.parent)
         return source
     with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
         tree = Path(workdir) / "worktree"
@@ -298,6 +316,8 @@ def parent_source(commit: str) -> Path:
             staging.rename(root)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], capture_output=True)
+    os.utime(root)
+    prune_parents(root.parent)
     return source
 
 

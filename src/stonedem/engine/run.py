@@ -70,7 +70,8 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
     and runs again, up to ENERGY_RETRIES times (attrs ``dt_safety`` as run,
     ``dt_safety_requested``, ``dt_halvings``).
     """
-    preflight(scene)
+    if first is None:  # run_scenes refused what it had to before running ``first``
+        preflight(scene)
     requested = scene.dt_safety
     for retry in range(ENERGY_RETRIES + 1):
         result = first if retry == 0 and first is not None else simulate(scene, progress=progress)

@@ -53,41 +53,27 @@ FACE_SWITCH_TOLERANCE = 1e-9
 
 
 @njit(**INLINE_OPTIONS)
-def local_edges(vert_start, local_x, local_y, edge_len, local_nx, local_ny):
-    """Every edge k -> k+1 of every body in its own frame: its length [m] and outward unit
-    normal, constant for a rigid body (a zero-length edge has normal (0, 0)). Computed once a
-    run (:func:`stonedem.kernels.step.allocate_work`); :func:`world_normals` turns the normals."""
-    for b in range(vert_start.shape[0] - 1):
+def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """Every edge k -> k+1 of every body at this step: its length [m] and outward unit normal.
+
+    Once a step and body, not once per pair and direction: a column's drum has two pairs, each
+    of which looked at both bodies' edges three times. A zero-length edge has normal (0, 0).
+    """
+    for b in range(n_body):
         s = vert_start[b]
         e = vert_start[b + 1]
         for k in range(s, e):
             k1 = k + 1 if k + 1 < e else s
-            ex = local_x[k1] - local_x[k]
-            ey = local_y[k1] - local_y[k]
+            ex = world_x[k1] - world_x[k]
+            ey = world_y[k1] - world_y[k]
             length = sqrt(ex * ex + ey * ey)
             edge_len[k] = length
             if length > 0.0:
-                local_nx[k] = ey / length
-                local_ny[k] = -ex / length
+                edge_nx[k] = ey / length
+                edge_ny[k] = -ex / length
             else:
-                local_nx[k] = 0.0
-                local_ny[k] = 0.0
-
-
-@njit(**INLINE_OPTIONS)
-def world_normals(n_body, vert_start, cos_theta, sin_theta, local_nx, local_ny, edge_nx, edge_ny):
-    """Every edge's outward unit normal at this step: its body-frame normal turned by theta.
-
-    Once a step and body, not once per pair and direction; a turn (four products) instead of
-    a square root and two divisions per edge from the world vertices, which differ from it
-    only by rounding.
-    """
-    for b in range(n_body):
-        c = cos_theta[b]
-        s = sin_theta[b]
-        for k in range(vert_start[b], vert_start[b + 1]):
-            edge_nx[k] = c * local_nx[k] - s * local_ny[k]
-            edge_ny[k] = s * local_nx[k] + c * local_ny[k]
+                edge_nx[k] = 0.0
+                edge_ny[k] = 0.0
 
 
 @njit(**INLINE_OPTIONS)
@@ -96,7 +82,7 @@ def deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb):
 
     a is vertices sa..sa+na-1 of the world arrays, b vertices sb..sb+nb-1 (offsets, not
     slices: a slice is a view built with its bounds checks, ten a pair); edge_len, edge_nx,
-    edge_ny: length and outward unit normal of each edge k -> k+1 (:func:`world_normals`).
+    edge_ny: length and outward unit normal of each edge k -> k+1 (:func:`world_edges`).
     For each of a's edges, the signed distance of b's deepest vertex along its outward
     normal; returned for the edge where that is largest, k counted from sa. It is >= 0
     when that edge separates the polygons (returned at once), else minus the overlap depth.
@@ -128,7 +114,7 @@ def deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb):
 def contact_face(edge_len, edge_nx, edge_ny, s, n, dir_x, dir_y):
     """Index k (from s) of the edge k -> k+1 of the counter-clockwise polygon of vertices
     s..s+n-1 whose outward normal is closest to (dir_x, dir_y), and that edge's length [m]
-    (lengths and unit normals: :func:`world_normals`)."""
+    (lengths and unit normals: :func:`world_edges`)."""
     best = -np.inf
     best_k = 0
     best_len = 0.0
@@ -240,7 +226,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
 
     model, state, work: the time loop's bundles (:mod:`stonedem.kernels.step`); this reads the
     world vertices and bounds of work and its first n_pair candidate pairs, writes every
-    body's edge normals (:func:`world_normals`), adds to work's force, torque and base-force
+    body's edges (:func:`world_edges`), adds to work's force, torque and base-force
     accumulators and to state's contact memory and energy accumulators. The law
     (model.law): k_n, the normal stiffness per unit contact length [N m-2]; damping, the
     dashpot of each end as a fraction of critical, zeta [1]; k_t, c_t, each contact's
@@ -266,8 +252,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     pair_a, pair_b = work.pair_a, work.pair_b
-    world_normals(body_x.shape[0], vert_start, work.cos_theta, work.sin_theta, work.edge_local_nx, work.edge_local_ny,
-                  edge_nx, edge_ny)
+    world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
     out_x = scratch[0]

@@ -51,7 +51,7 @@ from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_EN
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
-from stonedem.kernels.point_contact import local_edges, point_contact_forces
+from stonedem.kernels.point_contact import point_contact_forces
 from stonedem.kernels.scalar import isfinite
 
 STATUS_OK = 0
@@ -201,10 +201,8 @@ class Work(NamedTuple):
 
     world_x: np.ndarray  # world vertices (n_vert,) [m]
     world_y: np.ndarray
-    edge_len: np.ndarray  # point law: length and body-frame outward unit normal of each body's
-    edge_local_nx: np.ndarray  # edge k -> k+1, set once (n_vert,) [m], [1] (point_contact.local_edges)
-    edge_local_ny: np.ndarray
-    edge_nx: np.ndarray  # the normals at t_n (n_vert,) [1] (point_contact.world_normals)
+    edge_len: np.ndarray  # point law: length and outward unit normal of each body's edge k -> k+1
+    edge_nx: np.ndarray  # (n_vert,) [m], [1] (stonedem.kernels.point_contact.world_edges)
     edge_ny: np.ndarray
     cos_theta: np.ndarray  # cos and sin of each body's theta at t_n (n_body,)
     sin_theta: np.ndarray
@@ -247,12 +245,9 @@ def allocate_work(model, capacity):
     n_body = model.body_mass.shape[0]
     n_vert = model.local_x.shape[0]
     n_group = model.group_theta_cr.shape[0]
-    edge_len, edge_local_nx, edge_local_ny = np.empty(n_vert), np.empty(n_vert), np.empty(n_vert)
-    local_edges(model.vert_start, model.local_x, model.local_y, edge_len, edge_local_nx, edge_local_ny)
     return Work(
         world_x=np.empty(n_vert), world_y=np.empty(n_vert),
-        edge_len=edge_len, edge_local_nx=edge_local_nx, edge_local_ny=edge_local_ny,
-        edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
+        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
         cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),

@@ -5,7 +5,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -129,14 +128,6 @@ def _tiny_copy(tmp_path):
     shutil.copy(ROOT / "tests" / "workflow" / "config.yaml", tmp_path / "tiny.yaml")
 
 
-def _cube_values(path):
-    import xarray as xr
-
-    with xr.open_dataset(path) as cube:  # text (a search's status) as str: NaN-equality is numeric only
-        return {name: cube[name].values.astype(str) if cube[name].dtype.kind in "OUS" else cube[name].values.copy()
-                for name in cube.data_vars}
-
-
 def _expected_figures():
     import yaml
     from snakemake.utils import update_config
@@ -181,55 +172,7 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
         assert "Regenerates thesis Fig. 6.10" in text, "the report carries the figure captions"
 
 
-KILL_TARGETS = ("results/cubes/friction_levels.nc", "results/cubes/ramp_drums.nc",
-                "results/cubes/colonnade_records.nc", "results/cubes/harmonic_frequency.nc")
-
-
-def _start_and_kill(tmp_path, sig, after_cases):
-    """Start the run, send ``sig`` to its whole process group once ``after_cases`` cases exist."""
-    import os
-    import time
-
-    run = subprocess.Popen([sys.executable, "-m", "snakemake", "-j2", *KILL_TARGETS, "--configfile", "tiny.yaml"],
-                           cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                           start_new_session=True)
-    deadline = time.time() + 120
-    while time.time() < deadline and len([p for p in (tmp_path / "results").glob("cases/*/*.nc")
-                                          if not p.name.startswith(".")]) < after_cases:
-        time.sleep(0.1)
-    os.killpg(run.pid, sig)
-    run.wait(timeout=60)
-
-
-def test_a_killed_run_reruns_to_bit_identical_cubes(tmp_path):
-    import signal
-
-    import xarray as xr
-
-    _tiny_copy(tmp_path)
-    proc = snakemake("-j2", *KILL_TARGETS, "--configfile", "tiny.yaml", cwd=tmp_path)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-    first = {p: _cube_values(tmp_path / p) for p in KILL_TARGETS}
-    n_cases = len(list((tmp_path / "results").glob("cases/*/*.nc")))
-    shutil.rmtree(tmp_path / "results")
-
-    # SIGKILL to the whole process group: no clean-up at all
-    _start_and_kill(tmp_path, signal.SIGKILL, 3)
-    # temporaries (.<case>.*.tmp.nc) may remain; nothing is ever written under a case's own name but whole
-    written = [p for p in (tmp_path / "results").glob("cases/*/*.nc") if not p.name.startswith(".")]
-    assert 3 <= len(written) < n_cases, f"the kill came after {len(written)} of {n_cases} cases"
-    for path in written:  # whatever a killed run leaves under a case's name is a whole dataset
-        with xr.open_dataset(path) as ds:
-            assert "collapsed" in ds and ds.sizes["time"] > 1, path
-    # after SIGKILL the lock stays behind (README: snakemake --unlock), then a plain rerun completes
-    assert snakemake("--unlock", "--configfile", "tiny.yaml", cwd=tmp_path).returncode == 0
-    proc = snakemake("-j2", *KILL_TARGETS, "--configfile", "tiny.yaml", cwd=tmp_path)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-    for target, values in first.items():
-        again = _cube_values(tmp_path / target)
-        for name, data in values.items():
-            assert np.array_equal(again[name], data, equal_nan=data.dtype.kind == "f"), \
-                f"{target}:{name} differs after the kills"
+# a run killed part-way and its rerun: tests/faults/test_study_faults.py (three SIGKILLs)
 
 
 def test_slurm_profile_dry_run():

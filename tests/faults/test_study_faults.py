@@ -61,6 +61,8 @@ def no_partial_files(directory):
         if rel.endswith(".nc"):
             with xr.open_dataset(directory / rel) as ds:
                 assert len(ds.variables) > 0, rel
+                if rel.startswith("results/cases/"):  # a whole simulation, not its first samples
+                    assert "collapsed" in ds and ds.sizes["time"] > 1, rel
 
 
 # --- 1. a truncated or zero-byte cube, search or case file ------------------------------------

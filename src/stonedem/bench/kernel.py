@@ -290,15 +290,21 @@ def prune_parents(folder: Path, keep: int = KEPT_PARENTS) -> list[Path]:
 
 
 def parent_source(commit: str) -> Path:
-    """The ``src`` folder of ``commit``, checked out once (a git worktree, copied and removed)
-    into a folder of the user's cache that is kept, so its compiled kernels stay cached too;
-    only the :data:`KEPT_PARENTS` most recently used checkouts stay there."""
+    """The ``src`` folder of ``commit``, checked out once (:func:`check_out_parent`) into a
+    folder of the user's cache that is kept, so its compiled kernels stay cached too; only the
+    :data:`KEPT_PARENTS` most recently used checkouts stay there."""
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "stonedem" / "parents" / commit
     source = root / "src"
-    if (source / "stonedem" / "__init__.py").is_file():
-        os.utime(root)
-        prune_parents(root.parent)
-        return source
+    if not (source / "stonedem" / "__init__.py").is_file():
+        check_out_parent(commit, root)
+    os.utime(root)  # used now: prune_parents keeps it
+    prune_parents(root.parent)
+    return source
+
+
+def check_out_parent(commit: str, root: Path) -> None:
+    """``commit``'s src folder into root/src: a git worktree, copied through a ``.part``
+    folder (so a copy cut short is never taken for a checkout) and removed."""
     with tempfile.TemporaryDirectory(prefix="stonedem-parent-") as workdir:
         tree = Path(workdir) / "worktree"
         try:
@@ -316,9 +322,6 @@ def parent_source(commit: str) -> Path:
             staging.rename(root)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], capture_output=True)
-    os.utime(root)
-    prune_parents(root.parent)
-    return source
 
 
 def time_engines(source: Path, specs: dict) -> dict:

@@ -80,9 +80,9 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
 def deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb):
     """(separation [m], edge k) of polygon b from the edges of the counter-clockwise polygon a.
 
-    a is vertices sa..sa+na-1 of the world arrays, b vertices sb..sb+nb-1 (offsets, not
-    slices: a slice is a view built with its bounds checks, ten a pair); edge_len, edge_nx,
-    edge_ny: length and outward unit normal of each edge k -> k+1 (:func:`world_edges`).
+    a is vertices sa..sa+na-1 of the world arrays, b vertices sb..sb+nb-1 (offsets into
+    them, so a pair builds no slice views); edge_len, edge_nx, edge_ny: length and outward
+    unit normal of each edge k -> k+1 (:func:`world_edges`).
     For each of a's edges, the signed distance of b's deepest vertex along its outward
     normal; returned for the edge where that is largest, k counted from sa. It is >= 0
     when that edge separates the polygons (returned at once), else minus the overlap depth.

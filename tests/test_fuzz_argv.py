@@ -204,12 +204,13 @@ def test_fuzz_argv_of_every_subcommand(arena, command, data):
 
 BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "stonedem.bench.fuzz",
                  "stonedem.bench.gpu_check", "stonedem.bench.kernel",
-                 "stonedem.bench.restitution", "stonedem.bench.skipping", "stonedem.bench.stability",
+                 "stonedem.bench.restitution", "stonedem.bench.rounding", "stonedem.bench.skipping",
+                 "stonedem.bench.stability",
                  "stonedem.bench.work_precision"]
 BENCH_SCRIPTS = ["device_logs", "engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables"]
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _bench_main(name):
     if name in BENCH_SCRIPTS:
         spec = importlib.util.spec_from_file_location(f"bench_{name}", ROOT / "benchmarks" / f"{name}.py")
@@ -220,7 +221,7 @@ def _bench_main(name):
     return module.main
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _bench_options(main) -> dict:
     """{option: takes a value} read from the script's own parser (argparse introspection)."""
     import argparse

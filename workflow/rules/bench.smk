@@ -23,6 +23,7 @@ BENCH_OUTPUTS = {
         "results/figures/kernel_cost.png",
     ],
     "bench_gpu": ["results/bench/ensemble.nc", "results/figures/ensemble_throughput.png"],
+    "bench_rounding": ["results/bench/rounding.nc"],
 }
 
 
@@ -154,6 +155,31 @@ rule bench_gpu:
     shell:
         "python -m stonedem.bench.ensemble {params.quick} --out $(dirname {output.dataset}) "
         "--figure {output.figure} > {log} 2>&1"
+
+
+# how far the study's verdicts and Table 7.1 thresholds move when only the last bits of the
+# arithmetic change (k_n times 1 - j 2^-52; issue 32): the full config's 309 cases and 18
+# searches, as configured and 3 times perturbed (~20 min on 2 cores); quick: the quick
+# config's ramp and standalone-record studies, once perturbed (~10 s)
+rule bench_rounding:
+    input:
+        expand("records/{name}.nc", name=RECORD_NAMES),
+    output:
+        BENCH_OUTPUTS["bench_rounding"],
+    params:
+        args=(
+            "--config config/quick.yaml --studies ramp_drums standalone_records --perturbations 1"
+            if BENCH_QUICK
+            else "--config config/config.yaml --perturbations 3"
+        ),
+    threads: 2
+    log:
+        "results/logs/bench/rounding.log",
+    conda:
+        "../envs/stonedem.yaml"
+    shell:
+        "python -m stonedem.bench.rounding {params.args} --jobs {threads} "
+        "--out $(dirname {output}) > {log} 2>&1"
 
 
 # `snakemake bench -j1`: every benchmark (one job at a time keeps the timings honest)

@@ -159,7 +159,7 @@ rule bench_gpu:
 
 # how far the study's verdicts and Table 7.1 thresholds move when only the last bits of the
 # arithmetic change (k_n times 1 - j 2^-52; issue 32): the full config's 309 cases and 18
-# searches, as configured and 3 times perturbed (~20 min on 2 cores); quick: the quick
+# searches, as configured and 7 times perturbed (~15 min on 2 cores); quick: the quick
 # config's ramp and standalone-record studies, once perturbed (~10 s)
 rule bench_rounding:
     input:
@@ -170,7 +170,7 @@ rule bench_rounding:
         args=(
             "--config config/quick.yaml --studies ramp_drums standalone_records --perturbations 1"
             if BENCH_QUICK
-            else "--config config/config.yaml --perturbations 3"
+            else "--config config/config.yaml --perturbations 7"
         ),
     threads: 2
     log:

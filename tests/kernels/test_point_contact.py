@@ -7,7 +7,8 @@ import pytest
 
 from stonedem.kernels import step
 from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC
-from stonedem.kernels.point_contact import deepest_face, plastic_impulse, point_contact_forces, world_edges
+from stonedem.kernels.point_contact import (FACE_A, N_FACE_CACHE, deepest_face, edge_separation, faces_hold, keep_faces,
+                                           plastic_impulse, point_contact_forces, world_edges)
 
 from tests.kernels.bundles import law_bundles
 
@@ -97,8 +98,9 @@ def depth_of(ax, ay, bx, by):
     """deepest_face of b against a's edges, the two polygons one after the other in the world arrays."""
     length, nx, ny = edges(ax, ay)
     pad = np.zeros(len(bx))
-    return deepest_face(np.concatenate([ax, bx]), np.concatenate([ay, by]), np.concatenate([length, pad]),
-                        np.concatenate([nx, pad]), np.concatenate([ny, pad]), 0, len(ax), len(ax), len(bx))
+    sep, k, _ = deepest_face(np.concatenate([ax, bx]), np.concatenate([ay, by]), np.concatenate([length, pad]),
+                             np.concatenate([nx, pad]), np.concatenate([ny, pad]), 0, len(ax), len(ax), len(bx))
+    return sep, k
 
 
 def test_deepest_face_finds_the_overlap_depth_and_the_separating_axis():
@@ -120,3 +122,71 @@ def test_deepest_face_finds_the_overlap_depth_and_the_separating_axis():
     bx, by = square(0.3, 0.5 + dip - 1e-3, angle=tilt)
     sep, k = depth_of(ax, ay, bx, by)
     assert k == 2 and sep == pytest.approx(-1e-3, abs=1e-12)
+
+
+def test_deepest_face_also_gives_the_next_largest_separation():
+    ax, ay = square(0.0, 0.0)
+    bx, by = square(0.0, 0.9)  # 0.1 m into a's top face; a's sides see b's far side 1 m away
+    length, nx, ny = edges(ax, ay)
+    pad = np.zeros(4)
+    sep, k, following = deepest_face(np.concatenate([ax, bx]), np.concatenate([ay, by]), np.concatenate([length, pad]),
+                                     np.concatenate([nx, pad]), np.concatenate([ny, pad]), 0, 4, 4, 4)
+    assert k == 2 and sep == pytest.approx(-0.1, abs=1e-12) and following == pytest.approx(-1.0, abs=1e-12)
+
+
+def _pair_world(poses, sizes):
+    """World vertices and edges of two boxes (x, y, theta), (w, h), as the time loop has them."""
+    verts = np.vstack([box(x, y, w, h, t) for (x, y, t), (w, h) in zip(poses, sizes)])
+    wx, wy = verts[:, 0].copy(), verts[:, 1].copy()
+    out = [np.zeros(8) for _ in range(3)]
+    world_edges(2, np.array([0, 4, 8]), wx, wy, *out)
+    return wx, wy, out
+
+
+def test_kept_faces_hold_only_while_they_are_still_the_least_overlap():
+    """faces_hold's bound, tried on random pairs of boxes, one resting on the other, moved
+    and turned by up to 0.5 m and 0.5 rad: wherever it says the kept faces hold, the full
+    separating-axis test picks those faces with the same separations, bit for bit; and
+    for small moves it does hold (so the time loop skips most of the test)."""
+    rng = np.random.default_rng(7)
+    held = {}
+    for trial in range(3000):
+        sizes = [(rng.uniform(0.5, 3.0), rng.uniform(0.2, 1.5)), (rng.uniform(0.3, 1.5), rng.uniform(0.3, 2.0))]
+        ta, tb = rng.uniform(-0.05, 0.05), rng.uniform(-0.2, 0.2)
+        xa, ya = rng.uniform(-20, 20), rng.uniform(-1, 1)
+        # b's lowest corner 1 mm into a's top face, b shifted along it
+        lift = 0.5 * (sizes[1][0] * abs(math.sin(tb - ta)) + sizes[1][1] * math.cos(tb - ta))
+        along = rng.uniform(-0.3, 0.3) * sizes[0][0]
+        poses = [(xa, ya, ta), (xa + along * math.cos(ta) - (sizes[0][1] / 2 + lift - 1e-3) * math.sin(ta),
+                                ya + along * math.sin(ta) + (sizes[0][1] / 2 + lift - 1e-3) * math.cos(ta), tb)]
+        body_x, body_y, body_theta = (np.array([p[i] for p in poses]) for i in range(3))
+        radius = np.array([0.5 * math.hypot(w, h) for w, h in sizes])
+        wx, wy, (length, nx, ny) = _pair_world(poses, sizes)
+        sep_a, k_a, next_a = deepest_face(wx, wy, length, nx, ny, 0, 4, 4, 4)
+        sep_b, k_b, next_b = deepest_face(wx, wy, length, nx, ny, 4, 4, 0, 4)
+        if sep_a >= 0.0 or sep_b >= 0.0:  # b's dipping corner beyond a's face
+            continue
+        cache = np.full((1, N_FACE_CACHE), -1.0)
+        keep_faces(cache, 0, 0, 1, k_a, k_b, sep_a - next_a, sep_b - next_b, body_x, body_y, body_theta, radius)
+        if cache[0, FACE_A] < 0.0:
+            continue
+        scale = [1e-4, 1e-2, 0.1, 0.5][trial % 4]
+        moved = [(x + rng.uniform(-scale, scale), y + rng.uniform(-scale, scale), t + rng.uniform(-scale, scale))
+                 for x, y, t in poses]
+        body_x, body_y, body_theta = (np.array([p[i] for p in moved]) for i in range(3))
+        holds = faces_hold(cache, 0, 0, 1, body_x, body_y, body_theta, radius)
+        held.setdefault(scale, []).append(holds)
+        if not holds:
+            continue
+        wx, wy, (length, nx, ny) = _pair_world(moved, sizes)
+        sep, k, _ = deepest_face(wx, wy, length, nx, ny, 0, 4, 4, 4)
+        kept = edge_separation(wx, wy, nx, ny, int(cache[0, FACE_A]), 4, 4)
+        if sep >= 0.0:  # separated: the kept face must say so too (it is the only use)
+            assert kept >= 0.0
+            continue
+        assert k == cache[0, FACE_A] and kept == sep
+        sep, k, _ = deepest_face(wx, wy, length, nx, ny, 4, 4, 0, 4)
+        kept = edge_separation(wx, wy, nx, ny, 4 + int(cache[0, 1]), 0, 4)
+        assert (kept >= 0.0) if sep >= 0.0 else (k == cache[0, 1] and kept == sep)
+    assert all(held[1e-4]) and len(held[1e-4]) > 500
+    assert np.mean(held[0.5]) < 0.5  # large turns are re-tested

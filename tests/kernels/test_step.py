@@ -199,3 +199,39 @@ def test_run_steps_goes_on_with_a_larger_bundle_when_the_pairs_do_not_fit():
     assert first == second and first[0] == step.STATUS_OK
     for a, b in zip(state_1 + samples_1, state_2 + samples_2):
         assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f")
+
+
+def test_the_kept_contact_faces_change_no_run_by_a_bit():
+    """The point law keeps each touching pair's separating axes between steps
+    (stonedem.kernels.point_contact.faces_hold): a block tipped past its critical angle,
+    falling onto its side (its contact faces change, its pair is listed again), runs bit for
+    bit as with no faces kept."""
+    from stonedem.engine.pack import kernel_model, pack_scene
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import empty_samples, initial_state, run_time_step
+    from stonedem.kernels.point_contact import FACE_A, FACE_B, N_FACE_CACHE
+    from stonedem.validation.cases import block_scene
+
+    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=0.4,
+                                        duration=1.2, every=0.01))
+    dt, _ = run_time_step(scene)
+    arrays = pack_scene(scene)
+    n_steps = int(np.ceil(scene.duration / dt - 1e-9))
+    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=max(1, round(0.01 / dt)), stop_on_collapse=False,
+                             rest_speed=1e-3, rest_samples=10**6)
+    model = kernel_model(scene, arrays)
+    runs = []
+    for faces in (N_FACE_CACHE, 0):
+        work = step.allocate_work(model, 4)
+        if not faces:
+            work = work._replace(face_cache=np.zeros((0, N_FACE_CACHE)))
+        state, samples = initial_state(arrays), empty_samples(n_steps + 2, len(scene.bodies))
+        result = step.run_steps(model, settings, state, samples, work, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+        runs.append((result, state, samples, work))
+    (kept, state_1, samples_1, work_1), (none, state_2, samples_2, _) = runs
+    assert kept == none and kept[0] == step.STATUS_OK
+    assert abs(state_1.body_theta[1]) > 1.4  # it lies on its side,
+    assert not np.array_equal(work_1.sweep_y, initial_state(arrays).body_y)  # its pair was listed again
+    assert work_1.face_cache[0, FACE_A] >= 0 and work_1.face_cache[0, FACE_B] in (1.0, 3.0)  # a side face kept
+    for a, b in zip(state_1 + samples_1, state_2 + samples_2):
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f")

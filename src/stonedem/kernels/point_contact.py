@@ -7,7 +7,10 @@ length"); no overlap polygon is clipped:
 - detection and reference face by separating axes (:func:`deepest_face`): the pair touches
   when no edge normal of either body separates them; the reference face is the edge, of
   either body, along whose normal they overlap least (a's unless b's is shallower by more
-  than FACE_SWITCH_TOLERANCE, so a flush joint does not flip between its two faces);
+  than FACE_SWITCH_TOLERANCE, so a flush joint does not flip between its two faces); a
+  touching pair keeps each body's edge of least overlap from step to step while the bodies
+  have provably not moved and turned enough to change it (:func:`faces_hold`), and then
+  measures just those two edges, with the same result bit for bit;
 - the contact faces are that face and the other body's edge whose outward normal is most
   opposed to it; the frame's normal n is the bisector of the two faces' normals (a's
   outward and b's inward), so it is the same whichever face is the reference;
@@ -33,7 +36,8 @@ a corner of another face, rare), the overlap polygon is clipped and the pair fal
 the area law's k_n A at its centroid, so nothing can tunnel.
 
 Cost (8-drum column, one core): clipping the overlap polygon and its boundary-normal frame
-took 430 ns of the ~800 ns per contact and step; the separating-axis test takes ~60.
+took 430 ns of the ~800 ns per contact and step; the separating-axis test took ~45 ns of the
+~110 left per pair, and with the kept faces ~10.
 """
 
 import numpy as np
@@ -50,6 +54,25 @@ SHARED_END_TOLERANCE = 1e-9
 # b's face becomes the reference only if its overlap is shallower than a's by this much,
 # relative to the bodies' size [1] (a flush joint's two faces overlap equally)
 FACE_SWITCH_TOLERANCE = 1e-9
+
+# Columns of Work.face_cache: a pair slot's separating-axis result, kept while the bodies have
+# provably not moved enough to change it (:func:`faces_hold`), so a touching pair measures
+# two edges a step instead of every edge of both bodies, with the same result bit for bit
+FACE_A = 0  # a's edge of least overlap (counted from its first vertex); -1: nothing kept
+FACE_B = 1  # b's
+GAP_A = 2  # by how much that edge's separation exceeded every other edge of a's, less SLACK [m]
+GAP_B = 3
+POSE_AX = 4  # the two bodies' poses then [m], [rad]
+POSE_AY = 5
+POSE_AT = 6
+POSE_BX = 7
+POSE_BY = 8
+POSE_BT = 9
+REACH = 10  # |x_b - x_a| + |y_b - y_a| then [m]
+N_FACE_CACHE = 11
+# rounding allowance of a kept gap, relative to the coordinates' size: separations carry
+# errors of a few units in the last place (~1e-16 relative), this is 10 000 times that
+FACE_SLACK = 1e-12
 
 
 @njit(**INLINE_OPTIONS)
@@ -77,37 +100,99 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
 
 
 @njit(**INLINE_OPTIONS)
+def edge_separation(world_x, world_y, edge_nx, edge_ny, i, sb, nb):
+    """Signed distance [m] of polygon b's deepest vertex (sb..sb+nb-1 of the world arrays)
+    along the outward normal of edge i -> i+1 of another polygon (:func:`world_edges`)."""
+    nx = edge_nx[i]
+    ny = edge_ny[i]
+    ox = world_x[i]
+    oy = world_y[i]
+    deepest = np.inf
+    for j in range(sb, sb + nb):
+        d = (world_x[j] - ox) * nx + (world_y[j] - oy) * ny
+        if d < deepest:
+            deepest = d
+    return deepest
+
+
+@njit(**INLINE_OPTIONS)
 def deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb):
-    """(separation [m], edge k) of polygon b from the edges of the counter-clockwise polygon a.
+    """(separation [m], edge k, next separation [m]) of polygon b from the edges of the
+    counter-clockwise polygon a.
 
     a is vertices sa..sa+na-1 of the world arrays, b vertices sb..sb+nb-1 (offsets into
     them, so a pair builds no slice views); edge_len, edge_nx, edge_ny: length and outward
     unit normal of each edge k -> k+1 (:func:`world_edges`).
-    For each of a's edges, the signed distance of b's deepest vertex along its outward
-    normal; returned for the edge where that is largest, k counted from sa. It is >= 0
-    when that edge separates the polygons (returned at once), else minus the overlap depth.
+    For each of a's edges, :func:`edge_separation`; returned for the edge where that is
+    largest (the first of equals), k counted from sa, with the largest over a's other edges.
+    The separation is >= 0 when that edge separates the polygons (returned at once, the
+    next separation then -inf), else minus the overlap depth.
     """
     best = -np.inf
     best_k = 0
+    second = -np.inf
     for k in range(na):
         i = sa + k
         if edge_len[i] <= 0.0:
             continue
-        nx = edge_nx[i]
-        ny = edge_ny[i]
-        ox = world_x[i]
-        oy = world_y[i]
-        deepest = np.inf
-        for j in range(sb, sb + nb):
-            d = (world_x[j] - ox) * nx + (world_y[j] - oy) * ny
-            if d < deepest:
-                deepest = d
+        deepest = edge_separation(world_x, world_y, edge_nx, edge_ny, i, sb, nb)
         if deepest >= 0.0:
-            return deepest, k
+            return deepest, k, -np.inf
         if deepest > best:
+            second = best
             best = deepest
             best_k = k
-    return best, best_k
+        elif deepest > second:
+            second = deepest
+    return best, best_k, second
+
+
+@njit(**INLINE_OPTIONS)
+def faces_hold(cache, p, a, b, body_x, body_y, body_theta, body_radius):
+    """True when pair slot p's kept faces are still each body's edge of least overlap.
+
+    A separation (w - o) . n of b's vertex w from a's edge (origin o, normal n) is, in a's
+    frame, R(-theta_a) (x_b - x_a) . nu + R(theta_b - theta_a) l . nu + const, so moving the
+    bodies by D (sum of |dx| + |dy|) and turning them by A and B changes it by at most
+    D + REACH A + r_b (A + B); every edge's separation, the largest included, moves that
+    little, so the kept edge stays the largest while twice it is below the kept gap.
+    """
+    ta = body_theta[a]
+    tb = body_theta[b]
+    move = (abs(body_x[a] - cache[p, POSE_AX]) + abs(body_y[a] - cache[p, POSE_AY])
+            + abs(body_x[b] - cache[p, POSE_BX]) + abs(body_y[b] - cache[p, POSE_BY]))
+    turn_a = abs(ta - cache[p, POSE_AT])
+    turn_b = abs(tb - cache[p, POSE_BT])
+    reach = cache[p, REACH]
+    both = turn_a + turn_b
+    return (2.0 * (move + reach * turn_a + body_radius[b] * both) < cache[p, GAP_A]
+            and 2.0 * (move + reach * turn_b + body_radius[a] * both) < cache[p, GAP_B])
+
+
+@njit(**INLINE_OPTIONS)
+def keep_faces(cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, body_theta, body_radius):
+    """Keep pair slot p's faces and gaps (separation less the next one, per body) [m] with
+    the poses they hold for, less a rounding allowance; nothing when a gap is not positive."""
+    xa = body_x[a]
+    ya = body_y[a]
+    xb = body_x[b]
+    yb = body_y[b]
+    reach = abs(xb - xa) + abs(yb - ya)
+    slack = FACE_SLACK * (abs(xa) + abs(ya) + abs(xb) + abs(yb) + reach + body_radius[a] + body_radius[b] + 1.0)
+    if gap_a - slack <= 0.0 or gap_b - slack <= 0.0:
+        cache[p, FACE_A] = -1.0
+        return
+    cache[p, FACE_A] = face_a
+    cache[p, FACE_B] = face_b
+    cache[p, GAP_A] = gap_a - slack
+    cache[p, GAP_B] = gap_b - slack
+    cache[p, POSE_AX] = xa
+    cache[p, POSE_AY] = ya
+    cache[p, POSE_AT] = body_theta[a]
+    cache[p, POSE_BX] = xb
+    cache[p, POSE_BY] = yb
+    cache[p, POSE_BT] = body_theta[b]
+    cache[p, REACH] = reach
 
 
 @njit(**INLINE_OPTIONS)
@@ -237,7 +322,9 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     Returns (n_contact, stored elastic energy [J], evaluated only when want_energy).
 
     Inlined into the loop by Numba, so handing it the bundles costs nothing (as a call it
-    took ~85 ns a step to pass its 41 arguments).
+    took ~85 ns a step to pass its 41 arguments). work.face_cache keeps each pair slot's
+    separating axes between steps (:func:`keep_faces`, :func:`faces_hold`; a sweep forgets
+    them); a bundle whose cache has fewer rows than n_pair keeps none.
     """
     law = model.law
     k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
@@ -251,7 +338,9 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
-    pair_a, pair_b = work.pair_a, work.pair_b
+    pair_a, pair_b, face_cache = work.pair_a, work.pair_b, work.face_cache
+    body_theta, body_radius = state.body_theta, model.body_radius
+    keep = face_cache.shape[0] >= n_pair  # a Work bundle with no face cache (a test's) keeps none
     world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
@@ -268,12 +357,26 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         na = vert_start[a + 1] - sa
         sb = vert_start[b]
         nb = vert_start[b + 1] - sb
-        # narrow phase by separating axes: touching iff no edge normal separates the pair
-        sep_a, ref_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
+        # narrow phase by separating axes: touching iff no edge normal separates the pair; the
+        # edges of least overlap kept from an earlier step while they provably still are
         sep_b = 0.0
         ref_b = 0
-        if sep_a < 0.0:
-            sep_b, ref_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
+        if keep and face_cache[p, FACE_A] >= 0.0 and faces_hold(face_cache, p, a, b, body_x, body_y, body_theta,
+                                                                body_radius):
+            ref_a = int(face_cache[p, FACE_A])
+            sep_a = edge_separation(world_x, world_y, edge_nx, edge_ny, sa + ref_a, sb, nb)
+            if sep_a < 0.0:
+                ref_b = int(face_cache[p, FACE_B])
+                sep_b = edge_separation(world_x, world_y, edge_nx, edge_ny, sb + ref_b, sa, na)
+        else:
+            if keep:
+                face_cache[p, FACE_A] = -1.0
+            sep_a, ref_a, next_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
+            if sep_a < 0.0:
+                sep_b, ref_b, next_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
+                if keep and sep_b < 0.0:
+                    keep_faces(face_cache, p, a, b, ref_a, ref_b, sep_a - next_a, sep_b - next_b,
+                               body_x, body_y, body_theta, body_radius)
         if sep_a >= 0.0 or sep_b >= 0.0:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)

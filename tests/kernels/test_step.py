@@ -165,22 +165,30 @@ def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
     assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70
 
 
-def test_run_steps_goes_on_with_a_larger_bundle_when_the_pairs_do_not_fit():
-    """run grows Work when the pairs outgrow it: run_steps stops before that step's forces, and
-    going on from there with more room gives the same run, bit for bit."""
+def block_run_bundles(tilt, duration):
+    """(arrays, model, settings, n_steps) of a 0.4 x 1.6 m block tilted by ``tilt`` [rad] on
+    the ground under the point law, ``duration`` [s], a sample every 0.01 s, no stopping."""
     from stonedem.engine.pack import kernel_model, pack_scene
     from stonedem.engine.scene import scene_from_dict
-    from stonedem.engine.simulate import empty_samples, initial_state, run_time_step
+    from stonedem.engine.simulate import run_time_step
     from stonedem.validation.cases import block_scene
 
-    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=0.1,
-                                        duration=0.3, every=0.01))
+    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=tilt,
+                                        duration=duration, every=0.01))
     dt, _ = run_time_step(scene)
     arrays = pack_scene(scene)
     n_steps = int(np.ceil(scene.duration / dt - 1e-9))
     settings = step.Settings(dt=dt, n_steps=n_steps, out_every=max(1, round(0.01 / dt)), stop_on_collapse=False,
                              rest_speed=1e-3, rest_samples=10**6)
-    model = kernel_model(scene, arrays)
+    return arrays, kernel_model(scene, arrays), settings, n_steps
+
+
+def test_run_steps_goes_on_with_a_larger_bundle_when_the_pairs_do_not_fit():
+    """run grows Work when the pairs outgrow it: run_steps stops before that step's forces, and
+    going on from there with more room gives the same run, bit for bit."""
+    from stonedem.engine.simulate import empty_samples, initial_state
+
+    arrays, model, settings, n_steps = block_run_bundles(0.1, 0.3)
     runs = []
     for capacities in ((None,), (0, 1)):
         state, samples = initial_state(arrays), empty_samples(n_steps + 2, 2)
@@ -206,26 +214,16 @@ def test_the_kept_contact_faces_change_no_run_by_a_bit():
     (stonedem.kernels.point_contact.faces_hold): a block tipped past its critical angle,
     falling onto its side (its contact faces change, its pair is listed again), runs bit for
     bit as with no faces kept."""
-    from stonedem.engine.pack import kernel_model, pack_scene
-    from stonedem.engine.scene import scene_from_dict
-    from stonedem.engine.simulate import empty_samples, initial_state, run_time_step
+    from stonedem.engine.simulate import empty_samples, initial_state
     from stonedem.kernels.point_contact import FACE_A, FACE_B, N_FACE_CACHE
-    from stonedem.validation.cases import block_scene
 
-    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=0.4,
-                                        duration=1.2, every=0.01))
-    dt, _ = run_time_step(scene)
-    arrays = pack_scene(scene)
-    n_steps = int(np.ceil(scene.duration / dt - 1e-9))
-    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=max(1, round(0.01 / dt)), stop_on_collapse=False,
-                             rest_speed=1e-3, rest_samples=10**6)
-    model = kernel_model(scene, arrays)
+    arrays, model, settings, n_steps = block_run_bundles(0.4, 1.2)
     runs = []
     for faces in (N_FACE_CACHE, 0):
         work = step.allocate_work(model, 4)
         if not faces:
             work = work._replace(face_cache=np.zeros((0, N_FACE_CACHE)))
-        state, samples = initial_state(arrays), empty_samples(n_steps + 2, len(scene.bodies))
+        state, samples = initial_state(arrays), empty_samples(n_steps + 2, 2)
         result = step.run_steps(model, settings, state, samples, work, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
         runs.append((result, state, samples, work))
     (kept, state_1, samples_1, work_1), (none, state_2, samples_2, _) = runs

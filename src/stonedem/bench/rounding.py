@@ -56,12 +56,12 @@ def perturbed_scene(case, j: int, base_dir: Path = RECORDS):
 
 
 def run_verdict(case, j: int) -> dict:
-    """One grid case under perturbation j: {collapsed, max_rocking [rad], dt [s], steps}."""
+    """One grid case under perturbation j: {collapsed, max_rocking [rad], dt [s]}."""
     from stonedem.engine.run import run_scene
 
     ds = run_scene(perturbed_scene(case, j))
     return {"collapsed": int(float(ds["collapsed"]) > 0), "max_rocking": float(ds["max_rocking"].max()),
-            "dt": float(ds.attrs["dt"]), "steps": int(ds.attrs.get("steps_run", 0))}
+            "dt": float(ds.attrs["dt"])}
 
 
 def run_threshold(system, j: int) -> dict:
@@ -71,21 +71,19 @@ def run_threshold(system, j: int) -> dict:
     from stonedem.study.search import search, summary
 
     dts = []
-    steps = []
 
     def simulate(value: float, phase: str) -> bool:
         ds = run_scene(perturbed_scene(search_case(system, value), j))
         dts.append(float(ds.attrs["dt"]))
-        steps.append(int(ds.attrs.get("steps_run", 0)))
         return float(ds["collapsed"]) > 0
 
     runs = search(simulate, system.search)
     result = summary(runs, system.search)
-    return {"lower": float(result["lower"]), "upper": float(result["upper"]), "width": float(result["width"]),
+    return {"lower": float(result["lower"]), "upper": float(result["upper"]),
             "n_runs": int(result["n_runs"]), "status": str(result["status"]),
             "collapse_map": " ".join(f"{r.value:.4g}:{'X' if r.collapsed else '.'}"
                                      for r in sorted(runs, key=lambda r: r.value)),
-            "dt": dts[0] if dts else math.nan, "steps": int(sum(steps))}
+            "dt": dts[0] if dts else math.nan}
 
 
 def _task(item):
@@ -245,8 +243,8 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         for k, study in enumerate(ds.study.values):
             lines.append(f"{study}: {int(ds.study_cases[k])} cases, {int(ds.study_cases_changed[k])} with a verdict "
                          f"changed (at most {int(ds.study_verdicts_changed[k])} by one perturbation)")
-        lines.append(f"verdicts changed per perturbation: {[int(v) for v in np.atleast_1d(ds.attrs['verdicts_changed_per_perturbation'])]} "
-                     f"of {ds.attrs['n_cases']}")
+        per = [int(v) for v in np.atleast_1d(ds.attrs["verdicts_changed_per_perturbation"])]
+        lines.append(f"verdicts changed per perturbation: {per} of {ds.attrs['n_cases']}")
     if "system" in ds.dims:
         for k, name in enumerate(ds.system.values):
             values = ", ".join(f"{v:.4g}" for v in ds.collapse_value.values[k])
@@ -278,24 +276,15 @@ def check_args(args):
     """(grid cases, search systems, K, jobs, output path), every scene built once (records
     found), or an InputError before anything runs."""
     from stonedem.bench import options
-    from stonedem.study.grid import config_cases, search_case
+    from stonedem.study.grid import config_cases
 
     n_perturbations = options.number(args.perturbations, "--perturbations", lo=1, hi=MAX_PERTURBATIONS,
                                      whole=True, example="3")
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
     limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
     path = options.output_folder(args.out, "--out", files=(OUTPUT,)) / OUTPUT
-    options.input_file(args.config, "--config", "YAML config file")
-    base = Path(args.config).parent / "config.yaml"
-    options.input_file(base, "--config", "config folder holding config.yaml (the config is merged over it)")
-    if not RECORDS.is_dir():
-        raise InputError("records", f"no folder {RECORDS} here (the cases' records)",
-                         "run from the repository root")
-    paths = [base] if Path(args.config).resolve() == base.resolve() else [base, args.config]
-    config = options.workflow_config(paths)
-    studies = config.get("studies") if isinstance(config.get("studies"), dict) else {}
-    dynamic = [name for name, study in studies.items() if isinstance(study, dict)]
-    chosen = options.chosen(args.studies if args.studies is not None else dynamic, "--studies", dynamic)
+    config, known = options.study_config(args.config, RECORDS)
+    chosen = options.chosen(args.studies if args.studies is not None else known, "--studies", known)
     cases, systems = [], []
     for group in config_cases(config, chosen).values():
         for case in group:
@@ -304,12 +293,7 @@ def check_args(args):
         cases, systems = cases[:limit], systems[:limit]
     if not cases and not systems:
         raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
-    for case in cases + systems:  # what the runs build, without running them
-        probe = search_case(case, case.search.start) if case.search is not None else case
-        try:
-            perturbed_scene(probe, n_perturbations)
-        except InputError as err:
-            raise InputError(f"{case.study}/{case.id}: {err.field}", err.problem, err.fix) from None
+    options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
     return cases, systems, n_perturbations, jobs, path
 
 

@@ -119,34 +119,17 @@ def check_args(args):
     """(cases, output path), every case's scene built once (records found), or an InputError
     before anything runs."""
     from stonedem.bench import options
-    from stonedem.engine.scene import scene_from_dict
-    from stonedem.study.grid import natural_duration
 
     limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
     path = options.output_folder(args.out, "--out", files=("skipping.nc",)) / "skipping.nc"
-    options.input_file(args.config, "--config", "YAML config file")
-    options.input_file(Path(args.config).parent / "config.yaml", "--config",
-                       "config folder holding config.yaml (the config is merged over it)")
-    if not RECORDS.is_dir():
-        raise InputError("records", f"no folder {RECORDS} here (the cases' records)",
-                         "run from the repository root")
-    config = options.workflow_config([Path(args.config).parent / "config.yaml", args.config])
-    known = list(config.get("studies") or {}) if isinstance(config.get("studies"), dict) else []
+    config, known = options.study_config(args.config, RECORDS)
     studies = options.chosen(args.studies, "--studies", known)
     cases = [case for group in config_cases(config, studies).values() for case in group]
     if limit:
         cases = cases[:limit]
     if not cases:
         raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
-    for case in cases:  # what run_case builds, without running it
-        spec = copy.deepcopy(case.scene)
-        try:
-            solver = spec.setdefault("solver", {})
-            if solver.get("duration") is None:
-                solver["duration"] = natural_duration(spec.get("excitation"), RECORDS)
-            scene_from_dict(spec, base_dir=RECORDS)
-        except InputError as err:
-            raise InputError(f"{case.study}/{case.id}: {err.field}", err.problem, err.fix) from None
+    options.check_case_scenes(cases, RECORDS)
     return cases, path
 
 

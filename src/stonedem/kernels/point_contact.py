@@ -60,7 +60,7 @@ FACE_SWITCH_TOLERANCE = 1e-9
 # two edges a step instead of every edge of both bodies, with the same result bit for bit
 FACE_A = 0  # a's edge of least overlap (counted from its first vertex); -1: nothing kept
 FACE_B = 1  # b's
-GAP_A = 2  # by how much that edge's separation exceeded every other edge of a's, less SLACK [m]
+GAP_A = 2  # by how much that edge's separation exceeded every other edge of a's, less FACE_SLACK [m]
 GAP_B = 3
 POSE_AX = 4  # the two bodies' poses then [m], [rad]
 POSE_AY = 5
@@ -172,7 +172,8 @@ def faces_hold(cache, p, a, b, body_x, body_y, body_theta, body_radius):
 @njit(**INLINE_OPTIONS)
 def keep_faces(cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, body_theta, body_radius):
     """Keep pair slot p's faces and gaps (separation less the next one, per body) [m] with
-    the poses they hold for, less a rounding allowance; nothing when a gap is not positive."""
+    the poses they hold for, less a rounding allowance; nothing when a gap is not positive
+    (the caller empties the slot, FACE_A = -1, before the full test that calls this)."""
     xa = body_x[a]
     ya = body_y[a]
     xb = body_x[b]
@@ -180,8 +181,7 @@ def keep_faces(cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, bod
     reach = abs(xb - xa) + abs(yb - ya)
     slack = FACE_SLACK * (abs(xa) + abs(ya) + abs(xb) + abs(yb) + reach + body_radius[a] + body_radius[b] + 1.0)
     if gap_a - slack <= 0.0 or gap_b - slack <= 0.0:
-        cache[p, FACE_A] = -1.0
-        return
+        return  # the caller left the slot empty
     cache[p, FACE_A] = face_a
     cache[p, FACE_B] = face_b
     cache[p, GAP_A] = gap_a - slack

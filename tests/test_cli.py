@@ -50,3 +50,22 @@ def test_validate_list_describes_every_validation():
         assert "partial(" not in text and text.endswith("."), line
         if name.endswith("_point"):
             assert line.endswith("; point law."), line
+
+
+def test_symlink_loops_and_links_onto_the_input_are_one_line(tmp_path):
+    """A symlink loop as the scene, the output or a folder on the way, and an output that is a
+    symlink to the scene: exit 2, one line, no traceback (pathlib's RuntimeError before)."""
+    scene = tmp_path / "s.yaml"
+    scene.write_text(open(SCENE).read())
+    (tmp_path / "loop").symlink_to("loop")
+    (tmp_path / "loop.nc").symlink_to("loop.nc")
+    (tmp_path / "link.nc").symlink_to("s.yaml")
+    cases = [(["run", str(tmp_path / "loop"), "-o", str(tmp_path / "x.nc")], "Too many levels of symbolic links"),
+             (["run", str(scene), "-o", str(tmp_path / "loop.nc")], "loop.nc cannot be followed (a symlink loop)"),
+             (["run", str(scene), "-o", str(tmp_path / "loop" / "x.nc")], "cannot be followed (a symlink loop)"),
+             (["run", str(scene), "-o", str(tmp_path / "link.nc")], "link.nc is the input file")]
+    for argv, message in cases:
+        proc = stonedem(*argv, "-q")
+        lines = proc.stderr.strip().splitlines()
+        assert proc.returncode == 2 and len(lines) == 1 and message in lines[0], (argv, proc.stderr)
+    assert scene.read_text() == open(SCENE).read() and not (tmp_path / "x.nc").exists()

@@ -315,14 +315,26 @@ def _check_name_lengths(path: Path, field: str) -> None:
         raise InputError(field, "the path is longer than 4000 bytes", "give a shorter path")
 
 
+def real_path(path: str | Path, field: str) -> Path:
+    """``path`` with every symlink followed, or an InputError naming ``field`` for a symlink
+    loop on the way (pathlib raises a bare RuntimeError for one before Python 3.13)."""
+    try:
+        return Path(path).resolve()
+    except (RuntimeError, OSError) as err:
+        cause = err.strerror if isinstance(err, OSError) and err.strerror else "a symlink loop"
+        raise InputError(field, f"{one_line(str(path), 200)} cannot be followed ({cause})",
+                         "give a path whose symlinks end in a file or folder") from None
+
+
 def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Path] = (),
                       suffixes: tuple[str, ...] = ()) -> Path:
     """The output path, or an InputError naming ``field`` before any computing.
 
     Refused: a suffix not in ``suffixes`` (when given), an existing directory, one of the
-    ``inputs`` (same file), a parent that is a file or cannot be created, a folder that is
-    not writable, a name too long for the filesystem or not UTF-8. Nothing is created: a
-    missing parent folder is made by the write itself.
+    ``inputs`` (same file, also through a symlink or a hard link), a path through a symlink
+    loop, a parent that is a file or cannot be created, a folder that is not writable, a name
+    too long for the filesystem or not UTF-8. Nothing is created: a missing parent folder is
+    made by the write itself.
     """
     path = Path(path)
     if any(ord(c) < 32 for c in str(path)):
@@ -332,15 +344,17 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
         raise InputError(field, f"{path} does not end in {' or '.join(suffixes)}",
                          f"give an output path ending in {suffixes[0]}")
     _check_name_lengths(path, field)  # before any stat(): a long name raises ENAMETOOLONG there
+    real = real_path(path, field)
     if path.is_dir():
         raise InputError(field, f"{path} is a directory", "give a file name inside it")
     for source in inputs:
         source = Path(source)
         try:
             same = path.exists() and source.exists() and path.samefile(source)
-        except OSError:
-            same = False
-        if same or path.resolve() == source.resolve():
+            source_real = source.resolve()
+        except (OSError, RuntimeError):  # an input that loops is refused where it is read
+            continue
+        if same or real == source_real:
             raise InputError(field, f"{path} is the input file {source}",
                              "give a different output path; the input would be overwritten")
     parent = path.parent

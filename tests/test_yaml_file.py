@@ -5,6 +5,7 @@ commands that read scenes and configs refuse in one line and exit 2."""
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -23,7 +24,19 @@ HOSTILE = {
     "list.yaml": (b"- 1\n- 2\n", r"is not a YAML mapping \(it holds a list\)"),
     "empty.yaml": (b"# nothing\n", "is empty"),
     "bad.yaml": (b"bodies: [\n  {name: a\n", r"not valid YAML: .*line 3"),
+    "laughs.yaml": (None, r"aliases expand to more than 1000000 values and characters \(line 9, column 15\); write "),
+    "loop.yaml": (b"bodies: &b [1, *b]\n", r"the alias \*b is inside its own anchor \(a loop\)"),
 }
+
+
+def billion_laughs(levels: int = 9) -> bytes:
+    """A 1 kB scene whose description is 10^levels strings through nested aliases."""
+    rows = ["name: bomb", "description:", "  - &l0 lol"]
+    rows += [f"  - &l{i} [" + ", ".join([f"*l{i - 1}"] * 10) + "]" for i in range(1, levels + 1)]
+    return ("\n".join(rows) + "\nbodies: []\n").encode()
+
+
+HOSTILE["laughs.yaml"] = (billion_laughs(), HOSTILE["laughs.yaml"][1])
 
 
 @pytest.mark.parametrize("name", sorted(HOSTILE))
@@ -87,3 +100,27 @@ def test_a_deep_set_value_is_one_line(tmp_path):
 
     with pytest.raises(InputError, match="--set 'solver.dt'.*nested deeper"):
         apply_overrides({}, ["solver.dt=" + "[" * 2000])
+
+
+def test_aliases_count_as_what_they_repeat():
+    from stonedem.io.yaml_file import MAX_ALIAS_EXPANSION, parse_yaml_text
+
+    # 5 levels of 10 are 10^5 strings of 3 characters: 4 units each, past the limit at level 6
+    assert len(parse_yaml_text(billion_laughs(5).decode(), "f")["description"][5]) == 10
+    with pytest.raises(InputError, match="aliases expand to more than"):
+        parse_yaml_text(billion_laughs(6).decode(), "f")
+    assert MAX_ALIAS_EXPANSION == 1_000_000
+    # a merge key is an alias too
+    with pytest.raises(InputError, match="aliases expand"):
+        parse_yaml_text("a: &a {x: '" + "y" * 600_000 + "'}\nb: {<<: *a}\nc: {<<: *a}\n", "f")
+
+
+def test_the_study_config_keeps_its_anchors():
+    import yaml
+
+    from stonedem.study.grid import MAX_CONFIG_BYTES
+
+    path = Path(__file__).parents[1] / "config" / "config.yaml"
+    config = read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES, FIX)
+    with open(path) as handle:
+        assert config == yaml.safe_load(handle)

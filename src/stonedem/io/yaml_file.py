@@ -4,8 +4,9 @@ Every YAML the user hands us (a scene, a wall case, a study config) goes through
 :func:`read_yaml_mapping`: it checks the kind of file (a folder, a NetCDF or other binary
 file, an empty file), its size, its encoding (UTF-8, with or without a BOM; UTF-16 and
 Latin-1 are named), its nesting depth (PyYAML's scanner is quadratic in depth and its
-composer recursive) and duplicate keys (PyYAML keeps the last one silently), before a
-single value is used.
+composer recursive), what its aliases expand to (a 1 kB "billion laughs" of nested
+aliases is 10^9 strings to anything that walks it: json.dumps, jsonschema, repr) and
+duplicate keys (PyYAML keeps the last one silently), before a single value is used.
 """
 
 from __future__ import annotations
@@ -17,6 +18,9 @@ import yaml
 from stonedem.errors import InputError
 
 MAX_NESTING = 32   # containers inside containers; our files need at most 6
+# values + characters that aliases (*name) may repeat in one file; config/config.yaml's
+# anchors repeat ~1 500, a scene of 1000 bodies aliasing one template ~100 000
+MAX_ALIAS_EXPANSION = 1_000_000
 
 # first bytes of files people give by mistake
 _MAGIC = ((b"\x89HDF\r\n\x1a\n", "a NetCDF-4/HDF5 file"), (b"CDF\x01", "a NetCDF file"),
@@ -49,20 +53,53 @@ def printable(text) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
 
 
-def _check_nesting(text: str) -> None:
-    """Refuse deep nesting from the token stream, before composing ('[' x 1000 took 2.7 s)."""
-    opening = (yaml.BlockSequenceStartToken, yaml.BlockMappingStartToken, yaml.FlowSequenceStartToken,
-               yaml.FlowMappingStartToken)
-    closing = (yaml.BlockEndToken, yaml.FlowSequenceEndToken, yaml.FlowMappingEndToken)
-    depth = 0
-    for token in yaml.scan(text, Loader=_StrictLoader):
-        if isinstance(token, opening):
-            depth += 1
-            if depth > MAX_NESTING:
+class _Refused(yaml.MarkedYAMLError):
+    """A document PyYAML would accept but we do not; ``fix`` says what to write instead."""
+
+    def __init__(self, problem: str, mark, fix: str):
+        super().__init__(None, None, problem, mark)
+        self.fix = fix
+
+
+def _check_structure(text: str) -> None:
+    """Refuse deep nesting and runaway aliases from the event stream, before composing
+    ('[' x 1000 took 2.7 s to compose; 9 levels of 10 aliases are 10^9 values).
+
+    Each node's size is 1 (+ its characters for a scalar; + its children's sizes for a
+    container); an alias adds its anchor's size, and the sizes aliases add are summed. An
+    alias inside its own anchor (a loop, which PyYAML builds) is refused too."""
+    opening = (yaml.SequenceStartEvent, yaml.MappingStartEvent)
+    closing = (yaml.SequenceEndEvent, yaml.MappingEndEvent)
+    stack = [[None, 0]]   # open containers: [anchor, size so far]
+    sizes: dict = {}      # anchor -> size of its node, once closed
+    expanded = 0
+    for event in yaml.parse(text, Loader=_StrictLoader):
+        if isinstance(event, opening):
+            if len(stack) > MAX_NESTING:
                 raise yaml.scanner.ScannerError(None, None, f"nested deeper than {MAX_NESTING} levels",
-                                                token.start_mark)
-        elif isinstance(token, closing):
-            depth -= 1
+                                                event.start_mark)
+            stack.append([event.anchor, 1])
+            continue
+        if isinstance(event, closing):
+            anchor, size = stack.pop()
+        elif isinstance(event, yaml.ScalarEvent):
+            anchor, size = event.anchor, 1 + len(event.value)
+        elif isinstance(event, yaml.AliasEvent):
+            if event.anchor not in sizes:
+                if any(anchor == event.anchor for anchor, _ in stack):
+                    raise _Refused(f"the alias *{printable(event.anchor)} is inside its own anchor (a loop)",
+                                   event.start_mark, "repeat a finished part only")
+                continue  # undefined: the composer names it
+            anchor, size = None, sizes[event.anchor]
+            expanded += size
+            if expanded > MAX_ALIAS_EXPANSION:
+                raise _Refused(f"its aliases expand to more than {MAX_ALIAS_EXPANSION} values and characters",
+                               event.start_mark, "write the values out instead of repeating them through aliases")
+        else:
+            continue
+        if anchor is not None:
+            sizes[anchor] = size
+        stack[-1][1] += size
 
 
 def yaml_problem(err: yaml.YAMLError) -> str:
@@ -121,8 +158,10 @@ def read_bytes_checked(path: str | Path, what: str, max_bytes: int) -> bytes:
 def parse_yaml_text(text: str, where: str) -> object:
     """The value of a YAML document, or an InputError naming ``where`` and the line."""
     try:
-        _check_nesting(text)
+        _check_structure(text)
         return yaml.load(text, Loader=_StrictLoader)
+    except _Refused as err:
+        raise InputError(where, yaml_problem(err), err.fix) from None
     except yaml.YAMLError as err:
         raise InputError(where, f"not valid YAML: {yaml_problem(err)}", "fix the YAML syntax") from None
     except RecursionError:
@@ -149,7 +188,8 @@ def read_yaml_mapping(path: str | Path, what: str, max_bytes: int, fix: str, all
     ------
     InputError
         One line naming the file: missing, a folder, binary or NetCDF, too large, not UTF-8,
-        invalid or too deeply nested YAML, a key given twice, empty, or not a mapping.
+        invalid or too deeply nested YAML, aliases that expand past MAX_ALIAS_EXPANSION or
+        loop, a key given twice, empty, or not a mapping.
     """
     where = printable(path)
     text = decode_text(read_bytes_checked(path, what, max_bytes), where, what)

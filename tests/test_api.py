@@ -266,3 +266,30 @@ def test_run_scenes_gives_each_scene_what_run_scene_gives_it():
         assert ds["theta"].equals(alone["theta"]) and ds["x"].equals(alone["x"])
     with pytest.raises(stonedem.InputError, match="device"):
         stonedem.run_scenes([spec], device="abacus")
+
+
+# --- numpy values are numbers ----------------------------------------------------------------
+
+def test_numpy_scalars_and_0d_arrays_are_numbers_everywhere():
+    """A script's np.float32 friction, np.int64 drum count or 0-d array is the number it holds
+    (refused before: 'expected a number'); np.bool_ stays refused like bool."""
+    plain = {"structure": {"kind": "column", "n_drums": 3, "height": 3.0},
+             "friction": 0.625, "solver": {"duration": 0.05}}
+    numpy = {"structure": {"kind": "column", "n_drums": np.int64(3), "height": np.array(3.0)},
+             "friction": np.float32(0.625), "solver": {"duration": np.float64(0.05)}}
+    a, b = stonedem.load_scene(plain), stonedem.load_scene(numpy)
+    assert len(b.bodies) == 4 and b.friction == 0.625 and b.duration == 0.05
+    assert [body.mass for body in a.bodies] == [body.mass for body in b.bodies]
+    for bad, field in ((np.True_, "friction"), (np.array([0.5, 0.6]), "friction")):
+        with pytest.raises(InputError, match=f"^{field}: expected a number"):
+            stonedem.load_scene({**plain, field: bad})
+    with pytest.raises(InputError, match=r"structure\.n_drums: must be an integer"):
+        stonedem.load_scene({**plain, "structure": {"kind": "column", "n_drums": np.float32(2.5)}})
+    from stonedem.wall.case import check_case
+
+    wall = small_wall()
+    wall["panel"]["courses"] = np.int64(8)
+    wall["joints"]["mu"] = np.float32(0.75)
+    case = check_case(wall)
+    assert case.courses == 8 and type(case.courses) is int
+    assert case.spec == check_case(small_wall() | {"joints": {**small_wall()["joints"], "mu": 0.75}}).spec

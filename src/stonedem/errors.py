@@ -41,14 +41,32 @@ def one_line(text: str, limit: int = 600) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+def plain_number(value):
+    """A number of any kind Python or numpy has (``np.float32(0.6)``, ``np.int64(3)``, a 0-d
+    array) as a Python int or float, so that checkers need know only those two; anything else,
+    bools (``np.True_`` too) included, comes back unchanged for the checker to refuse."""
+    import numbers
+
+    if getattr(value, "ndim", None) == 0 and hasattr(value, "item") and not isinstance(value, (int, float)):
+        value = value.item()  # numpy scalars and 0-d arrays; np.bool_ gives a bool
+    if isinstance(value, bool) or isinstance(value, (int, float)) and type(value) in (int, float):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    return value
+
+
 def check_number(value, field: str, positive: bool = False, nonnegative: bool = False) -> float:
     """A finite float from a YAML value, or an InputError naming ``field``.
 
     YAML 1.1 reads ``1.0e9`` (no sign in the exponent) as a string, so numeric strings
-    are accepted.
+    are accepted; so are numpy's numbers (:func:`plain_number`), from a script's arrays.
     """
     import math
 
+    value = plain_number(value)
     if isinstance(value, str):
         try:
             value = float(value)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import inspect
 import math
 
-from stonedem.errors import InputError
+from stonedem.errors import InputError, plain_number
 
 EPISTYLE_TYPES = ("a", "b", "c", "d", "per_span")
 # a structure of more bodies is refused before it is built (stonedem.engine.scene.MAX_BODIES is the
@@ -22,6 +22,7 @@ MAX_COUNT = 1000
 
 
 def _positive(value, field):
+    value = plain_number(value)
     if (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
             or not math.isfinite(value)):
         raise InputError(field, f"must be a positive finite number, got {value!r}", "give a value > 0 in SI units")
@@ -30,6 +31,7 @@ def _positive(value, field):
 
 def _count(value, field):
     """An integer count 1..MAX_COUNT."""
+    value = plain_number(value)
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_COUNT:
         raise InputError(field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ...")
     return value
@@ -65,7 +67,7 @@ def column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=No
     taper: bottom / top width of the shaft (1 = rectangular drums); capital: None or
     {height, width} [m], a box on the top drum.
     """
-    _count(n_drums, "structure.n_drums")
+    n_drums = _count(n_drums, "structure.n_drums")
     height = _positive(height, "structure.height")
     width = _positive(width, "structure.width")
     density = _positive(density, "structure.density")
@@ -126,8 +128,8 @@ def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=
     d: two epistyles between those centre lines, jointed as in b;
     per_span: one epistyle per span, centre line to centre line (the input file of Fig. 4.6).
     """
-    _count(n_columns, "structure.n_columns")
-    _count(n_drums, "structure.n_drums")
+    n_columns = _count(n_columns, "structure.n_columns")
+    n_drums = _count(n_drums, "structure.n_drums")
     if n_columns * n_drums > MAX_COUNT:
         raise InputError("structure.n_columns", f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
                          "use fewer columns or drums")

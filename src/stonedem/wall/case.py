@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from stonedem.errors import InputError
+from stonedem.errors import InputError, plain_number
 from stonedem.io.yaml_file import printable as _printable
 from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel
@@ -207,6 +207,7 @@ def _bool(value, field):
 
 
 def _as_number(value, field, what="a number"):
+    value = plain_number(value)
     if isinstance(value, str) and _NUMERIC.fullmatch(value):
         value = float(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)):

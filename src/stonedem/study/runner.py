@@ -11,11 +11,13 @@ changed re-simulates that case only and restores the others.
 An entry is never the same file as a result: it is a copy, so truncating or editing a case
 file cannot reach the store. Each entry is kept with the sha256 of its
 bytes (``<key>.sha256``) and checked when it is restored; an entry that fails the check is
-moved to ``<store>/corrupt/`` with one warning line, and the case is simulated again.
+moved to ``<store>/corrupt/`` with one warning line (in a read-only store it stays and is
+skipped), and the case is simulated again.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -109,15 +111,21 @@ class CaseStore:
 
     def _quarantine(self, stored: Path, log=None) -> None:
         corrupt = self.directory / "corrupt"
+        where = f"moved to {corrupt}"
         try:
             corrupt.mkdir(exist_ok=True)
             for path in (stored, _checksum_path(stored)):
                 if path.exists():
                     os.replace(path, corrupt / path.name)
         except OSError:
-            stored.unlink(missing_ok=True)
+            try:
+                stored.unlink(missing_ok=True)
+                where = "removed"
+            except OSError as err:
+                # a read-only store: the entry stays, and every restore skips it again
+                where = f"left in place ({err.strerror}), skipped"
         progress_print(log or sys.stderr, f"warning: case store entry {stored.name} failed its checksum; "
-                       f"moved to {corrupt}, simulating the case again")
+                       f"{where}, simulating the case again")
 
     def keep(self, case: Case, output: Path) -> None:
         """Remember a finished case file as a copy with its checksum (best effort: a full disk
@@ -135,8 +143,9 @@ class CaseStore:
             os.replace(tmp_sum, _checksum_path(stored))
             os.replace(tmp, stored)
         except OSError:
-            tmp.unlink(missing_ok=True)
-            tmp_sum.unlink(missing_ok=True)
+            for path in (tmp, tmp_sum):
+                with contextlib.suppress(OSError):  # a read-only store refuses even this
+                    path.unlink(missing_ok=True)
 
 
 def _checksum_path(stored: Path) -> Path:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import sys
 import time as wallclock
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,6 +25,7 @@ from stonedem.kernels import step
 from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from stonedem.engine.laws import LAWS
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
+from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
 from stonedem.engine.scene import Scene, box_pairs, posed_vertices
 
@@ -517,11 +519,39 @@ def run_checks(scene: Scene, result: RunResult) -> dict:
 
 # resources a run may ask for; above them it is refused before computing (README "Limits")
 MAX_STEPS = 2e8  # ~50x the study's longest case; 3-30 min of kernel time at 1-10 us/step
-MAX_SAMPLE_BYTES = 2 * 2**30  # sampled positions and energies held in memory
+# the memory a run needs (samples, dataset, write) against a share of the machine's:
+# stonedem.engine.memory.run_bytes and memory_budget
 MAX_DURATION = 3600.0  # [s] simulated; the quiet-base scan holds ~8 doubles per ms of it
 # the step must resolve the excitation: at least this many steps per period of its highest
 # frequency (harmonic, one-sine pulse), per rectangular pulse and per record sample interval x 2
 MIN_STEPS_PER_PERIOD = 20
+
+
+def output_samples(scene: Scene, dt: float) -> float:
+    """Output samples of a run at step ``dt`` (the samples simulate() allocates)."""
+    return scene.duration / dt / max(1.0, round(scene.output_every / dt)) + 2
+
+
+def _every_fix(scene: Scene, chosen: float, budget: float) -> str:
+    """The fix of a run too long or too big for its output interval: the smallest
+    output.every (2 significant digits, rounded up) at which its steps and memory fit,
+    checked with the step that interval gives (:func:`sampled_step` of ``chosen``)."""
+    n_body = len(scene.bodies)
+    fixed = run_bytes(0, n_body)
+    per_sample = run_bytes(1, n_body) - fixed
+    room = budget - fixed - 2 * per_sample
+    if room <= 0:
+        return f"use fewer bodies: their contacts alone need {fixed / 2**30:.3g} GiB"
+    every = max(scene.output_every, scene.duration / MAX_STEPS, scene.duration * per_sample / room)
+    while every < scene.duration:
+        scale = 10.0 ** (math.floor(math.log10(every)) - 1)
+        every = math.ceil(every / scale * (1 - 1e-12)) * scale  # 2 significant digits, up
+        trial = dataclasses.replace(scene, output_every=every)
+        dt = sampled_step(trial, chosen)
+        if scene.duration / dt <= MAX_STEPS and run_bytes(output_samples(trial, dt), n_body) <= budget:
+            return f"raise output.every to {every:.2g} s or more, or shorten the run"
+        every *= 1.05
+    return "shorten the run or use fewer bodies"
 
 
 def preflight(scene: Scene) -> tuple[float, float, int]:
@@ -529,30 +559,37 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
 
     Refused: a scene whose bodies would fall freely (nothing driven, or a body with nothing
     under it to land on: :func:`stonedem.engine.pack.landing_drops`), a stability limit that is not a positive finite time, more than MAX_STEPS
-    steps, more than MAX_SAMPLE_BYTES of samples, and a step that resolves the excitation's
+    steps, more memory than the machine can give it (:func:`stonedem.engine.memory.run_bytes`
+    against :func:`stonedem.engine.memory.memory_budget`), and a step that resolves the excitation's
     shortest period in fewer than MIN_STEPS_PER_PERIOD steps (it would read an 8 kHz
-    harmonic at its zeros).
+    harmonic at its zeros). When output.every is what makes a run too long or too big, the
+    refusal names it and the smallest value that fits.
     """
     landing_drops(scene)
     dt, limit = choose_time_step(scene)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
         raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",
                          "check masses and contact stiffness (SI units)")
-    dt = sampled_step(scene, dt)  # as simulate()
+    chosen, dt = dt, sampled_step(scene, dt)  # as simulate()
     if scene.duration > MAX_DURATION:
         raise InputError("solver.duration", f"{scene.duration:.3g} s is over the limit {MAX_DURATION:g} s",
                          "simulate at most an hour; split a longer run")
+    budget = memory_budget()
     n_steps = scene.duration / dt
     if n_steps > MAX_STEPS:
+        if scene.output_every < chosen and scene.duration / chosen <= MAX_STEPS:  # dt <= output.every
+            raise InputError("output.every", f"{scene.output_every:.3g} s makes dt = {dt:.3g} s: {n_steps:.3g} "
+                             f"steps over {scene.duration:.3g} s, over the limit {MAX_STEPS:.0e}",
+                             _every_fix(scene, chosen, budget))
         raise InputError("solver.duration", f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "
                          f"over the limit {MAX_STEPS:.0e}",
                          f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften contact.k_n")
-    n_out = n_steps / max(1.0, round(scene.output_every / dt)) + 2
-    sample_bytes = 8.0 * n_out * (3 * len(scene.bodies) + step.N_ENERGY + 2)
-    if sample_bytes > MAX_SAMPLE_BYTES:
-        raise InputError("output.every", f"{n_out:.3g} samples of {len(scene.bodies)} bodies need "
-                         f"{sample_bytes / 2**30:.3g} GiB, over the limit {MAX_SAMPLE_BYTES / 2**30:g} GiB",
-                         "sample less often (a larger output.every) or shorten the run")
+    n_out = output_samples(scene, dt)
+    need = run_bytes(n_out, len(scene.bodies))
+    if need > budget:
+        raise InputError("output.every", f"{n_out:.3g} samples of {len(scene.bodies)} bodies need about "
+                         f"{need / 2**30:.3g} GiB, over the {budget / 2**30:.3g} GiB a run may take here "
+                         "(stonedem.engine.memory.memory_budget)", _every_fix(scene, chosen, budget))
     for name, motion in (("excitation", scene.horizontal), ("excitation.vertical", scene.vertical)):
         period = motion.shortest_period
         if period / dt < MIN_STEPS_PER_PERIOD:

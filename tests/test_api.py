@@ -293,3 +293,66 @@ def test_numpy_scalars_and_0d_arrays_are_numbers_everywhere():
     case = check_case(wall)
     assert case.courses == 8 and type(case.courses) is int
     assert case.spec == check_case(small_wall() | {"joints": {**small_wall()["joints"], "mu": 0.75}}).spec
+
+
+# --- write_dataset ---------------------------------------------------------------------------
+
+def test_write_dataset_refuses_to_replace_what_it_did_not_write(tmp_path, rocking):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(SCENE.read_text().replace("duration: 4.0", "duration: 0.02"))
+    ds = stonedem.run_scene(scene)
+    assert ds.attrs["scene_file"] == str(scene)
+    for overwrite in (False, True):  # an input of the dataset, whatever the flag
+        with pytest.raises(InputError, match=r"scene\.yaml is the input file"):
+            stonedem.write_dataset(ds, scene, overwrite=overwrite)
+    ds.attrs.pop("scene_file")  # loaded first: the dataset does not know its file, the file is no NetCDF
+    with pytest.raises(InputError, match=r"scene\.yaml exists and is not a NetCDF file; it is not replaced"):
+        stonedem.write_dataset(ds, scene)
+    (tmp_path / "notes.nc").write_text("notes\n")
+    xr.Dataset({"a": ((), 1.0)}).to_netcdf(tmp_path / "foreign.nc")
+    with pytest.raises(InputError, match="notes.nc exists and is not a NetCDF file.*pass overwrite=True"):
+        stonedem.write_dataset(rocking, tmp_path / "notes.nc")
+    with pytest.raises(InputError, match="foreign.nc is a NetCDF file stonedem did not write"):
+        stonedem.write_dataset(rocking, tmp_path / "foreign.nc")
+    assert scene.read_text().startswith(SCENE.read_text()[:20]) and (tmp_path / "notes.nc").read_text() == "notes\n"
+    # its own files, and anything with overwrite=True, are replaced
+    for name in ("ours.nc", "ours.nc", "notes.nc"):
+        stonedem.write_dataset(rocking, tmp_path / name, overwrite=name == "notes.nc")
+        with xr.open_dataset(tmp_path / name) as back:
+            assert back.sizes["time"] == rocking.sizes["time"]
+
+
+@pytest.mark.parametrize("ds, field", [
+    (xr.Dataset({"z": (("t",), np.array([1 + 2j]))}), "ds['z']: has dtype complex128"),
+    (xr.Dataset({"x": (("t",), np.zeros(2, np.float16))}), "ds['x']: has dtype float16"),
+    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": {"b": 1}}), "ds.attrs['a']: is a dict"),
+    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": None}), "ds.attrs['a']: is a NoneType"),
+    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": True}), "ds.attrs['a']: is a bool"),
+    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": [[1, 2]]}), "ds.attrs['a']: is a sequence"),
+    (xr.Dataset({"x": ((), 1.0, {"units": None})}), "ds['x'].attrs['units']: is a NoneType"),
+    (xr.Dataset({"a/b": ((), 1.0)}), "ds['a/b']: a variable or dimension name"),
+    (xr.Dataset({1: ((), 1.0)}), "ds[1]: a variable or dimension name"),
+    (xr.Dataset({"x": (("t",), np.array([1, "a"], dtype=object))}), "ds: cannot be written as NetCDF (ValueError"),
+])
+def test_write_dataset_names_what_netcdf_cannot_hold(tmp_path, ds, field):
+    with pytest.raises(InputError) as err:
+        stonedem.write_dataset(ds, tmp_path / "out.nc")
+    assert str(err.value).startswith(field) and "\n" not in str(err.value)
+    assert list(tmp_path.iterdir()) == [], "nothing written"
+
+
+def test_write_dataset_checks_its_arguments_first(tmp_path, rocking):
+    (tmp_path / "loop.nc").symlink_to("loop.nc")
+    for args, kind, start in [((None, tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset, got NoneType"),
+                              ((rocking["theta"], tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset"),
+                              ((rocking, None), TypeError, "path: expected a file path"),
+                              ((rocking, b"o.nc"), TypeError, "path: expected a file path (str or os.PathLike), got bytes"),
+                              ((rocking, tmp_path), InputError, "path: "),
+                              ((rocking, tmp_path / "loop.nc"), InputError, "path: "),
+                              ((rocking, tmp_path / "o.nc", [1]), TypeError, "encoding: expected a dict")]:
+        with pytest.raises(kind) as err:
+            stonedem.write_dataset(*args)
+        assert str(err.value).startswith(start) and "\n" not in str(err.value), err.value
+    with pytest.raises(TypeError, match="^overwrite: expected True or False"):
+        stonedem.write_dataset(rocking, tmp_path / "o.nc", overwrite="yes")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["loop.nc"]

@@ -151,7 +151,10 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
     from stonedem.engine.scene import Scene
 
     scene = scene_or_source if isinstance(scene_or_source, Scene) else load_scene(scene_or_source)
-    return simulate_scene(scene, progress=progress)
+    ds = simulate_scene(scene, progress=progress)
+    if _is_path(scene_or_source):  # write_dataset refuses to write over it
+        ds.attrs["scene_file"] = str(scene_or_source)
+    return ds
 
 
 def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = None) -> list[xr.Dataset]:

@@ -106,10 +106,12 @@ def scene_inputs(scene_path: Path, scene) -> list[Path]:
 
 def command_run(args) -> int:
     from stonedem.api import load_scene, run_scene, write_dataset
+    from stonedem.io.netcdf import check_dataset_path
 
     check_output_path(args.output, "-o/--output", inputs=[args.scene], suffixes=(".nc", ".nc4"))
     scene = load_scene(args.scene, overrides=args.overrides)
-    check_output_path(args.output, "-o/--output", inputs=scene_inputs(args.scene, scene))
+    # also what write_dataset refuses at the end (a file it did not write), before the run
+    check_dataset_path(args.output, "-o/--output", inputs=scene_inputs(args.scene, scene))
     ds = run_scene(scene, progress=not args.quiet)  # refuses absurd requests first (preflight)
     write_dataset(ds, args.output)
     if not args.quiet:

@@ -89,3 +89,22 @@ def test_the_quiet_scan_and_fill_in_pieces_are_the_same_run(monkeypatch):
     assert 1.25 < whole.rest_time < 2.5  # the tail was carried, in 60-odd pieces
     for key in ("time", "x", "y", "theta", "energy", "n_contact"):
         assert np.array_equal(getattr(whole, key), getattr(pieces, key)), key
+
+
+def test_provenance_is_measured_without_expanding_shared_parts():
+    import json
+    import time
+
+    from stonedem.io.provenance import bounded_json, json_size_over
+
+    laughs = "lol"
+    for _ in range(9):
+        laughs = [laughs] * 10  # 10^9 strings, 10 lists in memory
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^scene: is over 4000000 characters as JSON"):
+        bounded_json({"description": laughs}, "scene")
+    assert time.perf_counter() - start < 5.0  # measured 0.7 s; json.dumps never ends
+    small = {"b": [1.5, "text"], "a": None}
+    assert bounded_json(small, "scene") == json.dumps(small, sort_keys=True)
+    text = json.dumps(small)
+    assert not json_size_over(small, len(text)) and json_size_over(small, 10)

@@ -13,7 +13,6 @@ computing side never needs xarray.
 from __future__ import annotations
 
 import dataclasses
-import json
 import platform
 import sys
 from datetime import datetime, timezone
@@ -28,6 +27,7 @@ from stonedem.kernels import step
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene
 from stonedem.io.netcdf import code_version, schema_variables
+from stonedem.io.provenance import bounded_json
 from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, preflight, run_checks, simulate)
 
 
@@ -180,9 +180,9 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "source": code_version(),
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by stonedem.engine.simulate",
         "platform": f"python {platform.python_version()}, numba {numba.__version__}",
-        "scene": json.dumps(scene.spec, sort_keys=True, default=str),
-        "excitation": json.dumps(scene.horizontal.description, sort_keys=True, default=str),
-        "excitation_vertical": json.dumps(scene.vertical.description, sort_keys=True, default=str),
+        "scene": bounded_json(scene.spec, "scene"),
+        "excitation": bounded_json(scene.horizontal.description, "excitation"),
+        "excitation_vertical": bounded_json(scene.vertical.description, "excitation.vertical"),
         "dt": result.dt, "dt_units": "s",
         "dt_stability_limit": result.dt_limit,
         "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,

@@ -9,6 +9,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.io.netcdf import code_version, schema_variables, write_dataset
+from stonedem.io.provenance import bounded_json
 from stonedem.wall.constitutive import STATE_NAMES
 from stonedem.wall.panel import KIND_NAMES
 from stonedem.wall.validation import LIMIT_TOLERANCE
@@ -59,7 +60,7 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         "title": f"stonedem 3D rigid-block wall pushover: {case.name}",
         "source": code_version(),
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} stonedem.wall.pushover",
-        "case": json.dumps(spec, sort_keys=True, default=str),
+        "case": bounded_json(spec, "case"),
         "case_name": case.name,
         "load_kind": case.load_kind,
         "lambda_units": lam_units,

@@ -27,6 +27,10 @@ from pathlib import Path
 
 import numba
 
+from stonedem import numba_cache
+
+numba_cache.guard()  # a damaged cache file costs a compile, not the run
+
 JIT_OPTIONS = {"cache": True, "fastmath": False, "nogil": True}
 # Kernels that never allocate compile without Numba's runtime (NRT): handing them arrays then
 # costs no reference counting, which was ~40 % of a lone block's step (an atomic increment

@@ -14,6 +14,10 @@ import math
 import numpy as np
 from numba import njit
 
+from stonedem import numba_cache
+
+numba_cache.guard()  # a damaged cache file costs a compile, not the run
+
 ELASTIC, SHEAR, FLEXURAL, SHEAR_FLEXURAL, DETACHED = 0, 1, 2, 3, 4
 ROOT_STEPS = 100  # Newton-bisection steps of the closest-point search (a bound: ~6 are taken)
 ROOT_TOLERANCE = 1e-15  # its step, and bracket, relative to F

@@ -24,7 +24,8 @@ EXTRACT_RECORDS = config_flag("extract_records", False)
 if getattr(workflow, "is_main_process", True):
     try:
         stonedem.study.grid.check_config(config, records_dir="records", extract_records=EXTRACT_RECORDS,
-                               schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml")
+                               schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml",
+                               files=workflow.configfiles)
     except InputError as error:
         # one line, the last one printed, and stonedem's exit code for bad input (stonedem.entry); a
         # WorkflowError would add Snakemake's header and a traceback line after it

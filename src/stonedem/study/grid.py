@@ -362,7 +362,7 @@ def _apply_weak_joint(scene: dict, where: str, joint_field: str | None = None) -
 
 
 def check_config(config: dict, records_dir: Path | str = "records", extract_records: bool = False,
-                 schema: Path | str | None = None) -> dict[str, list[Case]]:
+                 schema: Path | str | None = None, files=()) -> dict[str, list[Case]]:
     """{study: case table} of a workflow config, or the first InputError naming its config path.
 
     Every case's scene is built through the validation ``stonedem run`` uses
@@ -375,7 +375,13 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     Scenes that differ only in their excitation are built once, and so is each excitation:
     on config/config.yaml (507 cases, 179 scenes, 88 excitations) this adds ~1.5 s of CPU
     to ``snakemake -n``.
+    ``files``: the config files Snakemake read (``workflow.configfiles``), read again through
+    :func:`stonedem.io.yaml_file.read_yaml_mapping` first: Snakemake's own YAML loader
+    accepts an alias bomb, which the checks below would expand.
     """
+    for path in files:
+        read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES, "give 'key: value' lines (config/README.md)",
+                          allow_empty=True)
     if not isinstance(config, dict):
         raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
     if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)

@@ -356,3 +356,41 @@ def test_write_dataset_checks_its_arguments_first(tmp_path, rocking):
     with pytest.raises(TypeError, match="^overwrite: expected True or False"):
         stonedem.write_dataset(rocking, tmp_path / "o.nc", overwrite="yes")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["loop.nc"]
+
+
+# --- the API's arguments ---------------------------------------------------------------------
+
+def test_a_loaded_scene_cannot_record_a_false_provenance():
+    scene = stonedem.load_scene(SCENE, overrides=SHORT)
+    for change in (lambda s: s.spec.__setitem__("friction", 0.9), lambda s: s.spec["solver"].update(duration=9.0),
+                   lambda s: s.spec["bodies"][1].__setitem__("mass", 1.0), lambda s: s.spec.pop("solver")):
+        with pytest.raises(TypeError, match="scene.spec is read-only"):
+            change(scene)
+    import copy
+    import json
+
+    edited = copy.deepcopy(scene.spec)
+    edited["friction"] = 0.9  # a copy is a plain dict, loaded again as a new scene
+    assert stonedem.load_scene(edited, base_dir=SCENE.parent).friction == 0.9
+    assert json.loads(json.dumps(scene.spec))["friction"] == scene.friction != 0.9
+
+
+def test_run_scenes_takes_one_scene_or_many_and_names_a_bad_argument(tmp_path):
+    scene = stonedem.load_scene(SCENE, overrides={"solver.duration": 0.02})
+    assert len(stonedem.run_scenes(scene)) == 1
+    short = tmp_path / "short.yaml"
+    short.write_text(SCENE.read_text().replace("duration: 4.0", "duration: 0.02"))
+    for one in (str(short), short):  # a path is one scene, not its characters
+        (ds,) = stonedem.run_scenes(one)
+        assert ds.attrs["scene_file"] == str(short) and float(ds["time"][-1]) == pytest.approx(0.02)
+    for bad, message in ((None, "scenes: expected a scene"), (3, "got int"), ([scene, 3], r"scenes\[1\]: expected"),
+                         (iter([None]), r"scenes\[0\]")):
+        with pytest.raises(TypeError, match=message):
+            stonedem.run_scenes(bad)
+    for call, message in ((lambda: stonedem.run_scenes([scene], threads="2"), "threads: expected"),
+                          (lambda: stonedem.run_scenes([scene], device=None), "device: expected"),
+                          (lambda: stonedem.run_scene(scene, progress="no"), "progress: expected True or False"),
+                          (lambda: stonedem.run_wall(small_wall(), limit_analysis=1), "limit_analysis: expected"),
+                          (lambda: stonedem.load_scene(SCENE, base_dir=3), "base_dir: expected a folder path")):
+        with pytest.raises(TypeError, match=message):
+            call()

@@ -54,7 +54,57 @@ FILE_KINDS = {
 
 
 def _is_path(source) -> bool:
-    return isinstance(source, (str, os.PathLike))
+    return isinstance(source, (str, os.PathLike)) and not isinstance(source, bytes)
+
+
+def _flag(value, name: str) -> bool:
+    """A bool argument (numpy's too), or a TypeError naming it."""
+    if not isinstance(value, bool) and type(value).__name__ != "bool_":
+        raise TypeError(f"{name}: expected True or False, got {type(value).__name__}")
+    return bool(value)
+
+
+class FrozenSpec(dict):
+    """A scene's spec that cannot be changed in place: the provenance a run writes
+    (``attrs["scene"]``) is this spec, so a changed one would record a scene that did not
+    run. A copy (``copy.deepcopy``, ``dict(...)``) is a plain dict to change and load again."""
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("scene.spec is read-only: it records what runs; change a copy "
+                        "(copy.deepcopy(scene.spec)) and load it with stonedem.load_scene")
+
+    __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _refuse
+
+    def __deepcopy__(self, memo):
+        return copy.deepcopy(_thawed(self), memo)
+
+    def __copy__(self):
+        return dict(self)
+
+    def __reduce__(self):
+        return (dict, (_thawed(self),))
+
+
+def _frozen(value):
+    if isinstance(value, Mapping):
+        return FrozenSpec((k, _frozen(v)) for k, v in value.items())
+    if isinstance(value, (list, tuple)):
+        return tuple(_frozen(v) for v in value)
+    return value
+
+
+def _thawed(value):
+    if isinstance(value, Mapping):
+        return {k: _thawed(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_thawed(v) for v in value]
+    return value
+
+
+def _freeze_spec(scene):
+    import dataclasses
+
+    return dataclasses.replace(scene, spec=_frozen(scene.spec))
 
 
 # --- the 2D engine --------------------------------------------------------------------------
@@ -82,7 +132,8 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
     Returns
     -------
     stonedem.engine.scene.Scene
-        The frozen, validated scene.
+        The frozen, validated scene; its ``spec`` (the defaulted input, written as the
+        run's provenance) is read-only too.
 
     Raises
     ------
@@ -101,12 +152,14 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
     from stonedem.engine.scene import apply_overrides, scene_from_dict
     from stonedem.engine.scene import load_scene as load_scene_file
 
+    if base_dir is not None and not _is_path(base_dir):
+        raise TypeError(f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}")
     if _is_path(source):
-        return load_scene_file(source, overrides, base_dir)
+        return _freeze_spec(load_scene_file(source, overrides, base_dir))
     if isinstance(source, Mapping):
-        spec = copy.deepcopy(dict(source))
+        spec = _thawed(source)  # a copy, tuples as lists
         apply_overrides(spec, overrides)
-        return scene_from_dict(spec, base_dir="." if base_dir is None else base_dir)
+        return _freeze_spec(scene_from_dict(spec, base_dir="." if base_dir is None else base_dir))
     raise InputError("scene", f"expected a scene file path or a mapping, got {type(source).__name__}",
                      "give the path of a scene YAML file or a dict of its keys")
 
@@ -150,6 +203,7 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
     from stonedem.engine.run import run_scene as simulate_scene
     from stonedem.engine.scene import Scene
 
+    progress = _flag(progress, "progress")
     scene = scene_or_source if isinstance(scene_or_source, Scene) else load_scene(scene_or_source)
     ds = simulate_scene(scene, progress=progress)
     if _is_path(scene_or_source):  # write_dataset refuses to write over it
@@ -162,8 +216,8 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
 
     Parameters
     ----------
-    scenes_or_sources : iterable of Scene, str, os.PathLike or Mapping
-        What :func:`run_scene` takes, one per member.
+    scenes_or_sources : Scene, str, os.PathLike, Mapping, or an iterable of them
+        What :func:`run_scene` takes, one per member; one alone is a single member.
     device : {"cpu", "gpu"}, default "cpu"
         ``cpu``: one thread per member on the CPU's cores, each run bit for bit
         :func:`run_scene`'s. ``gpu``: one CUDA thread per member on an NVIDIA GPU (the
@@ -181,6 +235,8 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
 
     Raises
     ------
+    TypeError
+        ``scenes_or_sources`` is neither a scene nor an iterable of scenes (None, a number).
     InputError
         Bad scene input, an unknown device, members of different structures on the GPU.
     RuntimeError
@@ -189,8 +245,32 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
     from stonedem.engine.run import run_scenes as simulate_scenes
     from stonedem.engine.scene import Scene
 
-    scenes = [s if isinstance(s, Scene) else load_scene(s) for s in scenes_or_sources]
-    return simulate_scenes(scenes, device=device, threads=threads)
+    from collections.abc import Iterable
+
+    given = scenes_or_sources
+    if isinstance(given, Scene) or _is_path(given) or isinstance(given, Mapping):
+        given = [given]  # one scene, not the characters of its path or the keys of its mapping
+    elif not isinstance(given, Iterable) or isinstance(given, bytes):
+        raise TypeError(f"scenes: expected a scene, a scene file path, a mapping or a list of them, "
+                        f"got {type(given).__name__}")
+    scenes = []
+    for i, s in enumerate(given):
+        if not (isinstance(s, Scene) or _is_path(s) or isinstance(s, Mapping)):
+            raise TypeError(f"scenes[{i}]: expected a scene, a scene file path or a mapping, got {type(s).__name__}")
+        scenes.append(s if isinstance(s, Scene) else load_scene(s))
+    if not isinstance(device, str):
+        raise TypeError(f"device: expected 'cpu' or 'gpu', got {type(device).__name__}")
+    if threads is not None:
+        from stonedem.errors import plain_number
+
+        threads = plain_number(threads)
+        if isinstance(threads, bool) or not isinstance(threads, int):
+            raise TypeError(f"threads: expected a whole number or None, got {type(threads).__name__}")
+    datasets = simulate_scenes(scenes, device=device, threads=threads)
+    for source, ds in zip(given, datasets):
+        if _is_path(source):
+            ds.attrs["scene_file"] = str(source)
+    return datasets
 
 
 # --- the 3D wall solver ---------------------------------------------------------------------
@@ -234,11 +314,12 @@ def run_wall(case, limit_analysis: bool = False, progress: bool = False) -> xr.D
     from stonedem.wall.case import check_case, read_case
     from stonedem.wall.cli import pushover
 
+    limit_analysis, progress = _flag(limit_analysis, "limit_analysis"), _flag(progress, "progress")
     if _is_path(case):
         path = Path(case)
         checked = check_case(read_case(path), name=path.stem, where=str(path))
     elif isinstance(case, Mapping):
-        checked = check_case(dict(case))
+        checked = check_case(_thawed(case))
     else:
         raise InputError("case", f"expected a wall case file path or a mapping, got {type(case).__name__}",
                          "give the path of a wall case YAML file (config/walls/) or a dict of its keys")

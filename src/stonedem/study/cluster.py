@@ -7,21 +7,45 @@ answers only "accounting storage is disabled", and the run waits for ever. ``squ
 there, for as long as SLURM keeps a finished job in view (``MinJobAge``); when MinJobAge is
 under three times the delay before the first status check, the executor goes back to sacct
 without a word. :func:`slurm_settings_problem` names the setting to change instead.
+
+Issue 43: the executor (snakemake-executor-plugin-slurm 2.8.0, pinned) calls sbatch, squeue,
+sacct (to guess an account), sinfo (the default partition) and scontrol; where one is missing
+its submission thread dies and the run waits for ever for a job never sent.
+:func:`slurm_tools_problem` refuses such a machine before the first job. Once jobs run, a
+squeue or sacct that stops answering was retried for ever: :func:`bound_status_checks` gives
+each status query :data:`QUERY_SECONDS` and ends the run once queries have failed for
+:data:`SILENT_SECONDS` without an answer between.
 """
 
 from __future__ import annotations
 
+import asyncio
+import csv
+import io
+import os
+import shlex
+import shutil
 import subprocess
 import sys
+import time
 
 DEFAULT_INIT_SECONDS = 40  # the executor's slurm-init-seconds-before-status-checks
+PROBE_SECONDS = 10  # a SLURM command that has not answered by then is taken as not answering
+# the SLURM commands the executor runs with the project's profile (no account, no partition)
+TOOLS = ("sbatch", "squeue", "sacct", "sinfo", "scontrol")
+# a status query's time limit, and how long no query may answer before the run ends
+# (environment variables of the same name override them: the fault suite's stub SLURM)
+QUERY_SECONDS = 60
+SILENT_SECONDS = 900
 
 
 def scontrol_config(run=subprocess.run) -> dict[str, str]:
     """``scontrol show config`` as {key: value}; empty when scontrol cannot answer."""
     try:
-        done = run(["scontrol", "show", "config"], capture_output=True, text=True, timeout=30)
+        done = run(["scontrol", "show", "config"], capture_output=True, text=True, timeout=PROBE_SECONDS)
     except (OSError, subprocess.SubprocessError):
+        return {}
+    if done.returncode != 0:
         return {}
     out = {}
     for line in done.stdout.splitlines():
@@ -57,15 +81,107 @@ def slurm_settings_problem(status_command: str | None, init_seconds: int | None,
     return None
 
 
+def slurm_tools_problem(status_command: str | None, config: dict[str, str], which=shutil.which,
+                        run=subprocess.run) -> str | None:
+    """One line saying which SLURM command is missing or does not answer here, or None."""
+    missing = [tool for tool in TOOLS if which(tool) is None]
+    if missing:
+        return (f"{', '.join(missing)} not found on PATH (the SLURM executor runs {', '.join(TOOLS)}; without "
+                f"one it waits for ever for jobs it never sent); run from a SLURM login node, or locally "
+                f"without --profile config/profiles/slurm")
+    if not config:
+        return (f"scontrol show config did not answer within {PROBE_SECONDS} s: the SLURM controller cannot "
+                f"be reached from here. Check `scontrol ping`, or run locally without --profile config/profiles/slurm")
+    probe = ["squeue", "--noheader", "--format=%i", "--name=stonedem-probe"] if status_command == "squeue" \
+        else ["sacct", "--noheader", "--format=JobIdRaw", "--name=stonedem-probe"]
+    try:
+        done = run(probe, capture_output=True, text=True, timeout=PROBE_SECONDS)
+        why = None if done.returncode == 0 else f"exit {done.returncode}: {(done.stderr or '').strip()[:200]}"
+    except subprocess.TimeoutExpired:
+        why = f"no answer within {PROBE_SECONDS} s"
+    except OSError as err:
+        why = err.strerror
+    if why:
+        return (f"{probe[0]}, the profile's status command, does not answer ({why}), so the run could not see "
+                f"its jobs finish. Check the SLURM controller, or run locally without --profile config/profiles/slurm")
+    return None
+
+
+def _limit(name: str, default: float) -> float:
+    try:
+        return float(os.environ.get(f"STONEDEM_SLURM_{name}", default))
+    except ValueError:
+        return default
+
+
+def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
+    """Replace the executor's status query by one that kills a query past QUERY_SECONDS and
+    raises a WorkflowError (the run ends) once queries have failed for SILENT_SECONDS. False
+    where the plugin is not the pinned one (no ``query_job_status`` to replace)."""
+    if plugin_module is None:
+        try:
+            import snakemake_executor_plugin_slurm as plugin_module
+        except ImportError:
+            return False
+    if not hasattr(plugin_module, "query_job_status"):
+        return False
+    from snakemake_interface_common.exceptions import WorkflowError
+
+    query_seconds, silent_seconds = _limit("QUERY_SECONDS", QUERY_SECONDS), _limit("SILENT_SECONDS", SILENT_SECONDS)
+    failing_since: list[float | None] = [None]  # the start of the first failed query since an answer
+
+    async def query_job_status(command: str, logger):
+        started = now()
+        why = None
+        try:
+            process = await asyncio.create_subprocess_exec(*shlex.split(command), stdout=asyncio.subprocess.PIPE,
+                                                           stderr=asyncio.subprocess.PIPE)
+            try:
+                out, err = await asyncio.wait_for(process.communicate(), timeout=query_seconds)
+            except asyncio.TimeoutError:
+                process.kill()  # a hung query must not outlive its turn
+                await process.wait()
+                why = f"no answer within {query_seconds:g} s"
+            else:
+                if process.returncode != 0:
+                    why = f"exit {process.returncode}: {err.decode(errors='replace').strip()[:200]}"
+        except OSError as error:
+            why = error.strerror or str(error)
+        if why is None:
+            failing_since[0] = None
+            states = {row[0].strip(): row[1].strip() for row in csv.reader(io.StringIO(out.decode()), delimiter="|")
+                      if len(row) >= 2 and row[0].strip()}
+            return states, now() - started
+        logger.debug(f"SLURM status query failed: {why}")
+        if failing_since[0] is None:
+            failing_since[0] = started
+        if now() - failing_since[0] > silent_seconds:
+            raise WorkflowError(f"SLURM stopped answering: `{shlex.split(command)[0]}` has not reported the jobs' "
+                                f"states for {now() - failing_since[0]:.0f} s (last: {why}); the jobs may still run. "
+                                f"When `squeue` answers again, run the same command again")
+        return None, None
+
+    plugin_module.query_job_status = query_job_status
+    return True
+
+
 def check_executor(workflow) -> None:
     """Snakemake onstart: end a SLURM run in one line (exit 2) before its first job when its
-    settings cannot see the jobs finish."""
+    settings cannot see the jobs finish, or when SLURM's commands are missing or do not answer;
+    then bound the status checks of the run."""
     plugin = getattr(workflow, "executor_plugin", None)
     if plugin is None or getattr(plugin, "name", "") != "slurm":
         return
     settings = getattr(workflow, "executor_settings", None)
-    problem = slurm_settings_problem(getattr(settings, "status_command", None),
-                                     getattr(settings, "init_seconds_before_status_checks", None), scontrol_config())
+    status_command = getattr(settings, "status_command", None)
+    config = scontrol_config()
+    problem = slurm_settings_problem(status_command, getattr(settings, "init_seconds_before_status_checks", None),
+                                     config)
     if problem:
         print(f"Bad cluster setting: {problem}", file=sys.stderr)
         sys.exit(2)
+    problem = slurm_tools_problem(status_command, config)
+    if problem:
+        print(f"Cannot use SLURM here: {problem}", file=sys.stderr)
+        sys.exit(2)
+    bound_status_checks()

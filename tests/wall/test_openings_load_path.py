@@ -133,14 +133,26 @@ def test_cli_refuses_a_hovering_wall_in_one_line_with_exit_2_and_no_file(tmp_pat
 
 # --- legitimate walls: unchanged ------------------------------------------------------------
 
-def test_window_in_the_middle_gives_the_same_limit_load_as_before():
+# the window wall's limit load and its reproducibility: 0.25550-0.25656 (0.4 %) over k_n, k_t
+# times 1 + j 2^-52 (j = -3..3), 1 +- 1e-15 and the live load times 1 + 2^-52, here (AVX-512) and
+# with numpy and OpenBLAS held to AVX2 (Haswell, Zen) and numba built for generic x86-64 or
+# znver1. It used to stop at 0.2245 on a 1.4 % dip after a first peak on some of these and go
+# on to 0.2558 on others (a 14 % spread): the plateau stop now asks the limit analysis first
+WINDOW_LIMIT, WINDOW_SPREAD = 0.2558, 0.01
+
+
+@pytest.mark.parametrize("ulps", [0, 1], ids=["as_given", "k_plus_1ulp"])
+def test_window_in_the_middle_gives_one_limit_load_on_any_machine(ulps):
     """A dry wall with a window, on its base and its two side columns: supports on the same
-    blocks as before the rule, the same plateau (0.224475121300599 measured before the change)."""
+    blocks as before the rule. Both runs stopped at 0.2245 here before the plateau check (the
+    limit analysis on those caps: 0.2289, +2 %), and 0.2558 on an AVX2 machine."""
     case = case_from_dict(wall([WINDOW], SIDES, kind="dry"))
     assert case.model.panel.n_blocks == 41
+    case.model.k_local = case.model.k_local * (1.0 + ulps * 2.0 ** -52)
     r = pushover(case.model, case.settings)
-    assert r.status.startswith("stopped: plateau")
-    assert r.lambda_max == pytest.approx(0.224475121300599, rel=1e-6)
+    assert r.limit_reached, r.limit_note
+    assert r.status.startswith(("stopped: plateau", "stopped: peak proven")), r.status
+    assert r.lambda_max == pytest.approx(WINDOW_LIMIT, rel=WINDOW_SPREAD), (r.lambda_max, r.plateau_checks)
 
 
 def test_supports_on_a_notch_at_the_left_edge_act_only_on_the_edge():

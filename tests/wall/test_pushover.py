@@ -144,3 +144,27 @@ def test_singular_banded_matrix_is_a_convergence_error():
     K[50, :] = 0.0
     with pytest.raises(ConvergenceError, match="singular"):
         _factor(K.tocsr())
+
+
+def test_dry_wall_pushed_in_plane_ends_in_seconds_without_a_library_warning():
+    """3 blocks x 13 courses, mu 0.7, pushed in plane (issue 43): past lambda ~0.33 the path turns
+    back in the work-weighted displacement, and the step was halved until it underflowed to 0
+    (77 s, numpy's 'invalid value encountered in scalar divide' from 0/0 in the predictor, then
+    'no limit load reached' at 0.44). The step now stops at a billionth of the push: it ends in
+    ~155 steps and says whether the limit analysis proves its peak."""
+    import warnings
+
+    spec = wall(blocks=3, courses=13)
+    spec["panel"]["block"] = {"a": 0.1, "b": 0.2, "s": 0.1}
+    spec["joints"].update(k_n=1e9, k_t=1e9)
+    spec["load"]["direction"] = "in_plane"
+    case = case_from_dict(spec)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = pushover(case.model, case.settings)
+    assert len(r.lam) < 400, r.status
+    # below the whole wall rocking on its toe (lambda = L / H = 0.6 / 1.3), above the first joints' rocking
+    assert 0.25 < r.lambda_max < 0.6 / 1.3, r.lambda_max
+    assert r.plateau_checks, "the end of the path was checked against the limit analysis"
+    assert r.limit_reached == r.status.startswith(("stopped: plateau", "stopped: peak proven")), r.status
+    assert r.limit_reached or r.limit_note.startswith("no limit load reached: "), r.limit_note

@@ -78,6 +78,8 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         # the status says when the path ended before a limit (max_steps, max_seconds, ...)
         "status": result.status if result.limit_reached else f"{result.status}; {result.limit_note}",
         "limit_reached": "yes" if result.limit_reached else "no",
+        # every plateau (and end past a peak) the path met, with the limit analysis on its caps
+        "plateau_checks": "; ".join(result.plateau_checks) or "none",
         "wall_seconds": result.wall_seconds,
         "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
                   "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "

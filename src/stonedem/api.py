@@ -250,9 +250,14 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
     given = scenes_or_sources
     if isinstance(given, Scene) or _is_path(given) or isinstance(given, Mapping):
         given = [given]  # one scene, not the characters of its path or the keys of its mapping
-    elif not isinstance(given, Iterable) or isinstance(given, bytes):
-        raise TypeError(f"scenes: expected a scene, a scene file path, a mapping or a list of them, "
-                        f"got {type(given).__name__}")
+    else:
+        try:  # a 0-d array claims to be iterable and is not
+            given = list(given) if isinstance(given, Iterable) and not isinstance(given, bytes) else None
+        except TypeError:
+            given = None
+        if given is None:
+            raise TypeError(f"scenes: expected a scene, a scene file path, a mapping or a list of them, "
+                            f"got {type(scenes_or_sources).__name__}")
     scenes = []
     for i, s in enumerate(given):
         if not (isinstance(s, Scene) or _is_path(s) or isinstance(s, Mapping)):
@@ -344,8 +349,13 @@ def _open(path, kind: str):
         raise InputError("path", f"expected a file path, got {type(path).__name__}",
                          f"give the path of {what} (.nc)")
     path = Path(path)
-    if not path.exists():
-        raise InputError(str(path), "file not found", f"check the path, or write {what} with {writer}")
+    try:
+        path.stat()
+    except FileNotFoundError:
+        raise InputError(str(path), "file not found", f"check the path, or write {what} with {writer}") from None
+    except (OSError, ValueError) as err:  # a name too long, a symlink loop, a NUL byte
+        cause = getattr(err, "strerror", None) or str(err)
+        raise InputError(str(path), f"cannot be read ({cause})", f"give the path of {what} (.nc)") from None
     if not path.is_file():
         raise InputError(str(path), "is not a regular file", f"give the path of {what} (.nc)")
     try:

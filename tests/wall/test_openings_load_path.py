@@ -134,7 +134,7 @@ def test_cli_refuses_a_hovering_wall_in_one_line_with_exit_2_and_no_file(tmp_pat
 # --- legitimate walls: unchanged ------------------------------------------------------------
 
 # the window wall's limit load and its reproducibility: 0.25550-0.25656 (0.4 %) over k_n, k_t
-# times 1 + j 2^-52 (j = -3..3), 1 +- 1e-15 and the live load times 1 + 2^-52, here (AVX-512) and
+# times 1 + j 2^-52 (j = -3..3), 1 +- 1e-15 and the live load times 1 + 2^-51, here (AVX-512) and
 # with numpy and OpenBLAS held to AVX2 (Haswell, Zen) and numba built for generic x86-64 or
 # znver1. It used to stop at 0.2245 on a 1.4 % dip after a first peak on some of these and go
 # on to 0.2558 on others (a 14 % spread): the plateau stop now asks the limit analysis first

@@ -152,6 +152,8 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
     from stonedem.engine.scene import apply_overrides, scene_from_dict
     from stonedem.engine.scene import load_scene as load_scene_file
 
+    if overrides is not None and not isinstance(overrides, (str, Mapping, list, tuple)):
+        raise TypeError(f"overrides: expected a list of key=value strings or a mapping, got {type(overrides).__name__}")
     if base_dir is not None and not _is_path(base_dir):
         raise TypeError(f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}")
     if _is_path(source):

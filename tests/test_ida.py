@@ -42,6 +42,7 @@ def test_a_structure_becomes_a_search_study_over_its_suites_components():
     ({"job_seconds": -1}, "fragility.job_seconds"),
     ({"colour": 1}, "fragility.colour"),
     ({"search": {"tolerance": 2.0}}, "fragility.search.tolerance"),
+    ({"search": {"tolerance": 1e-6, "max_runs": 1000}}, "fragility.search.tolerance"),
 ])
 def test_bad_fragility_config_names_its_field(fragility, field):
     config = _config(components=["NP01a", "NP01b"])

@@ -8,8 +8,8 @@ from hypothesis import strategies as st
 
 from stonedem.errors import InputError
 from stonedem.study.grid import SEARCH_PARAMETERS
-from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, NO_COLLAPSE, Run, SearchSettings, next_value, search,
-                                   search_together, summary)
+from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, FINEST_TOLERANCE, NO_COLLAPSE, ROUNDING, Run,
+                                   SearchSettings, next_value, search, search_together, summary)
 
 SETTINGS = SearchSettings()
 
@@ -58,12 +58,35 @@ def test_a_resumed_search_continues_where_it_stopped():
     ("pga", "search"), ({"parameter": "n_drums"}, "search.parameter"), ({"start": -1}, "search.start"),
     ({"factor": 1.01}, "search.factor"), ({"tolerance": 1.5}, "search.tolerance"), ({"fill": 2.5}, "search.fill"),
     ({"max_runs": 3}, "search.max_runs"), ({"speed": 1}, "search.speed"), ({"start": 100.0}, "search.start"),
-    ({"tolerance": True}, "search.tolerance"),
+    ({"tolerance": True}, "search.tolerance"), ({"tolerance": 1e-6, "max_runs": 1000}, "search.tolerance"),
 ])
 def test_bad_settings_name_their_field(spec, field):
     with pytest.raises(InputError) as error:
         SearchSettings.from_config(spec, "search", SEARCH_PARAMETERS)
     assert error.value.field == field
+
+
+def test_a_tolerance_finer_than_the_rounding_is_refused_naming_the_finest():
+    with pytest.raises(InputError, match=r"search\.tolerance: 1e-06 is finer than the search resolves.*"
+                                         r"give tolerance >= 0\.001"):
+        SearchSettings.from_config({"tolerance": 1e-6, "max_runs": 1000}, "search", SEARCH_PARAMETERS)
+    assert SearchSettings.from_config({"tolerance": 0.001}, "search", SEARCH_PARAMETERS).tolerance == FINEST_TOLERANCE
+
+
+@pytest.mark.parametrize("threshold", [0.01001, 0.1234567, 1.001, 1.23456789, 9.9995, 10.001, 63.999])
+def test_the_finest_tolerance_is_reached(threshold):
+    settings = SearchSettings(tolerance=FINEST_TOLERANCE, minimum=0.01, max_runs=100)
+    result = summary(search(lambda value, phase: value >= threshold, settings), settings)
+    assert result["status"] == BRACKETED and result["width"] <= FINEST_TOLERANCE
+    assert result["lower"] < threshold <= result["upper"]
+
+
+def test_a_search_the_rounding_stops_short_of_its_tolerance_says_so():
+    # settings made in code, past the config's check: 1.234 ... 1.235 is as narrow as 4 digits go
+    settings = SearchSettings(tolerance=1e-6, max_runs=1000)
+    result = summary(search(lambda value, phase: value >= 1.23456789, settings), settings)
+    assert (result["lower"], result["upper"]) == (1.234, 1.235)
+    assert result["status"] == ROUNDING and result["width"] == pytest.approx(8.1e-4, rel=1e-3)
 
 
 def test_every_second_fill_run_looks_above_the_threshold_for_resurrections():

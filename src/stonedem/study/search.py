@@ -32,7 +32,12 @@ BRACKETED = "bracketed"  # smallest collapse within tolerance of the largest sur
 NO_COLLAPSE = "no collapse up to the maximum"
 COLLAPSE_AT_MINIMUM = "collapse at the minimum"
 BUDGET = "run budget exhausted"
+# the rounding of the values stopped the bisection short of the tolerance (only a tolerance
+# below FINEST_TOLERANCE, which a config cannot give)
+ROUNDING = "bracketed as narrow as the rounding allows, wider than the tolerance"
 SIGNIFICANT_DIGITS = 4  # values run are rounded to this (a 2 % bracket needs 3)
+# the narrowest bracket every search reaches: one unit in the last digit at 1.000...
+FINEST_TOLERANCE = 10.0 ** (1 - SIGNIFICANT_DIGITS)
 
 
 @dataclass(frozen=True)
@@ -44,7 +49,7 @@ class SearchSettings:
     # hunt: each value this times the last (down when start collapses); 1.8 < 1.02**32, so
     # five bisections narrow a hunt step to a 2 % bracket (2.0 would need six)
     factor: float = 1.8
-    tolerance: float = 0.02  # bracket: smallest collapse / largest survivor below it - 1
+    tolerance: float = 0.02  # bracket: smallest collapse / largest survivor below it - 1 (>= FINEST_TOLERANCE)
     minimum: float = 0.125  # a collapse at start hunts down, at most to here
     maximum: float = 64.0  # no collapse up to here: the threshold lies above it
     fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...
@@ -81,6 +86,7 @@ class SearchSettings:
         if values["tolerance"] >= 1.0:
             raise InputError(f"{where}.tolerance", f"{values['tolerance']:g} is not a relative width < 1",
                              "give e.g. tolerance: 0.02 (2 %)")
+        check_tolerance(values["tolerance"], f"{where}.tolerance")
         if values["factor"] <= 1.0 + values["tolerance"]:
             raise InputError(f"{where}.factor", f"{values['factor']:g} must exceed 1 + tolerance",
                              "hunt in steps wider than the bracket, e.g. factor: 1.8")
@@ -92,6 +98,14 @@ class SearchSettings:
                              f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance",
                              f"allow at least {_runs_needed(values)} runs")
         return cls(parameter=parameter, **values)
+
+
+def check_tolerance(tolerance: float, field: str) -> None:
+    """Refuse a tolerance the rounded values cannot bracket (the search would stop wider)."""
+    if tolerance < FINEST_TOLERANCE:
+        raise InputError(field, f"{tolerance:g} is finer than the search resolves (values run are rounded to "
+                                f"{SIGNIFICANT_DIGITS} significant digits)",
+                         f"give tolerance >= {FINEST_TOLERANCE:g}, the finest the search can do")
 
 
 def _runs_needed(v: dict) -> int:
@@ -245,8 +259,10 @@ def summary(runs: list[Run], settings: SearchSettings) -> dict:
         status = NO_COLLAPSE if max((r.value for r in runs), default=0.0) >= settings.maximum else BUDGET
     elif math.isnan(result["lower"]):
         status = COLLAPSE_AT_MINIMUM if result["upper"] <= settings.minimum else BUDGET
-    elif result["width"] <= settings.tolerance or next_value(runs, settings) is None and len(runs) < settings.max_runs:
+    elif result["width"] <= settings.tolerance:
         status = BRACKETED
+    elif next_value(runs, settings) is None and len(runs) < settings.max_runs:
+        status = ROUNDING  # never "bracketed" wider than asked
     else:
         status = BUDGET
     return {**result, "n_runs": len(runs), "status": status}

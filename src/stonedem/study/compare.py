@@ -5,9 +5,12 @@ a crash against an undisturbed run).
 NetCDF files: every variable and coordinate bit-identical (NaN where NaN), their attrs and
 the file's equal but for the clock-time ones (:data:`CLOCK`). CSV tables: byte for byte, or
 with ``clock_columns`` equal but in the columns named in :data:`CLOCK` (the wall time of a
-run, which no two runs share).
+run, which no two runs share). Any other file: byte for byte. A file on one side only, or one
+that cannot be read (a truncated NetCDF file, a table that is not UTF-8), is a difference,
+named in one line.
 
-    python -m stonedem.study.compare RESULTS_A RESULTS_B     # exit 0: the same; 1: the differences
+    python -m stonedem.study.compare STUDY_A STUDY_B   # exit 0: the same; 1: the differences;
+                                                       # 2: bad arguments, or no study files in either
 """
 
 from __future__ import annotations
@@ -19,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+
+from stonedem.errors import InputError, one_line
 
 # attrs (and table columns) that hold the clock time or the machine of a run
 CLOCK = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host", "elapsed",
@@ -48,68 +53,140 @@ def _unclocked(attrs: dict) -> dict:
     return {k: v for k, v in attrs.items() if k not in CLOCK}
 
 
+def _load(path: Path):
+    """(the dataset, in memory, None), or (None, why it cannot be read)."""
+    try:
+        with xr.open_dataset(path, decode_times=False) as ds:
+            return ds.load(), None
+    except Exception as err:  # whatever a damaged file makes the backend raise
+        return None, f"{type(err).__name__}: {err}"
+
+
 def dataset_differences(path_a: Path, path_b: Path, label: str) -> list[str]:
-    """What differs between two NetCDF files, beyond their clock attrs."""
+    """What differs between two NetCDF files, beyond their clock attrs; a file that cannot be
+    read is a difference (one line per such file)."""
+    (a, why_a), (b, why_b) = _load(path_a), _load(path_b)
+    if why_a or why_b:
+        return [one_line(f"{label}: cannot read {path} ({why})") for path, why in ((path_a, why_a), (path_b, why_b))
+                if why]
     out = []
-    with xr.open_dataset(path_a, decode_times=False) as a, xr.open_dataset(path_b, decode_times=False) as b:
-        if set(a.variables) != set(b.variables):
-            return [f"{label}: variables {sorted(set(a.variables) ^ set(b.variables))}"]
-        if dict(a.sizes) != dict(b.sizes):
-            return [f"{label}: sizes {dict(a.sizes)} != {dict(b.sizes)}"]
-        for name in a.variables:
-            if a[name].dims != b[name].dims or not same_values(a[name].values, b[name].values):
-                out.append(f"{label}:{name} differs")
-            elif _unclocked(a[name].attrs) != _unclocked(b[name].attrs):
-                out.append(f"{label}:{name} attrs differ")
-        differ = {k for k in set(_unclocked(a.attrs)) | set(_unclocked(b.attrs))
-                  if not same_values(a.attrs.get(k), b.attrs.get(k))}
-        if differ:
-            out.append(f"{label}: attrs {sorted(differ)} differ")
+    if set(a.variables) != set(b.variables):
+        return [f"{label}: variables {sorted(set(a.variables) ^ set(b.variables))}"]
+    if dict(a.sizes) != dict(b.sizes):
+        return [f"{label}: sizes {dict(a.sizes)} != {dict(b.sizes)}"]
+    for name in a.variables:
+        if a[name].dims != b[name].dims or not same_values(a[name].values, b[name].values):
+            out.append(f"{label}:{name} differs")
+        elif _unclocked(a[name].attrs) != _unclocked(b[name].attrs):
+            out.append(f"{label}:{name} attrs differ")
+    differ = {k for k in set(_unclocked(a.attrs)) | set(_unclocked(b.attrs))
+              if not same_values(a.attrs.get(k), b.attrs.get(k))}
+    if differ:
+        out.append(f"{label}: attrs {sorted(differ)} differ")
     return out
+
+
+def _text(path: Path):
+    """(the file's bytes, None) when they are UTF-8 text, else (None, why not)."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        return None, f"cannot read {path} ({err.strerror or err})"
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        return None, f"{path} is not UTF-8 text (byte {err.start})"
+    return data, None
 
 
 def table_differences(path_a: Path, path_b: Path, label: str, clock_columns: bool = False) -> list[str]:
     """What differs between two CSV tables: their bytes, or with ``clock_columns`` their
-    cells outside the CLOCK columns."""
-    a, b = Path(path_a).read_bytes(), Path(path_b).read_bytes()
+    cells outside the CLOCK columns; a table that cannot be read as UTF-8 text is a difference."""
+    (a, why_a), (b, why_b) = _text(path_a), _text(path_b)
+    if why_a or why_b:
+        return [one_line(f"{label}: {why}") for why in (why_a, why_b) if why]
     if a == b:
         return []
     if not clock_columns:
         return [f"{label} differs"]
-    rows_a = list(csv.DictReader(io.StringIO(a.decode())))
-    rows_b = list(csv.DictReader(io.StringIO(b.decode())))
+    try:
+        rows_a = list(csv.DictReader(io.StringIO(a.decode())))
+        rows_b = list(csv.DictReader(io.StringIO(b.decode())))
+    except csv.Error as err:
+        return [one_line(f"{label} differs and is not a CSV table ({err})")]
     strip = [{k: v for k, v in row.items() if k not in CLOCK} for row in rows_a]
     if strip != [{k: v for k, v in row.items() if k not in CLOCK} for row in rows_b]:
         return [f"{label} differs outside its clock columns"]
     return []
 
 
+def _same_bytes(path_a: Path, path_b: Path):
+    try:
+        return Path(path_a).read_bytes() == Path(path_b).read_bytes(), None
+    except OSError as err:
+        return False, f"cannot read {err.filename} ({err.strerror or err})"
+
+
+def file_differences(directory: Path, reference: Path, kinds=KINDS,
+                     clock_columns: bool = False) -> dict[str, list[str]]:
+    """{file: what differs, empty when the same} for every study file of either folder; a
+    file in one folder only is a difference naming the folder that has it."""
+    mine, theirs = set(result_files(directory, kinds)), set(result_files(reference, kinds))
+    out = {}
+    for rel in sorted(mine | theirs):
+        a, b = Path(directory) / rel, Path(reference) / rel
+        if rel not in theirs or rel not in mine:
+            out[rel] = [one_line(f"{rel}: only in {directory if rel in mine else reference}")]
+        elif rel.endswith(".csv"):
+            out[rel] = table_differences(a, b, rel, clock_columns)
+        elif rel.endswith(".nc"):
+            out[rel] = dataset_differences(a, b, rel)
+        else:
+            same, why = _same_bytes(a, b)
+            out[rel] = [] if same else [one_line(f"{rel}: {why or 'differs'}")]
+    return out
+
+
 def result_differences(directory: Path, reference: Path, kinds=KINDS, clock_columns: bool = False) -> list[str]:
     """Everything that differs between two study folders' results (empty: the same)."""
-    files = result_files(reference, kinds)
-    mine = result_files(directory, kinds)
-    if mine != files:
-        return [f"files only in one: {sorted(set(mine) ^ set(files))}"]
-    out = []
-    for rel in files:
-        if rel.endswith(".csv"):
-            out += table_differences(Path(directory) / rel, Path(reference) / rel, rel, clock_columns)
-        elif rel.endswith(".nc"):
-            out += dataset_differences(Path(directory) / rel, Path(reference) / rel, rel)
-    return out
+    return [line for lines in file_differences(directory, reference, kinds, clock_columns).values() for line in lines]
+
+
+def study_folder(path: str, field: str) -> Path:
+    """``path`` as a study folder (one holding results/), or the InputError saying why not."""
+    folder = Path(path)
+    if not folder.exists():
+        raise InputError(field, f"{path}: no such folder", "give the folder a study ran in (it holds results/)")
+    if not folder.is_dir():
+        raise InputError(field, f"{path} is a file, not a folder", "give the folder a study ran in (it holds results/)")
+    if not (folder / "results").is_dir():
+        raise InputError(field, f"{path} holds no results folder",
+                         "give the folder a study ran in (it holds results/), not results/ itself")
+    return folder
 
 
 def main(argv=None) -> int:
     args = sys.argv[1:] if argv is None else argv
-    if len(args) != 2 or not all((Path(a) / "results").is_dir() for a in args):
-        print("usage: python -m stonedem.study.compare STUDY_A STUDY_B (study folders, each holding its results folder)", file=sys.stderr)
+    try:
+        if len(args) != 2:
+            raise InputError("arguments", f"expected two study folders, got {len(args)}",
+                             "python -m stonedem.study.compare STUDY_A STUDY_B")
+        a, b = study_folder(args[0], "STUDY_A"), study_folder(args[1], "STUDY_B")
+        if a.resolve() == b.resolve():
+            raise InputError("STUDY_B", f"{args[1]} is the folder STUDY_A names", "compare two different study folders")
+        files = file_differences(a, b, clock_columns=True)
+        if not files:  # two runs that both made nothing are not the same run
+            raise InputError("STUDY_A, STUDY_B", f"no study files under results/{{{','.join(KINDS)}}} in either "
+                             "folder", "run the study in both before comparing them")
+    except InputError as err:
+        print(f"error: {err}", file=sys.stderr)
         return 2
-    differences = result_differences(Path(args[0]), Path(args[1]), clock_columns=True)
-    for line in differences:
-        print(line)
-    n = len(result_files(Path(args[1])))
-    print(f"{n} files compared: {'the same' if not differences else f'{len(differences)} differ'}", file=sys.stderr)
-    return 1 if differences else 0
+    differing = [rel for rel, lines in files.items() if lines]
+    for rel in differing:
+        for line in files[rel]:
+            print(line)
+    print(f"{len(files)} files compared: {f'{len(differing)} differ' if differing else 'the same'}", file=sys.stderr)
+    return 1 if differing else 0
 
 
 if __name__ == "__main__":

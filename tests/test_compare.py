@@ -1,0 +1,106 @@
+"""Comparing two runs of the study (python -m stonedem.study.compare): what counts as the same,
+and what a missing, damaged or unreadable file and wrong arguments give (issue 43)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from stonedem.study.compare import main, result_differences
+
+CUBE = "results/cubes/s.nc"
+TABLE = "results/tables/t.csv"
+
+
+def _study(folder: Path, wall_seconds: float = 1.0, wall_time: str = "3.5") -> Path:
+    """A study folder with one cube and one table; the clock attr and column as given."""
+    (folder / "results/cubes").mkdir(parents=True)
+    (folder / "results/tables").mkdir(parents=True)
+    ds = xr.Dataset({"collapsed": ("pga", np.array([0, 1], np.int8))}, coords={"pga": [1.0, 2.0]},
+                    attrs={"study": "s", "wall_seconds": wall_seconds})
+    ds.to_netcdf(folder / CUBE, engine="netcdf4")
+    (folder / TABLE).write_text(f"system,threshold,wall_seconds\na,1.5,{wall_time}\n")
+    return folder
+
+
+def _compare(capsys, *args) -> tuple[int, list[str], list[str]]:
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return code, out.splitlines(), err.splitlines()
+
+
+def test_two_runs_differing_only_in_their_clocks_are_the_same(tmp_path, capsys):
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b", wall_seconds=9.0, wall_time="7.25")
+    assert _compare(capsys, a, b) == (0, [], ["2 files compared: the same"])
+    (b / TABLE).write_text("system,threshold,wall_seconds\na,1.6,3.5\n")
+    assert _compare(capsys, a, b) == (1, [f"{TABLE} differs outside its clock columns"],
+                                      ["2 files compared: 1 differ"])
+
+
+def test_a_file_on_either_side_only_is_a_difference_named_with_its_folder(tmp_path, capsys):
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    (a / "results/tables/left.csv").write_text("x\n1\n")
+    (b / "results/cases/s").mkdir(parents=True)
+    (b / "results/cases/s/right.nc").write_bytes((b / CUBE).read_bytes())
+    code, out, err = _compare(capsys, a, b)
+    assert code == 1 and err == ["4 files compared: 2 differ"]
+    assert out == [f"results/cases/s/right.nc: only in {b}", f"results/tables/left.csv: only in {a}"]
+
+
+def test_a_damaged_file_is_a_difference_in_one_line_not_a_traceback(tmp_path, capsys):
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    data = (b / CUBE).read_bytes()
+    (b / CUBE).write_bytes(data[: len(data) // 2])  # truncated
+    (a / TABLE).write_bytes(b"system,threshold\n\xe9t\xe9,1.5\n")  # Latin-1, not UTF-8
+    code, out, err = _compare(capsys, a, b)
+    assert code == 1 and err == ["2 files compared: 2 differ"] and len(out) == 2
+    assert out[0].startswith(f"{CUBE}: cannot read {b / CUBE} (")
+    assert out[1] == f"{TABLE}: {a / TABLE} is not UTF-8 text (byte 17)"
+    # damaged alike on both sides is no sameness: each side is named
+    (a / CUBE).write_bytes(b"")
+    assert len(result_differences(a, b)) == 3
+
+
+def test_an_unreadable_file_is_a_difference(tmp_path, capsys, monkeypatch):
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    unreadable, read_bytes = b / TABLE, Path.read_bytes
+
+    def refuse(path):  # root reads a chmod 000 file: refuse it here instead
+        if path == unreadable:
+            raise PermissionError(13, "Permission denied", str(path))
+        return read_bytes(path)
+
+    monkeypatch.setattr(Path, "read_bytes", refuse)
+    assert _compare(capsys, a, b) == (1, [f"{TABLE}: cannot read {unreadable} (Permission denied)"],
+                                      ["2 files compared: 1 differ"])
+
+
+def test_two_folders_with_nothing_to_compare_are_refused(tmp_path, capsys):
+    for side in "ab":
+        (tmp_path / side / "results/logs").mkdir(parents=True)
+        (tmp_path / side / "results/logs/job.log").write_text("ran\n")  # not a study file
+    code, out, err = _compare(capsys, tmp_path / "a", tmp_path / "b")
+    assert code == 2 and out == [] and len(err) == 1
+    assert err[0].startswith("error: STUDY_A, STUDY_B: no study files under results/{cubes,tables,")
+
+
+def test_wrong_arguments_give_one_line_and_exit_2(tmp_path, capsys):
+    study = _study(tmp_path / "a")
+    (tmp_path / "plain").write_text("")
+    (tmp_path / "bare").mkdir()
+    for args, expected in [
+        ([study], "error: arguments: expected two study folders, got 1"),
+        ([study, tmp_path / "missing"], f"error: STUDY_B: {tmp_path / 'missing'}: no such folder"),
+        ([tmp_path / "plain", study], f"error: STUDY_A: {tmp_path / 'plain'} is a file, not a folder"),
+        ([study, tmp_path / "bare"], f"error: STUDY_B: {tmp_path / 'bare'} holds no results folder"),
+        ([study, study / "results" / ".."], f"error: STUDY_B: {study / 'results' / '..'} is the folder STUDY_A"),
+    ]:
+        code, out, err = _compare(capsys, *args)
+        assert code == 2 and out == [] and len(err) == 1 and err[0].startswith(expected), err
+    # and so from the command line (.ci/run's call)
+    proc = subprocess.run([sys.executable, "-m", "stonedem.study.compare", str(study), str(tmp_path / "bare")],
+                          capture_output=True, text=True, check=False)
+    assert (proc.returncode, proc.stdout) == (2, "") and proc.stderr.count("\n") == 1, proc.stderr

@@ -104,6 +104,20 @@ def test_dry_run_refuses_a_study_without_a_structure_and_a_negative_stiffness(tm
     _assert_refused(proc, "defaults.contact.k_n")
 
 
+def test_dry_run_refuses_a_search_tolerance_finer_than_the_rounding(tmp_path):
+    # values run have 4 significant digits: 1e-6 would end "bracketed" at ~1e-3 (issue 43)
+    def mutate(config):
+        config["studies"]["standalone_records"]["search"]["tolerance"] = 1.0e-6
+
+    proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
+    assert "give tolerance >= 0.001" in _assert_refused(proc, "studies.standalone_records.search.tolerance")
+    (tmp_path / "config" / "bad.yaml").write_text(
+        "studies: {standalone_records: {search: {tolerance: 0.02}}}\nfragility: {search: {tolerance: 5.0e-4}}\n")
+    proc = snakemake("fragility", "-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
+    # the schema checks fragility: before its cases, naming the same floor
+    assert "minimum of 0.001" in _assert_refused(proc, "fragility.search.tolerance")
+
+
 def test_dry_run_builds_the_dag_after_grid_keys_are_added_and_reordered(tmp_path):
     """A grid key added to a study (harmonic_drums had only n_drums) is part of its case ids;
     the snapshot figures of that study name the configured case files (thesis Fig. 6.7-6.8)."""

@@ -84,7 +84,7 @@ def test_two_folders_with_nothing_to_compare_are_refused(tmp_path, capsys):
         (tmp_path / side / "results/logs/job.log").write_text("ran\n")  # not a study file
     code, out, err = _compare(capsys, tmp_path / "a", tmp_path / "b")
     assert code == 2 and out == [] and len(err) == 1
-    assert err[0].startswith("error: STUDY_A, STUDY_B: no study files under results/{cubes,tables,")
+    assert err[0].startswith("error: STUDY_A, STUDY_B: no study files (results folders {cubes,tables,")
 
 
 def test_wrong_arguments_give_one_line_and_exit_2(tmp_path, capsys):

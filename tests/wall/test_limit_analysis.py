@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from stonedem.wall.case import case_from_dict, load_case
+from stonedem.wall.pushover import dead_load_state
 from stonedem.wall.limit_analysis import (LimitAnalysisError, limit_multiplier, radial_boundary_points, tangent_normals)
 
 CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
@@ -33,7 +34,7 @@ def test_supporting_planes_touch_the_domain_and_hold_all_of_it(alpha):
 def test_free_standing_wall_matches_its_closed_form():
     """A dry wall on its support joint rocks as one body: lambda = s / H (case file reference)."""
     case = load_case(CASES / "free_standing.yaml")
-    r = limit_multiplier(case.model, settings=case.settings)
+    r = limit_multiplier(case.model, dead_load_state(case.model, case.settings))
     assert r.converged, r.status
     assert r.lambda_limit == pytest.approx(case.spec["reference"]["lambda_analytic"], rel=1e-3)
 
@@ -50,7 +51,7 @@ def _strip(top):
 def test_a_strip_held_at_the_top_line_collapses_at_the_virtual_work_load():
     # lambda = 2 s / (H - a) = 0.2222 (virtual work; derivation in test_restraints.py)
     held = case_from_dict(_strip({"edge": "top", "fix": "out_of_plane", "at": "edge"}))
-    r = limit_multiplier(held.model, settings=held.settings)
+    r = limit_multiplier(held.model, dead_load_state(held.model, held.settings))
     assert r.lambda_limit == pytest.approx(2 * 0.1 / 0.9, rel=1e-3)
 
 
@@ -60,4 +61,4 @@ def test_a_wall_with_no_mechanism_is_refused():
     case.model.fixed = np.ones_like(case.model.fixed)
     case.model.T_live = None
     with pytest.raises(LimitAnalysisError, match="no mechanism"):
-        limit_multiplier(case.model, settings=case.settings)
+        limit_multiplier(case.model, dead_load_state(case.model, case.settings))

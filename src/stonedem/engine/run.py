@@ -23,6 +23,7 @@ import xarray as xr
 
 from stonedem.engine import measures
 from stonedem.errors import InputError
+from stonedem.entry import check_interrupt
 from stonedem.kernels import step
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene
@@ -180,9 +181,9 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "source": code_version(),
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by stonedem.engine.simulate",
         "platform": f"python {platform.python_version()}, numba {numba.__version__}",
-        "scene": bounded_json(scene.spec, "scene"),
-        "excitation": bounded_json(scene.horizontal.description, "excitation"),
-        "excitation_vertical": bounded_json(scene.vertical.description, "excitation.vertical"),
+        "scene": bounded_json(scene.spec, "scene", check=check_interrupt),
+        "excitation": bounded_json(scene.horizontal.description, "excitation", check=check_interrupt),
+        "excitation_vertical": bounded_json(scene.vertical.description, "excitation.vertical", check=check_interrupt),
         "dt": result.dt, "dt_units": "s",
         "dt_stability_limit": result.dt_limit,
         "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,

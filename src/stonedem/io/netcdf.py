@@ -103,9 +103,9 @@ def check_replaceable(path: Path, field: str) -> None:
 
 def check_dataset_path(path, field: str = "path", inputs=(), overwrite: bool = False) -> Path:
     """The path :func:`write_dataset` may write, checked before any writing (or computing):
-    :func:`stonedem.entry.check_output_path` (a folder, a symlink loop, an input, a folder
+    :func:`stonedem.io.paths.check_output_path` (a folder, a symlink loop, an input, a folder
     that cannot be written), then :func:`check_replaceable` unless ``overwrite``."""
-    from stonedem.entry import check_output_path
+    from stonedem.io.paths import check_output_path
 
     if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)) or not isinstance(os.fspath(path), str):
         raise TypeError(f"{field}: expected a file path (str or os.PathLike), got {type(path).__name__}")

@@ -9,15 +9,15 @@ from __future__ import annotations
 
 import json
 
-from stonedem.entry import check_interrupt
 from stonedem.errors import InputError
 
 MAX_PROVENANCE_CHARS = 4_000_000  # the largest scene file (MAX_SCENE_BYTES) as JSON
 
 
-def json_size_over(value, limit: int) -> bool:
+def json_size_over(value, limit: int, check=None) -> bool:
     """Whether ``value`` as JSON is longer than ``limit`` characters (a lower bound of its
-    length is counted; the walk stops at the limit, so its cost is bounded too)."""
+    length is counted; the walk stops at the limit, so its cost is bounded too). ``check`` is
+    called every 4096 nodes (``stonedem.entry.check_interrupt``: a SIGTERM acts there)."""
     left = limit
     stack = [value]
     visited = 0
@@ -38,15 +38,15 @@ def json_size_over(value, limit: int) -> bool:
             left -= 1
         if left < 0:
             return True
-        if visited % 4096 == 0:
-            check_interrupt()  # inside deferred_signals, a SIGTERM acts here
+        if check is not None and visited % 4096 == 0:
+            check()
     return False
 
 
-def bounded_json(value, field: str, limit: int = MAX_PROVENANCE_CHARS) -> str:
+def bounded_json(value, field: str, limit: int = MAX_PROVENANCE_CHARS, check=None) -> str:
     """``json.dumps(value, sort_keys=True, default=str)``, or an InputError naming ``field``
-    when it would be longer than ``limit`` characters."""
-    if json_size_over(value, limit):
+    when it would be longer than ``limit`` characters (``check``: as in :func:`json_size_over`)."""
+    if json_size_over(value, limit, check):
         raise InputError(field, f"is over {limit} characters as JSON (stored as provenance in the output)",
                          "shorten its free text or lists")
     return json.dumps(value, sort_keys=True, default=str)

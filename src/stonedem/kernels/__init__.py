@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numba
 
-from stonedem import numba_cache
+from stonedem.io import numba_cache
 
 numba_cache.guard()  # a damaged cache file costs a compile, not the run
 

@@ -153,15 +153,15 @@ def result_differences(directory: Path, reference: Path, kinds=KINDS, clock_colu
 
 
 def study_folder(path: str, field: str) -> Path:
-    """``path`` as a study folder (one holding results/), or the InputError saying why not."""
+    """``path`` as a study folder (one holding a results folder), or the InputError saying why not."""
     folder = Path(path)
     if not folder.exists():
-        raise InputError(field, f"{path}: no such folder", "give the folder a study ran in (it holds results/)")
+        raise InputError(field, f"{path}: no such folder", "give the folder a study ran in (it holds a results folder)")
     if not folder.is_dir():
-        raise InputError(field, f"{path} is a file, not a folder", "give the folder a study ran in (it holds results/)")
+        raise InputError(field, f"{path} is a file, not a folder", "give the folder a study ran in (it holds a results folder)")
     if not (folder / "results").is_dir():
         raise InputError(field, f"{path} holds no results folder",
-                         "give the folder a study ran in (it holds results/), not results/ itself")
+                         "give the folder a study ran in (it holds a results folder), not that results folder itself")
     return folder
 
 
@@ -176,7 +176,7 @@ def main(argv=None) -> int:
             raise InputError("STUDY_B", f"{args[1]} is the folder STUDY_A names", "compare two different study folders")
         files = file_differences(a, b, clock_columns=True)
         if not files:  # two runs that both made nothing are not the same run
-            raise InputError("STUDY_A, STUDY_B", f"no study files under results/{{{','.join(KINDS)}}} in either "
+            raise InputError("STUDY_A, STUDY_B", f"no study files (results folders {{{','.join(KINDS)}}}) in either "
                              "folder", "run the study in both before comparing them")
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)

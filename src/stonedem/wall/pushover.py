@@ -221,8 +221,7 @@ def plateau_proof(model, path) -> tuple[bool, str]:
     analysis on them (``stonedem.wall.limit_analysis``, an upper bound) lies within
     ``ORACLE_TOLERANCE`` above lambda_max. An LP with no answer proves nothing and refuses
     nothing (the plateau stands, as before this check)."""
-    from stonedem.wall.dataset import ORACLE_TOLERANCE
-    from stonedem.wall.limit_analysis import LimitAnalysisError, limit_multiplier
+    from stonedem.wall.limit_analysis import ORACLE_TOLERANCE, LimitAnalysisError, limit_multiplier
 
     try:
         la = limit_multiplier(model, caps_at=path.forces_at_max, lambda_tolerance=3e-3)
@@ -414,6 +413,16 @@ def _apply_dead_load(model, settings, ref):
     except (ConvergenceError, RuntimeError) as err:   # splu: "Factor is exactly singular"
         raise DeadLoadError(f"the self-weight cannot be carried ({err})") from err
     return q, rm, dead_state
+
+
+def dead_load_state(model, settings=None):
+    """Interface actions (ni, 6) after the pushover's own dead-load stage: the caps of a limit
+    analysis of the dead-loaded wall (``stonedem.wall.limit_analysis.limit_multiplier``)."""
+    settings = settings or SolverSettings()
+    ref = np.linalg.norm(model.dead_load) + np.linalg.norm(model.live_load)
+    _, rm, _ = _apply_dead_load(model, settings, ref)
+    model.use("live")
+    return rm.forces.copy()
 
 
 def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from stonedem import numba_cache
+from stonedem.io import numba_cache
 
 numba_cache.guard()  # a damaged cache file costs a compile, not the run
 

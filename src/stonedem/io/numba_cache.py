@@ -46,6 +46,8 @@ def guard() -> None:
     cls = caching.IndexDataCacheFile
     if getattr(cls, "_stonedem_guarded", False):
         return
+    if not (hasattr(cls, "_load_index") and hasattr(cls, "_load_data")):
+        return  # another Numba's internals: its own behaviour stands (numba 0.58-0.68 have both)
     load_index, load_data = cls._load_index, cls._load_data
 
     def _load_index(self):

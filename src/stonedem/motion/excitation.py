@@ -394,15 +394,20 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     for folder in (Path(base_dir), *folders):
         for ext in RECORD_SUFFIXES:
             candidates.append(folder / f"{name}{ext}")
-    not_files = []
+    not_files, dangling = [], []
     for path in candidates:
         try:
             if path.is_file():
                 return path
             if path.exists():
                 not_files.append(path)
+            elif path.is_symlink():  # a link to nothing, or a symlink loop
+                dangling.append(path)
         except (OSError, ValueError):
             continue
+    if dangling and not not_files:
+        raise InputError(field, f"{shown(dangling[0])} is a symbolic link that cannot be followed (a loop, or "
+                         "to nothing)", "give the record file itself")
     if not_files:
         raise InputError(field, f"{shown(not_files[0])} is not a record file"
                          + (" (a folder)" if not_files[0].is_dir() else ""), "give a record file")

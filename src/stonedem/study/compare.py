@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError, one_line
+from stonedem.io.paths import real_path
 
 # attrs (and table columns) that hold the clock time or the machine of a run
 CLOCK = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host", "elapsed",
@@ -154,6 +155,7 @@ def result_differences(directory: Path, reference: Path, kinds=KINDS, clock_colu
 
 def study_folder(path: str, field: str) -> Path:
     """``path`` as a study folder (one holding a results folder), or the InputError saying why not."""
+    real_path(path, field)  # a symlink loop: one line, not pathlib's RuntimeError
     folder = Path(path)
     if not folder.exists():
         raise InputError(field, f"{path}: no such folder", "give the folder a study ran in (it holds a results folder)")

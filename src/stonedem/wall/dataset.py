@@ -155,7 +155,7 @@ def run_case(case, output=None, progress=None, limit_analysis=False) -> xr.Datas
 
         try:
             at_limit = limit_multiplier(case.model, caps_at=result.interface_forces_at_max,
-                                        settings=case.settings, lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE)
+                                        lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE)
         except LimitAnalysisError as err:
             raise InputError("restraints", f"the limit analysis has no answer: {err}",
                              "check the restraints and the load direction") from err

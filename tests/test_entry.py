@@ -62,6 +62,21 @@ def test_output_paths_the_filesystem_would_refuse_at_the_end(tmp_path):
     assert check_output_path(tmp_path / "my study é ü" / "out.nc", "-o")
 
 
+def test_output_path_that_is_a_device_or_a_link_to_one_is_refused(tmp_path):
+    # an atomic write renames over the path: a link to /dev/full became a PNG, "wrote" said
+    link = tmp_path / "strip.png"
+    link.symlink_to("/dev/full")
+    os.mkfifo(tmp_path / "pipe.gif")
+    for path in (link, tmp_path / "pipe.gif", "/dev/null"):
+        with pytest.raises(InputError, match="is not a regular file"):
+            check_output_path(path, "-o")
+    assert link.is_symlink()
+    # a link to a regular file is still an output like any other
+    (tmp_path / "real.png").write_bytes(b"x")
+    (tmp_path / "to_real.png").symlink_to(tmp_path / "real.png")
+    assert check_output_path(tmp_path / "to_real.png", "-o")
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes anywhere")
 def test_read_only_folder_is_refused(tmp_path):
     folder = tmp_path / "ro"

@@ -50,7 +50,8 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     """The output path, or an InputError naming ``field`` before any computing.
 
     Refused: a suffix not in ``suffixes`` (when given), an existing directory, one of the
-    ``inputs`` (same file, also through a symlink or a hard link), a path through a symlink
+    ``inputs`` (same file, also through a symlink or a hard link), a device, pipe or socket
+    (also through a symlink: the write would replace the link), a path through a symlink
     loop, a parent that is a file or cannot be created, a folder that is not writable, a name
     too long for the filesystem or not UTF-8. Nothing is created: a missing parent folder is
     made by the write itself.
@@ -66,6 +67,9 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     real = real_path(path, field)
     if path.is_dir():
         raise InputError(field, f"{path} is a directory", "give a file name inside it")
+    if path.exists() and not path.is_file():  # the rename would replace a link to /dev/full unwritten
+        raise InputError(field, f"{path} is not a regular file (a device, pipe or socket)",
+                         "give the path of a file to write")
     for source in inputs:
         source = Path(source)
         try:

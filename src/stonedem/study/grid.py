@@ -73,7 +73,7 @@ MAX_COLUMNS = 50  # columns per row (the thesis: 5)
 MAX_DURATION = 3600.0  # [s] simulated time of one case (config/config.yaml: 92 s at most)
 MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.every (config: 9200)
 # bodies, steps and sample memory of each case: stonedem.engine.scene.MAX_BODIES, stonedem.engine.simulate.MAX_STEPS
-# and MAX_SAMPLE_BYTES (stonedem.engine.simulate.preflight, as stonedem run refuses them)
+# and the memory budget (stonedem.engine.memory, checked in stonedem.engine.simulate.preflight, as stonedem run refuses them)
 
 # the values of each swept parameter (check_value); record: a name under the config's records:
 POSITIVE = ("pga", "pga_scale", "frequency", "amplitude", "clear_distance", "epistyle_density", "taper")
@@ -385,6 +385,13 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     if not isinstance(config, dict):
         raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
     if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
+        import yaml
+
+        # a misspelt top-level key (studdies:) would be ignored and the full study planned
+        known = list(yaml.safe_load(Path(schema).read_text()).get("properties", {}))
+        for key in config:
+            if key not in known:
+                raise InputError(str(key), "unknown key", f"allowed keys: {', '.join(known)}")
         check_schema(config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults"))
     records = config.get("records")
     records = {} if records is None else records

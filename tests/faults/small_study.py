@@ -17,6 +17,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -180,3 +181,12 @@ def descendants(pid: int) -> list[int]:
                     found.append(child)
                     queue.append(child)
     return found
+
+
+def same_data(a, b):
+    """Every variable and coordinate equal, NaN where NaN (attrs hold the run's clock time)."""
+    assert set(a.variables) == set(b.variables)
+    for name in a.variables:
+        x, y = a[name].values, b[name].values
+        assert x.shape == y.shape and (np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc"
+                                       else np.array_equal(x, y)), name

@@ -4,28 +4,19 @@ line, and what is recovered is identical to an uninterrupted run."""
 
 import io
 
-import numpy as np
 import pytest
 
 from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result
 from stonedem.study.grid import case_table, combine_cases
 from stonedem.study.runner import CaseStore, run_cases
+from tests.faults.small_study import same_data
 
 # a 1 x 4 m block under a 2 Hz harmonic, two amplitudes (the second overturns)
 BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
          "excitation": {"kind": "harmonic", "frequency": 2.0}, "solver": {"duration": 1.0},
          "contact": {"model": "point", "k_n": 1.0e+9}, "output": {"every": 0.01},
          "grid": {"amplitude": [0.01, 0.4]}}
-
-
-def same_data(a, b):
-    """Every variable and coordinate equal, NaN where NaN (attrs hold the run's clock time)."""
-    assert set(a.variables) == set(b.variables)
-    for name in a.variables:
-        x, y = a[name].values, b[name].values
-        assert x.shape == y.shape and (np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc"
-                                       else np.array_equal(x, y)), name
 
 
 @pytest.fixture

@@ -11,12 +11,11 @@ import subprocess
 import sys
 import textwrap
 
-import numpy as np
 import pytest
 
 from stonedem.study.grid import case_table, combine_cases
 from stonedem.study.runner import CaseStore, run_cases, source_fingerprint
-from tests.faults.small_study import as_plain_owner, read_only
+from tests.faults.small_study import as_plain_owner, read_only, same_data
 
 # a 1 x 4 m block under a 2 Hz harmonic for 0.5 s: one cheap case
 BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
@@ -39,13 +38,6 @@ def damaged(tmp_path):
     return cases, output, store, entry, good
 
 
-def same_data(a, b):
-    """Every variable and coordinate equal, NaN where NaN (attrs hold the run's clock time)."""
-    assert set(a.variables) == set(b.variables)
-    for name in a.variables:
-        x, y = a[name].values, b[name].values
-        assert x.shape == y.shape and (np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc"
-                                       else np.array_equal(x, y)), name
 
 
 def store_snapshot(store):

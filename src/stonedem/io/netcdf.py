@@ -134,19 +134,24 @@ def _attr_problem(value) -> str | None:
     return f"a {type(value).__name__}"
 
 
+def _check_attrs(attrs, owner: str) -> None:
+    """Refuse an attribute of ``owner`` (``ds`` or ``ds['x']``) that NetCDF cannot hold."""
+    for key, value in attrs.items():
+        if not isinstance(key, str) or not key:
+            raise InputError(f"{owner}.attrs[{key!r}]", "an attribute name must be non-empty text", "rename it")
+        problem = _attr_problem(value)
+        if problem:
+            raise InputError(f"{owner}.attrs[{key!r}]", f"is {problem}, which NetCDF cannot hold",
+                             "give text, a number or a flat list of numbers")
+
+
 def check_writable(ds) -> None:
     """Refuse, naming the place, what NetCDF cannot hold: a non-Dataset (TypeError), names that
     are not text or hold '/', variables of complex, float16 or raw bytes, attributes that are
     not text, numbers or flat lists of them."""
     if not isinstance(ds, xr.Dataset):
         raise TypeError(f"ds: expected an xarray.Dataset, got {type(ds).__name__}")
-    fix = "give text, a number or a flat list of numbers"
-    for key, value in ds.attrs.items():
-        problem = _attr_problem(value)
-        if not isinstance(key, str) or not key:
-            raise InputError(f"ds.attrs[{key!r}]", "an attribute name must be non-empty text", "rename it")
-        if problem:
-            raise InputError(f"ds.attrs[{key!r}]", f"is {problem}, which NetCDF cannot hold", fix)
+    _check_attrs(ds.attrs, "ds")
     names = set(ds.variables) | set(ds.dims)
     for name in names:
         if not isinstance(name, str) or not name or "/" in name:
@@ -157,12 +162,7 @@ def check_writable(ds) -> None:
         if not (kind in _WRITABLE or kind == "f" and size in (4, 8)):
             raise InputError(f"ds[{name!r}]", f"has dtype {var.dtype}, which NetCDF cannot hold",
                              "convert it to float64, an integer type or text")
-        for key, value in var.attrs.items():
-            problem = _attr_problem(value)
-            if not isinstance(key, str) or not key:
-                raise InputError(f"ds[{name!r}].attrs[{key!r}]", "an attribute name must be non-empty text", "rename it")
-            if problem:
-                raise InputError(f"ds[{name!r}].attrs[{key!r}]", f"is {problem}, which NetCDF cannot hold", fix)
+        _check_attrs(var.attrs, f"ds[{name!r}]")
 
 
 def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None,

@@ -265,6 +265,7 @@ def test_fuzz_config_grid_keys_added_removed_reordered_keep_the_dag(mutated):
     (lambda c: c["studies"]["colonnade_distance"]["grid"].update(clear_distance=[1e-6]),
      "studies.colonnade_distance.structure"),
     (lambda c: c.update(wall_cases=["nope"]), "wall_cases[0]"),
+    (lambda c: c.update(studdies={}), "studdies"),  # ignored, it planned the whole study
 ])
 def test_each_class_of_bad_config_is_refused_by_its_path(mutate, field):
     config = copy.deepcopy(BASE)

@@ -45,6 +45,8 @@ def test_output_path_refusals(tmp_path):
         check_output_path(tmp_path / "afile" / "out.nc", "-o")
     with pytest.raises(InputError, match="does not end in .nc"):
         check_output_path(tmp_path / "out.txt", "-o", suffixes=(".nc",))
+    with pytest.raises(InputError, match="has no name before .nc; give a name such as out.nc"):
+        check_output_path(tmp_path / ".nc", "-o", suffixes=(".nc", ".nc4"))  # not "does not end in .nc"
     # accepted, and nothing created: the write makes the folder (a later refusal leaves none)
     assert check_output_path(tmp_path / "new" / "deeper" / "out.nc", "-o", suffixes=(".nc",))
     assert not (tmp_path / "new").exists()

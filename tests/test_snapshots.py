@@ -174,6 +174,8 @@ def test_cli_bad_input_exits_2_and_writes_nothing(column_case, tmp_path, capsys)
         (["snapshots", str(no_scene), "-o", str(tmp_path / "out.png")], "attrs.scene"),
         (["snapshots", str(src), "-o", str(tmp_path / "out.png"), "--times", "50"], "--times"),
         (["animate", str(src), "-o", str(tmp_path / "out.mp4")], ".gif"),
+        # a bare ".gif" said "'.gif' does not end in .gif"
+        (["animate", str(src), "-o", str(tmp_path / ".gif")], "has no name before .gif"),
     ]
     before = sorted(tmp_path.iterdir())
     for argv, field in cases:

@@ -750,6 +750,9 @@ def _output_path(path, suffix: str, field: str, case=None) -> Path:
     if not text.isprintable():
         raise InputError(field, f"{one_line(text, 200)} contains control characters",
                          "give a plain file name")
+    if path.name.lower() == suffix:  # ".gif" alone: pathlib sees a hidden file, no suffix
+        raise InputError(field, f"'{one_line(text, 200)}' has no name before {suffix}",
+                         f"give a name such as out{suffix}")
     if path.suffix.lower() != suffix:
         raise InputError(field, f"'{one_line(text, 200)}' does not end in {suffix}",
                          f"name the output *{suffix}")

@@ -60,6 +60,8 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     if any(ord(c) < 32 for c in str(path)):
         raise InputError(field, f"{str(path).encode('unicode_escape').decode()!s} contains control characters",
                          "give a plain file name")
+    if suffixes and path.name in suffixes:  # ".nc" alone: pathlib sees a hidden file, no suffix
+        raise InputError(field, f"{path} has no name before {path.name}", f"give a name such as out{path.name}")
     if suffixes and path.suffix not in suffixes:
         raise InputError(field, f"{path} does not end in {' or '.join(suffixes)}",
                          f"give an output path ending in {suffixes[0]}")

@@ -152,6 +152,8 @@ def base():
     ("solver", [], "expected a mapping"),
     ("solver.tolerance", 0, "out of range"),
     ("solver.residual_stiffness", 0, "out of range"),
+    ("solver.tolerance", 1e-30, "out of range"),          # was "restraints: leave a mechanism"
+    ("solver.first_step", 1e-300, "below 1e-12 m"),       # was lambda_max 4e-270, exit 0
 ])
 def test_issue_findings_are_refused(path, value, problem):
     spec = base()

@@ -107,7 +107,7 @@ RANGES = {
 }
 # solver settings: (kind, lo, hi, lo_open); "int" counts, "switch" 0/1 (or false/true)
 SOLVER_RULES = {
-    "tolerance": ("number", 0.0, 0.1, True),
+    "tolerance": ("number", 1e-12, 0.1, False),   # finer: rounding (~1e-15) blamed the restraints
     "max_iterations": ("int", 2, 10_000),        # a Newton step converges at iteration 2 at the earliest
     "dead_load_iterations": ("int", 2, 100_000),
     "max_steps": ("int", 1, 1_000_000),
@@ -134,6 +134,7 @@ SOLVER_RULES = {
     "control_block": ("int", 0, MAX_BLOCKS),
 }
 assert set(SOLVER_RULES) == SOLVER_KEYS, "every solver setting has a rule"
+MIN_FIRST_STEP = 1e-12  # [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
 
 # a number written as text: YAML 1.1 reads 1.0e9 (no exponent sign) as a string
 _NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
@@ -536,6 +537,9 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
             v = _switch(val, f)
         else:
             v = _number(val, f, *rule[1:])
+        if key == "first_step" and 0.0 < v < MIN_FIRST_STEP:  # 1e-300 ran to lambda_max 4e-270, exit 0
+            raise InputError(f, f"{v:g} m is below {MIN_FIRST_STEP:g} m, where rounding steers the path",
+                             f"give 0 (automatic) or a step >= {MIN_FIRST_STEP:g} m")
         if key == "control_block":
             control_block = v
         else:

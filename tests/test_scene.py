@@ -76,6 +76,11 @@ def test_interface_friction_overrides_pair():
     (lambda s: s["solver"].pop("duration"), "solver.duration"),
     (lambda s: s["bodies"][1]["box"].update(width="wide"), "box.width"),
     (lambda s: s["bodies"][1].update(tilt={"angle": 0.1, "about": "middle"}), "tilt.about"),
+    # were "mass: 503 kg (inertia 0 kg m2) is outside ..." and, both bodies at x = 1e12, exit 0
+    (lambda s: s["bodies"][1]["box"].update(center=[0.0, 1e300]), "(block).box: a corner lies 1e+300 m"),
+    (lambda s: [b["box"].update(center=[1e12, b["box"]["center"][1]]) for b in s["bodies"]], "past 100000 m"),
+    (lambda s: s["bodies"][1].pop("box") and s["bodies"][1].update(
+        polygon={"vertices": [[0, 0], [1e6, 0], [0, 1]]}), "polygon.vertices: a corner lies 1e+06 m"),
 ])
 def test_bad_input_names_the_field(mutate, field):
     spec = block_scene()

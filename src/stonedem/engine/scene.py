@@ -56,6 +56,9 @@ MAX_BODIES = 1000
 # per m of depth; 1e9 kg is a 400 000 m3 block); they would also make the step absurd
 MIN_MASS = 1e-6
 MAX_MASS = 1e9
+# corners farther from the origin [m]: at 1e12 m float64 spacing (1e-4 m) outgrows the contact
+# overlaps (a block there froze, "stopped at collapse", exit 0); at 1e7 m the run matched x = 0
+MAX_COORDINATE = 1e5
 # bodies may touch at t = 0 but not overlap by more than this share of the smaller area
 INITIAL_OVERLAP_TOLERANCE = 1e-6
 MAX_TEXT = 1000  # characters of the scene's name and description (stored in every output)
@@ -444,6 +447,12 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         if not geometry.is_convex(vertices):
             raise InputError(f"{where}.polygon", "non-convex polygon",
                              "split it into convex bodies")
+
+    reach = float(np.max(np.abs(vertices)))
+    if not reach <= MAX_COORDINATE:  # a width of 1e300 gave "mass: 503 kg (inertia nan) is outside ..."
+        raise InputError(f"{where}.{'box' if 'box' in spec else 'polygon.vertices'}",
+                         f"a corner lies {reach:.3g} m from the origin, past {MAX_COORDINATE:g} m",
+                         "place the bodies near the origin, in metres")
 
     area = geometry.signed_area(vertices) * depth  # volume [m3]
     polar = geometry.polar_moment_about_centroid(vertices) * depth

@@ -64,6 +64,23 @@ def test_a_damaged_file_is_a_difference_in_one_line_not_a_traceback(tmp_path, ca
     assert len(result_differences(a, b)) == 3
 
 
+def test_a_huge_table_is_a_difference_named_by_its_size(tmp_path, capsys, monkeypatch):
+    import stonedem.study.compare as compare
+
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    monkeypatch.setattr(compare, "MAX_TABLE_BYTES", 20)  # the tables are 40 bytes
+    code, out, err = _compare(capsys, a, b)  # was: both read whole, 6.4 GB of memory for 2 GB tables
+    assert code == 1 and out == [f"{TABLE}: {a / TABLE} is 0 MB, more than a study table holds (0 MB)",
+                                 f"{TABLE}: {b / TABLE} is 0 MB, more than a study table holds (0 MB)"]
+    # any other file is compared in pieces: a difference past the first MiB is found
+    for side, last in ((a, b"x"), (b, b"y")):
+        (side / "results/cases").mkdir()
+        (side / "results/cases/big.bin").write_bytes(bytes(3 * 2**20) + last)
+    assert "results/cases/big.bin: differs" in result_differences(a, b)
+    (b / "results/cases/big.bin").write_bytes(bytes(3 * 2**20) + b"x")
+    assert not any(line.startswith("results/cases/") for line in result_differences(a, b))
+
+
 def test_an_unreadable_file_is_a_difference(tmp_path, capsys, monkeypatch):
     a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
     unreadable, read_bytes = b / TABLE, Path.read_bytes

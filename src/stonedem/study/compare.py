@@ -30,6 +30,8 @@ from stonedem.io.paths import real_path
 CLOCK = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host", "elapsed",
          "run_seconds")
 KINDS = ("cubes", "tables", "cases", "searches", "fragility")
+# a study's CSV tables are kilobytes; two of 2 GB took 6.4 GB of memory and 28 s to call the same
+MAX_TABLE_BYTES = 256 * 2**20
 
 
 def result_files(directory: Path, kinds=KINDS) -> list[str]:
@@ -90,6 +92,9 @@ def dataset_differences(path_a: Path, path_b: Path, label: str) -> list[str]:
 def _text(path: Path):
     """(the file's bytes, None) when they are UTF-8 text, else (None, why not)."""
     try:
+        size = Path(path).stat().st_size
+        if size > MAX_TABLE_BYTES:
+            return None, f"{path} is {size / 2**20:.0f} MB, more than a study table holds ({MAX_TABLE_BYTES // 2**20} MB)"
         data = Path(path).read_bytes()
     except OSError as err:
         return None, f"cannot read {path} ({err.strerror or err})"
@@ -122,8 +127,16 @@ def table_differences(path_a: Path, path_b: Path, label: str, clock_columns: boo
 
 
 def _same_bytes(path_a: Path, path_b: Path):
-    try:
-        return Path(path_a).read_bytes() == Path(path_b).read_bytes(), None
+    try:  # in pieces: a file of any size is compared in bounded memory
+        if Path(path_a).stat().st_size != Path(path_b).stat().st_size:
+            return False, None
+        with open(path_a, "rb") as a, open(path_b, "rb") as b:
+            while True:
+                piece = a.read(2**20)
+                if piece != b.read(2**20):
+                    return False, None
+                if not piece:
+                    return True, None
     except OSError as err:
         return False, f"cannot read {err.filename} ({err.strerror or err})"
 

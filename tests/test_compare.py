@@ -121,3 +121,15 @@ def test_wrong_arguments_give_one_line_and_exit_2(tmp_path, capsys):
     proc = subprocess.run([sys.executable, "-m", "stonedem.study.compare", str(study), str(tmp_path / "bare")],
                           capture_output=True, text=True, check=False)
     assert (proc.returncode, proc.stdout) == (2, "") and proc.stderr.count("\n") == 1, proc.stderr
+
+
+def test_a_dangling_link_is_a_difference_not_a_missing_file(tmp_path, capsys):
+    """Was: a link to nothing on one side was skipped, and the two runs compared 'the same'."""
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    (a / "results/tables/u.csv").symlink_to("nowhere.csv")
+    code, out, err = _compare(capsys, a, b)
+    assert code == 1 and out == ["results/tables/u.csv: only in " + str(a)], out
+    (b / "results/tables/u.csv").symlink_to("nowhere.csv")
+    code, out, err = _compare(capsys, a, b)
+    assert code == 1 and err == ["3 files compared: 1 differ"], err
+    assert out and all(line.startswith("results/tables/u.csv: cannot read ") for line in out), out

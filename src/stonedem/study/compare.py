@@ -37,7 +37,9 @@ MAX_TABLE_BYTES = 256 * 2**20
 def result_files(directory: Path, kinds=KINDS) -> list[str]:
     """The study's files of ``kinds`` under ``directory``/results (paths relative to directory)."""
     results = Path(directory) / "results"
-    found = [p for kind in kinds for p in (results / kind).rglob("*") if p.is_file() and not p.name.startswith(".")]
+    # a dangling link is a file that cannot be read (a difference), not no file (ignored: "the same")
+    found = [p for kind in kinds for p in (results / kind).rglob("*")
+             if (p.is_file() or p.is_symlink() and not p.exists()) and not p.name.startswith(".")]
     return sorted(str(p.relative_to(directory)) for p in found)
 
 

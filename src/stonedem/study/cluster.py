@@ -37,6 +37,7 @@ TOOLS = ("sbatch", "squeue", "sacct", "sinfo", "scontrol")
 # (environment variables of the same name override them: the fault suite's stub SLURM)
 QUERY_SECONDS = 60
 SILENT_SECONDS = 900
+RETRY_SECONDS = 10  # between failed status queries
 
 
 def scontrol_config(run=subprocess.run) -> dict[str, str]:
@@ -115,8 +116,9 @@ def _limit(name: str, default: float) -> float:
 
 
 def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
-    """Replace the executor's status query by one that kills a query past QUERY_SECONDS and
-    raises a WorkflowError (the run ends) once queries have failed for SILENT_SECONDS. False
+    """Replace the executor's status query by one that kills a query past QUERY_SECONDS, retries
+    a failed one every RETRY_SECONDS and raises a WorkflowError (the run ends) once queries have
+    failed for SILENT_SECONDS. False
     where the plugin is not the pinned one (no ``query_job_status`` to replace)."""
     if plugin_module is None:
         try:
@@ -128,11 +130,9 @@ def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
     from snakemake_interface_common.exceptions import WorkflowError
 
     query_seconds, silent_seconds = _limit("QUERY_SECONDS", QUERY_SECONDS), _limit("SILENT_SECONDS", SILENT_SECONDS)
-    failing_since: list[float | None] = [None]  # the start of the first failed query since an answer
 
-    async def query_job_status(command: str, logger):
-        started = now()
-        why = None
+    async def query_once(command: str):
+        """(states, None) or (None, why)."""
         try:
             process = await asyncio.create_subprocess_exec(*shlex.split(command), stdout=asyncio.subprocess.PIPE,
                                                            stderr=asyncio.subprocess.PIPE)
@@ -141,25 +141,29 @@ def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
             except asyncio.TimeoutError:
                 process.kill()  # a hung query must not outlive its turn
                 await process.wait()
-                why = f"no answer within {query_seconds:g} s"
-            else:
-                if process.returncode != 0:
-                    why = f"exit {process.returncode}: {err.decode(errors='replace').strip()[:200]}"
+                return None, f"no answer within {query_seconds:g} s"
         except OSError as error:
-            why = error.strerror or str(error)
-        if why is None:
-            failing_since[0] = None
-            states = {row[0].strip(): row[1].strip() for row in csv.reader(io.StringIO(out.decode()), delimiter="|")
-                      if len(row) >= 2 and row[0].strip()}
-            return states, now() - started
-        logger.debug(f"SLURM status query failed: {why}")
-        if failing_since[0] is None:
-            failing_since[0] = started
-        if now() - failing_since[0] > silent_seconds:
-            raise WorkflowError(f"SLURM stopped answering: `{shlex.split(command)[0]}` has not reported the jobs' "
-                                f"states for {now() - failing_since[0]:.0f} s (last: {why}); the jobs may still run. "
-                                f"When `squeue` answers again, run the same command again")
-        return None, None
+            return None, error.strerror or str(error)
+        if process.returncode != 0:
+            return None, f"exit {process.returncode}: {err.decode(errors='replace').strip()[:200]}"
+        return {row[0].strip(): row[1].strip() for row in csv.reader(io.StringIO(out.decode()), delimiter="|")
+                if len(row) >= 2 and row[0].strip()}, None
+
+    async def query_job_status(command: str, logger):
+        # a failed query is retried here until one answers or SILENT_SECONDS pass: the plugin
+        # (2.8.0) drops its active jobs after a cycle of failed queries and never asks again,
+        # so the run waited for ever (measured: slurmctld stopped mid-run, no end after 290 s)
+        started = now()
+        while True:
+            states, why = await query_once(command)
+            if why is None:
+                return states, now() - started
+            logger.debug(f"SLURM status query failed: {why}")
+            if now() - started > silent_seconds:
+                raise WorkflowError(f"SLURM stopped answering: `{shlex.split(command)[0]}` has not reported the "
+                                    f"jobs' states for {now() - started:.0f} s (last: {why}); the jobs may still "
+                                    f"run. When `squeue` answers again, run the same command again")
+            await asyncio.sleep(min(RETRY_SECONDS, max(0.0, silent_seconds - (now() - started)) + 0.1))
 
     plugin_module.query_job_status = query_job_status
     return True

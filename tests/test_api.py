@@ -394,3 +394,11 @@ def test_run_scenes_takes_one_scene_or_many_and_names_a_bad_argument(tmp_path):
                           (lambda: stonedem.load_scene(SCENE, base_dir=3), "base_dir: expected a folder path")):
         with pytest.raises(TypeError, match=message):
             call()
+
+
+def test_a_base_dir_that_is_not_a_folder_is_refused(tmp_path):
+    """Was accepted: a file (or a missing folder) as base_dir, so a relative record was 'not found'."""
+    for bad in (SCENE, tmp_path / "missing"):
+        with pytest.raises(InputError, match=r"^base_dir: .* is not a folder; give the folder"):
+            stonedem.load_scene(SCENE, base_dir=bad)
+    assert stonedem.load_scene(SCENE, base_dir=tmp_path).duration > 0

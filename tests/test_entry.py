@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 import xarray as xr
@@ -47,6 +48,9 @@ def test_output_path_refusals(tmp_path):
         check_output_path(tmp_path / "out.txt", "-o", suffixes=(".nc",))
     with pytest.raises(InputError, match="has no name before .nc; give a name such as out.nc"):
         check_output_path(tmp_path / ".nc", "-o", suffixes=(".nc", ".nc4"))  # not "does not end in .nc"
+    for empty in ("", Path("")):  # was ". does not end in .nc": argparse gives Path(""), which is "."
+        with pytest.raises(InputError, match="^-o: is empty"):
+            check_output_path(empty, "-o", suffixes=(".nc",))
     # accepted, and nothing created: the write makes the folder (a later refusal leaves none)
     assert check_output_path(tmp_path / "new" / "deeper" / "out.nc", "-o", suffixes=(".nc",))
     assert not (tmp_path / "new").exists()

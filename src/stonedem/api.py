@@ -22,7 +22,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stonedem.errors import InputError
+from stonedem.errors import InputError, one_line
 from stonedem.io.netcdf import write_dataset
 
 if TYPE_CHECKING:
@@ -156,6 +156,9 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
         raise TypeError(f"overrides: expected a list of key=value strings or a mapping, got {type(overrides).__name__}")
     if base_dir is not None and not _is_path(base_dir):
         raise TypeError(f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}")
+    if base_dir is not None and not Path(base_dir).is_dir():
+        raise InputError("base_dir", f"{one_line(str(base_dir), 200)} is not a folder",
+                         "give the folder the scene's relative file names are in")
     if _is_path(source):
         return _freeze_spec(load_scene_file(source, overrides, base_dir))
     if isinstance(source, Mapping):

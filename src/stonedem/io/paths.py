@@ -56,6 +56,8 @@ def check_output_path(path: str | Path, field: str, *, inputs: Iterable[str | Pa
     too long for the filesystem or not UTF-8. Nothing is created: a missing parent folder is
     made by the write itself.
     """
+    if str(path).strip() in ("", "."):  # an empty argument arrives as Path(""), which is "."
+        raise InputError(field, "is empty (or the working folder)", "give an output file name")
     path = Path(path)
     if any(ord(c) < 32 for c in str(path)):
         raise InputError(field, f"{str(path).encode('unicode_escape').decode()!s} contains control characters",

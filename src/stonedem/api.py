@@ -17,12 +17,13 @@ The command line does the same jobs through these functions (``stonedem run`` is
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stonedem.errors import InputError, one_line
+from stonedem.errors import InputError, one_line, plain_number
 from stonedem.io.netcdf import write_dataset
 
 if TYPE_CHECKING:
@@ -102,8 +103,6 @@ def _thawed(value):
 
 
 def _freeze_spec(scene):
-    import dataclasses
-
     return dataclasses.replace(scene, spec=_frozen(scene.spec))
 
 
@@ -250,8 +249,6 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
     from stonedem.engine.run import run_scenes as simulate_scenes
     from stonedem.engine.scene import Scene
 
-    from collections.abc import Iterable
-
     given = scenes_or_sources
     if isinstance(given, Scene) or _is_path(given) or isinstance(given, Mapping):
         given = [given]  # one scene, not the characters of its path or the keys of its mapping
@@ -271,8 +268,6 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
     if not isinstance(device, str):
         raise TypeError(f"device: expected 'cpu' or 'gpu', got {type(device).__name__}")
     if threads is not None:
-        from stonedem.errors import plain_number
-
         threads = plain_number(threads)
         if isinstance(threads, bool) or not isinstance(threads, int):
             raise TypeError(f"threads: expected a whole number or None, got {type(threads).__name__}")

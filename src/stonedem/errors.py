@@ -49,12 +49,28 @@ def plain_number(value):
 
     if getattr(value, "ndim", None) == 0 and hasattr(value, "item") and not isinstance(value, (int, float)):
         value = value.item()  # numpy scalars and 0-d arrays; np.bool_ gives a bool
-    if isinstance(value, bool) or isinstance(value, (int, float)) and type(value) in (int, float):
+    if type(value) in (bool, int, float):
         return value
     if isinstance(value, numbers.Integral):
         return int(value)
     if isinstance(value, numbers.Real):
         return float(value)
+    return value
+
+
+def check_text(value, field: str, max_len: int, one_line: bool = True, describe=None) -> str:
+    """Free text of at most ``max_len`` printable characters (``one_line=False``: line breaks
+    and tabs too), or an InputError naming ``field``; ``describe(value)`` words a non-text
+    value in the message (default: its type's name)."""
+    if not isinstance(value, str):
+        got = describe(value) if describe else type(value).__name__
+        raise InputError(field, f"expected text, got {got}", "give text in quotes")
+    if len(value) > max_len:
+        raise InputError(field, f"{len(value)} characters exceed the limit {max_len}", "shorten it")
+    bad = next((c for c in value if not c.isprintable() and (one_line or c not in "\n\t")), None)
+    if bad is not None:
+        raise InputError(field, f"contains the control character {bad!r}",
+                         "give printable text" + (" on one line" if one_line else ""))
     return value
 
 

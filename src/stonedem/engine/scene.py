@@ -22,7 +22,7 @@ import numpy as np
 
 from stonedem.engine import geometry
 from stonedem.engine.laws import DEFAULT_LAW, LAWS
-from stonedem.errors import InputError, check_number, plain_number
+from stonedem.errors import InputError, check_number, check_text, plain_number
 from stonedem.io.yaml_file import parse_yaml_text, read_yaml_mapping
 from stonedem.units import GRAVITY
 from stonedem.motion.excitation import BaseMotion, excitation_pair
@@ -299,7 +299,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     check_keys(spec, TOP_KEYS, "")
     for key in ("name", "description"):
         if key in spec:
-            check_text(spec[key], key, one_line=key == "name")
+            check_text(spec[key], key, MAX_TEXT, one_line=key == "name")
     depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
     density = check_number(spec.get("density", 2000.0), "density", positive=True)
     gravity = check_number(spec.get("gravity", GRAVITY), "gravity", nonnegative=True)
@@ -382,19 +382,6 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
                   output_every=every, spec=spec)
     check_initial_overlaps(scene)
     return scene
-
-
-def check_text(value, field: str, one_line: bool = True) -> str:
-    """Free text of at most MAX_TEXT printable characters (a description may break lines)."""
-    if not isinstance(value, str):
-        raise InputError(field, f"expected text, got {type(value).__name__}", "give text in quotes")
-    if len(value) > MAX_TEXT:
-        raise InputError(field, f"{len(value)} characters exceed the limit {MAX_TEXT}", "shorten it")
-    bad = next((c for c in value if not c.isprintable() and (one_line or c not in "\n\t")), None)
-    if bad is not None:
-        raise InputError(field, f"contains the control character {bad!r}",
-                         "give printable text" + (" on one line" if one_line else ""))
-    return value
 
 
 def _body(spec: dict, index: int, density: float, depth: float) -> Body:

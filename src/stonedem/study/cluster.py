@@ -118,8 +118,8 @@ def _limit(name: str, default: float) -> float:
 def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
     """Replace the executor's status query by one that kills a query past QUERY_SECONDS, retries
     a failed one every RETRY_SECONDS and raises a WorkflowError (the run ends) once queries have
-    failed for SILENT_SECONDS. False
-    where the plugin is not the pinned one (no ``query_job_status`` to replace)."""
+    failed for SILENT_SECONDS. False where the plugin is not the pinned one (no
+    ``query_job_status`` to replace)."""
     if plugin_module is None:
         try:
             import snakemake_executor_plugin_slurm as plugin_module

@@ -11,6 +11,7 @@ is fully described by its id and Snakemake reruns exactly what changed.
 from __future__ import annotations
 
 import copy
+import functools
 import itertools
 import math
 import re
@@ -385,10 +386,8 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     if not isinstance(config, dict):
         raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
     if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
-        import yaml
-
         # a misspelt top-level key (studdies:) would be ignored and the full study planned
-        known = list(yaml.safe_load(Path(schema).read_text()).get("properties", {}))
+        known = list(load_schema(schema).get("properties", {}))
         for key in config:
             if key not in known:
                 raise InputError(str(key), "unknown key", f"allowed keys: {', '.join(known)}")
@@ -439,13 +438,20 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     return tables
 
 
+@functools.lru_cache(maxsize=4)
+def load_schema(schema: Path | str) -> dict:
+    """A JSON schema file (YAML), read once per process."""
+    import yaml
+
+    return yaml.safe_load(Path(schema).read_text())
+
+
 def check_schema(config: dict, schema: Path | str, where=None) -> None:
     """The config against its JSON schema; the most relevant error as one InputError line.
     ``where(path)``: only errors at config paths (tuples of keys) it accepts."""
     import jsonschema
-    import yaml
 
-    validator = jsonschema.Draft202012Validator(yaml.safe_load(Path(schema).read_text()))
+    validator = jsonschema.Draft202012Validator(load_schema(schema))
     errors = (e for e in validator.iter_errors(config) if where is None or where(tuple(e.absolute_path)))
     error = jsonschema.exceptions.best_match(errors)
     if error is None:

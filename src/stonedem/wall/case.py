@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from stonedem.errors import InputError, plain_number
+from stonedem.errors import InputError, check_text, plain_number
 from stonedem.io.yaml_file import printable as _printable
 from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel
@@ -263,15 +263,7 @@ def _switch(value, field):
 
 
 def _text(value, field, max_len=MAX_TEXT, one_line=True):
-    if not isinstance(value, str):
-        raise InputError(field, f"expected text, got {_kind_name(value)} {_show(value)}", "give text in quotes")
-    if len(value) > max_len:
-        raise InputError(field, f"{len(value)} characters exceed the limit {max_len}", "shorten it")
-    bad = [c for c in value if not c.isprintable() and not (not one_line and c in "\n\t")]
-    if bad:
-        raise InputError(field, f"contains the control character {bad[0]!r}",
-                         "give printable text" + (" on one line" if one_line else ""))
-    return value
+    return check_text(value, field, max_len, one_line, describe=lambda v: f"{_kind_name(v)} {_show(v)}")
 
 
 # --- reading ------------------------------------------------------------------------------

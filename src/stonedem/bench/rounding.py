@@ -18,7 +18,6 @@ formula for the same physics) moves it as much.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import sys
@@ -29,8 +28,8 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
+from stonedem.study.members import RELATIVE_STEP, member_scene, stiffness_factor  # noqa: F401 - re-exported
 
-RELATIVE_STEP = 2.0**-52  # perturbation j lowers k_n by j x this, relative
 MAX_PERTURBATIONS = 64
 MAX_JOBS = 256
 MAX_LIMIT = 100_000
@@ -38,21 +37,12 @@ RECORDS = Path("records")  # the cases' records, from the repository root (as th
 OUTPUT = "rounding.nc"
 
 
-def stiffness_factor(j: int) -> float:
-    """The factor perturbation j applies to k_n: 1 - j 2^-52 (exact in binary64)."""
-    return 1.0 - j * RELATIVE_STEP
-
-
 def perturbed_scene(case, j: int, base_dir: Path = RECORDS):
     """The case's Scene (:func:`stonedem.study.grid.case_scene`) with its contact law's k_n
     times stiffness_factor(j)."""
     from stonedem.study.grid import case_scene
 
-    scene = case_scene(case, base_dir)
-    if j == 0:
-        return scene
-    contact = dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j))
-    return dataclasses.replace(scene, contact=contact)
+    return member_scene(case_scene(case, base_dir), j)
 
 
 def run_verdict(case, j: int) -> dict:

@@ -1,0 +1,84 @@
+"""Ensemble members: the same scene with a perturbation that changes nothing physical, so that
+the chaotic answers of the study (a collapse verdict near its threshold, a search threshold)
+come as distributions (issue 44; ../shared/research/ENSEMBLES.md, section 3.1).
+
+Member j = 0 is the scene as configured, bit for bit. The perturbations:
+
+- ``stiffness`` (the default): the contact stiffness k_n times 1 - j 2^-52, j units in its
+  last place, so every contact force differs in its last bits and nothing else does (the time
+  step is snapped to the output clock and does not move; the tangential stiffness keeps its
+  value). It acts at every contact on every step, as a change of the code's rounding does.
+- ``tilt``: the same k_n perturbation, and the whole structure (every body that is not driven)
+  tilted by 1e-6 rad at t = 0 — counter-clockwise about its lowest left corner for odd j,
+  clockwise about its lowest right corner for even j, so that it leans onto a corner and never
+  into the base. 1e-6 rad is 6 um at a 6 m capital: physically nothing, but 1e10 x rounding, so
+  it shows whether the rounding band is complete (ENSEMBLES.md section 3.1).
+
+The time step and the record scale are never perturbed: the first biases results (truncation
+error), the second is the axis being measured.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from stonedem.errors import InputError
+
+RELATIVE_STEP = 2.0**-52  # member j lowers k_n by j x this, relative
+TILT = 1.0e-6  # [rad] the tilt of the "tilt" perturbation
+PERTURBATIONS = ("stiffness", "tilt")
+MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below any physics
+
+
+def stiffness_factor(j: int) -> float:
+    """The factor member j applies to k_n: 1 - j 2^-52 (exact in binary64 for j < 2^52)."""
+    return 1.0 - j * RELATIVE_STEP
+
+
+def check_member(j, field: str = "member") -> int:
+    """A member index 0 <= j < MAX_MEMBERS, or an InputError naming ``field``."""
+    if isinstance(j, bool) or not isinstance(j, (int, np.integer)):
+        raise InputError(field, f"expected an integer member index, got {j!r}", f"give 0 ... {MAX_MEMBERS - 1}")
+    if not 0 <= j < MAX_MEMBERS:
+        raise InputError(field, f"must be 0 ... {MAX_MEMBERS - 1}, got {j}",
+                         f"give 0 ... {MAX_MEMBERS - 1} (stonedem.study.members.MAX_MEMBERS)")
+    return int(j)
+
+
+def check_perturbation(kind, field: str = "ensemble.perturbation") -> str:
+    if kind not in PERTURBATIONS:
+        raise InputError(field, f"unknown perturbation {kind!r}", f"use one of {', '.join(PERTURBATIONS)}")
+    return kind
+
+
+def member_scene(scene, j: int, perturbation: str = "stiffness"):
+    """The Scene of member ``j``: ``scene`` itself for j = 0, else its k_n times
+    stiffness_factor(j) and, for ``tilt``, the structure tilted by TILT (module docstring)."""
+    j = check_member(j)
+    check_perturbation(perturbation)
+    if j == 0:
+        return scene
+    contact = dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j))
+    scene = dataclasses.replace(scene, contact=contact)
+    if perturbation == "tilt":
+        scene = dataclasses.replace(scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT))
+    return scene
+
+
+def tilted_bodies(bodies, angle: float) -> tuple:
+    """Every body that is not driven, rotated rigidly by ``angle`` [rad] (counter-clockwise >
+    0) about the free bodies' lowest left corner (angle > 0) or lowest right corner (< 0)."""
+    free = [b for b in bodies if not b.driven]
+    if any(b.tilt_angle != 0.0 for b in free):
+        raise InputError("ensemble.perturbation", "a tilt member of a scene whose bodies are tilted already",
+                         "use perturbation: stiffness")
+    if not free:
+        return tuple(bodies)
+    vertices = np.concatenate([b.vertices for b in free])
+    low = vertices[:, 1] <= vertices[:, 1].min() + 1e-9 * max(1.0, float(np.ptp(vertices[:, 1])))
+    corners = vertices[low]
+    pivot = corners[np.argmin(corners[:, 0])] if angle > 0 else corners[np.argmax(corners[:, 0])]
+    return tuple(b if b.driven else dataclasses.replace(b, tilt_angle=angle, tilt_pivot=pivot.copy())
+                 for b in bodies)

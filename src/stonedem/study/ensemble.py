@@ -1,0 +1,573 @@
+"""The study as an ensemble: every grid case and every threshold search run by K members that
+differ only in the last bits of k_n (:mod:`stonedem.study.members`), so that the chaotic
+answers come with their spread (issue 44; ../shared/research/ENSEMBLES.md, sections 3 and 4).
+
+Each member j runs every grid case (a collapse verdict) and every search system (the study's
+search, :func:`stonedem.study.search.search`). Then each system's "stripes" are completed
+(:func:`stonedem.study.stripes.missing_stripe_runs`): every member runs every value that any
+member ran inside the union of the members' brackets, so that the probit fit of a50 sees the
+same values for all members. Optionally the exact checks (layer A) and the short-horizon
+trajectories (layer B) of :mod:`stonedem.study.exact_checks` go into the same file, the input
+of :mod:`stonedem.study.equivalence`. The file's layout: module docstring of that module and
+the issue's file contract (a ``member`` dim; ``case``, ``system``, ``run`` tables).
+
+    python -m stonedem.study.ensemble [--config config/config.yaml] [--studies a b] [--members 20]
+        [--first 0] [--perturbation stiffness] [--jobs 2] [--checks full|quick|none]
+        [--from-rounding rounding.nc] --out ensemble.nc
+
+``--from-rounding`` takes a :mod:`stonedem.bench.rounding` file (its perturbations 0..K are
+members 0..K of the stiffness perturbation) instead of running the members again: its
+searches are replayed from their collapse maps, so only the stripe fills and the checks run.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import xarray as xr
+
+from stonedem.errors import InputError
+from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene
+
+RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
+MAX_JOBS = 256
+CHECKS = ("full", "quick", "none")
+STRIPE = "stripe"  # run_phase of a stripe fill
+REPLAYED = "search"  # run_phase of a search run whose phase a file did not keep
+
+
+class MemberResults(NamedTuple):
+    """What :func:`run_members` returns, in plain data (index k follows ``members``):
+
+    verdicts[i][k]: {collapsed, max_rocking [rad], dt [s]} of grid case i;
+    searches[i][k]: {lower, upper, n_runs, status, dt, runs: [(value, collapsed, phase)]} of
+    search system i; stripes[i]: [(j, value, collapsed)] of the stripe fills of system i, in
+    the order (value, j).
+    """
+
+    members: list
+    perturbation: str
+    verdicts: list
+    searches: list
+    stripes: list
+
+
+# --- one task -------------------------------------------------------------------------------
+
+def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
+    """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]}."""
+    from stonedem.engine.run import run_scene
+    from stonedem.study.grid import case_scene
+
+    ds = run_scene(member_scene(case_scene(case, RECORDS), j, perturbation))
+    return {"collapsed": int(float(ds["collapsed"]) > 0), "max_rocking": float(ds["max_rocking"].max()),
+            "dt": float(ds.attrs["dt"])}
+
+
+def member_value(system, value: float, j: int, perturbation: str = "stiffness") -> dict:
+    """Search system ``system`` run at ``value`` of its parameter by member j: {collapsed, dt [s]}."""
+    from stonedem.engine.run import run_scene
+    from stonedem.study.grid import case_scene, search_case
+
+    ds = run_scene(member_scene(case_scene(search_case(system, value), RECORDS), j, perturbation))
+    return {"collapsed": int(float(ds["collapsed"]) > 0), "dt": float(ds.attrs["dt"])}
+
+
+def member_search(system, j: int, perturbation: str = "stiffness") -> dict:
+    """The threshold search of ``system`` run by member j: its bracket (search summary), its
+    runs [(value, collapsed, phase)] in order and the first run's time step."""
+    from stonedem.study.search import search
+
+    dts = []
+
+    def simulate(value: float, phase: str) -> bool:
+        result = member_value(system, value, j, perturbation)
+        dts.append(result["dt"])
+        return bool(result["collapsed"])
+
+    return search_result(search(simulate, system.search), system.search, dts[0] if dts else math.nan)
+
+
+def search_result(runs, settings, dt: float) -> dict:
+    """A member's search as :func:`member_search` gives it, from its runs."""
+    from stonedem.study.search import summary
+
+    result = summary(runs, settings)
+    return {"lower": float(result["lower"]), "upper": float(result["upper"]), "n_runs": int(result["n_runs"]),
+            "status": str(result["status"]), "dt": dt,
+            "runs": [(float(r.value), bool(r.collapsed), str(r.phase)) for r in runs]}
+
+
+def _task(item):
+    """Worker: (kind, index, case as a dict, j, perturbation, value) -> (item, result, seconds)."""
+    from stonedem.study.grid import Case
+
+    kind, _, spec, j, perturbation, value = item
+    case = Case.from_dict(spec)
+    start = time.perf_counter()
+    if kind == "search":
+        result = member_search(case, j, perturbation)
+    elif kind == STRIPE:
+        result = member_value(case, value, j, perturbation)
+    else:
+        result = member_verdict(case, j, perturbation)
+    return item, result, time.perf_counter() - start
+
+
+def _worker_init():
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+
+@contextlib.contextmanager
+def _pool(jobs: int):
+    """A function mapping _task over items (results in any order): in this process for one
+    job, else over ``jobs`` spawned workers (one pool for every phase of a run)."""
+    if jobs <= 1:
+        yield lambda items: map(_task, items)
+        return
+    import multiprocessing
+
+    with multiprocessing.get_context("spawn").Pool(jobs, initializer=_worker_init) as pool:
+        yield lambda items: pool.imap_unordered(_task, items, chunksize=1)
+
+
+# --- every task ------------------------------------------------------------------------------
+
+def run_members(cases, systems, members, jobs: int, perturbation: str = "stiffness", log=sys.stderr,
+                stripes: bool = True, label: str = "member") -> MemberResults:
+    """Every grid case and search system of the lists run by every member j of ``members``,
+    over ``jobs`` worker processes (the searches first: they are the longest tasks); then,
+    with ``stripes``, each system's stripe fills (:func:`stripe_requests`) in the same pool.
+    One line per finished task goes to ``log`` ("[done/total] ..."; ``label`` names j there)."""
+    members = [check_member(j) for j in members]
+    check_perturbation(perturbation, "perturbation")
+    items = [("search", i, s.as_dict(), j, perturbation, None) for i, s in enumerate(systems) for j in members]
+    items += [("case", i, c.as_dict(), j, perturbation, None) for i, c in enumerate(cases) for j in members]
+    tasks = _Tasks(cases, systems, members, log, label)
+    with _pool(jobs) as run:
+        tasks.run(run, items)
+        results = tasks.results(perturbation)
+        if stripes:
+            tasks.run(run, _stripe_items(results, systems))
+    return tasks.results(perturbation)
+
+
+def run_stripes(results: MemberResults, systems, jobs: int, log=sys.stderr) -> MemberResults:
+    """``results`` (searches done) with each system's stripe fills run, as :func:`run_members`
+    runs them."""
+    items = _stripe_items(results, systems)
+    if not items:
+        return results
+    tasks = _Tasks([], systems, results.members, log, "member")
+    with _pool(jobs) as run:
+        tasks.run(run, items)
+    return results._replace(stripes=tasks.results(results.perturbation).stripes)
+
+
+def _stripe_items(results: MemberResults, systems) -> list:
+    return [(STRIPE, i, s.as_dict(), j, results.perturbation, value) for i, s in enumerate(systems)
+            for j, value in stripe_requests(results.members, results.searches[i])]
+
+
+class _Tasks:
+    """The results of the tasks as they finish (in any order), and a log line for each."""
+
+    def __init__(self, cases, systems, members, log, label):
+        self.cases, self.systems, self.members, self.log, self.label = cases, systems, list(members), log, label
+        self.column = {j: k for k, j in enumerate(self.members)}
+        self.verdicts = [[None] * len(self.members) for _ in cases]
+        self.searches = [[None] * len(self.members) for _ in systems]
+        self.fills = [{} for _ in systems]
+        self.done = self.total = 0
+
+    def run(self, run, items):
+        self.total += len(items)
+        for out in run(items):
+            self.book(*out)
+
+    def book(self, item, result, seconds):
+        kind, i, _, j, _, value = item
+        self.done += 1
+        if kind == "search":
+            system = self.systems[i]
+            self.searches[i][self.column[j]] = result
+            what = (f"{system.study}/{system.id} {self.label} {j}: {result['status']}, "
+                    f"{result['lower']:.4g} ... {result['upper']:.4g}, {result['n_runs']} runs")
+        elif kind == STRIPE:
+            system = self.systems[i]
+            self.fills[i][(value, j)] = int(result["collapsed"])
+            what = (f"{system.study}/{system.id} {self.label} {j} stripe at {value:.4g}: "
+                    f"{'collapsed' if result['collapsed'] else 'stands'}")
+        else:
+            case = self.cases[i]
+            self.verdicts[i][self.column[j]] = result
+            what = f"{case.study}/{case.id} {self.label} {j}: {'collapsed' if result['collapsed'] else 'stands'}"
+        print(f"  [{self.done}/{self.total}] {what} ({seconds:.1f} s)", file=self.log, flush=True)
+
+    def results(self, perturbation) -> MemberResults:
+        stripes = [[(j, v, c) for (v, j), c in sorted(fills.items())] for fills in self.fills]
+        return MemberResults(self.members, perturbation, self.verdicts, self.searches, stripes)
+
+
+def stripe_requests(members, searches) -> list[tuple[int, float]]:
+    """The (j, value) runs that complete one system's stripes
+    (:func:`stonedem.study.stripes.missing_stripe_runs` over its members' search runs and
+    brackets), without any a member has run already, in the order (value, j)."""
+    from stonedem.study.stripes import missing_stripe_runs
+
+    values = [v for result in searches for v, _, _ in result["runs"]]
+    run_by = [j for j, result in zip(members, searches) for _ in result["runs"]]
+    missing = missing_stripe_runs(np.array(values, dtype=float), np.array(run_by, dtype=np.int64),
+                                  np.array([r["upper"] for r in searches], dtype=float),
+                                  np.array([r["lower"] for r in searches], dtype=float),
+                                  member_ids=np.array(members, dtype=np.int64))
+    ran = set(zip(run_by, values))
+    wanted = {(int(j), float(v)) for j, v in missing} - ran
+    return sorted(wanted, key=lambda pair: (pair[1], pair[0]))
+
+
+# --- a rounding file as the members' runs ----------------------------------------------------
+
+def from_rounding(path, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True) -> MemberResults:
+    """The results :func:`run_members` gives for ``cases`` and ``systems`` (the config's, in
+    its order) with members 0..K, read from a :mod:`stonedem.bench.rounding` file of the same
+    cases instead of run: its perturbations 0..K are the stiffness members 0..K. Each search is
+    replayed from its collapse map (the rule picks each next value, the map gives its outcome:
+    the same values, to the last bit, and phases); then, with ``stripes``, the stripe fills run
+    (``jobs`` processes). An InputError when the file is not such a file or does not match."""
+    from stonedem.study.search import Run, next_value
+
+    path = Path(path)
+    field = "--from-rounding"
+    try:
+        with xr.open_dataset(path) as opened:
+            ds = opened.load()
+    except (KeyboardInterrupt, MemoryError):
+        raise
+    except Exception:  # noqa: BLE001 - whatever the backends raise on a foreign file
+        raise InputError(field, f"{path} is not a NetCDF dataset", "give a rounding.nc of stonedem.bench.rounding") from None
+    if "perturbation" not in ds.dims:
+        raise InputError(field, f"{path} has no perturbation dimension", "give a rounding.nc of stonedem.bench.rounding")
+    members = [int(j) for j in ds.perturbation.values]
+    if members != list(range(len(members))):
+        raise InputError(field, f"perturbations {members} are not 0..K", "give a rounding.nc of stonedem.bench.rounding")
+
+    def names(dim, items):
+        have = [str(v) for v in ds[dim].values] if dim in ds.dims else []
+        want = [f"{c.study}/{c.id}" for c in items]
+        if sorted(have) != sorted(want):
+            extra, lacking = sorted(set(have) - set(want)), sorted(set(want) - set(have))
+            raise InputError(field, f"its {dim}s differ from the config's ({len(lacking)} missing, e.g. "
+                                    f"{lacking[:1]}; {len(extra)} not in the config, e.g. {extra[:1]})",
+                             "give the --config and --studies the rounding run was made with")
+        return [have.index(name) for name in want]
+
+    case_rows, system_rows = names("case", cases), names("system", systems)
+    verdicts = [[{"collapsed": int(ds.collapsed.values[r, k]), "max_rocking": float(ds.max_rocking.values[r, k]),
+                  "dt": float(ds.case_dt.values[r, k])} for k in range(len(members))] for r in case_rows]
+    searches = []
+    for system, r in zip(systems, system_rows):
+        row = []
+        for k, j in enumerate(members):
+            outcomes = {}
+            for entry in str(ds.collapse_map.values[r, k]).split():
+                text, _, mark = entry.rpartition(":")
+                outcomes[text] = mark == "X"
+            runs = []
+            while (step := next_value(runs, system.search)) is not None:
+                key = f"{step[0]:.4g}"  # how rounding.run_threshold wrote the value
+                if key not in outcomes:
+                    break
+                runs.append(Run(step[0], outcomes[key], step[1]))
+            result = search_result(runs, system.search, float(ds.search_dt.values[r, k]))
+            stored = (float(ds.survived_value.values[r, k]), float(ds.collapse_value.values[r, k]),
+                      int(ds.n_runs.values[r, k]), str(ds.search_status.values[r, k]))
+            if step is not None or not _same((result["lower"], result["upper"], result["n_runs"], result["status"]),
+                                             stored):
+                raise InputError(field, f"the search of {system.study}/{system.id}, perturbation {j}, does not "
+                                        "replay from its collapse map with the config's search settings",
+                                 "give the config the rounding run was made with, or run the members directly")
+            row.append(result)
+        searches.append(row)
+    results = MemberResults(members, "stiffness", verdicts, searches, [[] for _ in systems])
+    if stripes and systems:
+        results = run_stripes(results, systems, jobs, log)
+    return results
+
+
+def _same(a, b) -> bool:
+    return all(x == y or (isinstance(x, float) and math.isnan(x) and math.isnan(y)) for x, y in zip(a, b))
+
+
+# --- the file ---------------------------------------------------------------------------------
+
+def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none", attrs: dict | None = None) -> xr.Dataset:
+    """The ensemble as a self-describing dataset (the file contract of issue 44: ``member``,
+    ``case``, ``system`` and ``run`` dimensions), with the exact checks (layer A) and the
+    short-horizon trajectories (layer B) of :mod:`stonedem.study.exact_checks` unless
+    ``checks`` is "none" ("quick": layer A's quick set). ``attrs`` go on top of the file's."""
+    from stonedem.io.netcdf import code_version
+    from stonedem.study.grid import PARAMETERS
+    from stonedem.study.runner import library_versions
+
+    from stonedem.bench import options
+
+    checks = options.chosen([checks], "checks", CHECKS)[0]
+    members = np.array(results.members, dtype=np.int32)
+    coords = {"member": ("member", members, {"units": "1", "long_name": f"member j: contact stiffness k_n times "
+                                                                    f"1 - j 2^-52 ({results.perturbation})"})}
+    data = {}
+    if cases:
+        def table(key, dtype=float):
+            return np.array([[v[key] for v in row] for row in results.verdicts], dtype=dtype)
+
+        coords["case"] = ("case", np.array([f"{c.study}/{c.id}" for c in cases], dtype=object),
+                          {"long_name": "study/case of a grid case"})
+        coords["case_study"] = ("case", np.array([c.study for c in cases], dtype=object), {"long_name": "study of the case"})
+        data["collapsed"] = (("case", "member"), table("collapsed", np.int8),
+                             {"units": "1", "long_name": "collapse verdict (1: collapsed, 0: stands)"})
+        data["max_rocking"] = (("case", "member"), table("max_rocking"),
+                               {"units": "rad", "long_name": "peak mean rotation of the rocking bodies"})
+        data["case_dt"] = (("case", "member"), table("dt"), {"units": "s", "long_name": "time step of the run"})
+    if systems:
+        def grid(key, dtype=float):
+            return np.array([[t[key] for t in row] for row in results.searches], dtype=dtype)
+
+        measures = [s.search.parameter for s in systems]
+        unit = PARAMETERS[measures[0]][1] if len(set(measures)) == 1 else "see search_parameter"
+        coords["system"] = ("system", np.array([f"{s.study}/{s.id}" for s in systems], dtype=object),
+                            {"long_name": "study/system of a threshold search"})
+        coords["search_parameter"] = ("system", np.array(measures, dtype=object),
+                                      {"long_name": "intensity measure searched"})
+        coords["search_tolerance"] = ("system", np.array([s.search.tolerance for s in systems]),
+                                      {"units": "1", "long_name": "bracket the search aims for, relative"})
+        coords["search_maximum"] = ("system", np.array([s.search.maximum for s in systems]),
+                                    {"units": unit, "long_name": "largest value the search runs"})
+        data["threshold"] = (("system", "member"), grid("upper"),
+                             {"units": unit, "long_name": "smallest collapsing value of the member's search "
+                                                          "(NaN: no collapse up to the maximum)"})
+        data["survived"] = (("system", "member"), grid("lower"),
+                            {"units": unit, "long_name": "largest surviving value below the threshold"})
+        data["search_status"] = (("system", "member"), grid("status", object), {"long_name": "how the search ended"})
+        data["search_runs"] = (("system", "member"), grid("n_runs", np.int32),
+                               {"units": "1", "long_name": "runs of the member's search"})
+        rows = []  # (system, member, value, collapsed, phase): each search in its order, then the stripes
+        for i in range(len(systems)):
+            for j, result in zip(results.members, results.searches[i]):
+                rows += [(i, j, value, collapsed, phase) for value, collapsed, phase in result["runs"]]
+            rows += [(i, j, value, collapsed, STRIPE) for j, value, collapsed in results.stripes[i]]
+        columns = list(zip(*rows)) if rows else [[]] * 5
+        data["run_system"] = ("run", np.array(columns[0], dtype=np.int32),
+                              {"units": "1", "long_name": "index of the run's system on the system dimension"})
+        data["run_member"] = ("run", np.array(columns[1], dtype=np.int32), {"units": "1", "long_name": "member j of the run"})
+        data["run_value"] = ("run", np.array(columns[2], dtype=float),
+                             {"units": unit, "long_name": "value of the searched parameter run"})
+        data["run_collapsed"] = ("run", np.array(columns[3], dtype=np.int8),
+                                 {"units": "1", "long_name": "collapse verdict of the run (1: collapsed)"})
+        data["run_phase"] = ("run", np.array(columns[4], dtype=object),
+                             {"long_name": "phase of the run: the search's (hunt, bisect, fill; search: not kept) "
+                                           "or stripe (a stripe fill)"})
+    ds = xr.Dataset(data, coords=coords, attrs={
+        "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with k_n changed in "
+                 "its last bits",
+        "members": int(len(members)), "first_member": int(members[0]) if len(members) else 0,
+        "perturbation": results.perturbation,
+        "perturbation_rule": "member j: contact stiffness k_n times 1 - j 2^-52"
+                             + (", structure tilted by 1e-6 rad" if results.perturbation == "tilt" else ""),
+        "source": code_version(), "machine": machine(), "checks": checks, **library_versions(),
+    })
+    ds.attrs["llvmlite_version"] = _version("llvmlite")
+    ds.member.attrs.update(perturbation=results.perturbation, members=int(len(members)),
+                           first_member=ds.attrs["first_member"])
+    if checks != "none":
+        from stonedem.study import exact_checks
+
+        for name, layer in (("layer_a", exact_checks.layer_a(quick=checks == "quick")),
+                            ("layer_b", exact_checks.layer_b(duration=0.5))):
+            ds = xr.merge([ds, layer], combine_attrs="override")  # the layers' provenance is this file's
+            if "wall_seconds" in layer.attrs:
+                ds.attrs[f"{name}_wall_seconds"] = float(layer.attrs["wall_seconds"])
+    ds.attrs.update(attrs or {})
+    return ds
+
+
+def _version(name: str) -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return "not installed"
+
+
+def machine() -> str:
+    """The platform and CPU model (results of chaotic runs depend on the CPU's arithmetic)."""
+    model = platform.processor() or platform.machine()
+    with contextlib.suppress(OSError):
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    return f"{platform.platform()}, {model}, {os.cpu_count()} cores"
+
+
+def config_digest(paths) -> str:
+    """sha256 of the config files' bytes, in order."""
+    digest = hashlib.sha256()
+    for path in paths:
+        digest.update(Path(path).read_bytes())
+    return digest.hexdigest()
+
+
+def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
+    """What the ensemble holds and where its members disagree."""
+    lines = [f"{ds.attrs['members']} members ({ds.attrs['perturbation']}, j = {ds.member.values[0]}.."
+             f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, {ds.sizes.get('system', 0)} "
+             f"threshold searches, {ds.sizes.get('run', 0)} search and stripe runs, {wall_seconds:.0f} s"]
+    if "case" in ds.dims:
+        fraction = ds.collapsed.mean("member")
+        split = [str(c) for c in ds.case.values[((fraction > 0) & (fraction < 1)).values]]
+        lines.append(f"split cases (0 < collapse fraction < 1): {len(split)} of {ds.sizes['case']}"
+                     + (f": {', '.join(split[:10])}{' ...' if len(split) > 10 else ''}" if split else ""))
+    if "system" in ds.dims:
+        differ = 0
+        for k, name in enumerate(ds.system.values):
+            values = ds.threshold.values[k]
+            distinct = np.unique(values[np.isfinite(values)])
+            if distinct.size > 1 or (distinct.size and not np.isfinite(values).all()):
+                differ += 1
+                lines.append(f"  {name}: member thresholds {np.nanmin(values):.4g} ... {np.nanmax(values):.4g} "
+                             f"({distinct.size} values)")
+        lines.append(f"cells whose member thresholds differ: {differ} of {ds.sizes['system']}")
+    return lines
+
+
+# --- the command ------------------------------------------------------------------------------
+
+def build_parser():
+    from stonedem.bench import options
+
+    parser = options.parser("python -m stonedem.study.ensemble", __doc__)
+    parser.add_argument("--config", type=options.path_arg, default=Path("config/config.yaml"),
+                        help="config file, merged over config.yaml of its folder (default config/config.yaml)")
+    parser.add_argument("--studies", nargs="*", default=None,
+                        help="studies of the config (default: every study of the rigid-block engine)")
+    parser.add_argument("--members", type=int, default=None,
+                        help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)")
+    parser.add_argument("--first", type=int, default=0, help="the first member's j (default 0; fresh draws: past a baseline's)")
+    parser.add_argument("--perturbation", default="stiffness", help=f"{' or '.join(PERTURBATIONS)} (default stiffness)")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)")
+    parser.add_argument("--checks", default="full", help=f"layers A and B: {', '.join(CHECKS)} (default full)")
+    parser.add_argument("--from-rounding", type=options.path_arg, default=None,
+                        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' (stiffness, j = 0..K)")
+    parser.add_argument("--out", type=options.path_arg, required=True, help="the ensemble file to write (.nc)")
+    return parser
+
+
+DEFAULT_MEMBERS = 20
+
+
+def check_args(args) -> dict:
+    """Every option, the config, the cases (their scenes built once) and the output path
+    checked before anything runs; an InputError otherwise."""
+    from stonedem.bench import options
+    from stonedem.study.grid import config_cases
+
+    jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
+    checks = options.chosen([args.checks], "--checks", CHECKS)[0]
+    perturbation = check_perturbation(args.perturbation, "--perturbation")
+    first = options.number(args.first, "--first", lo=0, hi=MAX_MEMBERS - 1, whole=True, example="20")
+    rounding = None
+    if args.from_rounding is not None:
+        rounding = options.input_file(args.from_rounding, "--from-rounding", "rounding.nc of stonedem.bench.rounding")
+        members = _rounding_members(rounding)
+        if perturbation != "stiffness" or first != 0 or args.members not in (None, len(members)):
+            raise InputError("--from-rounding", f"its runs are members 0..{len(members) - 1} of the stiffness "
+                                                "perturbation", "leave --members, --first and --perturbation out")
+    else:
+        count = options.number(DEFAULT_MEMBERS if args.members is None else args.members, "--members", lo=1,
+                               hi=MAX_MEMBERS - first, whole=True, example="20")
+        members = list(range(first, first + count))
+    config_paths = [Path(args.config).parent / "config.yaml", Path(args.config)]
+    config, known = options.study_config(args.config, RECORDS)
+    path = options.output_file(args.out, "--out", suffixes=(".nc",),
+                               inputs=[*config_paths, *([rounding] if rounding else [])])
+    chosen = options.chosen(args.studies if args.studies is not None else known, "--studies", known)
+    cases, systems = [], []
+    for group in config_cases(config, chosen).values():
+        for case in group:
+            (systems if case.search is not None else cases).append(case)
+    if not cases and not systems:
+        raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
+    options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
+    return {"cases": cases, "systems": systems, "members": members, "first": first, "perturbation": perturbation,
+            "jobs": jobs, "checks": checks, "rounding": rounding, "path": path,
+            "config": [str(p) for p in dict.fromkeys(config_paths)]}
+
+
+def _rounding_members(path: Path) -> list[int]:
+    """The perturbations 0..K of a rounding file, or an InputError."""
+    try:
+        with xr.open_dataset(path) as ds:
+            members = [int(j) for j in ds.perturbation.values] if "perturbation" in ds.dims else []
+            complete = all(name in ds.variables for name in ("collapse_map", "collapsed"))
+    except (KeyboardInterrupt, MemoryError):
+        raise
+    except Exception:  # noqa: BLE001 - whatever the backends raise on a foreign file
+        members, complete = [], False
+    if not members or members != list(range(len(members))) or not complete:
+        raise InputError("--from-rounding", f"{path} is not a rounding file with perturbations 0..K",
+                         "give a rounding.nc of python -m stonedem.bench.rounding")
+    return members
+
+
+def main(argv=None) -> int:
+    """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
+    from stonedem.bench import options
+
+    args = build_parser().parse_args(argv)
+
+    def command():
+        from stonedem.io.netcdf import write_dataset
+
+        plan = check_args(args)
+        start = time.perf_counter()
+        cases, systems = plan["cases"], plan["systems"]
+        if plan["rounding"] is not None:
+            print(f"{len(cases)} cases and {len(systems)} threshold searches of {plan['rounding']}, "
+                  f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)", file=sys.stderr, flush=True)
+            results = from_rounding(plan["rounding"], cases, systems, plan["jobs"])
+        else:
+            print(f"{len(cases)} cases and {len(systems)} threshold searches, members {plan['members'][0]}.."
+                  f"{plan['members'][-1]} ({plan['perturbation']}), on {plan['jobs']} process(es)",
+                  file=sys.stderr, flush=True)
+            results = run_members(cases, systems, plan["members"], plan["jobs"], plan["perturbation"])
+        command_line = " ".join(["python -m stonedem.study.ensemble", *(sys.argv[1:] if argv is None else argv)])
+        ds = ensemble_dataset(cases, systems, results, plan["checks"], attrs={
+            "config": " ".join(plan["config"]), "config_digest": config_digest(plan["config"]),
+            "command": command_line,
+            **({"from_rounding": str(plan["rounding"])} if plan["rounding"] is not None else {})})
+        wall = time.perf_counter() - start
+        ds.attrs["wall_seconds"] = wall
+        write_dataset(ds, plan["path"])
+        for line in summary_lines(ds, wall):
+            print(line)
+        print(f"wrote {plan['path']}")
+        return 0
+
+    return options.run(command)
+
+
+if __name__ == "__main__":
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    sys.exit(main())

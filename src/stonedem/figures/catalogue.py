@@ -46,6 +46,8 @@ class Case:
 
     def resolve(self, studies: dict, tables) -> Case | None:
         found = matching_cases(studies.get(self.study, {}), self.params)
+        if "member" not in self.params:  # an ensemble's members of the case: member 0, as configured
+            found = [c for c in found if c.params.get("member", 0) == 0]
         return replace(self, id=found[0].id) if len(found) == 1 else None
 
     def wildcards(self) -> dict:

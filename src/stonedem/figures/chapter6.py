@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.figures.catalogue import Cube, Figure, Record, Reduction
-from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _label, _log_frequency_axis, _save, _value_label, geometry_figure, history_figure, snapshot_figure)
+from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _label, _log_frequency_axis, _save, _value_label, collapsed_label, geometry_figure, history_figure, load_cube, snapshot_figure)
 from stonedem.study.reduce import frequency_response, ramp_thresholds
 
 # harmonic studies reduced to sliding and rocking vs frequency (thesis Fig. 6.1, 6.5, 6.6)
@@ -72,8 +72,7 @@ def rocking_then_sliding(cube: xr.Dataset) -> str:
 
 def _ramp_thresholds_figure(along, xlabel, title):
     def draw(inputs, path):
-        with open_result(inputs[0]) as cube:
-            rows = ramp_thresholds(cube.load(), along)
+        rows = ramp_thresholds(load_cube(inputs[0]), along)
         x = [r[along] for r in rows]
         fig, ax = plt.subplots(figsize=(6, 4.2), constrained_layout=True)
         onset = [r["rocking_onset_pga_m_s2"] for r in rows]
@@ -97,8 +96,7 @@ def _ramp_thresholds_figure(along, xlabel, title):
 
 def _ramp_histories(along, title):
     def draw(inputs, path):
-        with open_result(inputs[0]) as cube:
-            cube = cube.load()
+        cube = load_cube(inputs[0])
         fig, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
         for v in cube[along].values:
             case = cube.sel({along: v})
@@ -119,8 +117,7 @@ def _frequency_figure(variable, ylabel, title, height=6.0):
     """One curve per (amplitude or PGA) x friction of ``variable`` vs frequency (Fig. 6.1, 6.5, 6.6)."""
 
     def draw(inputs, path):
-        with open_result(inputs[0]) as cube:
-            cube = cube.load()
+        cube = load_cube(inputs[0])
         rows = frequency_response(cube)
         keys = [k for k in ("amplitude", "pga", "friction") if k in rows[0]]
         fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
@@ -129,13 +126,13 @@ def _frequency_figure(variable, ylabel, title, height=6.0):
             sel = sorted((r for r in rows if tuple(r[k] for k in keys) == g), key=lambda r: r["frequency"])
             line, = ax.plot([r["frequency"] for r in sel], [r[variable] for r in sel], "o-",
                             label=", ".join(_value_label(k, v) for k, v in zip(keys, g)))
-            fell = [r for r in sel if r["collapsed"]]
+            fell = [r for r in sel if r["collapsed"] >= 0.5]  # an ensemble's fraction (K = 1: 0 or 1)
             ax.plot([r["frequency"] for r in fell], [r[variable] for r in fell], "x", color="r", ms=9)
         if variable == "sliding_to_base_ratio":
             ax.axhline(1.0, color="k", ls=":", lw=0.8, label="thesis: -> 1 at high frequency")
         _log_frequency_axis(ax)
         ax.set_ylabel(ylabel)
-        ax.legend(fontsize=7, title="red x: collapsed", title_fontsize=7)
+        ax.legend(fontsize=7, title=f"red x: {collapsed_label(cube)}", title_fontsize=7)
         cube.attrs["column_height"] = height  # [m], to compare rocking x height with sliding
         _finish(fig, title, rocking_then_sliding(cube))
         return _save(fig, path)
@@ -148,8 +145,7 @@ def _small_column_figure(inputs, path):
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
     verdicts = []
     for col, (file, hue) in enumerate(zip(inputs, ("friction", "pga"))):
-        with open_result(file) as cube:
-            cube = cube.load()
+        cube = load_cube(file)
         for v in cube[hue].values:
             case = cube.sel({hue: v})
             label = _value_label(hue, v)

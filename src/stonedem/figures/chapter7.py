@@ -14,11 +14,10 @@ import numpy as np
 import xarray as xr
 
 from stonedem.figures.catalogue import Cube, Figure, Reduction, Table
-from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _label, _save, geometry_figure, history_figure, snapshot_figure)
+from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _label, _save, geometry_figure, history_figure, load_cube, snapshot_figure)
 from stonedem.study.reduce import epistyle_response, table_7_1
 
 # colonnade studies that vary one parameter at a time, reduced to the epistyle response (thesis 7.3-7.8)
-from stonedem.io.netcdf import open_result
 EPISTYLE_STUDIES = ("colonnade_arrangements", "colonnade_columns", "colonnade_distance", "colonnade_distance_load",
                     "colonnade_epistyle_type", "colonnade_epistyle_density", "colonnade_taper")
 # the two studies of thesis Table 7.1 and Fig. 7.22 (a standalone column beside a colonnade)
@@ -62,8 +61,7 @@ def _runs(cube: xr.Dataset, record, n: int) -> dict:
 def _standalone_vs_colonnade(inputs, path):
     """Thesis Fig. 7.22: mean drum rotation of a standalone column and of a colonnade, same record and PGA
     (the largest PGA both were run at that the colonnade survives: the searches share their hunt values)."""
-    with open_result(inputs[0]) as single, open_result(inputs[1]) as row:
-        single, row = single.load(), row.load()
+    single, row = load_cube(inputs[0]), load_cube(inputs[1])
     record = THESIS_RECORD["athens"] if THESIS_RECORD["athens"] in row["record"].values else row["record"].values[0]
     n = int(row["n_drums"].values.min())
     alone, together = _runs(single, record, n), _runs(row, record, n)

@@ -16,6 +16,7 @@ import xarray as xr
 from stonedem.io.atomic import write_atomically
 from stonedem.figures.catalogue import Case, Cube, Figure
 from stonedem.io.netcdf import open_result
+from stonedem.study.cube import member_summary
 
 THESIS_RECORD = {"athens": "athens_standin_kocaeli_arc000", "kalamata": "kalamata_standin_izmit_izt270",
                  "mexico": "mexico_standin_chichi_tcu102"}
@@ -23,6 +24,19 @@ RECORD_LABEL = {v: f"{k.capitalize()} stand-in" for k, v in THESIS_RECORD.items(
 
 
 # --- drawing helpers ----------------------------------------------------------------------
+
+
+def load_cube(path) -> xr.Dataset:
+    """A study's cube, loaded; an ensemble's as :func:`stonedem.study.cube.member_summary`
+    gives it (``collapsed`` the collapse fraction)."""
+    with open_result(path) as cube:
+        return member_summary(cube.load())
+
+
+def collapsed_label(cube: xr.Dataset) -> str:
+    """What a red x marks: a collapse, or in an ensemble a collapse of at least half the members."""
+    members = int(cube.attrs.get("members", 1))
+    return "collapsed" if members == 1 else f"collapsed in >= half of {members} members"
 
 
 def _save(fig, path) -> Path:
@@ -88,8 +102,7 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
     scalar = scalar or f"max_{variable}"
 
     def draw(inputs, path):
-        with open_result(inputs[0]) as cube:
-            cube = _sel(cube.load(), select, keep=(hue,))
+        cube = _sel(load_cube(inputs[0]), select, keep=(hue,))
         fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.2, 1]},
                                        constrained_layout=True)
         values = cube[hue].values
@@ -99,15 +112,19 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
             ax1.plot(case["time"], case[variable], lw=0.8, label=_value_label(hue, v))
             peak = float(case[scalar]) if scalar in case else float(np.nanmax(np.abs(case[variable])))
             peaks.append(peak)
-            if float(case["collapsed"]) > 0:
+            if float(case["collapsed"]) >= 0.5:  # an ensemble's collapse fraction (K = 1: 0 or 1)
                 ax1.axvline(float(case["collapse_time"]), color=ax1.lines[-1].get_color(), ls=":", lw=0.8)
         ax1.set_xlabel(_label(cube["time"]))
         ax1.set_ylabel(_label(cube[variable]), fontsize=8)
         ax1.legend(fontsize=7, ncol=2)
         xs = np.arange(len(values)) if values.dtype.kind in "OUS" else values
         ax2.plot(xs, peaks, "o-")
-        collapsed = [float(cube.sel({hue: v})["collapsed"]) > 0 for v in values]
-        ax2.plot(np.asarray(xs)[collapsed], np.asarray(peaks)[collapsed], "rx", ms=10, label="collapsed")
+        fractions = [float(cube.sel({hue: v})["collapsed"]) for v in values]
+        collapsed = [f >= 0.5 for f in fractions]
+        ax2.plot(np.asarray(xs)[collapsed], np.asarray(peaks)[collapsed], "rx", ms=10, label=collapsed_label(cube))
+        if int(cube.attrs.get("members", 1)) > 1:  # the fraction itself beside each point
+            for x, peak, f in zip(xs, peaks, fractions):
+                ax2.annotate(f"{f:.2g}", (x, peak), fontsize=6, textcoords="offset points", xytext=(3, 3))
         if values.dtype.kind in "OUS":
             ax2.set_xticks(xs, [str(v) for v in values])
         ax2.set_xlabel(_label(cube[hue]))

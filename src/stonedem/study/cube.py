@@ -16,7 +16,7 @@ import xarray as xr
 
 from stonedem.errors import InputError
 from stonedem.io.schema import SEARCH_VARIABLES
-from stonedem.study.grid import (PARAMETERS, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
+from stonedem.study.grid import (MEMBER, PARAMETERS, collapse_fraction, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
 from stonedem.study.search import Run
 from stonedem.io.netcdf import open_result
 
@@ -91,3 +91,22 @@ def combine_searches(paths, description: str = "") -> xr.Dataset:
                   "title": f"stonedem study cube (threshold searches): {attrs[0].get('study', '')}",
                   "n_systems": len(pieces), "n_cases": int(cube["n_runs"].sum()), "description": description}
     return cube
+
+
+def member_summary(cube: xr.Dataset) -> xr.Dataset:
+    """A grid cube of an ensemble (a ``member`` dimension) as its figures and tables read it:
+    ``collapsed`` the collapse fraction (0 or 1 where K = 1), the other measures their median
+    over members, histories member 0's (the case as configured). A cube without members as it is."""
+    if MEMBER not in cube.dims:
+        return cube
+    first = cube[MEMBER].values.min()
+    out = cube.sel({MEMBER: first}, drop=True)
+    if "run" in cube.dims:  # a search study's runs: member 0's searches (Table 7.1 reads them all)
+        out.attrs = {**cube.attrs, "members": int(cube.sizes[MEMBER])}
+        return out
+    for name, var in cube.data_vars.items():
+        if MEMBER in var.dims and "time" not in var.dims and var.dtype.kind in "fiu":
+            out[name] = var.median(MEMBER).assign_attrs(var.attrs)
+    out["collapsed"] = collapse_fraction(cube["collapsed"])
+    out.attrs = {**cube.attrs, "members": int(cube.sizes[MEMBER])}
+    return out

@@ -50,6 +50,11 @@ PARAMETERS = {
     "weak_joint": ("weak_joint.joint", "1", "joint with the lower friction, from the base (0: base / drum 0)", "joint"),
     "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
 }
+# a case's parameters besides those swept: its ensemble member (issue 44), set by the config's
+# ensemble: {members: K} (config_cases), never in a study's grid or cases
+MEMBER = "member"
+CASE_PARAMETERS = {**PARAMETERS, MEMBER: ("ensemble.member", "1",
+                                          "ensemble member j (stonedem.study.members: k_n x (1 - j 2^-52))", "m")}
 STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "grid",
               "interface_friction", "weak_joint", "cases", "description", "search")
 SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
@@ -145,9 +150,64 @@ def load_config(*paths) -> dict:
 
 
 def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
-    """{study: its case table} for the named studies of a config (all when None)."""
+    """{study: its case table} for the named studies of a config (all when None); with
+    ``ensemble: {members: K}`` (K > 1) every case once per member (:func:`ensemble_settings`)."""
     names = list(config.get("studies") or {}) if studies is None else studies
-    return {name: case_table(name, config["studies"][name], config.get("defaults")) for name in names}
+    members, perturbation = ensemble_settings(config)
+    return {name: with_members(case_table(name, config["studies"][name], config.get("defaults")), members,
+                               perturbation) for name in names}
+
+
+ENSEMBLE_KEYS = ("members", "perturbation", "baseline_members")
+BASELINE_MEMBERS = 20  # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
+
+
+def ensemble_settings(config: dict, baseline: bool = False) -> tuple[int, str]:
+    """(K, perturbation) of a config's ``ensemble:`` (issue 44): K = ``members`` (1: every case
+    once, as configured), or ``baseline_members`` with ``baseline``; an InputError names the
+    config path."""
+    from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_perturbation
+
+    spec = config.get("ensemble")
+    spec = {} if spec is None else spec
+    if not isinstance(spec, dict):
+        raise InputError("ensemble", f"expected a mapping, got {spec!r}", "write ensemble: {members: 20}")
+    for key in spec:
+        if key not in ENSEMBLE_KEYS:
+            raise InputError(f"ensemble.{key}", "unknown key", f"allowed keys: {', '.join(ENSEMBLE_KEYS)}")
+    counts = {}
+    for key, default, low in (("members", 1, 1), ("baseline_members", BASELINE_MEMBERS, 2)):
+        value = spec.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= MAX_MEMBERS:
+            raise InputError(f"ensemble.{key}", f"expected an integer {low} ... {MAX_MEMBERS}, got {value!r}",
+                             f"give {key}: {default} (stonedem.study.members.MAX_MEMBERS)")
+        counts[key] = value
+    perturbation = check_perturbation(spec.get("perturbation", PERTURBATIONS[0]))
+    return counts["baseline_members" if baseline else "members"], perturbation
+
+
+def with_members(cases: list[Case], members: int, perturbation: str = "stiffness") -> list[Case]:
+    """Each case once per ensemble member j = 0..members-1 (its ``member`` parameter, the id
+    ``..._m-j``); the cases themselves when members is 1, so that K = 1 is today's study."""
+    if members == 1:
+        return cases
+    out = []
+    for case in cases:
+        for j in range(members):
+            params = {**case.params, "member": j}
+            scene = copy.deepcopy(case.scene)
+            scene["name"] = f"{case.study}/{case_id(params)}"
+            scene["ensemble"] = {"member": j, "perturbation": perturbation}
+            out.append(Case(case.study, case_id(params), params, scene, case.search))
+    return out
+
+
+def scene_without_member(scene: dict) -> tuple[dict, dict | None]:
+    """(the scene mapping without its ``ensemble`` entry, that entry): the engine's scene
+    loader does not know it; :func:`case_scene` applies it to the built Scene."""
+    if "ensemble" not in scene:
+        return scene, None
+    return {k: v for k, v in scene.items() if k != "ensemble"}, scene["ensemble"]
 
 
 def _label(value) -> str:
@@ -160,7 +220,7 @@ def _label(value) -> str:
 
 def case_id(params: dict) -> str:
     """Readable, stable id from parameter values in grid order: ``rec-athens_pga-2_drums-3``."""
-    return "_".join(f"{PARAMETERS[k][3]}-{_label(v)}" for k, v in params.items())
+    return "_".join(f"{CASE_PARAMETERS[k][3]}-{_label(v)}" for k, v in params.items())
 
 
 def _set(spec: dict, dotted: str, value) -> None:
@@ -280,6 +340,9 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
 
 
 def _check_parameter(field: str, key) -> None:
+    if key == MEMBER:
+        raise InputError(field, f"{key} is set by the config's ensemble:, not swept",
+                         "remove it here and write ensemble: {members: K} at the top level")
     if key not in PARAMETERS:
         raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
 
@@ -417,7 +480,9 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     studies = config.get("studies")
     if not isinstance(studies, dict) or not studies:
         raise InputError("studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}")
-    checker = _CaseChecker(records, records_dir)
+    members, perturbation = ensemble_settings(config)
+    # members differ from their case only in k_n's last bits (and a tilt): each case is checked once
+    checker = _CaseChecker(records, records_dir, tilt=members > 1 and perturbation == "tilt")
     tables = {}
     total = 0
     for name, study in studies.items():
@@ -466,9 +531,10 @@ class _CaseChecker:
     stonedem.engine.simulate.preflight), the scene once per distinct scene without its excitation and
     each excitation once."""
 
-    def __init__(self, records: dict, records_dir: Path):
+    def __init__(self, records: dict, records_dir: Path, tilt: bool = False):
         self.records = records
         self.records_dir = records_dir
+        self.tilt = tilt  # ensemble: {perturbation: tilt}: the tilt members' bodies must be untilted
         self.excitations = {}  # excitation key -> (horizontal, vertical) BaseMotion | InputError
         self.scenes = {}  # scene key (no excitation, no name) -> Scene | InputError
 
@@ -520,6 +586,13 @@ class _CaseChecker:
         built = self._scene(scene)
         if isinstance(built, InputError):
             fail(built)
+        if self.tilt:
+            from stonedem.study.members import TILT, tilted_bodies
+
+            try:
+                tilted_bodies(built.bodies, TILT)
+            except InputError as error:  # a top-level setting: named as such, not by the study
+                raise InputError(error.field, f"{error.problem} (study {case.study})", error.fix) from None
         if built.duration > MAX_DURATION:
             fail(InputError("solver.duration", f"{built.duration:g} s exceeds the limit of {MAX_DURATION:g} s",
                             "simulate less time (stonedem.study.grid.MAX_DURATION)"))
@@ -544,7 +617,7 @@ class _CaseChecker:
     def _scene(self, scene: dict):
         from stonedem.engine.scene import scene_from_dict
 
-        spec = {k: v for k, v in scene.items() if k not in ("excitation", "name")}
+        spec = {k: v for k, v in scene.items() if k not in ("excitation", "name", "ensemble")}
         return _built(self.scenes, spec,
                       lambda: scene_from_dict({**spec, "excitation": {"kind": "none"}}, base_dir=self.records_dir),
                       "", "building a case's scene: ", "fix the study")
@@ -603,7 +676,7 @@ def _located(error: InputError, case: Case, study: dict, defaults: dict, origin:
     if parts and parts[0] == "bodies" and "bodies" not in study and "bodies" not in defaults:
         problem = f"{field}: {problem}"  # a built body: the structure made it
         field, parts = "structure", ["structure"]
-    if n_cases > 1 and any(PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params):
+    if n_cases > 1 and any(CASE_PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params):
         problem = f"{problem} (case {case.id})"  # the swept parameters may be part of it
 
     def depth(source) -> int:
@@ -642,19 +715,24 @@ def case_scene(case: Case, base_dir: Path | str = "."):
     """The case's Scene; a record's own length (plus the rest after it) when it gives no duration."""
     from stonedem.engine.scene import scene_from_dict
 
-    scene_spec = copy.deepcopy(case.scene)
+    from stonedem.study.members import member_scene
+
+    scene_spec, member = scene_without_member(copy.deepcopy(case.scene))
     solver = scene_spec.setdefault("solver", {})
     if solver.get("duration") is None:
         solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
-    return scene_from_dict(scene_spec, base_dir=base_dir)
+    scene = scene_from_dict(scene_spec, base_dir=base_dir)
+    return scene if member is None else member_scene(scene, member["member"], member["perturbation"])
 
 
 def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
     """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
     for key, value in case.params.items():
-        _, units, long_name, _ = PARAMETERS[key]
+        _, units, long_name, _ = CASE_PARAMETERS[key]
         ds = ds.assign_coords({key: xr.Variable((), value, {"units": units, "long_name": long_name})})
     ds.attrs.update(study=case.study, case=case.id)
+    if "ensemble" in case.scene:
+        ds.attrs["ensemble_perturbation"] = case.scene["ensemble"]["perturbation"]
     return ds
 
 
@@ -684,8 +762,8 @@ def case_piece(ds: xr.Dataset) -> xr.Dataset:
 
 
 def case_parameters(ds: xr.Dataset) -> list[str]:
-    """The swept parameters of a case (or search) file: its scalar coordinates in PARAMETERS."""
-    return [k for k in PARAMETERS if k in ds.coords and ds[k].ndim == 0]
+    """The parameters of a case (or search) file: its scalar coordinates in CASE_PARAMETERS."""
+    return [k for k in CASE_PARAMETERS if k in ds.coords and ds[k].ndim == 0]
 
 
 def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
@@ -710,13 +788,19 @@ def described_like(cube: xr.Dataset, path) -> xr.Dataset:
     combined from first, and each swept parameter's units and long name (PARAMETERS)."""
     with open_result(path) as first:
         for name in cube.variables:
-            if name in first.variables and name not in PARAMETERS:
+            if name in first.variables and name not in CASE_PARAMETERS:
                 cube[name].attrs = dict(first[name].attrs)
     for name in cube.coords:
-        if name in PARAMETERS:
-            _, units, long_name, _ = PARAMETERS[name]
+        if name in CASE_PARAMETERS:
+            _, units, long_name, _ = CASE_PARAMETERS[name]
             cube[name].attrs.update(units=units, long_name=long_name)
     return cube
+
+
+def collapse_fraction(collapsed: xr.DataArray) -> xr.DataArray:
+    """The share of an ensemble's members that collapsed, per case (NaN where none ran)."""
+    return collapsed.mean(MEMBER).assign_attrs(
+        units="1", long_name=f"collapse fraction over the ensemble's {collapsed.sizes[MEMBER]} members")
 
 
 def combine_cases(paths, description: str = "") -> xr.Dataset:
@@ -733,6 +817,8 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
     if not pieces:
         raise InputError("cases", "no case files to combine", "run the study's cases first")
     cube = described_like(xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0])
+    if MEMBER in cube.dims:  # an ensemble (issue 44): the verdicts stay per member, beside their share
+        cube["collapse_fraction"] = collapse_fraction(cube["collapsed"])
     # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
     shared = shared_case_attrs(attrs)
     cube.attrs = {**shared, "title": f"stonedem study cube: {shared.get('study', '')}", "n_cases": len(pieces),

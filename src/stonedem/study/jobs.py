@@ -76,6 +76,7 @@ class CostEstimate:
         spec = copy.deepcopy(case.scene)
         excitation = spec.pop("excitation", None) or {"kind": "none"}
         spec.pop("name", None)
+        spec.pop("ensemble", None)  # a member costs what its case does
         solver = spec.get("solver") or {}
         duration = solver.get("duration")
         if duration is None:

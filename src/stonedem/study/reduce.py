@@ -6,6 +6,8 @@ import numpy as np
 import xarray as xr
 
 from stonedem.units import GRAVITY
+from stonedem.study.cube import member_summary
+from stonedem.study.grid import MEMBER
 from stonedem.study.search import Run, bracket
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
@@ -33,7 +35,8 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
     (:func:`collapse_brackets`); a threshold search's cube adds how it ended.
     """
     rows = []
-    for system, cube in (("colonnade", colonnade), ("single column", standalone)):
+    for system, full in (("colonnade", colonnade), ("single column", standalone)):
+        cube = member_summary(full)  # an ensemble: member 0's searches as today's columns
         for found in collapse_brackets(cube, "pga"):
             key = thesis_record(found["record"])
             thesis = THESIS_TABLE_7_1.get((system, found["n_drums"]), {}).get(key, float("nan"))
@@ -44,7 +47,31 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
                          "resurrections_m_s2": " ".join(f"{v:g}" for v in found["resurrections"]),
                          "search_status": found["status"], "collapse_map": found["map"],
                          "thesis_accel_to_failure_m_s2": thesis})
+            if MEMBER in full.dims:
+                rows[-1].update(ensemble_columns(full.sel(record=found["record"], n_drums=found["n_drums"])))
     return rows
+
+
+def ensemble_columns(system: xr.Dataset) -> dict:
+    """Table 7.1 as a probability, from one system's searches by every member of an ensemble
+    (issue 44, stonedem.study.stripes): a50 by probit over the pooled runs with its band
+    bootstrapped over members, the transition zone, and the member thresholds. In the study the
+    stripes are the searches' own runs; the stored baseline (stonedem.study.ensemble) also runs
+    every member at every value inside the zone."""
+    from stonedem.study.stripes import threshold_band
+
+    collapsed = system["collapsed"].transpose(MEMBER, "run").values
+    values = system["pga"].broadcast_like(system["collapsed"]).transpose(MEMBER, "run").values
+    members = np.broadcast_to(system[MEMBER].values[:, None], values.shape)
+    ran = np.isfinite(values) & np.isfinite(collapsed)
+    band = threshold_band(values[ran], members[ran], collapsed[ran] > 0,
+                          system["collapse_threshold"].transpose(MEMBER).values)
+    return {"members": band["members"], "a50_m_s2": band["a50"], "a50_low_m_s2": band["a50_low"],
+            "a50_high_m_s2": band["a50_high"], "beta": band["beta"], "fit_status": band["status"],
+            "a_first_m_s2": band["a_first"], "a_all_m_s2": band["a_all"],
+            "member_threshold_median_m_s2": band["threshold_median"],
+            "member_threshold_min_m_s2": band["threshold_min"], "member_threshold_max_m_s2": band["threshold_max"],
+            "member_thresholds_distinct": band["threshold_distinct"], "stripes": "search runs"}
 
 
 def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
@@ -87,6 +114,7 @@ def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
     The ramp's acceleration at time t is rate x t, so the thresholds are rate times the
     rocking onset time (mean rotation > theta_cr / 30) and the collapse time.
     """
+    cube = member_summary(cube)  # an ensemble's medians over members
     rate = _excitation(cube).get("rate")
     if rate is None:
         raise ValueError("the cube's cases share no ramp rate (excitation attribute)")
@@ -127,6 +155,7 @@ def frequency_response(cube: xr.Dataset) -> list[dict]:
     of the base (from the base history): near 1 when the base slides under a column that
     stays put (high frequency).
     """
+    cube = member_summary(cube)  # an ensemble: collapse fractions, medians, member 0's histories
     amplitude = np.abs(cube["base_displacement"]).max("time")
     cube = cube.assign(base_amplitude=amplitude, base_pga=np.abs(cube["base_acceleration"]).max("time"),
                        sliding_to_base_ratio=cube["max_total_sliding"] / amplitude)
@@ -135,15 +164,21 @@ def frequency_response(cube: xr.Dataset) -> list[dict]:
                             "sliding_to_base_ratio": "sliding_to_base_ratio",
                             "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
     for row in rows:
-        row["collapsed"] = int(row["collapsed"])
+        row["collapsed"] = verdict(row["collapsed"])
     return rows
+
+
+def verdict(collapsed: float):
+    """A case's collapse as a table gives it: 0 or 1, or an ensemble's collapse fraction."""
+    return int(collapsed) if collapsed in (0.0, 1.0) else round(float(collapsed), 4)
 
 
 def epistyle_response(cube: xr.Dataset) -> list[dict]:
     """Maximum epistyle displacement relative to the base, rocking and collapse for every case of
     a colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
+    cube = member_summary(cube)
     rows = case_rows(cube, {"max_epistyle_displacement": "max_epistyle_displacement_m",
                             "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
     for row in rows:  # -1: a combination a sparse cube of listed cases did not run
-        row["collapsed"] = int(row["collapsed"]) if np.isfinite(row["collapsed"]) else -1
+        row["collapsed"] = verdict(row["collapsed"]) if np.isfinite(row["collapsed"]) else -1
     return rows

@@ -2,12 +2,6 @@
 issue 44): hand-built ensemble files in the layout of stonedem.study.ensemble, K_B = 8 and K_N = 4
 members drawn from one Bernoulli (verdicts) and lognormal (thresholds) model."""
 
-import importlib.util
-import itertools
-import math
-import sys
-import types
-
 import numpy as np
 import pytest
 import xarray as xr
@@ -18,40 +12,6 @@ from stonedem.study.equivalence import judge, main
 N_CASES, N_SYSTEMS, N_CHECKS, N_SCENES = 40, 6, 5, 2
 TOLERANCE = 0.02
 SPREAD = 0.02  # sd of ln threshold over members: about one search bracket
-
-
-def _stub_permutation_test(base_collapsed, base_thresholds, cand_collapsed, cand_thresholds, tolerance,
-                           n_permutations=10_000, seed=0, alpha=0.005):
-    """The test of issue 44 (5C) over every assignment, for as long as stonedem.study.permutation
-    is not in the tree."""
-    collapsed = np.concatenate([base_collapsed, cand_collapsed], axis=1)
-    log_t = np.log(np.concatenate([base_thresholds, cand_thresholds], axis=1))
-    k_b, k = base_collapsed.shape[1], collapsed.shape[1]
-
-    def statistics(cand):
-        base = np.setdiff1d(np.arange(k), cand)
-        p_n, p_b, pooled = collapsed[:, cand].mean(1), collapsed[:, base].mean(1), collapsed.mean(1)
-        s_v = np.sum((p_n - p_b) ** 2 / (pooled * (1 - pooled) + 0.01))
-        s_t = np.sum(np.abs(np.median(log_t[:, cand], 1) - np.median(log_t[:, base], 1)) / np.log1p(tolerance))
-        return s_v, s_t
-
-    s_v, s_t = statistics(np.arange(k_b, k))
-    perms = np.array([statistics(np.array(c)) for c in itertools.combinations(range(k), k - k_b)])
-    p_v, p_t = (1 + np.sum(perms[:, 0] >= s_v - 1e-12)) / (len(perms) + 1), (1 + np.sum(perms[:, 1] >= s_t - 1e-12)) / (len(perms) + 1)
-    unanimous = np.all(base_collapsed == base_collapsed[:, :1], axis=1)
-    flips = unanimous & np.any(cand_collapsed != base_collapsed[:, :1], axis=1)
-    return {"s_v": s_v, "p_v": p_v, "s_t": s_t, "p_t": p_t, "n_assignments": len(perms), "exact": True,
-            "reject": bool(p_v <= alpha or p_t <= alpha), "unanimous_flips": np.flatnonzero(flips)}
-
-
-@pytest.fixture(autouse=True)
-def _permutation_module(monkeypatch):
-    """stonedem.study.permutation, or a stub of it until it lands."""
-    if importlib.util.find_spec("stonedem.study.permutation") is None:
-        stub = types.ModuleType("stonedem.study.permutation")
-        stub.permutation_test = _stub_permutation_test
-        stub.fit_shift_tolerance = lambda n: 0.02 * math.sqrt(100.0 / n)
-        monkeypatch.setitem(sys.modules, "stonedem.study.permutation", stub)
 
 
 def _ensemble(members, seed, threshold_factor=1.0, source="stonedem 0.1.0 (aaaaaaa)", check_shift=0.0):
@@ -197,6 +157,17 @@ def test_one_candidate_member_is_refused_for_layer_c_only(files, tmp_path, capsy
     assert code == 2 and "needs at least 2 in each file" in err[0] and "--layers A B" in err[0]
     code, lines, _ = _run(capsys, base, single, "--layers", "A", "B", "--out", out)
     assert code == 0 and lines == [lines[0], lines[1], "equivalent: yes"]
+
+
+def test_too_few_members_for_p_to_reach_alpha_are_refused(tmp_path, capsys):
+    """5 + 3 members: C(8, 3) = 56 assignments, p >= 1/56 > 0.005: a layer C that cannot fail."""
+    base = _write(_ensemble(range(5), seed=1), tmp_path / "five.nc")
+    cand = _write(_ensemble(range(3), seed=2, source="new"), tmp_path / "three.nc")
+    code, lines, err = _run(capsys, base, cand, "--out", tmp_path / "out.nc")
+    assert (code, lines, len(err)) == (2, [], 1)
+    assert "5 + 3 members give 56 label assignments: p can never reach alpha 0.005" in err[0]
+    assert not (tmp_path / "out.nc").exists()
+    assert _run(capsys, base, cand, "--alpha", "0.05", "--out", tmp_path / "out.nc")[0] == 0
 
 
 def test_a_layer_whose_data_are_missing_is_not_run_and_not_a_pass(files, tmp_path, capsys):

@@ -140,14 +140,26 @@ def available(baseline: xr.Dataset, candidate: xr.Dataset) -> dict[str, str]:
             "F": lacking(FIT_VARIABLES, "fit")}
 
 
-def check_members(baseline: xr.Dataset, candidate: xr.Dataset) -> None:
-    """Layer C needs at least two members on each side (a permutation of one run is no test)."""
+def check_layer_c(baseline: xr.Dataset, candidate: xr.Dataset, n_permutations: int, alpha: float) -> None:
+    """Layer C needs at least two members on each side (a permutation of one run is no test),
+    and enough label assignments that p can reach alpha at all: the smallest p is
+    1 / C(K_B + K_N, K_N) when every assignment is tried, 1 / (n_permutations + 1) otherwise."""
     for field, ds, fix in (("BASELINE", baseline, "give the stored K = 20 baseline"),
                            ("CANDIDATE", candidate, f"make it with {MAKE_CANDIDATE}")):
         k = int(ds.sizes["member"])
         if k < 2:
             raise InputError(field, f"{k} member: the ensemble test (layer C) needs at least 2 in each file",
                              f"{fix}, or leave layer C out: --layers A B")
+    k_b, k_n = int(baseline.sizes["member"]), int(candidate.sizes["member"])
+    count = math.comb(k_b + k_n, k_n)
+    if count <= n_permutations and 1.0 / count > alpha:
+        raise InputError("BASELINE, CANDIDATE", f"{k_b} + {k_n} members give {count} label assignments: p can never "
+                         f"reach alpha {alpha:g} (the smallest p is 1/{count}), so layer C could not fail",
+                         f"run more members, C(K_B + K_N, K_N) >= {math.ceil(1.0 / alpha)} (K_B = 20 and K_N = 4 "
+                         "give 10 626), or leave layer C out: --layers A B")
+    if count > n_permutations and 1.0 / (n_permutations + 1) > alpha:
+        raise InputError("--permutations", f"{n_permutations} random assignments: p can never reach alpha {alpha:g}",
+                         f"give at least {math.ceil(1.0 / alpha)}, e.g. {PERMUTATIONS}")
 
 
 # --- the layers -------------------------------------------------------------------------------
@@ -250,7 +262,7 @@ def judge(baseline: xr.Dataset, candidate: xr.Dataset, layers=None, n_permutatio
     requested = list(default_layers(baseline, candidate) if layers is None else layers)
     candidate = matched(baseline, candidate)
     if "C" in requested:
-        check_members(baseline, candidate)
+        check_layer_c(baseline, candidate, n_permutations, alpha)
     missing = available(baseline, candidate)
     warning = same_runs_warning(baseline, candidate)
     verdict, summary = {}, {}
@@ -331,6 +343,8 @@ def judge(baseline: xr.Dataset, candidate: xr.Dataset, layers=None, n_permutatio
 
 def _layer_c_variables(baseline: xr.Dataset, candidate: xr.Dataset, result: dict) -> tuple[dict, dict]:
     """(variables, coordinates) of layer C: the test's numbers, the group summaries."""
+    from stonedem.study.permutation import _shift
+
     coords = {}
     data = {
         "s_v": ((), float(result["s_v"]), {"units": "1", "long_name": "S_v: chi2-like distance of the collapse fractions"}),
@@ -353,15 +367,17 @@ def _layer_c_variables(baseline: xr.Dataset, candidate: xr.Dataset, result: dict
     if "system" in baseline.dims:
         unit = str(baseline.threshold.attrs.get("units", "1"))
         median_b, median_c = _group_median(baseline), _group_median(candidate)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            shift = np.abs(np.log(median_c / median_b)) / np.log1p(baseline.search_tolerance.values.astype(float))
+        with np.errstate(divide="ignore"):
+            # the test's own convention for a search that found no collapse (NO_COLLAPSE_SHIFT brackets)
+            shift = _shift(np.log(median_c), np.log(median_b), np.log1p(baseline.search_tolerance.values.astype(float)))
         coords["system"] = ("system", _text(baseline.system.values), {"long_name": "study/system of a threshold search"})
         data["median_threshold_baseline"] = ("system", median_b, {"units": unit, "long_name": "median threshold of the "
                                              "baseline members (inf: half found no collapse up to the maximum)"})
         data["median_threshold_candidate"] = ("system", median_c, {"units": unit, "long_name": "median threshold of "
                                               "the candidate members"})
         data["threshold_shift"] = ("system", shift, {"units": "1", "long_name": "|ln median_N / median_B| in search "
-                                                     "brackets, ln(1 + tolerance)"})
+                                                     "brackets, ln(1 + tolerance) (no collapse against a collapse: "
+                                                     "stonedem.study.permutation.NO_COLLAPSE_SHIFT)"})
     return data, coords
 
 

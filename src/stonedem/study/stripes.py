@@ -266,6 +266,8 @@ def _fit_rows(x, n, k):
     code = np.zeros(rows, np.int8)
     runs, hits = n.sum(-1), k.sum(-1)
     code[runs == 0] = 4
+    if x.shape[1] == 0:
+        return a50, beta, code, ll
     code[(runs > 0) & (hits == 0)] = 2
     code[(runs > 0) & (hits == runs)] = 3
     separable, top_zero, low_one = _separable(x, n, k)

@@ -265,6 +265,7 @@ def fit_shift_tolerance(n) -> float:
     """How far a fragility fit over ``n`` records may move between code versions, in ln theta
     and in beta: 0.02 sqrt(100 / n) (ENSEMBLES.md section 5: about 8 sd of the measured
     rounding movement, 1/4 of the bootstrap 90 % half-width at n = 100)."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise InputError("n", f"expected a positive number of records, got {n!r}", "give the records of the fit")
-    return 0.02 * math.sqrt(100.0 / n)
+    if isinstance(n, bool) or not isinstance(n, (int, float, np.integer, np.floating)) or not n >= 1 \
+            or not math.isfinite(n):
+        raise InputError("n", f"expected a number of records >= 1, got {n!r}", "give the records of the fit")
+    return 0.02 * math.sqrt(100.0 / float(n))

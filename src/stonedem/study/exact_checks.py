@@ -4,7 +4,10 @@ Layer A (:func:`layer_a`): the chapter-5 validations, the Pena block and the ram
 onset and overturning PGAs, one ``check`` row per scalar number, each beside its reference
 and the reference's own tolerance (:mod:`stonedem.validation.cases`, docs/method/checks.md).
 A candidate passes (:func:`compare_layer_a`) when every check meets its reference and lies
-within 1e-9 relative of the baseline's (ENSEMBLES.md section 4, "Layer A").
+within 1e-9 relative of the baseline's (ENSEMBLES.md section 4, "Layer A"), or within 100 x
+the check's own last-bit floor where that is larger: undamped or many-impact rocking
+(energy_conservation, two_blocks, the later impact peaks) moves by 1e-9..1e-3 under
+k_n x (1 - 2^-52) alone.
 
 Layer B (:func:`layer_b`): the short-horizon scenes of
 :func:`stonedem.bench.gpu_check.short_horizon_members`, member 0's trajectories and the code's
@@ -25,8 +28,6 @@ import copy
 import dataclasses
 import inspect
 import math
-import os
-import platform
 import time
 
 import numpy as np
@@ -216,14 +217,14 @@ def check_rows(quick: bool = False, member: int = 0) -> list[dict]:
 
 
 def _provenance():
-    from stonedem.io.netcdf import code_version
-    from stonedem.study.runner import library_versions
-
     import llvmlite
 
-    return {"source": code_version(), "machine": f"{platform.platform()}, {platform.processor() or platform.machine()}, "
-                                                 f"{os.cpu_count()} cores",
-            **library_versions(), "llvmlite_version": llvmlite.__version__}
+    from stonedem.io.netcdf import code_version
+    from stonedem.study.ensemble import machine
+    from stonedem.study.runner import library_versions
+
+    return {"source": code_version(), "machine": machine(), **library_versions(),
+            "llvmlite_version": llvmlite.__version__}
 
 
 def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) -> xr.Dataset:

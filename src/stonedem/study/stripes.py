@@ -5,7 +5,7 @@ one search's smallest collapsing PGA is one draw. Here the runs of all K members
 system (cell), each member a last-bit perturbation of the same model, are pooled by PGA into
 "stripes" (runs and collapses at each value), and the probability of collapse is fitted by
 binomial maximum likelihood as a probit in ln PGA (Baker 2015, Earthquake Spectra 31(1),
-multiple stripe analysis, Eq. 11):
+the multiple stripe analysis likelihood):
 
     P(collapse | a) = Phi(ln(a / a50) / beta).
 
@@ -196,7 +196,7 @@ def _probit_newton(x, n, k, iterations=100):
     """Binomial probit MLE for many stripe sets at once (rows of x, n, k: R x L; x = ln a).
 
     The log-likelihood is concave in the linear-predictor parameters (b0, b1), eta = b0 + b1 x
-    (probit regression, e.g. McCullagh & Nelder 1989 section 4.4), with b1 = 1/beta and
+    (Pratt 1981, JASA 76:103, concavity of the probit log-likelihood), with b1 = 1/beta and
     ln a50 = -b0/b1. Newton's method with step halving climbs it; b1 is projected onto
     [1/BETA_MAX, 1/BETA_MIN] and, on a bound with the gradient pointing out, only b0 moves
     (the constrained maximum of a concave function on a strip). Rows must have runs with

@@ -210,3 +210,39 @@ def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
     out = proc.stdout + proc.stderr
     assert proc.returncode == 0, out[-2000:]
     assert "search_ida_column_1_drum_0" in out and "search_ida_colonnade" not in out and "simulate_" not in out
+
+
+def test_an_ensemble_study_gives_collapse_fractions_and_member_zero_is_todays_run(tmp_path):
+    """ensemble: {members: 2} (issue 44): every case twice, the cube's verdicts on a member
+    dimension beside their fraction, Table 7.1 with a50; member 0 as the study without members."""
+    def mutate(config):
+        from stonedem.study.grid import load_config
+
+        tiny = load_config(ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml")["studies"]
+        config["studies"] = {k: tiny[k] for k in ("standalone_records", "colonnade_records", "harmonic_frequency")}
+        config["studies"]["harmonic_frequency"]["grid"]["frequency"] = [20.0]
+
+    root = _small_workflow(tmp_path, mutate)
+    proc = snakemake("-j2", cwd=root)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    import numpy as np
+    import xarray as xr
+
+    case = "A-0.25_f-20_mu-0.48"
+    with xr.open_dataset(root / f"results/cases/harmonic_frequency/{case}.nc") as ds:
+        today = ds.load()
+    (root / "ensemble.yaml").write_text("ensemble: {members: 2}\n")
+    proc = snakemake("-j2", "--configfile", "config/config.yaml", "ensemble.yaml", cwd=root)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    with xr.open_dataset(root / f"results/cases/harmonic_frequency/{case}_m-0.nc") as member:
+        assert int(member["member"]) == 0
+        for name in today.data_vars:
+            np.testing.assert_array_equal(member[name].values, today[name].values, err_msg=name)
+    with xr.open_dataset(root / "results/cubes/harmonic_frequency.nc") as cube:
+        assert cube["collapsed"].dims[-1] == "member" and cube.sizes["member"] == 2
+        assert float(cube["collapse_fraction"].max()) == 1.0  # 20 Hz, 0.25 m: the column falls
+    with xr.open_dataset(root / "results/cubes/standalone_records.nc") as cube:
+        assert "member" in cube["collapse_threshold"].dims
+    table = (root / "results/tables/table_7_1.csv").read_text().splitlines()
+    assert "a50_m_s2" in table[0] and "a_first_m_s2" in table[0] and len(table) == 3
+    assert (root / "results/figures/thesis_fig_6_5.png").stat().st_size > 10_000

@@ -12,7 +12,7 @@ from tests.workflow_files import catalogue_paths, made_by_a_rule, rule_outputs
 
 ROOT = Path(__file__).resolve().parents[1]
 # command-line entry points whose default output folder is under results/
-CLI_DEFAULTS = {"cli.py", "motion/cli.py"}
+CLI_DEFAULTS = {"cli.py", "motion/cli.py", "study/equivalence.py"}  # command lines: a default output
 
 
 @pytest.mark.parametrize("profile", [None, "config/quick.yaml"])

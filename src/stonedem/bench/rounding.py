@@ -18,7 +18,6 @@ formula for the same physics) moves it as much.
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 import time
@@ -47,82 +46,36 @@ def perturbed_scene(case, j: int, base_dir: Path = RECORDS):
 
 def run_verdict(case, j: int) -> dict:
     """One grid case under perturbation j: {collapsed, max_rocking [rad], dt [s]}."""
-    from stonedem.engine.run import run_scene
+    from stonedem.study.ensemble import member_verdict
 
-    ds = run_scene(perturbed_scene(case, j))
-    return {"collapsed": int(float(ds["collapsed"]) > 0), "max_rocking": float(ds["max_rocking"].max()),
-            "dt": float(ds.attrs["dt"])}
+    return member_verdict(case, j)
 
 
 def run_threshold(system, j: int) -> dict:
     """One threshold-search system under perturbation j: the search's bracket and runs."""
-    from stonedem.engine.run import run_scene
-    from stonedem.study.grid import search_case
-    from stonedem.study.search import search, summary
+    from stonedem.study.ensemble import member_search
 
-    dts = []
-
-    def simulate(value: float, phase: str) -> bool:
-        ds = run_scene(perturbed_scene(search_case(system, value), j))
-        dts.append(float(ds.attrs["dt"]))
-        return float(ds["collapsed"]) > 0
-
-    runs = search(simulate, system.search)
-    result = summary(runs, system.search)
-    return {"lower": float(result["lower"]), "upper": float(result["upper"]),
-            "n_runs": int(result["n_runs"]), "status": str(result["status"]),
-            "collapse_map": " ".join(f"{r.value:.4g}:{'X' if r.collapsed else '.'}"
-                                     for r in sorted(runs, key=lambda r: r.value)),
-            "dt": dts[0] if dts else math.nan}
+    return threshold_result(member_search(system, j))
 
 
-def _task(item):
-    """Worker: (kind, index, case as a dict, j) -> (kind, index, j, result, seconds)."""
-    from stonedem.study.grid import Case
-
-    kind, index, spec, j = item
-    case = Case.from_dict(spec)
-    start = time.perf_counter()
-    result = run_threshold(case, j) if kind == "search" else run_verdict(case, j)
-    return kind, index, j, result, time.perf_counter() - start
+def threshold_result(result: dict) -> dict:
+    """A member's search (:func:`stonedem.study.ensemble.member_search`) as this benchmark
+    keeps it: its runs as a collapse map, "value:X" (collapsed) or "value:." in value order."""
+    runs = sorted(result["runs"], key=lambda run: run[0])
+    return {**{key: result[key] for key in ("lower", "upper", "n_runs", "status")},
+            "collapse_map": " ".join(f"{value:.4g}:{'X' if collapsed else '.'}" for value, collapsed, _ in runs),
+            "dt": result["dt"]}
 
 
 def run_all(cases, systems, n_perturbations: int, jobs: int, log=sys.stderr):
     """(verdicts[i][j], thresholds[i][j]) of every grid case and search system, j = 0..K,
-    over ``jobs`` worker processes (the searches first: they are the longest tasks)."""
-    items = [("search", i, s.as_dict(), j) for i, s in enumerate(systems) for j in range(n_perturbations + 1)]
-    items += [("case", i, c.as_dict(), j) for i, c in enumerate(cases) for j in range(n_perturbations + 1)]
-    verdicts = [[None] * (n_perturbations + 1) for _ in cases]
-    thresholds = [[None] * (n_perturbations + 1) for _ in systems]
-    done = 0
+    over ``jobs`` worker processes (:func:`stonedem.study.ensemble.run_members`, without
+    stripe fills: the searches first, they are the longest tasks)."""
+    from stonedem.study.ensemble import run_members
 
-    def book(kind, i, j, result, seconds):
-        nonlocal done
-        done += 1
-        if kind == "search":
-            thresholds[i][j] = result
-            what = (f"{systems[i].study}/{systems[i].id} perturbation {j}: {result['status']}, "
-                    f"{result['lower']:.4g} ... {result['upper']:.4g}, {result['n_runs']} runs")
-        else:
-            verdicts[i][j] = result
-            what = (f"{cases[i].study}/{cases[i].id} perturbation {j}: "
-                    f"{'collapsed' if result['collapsed'] else 'stands'}")
-        print(f"  [{done}/{len(items)}] {what} ({seconds:.1f} s)", file=log, flush=True)
-
-    if jobs <= 1:
-        for item in items:
-            book(*_task(item))
-    else:
-        import multiprocessing
-
-        with multiprocessing.get_context("spawn").Pool(jobs, initializer=_worker_init) as pool:
-            for out in pool.imap_unordered(_task, items, chunksize=1):
-                book(*out)
-    return verdicts, thresholds
-
-
-def _worker_init():
-    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    results = run_members(cases, systems, range(n_perturbations + 1), jobs, log=log, stripes=False,
+                          label="perturbation")
+    return results.verdicts, [[threshold_result(result) for result in row] for row in results.searches]
 
 
 def rounding_dataset(cases, systems, verdicts, thresholds, n_perturbations: int) -> xr.Dataset:

@@ -21,6 +21,7 @@ include: "workflow/rules/validation.smk"
 include: "workflow/rules/walls.smk"
 include: "workflow/rules/bench.smk"
 include: "workflow/rules/fragility.smk"
+include: "workflow/rules/ensemble.smk"
 
 
 rule all:

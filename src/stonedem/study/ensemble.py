@@ -257,6 +257,12 @@ def from_rounding(path, cases, systems, jobs: int = 1, log=sys.stderr, stripes: 
         raise InputError(field, f"{path} is not a NetCDF dataset", "give a rounding.nc of stonedem.bench.rounding") from None
     if "perturbation" not in ds.dims:
         raise InputError(field, f"{path} has no perturbation dimension", "give a rounding.nc of stonedem.bench.rounding")
+    needed = [name for dim, names in (("case", ("collapsed", "max_rocking", "case_dt")),
+                                      ("system", ("collapse_map", "collapse_value", "survived_value", "n_runs",
+                                                  "search_status", "search_dt")))
+              if dim in ds.dims for name in names if name not in ds.variables]
+    if needed:
+        raise InputError(field, f"{path} lacks {', '.join(needed)}", "give a rounding.nc of stonedem.bench.rounding")
     members = [int(j) for j in ds.perturbation.values]
     if members != list(range(len(members))):
         raise InputError(field, f"perturbations {members} are not 0..K", "give a rounding.nc of stonedem.bench.rounding")

@@ -126,8 +126,9 @@ def test_the_command_writes_the_file_and_its_summary(tiny, tmp_path, capsys, mon
     monkeypatch.setitem(sys.modules, "stonedem.study.exact_checks", stub)
     monkeypatch.setattr("stonedem.study.exact_checks", stub, raising=False)
     out = tmp_path / "ensemble.nc"
+    # two worker processes: the pool's path (the stand-in layers are read in this process)
     code = ensemble.main(["--config", str(config), "--studies", *STUDIES, "--members", "2", "--first", "1",
-                          "--jobs", "1", "--checks", "quick", "--out", str(out)])
+                          "--jobs", "2", "--checks", "quick", "--out", str(out)])
     assert code == 0
     text = capsys.readouterr().out
     assert "2 members" in text and "split cases" in text and "cells whose member thresholds differ" in text

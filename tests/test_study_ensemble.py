@@ -121,8 +121,8 @@ def test_the_command_writes_the_file_and_its_summary(tiny, tmp_path, capsys, mon
     stub = types.SimpleNamespace(
         layer_a=lambda quick: xr.Dataset({"check_value": ("check", [1.0], {"units": "1", "long_name": "value"})},
                                          coords={"check": ["housner_period"]}),
-        layer_b=lambda duration=0.5: xr.Dataset({"floor_position": ("scene", [1e-12], {"units": "m", "long_name": "f"})},
-                                                coords={"scene": ["block"]}))
+        layer_b=lambda duration=0.5: xr.Dataset(
+            {"floor_position": ("scene", [1e-12], {"units": "m", "long_name": "floor"})}, coords={"scene": ["block"]}))
     monkeypatch.setitem(sys.modules, "stonedem.study.exact_checks", stub)
     monkeypatch.setattr("stonedem.study.exact_checks", stub, raising=False)
     out = tmp_path / "ensemble.nc"

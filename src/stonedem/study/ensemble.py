@@ -42,7 +42,7 @@ RECORDS = Path("records")  # the cases' records, from the repository root (as th
 MAX_JOBS = 256
 CHECKS = ("full", "quick", "none")
 STRIPE = "stripe"  # run_phase of a stripe fill
-REPLAYED = "search"  # run_phase of a search run whose phase a file did not keep
+ROUNDING_FIX = "give a rounding.nc of python -m stonedem.bench.rounding"
 
 
 class MemberResults(NamedTuple):
@@ -254,18 +254,18 @@ def from_rounding(path, cases, systems, jobs: int = 1, log=sys.stderr, stripes: 
     except (KeyboardInterrupt, MemoryError):
         raise
     except Exception:  # noqa: BLE001 - whatever the backends raise on a foreign file
-        raise InputError(field, f"{path} is not a NetCDF dataset", "give a rounding.nc of stonedem.bench.rounding") from None
+        raise InputError(field, f"{path} is not a NetCDF dataset", ROUNDING_FIX) from None
     if "perturbation" not in ds.dims:
-        raise InputError(field, f"{path} has no perturbation dimension", "give a rounding.nc of stonedem.bench.rounding")
+        raise InputError(field, f"{path} has no perturbation dimension", ROUNDING_FIX)
     needed = [name for dim, names in (("case", ("collapsed", "max_rocking", "case_dt")),
                                       ("system", ("collapse_map", "collapse_value", "survived_value", "n_runs",
                                                   "search_status", "search_dt")))
               if dim in ds.dims for name in names if name not in ds.variables]
     if needed:
-        raise InputError(field, f"{path} lacks {', '.join(needed)}", "give a rounding.nc of stonedem.bench.rounding")
+        raise InputError(field, f"{path} lacks {', '.join(needed)}", ROUNDING_FIX)
     members = [int(j) for j in ds.perturbation.values]
     if members != list(range(len(members))):
-        raise InputError(field, f"perturbations {members} are not 0..K", "give a rounding.nc of stonedem.bench.rounding")
+        raise InputError(field, f"perturbations {members} are not 0..K", ROUNDING_FIX)
 
     def names(dim, items):
         have = [str(v) for v in ds[dim].values] if dim in ds.dims else []
@@ -316,7 +316,8 @@ def _same(a, b) -> bool:
 
 # --- the file ---------------------------------------------------------------------------------
 
-def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none", attrs: dict | None = None) -> xr.Dataset:
+def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none",
+                     attrs: dict | None = None) -> xr.Dataset:
     """The ensemble as a self-describing dataset (the file contract of issue 44: ``member``,
     ``case``, ``system`` and ``run`` dimensions), with the exact checks (layer A) and the
     short-horizon trajectories (layer B) of :mod:`stonedem.study.exact_checks` unless
@@ -338,7 +339,8 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
 
         coords["case"] = ("case", np.array([f"{c.study}/{c.id}" for c in cases], dtype=object),
                           {"long_name": "study/case of a grid case"})
-        coords["case_study"] = ("case", np.array([c.study for c in cases], dtype=object), {"long_name": "study of the case"})
+        coords["case_study"] = ("case", np.array([c.study for c in cases], dtype=object),
+                                {"long_name": "study of the case"})
         data["collapsed"] = (("case", "member"), table("collapsed", np.int8),
                              {"units": "1", "long_name": "collapse verdict (1: collapsed, 0: stands)"})
         data["max_rocking"] = (("case", "member"), table("max_rocking"),
@@ -374,7 +376,8 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
         columns = list(zip(*rows)) if rows else [[]] * 5
         data["run_system"] = ("run", np.array(columns[0], dtype=np.int32),
                               {"units": "1", "long_name": "index of the run's system on the system dimension"})
-        data["run_member"] = ("run", np.array(columns[1], dtype=np.int32), {"units": "1", "long_name": "member j of the run"})
+        data["run_member"] = ("run", np.array(columns[1], dtype=np.int32),
+                              {"units": "1", "long_name": "member j of the run"})
         data["run_value"] = ("run", np.array(columns[2], dtype=float),
                              {"units": unit, "long_name": "value of the searched parameter run"})
         data["run_collapsed"] = ("run", np.array(columns[3], dtype=np.int8),
@@ -469,13 +472,15 @@ def build_parser():
                         help="studies of the config (default: every study of the rigid-block engine)")
     parser.add_argument("--members", type=int, default=None,
                         help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)")
-    parser.add_argument("--first", type=int, default=0, help="the first member's j (default 0; fresh draws: past a baseline's)")
+    parser.add_argument("--first", type=int, default=0,
+                        help="the first member's j (default 0; fresh draws: past a baseline's)")
     parser.add_argument("--perturbation", default="stiffness", help=f"{' or '.join(PERTURBATIONS)} (default stiffness)")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)")
     parser.add_argument("--checks", default="full", help=f"layers A and B: {', '.join(CHECKS)} (default full)")
     parser.add_argument("--from-rounding", type=options.path_arg, default=None,
-                        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' (stiffness, j = 0..K)")
+                        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' "
+                             "(stiffness, j = 0..K)")
     parser.add_argument("--out", type=options.path_arg, required=True, help="the ensemble file to write (.nc)")
     return parser
 
@@ -533,7 +538,7 @@ def _rounding_members(path: Path) -> list[int]:
         members, complete = [], False
     if not members or members != list(range(len(members))) or not complete:
         raise InputError("--from-rounding", f"{path} is not a rounding file with perturbations 0..K",
-                         "give a rounding.nc of python -m stonedem.bench.rounding")
+                         ROUNDING_FIX)
     return members
 
 
@@ -551,7 +556,8 @@ def main(argv=None) -> int:
         cases, systems = plan["cases"], plan["systems"]
         if plan["rounding"] is not None:
             print(f"{len(cases)} cases and {len(systems)} threshold searches of {plan['rounding']}, "
-                  f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)", file=sys.stderr, flush=True)
+                  f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)",
+                  file=sys.stderr, flush=True)
             results = from_rounding(plan["rounding"], cases, systems, plan["jobs"])
         else:
             print(f"{len(cases)} cases and {len(systems)} threshold searches, members {plan['members'][0]}.."

@@ -157,3 +157,13 @@ def test_the_command_refuses_a_bad_option_in_one_line(tiny, tmp_path, capsys, ar
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"error: {field}") and "\n" not in err
     assert not out.exists()
+
+
+def test_run_members_refuses_a_repeated_or_impossible_member(tiny):
+    _, cases, _ = tiny
+    with pytest.raises(ensemble.InputError, match="member index repeats"):
+        ensemble.run_members(cases, [], [0, 0], jobs=1, log=io.StringIO())
+    with pytest.raises(ensemble.InputError, match="member"):
+        ensemble.run_members(cases, [], [-1], jobs=1, log=io.StringIO())
+    with pytest.raises(ensemble.InputError, match="perturbation"):
+        ensemble.run_members(cases, [], [0], jobs=1, perturbation="wind", log=io.StringIO())

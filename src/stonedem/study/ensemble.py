@@ -149,6 +149,8 @@ def run_members(cases, systems, members, jobs: int, perturbation: str = "stiffne
     with ``stripes``, each system's stripe fills (:func:`stripe_requests`) in the same pool.
     One line per finished task goes to ``log`` ("[done/total] ..."; ``label`` names j there)."""
     members = [check_member(j) for j in members]
+    if len(set(members)) != len(members):
+        raise InputError("members", f"a member index repeats in {members}", "give each j once")
     check_perturbation(perturbation, "perturbation")
     items = [("search", i, s.as_dict(), j, perturbation, None) for i, s in enumerate(systems) for j in members]
     items += [("case", i, c.as_dict(), j, perturbation, None) for i, c in enumerate(cases) for j in members]
@@ -521,6 +523,14 @@ def check_args(args) -> dict:
     if not cases and not systems:
         raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
     options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
+    if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
+        from stonedem.study.grid import case_scene
+
+        for case in cases + systems:
+            try:
+                member_scene(case_scene(case, RECORDS), max(members[-1], 1), perturbation)
+            except InputError as err:
+                raise InputError(f"--perturbation: {case.study}/{case.id}", err.problem, err.fix) from None
     return {"cases": cases, "systems": systems, "members": members, "first": first, "perturbation": perturbation,
             "jobs": jobs, "checks": checks, "rounding": rounding, "path": path,
             "config": [str(p) for p in dict.fromkeys(config_paths)]}

@@ -167,3 +167,36 @@ def test_run_members_refuses_a_repeated_or_impossible_member(tiny):
         ensemble.run_members(cases, [], [-1], jobs=1, log=io.StringIO())
     with pytest.raises(ensemble.InputError, match="perturbation"):
         ensemble.run_members(cases, [], [0], jobs=1, perturbation="wind", log=io.StringIO())
+
+
+def test_the_file_carries_a50_its_band_the_zone_and_the_thesis_value_per_search():
+    """with_bands: a system whose members split between 10 and 12 m/s2 (stripes at 9, 10, 11,
+    12, 13: 0, 1, 2, 3 and 4 of 4 members collapse) has a50 near 11 inside its band."""
+    import xarray as xr
+
+    from stonedem.study.ensemble import with_bands
+    from stonedem.study.grid import Case
+
+    values, members, collapsed = [], [], []
+    for j in range(4):
+        for value in (9.0, 10.0, 11.0, 12.0, 13.0):
+            values.append(value)
+            members.append(j)
+            collapsed.append(int(value >= 13.0 - j))  # member j collapses from 13 - j
+    thresholds = [min(v for v, m, c in zip(values, members, collapsed) if m == j and c) for j in range(4)]
+    ds = xr.Dataset({"threshold": (("system", "member"), [thresholds], {"units": "m s-2"}),
+                     "run_system": ("run", np.zeros(len(values), dtype=np.int32)),
+                     "run_member": ("run", np.array(members, dtype=np.int32)),
+                     "run_value": ("run", np.array(values)), "run_collapsed": ("run", np.array(collapsed, dtype=np.int8)),
+                     "collapsed": (("case", "member"), np.array([[0, 1, 1, 0], [1, 1, 1, 1]], dtype=np.int8))},
+                    coords={"member": [0, 1, 2, 3]})
+    system = Case("standalone_records", "rec-athens_standin_kocaeli_arc000_drums-1",
+                  {"record": "athens_standin_kocaeli_arc000", "n_drums": 1}, {})
+    out = with_bands(ds, [system])
+    assert out["thesis_threshold"].item() == 20.77  # thesis Table 7.1, single column, 1 drum, Athens
+    assert out["a_first"].item() == 10.0 and out["a_all"].item() == 13.0
+    assert 10.5 < out["a50"].item() < 11.5 and out["a50_low"].item() <= out["a50"].item() <= out["a50_high"].item()
+    assert out["threshold_member_0"].item() == thresholds[0] and out["threshold_min"].item() == 10.0
+    np.testing.assert_array_equal(out["collapse_fraction"].values, [0.5, 1.0])
+    np.testing.assert_array_equal(out["split"].values, [1, 0])
+    assert out["a50"].attrs["units"] == "m s-2" and out["fit_status"].item() == "fitted"

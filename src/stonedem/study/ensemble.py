@@ -399,6 +399,7 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
     ds.attrs["llvmlite_version"] = _version("llvmlite")
     ds.member.attrs.update(perturbation=results.perturbation, members=int(len(members)),
                            first_member=ds.attrs["first_member"])
+    ds = with_bands(ds, systems)
     if checks != "none":
         from stonedem.study import exact_checks
 
@@ -408,6 +409,59 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
             if "wall_seconds" in layer.attrs:
                 ds.attrs[f"{name}_wall_seconds"] = float(layer.attrs["wall_seconds"])
     ds.attrs.update(attrs or {})
+    return ds
+
+
+def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
+    """The ensemble's answers beside its members (issue 44, what the docs' Table 7.1 and grid
+    pages read): each grid case's collapse fraction, and each search's a50, its band, the
+    transition zone and the member thresholds (:func:`stonedem.study.stripes.threshold_band`
+    over the search and stripe runs of every member), with the thesis' Table 7.1 value."""
+    from stonedem.study.reduce import THESIS_TABLE_7_1, thesis_record
+    from stonedem.study.stripes import threshold_band
+
+    if "collapsed" in ds:
+        fraction = ds["collapsed"].mean("member")
+        ds["collapse_fraction"] = fraction.assign_attrs(units="1", long_name="share of the members that collapse")
+        ds["split"] = ((fraction > 0) & (fraction < 1)).astype(np.int8).assign_attrs(
+            units="1", long_name="1 where the members disagree (0 < collapse fraction < 1)")
+    if not systems:
+        return ds
+    unit = ds["threshold"].attrs.get("units", "1")
+    names = {"a50": (unit, "a50: value at which half the members collapse (probit fit over the stripes)"),
+             "a50_low": (unit, "lower end of the 90 % band of a50, bootstrapped over members"),
+             "a50_high": (unit, "upper end of the 90 % band of a50, bootstrapped over members"),
+             "beta": ("1", "probit dispersion of the collapse probability in ln value"),
+             "a_first": (unit, "transition zone: lowest value at which any member collapsed"),
+             "a_all": (unit, "transition zone: value from which every run above collapsed in every member"),
+             "threshold_median": (unit, "median of the member search thresholds"),
+             "threshold_min": (unit, "smallest member search threshold"),
+             "threshold_max": (unit, "largest member search threshold"),
+             "threshold_distinct": ("1", "distinct member search thresholds"),
+             "threshold_member_0": (unit, "member 0's search threshold: the study as configured"),
+             "thesis_threshold": (unit, "thesis Table 7.1: acceleration to cause failure (NaN: not a Table 7.1 cell)")}
+    rows = {name: [] for name in names}
+    status = []
+    member_ids = ds["member"].values
+    for i, system in enumerate(systems):
+        runs = ds["run_system"].values == i
+        band = threshold_band(ds["run_value"].values[runs], ds["run_member"].values[runs],
+                              ds["run_collapsed"].values[runs], ds["threshold"].values[i])
+        for name in names:
+            if name in band:
+                rows[name].append(band[name])
+        first = np.flatnonzero(member_ids == member_ids.min())[0]
+        rows["threshold_member_0"].append(float(ds["threshold"].values[i, first]))
+        kind = "colonnade" if "colonnade" in system.study else "single column"
+        record = thesis_record(str(system.params.get("record", "")))
+        rows["thesis_threshold"].append(THESIS_TABLE_7_1.get((kind, system.params.get("n_drums")), {}).get(
+            record, math.nan))
+        status.append(band["status"])
+    for name, (units, long_name) in names.items():
+        dtype = np.int32 if name == "threshold_distinct" else float
+        ds[name] = ("system", np.array(rows[name], dtype=dtype), {"units": units, "long_name": long_name})
+    ds["fit_status"] = ("system", np.array(status, dtype=object), {"long_name": "how the probit fit of a50 ended"})
+    ds.attrs["band_level"] = 0.90
     return ds
 
 

@@ -133,21 +133,65 @@ def test_a_check_failing_its_reference_fails_layer_a():
     assert not passed and table[1]["reason"] == "missing in the candidate"
 
 
-def test_layer_b_lone_block_floor_is_tiny_and_positive():
+def test_layer_b_lone_block_floor_is_its_initial_contact_tie():
     ds = ec.layer_b(duration=0.5, kinds=("lone_block",))
     assert list(ds.scene.values) == ["lone_block"] and missing_metadata(ds) == []
+    assert list(ds.family_parameter.values[0]) == ["contact.k_n", "bodies.1.box.width", "bodies.1.box.height",
+                                                   "bodies.1.tilt.angle", "none"]
+    family = dict(zip(ds.family.values, ds.family_position.values[0]))
+    # measured: k_n 1.9e-15 m, width and tilt 1.4e-14 m; the height's last bit decides whether
+    # the pivot corner starts inside the base (a tie): 9.6e-7 m, the H100's gap (ENSEMBLES.md 2.3)
+    assert family["stiffness"] < 1e-13 and family["width"] < 1e-12 and family["tilt"] < 1e-12
+    assert 3e-7 < family["height"] < 3e-6 and np.isnan(family["amplitude"])
     floor_p, floor_r = float(ds.floor_position[0]), float(ds.floor_rotation[0])
-    # measured: 1.4e-14 m and 1.8e-14 rad (the tilt family; k_n alone 1.9e-15 m)
-    assert 0.0 < floor_p < 1e-6 and 0.0 < floor_r < 1e-6
-    assert floor_p >= ec.FLOOR_ULPS * np.finfo(float).eps * 1.0  # the ulps rule: at least 4 ulps of 1 m
-    assert str(ds.geometry_parameter[0].values) == "bodies.1.tilt.angle"
-    assert np.all(ds.divergence_position.values >= 0.0)
+    assert floor_p == np.nanmax(ds.family_position.values) and floor_r == np.nanmax(ds.family_rotation.values)
+    assert 0.0 < floor_r < 1e-6
+    present = ds.variant_family.values != "amplitude"
+    assert np.all(ds.divergence_position.values[0, present] >= 0.0)
+    assert np.all(np.isnan(ds.divergence_position.values[0, ~present]))
     # base and block, x y theta each, every 0.01 s over 0.5 s; the block rocks from 0.1 rad
     assert ds.trajectory.shape == (1, 51, 6)
     assert list(ds.coordinate_kind.values[0]) == [0, 0, 1, 0, 0, 1]
     assert float(ds.trajectory[0, 0, 5]) == pytest.approx(-0.1, abs=1e-12)
     passed, table = ec.compare_layer_b(ds, ds)
     assert passed and table[0]["position_difference"] == 0.0
+
+
+def test_last_bit_families_of_a_structure_and_a_block():
+    column = {"structure": {"kind": "column", "width": 1.0, "height": 6.0}, "excitation": {"kind": "record", "pga": 3.0}}
+    assert ec.last_bit_families(column) == {"width": ("structure", "width"), "height": ("structure", "height"),
+                                            "amplitude": ("excitation", "pga")}
+    block = {"bodies": [{"box": {"width": 4.0}, "driven": True}, {"box": {"width": 0.4, "height": 1.6}}],
+             "excitation": {"kind": "none"}}
+    assert ec.last_bit_families(block) == {"width": ("bodies", 1, "box", "width"),
+                                           "height": ("bodies", 1, "box", "height")}
+
+
+def test_area_law_layer_b_refuses_k_n_times_1_plus_1e_minus_6_not_a_fresh_member():
+    """The area law under the record: a fresh last-bit member (j = 20) stays within 1 floor,
+    k_n x (1 + 1e-6) moves pga_3 by 1.9e3 floors (measured), past FACTOR = 100."""
+    import dataclasses
+
+    from stonedem.engine.simulate import simulate
+    from stonedem.study.members import member_scene
+
+    base = ec.layer_b(duration=0.5, kinds=("column_1_area_law",))
+    assert list(base.scene.values) == ["column_1_area_law/pga_3", "column_1_area_law/pga_9"]
+    scenes = ec.short_horizon_scenes(0.5, ("column_1_area_law",))
+
+    def candidate(change):
+        cand = base.copy(deep=True)
+        for i, scene in enumerate(scenes.values()):
+            t = ec.trajectory(simulate(change(scene)))
+            cand.trajectory.values[i, : t.shape[0], : t.shape[1]] = t
+        return ec.compare_layer_b(base, cand)
+
+    passed, table = candidate(lambda scene: member_scene(scene, 20))
+    assert passed and max(r["position_in_floors"] for r in table) < 1.0, table
+    stiffer = lambda scene: dataclasses.replace(scene, contact=dataclasses.replace(scene.contact,
+                                                                                  k_n=scene.contact.k_n * (1 + 1e-6)))
+    passed, table = candidate(stiffer)
+    assert not passed and table[0]["position_in_floors"] > 10 * ec.FACTOR, table
 
 
 def test_quick_layer_a_meets_every_reference():

@@ -189,7 +189,7 @@ def test_the_file_carries_a50_its_band_the_zone_and_the_thesis_value_per_search(
                      "run_member": ("run", np.array(members, dtype=np.int32)),
                      "run_value": ("run", np.array(values)), "run_collapsed": ("run", np.array(collapsed, dtype=np.int8)),
                      "collapsed": (("case", "member"), np.array([[0, 1, 1, 0], [1, 1, 1, 1]], dtype=np.int8))},
-                    coords={"member": [0, 1, 2, 3]})
+                    coords={"member": [0, 1, 2, 3], "case": ["a/x", "a/y"], "case_study": ("case", ["a", "a"])})
     system = Case("standalone_records", "rec-athens_standin_kocaeli_arc000_drums-1",
                   {"record": "athens_standin_kocaeli_arc000", "n_drums": 1}, {})
     out = with_bands(ds, [system])
@@ -199,4 +199,5 @@ def test_the_file_carries_a50_its_band_the_zone_and_the_thesis_value_per_search(
     assert out["threshold_member_0"].item() == thresholds[0] and out["threshold_min"].item() == 10.0
     np.testing.assert_array_equal(out["collapse_fraction"].values, [0.5, 1.0])
     np.testing.assert_array_equal(out["split"].values, [1, 0])
+    assert out["study_cases"].sel(study="a").item() == 2 and out["study_split_cases"].sel(study="a").item() == 1
     assert out["a50"].attrs["units"] == "m s-2" and out["fit_status"].item() == "fitted"

@@ -425,6 +425,11 @@ def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
         ds["collapse_fraction"] = fraction.assign_attrs(units="1", long_name="share of the members that collapse")
         ds["split"] = ((fraction > 0) & (fraction < 1)).astype(np.int8).assign_attrs(
             units="1", long_name="1 where the members disagree (0 < collapse fraction < 1)")
+        by_study = ds["split"].groupby(ds["case_study"].rename("study"))
+        ds["study_cases"] = by_study.count().astype(np.int32).assign_attrs(units="1", long_name="grid cases")
+        ds["study_split_cases"] = by_study.sum().astype(np.int32).assign_attrs(
+            units="1", long_name="grid cases the members disagree on")
+        ds["study"].attrs["long_name"] = "study"
     if not systems:
         return ds
     unit = ds["threshold"].attrs.get("units", "1")

@@ -121,8 +121,13 @@ def short_horizon_floors() -> xr.Dataset:
     from stonedem.study.exact_checks import layer_b
 
     b = layer_b(kinds=SHORT_KINDS)
-    return xr.Dataset({"floor_position": b.floor_position, "floor_rotation": b.floor_rotation},
-                      coords={"scene": [str(s) for s in b.scene.values]})
+    floors = xr.Dataset({"floor_position": b.floor_position, "floor_rotation": b.floor_rotation},
+                        coords={"scene": [str(s) for s in b.scene.values]})
+    if "family_position" in b:  # which last-bit family sets each floor (a contact tie's length, ...)
+        family = [str(b.family.values[np.nanargmax(row)]) if np.any(np.isfinite(row)) else "none"
+                  for row in b.family_position.values]
+        floors["floor_family"] = ("scene", family)
+    return floors
 
 
 def _var(dims, values, units, long_name):
@@ -185,6 +190,9 @@ def equivalence_dataset(cases, cpu, rocking, verdicts, device, floors, attrs) ->
                                "last-bit floor of positions over 0.5 s (layer B, this code on this CPU)"),
         "floor_rotation": _var("scene", floors.floor_rotation.values, "rad",
                                "last-bit floor of rotations over 0.5 s (layer B, this code on this CPU)"),
+        **({"floor_family": _var("scene", [str(f) for f in floors.floor_family.values], None,
+                                 "last-bit family whose divergence sets floor_position (layer B)")}
+           if "floor_family" in floors else {}),
         "gpu_position_gap": _var("scene", gap_position, "m",
                                  "|GPU - CPU| of a position over 0.5 s, the kind's largest over its PGAs "
                                  "(gpu_check.nc)"),
@@ -249,8 +257,9 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     lines.append(f"one candidate draw: the smallest attainable p is 1/(K+1) = {1.0 / (k + 1):.3g} "
                  f"> alpha = {ALPHA:g}, so this cannot reject; the real test needs 8 GPU members run on a device")
     for s, scene in enumerate(ds.scene.values):
+        family = f" ({ds.floor_family.values[s]})" if "floor_family" in ds else ""
         lines.append(f"short horizon {scene}: GPU gap {float(ds.gpu_position_gap[s]):.3g} m = "
-                     f"{float(ds.position_gap_in_floors[s]):.3g} floors of {float(ds.floor_position[s]):.3g} m, "
+                     f"{float(ds.position_gap_in_floors[s]):.3g} floors of {float(ds.floor_position[s]):.3g} m{family}, "
                      f"{float(ds.gpu_rotation_gap[s]):.3g} rad = {float(ds.rotation_gap_in_floors[s]):.3g} floors "
                      f"(open until a device re-runs gpu_check without FMA contraction)")
     return lines
@@ -271,7 +280,7 @@ def reused(path: Path) -> tuple[list[dict], np.ndarray, np.ndarray, xr.Dataset, 
         raise InputError("--reuse", f"{path} has no {', '.join(missing)}", "give an earlier output of this script")
     cases = [{"id": str(c), "record": str(r), "pga": float(p)}
              for c, r, p in zip(ds.case.values, ds.record.values, ds.pga.values)]
-    floors = xr.Dataset({"floor_position": ds.floor_position, "floor_rotation": ds.floor_rotation})
+    floors = ds[[v for v in ("floor_position", "floor_rotation", "floor_family") if v in ds]]
     keep = {key: ds.attrs[key] for key in ("source", "machine", "cpu_wall_seconds", "config", "members_run_by",
                                            "history") if key in ds.attrs}
     return cases, ds.cpu_collapsed.values.astype(np.int8), ds.cpu_max_rocking.values, floors, keep

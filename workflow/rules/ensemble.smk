@@ -6,7 +6,8 @@
 # Not part of `all`: K = 20 takes about 40 minutes on 2 cores.
 import os
 
-ENSEMBLE_SETTINGS = config.get("ensemble") or {}
+# K and the perturbation as the config check read them (stonedem.study.grid.ensemble_settings)
+ENSEMBLE_MEMBERS, ENSEMBLE_PERTURBATION = stonedem.study.grid.ensemble_settings(config, baseline=True)
 ENSEMBLE_CONFIG = os.path.relpath(
     workflow.overwrite_configfiles[-1] if workflow.overwrite_configfiles else "config/config.yaml"
 )
@@ -21,8 +22,8 @@ rule ensemble:
         # the last --configfile (a profile such as config/quick.yaml), which the command merges
         # over config.yaml of its folder as snakemake merged it over the configfile: directive
         config=ENSEMBLE_CONFIG,
-        members=ENSEMBLE_SETTINGS.get("baseline_members", 20),
-        perturbation=ENSEMBLE_SETTINGS.get("perturbation", "stiffness"),
+        members=ENSEMBLE_MEMBERS,
+        perturbation=ENSEMBLE_PERTURBATION,
     threads: workflow.cores
     log:
         "results/logs/ensemble/ensemble.log",

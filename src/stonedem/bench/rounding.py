@@ -247,8 +247,9 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
 
     def command():
-        from stonedem.io.netcdf import write_dataset
+        from stonedem.io.netcdf import code_version, write_dataset
 
+        code_version()  # the commit as the run starts (asked once a process): a checkout may move during it
         cases, systems, n_perturbations, jobs, path = check_args(args)
         start = time.perf_counter()
         print(f"{len(cases)} cases and {len(systems)} threshold searches, each as configured and with "

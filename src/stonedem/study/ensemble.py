@@ -611,6 +611,15 @@ def _rounding_members(path: Path) -> list[int]:
     return members
 
 
+def rounding_provenance(path) -> dict:
+    """How the members' runs of a rounding file were made (its wall time and history), or {}."""
+    if path is None:
+        return {}
+    with xr.open_dataset(path) as rounding:
+        return {f"members_{k}": rounding.attrs[k] for k in ("wall_seconds", "history", "source", "machine")
+                if k in rounding.attrs}
+
+
 def main(argv=None) -> int:
     """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
     from stonedem.bench import options
@@ -618,8 +627,9 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
 
     def command():
-        from stonedem.io.netcdf import write_dataset
+        from stonedem.io.netcdf import code_version, write_dataset
 
+        code_version()  # the commit as the run starts (asked once a process): a checkout may move during it
         plan = check_args(args)
         start = time.perf_counter()
         cases, systems = plan["cases"], plan["systems"]
@@ -637,7 +647,8 @@ def main(argv=None) -> int:
         ds = ensemble_dataset(cases, systems, results, plan["checks"], attrs={
             "config": " ".join(plan["config"]), "config_digest": config_digest(plan["config"]),
             "command": command_line,
-            **({"from_rounding": str(plan["rounding"])} if plan["rounding"] is not None else {})})
+            **({"from_rounding": str(plan["rounding"])} if plan["rounding"] is not None else {}),
+            **rounding_provenance(plan["rounding"])})
         wall = time.perf_counter() - start
         ds.attrs["wall_seconds"] = wall
         write_dataset(ds, plan["path"])

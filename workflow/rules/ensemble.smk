@@ -24,7 +24,9 @@ rule ensemble:
         config=ENSEMBLE_CONFIG,
         members=ENSEMBLE_MEMBERS,
         perturbation=ENSEMBLE_PERTURBATION,
-    threads: workflow.cores
+    # Snakemake runs it on at most the cores it is given (-j2: 2); workflow.cores would make
+    # `snakemake --report` and other runs without --cores refuse the whole workflow
+    threads: 16
     log:
         "results/logs/ensemble/ensemble.log",
     conda:

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.study import equivalence
 from stonedem.study.equivalence import judge, main
 
 N_CASES, N_SYSTEMS, N_CHECKS, N_SCENES = 40, 6, 5, 2

@@ -24,33 +24,14 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from stonedem.study.reference_scenes import short_horizon_members  # noqa: F401 - the scenes checked
+
 SHORT_TOLERANCE = 1e-9  # [m], [rad] over SHORT_DURATION (issue 33)
 SHORT_DURATION = 0.5  # [s]
 VERDICT_TARGET = 0.99  # share of members with the same verdict on the GPU and the CPU
 PGAS = (1.0, 2.0, 3.0, 4.5, 6.0, 8.0, 11.0, 15.0)  # [m s-2] the full-record grid
 QUICK_PGAS = (3.0, 12.0)
 RECORDS = Path("records")
-
-
-def short_horizon_members(duration: float) -> dict[str, list]:
-    """{scene kind: member scenes} sharing a structure within each kind."""
-    from stonedem.bench.kernel import SCENES
-    from stonedem.engine.scene import scene_from_dict
-
-    def members(name, **changes):
-        out = []
-        for pga in (3.0, 9.0):
-            spec = SCENES[name][1](duration)
-            for key, value in changes.items():
-                spec[key] = value
-            if "pga" in spec.get("excitation", {}):
-                spec["excitation"] = {**spec["excitation"], "pga": pga}
-            out.append(scene_from_dict(spec))
-        return out
-
-    return {"lone_block": members("lone_block"), "column_8_record": members("column_8"),
-            "colonnade_harmonic": members("colonnade_3x3", excitation={"kind": "harmonic", "pga": 6.0, "frequency": 2.0}),
-            "column_1_area_law": members("column_1", contact={"model": "area", "k_n": 1e9, "c_n": 1e4})}
 
 
 def short_horizon(duration: float) -> dict[str, tuple[float, float, int]]:

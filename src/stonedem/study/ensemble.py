@@ -26,7 +26,6 @@ import contextlib
 import hashlib
 import math
 import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -36,6 +35,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
+from stonedem.study.runner import machine  # noqa: F401 - the benchmarks' provenance
 from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene
 
 RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
@@ -328,7 +328,7 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
     from stonedem.study.grid import PARAMETERS
     from stonedem.study.runner import library_versions
 
-    from stonedem.bench import options
+    from stonedem import options
 
     checks = options.chosen([checks], "checks", CHECKS)[0]
     members = np.array(results.members, dtype=np.int32)
@@ -479,17 +479,6 @@ def _version(name: str) -> str:
         return "not installed"
 
 
-def machine() -> str:
-    """The platform and CPU model (results of chaotic runs depend on the CPU's arithmetic)."""
-    model = platform.processor() or platform.machine()
-    with contextlib.suppress(OSError):
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    return f"{platform.platform()}, {model}, {os.cpu_count()} cores"
-
-
 def config_digest(paths) -> str:
     """sha256 of the config files' bytes, in order."""
     digest = hashlib.sha256()
@@ -524,7 +513,7 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
 # --- the command ------------------------------------------------------------------------------
 
 def build_parser():
-    from stonedem.bench import options
+    from stonedem import options
 
     parser = options.parser("python -m stonedem.study.ensemble", __doc__)
     parser.add_argument("--config", type=options.path_arg, default=Path("config/config.yaml"),
@@ -552,7 +541,8 @@ DEFAULT_MEMBERS = 20
 def check_args(args) -> dict:
     """Every option, the config, the cases (their scenes built once) and the output path
     checked before anything runs; an InputError otherwise."""
-    from stonedem.bench import options
+    from stonedem import options
+    from stonedem.study import config_options
     from stonedem.study.grid import config_cases
 
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
@@ -571,7 +561,7 @@ def check_args(args) -> dict:
                                hi=MAX_MEMBERS - first, whole=True, example="20")
         members = list(range(first, first + count))
     config_paths = [Path(args.config).parent / "config.yaml", Path(args.config)]
-    config, known = options.study_config(args.config, RECORDS)
+    config, known = config_options.study_config(args.config, RECORDS)
     path = options.output_file(args.out, "--out", suffixes=(".nc",),
                                inputs=[*config_paths, *([rounding] if rounding else [])])
     chosen = options.chosen(args.studies if args.studies is not None else known, "--studies", known)
@@ -581,7 +571,7 @@ def check_args(args) -> dict:
             (systems if case.search is not None else cases).append(case)
     if not cases and not systems:
         raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
-    options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
+    config_options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
         from stonedem.study.grid import case_scene
 
@@ -622,7 +612,7 @@ def rounding_provenance(path) -> dict:
 
 def main(argv=None) -> int:
     """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
-    from stonedem.bench import options
+    from stonedem import options
 
     args = build_parser().parse_args(argv)
 

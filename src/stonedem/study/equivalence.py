@@ -49,7 +49,7 @@ def read_ensemble(path: str | Path, field: str) -> xr.Dataset:
     """The ensemble file at ``path``, in memory, or an InputError naming ``field`` and what is
     missing: not a file, not NetCDF, unreadable, no ``member`` dimension, neither grid verdicts
     (``collapsed(case, member)``) nor search thresholds (``threshold(system, member)``)."""
-    from stonedem.bench import options
+    from stonedem import options
     from stonedem.io.netcdf import NETCDF_MAGIC
 
     make = f"give an ensemble file, written by {MAKE_CANDIDATE}"
@@ -450,7 +450,7 @@ def report_lines(judgement: xr.Dataset) -> list[str]:
 # --- the command ------------------------------------------------------------------------------
 
 def build_parser():
-    from stonedem.bench import options
+    from stonedem import options
 
     parser = options.parser("python -m stonedem.study.equivalence", __doc__)
     parser.add_argument("baseline", metavar="BASELINE", type=options.path_arg,
@@ -471,7 +471,7 @@ def build_parser():
 def main(argv=None) -> int:
     """Arguments and both files checked first (one line, exit 2); then the layers, the report,
     the dataset; exit 0 when equivalent, 1 when not."""
-    from stonedem.bench import options
+    from stonedem import options
 
     args = build_parser().parse_args(argv)
 

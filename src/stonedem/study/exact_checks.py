@@ -10,7 +10,7 @@ the check's own last-bit floor where that is larger: undamped or many-impact roc
 k_n x (1 - 2^-52) alone.
 
 Layer B (:func:`layer_b`): the short-horizon scenes of
-:func:`stonedem.bench.gpu_check.short_horizon_members`, member 0's trajectories and the code's
+:func:`stonedem.study.reference_scenes.short_horizon_members`, member 0's trajectories and the code's
 own last-bit floor per scene: the largest divergence from member 0 of the same scene under
 any of its last-bit families (:func:`last_bit_families`: k_n, the structure's or block's width
 and height, the initial tilt, the excitation's amplitude; ENSEMBLES.md section 2.3). A
@@ -206,7 +206,7 @@ CHECKS = {
 def check_rows(quick: bool = False, member: int = 0) -> list[dict]:
     """Every check row of :data:`CHECKS` (the quick set: fewer checks, smaller grids), each
     run with its contact stiffness k_n x stiffness_factor(member)."""
-    from stonedem.bench.rounding import stiffness_factor
+    from stonedem.study.members import stiffness_factor
 
     factor = stiffness_factor(member)
     rows = []
@@ -221,7 +221,7 @@ def _provenance():
     import llvmlite
 
     from stonedem.io.netcdf import code_version
-    from stonedem.study.ensemble import machine
+    from stonedem.study.runner import machine
     from stonedem.study.runner import library_versions
 
     return {"source": code_version(), "machine": machine(), **library_versions(),
@@ -326,7 +326,7 @@ FAMILIES = ("stiffness", "width", "height", "tilt", "amplitude")
 def short_horizon_scenes(duration: float = 0.5, kinds=None) -> dict:
     """{name: Scene}: gpu_check's short-horizon members, one per distinct spec, named
     ``kind`` or ``kind/pga_<PGA>`` when the kind's members differ by PGA."""
-    from stonedem.bench.gpu_check import short_horizon_members
+    from stonedem.study.reference_scenes import short_horizon_members
 
     out = {}
     for kind, scenes in short_horizon_members(duration).items():
@@ -347,7 +347,7 @@ def _kind(name: str) -> str:
 
 
 def _stiffness_variant(scene, j):
-    from stonedem.bench.rounding import stiffness_factor
+    from stonedem.study.members import stiffness_factor
 
     return dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j)))
 
@@ -374,7 +374,7 @@ def last_bit_families(spec: dict) -> dict:
 
 def _geometry_variant(scene, path, sign, j):
     """The scene rebuilt from its spec with the value at ``path`` times (1 + sign j 2^-52)."""
-    from stonedem.bench.rounding import RELATIVE_STEP
+    from stonedem.study.members import RELATIVE_STEP
     from stonedem.engine.scene import scene_from_dict
 
     spec = copy.deepcopy(scene.spec)

@@ -347,6 +347,19 @@ def choose_device(wanted: str) -> tuple[str, str]:
     return "cpu", f"device: gpu asked for, but {why}: running the searches together on the CPU's cores instead"
 
 
+def machine() -> str:
+    """The platform and CPU model (results of chaotic runs depend on the CPU's arithmetic)."""
+    import platform
+
+    model = platform.processor() or platform.machine()
+    with contextlib.suppress(OSError):
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    return f"{platform.platform()}, {model}, {os.cpu_count()} cores"
+
+
 def library_versions() -> dict[str, str]:
     """Versions of the libraries that computed a result (numba-cuda: 'not installed' without it)."""
     from importlib.metadata import PackageNotFoundError, version

@@ -4,8 +4,8 @@ Every ``import`` and ``from ... import`` of ``stonedem`` in ``src/stonedem`` is 
 ``ast.walk``, so imports inside functions count too. The layers, bottom to top (one row
 each; packages on one row may not import each other):
 
-    version, errors, units < io < entry < kernels < reference < motion < engine
-    < validation | study < fragility < figures | bench < api < cli < __main__ and the package face
+    version, errors, units < io < entry < options < kernels < reference < motion < engine
+    < validation < study < fragility < figures | bench < api < cli < __main__ and the package face
 
 ``wall`` stands beside the stack and imports only ``version``, ``errors``, ``entry`` and
 ``io``; only the public face (``api``) and the command line import it. ``api`` (what a

@@ -4,4 +4,5 @@ line), under the name the benchmark modules and scripts import."""
 
 from stonedem.options import (chosen, input_file, number, output_file, output_folder, parser, path_arg,  # noqa: F401
                               run, save_figure, write_csv, write_text)
-from stonedem.study.config_options import check_case_scenes, study_config, workflow_config  # noqa: F401
+from stonedem.study.config_options import (add_study_arguments, check_case_scenes, chosen_cases,  # noqa: F401
+                                           study_config, workflow_config)

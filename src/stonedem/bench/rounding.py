@@ -26,7 +26,6 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.errors import InputError
 from stonedem.study.members import RELATIVE_STEP, member_scene, stiffness_factor  # noqa: F401 - re-exported
 
 MAX_PERTURBATIONS = 64
@@ -200,10 +199,7 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.rounding", __doc__)
-    parser.add_argument("--config", type=options.path_arg, default=Path("config/config.yaml"),
-                        help="config file, merged over config.yaml of its folder (default config/config.yaml)")
-    parser.add_argument("--studies", nargs="*", default=None,
-                        help="studies of the config (default: every study of the rigid-block engine)")
+    options.add_study_arguments(parser)
     parser.add_argument("--perturbations", type=int, default=3,
                         help=f"K, perturbations besides the configured run, 1 to {MAX_PERTURBATIONS} (default 3)")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
@@ -219,7 +215,6 @@ def check_args(args):
     """(grid cases, search systems, K, jobs, output path), every scene built once (records
     found), or an InputError before anything runs."""
     from stonedem.bench import options
-    from stonedem.study.grid import config_cases
 
     n_perturbations = options.number(args.perturbations, "--perturbations", lo=1, hi=MAX_PERTURBATIONS,
                                      whole=True, example="3")
@@ -227,16 +222,7 @@ def check_args(args):
     limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
     path = options.output_folder(args.out, "--out", files=(OUTPUT,)) / OUTPUT
     config, known = options.study_config(args.config, RECORDS)
-    chosen = options.chosen(args.studies if args.studies is not None else known, "--studies", known)
-    cases, systems = [], []
-    for group in config_cases(config, chosen).values():
-        for case in group:
-            (systems if case.search is not None else cases).append(case)
-    if limit:
-        cases, systems = cases[:limit], systems[:limit]
-    if not cases and not systems:
-        raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
-    options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
+    cases, systems = options.chosen_cases(config, known, args.studies, RECORDS, limit)
     return cases, systems, n_perturbations, jobs, path
 
 

@@ -7,7 +7,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from stonedem.errors import InputError
-from stonedem.options import input_file
+from stonedem.options import chosen, input_file, path_arg
 
 
 def workflow_config(paths: Iterable[str | Path], field: str = "--config") -> dict:
@@ -47,3 +47,29 @@ def check_case_scenes(cases, records: Path) -> None:
             case_scene(case, records)
         except InputError as err:
             raise InputError(f"{case.study}/{case.id}: {err.field}", err.problem, err.fix) from None
+
+
+def add_study_arguments(parser) -> None:
+    """``--config`` and ``--studies``, as the commands over a study config take them."""
+    parser.add_argument("--config", type=path_arg, default=Path("config/config.yaml"),
+                        help="config file, merged over config.yaml of its folder (default config/config.yaml)")
+    parser.add_argument("--studies", nargs="*", default=None,
+                        help="studies of the config (default: every study of the rigid-block engine)")
+
+
+def chosen_cases(config: dict, known: list[str], studies, records: Path, limit: int = 0) -> tuple[list, list]:
+    """(grid cases, search systems) of the ``--studies`` chosen (all when None), at most
+    ``limit`` of each (0: all), their scenes built once (:func:`check_case_scenes`); an
+    InputError when they hold no case."""
+    from stonedem.study.grid import config_cases
+
+    cases, systems = [], []
+    for group in config_cases(config, chosen(studies if studies is not None else known, "--studies", known)).values():
+        for case in group:
+            (systems if case.search is not None else cases).append(case)
+    if limit:
+        cases, systems = cases[:limit], systems[:limit]
+    if not cases and not systems:
+        raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
+    check_case_scenes(cases + systems, records)  # a system's scene holds its search's start
+    return cases, systems

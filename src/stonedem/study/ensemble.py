@@ -514,12 +514,10 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
 
 def build_parser():
     from stonedem import options
+    from stonedem.study import config_options
 
     parser = options.parser("python -m stonedem.study.ensemble", __doc__)
-    parser.add_argument("--config", type=options.path_arg, default=Path("config/config.yaml"),
-                        help="config file, merged over config.yaml of its folder (default config/config.yaml)")
-    parser.add_argument("--studies", nargs="*", default=None,
-                        help="studies of the config (default: every study of the rigid-block engine)")
+    config_options.add_study_arguments(parser)
     parser.add_argument("--members", type=int, default=None,
                         help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)")
     parser.add_argument("--first", type=int, default=0,
@@ -543,7 +541,6 @@ def check_args(args) -> dict:
     checked before anything runs; an InputError otherwise."""
     from stonedem import options
     from stonedem.study import config_options
-    from stonedem.study.grid import config_cases
 
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
     checks = options.chosen([args.checks], "--checks", CHECKS)[0]
@@ -564,14 +561,7 @@ def check_args(args) -> dict:
     config, known = config_options.study_config(args.config, RECORDS)
     path = options.output_file(args.out, "--out", suffixes=(".nc",),
                                inputs=[*config_paths, *([rounding] if rounding else [])])
-    chosen = options.chosen(args.studies if args.studies is not None else known, "--studies", known)
-    cases, systems = [], []
-    for group in config_cases(config, chosen).values():
-        for case in group:
-            (systems if case.search is not None else cases).append(case)
-    if not cases and not systems:
-        raise InputError("--studies", "no cases in the studies chosen", "give studies that have cases")
-    config_options.check_case_scenes(cases + systems, RECORDS)  # a system's scene holds its search's start
+    cases, systems = config_options.chosen_cases(config, known, args.studies, RECORDS)
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
         from stonedem.study.grid import case_scene
 

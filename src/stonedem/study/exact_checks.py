@@ -272,6 +272,18 @@ def _finite(x):
     return x is not None and np.isfinite(x)
 
 
+def _paired(base: xr.Dataset, cand: xr.Dataset, dim: str, layer: str):
+    """(failing rows, None) when a side has no ``dim`` at all; else (None, [(name, why it is
+    missing: '' when both sides have it)]) over the entries of either side, baseline's first."""
+    for ds, side in ((base, "baseline"), (cand, "candidate")):
+        if dim not in ds.dims:
+            return [{dim: "", "passed": False, "reason": f"the {side} has no {layer} (no {dim} dimension)"}], None
+    base_names, cand_names = [str(x) for x in base[dim].values], [str(x) for x in cand[dim].values]
+    return None, [(name, "" if name in base_names and name in cand_names else
+                   f"missing in the {'candidate' if name not in cand_names else 'baseline'}")
+                  for name in dict.fromkeys(base_names + cand_names)]
+
+
 def compare_layer_a(base: xr.Dataset, cand: xr.Dataset, relative: float = RELATIVE) -> tuple[bool, list[dict]]:
     """(passed, one row per check): each candidate check meets its reference tolerance and
     |cand - base| <= max(relative x max(|base|, scale), FACTOR_A x floor): scale is the
@@ -279,16 +291,14 @@ def compare_layer_a(base: xr.Dataset, cand: xr.Dataset, relative: float = RELATI
     of a value that is 0), floor its ``check_floor`` (the check's own last-bit change, which
     exceeds 1e-9 relative for the few checks that rock through many impacts). A check
     missing on either side fails."""
-    for ds, side in ((base, "baseline"), (cand, "candidate")):
-        if "check" not in ds.dims:
-            return False, [{"check": "", "passed": False, "reason": f"the {side} has no layer A (no check dimension)"}]
-    base_names, cand_names = [str(c) for c in base.check.values], [str(c) for c in cand.check.values]
+    failed, names = _paired(base, cand, "check", "layer A")
+    if failed:
+        return False, failed
     table = []
-    for name in list(dict.fromkeys(base_names + cand_names)):
+    for name, missing in names:
         row = {"check": name}
-        if name not in cand_names or name not in base_names:
-            row.update(passed=False, reason=f"missing in the {'candidate' if name not in cand_names else 'baseline'}")
-            table.append(row)
+        if missing:
+            table.append({**row, "passed": False, "reason": missing})
             continue
         b, c = base.sel(check=name), cand.sel(check=name)
         b_value, c_value = float(b.check_value), float(c.check_value)
@@ -519,16 +529,14 @@ def compare_layer_b(base: xr.Dataset, cand: xr.Dataset, factor: float = FACTOR) 
     """(passed, one row per scene): per scene max |d position| <= factor x the baseline's
     floor_position and max |d rotation| <= factor x its floor_rotation. A scene missing on
     either side, or a trajectory of another shape, fails."""
-    for ds, side in ((base, "baseline"), (cand, "candidate")):
-        if "scene" not in ds.dims:
-            return False, [{"scene": "", "passed": False, "reason": f"the {side} has no layer B (no scene dimension)"}]
-    base_names, cand_names = [str(s) for s in base.scene.values], [str(s) for s in cand.scene.values]
+    failed, names = _paired(base, cand, "scene", "layer B")
+    if failed:
+        return False, failed
     table = []
-    for name in list(dict.fromkeys(base_names + cand_names)):
+    for name, missing in names:
         row = {"scene": name}
-        if name not in cand_names or name not in base_names:
-            row.update(passed=False, reason=f"missing in the {'candidate' if name not in cand_names else 'baseline'}")
-            table.append(row)
+        if missing:
+            table.append({**row, "passed": False, "reason": missing})
             continue
         b, c = _unpadded(base, name), _unpadded(cand, name)
         floor_p = float(base.floor_position.sel(scene=name))

@@ -355,6 +355,9 @@ def summary_attrs(rows: list[dict]) -> dict:
             attrs.update({f"{kind}_p_v": picked[0]["p_v"], f"{kind}_p_t": picked[0]["p_t"],
                           f"{kind}_rejected": picked[0]["rejected"],
                           f"{kind}_verdicts": " ".join(picked[0][f"verdict_{x}"] for x in "abc")})
+        else:  # not drawn yet (the draws are made over several runs): said so, not left out
+            attrs.update({f"{kind}_p_v": math.nan, f"{kind}_p_t": math.nan, f"{kind}_rejected": "not run yet",
+                          f"{kind}_verdicts": "not run yet"})
     return attrs
 
 
@@ -374,7 +377,7 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
                          f"(95 % {a[f'{name}_low']:.2f}..{a[f'{name}_high']:.2f}; target "
                          f"{'<=' if name == 'false_alarm_rate' else '>='} {a[f'{name}_target']:g})")
     for kind in SINGLE:
-        if f"{kind}_p_v" in a:
+        if f"{kind}_p_v" in a and a[f"{kind}_verdicts"] != "not run yet":
             lines.append(f"{kind}: p_v {a[f'{kind}_p_v']:.3g}, p_t {a[f'{kind}_p_t']:.3g}, layers A B C "
                          f"{a[f'{kind}_verdicts']}: {'rejected' if a[f'{kind}_rejected'] else 'equivalent'}")
     return lines

@@ -74,6 +74,7 @@ REST_AFTER_RECORD = 2.0
 # Limits of a study config (check_config): past them a grid is a typo, not a study.
 MAX_CASES_PER_STUDY = 2000  # cases of one study (config/config.yaml: 99 at most)
 MAX_CASES = 10_000  # cases of all studies together (config/config.yaml: 507)
+MAX_MEMBER_CASES = 25_000  # cases x ensemble members (the full study with 20 members: 10 140)
 MAX_DRUMS = 100  # drums per column (the thesis: 8)
 MAX_COLUMNS = 50  # columns per row (the thesis: 5)
 MAX_DURATION = 3600.0  # [s] simulated time of one case (config/config.yaml: 92 s at most)
@@ -498,6 +499,10 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
             for case, origin in rows:
                 checker.check(case, study, defaults, origin, len(rows))
         tables[name] = [case for case, _ in rows]
+    if total * members > MAX_MEMBER_CASES:
+        raise InputError("ensemble.members", f"{members} members of {total} cases make {total * members} runs, more "
+                         f"than the limit of {MAX_MEMBER_CASES}", "run fewer members, or the ensemble of the whole "
+                         "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)")
     if schema is not None:
         check_schema(config, schema)
     return tables

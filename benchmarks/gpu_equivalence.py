@@ -88,19 +88,10 @@ def cpu_members(cases, k: int, jobs: int, log=sys.stderr) -> tuple[np.ndarray, n
     return collapsed, rocking
 
 
-def read_netcdf(path: Path, field: str, fix: str) -> xr.Dataset:
-    """The NetCDF file at ``path`` in memory, or one line naming ``field``."""
-    try:
-        with xr.open_dataset(path) as ds:
-            return ds.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(field, f"cannot read {path} as NetCDF ({str(exc).splitlines()[0][:80]})", fix) from None
-
-
 def device_verdicts(path: Path, case_ids: list[str]) -> tuple[dict, dict]:
     """({candidate: verdicts (case,)} in the order of ``case_ids``, gpu_check.nc's attrs and
     short-horizon gaps); one line naming --gpu-check when a case or variable is missing."""
-    ds = read_netcdf(path, "--gpu-check", "give the gpu_check.nc of a device run")
+    ds = options.read_netcdf(path, "--gpu-check", "gpu_check.nc", "give the gpu_check.nc of a device run")
     missing = [v for v in (*CANDIDATES.values(), "position_difference", "rotation_difference") if v not in ds]
     if missing or "case" not in ds.dims:
         raise InputError("--gpu-check", f"{path} has no {', '.join(missing) or 'case dimension'}",
@@ -272,7 +263,7 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
 def reused(path: Path) -> tuple[list[dict], np.ndarray, np.ndarray, xr.Dataset, dict]:
     """(cases, CPU verdicts, peak rotations, floors, attrs) of an earlier output; its case
     list replaces the config's."""
-    ds = read_netcdf(path, "--reuse", "give an earlier output of this script")
+    ds = options.read_netcdf(path, "--reuse", "NetCDF file", "give an earlier output of this script")
     need = ("cpu_collapsed", "cpu_max_rocking", "floor_position", "floor_rotation", "record", "pga")
     missing = [v for v in need if v not in ds.variables]
     if missing:

@@ -200,6 +200,30 @@ def input_file(path: str | Path, field: str, what: str = "file") -> Path:
     return path
 
 
+def read_netcdf(path: str | Path, field: str, what: str, fix: str):
+    """The NetCDF file at ``path`` (an xarray Dataset, in memory), or an InputError naming
+    ``field``: not a regular readable file, not NetCDF by its first bytes, or a file the
+    backend cannot read (``fix``: what to give instead)."""
+    import xarray as xr
+
+    from stonedem.io.netcdf import NETCDF_MAGIC
+
+    path = input_file(path, field, what)
+    shown = one_line(str(path), 200)
+    with open(path, "rb") as handle:
+        head = handle.read(8)
+    if not head.startswith(NETCDF_MAGIC):
+        raise InputError(field, f"{shown} is not a NetCDF file", fix)
+    try:
+        with xr.open_dataset(path, decode_times=False) as ds:
+            return ds.load()
+    except (KeyboardInterrupt, MemoryError):
+        raise
+    except Exception as err:  # noqa: BLE001 - whatever a damaged file makes the backend raise
+        raise InputError(field, f"{shown} cannot be read ({type(err).__name__}: {one_line(str(err), 120)})",
+                         fix) from None
+
+
 # --- writing --------------------------------------------------------------------------------
 
 def save_figure(fig, path: str | Path, **savefig) -> Path:

@@ -239,24 +239,13 @@ def stripe_requests(members, searches) -> list[tuple[int, float]]:
 
 # --- a rounding file as the members' runs ----------------------------------------------------
 
-def from_rounding(path, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True) -> MemberResults:
-    """The results :func:`run_members` gives for ``cases`` and ``systems`` (the config's, in
-    its order) with members 0..K, read from a :mod:`stonedem.bench.rounding` file of the same
-    cases instead of run: its perturbations 0..K are the stiffness members 0..K. Each search is
-    replayed from its collapse map (the rule picks each next value, the map gives its outcome:
-    the same values, to the last bit, and phases); then, with ``stripes``, the stripe fills run
-    (``jobs`` processes). An InputError when the file is not such a file or does not match."""
-    from stonedem.study.search import Run, next_value
+def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
+    """A :mod:`stonedem.bench.rounding` file, in memory, with what :func:`from_rounding` reads
+    (perturbations 0..K, the cases' verdicts, the searches' collapse maps and brackets), or an
+    InputError naming ``field``."""
+    from stonedem import options
 
-    path = Path(path)
-    field = "--from-rounding"
-    try:
-        with xr.open_dataset(path) as opened:
-            ds = opened.load()
-    except (KeyboardInterrupt, MemoryError):
-        raise
-    except Exception:  # noqa: BLE001 - whatever the backends raise on a foreign file
-        raise InputError(field, f"{path} is not a NetCDF dataset", ROUNDING_FIX) from None
+    ds = options.read_netcdf(path, field, "rounding.nc of stonedem.bench.rounding", ROUNDING_FIX)
     if "perturbation" not in ds.dims:
         raise InputError(field, f"{path} has no perturbation dimension", ROUNDING_FIX)
     needed = [name for dim, names in (("case", ("collapsed", "max_rocking", "case_dt")),
@@ -268,6 +257,22 @@ def from_rounding(path, cases, systems, jobs: int = 1, log=sys.stderr, stripes: 
     members = [int(j) for j in ds.perturbation.values]
     if members != list(range(len(members))):
         raise InputError(field, f"perturbations {members} are not 0..K", ROUNDING_FIX)
+    return ds
+
+
+def from_rounding(rounding, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True) -> MemberResults:
+    """The results :func:`run_members` gives for ``cases`` and ``systems`` (the config's, in
+    its order) with members 0..K, read from a :mod:`stonedem.bench.rounding` file of the same
+    cases (its path, or the dataset :func:`read_rounding` gave) instead of run: its
+    perturbations 0..K are the stiffness members 0..K. Each search is replayed from its
+    collapse map (the rule picks each next value, the map gives its outcome: the same values,
+    to the last bit, and phases); then, with ``stripes``, the stripe fills run (``jobs``
+    processes). An InputError when the file is not such a file or does not match."""
+    from stonedem.study.search import Run, next_value
+
+    field = "--from-rounding"
+    ds = rounding if isinstance(rounding, xr.Dataset) else read_rounding(rounding, field)
+    members = [int(j) for j in ds.perturbation.values]
 
     def names(dim, items):
         have = [str(v) for v in ds[dim].values] if dim in ds.dims else []
@@ -548,8 +553,8 @@ def check_args(args) -> dict:
     first = options.number(args.first, "--first", lo=0, hi=MAX_MEMBERS - 1, whole=True, example="20")
     rounding = None
     if args.from_rounding is not None:
-        rounding = options.input_file(args.from_rounding, "--from-rounding", "rounding.nc of stonedem.bench.rounding")
-        members = _rounding_members(rounding)
+        rounding = read_rounding(args.from_rounding)
+        members = [int(j) for j in rounding.perturbation.values]
         if perturbation != "stiffness" or first != 0 or args.members not in (None, len(members)):
             raise InputError("--from-rounding", f"its runs are members 0..{len(members) - 1} of the stiffness "
                                                 "perturbation", "leave --members, --first and --perturbation out")
@@ -560,7 +565,7 @@ def check_args(args) -> dict:
     config_paths = [Path(args.config).parent / "config.yaml", Path(args.config)]
     config, known = config_options.study_config(args.config, RECORDS)
     path = options.output_file(args.out, "--out", suffixes=(".nc",),
-                               inputs=[*config_paths, *([rounding] if rounding else [])])
+                               inputs=[*config_paths, *([args.from_rounding] if rounding is not None else [])])
     cases, systems = config_options.chosen_cases(config, known, args.studies, RECORDS)
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
         from stonedem.study.grid import case_scene
@@ -575,29 +580,12 @@ def check_args(args) -> dict:
             "config": [str(p) for p in dict.fromkeys(config_paths)]}
 
 
-def _rounding_members(path: Path) -> list[int]:
-    """The perturbations 0..K of a rounding file, or an InputError."""
-    try:
-        with xr.open_dataset(path) as ds:
-            members = [int(j) for j in ds.perturbation.values] if "perturbation" in ds.dims else []
-            complete = all(name in ds.variables for name in ("collapse_map", "collapsed"))
-    except (KeyboardInterrupt, MemoryError):
-        raise
-    except Exception:  # noqa: BLE001 - whatever the backends raise on a foreign file
-        members, complete = [], False
-    if not members or members != list(range(len(members))) or not complete:
-        raise InputError("--from-rounding", f"{path} is not a rounding file with perturbations 0..K",
-                         ROUNDING_FIX)
-    return members
-
-
-def rounding_provenance(path) -> dict:
+def rounding_provenance(rounding: xr.Dataset | None) -> dict:
     """How the members' runs of a rounding file were made (its wall time and history), or {}."""
-    if path is None:
+    if rounding is None:
         return {}
-    with xr.open_dataset(path) as rounding:
-        return {f"members_{k}": rounding.attrs[k] for k in ("wall_seconds", "history", "source", "machine")
-                if k in rounding.attrs}
+    return {f"members_{k}": rounding.attrs[k] for k in ("wall_seconds", "history", "source", "machine")
+            if k in rounding.attrs}
 
 
 def main(argv=None) -> int:
@@ -614,7 +602,7 @@ def main(argv=None) -> int:
         start = time.perf_counter()
         cases, systems = plan["cases"], plan["systems"]
         if plan["rounding"] is not None:
-            print(f"{len(cases)} cases and {len(systems)} threshold searches of {plan['rounding']}, "
+            print(f"{len(cases)} cases and {len(systems)} threshold searches of {args.from_rounding}, "
                   f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)",
                   file=sys.stderr, flush=True)
             results = from_rounding(plan["rounding"], cases, systems, plan["jobs"])
@@ -627,7 +615,7 @@ def main(argv=None) -> int:
         ds = ensemble_dataset(cases, systems, results, plan["checks"], attrs={
             "config": " ".join(plan["config"]), "config_digest": config_digest(plan["config"]),
             "command": command_line,
-            **({"from_rounding": str(plan["rounding"])} if plan["rounding"] is not None else {}),
+            **({"from_rounding": str(args.from_rounding)} if plan["rounding"] is not None else {}),
             **rounding_provenance(plan["rounding"])})
         wall = time.perf_counter() - start
         ds.attrs["wall_seconds"] = wall

@@ -50,23 +50,10 @@ def read_ensemble(path: str | Path, field: str) -> xr.Dataset:
     missing: not a file, not NetCDF, unreadable, no ``member`` dimension, neither grid verdicts
     (``collapsed(case, member)``) nor search thresholds (``threshold(system, member)``)."""
     from stonedem import options
-    from stonedem.io.netcdf import NETCDF_MAGIC
 
     make = f"give an ensemble file, written by {MAKE_CANDIDATE}"
-    path = options.input_file(path, field, "ensemble NetCDF file")
+    ds = options.read_netcdf(path, field, "ensemble NetCDF file", make)
     shown = one_line(str(path), 200)
-    with open(path, "rb") as handle:
-        head = handle.read(8)
-    if not head.startswith(NETCDF_MAGIC):
-        raise InputError(field, f"{shown} is not a NetCDF file", make)
-    try:
-        with xr.open_dataset(path, decode_times=False) as ds:
-            ds = ds.load()
-    except (KeyboardInterrupt, MemoryError):
-        raise
-    except Exception as err:  # noqa: BLE001 - whatever a damaged file makes the backend raise
-        raise InputError(field, f"{shown} cannot be read ({type(err).__name__}: {one_line(str(err), 120)})",
-                         make) from None
     if "member" not in ds.dims:
         raise InputError(field, f"{shown} is not an ensemble file: it has no dimension 'member'", make)
     wanted = {"case": ("collapsed",), "system": ("threshold", "search_tolerance")}

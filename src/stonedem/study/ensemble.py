@@ -422,7 +422,7 @@ def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
     pages read): each grid case's collapse fraction, and each search's a50, its band, the
     transition zone and the member thresholds (:func:`stonedem.study.stripes.threshold_band`
     over the search and stripe runs of every member), with the thesis' Table 7.1 value."""
-    from stonedem.study.reduce import THESIS_TABLE_7_1, thesis_record
+    from stonedem.study.reduce import thesis_threshold
     from stonedem.study.stripes import threshold_band
 
     if "collapsed" in ds:
@@ -452,7 +452,7 @@ def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
              "thesis_threshold": (unit, "thesis Table 7.1: acceleration to cause failure (NaN: not a Table 7.1 cell)")}
     rows = {name: [] for name in names}
     status = []
-    member_ids = ds["member"].values
+    first = int(np.argmin(ds["member"].values))  # member 0, or a candidate's first member
     for i, system in enumerate(systems):
         runs = ds["run_system"].values == i
         band = threshold_band(ds["run_value"].values[runs], ds["run_member"].values[runs],
@@ -460,12 +460,10 @@ def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
         for name in names:
             if name in band:
                 rows[name].append(band[name])
-        first = np.flatnonzero(member_ids == member_ids.min())[0]
         rows["threshold_member_0"].append(float(ds["threshold"].values[i, first]))
         kind = "colonnade" if "colonnade" in system.study else "single column"
-        record = thesis_record(str(system.params.get("record", "")))
-        rows["thesis_threshold"].append(THESIS_TABLE_7_1.get((kind, system.params.get("n_drums")), {}).get(
-            record, math.nan))
+        rows["thesis_threshold"].append(thesis_threshold(kind, system.params.get("n_drums"),
+                                                         str(system.params.get("record", ""))))
         status.append(band["status"])
     for name, (units, long_name) in names.items():
         dtype = np.int32 if name == "threshold_distinct" else float
@@ -498,8 +496,7 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
              f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, {ds.sizes.get('system', 0)} "
              f"threshold searches, {ds.sizes.get('run', 0)} search and stripe runs, {wall_seconds:.0f} s"]
     if "case" in ds.dims:
-        fraction = ds.collapsed.mean("member")
-        split = [str(c) for c in ds.case.values[((fraction > 0) & (fraction < 1)).values]]
+        split = [str(c) for c in ds.case.values[ds["split"].values.astype(bool)]]
         lines.append(f"split cases (0 < collapse fraction < 1): {len(split)} of {ds.sizes['case']}"
                      + (f": {', '.join(split[:10])}{' ...' if len(split) > 10 else ''}" if split else ""))
     if "system" in ds.dims:

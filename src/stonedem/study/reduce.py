@@ -27,6 +27,12 @@ def thesis_record(name: str) -> str:
     return head if head in ("mexico", "kalamata", "athens") else ""
 
 
+def thesis_threshold(system: str, n_drums, record: str) -> float:
+    """Thesis Table 7.1's acceleration to cause failure [m/s2] of a system ("colonnade" or
+    "single column") of ``n_drums`` under the thesis record ``record`` stands in for (NaN: none)."""
+    return THESIS_TABLE_7_1.get((system, n_drums), {}).get(thesis_record(record), float("nan"))
+
+
 def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
     """Rows of Table 7.1: our collapse threshold of each system beside the thesis' value.
 
@@ -38,15 +44,14 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
     for system, full in (("colonnade", colonnade), ("single column", standalone)):
         cube = member_summary(full)  # an ensemble: member 0's searches as today's columns
         for found in collapse_brackets(cube, "pga"):
-            key = thesis_record(found["record"])
-            thesis = THESIS_TABLE_7_1.get((system, found["n_drums"]), {}).get(key, float("nan"))
             rows.append({"system": system, "n_drums": found["n_drums"], "record": found["record"],
-                         "thesis_record": key, "collapse_pga_m_s2": found["upper"],
+                         "thesis_record": thesis_record(found["record"]), "collapse_pga_m_s2": found["upper"],
                          "survived_pga_m_s2": found["lower"], "bracket_width": found["width"],
                          "n_runs": found["n_runs"], "monotonic": int(found["monotonic"]),
                          "resurrections_m_s2": " ".join(f"{v:g}" for v in found["resurrections"]),
                          "search_status": found["status"], "collapse_map": found["map"],
-                         "thesis_accel_to_failure_m_s2": thesis})
+                         "thesis_accel_to_failure_m_s2": thesis_threshold(system, found["n_drums"],
+                                                                           found["record"])})
             if MEMBER in full.dims:
                 rows[-1].update(ensemble_columns(full.sel(record=found["record"], n_drums=found["n_drums"])))
     return rows

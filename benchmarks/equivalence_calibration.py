@@ -163,32 +163,6 @@ def baseline_key(baseline: xr.Dataset) -> str:
     return f"{baseline.attrs.get('config_digest', '?')} members {baseline.sizes['member']}"
 
 
-def layer_b_member(duration: float, j: int) -> xr.Dataset:
-    """Layer B's trajectories of member j (k_n x (1 - j 2^-52)) of every short-horizon scene, in
-    :func:`stonedem.study.exact_checks.layer_b`'s layout (a candidate's floors are not used)."""
-    from stonedem.engine.simulate import simulate
-    from stonedem.study import exact_checks
-    from stonedem.study.members import member_scene
-
-    scenes = exact_checks.short_horizon_scenes(duration)
-    runs = [exact_checks.trajectory(simulate(member_scene(scene, j))) for scene in scenes.values()]
-    n_sample, n_coordinate = max(r.shape[0] for r in runs), max(r.shape[1] for r in runs)
-    padded = np.full((len(runs), n_sample, n_coordinate), np.nan)
-    kind = np.full((len(runs), n_coordinate), -1, dtype=np.int8)
-    for i, r in enumerate(runs):
-        padded[i, : r.shape[0], : r.shape[1]] = r
-        kind[i, : r.shape[1]] = np.tile(np.array([0, 0, 1], dtype=np.int8), r.shape[1] // 3)
-    return xr.Dataset(
-        {"trajectory": (("scene", "sample", "coordinate"), padded, {"units": "1", "long_name": (
-            f"member {j}: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded")}),
-         "coordinate_kind": (("scene", "coordinate"), kind, {"units": "1", "long_name": "kind of a trajectory "
-                             "coordinate (-1 padding, 0 position, 1 rotation)"}),
-         "floor_position": ("scene", np.full(len(runs), np.nan), {"units": "m", "long_name": "not measured "
-                            "(a candidate's floors are not used)"}),
-         "floor_rotation": ("scene", np.full(len(runs), np.nan), {"units": "rad", "long_name": "not measured"})},
-        coords={"scene": ("scene", np.array(list(scenes), dtype=object), {"long_name": "short-horizon scene"})})
-
-
 def make_candidate(plan: dict, kind: str, d: int, members: list[int], path: Path) -> float:
     """Run draw d of ``kind`` (members ``members``) in this process's code and write its
     candidate file; its wall seconds. Layers A and B (null and edge_normal draws, when the
@@ -215,7 +189,8 @@ def make_candidate(plan: dict, kind: str, d: int, members: list[int], path: Path
             ds = xr.merge([ds, exact_checks.layer_a(quick=quick, floor_members=(), member=members[0])],
                           combine_attrs="override")
         if "scene" in plan["baseline"].dims:
-            ds = xr.merge([ds, layer_b_member(LAYER_B_SECONDS, members[0])], combine_attrs="override")
+            ds = xr.merge([ds, exact_checks.layer_b(LAYER_B_SECONDS, floor_members=(), member=members[0])],
+                          combine_attrs="override")
     wall = time.perf_counter() - start
     ds.attrs.update(calibration_kind=kind, calibration_draw=int(d), calibration_baseline=baseline_key(plan["baseline"]),
                     calibration_change=", ".join(f"{k} x {v:g}" for k, v in change.items()) or "none",

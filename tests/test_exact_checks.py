@@ -204,3 +204,17 @@ def test_quick_layer_a_meets_every_reference():
     over = ds.sel(check="ramp_point_study/overturning_pga")
     assert float(over.check_reference) == pytest.approx(2.5205, rel=1e-4)  # the rigid limit
     assert ec.compare_layer_a(ds, ds)[0]
+
+
+def test_a_candidates_layer_b_is_its_members_trajectories_without_floors():
+    """layer_b(member=j, floor_members=()): what a candidate (a calibration draw) stores, member
+    j's trajectories and no floors (NaN), read by compare_layer_b like any candidate's."""
+    from stonedem.engine.simulate import simulate
+    from stonedem.study.members import member_scene
+
+    cand = ec.layer_b(duration=0.5, floor_members=(), kinds=("column_1_area_law",), member=20)
+    assert cand.attrs["member"] == 20 and np.isnan(cand.floor_position.values).all()
+    for name, scene in ec.short_horizon_scenes(0.5, ("column_1_area_law",)).items():
+        np.testing.assert_array_equal(ec._unpadded(cand, name), ec.trajectory(simulate(member_scene(scene, 20))))
+    base = ec.layer_b(duration=0.5, kinds=("column_1_area_law",))
+    assert ec.compare_layer_b(base, cand)[0]

@@ -26,7 +26,6 @@ its reference today would fail every candidate.
 from __future__ import annotations
 
 import copy
-import dataclasses
 import inspect
 import math
 import time
@@ -356,12 +355,6 @@ def _kind(name: str) -> str:
     return name.split("/")[0]
 
 
-def _stiffness_variant(scene, j):
-    from stonedem.study.members import stiffness_factor
-
-    return dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j)))
-
-
 def last_bit_families(spec: dict) -> dict:
     """{family: spec path} of the values a scene's last-bit variants scale, of :data:`FAMILIES`
     but stiffness: a structure's width and height, else the first free box body's width,
@@ -414,9 +407,11 @@ def _divergence(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
     return float(np.max(d[..., :2], initial=0.0)), float(np.max(d[..., 2], initial=0.0))
 
 
-def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr.Dataset:
-    """Layer B's dataset: per short-horizon scene, member 0's trajectory and the last-bit
-    floor of its positions and rotations.
+def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, member: int = 0) -> xr.Dataset:
+    """Layer B's dataset: per short-horizon scene, member ``member``'s trajectory
+    (:func:`stonedem.study.members.member_scene`; a baseline's is member 0's) and the last-bit
+    floor of its positions and rotations (NaN with no ``floor_members``: a candidate's floors
+    are not used).
 
     The floor is the largest divergence of member 0 from the scene with k_n x (1 - j 2^-52),
     j in ``floor_members``, and with each value of :func:`last_bit_families` x (1 +- j 2^-52);
@@ -426,6 +421,7 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
     through sin and cos), so a floor measured as 0 does not demand bit identity.
     """
     from stonedem.engine.simulate import simulate
+    from stonedem.study.members import member_scene
 
     start = time.perf_counter()
     scenes = short_horizon_scenes(duration, kinds)
@@ -440,7 +436,7 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
     parameter = np.full((len(names), len(FAMILIES)), "none", dtype=object)
     for i, name in enumerate(names):
         scene = scenes[name]
-        run = simulate(scene)
+        run = simulate(member_scene(scene, member))
         base = trajectory(run)
         trajectories.append(base)
         times.append(run.time)
@@ -452,12 +448,12 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
                 parameter[i, f] = ".".join(str(p) for p in paths[family])
         for v, (family, sign, j) in enumerate(variants):
             if family == "stiffness":
-                other = _stiffness_variant(scene, j)
+                other = member_scene(scene, j)
             elif family in paths:
                 other = _geometry_variant(scene, paths[family], sign, j)
             else:
                 continue
-            divergence[i, :, v] = _divergence(base, trajectory(simulate(other)))
+            divergence[i, :, v] = _divergence(base, trajectory(simulate(member_scene(other, member))))
     n_sample = max(t.shape[0] for t in trajectories)
     n_coordinate = max(t.shape[1] for t in trajectories)
     padded = np.full((len(names), n_sample, n_coordinate), np.nan)
@@ -472,8 +468,9 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
     for f, family in enumerate(FAMILIES):
         picked = divergence[:, :, family_of == family]
         has = ~np.all(np.isnan(picked), axis=2)
-        by_family[:, :, f][has] = np.nanmax(picked[has], axis=-1)
-    measured = np.nanmax(divergence, axis=2)
+        if has.any():
+            by_family[:, :, f][has] = np.nanmax(picked[has], axis=-1)
+    measured = np.nanmax(divergence, axis=2) if variants else np.full((len(names), 2), np.nan)
     eps = np.finfo(float).eps
     position_scale = np.array([np.nanmax(np.abs(np.where(coordinate_kind[i] == 0, padded[i], np.nan)))
                                for i in range(len(names))])
@@ -483,7 +480,7 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
     floor_rotation = np.maximum(measured[:, 1], FLOOR_ULPS * eps * rotation_scale)
     return xr.Dataset(
         {"trajectory": (("scene", "sample", "coordinate"), padded, _attrs(
-            "1", "member 0: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded")),
+            "1", f"member {member}: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded")),
          "coordinate_kind": (("scene", "coordinate"), coordinate_kind, {
              **_attrs("1", "kind of a trajectory coordinate"), "flag_values": np.array([-1, 0, 1], dtype=np.int8),
              "flag_meanings": "padding position rotation"}),
@@ -509,7 +506,7 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None) -> xr
                 "variant_family": ("variant", family_of, {"long_name": "last-bit family of the variant"}),
                 "family": ("family", np.array(FAMILIES, dtype=object), {"long_name": "last-bit family"})},
         attrs={"title": "stonedem equivalence layer B: short-horizon trajectories and their last-bit floors",
-               "duration": float(duration), "duration_units": "s",
+               "duration": float(duration), "duration_units": "s", "member": int(member),
                "floor_members": np.array(floor_members, dtype=np.int32), "floor_ulps": FLOOR_ULPS,
                "wall_seconds": time.perf_counter() - start, **_provenance()},
     )

@@ -96,6 +96,7 @@ def test_a_candidate_from_the_same_model_is_equivalent(files, capsys):
         assert list(ds.verdict.values) == ["pass", "pass", "pass", "not requested"]
         assert int(ds.n_assignments) == 495 == int(ds.exact) * 495  # C(12, 4), every one
         assert float(ds.p_v) > 0.05 and float(ds.p_t) > 0.05
+        assert float(ds.threshold_shift.sum()) == pytest.approx(float(ds.s_t), rel=1e-12)  # S_T's own terms
         for name, var in ds.variables.items():
             assert "long_name" in var.attrs, name
             assert var.dtype.kind not in "fi" or "units" in var.attrs, name

@@ -168,11 +168,7 @@ def layer_c(baseline: xr.Dataset, candidate: xr.Dataset, n_permutations: int, se
     result = permutation_test(_stack(baseline, "collapsed", "case"), _stack(baseline, "threshold", "system"),
                               _stack(candidate, "collapsed", "case"), _stack(candidate, "threshold", "system"),
                               tolerance, n_permutations=n_permutations, seed=seed, alpha=alpha)
-    flips = np.asarray(result.get("unanimous_flips", []))
-    n_case = baseline.sizes.get("case", 0)
-    if flips.dtype == bool and flips.size == n_case:
-        flips = np.flatnonzero(flips)
-    result["unanimous_flips"] = [int(k) for k in np.atleast_1d(flips).astype(int)]
+    result["unanimous_flips"] = [int(k) for k in result["unanimous_flips"]]
     return result
 
 
@@ -330,7 +326,7 @@ def judge(baseline: xr.Dataset, candidate: xr.Dataset, layers=None, n_permutatio
 
 def _layer_c_variables(baseline: xr.Dataset, candidate: xr.Dataset, result: dict) -> tuple[dict, dict]:
     """(variables, coordinates) of layer C: the test's numbers, the group summaries."""
-    from stonedem.study.permutation import _shift
+    from stonedem.study.permutation import threshold_shifts
 
     coords = {}
     data = {
@@ -354,16 +350,17 @@ def _layer_c_variables(baseline: xr.Dataset, candidate: xr.Dataset, result: dict
     if "system" in baseline.dims:
         unit = str(baseline.threshold.attrs.get("units", "1"))
         median_b, median_c = _group_median(baseline), _group_median(candidate)
-        with np.errstate(divide="ignore"):
-            # the test's own convention for a search that found no collapse (NO_COLLAPSE_SHIFT brackets)
-            shift = _shift(np.log(median_c), np.log(median_b), np.log1p(baseline.search_tolerance.values.astype(float)))
+        # each system's term of S_T, as the test counts it
+        shift = threshold_shifts(_stack(baseline, "threshold", "system"), _stack(candidate, "threshold", "system"),
+                                 baseline.search_tolerance.values.astype(float))
         coords["system"] = ("system", _text(baseline.system.values), {"long_name": "study/system of a threshold search"})
         data["median_threshold_baseline"] = ("system", median_b, {"units": unit, "long_name": "median threshold of the "
                                              "baseline members (inf: half found no collapse up to the maximum)"})
         data["median_threshold_candidate"] = ("system", median_c, {"units": unit, "long_name": "median threshold of "
                                               "the candidate members"})
-        data["threshold_shift"] = ("system", shift, {"units": "1", "long_name": "|ln median_N / median_B| in search "
-                                                     "brackets, ln(1 + tolerance) (no collapse against a collapse: "
+        data["threshold_shift"] = ("system", shift, {"units": "1", "long_name": "the system's term of S_T: |median_N "
+                                                     "ln T - median_B ln T| in search brackets, ln(1 + tolerance) (no "
+                                                     "collapse against a collapse: "
                                                      "stonedem.study.permutation.NO_COLLAPSE_SHIFT)"})
     return data, coords
 

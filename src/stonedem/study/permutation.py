@@ -115,19 +115,23 @@ def verdict_distance(base_collapsed, cand_collapsed) -> float:
     return float(_verdict_statistic(pooled, cand.sum(axis=1, keepdims=True), cand.shape[1], base.shape[1])[0])
 
 
-def threshold_shift(base_thresholds, cand_thresholds, tolerance) -> float:
-    """S_T between two groups' search thresholds, (system, member) arrays, in brackets of
-    ``tolerance`` (a scalar or one per system). NaN = no collapse up to the maximum: +inf
-    before the median, then NO_COLLAPSE_SHIFT for a finite median against an infinite one,
-    0 for two infinite medians. 0 with no systems."""
+def threshold_shifts(base_thresholds, cand_thresholds, tolerance) -> np.ndarray:
+    """Each system's term of S_T: |median_N ln T - median_B ln T| in brackets of ``tolerance``
+    (a scalar or one per system), from (system, member) arrays. NaN = no collapse up to the
+    maximum: +inf before the median, then NO_COLLAPSE_SHIFT for a finite median against an
+    infinite one, 0 for two infinite medians. Empty with no systems."""
     base = _thresholds("base_thresholds", base_thresholds)
     cand = _thresholds("cand_thresholds", cand_thresholds, base.shape[0])
     if base.shape[0] == 0:
-        return 0.0
+        return np.zeros(0)
     _need_members(base, cand)
     brackets = np.log1p(_tolerances(tolerance, base.shape[0]))
-    shift = _shift(np.median(_log_thresholds(cand), axis=1), np.median(_log_thresholds(base), axis=1), brackets)
-    return float(shift.sum())
+    return _shift(np.median(_log_thresholds(cand), axis=1), np.median(_log_thresholds(base), axis=1), brackets)
+
+
+def threshold_shift(base_thresholds, cand_thresholds, tolerance) -> float:
+    """S_T between two groups' search thresholds: the sum of :func:`threshold_shifts`."""
+    return float(threshold_shifts(base_thresholds, cand_thresholds, tolerance).sum())
 
 
 def _need_members(base, cand):

@@ -223,7 +223,7 @@ class _Tasks:
 def stripe_requests(members, searches) -> list[tuple[int, float]]:
     """The (j, value) runs that complete one system's stripes
     (:func:`stonedem.study.stripes.missing_stripe_runs` over its members' search runs and
-    brackets), without any a member has run already, in the order (value, j)."""
+    brackets: none a member has run already), in the order (value, j)."""
     from stonedem.study.stripes import missing_stripe_runs
 
     values = [v for result in searches for v, _, _ in result["runs"]]
@@ -232,9 +232,7 @@ def stripe_requests(members, searches) -> list[tuple[int, float]]:
                                   np.array([r["upper"] for r in searches], dtype=float),
                                   np.array([r["lower"] for r in searches], dtype=float),
                                   member_ids=np.array(members, dtype=np.int64))
-    ran = set(zip(run_by, values))
-    wanted = {(int(j), float(v)) for j, v in missing} - ran
-    return sorted(wanted, key=lambda pair: (pair[1], pair[0]))
+    return sorted(missing, key=lambda pair: (pair[1], pair[0]))
 
 
 # --- a rounding file as the members' runs ----------------------------------------------------

@@ -16,6 +16,9 @@ stored baseline by :func:`stonedem.study.equivalence.judge`:
 - ``edge_normal``: one draw of HEAD with issue 32's body-frame edge normals (74b7bca, reverted by
   7abaadf) put back, edge_normals.patch beside this script, run in a git worktree under /tmp;
   every layer the baseline has (reported: a real last-bit change of the code).
+- ``tilt``: one draw of the unchanged code with the second perturbation (members lean by
+  +-1e-6 rad, :mod:`stonedem.study.members`); layer C (reported: does the k_n baseline's band
+  hold the tilt members, item 1's check that the band is complete).
 
 The shift and the friction change act on the scene each worker builds (:data:`CHANGE_VARIABLE`,
 read when this script is imported: the runner's spawned workers import it again, so the pool
@@ -26,8 +29,14 @@ reused when it is there and matches the baseline, draw and members, so the ~2.5 
 calibration can be spread over sessions (``--draws``, ``--only``). The judgements are remade
 every time (seconds). Writes ``--out`` (calibration.nc: one row per draw, the rates in attrs).
 
+The draws' rates bound small rates loosely (0 rejections in 10 draws: <= 31 % at 95 %), so the
+script also resamples the runs on disk (:func:`resampled_rates`, ``--resamples``): candidates of
+4 runs picked again and again from the fresh null and shift members, judged by layer C alone
+(layers A and B of the unchanged code agree with the baseline exactly, so a null draw's false
+alarms are layer C's).
+
     python benchmarks/equivalence_calibration.py --baseline benchmarks/ensemble/2026-11-28/ensemble.nc
-        [--config CONFIG] [--draws 10] [--only null shift flips friction edge_normal] [--jobs 2]
+        [--config CONFIG] [--draws 10] [--only null shift flips friction edge_normal tilt] [--jobs 2]
         [--work results/bench/calibration] [--out results/bench/calibration/calibration.nc]
 """
 
@@ -48,8 +57,8 @@ from stonedem.bench import options
 from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
-KINDS = ("null", "shift", "flips", "friction", "edge_normal")
-SINGLE = ("friction", "edge_normal")  # kinds of one draw (report only)
+KINDS = ("null", "shift", "flips", "friction", "edge_normal", "tilt")
+SINGLE = ("friction", "edge_normal", "tilt")  # kinds of one draw (report only)
 MEMBERS = 4  # K_N of every candidate (ENSEMBLES.md section 4)
 SHIFT = 1.02  # base motion factor: every threshold moves by 2 %
 FRICTION = 1.01  # friction factor of the report-only draw
@@ -59,6 +68,8 @@ WORK = Path("results/bench/calibration")
 PATCH = Path(__file__).resolve().with_name("equivalence_calibration_edge_normals.patch")
 CHANGE_VARIABLE = "STONEDEM_CALIBRATION_CHANGE"  # "motion=1.02" or "friction=1.01": the hook below
 CONFIDENCE = 0.95
+RESAMPLES = 1000  # random picks of runs on disk per resampled rate
+RESAMPLE_PERMUTATIONS = 4000  # layer C's assignments per resample (p resolves 1/4001 << alpha)
 LAYER_B_SECONDS = 0.5  # [s] the runner's layer B horizon (stonedem.study.ensemble.ensemble_dataset)
 
 
@@ -176,6 +187,7 @@ def make_candidate(plan: dict, kind: str, d: int, members: list[int], path: Path
     install_change(change)  # this process's (--jobs 1)
     try:
         results = ensemble.run_members(plan["cases"], plan["systems"], members, plan["jobs"],
+                                       perturbation="tilt" if kind == "tilt" else "stiffness",
                                        label=f"{kind} {d} member")
     finally:
         os.environ.pop(CHANGE_VARIABLE, None)
@@ -280,8 +292,90 @@ def binomial_interval(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[f
     return low, high
 
 
+# --- the rates resampled from the runs on disk (no runs) -----------------------------------------
+
+RESAMPLED = {  # estimate -> (the candidate's pool, the baseline, flips, what it measures)
+    "false_alarm": ("null", "stored", False, "false alarms: 4 of the fresh null members against the stored baseline"),
+    "false_alarm_pooled": ("null", "pooled", False, "false alarms: 20 + 4 distinct of the baseline and fresh null "
+                                                    "members (any baseline, not only the stored one)"),
+    "power_shift": ("shift", "stored", False, "power vs +2 %: 4 of the shift members against the stored baseline"),
+    "power_flips": ("null", "stored", True, f"power vs {N_FLIPS} flips: 4 of the fresh null members, "
+                                            f"{N_FLIPS} unanimous verdicts flipped, against the stored baseline"),
+}
+
+
+def runs_of(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """A file's runs: grid verdicts (case, K) and search thresholds (system, K)."""
+    from stonedem.study.equivalence import _stack
+
+    return _stack(ds, "collapsed", "case"), _stack(ds, "threshold", "system")
+
+
+def pooled_runs(baseline: xr.Dataset, candidates: list[xr.Dataset]) -> tuple[np.ndarray, np.ndarray]:
+    """Every candidate's runs side by side, in the baseline's case and system order."""
+    from stonedem.study.equivalence import matched
+
+    pairs = [runs_of(matched(baseline, c)) for c in candidates]
+    if not pairs:
+        return np.zeros((baseline.sizes["case"], 0)), np.zeros((baseline.sizes.get("system", 0), 0))
+    return np.concatenate([v for v, _ in pairs], axis=1), np.concatenate([t for _, t in pairs], axis=1)
+
+
+def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[xr.Dataset], resamples: int,
+                    n_permutations: int, seed: int) -> xr.Dataset:
+    """Each :data:`RESAMPLED` estimate's rejection rate over ``resamples`` random picks of runs
+    already made (no new run): the draws' rates bound a 2 % false-alarm rate only loosely (0 of
+    10 draws: <= 31 % at 95 %); members picked again and again are the same runs, so these are
+    estimates of the test's rates on this pool, not independent trials. Empty without pools."""
+    from stonedem.study.permutation import permutation_test
+
+    base_v, base_t = runs_of(baseline)
+    pools = {"null": pooled_runs(baseline, nulls), "shift": pooled_runs(baseline, shifts)}
+    tolerance = np.asarray(baseline.search_tolerance.values, dtype=float) if "system" in baseline.dims else np.zeros(0)
+    unanimous = np.flatnonzero(base_v.min(axis=1) == base_v.max(axis=1))
+    rng = np.random.default_rng(seed)
+    names = [n for n, (pool, *_) in RESAMPLED.items() if pools[pool][0].shape[1] >= MEMBERS]
+    p_v = np.full((len(names), resamples), np.nan)
+    p_t = np.full((len(names), resamples), np.nan)
+    for e, name in enumerate(names):
+        pool, against, flips, _ = RESAMPLED[name]
+        pool_v, pool_t = pools[pool]
+        if against == "pooled":
+            pool_v, pool_t = np.concatenate([base_v, pool_v], axis=1), np.concatenate([base_t, pool_t], axis=1)
+        for r in range(resamples):
+            if against == "pooled":
+                picked = rng.choice(pool_v.shape[1], base_v.shape[1] + MEMBERS, replace=False)
+                b_v, b_t = pool_v[:, picked[MEMBERS:]], pool_t[:, picked[MEMBERS:]]
+                picked = picked[:MEMBERS]
+            else:
+                b_v, b_t = base_v, base_t
+                picked = rng.choice(pool_v.shape[1], MEMBERS, replace=False)
+            c_v, c_t = pool_v[:, picked].copy(), pool_t[:, picked]
+            if flips:
+                chosen = rng.choice(unanimous, N_FLIPS, replace=False)
+                c_v[chosen, :] = 1.0 - base_v[chosen, :1]
+            result = permutation_test(b_v, b_t, c_v, c_t, tolerance, n_permutations=n_permutations,
+                                      seed=int(rng.integers(2**32)))
+            p_v[e, r], p_t[e, r] = result["p_v"], result["p_t"]
+    alpha = 0.005
+    rejected = (p_v <= alpha) | (p_t <= alpha)
+    pool_sizes = [pools[RESAMPLED[n][0]][0].shape[1] + (base_v.shape[1] if RESAMPLED[n][1] == "pooled" else 0)
+                  for n in names]
+    return xr.Dataset(
+        {"resampled_rate": ("estimate", rejected.mean(axis=1) if resamples else np.full(len(names), np.nan),
+                            {"units": "1", "long_name": "fraction of the resamples the test rejects"}),
+         "resampled_pool": ("estimate", np.array(pool_sizes, dtype=np.int32),
+                            {"units": "1", "long_name": "runs the resamples are picked from"}),
+         "resampled_p_v": (("estimate", "resample"), p_v, {"units": "1", "long_name": "permutation p of S_v"}),
+         "resampled_p_t": (("estimate", "resample"), p_t, {"units": "1", "long_name": "permutation p of S_T"}),
+         "resampled_what": ("estimate", np.array([RESAMPLED[n][3] for n in names], dtype=object),
+                            {"long_name": "what the estimate measures, and how its resamples are picked"})},
+        coords={"estimate": ("estimate", np.array(names, dtype=object), {"long_name": "resampled estimate"}),
+                "resample": ("resample", np.arange(resamples, dtype=np.int32), {"long_name": "resample index"})})
+
+
 ROW_VARIABLES = {  # name -> (units (None: text), long name)
-    "draw_kind": (None, "null, shift, flips, friction or edge_normal"),
+    "draw_kind": (None, "null, shift, flips, friction, edge_normal or tilt"),
     "draw_index": ("1", "d, the draw's index within its kind"),
     "first_member": ("1", "the candidate's first member j (members j .. j + members - 1)"),
     "members": ("1", "K_N, the candidate's members"),
@@ -351,6 +445,11 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
             lines.append(f"{what}: {a[f'{name}_rejections']}/{a[f'{name}_draws']} = {a[name]:.2f} "
                          f"(95 % {a[f'{name}_low']:.2f}..{a[f'{name}_high']:.2f}; target "
                          f"{'<=' if name == 'false_alarm_rate' else '>='} {a[f'{name}_target']:g})")
+    if "estimate" in ds.dims:
+        for name in ds.estimate.values:
+            row = ds.sel(estimate=name)
+            lines.append(f"resampled {name}: {float(row.resampled_rate):.3f} of {ds.sizes['resample']} picks "
+                         f"from {int(row.resampled_pool)} runs")
     for kind in SINGLE:
         if f"{kind}_p_v" in a and a[f"{kind}_verdicts"] != "not run yet":
             lines.append(f"{kind}: p_v {a[f'{kind}_p_v']:.3g}, p_t {a[f'{kind}_p_t']:.3g}, layers A B C "
@@ -373,6 +472,8 @@ def build_parser():
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the CPUs)")
     parser.add_argument("--permutations", type=int, default=10_000, help="layer C's random assignments (default 10000)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the flips and permutations (default 0)")
+    parser.add_argument("--resamples", type=int, default=RESAMPLES,
+                        help=f"random picks of the runs on disk per resampled rate (default {RESAMPLES}; 0: none)")
     parser.add_argument("--work", type=options.path_arg, default=WORK, help=f"the draws' files (default {WORK})")
     parser.add_argument("--out", type=options.path_arg, default=None, help="calibration.nc (default: in --work)")
     parser.add_argument("--make-draw", default=None, help=argparse.SUPPRESS)  # the edge_normal child
@@ -389,6 +490,7 @@ def check_args(args) -> dict:
     n_permutations = options.number(args.permutations, "--permutations", lo=200, hi=1_000_000, whole=True,
                                     example="10000")
     seed = options.number(args.seed, "--seed", lo=0, hi=2**32 - 1, whole=True, example="0")
+    resamples = options.number(args.resamples, "--resamples", lo=0, hi=100_000, whole=True, example=str(RESAMPLES))
     only = options.chosen(args.only, "--only", KINDS)
     config = args.config
     if config is None:
@@ -421,7 +523,7 @@ def check_args(args) -> dict:
     members = [int(j) for j in baseline.member.values]
     return {"baseline": baseline, "baseline_path": Path(args.baseline).resolve(), "config": Path(config).resolve(),
             "cases": cases, "systems": systems, "draws": draws, "jobs": jobs, "n_permutations": n_permutations,
-            "seed": seed, "only": only, "work": work.resolve(), "out": out.resolve(), "first_fresh": max(members) + 1}
+            "seed": seed, "resamples": resamples, "only": only, "work": work.resolve(), "out": out.resolve(), "first_fresh": max(members) + 1}
 
 
 def main(argv=None) -> int:
@@ -439,7 +541,7 @@ def main(argv=None) -> int:
             members = draw_members(plan["first_fresh"], 0)
             make_candidate(plan, "edge_normal", 0, members, candidate_path(work, "edge_normal", 0))
             return 0
-        rows = []
+        rows, made_draws = [], {"null": [], "shift": []}
         for kind in KINDS:
             count = 1 if kind in SINGLE else plan["draws"]
             for d in range(count):
@@ -456,6 +558,8 @@ def main(argv=None) -> int:
                     else:
                         seconds = make_candidate(plan, made, d, members, path)
                 candidate = read_ensemble(path, f"draw {kind} {d}")
+                if kind in made_draws:
+                    made_draws[kind].append(candidate)
                 flips, layers = [], ["C"]
                 if kind == "flips":
                     candidate, flips = flipped(candidate, baseline, plan["seed"] + d)
@@ -482,6 +586,14 @@ def main(argv=None) -> int:
                  **library_versions(),
                  "command": " ".join(["benchmarks/equivalence_calibration.py", *(sys.argv[1:] if argv is None else argv)])}
         ds = calibration_dataset(rows, attrs)
+        if plan["resamples"]:
+            print(f"resampling the runs on disk ({plan['resamples']} picks per rate) ...", file=sys.stderr, flush=True)
+            resampled = resampled_rates(baseline, made_draws["null"], made_draws["shift"], plan["resamples"],
+                                        RESAMPLE_PERMUTATIONS, plan["seed"])
+            ds = xr.merge([ds, resampled], combine_attrs="override")
+            ds.attrs.update({f"resampled_{n}": float(r) for n, r in zip(resampled.estimate.values,
+                                                                         resampled.resampled_rate.values)})
+            ds.attrs.update(resamples=plan["resamples"], resample_permutations=RESAMPLE_PERMUTATIONS)
         write_dataset(ds, plan["out"])
         for line in summary_lines(ds):
             print(line)

@@ -118,3 +118,31 @@ def test_an_earlier_draw_is_reused_only_when_it_is_that_draw(calibration, tmp_pa
     path.write_bytes(b"half a file")
     assert not calibration.usable_draw(path, "null", 1, [24, 25, 26, 27], baseline)
 
+
+
+def synthetic_ensemble(rng, rates, members):
+    """Members whose verdicts are independent draws at each case's collapse rate."""
+    collapsed = (rng.random((len(rates), len(members))) < np.asarray(rates)[:, None]).astype(np.int8)
+    return ensemble_file(collapsed, members)
+
+
+def test_resampled_rates_hold_alpha_under_the_null_and_see_a_shift(calibration):
+    rng = np.random.default_rng(7)
+    rates = np.r_[np.linspace(0.2, 0.8, 20), np.zeros(10), np.ones(10)]  # 20 split cases, 20 unanimous
+    baseline = synthetic_ensemble(rng, rates, range(20))
+    nulls = [synthetic_ensemble(rng, rates, range(20 + 4 * d, 24 + 4 * d)) for d in range(5)]
+    shifted = np.clip(rates + 0.5, 0.0, 1.0)
+    shifts = [synthetic_ensemble(rng, shifted, range(20 + 4 * d, 24 + 4 * d)) for d in range(3)]
+    ds = calibration.resampled_rates(baseline, nulls, shifts, resamples=150, n_permutations=1000, seed=1)
+    rate = dict(zip(ds.estimate.values, ds.resampled_rate.values))
+    assert set(rate) == set(calibration.RESAMPLED)
+    # alpha 0.005 per statistic: a valid test rejects about 1 % of null picks; 150 picks see
+    # 5 or more with probability < 0.02 at 1 %
+    assert rate["false_alarm"] <= 4 / 150 and rate["false_alarm_pooled"] <= 4 / 150
+    assert rate["power_shift"] >= 0.9 and rate["power_flips"] >= 0.9
+    assert dict(zip(ds.estimate.values, ds.resampled_pool.values)) == {
+        "false_alarm": 20, "false_alarm_pooled": 40, "power_shift": 12, "power_flips": 20}
+    assert ds.resampled_p_v.attrs["units"] == "1" and ds.sizes["resample"] == 150
+    # a pool of fewer runs than one candidate gives no estimate of its kind, not a wrong one
+    few = calibration.resampled_rates(baseline, nulls, shifts[:0], resamples=10, n_permutations=1000, seed=1)
+    assert "power_shift" not in set(few.estimate.values)

@@ -243,6 +243,23 @@ def test_an_ensemble_study_gives_collapse_fractions_and_member_zero_is_todays_ru
         assert float(cube["collapse_fraction"].max()) == 1.0  # 20 Hz, 0.25 m: the column falls
     with xr.open_dataset(root / "results/cubes/standalone_records.nc") as cube:
         assert "member" in cube["collapse_threshold"].dims
-    table = (root / "results/tables/table_7_1.csv").read_text().splitlines()
-    assert "a50_m_s2" in table[0] and "a_first_m_s2" in table[0] and len(table) == 3
+    import csv
+
+    rows = list(csv.DictReader((root / "results/tables/table_7_1.csv").open()))
+    assert "a50_m_s2" in rows[0] and "a_first_m_s2" in rows[0] and len(rows) == 2
+    # the stripes: every value a member ran inside the zone, run by both members
+    for path in sorted((root / "results/stripes").glob("*/*.nc")):
+        with xr.open_dataset(path) as fills:
+            system = path.stem
+            searches = [xr.open_dataset(root / f"results/searches/{path.parent.name}/{system}_m-{j}.nc") for j in (0, 1)]
+            ran = [set(np.asarray(s[s.attrs["search_parameter"]].values, float)) for s in searches]
+            low = min(float(s.survived_below_threshold) for s in searches)
+            high = max(float(s.collapse_threshold) for s in searches)
+            zone = {v for v in ran[0] | ran[1] if low <= v <= high}
+            for j in (0, 1):
+                mine = set(fills.stripe_value.values[fills.stripe_member.values == j].tolist())
+                assert mine == zone - ran[j], (system, j)
+                assert not (mine & ran[j])
+    fills_made = [r for r in rows if r["stripes"] == "search runs and stripe fills"]
+    assert len(list((root / "results/stripes").glob("*/*.nc"))) == 2 and fills_made == rows
     assert (root / "results/figures/thesis_fig_6_5.png").stat().st_size > 10_000

@@ -5,13 +5,13 @@ for k, batch in enumerate(CUBE_BATCHES):
         name:
             f"cubes_{k}"
         input:
-            [path for study in batch for path in case_files(study)],
+            [path for study in batch for path in case_files(study) + stripe_files(study)],
         output:
             [f"results/cubes/{study}.nc" for study in batch],
         params:
             studies={
                 study: {"inputs": case_files(study), "description": study_description(study),
-                        "search": study in SEARCH_STUDIES}
+                        "search": study in SEARCH_STUDIES, "stripes": stripe_files(study)}
                 for study in batch
             },
         log:

@@ -48,6 +48,7 @@ def record_params(wildcards):
 import stonedem.figures
 import stonedem.fragility.ida
 import stonedem.study.jobs
+import stonedem.study.stripe_fill
 import stonedem.study.grid
 
 STUDIES = {
@@ -132,6 +133,21 @@ def search_path(system):
     return f"results/searches/{system.study}/{system.id}.nc"
 
 
+# an ensemble study's stripe fills (stonedem.study.stripe_fill): one job per search system as
+# configured, after its members' searches; {study: {system id: its member systems}}
+STRIPE_GROUPS = {study: stonedem.study.stripe_fill.member_groups(list(STUDIES[study].values()))
+                 for study in SEARCH_STUDIES}
+
+
+def stripe_path(study, base):
+    return f"results/stripes/{study}/{base}.nc"
+
+
+def stripe_files(study):
+    """A search study's stripe-fill tables (none without ensemble members)."""
+    return [stripe_path(study, base) for base in STRIPE_GROUPS.get(study, {})]
+
+
 def case_files(study):
     """A study's case files, or for a search study its systems' search files."""
     if study in SEARCH_STUDIES:
@@ -152,10 +168,15 @@ CUBE_BATCHES = batches(STUDIES, 6)
 RUN_VALIDATION = config_flag("run_validation", True)
 
 
+def case_records(case):
+    """The record files a case reads (none or one)."""
+    name = record_file_name(case.scene.get("excitation"))
+    return [f"records/{name}.nc"] if isinstance(name, str) else []
+
+
 def job_records(job):
     """The record files a job's cases read."""
-    names = {record_file_name(case.scene.get("excitation")) for case in job.cases}
-    return sorted(f"records/{name}.nc" for name in names if isinstance(name, str))
+    return sorted({path for case in job.cases for path in case_records(case)})
 
 
 

@@ -56,3 +56,31 @@ for job in JOBS + FRAGILITY_JOBS:
             "../envs/stonedem.yaml"
         script:
             "../scripts/search_threshold.py"
+
+
+# An ensemble study's stripe fills (stonedem.study.stripe_fill): after a system's member searches,
+# the values any member ran inside the zone, run by the members that have not; Table 7.1 fits a50
+# over the searches and the fills. Studies with one member have none.
+for study, groups in STRIPE_GROUPS.items():
+    for k, (base, members) in enumerate(groups.items()):
+
+        rule:
+            name:
+                f"stripes_{study}_{k}"
+            input:
+                searches=[search_path(system) for system in members],
+                records=sorted({path for system in members for path in case_records(system)}),
+            output:
+                runs=directory(f"results/stripes/{study}/{base}"),
+                stripes=stripe_path(study, base),
+            params:
+                systems=[system.as_dict() for system in members],
+            log:
+                f"results/logs/stripes/{study}/{base}.log",
+            benchmark:
+                f"results/logs/benchmarks/stripes/{study}/{base}.tsv",
+            group: SIMULATION_GROUP
+            conda:
+                "../envs/stonedem.yaml"
+            script:
+                "../scripts/fill_stripes.py"

@@ -1,5 +1,5 @@
-"""Snakemake script: a batch of studies' case files (or searches) -> their cubes
-(stonedem.study.grid.combine_cases, stonedem.study.cube.combine_searches)."""
+"""Snakemake script: a batch of studies' case files (or searches, with an ensemble's stripe
+fills) -> their cubes (stonedem.study.grid.combine_cases, stonedem.study.cube.combine_searches)."""
 
 import sys
 
@@ -8,8 +8,13 @@ from stonedem.entry import workflow_log
 from stonedem.io.netcdf import write_dataset
 from stonedem.study.cube import combine_searches
 from stonedem.study.grid import combine_cases
+from stonedem.study.stripe_fill import stripe_pieces
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 for (study, spec), output in zip(snakemake.params.studies.items(), snakemake.output):  # noqa: F821
-    combine = combine_searches if spec["search"] else combine_cases
-    write_dataset(combine(list(spec["inputs"]), spec["description"]), output)
+    if spec["search"]:
+        stripes = stripe_pieces(spec["stripes"]) if spec["stripes"] else None  # None: one member, no fills
+        cube = combine_searches(list(spec["inputs"]), spec["description"], stripes)
+    else:
+        cube = combine_cases(list(spec["inputs"]), spec["description"])
+    write_dataset(cube, output)

@@ -70,15 +70,21 @@ def search_dataset(system: Case, runs: list[Run], cases: list[Path | str | xr.Da
     return cube
 
 
-def combine_searches(paths, description: str = "") -> xr.Dataset:
+def combine_searches(paths, description: str = "", stripes: dict | None = None) -> xr.Dataset:
     """A search study's cube: each system's search (:func:`search_dataset`) on dimensions
-    named by the system's parameters, runs padded with NaN to the longest search."""
+    named by the system's parameters, runs padded with NaN to the longest search.
+
+    ``stripes``: {system id: its stripe fills on ``stripe_run``} of an ensemble study
+    (:func:`stonedem.study.stripe_fill.stripe_pieces`), kept beside that system's runs; their
+    count goes to attrs ``stripe_fills`` (0: the fills ran and none was needed)."""
     pieces, attrs = [], []
     parameter = None
     for path in paths:
         with open_result(path) as ds:
             ds = ds.load()
         parameter = ds.attrs.get("search_parameter", parameter)
+        if stripes and ds.attrs.get("case") in stripes:
+            ds = xr.merge([ds, stripes[ds.attrs["case"]]], combine_attrs="override")
         # the searched values become a variable, expanded with the rest; a coordinate again after
         pieces.append(on_parameter_dimensions(ds.reset_coords([parameter]), case_parameters(ds)))
         attrs.append(dict(ds.attrs))
@@ -90,6 +96,8 @@ def combine_searches(paths, description: str = "") -> xr.Dataset:
     cube.attrs = {**shared_case_attrs(attrs), **settings,
                   "title": f"stonedem study cube (threshold searches): {attrs[0].get('study', '')}",
                   "n_systems": len(pieces), "n_cases": int(cube["n_runs"].sum()), "description": description}
+    if stripes is not None:  # an ensemble study whose fills ran (none may have been needed)
+        cube.attrs["stripe_fills"] = int(sum(piece.sizes.get("stripe_run", 0) for piece in stripes.values()))
     return cube
 
 

@@ -60,13 +60,18 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
 def ensemble_columns(system: xr.Dataset) -> dict:
     """Table 7.1 as a probability, from one system's searches by every member of an ensemble
     (issue 44, stonedem.study.stripes): a50 by probit over the pooled runs with its band
-    bootstrapped over members, the transition zone, and the member thresholds. In the study the
-    stripes are the searches' own runs; the stored baseline (stonedem.study.ensemble) also runs
-    every member at every value inside the zone."""
+    bootstrapped over members, the transition zone, and the member thresholds. The runs are
+    the searches' own and, where the cube has them, the stripe fills that run every member at
+    every value inside the zone (stonedem.study.stripe_fill; the stored baseline's runner
+    fills them the same way)."""
     from stonedem.study.stripes import threshold_band
 
     collapsed = system["collapsed"].transpose(MEMBER, "run").values
     values = system["pga"].broadcast_like(system["collapsed"]).transpose(MEMBER, "run").values
+    filled = "stripe_fills" in system.attrs  # the fills ran (none may have been needed)
+    if "stripe_value" in system:  # the fills beside the search runs, one member's row each
+        collapsed = np.concatenate([collapsed, system["stripe_collapsed"].transpose(MEMBER, "stripe_run").values], axis=1)
+        values = np.concatenate([values, system["stripe_value"].transpose(MEMBER, "stripe_run").values], axis=1)
     members = np.broadcast_to(system[MEMBER].values[:, None], values.shape)
     ran = np.isfinite(values) & np.isfinite(collapsed)
     band = threshold_band(values[ran], members[ran], collapsed[ran] > 0,
@@ -76,7 +81,8 @@ def ensemble_columns(system: xr.Dataset) -> dict:
             "a_first_m_s2": band["a_first"], "a_all_m_s2": band["a_all"],
             "member_threshold_median_m_s2": band["threshold_median"],
             "member_threshold_min_m_s2": band["threshold_min"], "member_threshold_max_m_s2": band["threshold_max"],
-            "member_thresholds_distinct": band["threshold_distinct"], "stripes": "search runs"}
+            "member_thresholds_distinct": band["threshold_distinct"],
+            "stripes": "search runs and stripe fills" if filled else "search runs"}
 
 
 def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:

@@ -1,0 +1,13 @@
+"""Snakemake script: one search system's stripe fills over its ensemble members
+(stonedem.study.stripe_fill.fill_stripes)."""
+
+from stonedem.entry import workflow_log
+
+from stonedem.study.grid import Case
+from stonedem.study.runner import CaseStore
+from stonedem.study.stripe_fill import fill_stripes
+
+workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
+store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
+systems = [Case.from_dict(system) for system in snakemake.params.systems]  # noqa: F821
+fill_stripes(systems, list(snakemake.input.searches), snakemake.output.runs, snakemake.output.stripes, store)  # noqa: F821

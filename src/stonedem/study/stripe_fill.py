@@ -47,7 +47,7 @@ def search_runs(path: Path | str) -> dict:
         parameter = ds.attrs.get("search_parameter")
         if parameter not in ds.variables or "collapse_threshold" not in ds:
             raise InputError("searches", f"{path} is not a threshold search's file (no {parameter or 'parameter'} runs)",
-                             "give the files of the study's searches (results/searches/...)")
+                             "give the files its threshold searches wrote")
         return {"values": np.asarray(ds[parameter].values, dtype=float).ravel(),
                 "threshold": float(ds["collapse_threshold"]), "survived": float(ds["survived_below_threshold"]),
                 "parameter": parameter, "units": str(ds[parameter].attrs.get("units", ""))}

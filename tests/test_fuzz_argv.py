@@ -207,7 +207,8 @@ BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "ston
                  "stonedem.bench.restitution", "stonedem.bench.rounding", "stonedem.bench.skipping",
                  "stonedem.bench.stability",
                  "stonedem.bench.work_precision", "stonedem.study.ensemble"]
-BENCH_SCRIPTS = ["device_logs", "engine_speed", "equivalence_calibration", "study_time", "table_a1_fits", "wall_supports",
+BENCH_SCRIPTS = ["device_logs", "engine_speed", "equivalence_calibration", "study_time", "table_a1_fits", "tilt_quiet_probe",
+                 "wall_supports",
                  "wall_tables"]
 
 
@@ -252,7 +253,7 @@ def _bench_options(main) -> dict:
 FILE_OUTPUTS = {("stonedem.bench.fuzz", "--out"), ("table_a1_fits", "--output"), ("stonedem.bench.stability", "--figure"),
                 ("stonedem.bench.kernel", "--figure"),
                 ("stonedem.bench.ensemble", "--figure"), ("study_time", "--out"), ("stonedem.study.ensemble", "--out"),
-                ("equivalence_calibration", "--out")}
+                ("equivalence_calibration", "--out"), ("tilt_quiet_probe", "--out")}
 # wrong for any number, count, name or input file an option may take
 BAD_VALUES = ["nan", "-inf", "inf", "1e309", "-1", "abc", "", "0x10", "é", "1e3e3"]
 

@@ -86,3 +86,32 @@ def test_table_7_1_fits_a50_over_the_searches_and_the_fills():
     unfilled = system.drop_vars(["stripe_value", "stripe_collapsed"])
     unfilled.attrs = {}
     assert ensemble_columns(unfilled)["stripes"] == "search runs"
+
+
+def test_the_study_cube_keeps_the_fills_beside_each_members_runs(systems, tmp_path):
+    import dataclasses
+
+    from stonedem.study.cube import combine_searches
+    from stonedem.study.reduce import ensemble_columns
+    from stonedem.study.runner import run_search
+
+    members = stripe_fill.member_groups(systems)["rec-mexico_standin_chichi_tcu102_drums-1"][:2]
+    members[1] = dataclasses.replace(members[1], search=dataclasses.replace(members[1].search, start=3.0))
+    store = CaseStore(None, ROOT / "records")
+    paths = []
+    for system in members:  # the tiny config's searches: nothing collapses in 1 s up to 8 m/s2
+        run_search(system, tmp_path / system.id, tmp_path / f"{system.id}.nc", store)
+        paths.append(tmp_path / f"{system.id}.nc")
+    # a fills table as fill_stripes writes it (its verdicts made up: only the merge is tested)
+    xr.Dataset({"stripe_system": ("stripe", np.array([members[1].id, members[0].id, members[1].id], dtype=object)),
+                "stripe_member": ("stripe", np.array([1, 0, 1], dtype=np.int32)),
+                "stripe_value": ("stripe", [2.0, 3.0, 4.5], {"units": "m s-2"}),
+                "stripe_collapsed": ("stripe", np.array([0, 0, 1], dtype=np.int8))}).to_netcdf(tmp_path / "fills.nc")
+    cube = combine_searches(paths, "", stripe_fill.stripe_pieces([tmp_path / "fills.nc"]))
+    assert cube.attrs["stripe_fills"] == 3 and cube.sizes["stripe_run"] == 2
+    fills = cube.stripe_value.squeeze(drop=True).transpose("member", "stripe_run").values
+    np.testing.assert_array_equal(fills, [[3.0, np.nan], [2.0, 4.5]])  # each member's own, NaN-padded
+    assert cube.collapse_threshold.dims[-1] == "member" and cube.sizes["member"] == 2
+    row = ensemble_columns(cube.squeeze(drop=True))
+    assert row["stripes"] == "search runs and stripe fills" and row["a_first_m_s2"] == 4.5
+    assert combine_searches(paths, "").attrs.get("stripe_fills") is None  # one member's study: no fills

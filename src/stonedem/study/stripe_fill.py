@@ -111,7 +111,7 @@ def stripe_pieces(stripe_paths) -> dict[str, xr.Dataset]:
         systems = [str(s) for s in ds["stripe_system"].values]
         for system in dict.fromkeys(systems):
             rows = [k for k, s in enumerate(systems) if s == system]
-            mine = ds[["stripe_value", "stripe_collapsed"]].isel(stripe=rows).drop_vars("stripe")
+            mine = ds[["stripe_value", "stripe_collapsed"]].isel(stripe=rows).drop_vars("stripe", errors="ignore")
             out[system] = mine.rename({"stripe": STRIPE_RUN}).assign_coords(
                 {STRIPE_RUN: (STRIPE_RUN, np.arange(len(rows), dtype=np.int32),
                               {"long_name": "stripe fill of the member's search"})})

@@ -337,6 +337,7 @@ def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[
     names = [n for n, (pool, *_) in RESAMPLED.items() if pools[pool][0].shape[1] >= MEMBERS]
     p_v = np.full((len(names), resamples), np.nan)
     p_t = np.full((len(names), resamples), np.nan)
+    rejected = np.zeros((len(names), resamples), dtype=bool)
     for e, name in enumerate(names):
         pool, against, flips, _ = RESAMPLED[name]
         pool_v, pool_t = pools[pool]
@@ -356,9 +357,7 @@ def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[
                 c_v[chosen, :] = 1.0 - base_v[chosen, :1]
             result = permutation_test(b_v, b_t, c_v, c_t, tolerance, n_permutations=n_permutations,
                                       seed=int(rng.integers(2**32)))
-            p_v[e, r], p_t[e, r] = result["p_v"], result["p_t"]
-    alpha = 0.005
-    rejected = (p_v <= alpha) | (p_t <= alpha)
+            p_v[e, r], p_t[e, r], rejected[e, r] = result["p_v"], result["p_t"], result["reject"]
     pool_sizes = [pools[RESAMPLED[n][0]][0].shape[1] + (base_v.shape[1] if RESAMPLED[n][1] == "pooled" else 0)
                   for n in names]
     return xr.Dataset(

@@ -176,8 +176,13 @@ def run_stripes(results: MemberResults, systems, jobs: int, log=sys.stderr) -> M
 
 
 def _stripe_items(results: MemberResults, systems) -> list:
-    return [(STRIPE, i, s.as_dict(), j, results.perturbation, value) for i, s in enumerate(systems)
-            for j, value in stripe_requests(results.members, results.searches[i])]
+    items = []
+    for i, system in enumerate(systems):
+        searches = results.searches[i]
+        requests = stripe_requests(results.members, [[v for v, _, _ in r["runs"]] for r in searches],
+                                   [r["upper"] for r in searches], [r["lower"] for r in searches])
+        items += [(STRIPE, i, system.as_dict(), j, results.perturbation, value) for j, value in requests]
+    return items
 
 
 class _Tasks:
@@ -220,17 +225,17 @@ class _Tasks:
         return MemberResults(self.members, perturbation, self.verdicts, self.searches, stripes)
 
 
-def stripe_requests(members, searches) -> list[tuple[int, float]]:
+def stripe_requests(members, run_values, thresholds, survived) -> list[tuple[int, float]]:
     """The (j, value) runs that complete one system's stripes
-    (:func:`stonedem.study.stripes.missing_stripe_runs` over its members' search runs and
-    brackets: none a member has run already), in the order (value, j)."""
+    (:func:`stonedem.study.stripes.missing_stripe_runs`: none a member has run already), in the
+    order (value, j). Per member j of ``members``: the values its search ran, and its
+    bracket's upper end (threshold) and lower end (survived), NaN where it has none."""
     from stonedem.study.stripes import missing_stripe_runs
 
-    values = [v for result in searches for v, _, _ in result["runs"]]
-    run_by = [j for j, result in zip(members, searches) for _ in result["runs"]]
+    values = [v for mine in run_values for v in mine]
+    run_by = [j for j, mine in zip(members, run_values) for _ in mine]
     missing = missing_stripe_runs(np.array(values, dtype=float), np.array(run_by, dtype=np.int64),
-                                  np.array([r["upper"] for r in searches], dtype=float),
-                                  np.array([r["lower"] for r in searches], dtype=float),
+                                  np.array(thresholds, dtype=float), np.array(survived, dtype=float),
                                   member_ids=np.array(members, dtype=np.int64))
     return sorted(missing, key=lambda pair: (pair[1], pair[0]))
 

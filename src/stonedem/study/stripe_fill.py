@@ -67,10 +67,8 @@ def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str, 
                          "give one search file per member system")
     found = [search_runs(path) for path in search_paths]
     members = [int(s.params[MEMBER]) for s in systems]
-    # as the stored baseline's runner has its members' searches: runs, and the bracket's ends
-    searches = [{"runs": [(v, None, None) for v in f["values"]], "upper": f["threshold"], "lower": f["survived"]}
-                for f in found]
-    missing = stripe_requests(members, searches)  # (j, value), in the order (value, j)
+    missing = stripe_requests(members, [f["values"] for f in found], [f["threshold"] for f in found],
+                              [f["survived"] for f in found])  # (j, value), in the order (value, j)
     by_member = dict(zip(members, systems))
     runs_dir = Path(runs_dir)
     runs_dir.mkdir(parents=True, exist_ok=True)

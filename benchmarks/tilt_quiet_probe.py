@@ -32,6 +32,7 @@ VARIANTS = {  # name -> (perturbation, member offset, quiet lead integrated, wha
     "tilt_positive": ("tilt", 1, True, "tilt member j + 1 (odd: +1e-6 rad), quiet lead integrated"),
 }
 CONFIG = Path("config/config.yaml")
+RECORDS = Path("records")
 STUDY = "standalone_records"
 
 
@@ -67,16 +68,15 @@ def main(argv=None) -> int:
 
     def command():
         from stonedem.io.netcdf import code_version, write_dataset
-        from stonedem.study.ensemble import machine
-        from stonedem.study.grid import config_cases, load_config
+        from stonedem.study.runner import machine
 
         member = options.number(args.member, "--member", lo=0, hi=998, whole=True, example="20")
         if member % 2:
             raise InputError("--member", f"{member} is odd: its tilt is +1e-6 rad", "give an even j, e.g. 20")
         out = options.output_file(args.out, "--out", suffixes=(".nc",))
-        config = load_config(CONFIG)
-        config["studies"] = {STUDY: config["studies"][STUDY]}
-        systems = {c.id: c for c in config_cases(config)[STUDY]}
+        config, known = options.study_config(CONFIG, RECORDS)
+        _, searched = options.chosen_cases(config, known, [STUDY], RECORDS)
+        systems = {system.id: system for system in searched}
         chosen = options.chosen(args.systems, "--systems", list(systems))
         rows = {name: probe(systems[name], member) for name in chosen}
         names = list(VARIANTS)

@@ -1,8 +1,6 @@
 """Snakemake script: a batch of studies' case files (or searches, with an ensemble's stripe
 fills) -> their cubes (stonedem.study.grid.combine_cases, stonedem.study.cube.combine_searches)."""
 
-import sys
-
 from stonedem.entry import workflow_log
 
 from stonedem.io.netcdf import write_dataset

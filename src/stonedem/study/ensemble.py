@@ -35,7 +35,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.study.runner import machine  # noqa: F401 - the benchmarks' provenance
+from stonedem.study.runner import machine
 from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene
 
 RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)

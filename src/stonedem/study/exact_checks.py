@@ -220,8 +220,7 @@ def _provenance():
     import llvmlite
 
     from stonedem.io.netcdf import code_version
-    from stonedem.study.runner import machine
-    from stonedem.study.runner import library_versions
+    from stonedem.study.runner import library_versions, machine
 
     return {"source": code_version(), "machine": machine(), **library_versions(),
             "llvmlite_version": llvmlite.__version__}

@@ -76,27 +76,32 @@ FACE_SLACK = 1e-12
 
 
 @njit(**INLINE_OPTIONS)
+def body_edges(s, e, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """Length [m] and outward unit normal of the edges k -> k+1 of the body whose world
+    vertices are s..e-1; a zero-length edge has normal (0, 0)."""
+    for k in range(s, e):
+        k1 = k + 1 if k + 1 < e else s
+        ex = world_x[k1] - world_x[k]
+        ey = world_y[k1] - world_y[k]
+        length = sqrt(ex * ex + ey * ey)
+        edge_len[k] = length
+        if length > 0.0:
+            edge_nx[k] = ey / length
+            edge_ny[k] = -ex / length
+        else:
+            edge_nx[k] = 0.0
+            edge_ny[k] = 0.0
+
+
+@njit(**INLINE_OPTIONS)
 def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny):
-    """Every edge k -> k+1 of every body at this step: its length [m] and outward unit normal.
+    """Every edge k -> k+1 of every body at this step (:func:`body_edges`).
 
     Once a step and body, not once per pair and direction: a column's drum has two pairs, each
-    of which looked at both bodies' edges three times. A zero-length edge has normal (0, 0).
+    of which looked at both bodies' edges three times.
     """
     for b in range(n_body):
-        s = vert_start[b]
-        e = vert_start[b + 1]
-        for k in range(s, e):
-            k1 = k + 1 if k + 1 < e else s
-            ex = world_x[k1] - world_x[k]
-            ey = world_y[k1] - world_y[k]
-            length = sqrt(ex * ex + ey * ey)
-            edge_len[k] = length
-            if length > 0.0:
-                edge_nx[k] = ey / length
-                edge_ny[k] = -ex / length
-            else:
-                edge_nx[k] = 0.0
-                edge_ny[k] = 0.0
+        body_edges(vert_start[b], vert_start[b + 1], world_x, world_y, edge_len, edge_nx, edge_ny)
 
 
 @njit(**INLINE_OPTIONS)
@@ -306,6 +311,158 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
 
 
 @njit(**INLINE_OPTIONS)
+def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, stored):
+    """The forces of touching pair (a, b) on its contact faces: a's edge ka and b's edge kb
+    (counted from each body's first vertex; their lengths and normals in work.edge_*, the
+    world vertices in work.world_*); returns ``stored`` plus the pair's stored elastic
+    energy [J] (evaluated only when want_energy). The law of :func:`point_contact_forces`,
+    which chooses the faces; a kernel that knows them (:mod:`stonedem.kernels.contact_graph`)
+    calls this directly."""
+    law = model.law
+    k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
+    vert_start, body_driven, body_mass, body_inertia = model.vert_start, model.body_driven, model.body_mass, model.body_inertia
+    body_x, body_y = state.body_x, state.body_y
+    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
+    pair_memory, energy_acc = state.pair_memory, state.energy_acc
+    world_x, world_y = work.world_x, work.world_y
+    edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
+    force_x, force_y, torque = work.force_x, work.force_y, work.torque
+    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
+    out_x = scratch[0]
+    out_y = scratch[1]
+    sa = vert_start[a]
+    na = vert_start[a + 1] - sa
+    sb = vert_start[b]
+    nb = vert_start[b + 1] - sb
+    len_a = edge_len[sa + ka]
+    len_b = edge_len[sb + kb]
+    mu = model.pair_mu[a, b]
+    ka1 = ka + 1 if ka + 1 < na else 0
+    kb1 = kb + 1 if kb + 1 < nb else 0
+    # outward unit normals of the two faces
+    fa_nx = edge_nx[sa + ka]
+    fa_ny = edge_ny[sa + ka]
+    fb_nx = edge_nx[sb + kb]
+    fb_ny = edge_ny[sb + kb]
+    # the frame: n from a to b, the bisector of a's outward and b's inward face normal
+    nx = fa_nx - fb_nx
+    ny = fa_ny - fb_ny
+    norm = sqrt(nx * nx + ny * ny)
+    if norm > 0.0:
+        nx /= norm
+        ny /= norm
+    else:
+        nx = fa_nx
+        ny = fa_ny
+    tx = ny
+    ty = -nx
+    # the faces' end vertices along the tangent, low end first
+    sa0 = world_x[sa + ka] * tx + world_y[sa + ka] * ty
+    sa1 = world_x[sa + ka1] * tx + world_y[sa + ka1] * ty
+    sb0 = world_x[sb + kb] * tx + world_y[sb + kb] * ty
+    sb1 = world_x[sb + kb1] * tx + world_y[sb + kb1] * ty
+    ia_lo, ia_hi = (ka, ka1) if sa0 <= sa1 else (ka1, ka)
+    ib_lo, ib_hi = (kb, kb1) if sb0 <= sb1 else (kb1, kb)
+    sa_lo = min(sa0, sa1)
+    sa_hi = max(sa0, sa1)
+    sb_lo = min(sb0, sb1)
+    sb_hi = max(sb0, sb1)
+    length = min(sa_hi, sb_hi) - max(sa_lo, sb_lo)
+    tol = SHARED_END_TOLERANCE * (len_a + len_b)
+    # each end: the vertex that lies inside the other face's extent (the longer face
+    # keeps a shared end, so flush drums use the upper drum's corners consistently)
+    mem = pair_memory[a, b]
+    n_end = 0
+    stiffness = 0.5 * k_n * max(length, 0.0)
+    k_end_t = 0.5 * k_t  # each end's tangential spring and dashpot: half the contact's
+    c_end_t = 0.5 * c_t
+    mass = body_mass[a] if body_driven[b] else (
+        body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
+    c_end = 2.0 * damping * sqrt(stiffness * mass)  # each end's dashpot, zeta of critical
+    for end in range(2):
+        if length <= 0.0:
+            release_end(mem, MEM_END + end * END_SLOTS, k_end_t, energy_acc)
+            continue
+        if end == 0:
+            use_a = sa_lo > sb_lo + tol or (abs(sa_lo - sb_lo) <= tol and len_a < len_b)
+            ia = ia_lo
+            ib = ib_lo
+        else:
+            use_a = sa_hi < sb_hi - tol or (abs(sa_hi - sb_hi) <= tol and len_a < len_b)
+            ia = ia_hi
+            ib = ib_hi
+        if use_a:
+            # a's vertex behind b's face: pushes b along -(b's outward normal)
+            px = world_x[sa + ia]
+            py = world_y[sa + ia]
+            enx = -fb_nx
+            eny = -fb_ny
+            depth = (px - world_x[sb + kb]) * enx + (py - world_y[sb + kb]) * eny
+            vertex = float(ia + 1)
+        else:
+            px = world_x[sb + ib]
+            py = world_y[sb + ib]
+            enx = fa_nx
+            eny = fa_ny
+            depth = -((px - world_x[sa + ka]) * enx + (py - world_y[sa + ka]) * eny)
+            vertex = -float(ib + 1)
+        slot = MEM_END + end * END_SLOTS
+        touched = mem[slot] != 0.0 and mem[slot + 1] == vertex
+        if depth <= 0.0:
+            release_end(mem, slot, k_end_t, energy_acc)
+            continue
+        if touched:
+            offset = min(mem[slot + 2], depth)
+        else:
+            offset = 0.0
+            if impact and mem[slot] == 0.0:
+                offset = depth
+                plastic_impulse(a, b, px, py, enx, eny, mu, body_x, body_y,
+                                body_vx, body_vy, body_omega, body_mass, body_inertia,
+                                body_driven, energy_acc)
+        mem[slot] = 1.0
+        mem[slot + 1] = vertex
+        mem[slot + 2] = offset
+        depth -= offset
+        v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
+                                     px, py, enx, eny, eny, -enx)
+        # thesis Eq. 3.4 at the point: spring + dashpot, no tension
+        f_el = stiffness * depth
+        f_damp = c_end * v_n
+        if f_el + f_damp < 0.0:
+            f_damp = -f_el
+        f_end = f_el + f_damp
+        # thesis Eq. 3.5-3.6 at the point, with its own spring (UDEC: one shear spring per
+        # contact point), so the tangential law stays conservative as the load moves
+        f_t, ft_el = tangential_force(mem[slot + END_FT], mu, f_end, v_t, k_end_t,
+                                      c_end_t, dt, energy_acc)
+        mem[slot + END_FT] = ft_el
+        record_point_force(mem, n_end, px, py, enx, eny, f_damp, f_t)
+        n_end += 1
+        # force on b: f_end n - F_T t with t = n turned clockwise
+        push_pair(a, b, body_x, body_y, body_driven, px, py,
+                  f_end * enx - f_t * eny, f_end * eny + f_t * enx,
+                  force_x, force_y, torque, base_force_x, base_force_y)
+        if want_energy:
+            stored += 0.5 * stiffness * depth * depth + 0.5 * ft_el * ft_el / k_end_t
+    if n_end == 0:
+        # both ends clear while the polygons overlap: the area law's k_n A at the
+        # centroid, without friction, so nothing tunnels
+        n_over = clip_convex_polygons(world_x[sa:sa + na], world_y[sa:sa + na], world_x[sb:sb + nb],
+                                      world_y[sb:sb + nb], out_x, out_y, scratch[2], scratch[3])
+        if n_over >= 3:
+            area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
+            f_fallback = k_n * area
+            push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_fallback * nx, f_fallback * ny,
+                      force_x, force_y, torque, base_force_x, base_force_y)
+    for k in range(n_end, 2):
+        record_point_force(mem, k, 0.0, 0.0, nx, ny, 0.0, 0.0)
+    mem[MEM_ACTIVE] = 1.0
+    mem[MEM_M_DAMP] = 0.0
+    return stored
+
+
+@njit(**INLINE_OPTIONS)
 def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     """Point contacts at the contact face's end vertices: add every candidate pair's forces.
 
@@ -326,26 +483,19 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     separating axes between steps (:func:`keep_faces`, :func:`faces_hold`; a sweep forgets
     them); a bundle whose cache has fewer rows than n_pair keeps none.
     """
-    law = model.law
-    k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
-    vert_start, body_driven, body_mass, body_inertia = model.vert_start, model.body_driven, model.body_mass, model.body_inertia
-    pair_mu = model.pair_mu
+    k_t = model.law.k_t
+    vert_start = model.vert_start
     body_x, body_y = state.body_x, state.body_y
-    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_ft, pair_memory, energy_acc = state.pair_ft, state.pair_memory, state.energy_acc
     world_x, world_y = work.world_x, work.world_y
     edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
     lo_x, lo_y, hi_x, hi_y = work.lo_x, work.lo_y, work.hi_x, work.hi_y
-    force_x, force_y, torque = work.force_x, work.force_y, work.torque
-    base_force_x, base_force_y, scratch = work.base_force_x, work.base_force_y, work.scratch
     pair_a, pair_b, face_cache = work.pair_a, work.pair_b, work.face_cache
     body_theta, body_radius = state.body_theta, model.body_radius
     keep = face_cache.shape[0] >= n_pair  # a Work bundle with no face cache (a test's) keeps none
     world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
-    out_x = scratch[0]
-    out_y = scratch[1]
     for p in range(n_pair):
         a = pair_a[p]
         b = pair_b[p]
@@ -386,133 +536,9 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         size = max(max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a]), max(hi_x[b] - lo_x[b], hi_y[b] - lo_y[b]))
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
-            len_b = edge_len[sb + kb]
-            ka, len_a = contact_face(edge_len, edge_nx, edge_ny, sa, na, -edge_nx[sb + kb], -edge_ny[sb + kb])
+            ka, _ = contact_face(edge_len, edge_nx, edge_ny, sa, na, -edge_nx[sb + kb], -edge_ny[sb + kb])
         else:
             ka = ref_a
-            len_a = edge_len[sa + ka]
-            kb, len_b = contact_face(edge_len, edge_nx, edge_ny, sb, nb, -edge_nx[sa + ka], -edge_ny[sa + ka])
-        ka1 = ka + 1 if ka + 1 < na else 0
-        kb1 = kb + 1 if kb + 1 < nb else 0
-        # outward unit normals of the two faces
-        fa_nx = edge_nx[sa + ka]
-        fa_ny = edge_ny[sa + ka]
-        fb_nx = edge_nx[sb + kb]
-        fb_ny = edge_ny[sb + kb]
-        # the frame: n from a to b, the bisector of a's outward and b's inward face normal
-        nx = fa_nx - fb_nx
-        ny = fa_ny - fb_ny
-        norm = sqrt(nx * nx + ny * ny)
-        if norm > 0.0:
-            nx /= norm
-            ny /= norm
-        else:
-            nx = fa_nx
-            ny = fa_ny
-        tx = ny
-        ty = -nx
-        # the faces' end vertices along the tangent, low end first
-        sa0 = world_x[sa + ka] * tx + world_y[sa + ka] * ty
-        sa1 = world_x[sa + ka1] * tx + world_y[sa + ka1] * ty
-        sb0 = world_x[sb + kb] * tx + world_y[sb + kb] * ty
-        sb1 = world_x[sb + kb1] * tx + world_y[sb + kb1] * ty
-        ia_lo, ia_hi = (ka, ka1) if sa0 <= sa1 else (ka1, ka)
-        ib_lo, ib_hi = (kb, kb1) if sb0 <= sb1 else (kb1, kb)
-        sa_lo = min(sa0, sa1)
-        sa_hi = max(sa0, sa1)
-        sb_lo = min(sb0, sb1)
-        sb_hi = max(sb0, sb1)
-        length = min(sa_hi, sb_hi) - max(sa_lo, sb_lo)
-        tol = SHARED_END_TOLERANCE * (len_a + len_b)
-        # each end: the vertex that lies inside the other face's extent (the longer face
-        # keeps a shared end, so flush drums use the upper drum's corners consistently)
-        mem = pair_memory[a, b]
-        n_end = 0
-        stiffness = 0.5 * k_n * max(length, 0.0)
-        k_end_t = 0.5 * k_t  # each end's tangential spring and dashpot: half the contact's
-        c_end_t = 0.5 * c_t
-        mu = pair_mu[a, b]
-        mass = body_mass[a] if body_driven[b] else (
-            body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
-        c_end = 2.0 * damping * sqrt(stiffness * mass)  # each end's dashpot, zeta of critical
-        for end in range(2):
-            if length <= 0.0:
-                release_end(mem, MEM_END + end * END_SLOTS, k_end_t, energy_acc)
-                continue
-            if end == 0:
-                use_a = sa_lo > sb_lo + tol or (abs(sa_lo - sb_lo) <= tol and len_a < len_b)
-                ia = ia_lo
-                ib = ib_lo
-            else:
-                use_a = sa_hi < sb_hi - tol or (abs(sa_hi - sb_hi) <= tol and len_a < len_b)
-                ia = ia_hi
-                ib = ib_hi
-            if use_a:
-                # a's vertex behind b's face: pushes b along -(b's outward normal)
-                px = world_x[sa + ia]
-                py = world_y[sa + ia]
-                enx = -fb_nx
-                eny = -fb_ny
-                depth = (px - world_x[sb + kb]) * enx + (py - world_y[sb + kb]) * eny
-                vertex = float(ia + 1)
-            else:
-                px = world_x[sb + ib]
-                py = world_y[sb + ib]
-                enx = fa_nx
-                eny = fa_ny
-                depth = -((px - world_x[sa + ka]) * enx + (py - world_y[sa + ka]) * eny)
-                vertex = -float(ib + 1)
-            slot = MEM_END + end * END_SLOTS
-            touched = mem[slot] != 0.0 and mem[slot + 1] == vertex
-            if depth <= 0.0:
-                release_end(mem, slot, k_end_t, energy_acc)
-                continue
-            if touched:
-                offset = min(mem[slot + 2], depth)
-            else:
-                offset = 0.0
-                if impact and mem[slot] == 0.0:
-                    offset = depth
-                    plastic_impulse(a, b, px, py, enx, eny, mu, body_x, body_y,
-                                    body_vx, body_vy, body_omega, body_mass, body_inertia,
-                                    body_driven, energy_acc)
-            mem[slot] = 1.0
-            mem[slot + 1] = vertex
-            mem[slot + 2] = offset
-            depth -= offset
-            v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                         px, py, enx, eny, eny, -enx)
-            # thesis Eq. 3.4 at the point: spring + dashpot, no tension
-            f_el = stiffness * depth
-            f_damp = c_end * v_n
-            if f_el + f_damp < 0.0:
-                f_damp = -f_el
-            f_end = f_el + f_damp
-            # thesis Eq. 3.5-3.6 at the point, with its own spring (UDEC: one shear spring per
-            # contact point), so the tangential law stays conservative as the load moves
-            f_t, ft_el = tangential_force(mem[slot + END_FT], mu, f_end, v_t, k_end_t,
-                                          c_end_t, dt, energy_acc)
-            mem[slot + END_FT] = ft_el
-            record_point_force(mem, n_end, px, py, enx, eny, f_damp, f_t)
-            n_end += 1
-            # force on b: f_end n - F_T t with t = n turned clockwise
-            push_pair(a, b, body_x, body_y, body_driven, px, py,
-                      f_end * enx - f_t * eny, f_end * eny + f_t * enx,
-                      force_x, force_y, torque, base_force_x, base_force_y)
-            if want_energy:
-                stored += 0.5 * stiffness * depth * depth + 0.5 * ft_el * ft_el / k_end_t
-        if n_end == 0:
-            # both ends clear while the polygons overlap: the area law's k_n A at the
-            # centroid, without friction, so nothing tunnels
-            n_over = clip_convex_polygons(world_x[sa:sa + na], world_y[sa:sa + na], world_x[sb:sb + nb],
-                                          world_y[sb:sb + nb], out_x, out_y, scratch[2], scratch[3])
-            if n_over >= 3:
-                area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
-                f_fallback = k_n * area
-                push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_fallback * nx, f_fallback * ny,
-                          force_x, force_y, torque, base_force_x, base_force_y)
-        for k in range(n_end, 2):
-            record_point_force(mem, k, 0.0, 0.0, nx, ny, 0.0, 0.0)
-        mem[MEM_ACTIVE] = 1.0
-        mem[MEM_M_DAMP] = 0.0
+            kb, _ = contact_face(edge_len, edge_nx, edge_ny, sb, nb, -edge_nx[sa + ka], -edge_ny[sa + ka])
+        stored = face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, stored)
     return n_contact, stored

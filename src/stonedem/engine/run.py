@@ -209,6 +209,12 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
         "penetration_limit": float(PENETRATION_LIMIT),
         "wall_seconds": result.wall_seconds,
+        "kernel": result.kernel,
+        "kernel_definition": "the compiled loop the run started on: contact_graph (the scene's face contacts, "
+                             "stonedem.kernels.contact_graph) or general (broad phase and separating axes)",
+        "general_from": result.handover_time, "general_from_units": "s",
+        "general_from_definition": "time from which the general loop went on where the contact graph stopped "
+                                   "holding, NaN: never",
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
         "contact_frame": law.frame,
     }

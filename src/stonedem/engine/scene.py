@@ -39,7 +39,7 @@ TOP_KEYS = {
     "interface_friction": "per-interface friction [{bodies: [a, b], mu}]",
     "contact": "contact law {k_n, c_n, k_t, c_t}",
     "excitation": "base motion",
-    "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet}",
+    "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet, kernel}",
     "output": "{every}",
 }
 BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "velocity",
@@ -47,7 +47,10 @@ BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "vel
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
 SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": "auto", "stop_on_collapse": True,
-                   "skip_quiet": True}
+                   "skip_quiet": True, "kernel": "auto"}
+# auto: a point-law scene runs on its contact graph while that holds (stonedem.kernels.contact_graph),
+# then on the general loop; general: the general loop from the start
+KERNELS = ("auto", "general")
 OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
 # a scene of more bodies is refused: the contact memory is n^2 x 20 doubles (160 MB at 1000)
@@ -119,6 +122,7 @@ class Scene:
     skip_quiet: bool  # skip where the base is too quiet to move anything (stonedem.engine.quiet.quiet_steps)
     output_every: float
     spec: dict = field(repr=False)  # the fully defaulted input, for provenance
+    kernel: str = "auto"  # solver.kernel: KERNELS
 
     @property
     def body_names(self) -> list[str]:
@@ -360,6 +364,9 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     for key in ("stop_on_collapse", "skip_quiet"):
         if not isinstance(solver[key], bool):
             raise InputError(f"solver.{key}", "expected true or false", "write true or false")
+    if solver["kernel"] not in KERNELS:
+        raise InputError("solver.kernel", f"unknown kernel {solver['kernel']!r}",
+                         f"use one of {', '.join(KERNELS)} (auto: the contact graph where it holds)")
     output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
     check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
@@ -379,7 +386,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
                   gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,
                   duration=duration, dt=dt, dt_safety=dt_safety,
                   stop_on_collapse=solver["stop_on_collapse"], skip_quiet=solver["skip_quiet"],
-                  output_every=every, spec=spec)
+                  output_every=every, spec=spec, kernel=solver["kernel"])
     check_initial_overlaps(scene)
     return scene
 

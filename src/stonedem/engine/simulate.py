@@ -21,10 +21,11 @@ import numpy as np
 from stonedem.engine import geometry
 from stonedem.entry import check_interrupt, deferred_signals, progress_print
 from stonedem.errors import InputError
-from stonedem.kernels import step
+from stonedem.kernels import contact_graph, step
 from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from stonedem.engine.laws import LAWS
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
+from stonedem.engine.graph import contact_graph as scene_graph
 from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
 from stonedem.engine.scene import Scene, box_pairs, posed_vertices
@@ -219,6 +220,8 @@ class RunResult:
     peak_theta: np.ndarray = None  # (n_body,) [rad]
     onset_step: int = -1  # first step at which rocking exceeds theta_cr / 30, -1: never
     collapse_step: int = -1  # first step at which the structure collapsed, -1: never
+    kernel: str = "general"  # the compiled loop it started on: contact_graph or general
+    handover_time: float = math.nan  # [s] from which the general loop took over from the graph's, NaN: never
 
     @property
     def max_rocking(self) -> float:
@@ -283,6 +286,28 @@ class CompiledLoop:
     state: step.State
     cursor: Cursor
     reporter: Progress | None
+    # the scene's contact graph while it holds (stonedem.kernels.contact_graph), None: the general loop
+    graph: contact_graph.Graph | None = None
+    handover_step: int = -1  # the step from which the general loop took over from the graph's, -1: none
+    started_on: str = ""  # the loop of the first call: contact_graph or general ("": not called)
+
+    def steps(self, n: int, stop: int, step_first: int, rest_from: int) -> int:
+        """One call of the compiled loop over steps n..stop-1: the contact graph's while it
+        holds, then the general loop from the step it stopped holding; returns the status."""
+        cursor = self.cursor
+        if not self.started_on:
+            self.started_on = "general" if self.graph is None else "contact_graph"
+        if self.graph is not None:
+            status, cursor.n_sample, cursor.collapse, n = contact_graph.run(
+                self.model, self.settings, self.state, cursor.samples, self.graph, int(n), int(stop),
+                step_first, rest_from, cursor.n_sample, cursor.collapse)
+            if status != contact_graph.STATUS_GENERAL:
+                return status
+            self.graph, self.handover_step = None, int(n)
+        status, cursor.n_sample, cursor.collapse = step.run(
+            self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first, rest_from,
+            cursor.n_sample, cursor.collapse)
+        return status
 
     def run(self, n: int, n_stop: int, step_first: int, rest_from: int, n_chunks: int = 1) -> int:
         """Steps n..n_stop-1; returns the kernel's status. ``n_chunks`` > 1 forces at least
@@ -298,10 +323,7 @@ class CompiledLoop:
         while n < n_stop:
             stop = min(n_stop, n + size)
             start = wallclock.perf_counter()
-            status, cursor.n_sample, cursor.collapse = step.run(
-                self.model, self.settings, self.state, cursor.samples, int(n), int(stop),
-                step_first, rest_from, cursor.n_sample, cursor.collapse,
-            )
+            status = self.steps(n, stop, step_first, rest_from)
             elapsed = wallclock.perf_counter() - start
             cursor.ran(n, stop, status, n_steps, elapsed)
             n = stop
@@ -353,6 +375,12 @@ class Plan:
     status: int = step.STATUS_OK
 
 
+def uses_graph(scene: Scene) -> bool:
+    """Whether the scene starts on the contact-graph loop (stonedem.kernels.contact_graph): under
+    the point law, unless ``solver.kernel: general``."""
+    return scene.kernel == "auto" and LAWS[scene.contact.model].code == step.CONTACT_POINT
+
+
 def plan_run(scene: Scene, progress: bool = False) -> Plan:
     """Time step, packed scene, bundles and quiet phases of one run; nothing integrated yet."""
     dt, limit = run_time_step(scene)
@@ -365,7 +393,7 @@ def plan_run(scene: Scene, progress: bool = False) -> Plan:
     )
     cursor = Cursor(empty_samples(n_steps // out_every + 2, len(scene.bodies)))
     loop = CompiledLoop(kernel_model(scene, arrays), settings, initial_state(arrays), cursor,
-                        Progress() if progress else None)
+                        Progress() if progress else None, graph=scene_graph(arrays) if uses_graph(scene) else None)
     n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
     return Plan(scene, arrays, loop, dt, limit, n_first, n_rest)
 
@@ -417,6 +445,8 @@ def finish_run(plan: Plan) -> RunResult:
         n_steps=n_steps, steps_run=int(cursor.steps), wall_seconds=cursor.wall, quiet_lead=plan.quiet_lead,
         rest_time=rest_time, arrays=plan.arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
         onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
+        kernel=plan.loop.started_on or "general",  # the ensemble runner's members run the general loop
+        handover_time=plan.loop.handover_step * dt if plan.loop.handover_step >= 0 else math.nan,
     )
 
 

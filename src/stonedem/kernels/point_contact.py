@@ -76,21 +76,28 @@ FACE_SLACK = 1e-12
 
 
 @njit(**INLINE_OPTIONS)
-def body_edges(s, e, world_x, world_y, edge_len, edge_nx, edge_ny):
-    """Length [m] and outward unit normal of the edges k -> k+1 of the body whose world
-    vertices are s..e-1; a zero-length edge has normal (0, 0)."""
-    for k in range(s, e):
-        k1 = k + 1 if k + 1 < e else s
-        ex = world_x[k1] - world_x[k]
-        ey = world_y[k1] - world_y[k]
-        length = sqrt(ex * ex + ey * ey)
-        edge_len[k] = length
-        if length > 0.0:
-            edge_nx[k] = ey / length
-            edge_ny[k] = -ex / length
-        else:
-            edge_nx[k] = 0.0
-            edge_ny[k] = 0.0
+def body_edge(s, n, k, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """Length [m] and outward unit normal of edge k -> k+1 of the body whose world vertices
+    are s..s+n-1, into edge_*[s + k]; a zero-length edge has normal (0, 0)."""
+    i = s + k
+    i1 = i + 1 if k + 1 < n else s
+    ex = world_x[i1] - world_x[i]
+    ey = world_y[i1] - world_y[i]
+    length = sqrt(ex * ex + ey * ey)
+    edge_len[i] = length
+    if length > 0.0:
+        edge_nx[i] = ey / length
+        edge_ny[i] = -ex / length
+    else:
+        edge_nx[i] = 0.0
+        edge_ny[i] = 0.0
+
+
+@njit(**INLINE_OPTIONS)
+def body_edges(s, n, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """:func:`body_edge` of every edge of the body whose world vertices are s..s+n-1."""
+    for k in range(n):
+        body_edge(s, n, k, world_x, world_y, edge_len, edge_nx, edge_ny)
 
 
 @njit(**INLINE_OPTIONS)
@@ -101,7 +108,7 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
     of which looked at both bodies' edges three times.
     """
     for b in range(n_body):
-        body_edges(vert_start[b], vert_start[b + 1], world_x, world_y, edge_len, edge_nx, edge_ny)
+        body_edges(vert_start[b], vert_start[b + 1] - vert_start[b], world_x, world_y, edge_len, edge_nx, edge_ny)
 
 
 @njit(**INLINE_OPTIONS)

@@ -1,0 +1,84 @@
+"""A scene's contact graph: which pairs touch on which faces, found once before a run.
+
+Stacks and colonnades keep their contacts: drum k on drum k - 1's top face, a capital under
+an epistyle. :func:`contact_graph` finds them from the packed scene at t = 0, as the general
+loop's first sweep and separating-axis test would, so that
+:mod:`stonedem.kernels.contact_graph` can run the scene without a broad phase or a search
+for faces, and hand it to the general loop the step the graph stops holding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from stonedem.engine.pack import SceneArrays
+from stonedem.kernels.broad_phase import find_candidate_pairs
+from stonedem.kernels.contact_graph import Graph
+
+# a contact's faces count as each other's most opposed up to this share of the smallest
+# angle between a face's normal and the other normals of its body (1 would be the tie)
+TURN_SHARE = 0.9
+
+
+def world_vertices(arrays: SceneArrays, b: int) -> np.ndarray:
+    """Body b's vertices at t = 0 in the world frame (n, 2) [m]."""
+    s, e = arrays.vert_start[b], arrays.vert_start[b + 1]
+    c, s_ = math.cos(arrays.init_theta[b]), math.sin(arrays.init_theta[b])
+    lx, ly = arrays.local_x[s:e], arrays.local_y[s:e]
+    return np.column_stack([arrays.init_x[b] + c * lx - s_ * ly, arrays.init_y[b] + s_ * lx + c * ly])
+
+
+def edge_normals(vertices: np.ndarray) -> np.ndarray:
+    """Outward unit normal of each edge k -> k+1 of a counter-clockwise polygon (n, 2); (0, 0)
+    for an edge of zero length."""
+    edge = np.roll(vertices, -1, axis=0) - vertices
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    normal = np.column_stack([edge[:, 1], -edge[:, 0]])
+    return np.divide(normal, length[:, None], out=np.zeros_like(normal), where=length[:, None] > 0)
+
+
+def facing_edge(normals: np.ndarray, direction: np.ndarray) -> int:
+    """The edge whose outward normal is closest to ``direction`` (the first of equals)."""
+    score = np.where(np.any(normals != 0.0, axis=1), normals @ direction, -np.inf)
+    return int(np.argmax(score))
+
+
+def turn_room(normals: np.ndarray, k: int) -> float:
+    """Half the smallest angle between edge k's normal and another edge's [rad]: the face
+    stays its body's edge most opposed to a direction within that angle of its normal."""
+    others = [i for i in range(len(normals)) if i != k and np.any(normals[i] != 0.0)]
+    cosines = np.clip(normals[others] @ normals[k], -1.0, 1.0)
+    return 0.5 * float(np.arccos(cosines).min()) if others else math.pi / 2
+
+
+def contact_graph(arrays: SceneArrays) -> Graph:
+    """The face contacts of the packed scene at t = 0: every pair the general loop's broad
+    phase would list at its first sweep, on a's edge of least overlap with b and b's edge most
+    opposed to it, with the relative turn up to which those stay the faces."""
+    n_body = len(arrays.body_mass)
+    vertices = [world_vertices(arrays, b) for b in range(n_body)]
+    lo = np.array([v.min(axis=0) for v in vertices])
+    hi = np.array([v.max(axis=0) for v in vertices])
+    pair_a, pair_b = find_candidate_pairs(n_body, arrays.body_driven, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
+                                          arrays.margin, arrays.sweep_axis)
+    faces_a, faces_b, rest, limit = [], [], [], []
+    index = np.full((n_body, n_body), -1, dtype=np.int64)
+    for g, (a, b) in enumerate(zip(pair_a, pair_b)):
+        normals_a, normals_b = edge_normals(vertices[a]), edge_normals(vertices[b])
+        # a's edge along whose normal b lies farthest out (least overlap, or a gap)
+        separation = [np.min((vertices[b] - vertices[a][k]) @ normals_a[k]) if np.any(normals_a[k] != 0.0)
+                      else -np.inf for k in range(len(normals_a))]
+        ka = int(np.argmax(separation))
+        kb = facing_edge(normals_b, -normals_a[ka])
+        inward = -normals_a[ka]
+        angle = math.atan2(inward[0] * normals_b[kb][1] - inward[1] * normals_b[kb][0], inward @ normals_b[kb])
+        faces_a.append(ka)
+        faces_b.append(kb)
+        rest.append(angle - (arrays.init_theta[b] - arrays.init_theta[a]))
+        limit.append(TURN_SHARE * min(turn_room(normals_a, ka), turn_room(normals_b, kb)))
+        index[a, b] = g
+    return Graph(pair_a=np.asarray(pair_a, dtype=np.int64), pair_b=np.asarray(pair_b, dtype=np.int64),
+                 face_a=np.asarray(faces_a, dtype=np.int64), face_b=np.asarray(faces_b, dtype=np.int64),
+                 turn_rest=np.asarray(rest, dtype=float), turn_limit=np.asarray(limit, dtype=float), index=index)

@@ -26,8 +26,8 @@ import numpy as np
 from numba import typed
 
 from stonedem.engine.scene import Scene
-from stonedem.engine.simulate import (FIRST_CHUNK_STEPS, Plan, RunResult, after_settle, finish_run, main_phase,
-                                      next_chunk, plan_run, settle_phase)
+from stonedem.engine.simulate import (FIRST_CHUNK_STEPS, Plan, RunResult, after_settle, compile_for, finish_run,
+                                      main_phase, next_chunk, plan_run, settle_phase)
 from stonedem.entry import check_interrupt, deferred_signals
 from stonedem.errors import InputError
 from stonedem.kernels import step
@@ -88,21 +88,29 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
 
     A member's cursor (samples, steps, wall time) moves on as in
     :meth:`stonedem.engine.simulate.CompiledLoop.run`; its wall time is its share of each
-    chunk's (the chunk's wall time over the members it ran)."""
+    chunk's (the chunk's wall time over the members it ran), and the compile of the members'
+    loop (or its load from the cache) before the first chunk is each member's compile time."""
     members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
     if not members:
         return statuses_of(plans, members, status)
     bundles = [typed.List([getattr(loop, name) for loop in loops]) for name in ("model", "settings", "state")]
     samples = typed.List([loop.cursor.samples for loop in loops])
-    size = FIRST_CHUNK_STEPS
+    size, compiled = FIRST_CHUNK_STEPS, False
     with deferred_signals():  # a signal is raised between chunks, never inside the kernel
         while True:
             which = np.flatnonzero((status == step.STATUS_OK) & (at < end))
             if which.size == 0:
                 break
             stop = np.minimum(at + size, end)
+            args = (which, *bundles, samples, at, stop, first, rest_from, n_sample, collapse, status)
+            if not compiled:  # before the first timed chunk; each member waited for it
+                seconds = compile_for(run_members, args)
+                for loop in loops:
+                    loop.cursor.compile += seconds
+                compiled = True
+                check_interrupt()
             started = wallclock.perf_counter()
-            run_members(which, *bundles, samples, at, stop, first, rest_from, n_sample, collapse, status)
+            run_members(*args)
             elapsed = wallclock.perf_counter() - started
             for k in which:
                 cursor = loops[k].cursor

@@ -74,8 +74,10 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
     if first is None:  # run_scenes refused what it had to before running ``first``
         preflight(scene)
     requested = scene.dt_safety
+    compiled = 0.0  # the loop's compile, whichever attempt waited for it
     for retry in range(ENERGY_RETRIES + 1):
         result = first if retry == 0 and first is not None else simulate(scene, progress=progress)
+        compiled += result.compile_seconds
         diverged = result.status == step.STATUS_NONFINITE
         checks = None if diverged else run_checks(scene, result)
         # an automatic step whose run diverges or drifts past the energy tolerance is halved
@@ -96,6 +98,7 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
     ds = scene_dataset(scene, result, checks)
     ds.attrs["dt_safety_requested"] = requested
     ds.attrs["dt_halvings"] = retry
+    ds.attrs["compile_seconds"] = compiled
     return ds
 
 
@@ -209,6 +212,9 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
         "penetration_limit": float(PENETRATION_LIMIT),
         "wall_seconds": result.wall_seconds,
+        "compile_seconds": result.compile_seconds, "compile_seconds_units": "s",
+        "compile_seconds_definition": "wall time to compile the time loop or load it from Numba's cache before its "
+                                      "first step, not in wall_seconds (the stepping)",
         "kernel": result.kernel,
         "kernel_definition": "the compiled loop the run started on: contact_graph (the scene's face contacts, "
                              "stonedem.kernels.contact_graph) or general (broad phase and separating axes)",
@@ -219,3 +225,4 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "contact_frame": law.frame,
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+

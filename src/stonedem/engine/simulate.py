@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 import time as wallclock
 import dataclasses
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from stonedem.engine import geometry
@@ -150,31 +152,51 @@ FIRST_CHUNK_STEPS = 2000
 
 class Progress:
     """Progress of a run on stderr: a line redrawn twice a second on a terminal, else a log
-    line after 1 s and then every LOG_SECONDS (nothing for a run shorter than 1 s)."""
+    line after 1 s and then every LOG_SECONDS (nothing for a run shorter than 1 s); and a
+    notice when compiling the time loop takes a while, with a line saying how long it took."""
 
     LOG_SECONDS = 5.0
 
     COMPILE_NOTICE_SECONDS = 2.0
 
     def __init__(self, stream=None):
-        import threading
-
         self.stream = stream or sys.stderr
         self.tty = getattr(self.stream, "isatty", lambda: False)()
         self.last = 0.0
         self.drawn = False
-        # the first call of the compiled loop compiles it (or loads it from the cache):
-        # say so when that takes a while, rather than sit silent
+        self.lock = threading.Lock()
+        self.notice = None
+        self.busy = False  # a compile is under way
+        self.noticed = False  # and its notice was printed
+
+    def compiling(self):
+        """A compiled loop is being compiled (or loaded from the cache): a notice if that takes
+        more than COMPILE_NOTICE_SECONDS, rather than sit silent."""
+        with self.lock:
+            self.busy, self.noticed = True, False
         self.notice = threading.Timer(self.COMPILE_NOTICE_SECONDS, self._compiling)
         self.notice.daemon = True
         self.notice.start()
 
     def _compiling(self):
-        self.stream = progress_print(self.stream, "  compiling the time loop (first run after install or an "
-                                     "edit: about 1 min; cached after that)")
+        with self.lock:
+            if self.busy:
+                self.noticed = True
+                # measured on 2 cores: 29-34 s for the general loop (both contact laws inlined), 22 s for the
+                # contact-graph loop; a cache load 0.05 s
+                self.stream = progress_print(self.stream, "  compiling the time loop (first run after install or an "
+                                             "edit: 20-35 s; cached after that)")
+
+    def compiled(self, seconds: float):
+        """The compile ended after ``seconds``: one line saying so when its notice was printed."""
+        with self.lock:
+            self.busy = False
+            if self.notice is not None:
+                self.notice.cancel()
+            if self.noticed:
+                self.stream = progress_print(self.stream, f"  compiled the time loop in {seconds:.1f} s")
 
     def __call__(self, t, t_end, wall):
-        self.notice.cancel()
         # a log gets its first line after 1 s (the run has started), then every LOG_SECONDS
         every = 0.5 if self.tty else (self.LOG_SECONDS if self.last > 0.0 else 1.0)
         if wall - self.last < every:
@@ -188,9 +210,32 @@ class Progress:
             self.stream = progress_print(self.stream, line.strip())
 
     def finish(self):
-        self.notice.cancel()
+        if self.notice is not None:
+            self.notice.cancel()
         if self.drawn:
             self.stream = progress_print(self.stream, "")
+
+
+def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
+    """Compile a jitted ``dispatcher`` for the types of ``args`` (Numba's own typing of a call,
+    so the call then finds that very specialisation), or load it from the cache, before a
+    timed call; the seconds it took, 0.0 where it was loaded already in this process or runs
+    as plain Python (NUMBA_DISABLE_JIT). ``progress``: its compile notice while it takes a while."""
+    if not hasattr(dispatcher, "overloads"):
+        return 0.0
+    signature = tuple(numba.typeof(arg) for arg in args)
+    if signature in dispatcher.overloads:
+        return 0.0
+    if progress is not None:
+        progress.compiling()
+    start = wallclock.perf_counter()
+    try:
+        dispatcher.compile(signature)
+    finally:
+        seconds = wallclock.perf_counter() - start
+        if progress is not None:
+            progress.compiled(seconds)
+    return seconds
 
 
 @dataclass
@@ -210,7 +255,7 @@ class RunResult:
     out_every: int
     n_steps: int
     steps_run: int  # steps integrated (the quiet lead and tail are not)
-    wall_seconds: float
+    wall_seconds: float  # the compiled loop's stepping, its compile not included
     arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
     quiet_lead: float = 0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
     rest_time: float = math.nan  # [s] at rest on a quiet base from here on (not integrated), NaN if never
@@ -220,6 +265,7 @@ class RunResult:
     peak_theta: np.ndarray = None  # (n_body,) [rad]
     onset_step: int = -1  # first step at which rocking exceeds theta_cr / 30, -1: never
     collapse_step: int = -1  # first step at which the structure collapsed, -1: never
+    compile_seconds: float = 0.0  # [s] compiling the loop or loading it from the cache, before its first step
     kernel: str = "general"  # the compiled loop it started on: contact_graph or general
     handover_time: float = math.nan  # [s] from which the general loop took over from the graph's, NaN: never
 
@@ -252,13 +298,15 @@ class RunResult:
 @dataclass
 class Cursor:
     """Where a run's samples stand: filled up to ``n_sample``, the collapse sample (-1: none),
-    the compiled loop's wall time [s] and the steps it integrated."""
+    the compiled loop's wall time [s], the steps it integrated, and the time [s] its compile
+    (or load from the cache) took before the first step, which ``wall`` leaves out."""
 
     samples: step.Samples
     n_sample: int = 0
     collapse: int = -1
     wall: float = 0.0
     steps: int = 0
+    compile: float = 0.0
 
     def ran(self, start: int, stop: int, status: int, n_steps: int, wall: float) -> None:
         """Book a call of the loop over steps start..stop-1 that ended with ``status`` and took
@@ -286,6 +334,7 @@ class CompiledLoop:
     state: step.State
     cursor: Cursor
     reporter: Progress | None
+    loaded: list = dataclasses.field(default_factory=list)  # the compiled loops ready for this run's bundles
     # the scene's contact graph while it holds (stonedem.kernels.contact_graph), None: the general loop
     graph: contact_graph.Graph | None = None
     handover_step: int = -1  # the step from which the general loop took over from the graph's, -1: none
@@ -298,16 +347,28 @@ class CompiledLoop:
         if not self.started_on:
             self.started_on = "general" if self.graph is None else "contact_graph"
         if self.graph is not None:
+            self.compiled(contact_graph.run, (self.model, self.settings, self.state, cursor.samples, self.graph,
+                                              int(n), int(stop), step_first, rest_from, cursor.n_sample,
+                                              cursor.collapse))
             status, cursor.n_sample, cursor.collapse, n = contact_graph.run(
                 self.model, self.settings, self.state, cursor.samples, self.graph, int(n), int(stop),
                 step_first, rest_from, cursor.n_sample, cursor.collapse)
             if status != contact_graph.STATUS_GENERAL:
                 return status
             self.graph, self.handover_step = None, int(n)
+        self.compiled(step.run, (self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first,
+                                 rest_from, cursor.n_sample, cursor.collapse))
         status, cursor.n_sample, cursor.collapse = step.run(
             self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first, rest_from,
             cursor.n_sample, cursor.collapse)
         return status
+
+    def compiled(self, loop, args) -> None:
+        """Before the first call of a compiled ``loop`` in this run: compile it for ``args`` or load
+        it from the cache (:func:`compile_for`), its time booked in cursor.compile, not as stepping."""
+        if loop not in self.loaded:
+            self.cursor.compile += compile_for(loop, args, self.reporter)
+            self.loaded.append(loop)
 
     def run(self, n: int, n_stop: int, step_first: int, rest_from: int, n_chunks: int = 1) -> int:
         """Steps n..n_stop-1; returns the kernel's status. ``n_chunks`` > 1 forces at least
@@ -322,9 +383,10 @@ class CompiledLoop:
         size = max(1, (n_stop - n) // n_chunks) if n_chunks > 1 else FIRST_CHUNK_STEPS
         while n < n_stop:
             stop = min(n_stop, n + size)
-            start = wallclock.perf_counter()
+            start, compiled = wallclock.perf_counter(), cursor.compile
             status = self.steps(n, stop, step_first, rest_from)
-            elapsed = wallclock.perf_counter() - start
+            # the chunk's stepping: a loop compiled (or loaded from the cache) before its first call is not in it
+            elapsed = wallclock.perf_counter() - start - (cursor.compile - compiled)
             cursor.ran(n, stop, status, n_steps, elapsed)
             n = stop
             if n_chunks <= 1:
@@ -442,7 +504,8 @@ def finish_run(plan: Plan) -> RunResult:
         time=samples.step[:n] * dt, x=samples.x[:n], y=samples.y[:n], theta=samples.theta[:n],
         energy=samples.energy[:n], n_contact=samples.n_contact[:n], status=int(status),
         collapse_sample=int(cursor.collapse), dt=dt, dt_limit=plan.limit, out_every=settings.out_every,
-        n_steps=n_steps, steps_run=int(cursor.steps), wall_seconds=cursor.wall, quiet_lead=plan.quiet_lead,
+        n_steps=n_steps, steps_run=int(cursor.steps), wall_seconds=cursor.wall, compile_seconds=cursor.compile,
+        quiet_lead=plan.quiet_lead,
         rest_time=rest_time, arrays=plan.arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
         onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
         kernel=plan.loop.started_on or "general",  # the ensemble runner's members run the general loop

@@ -27,8 +27,8 @@ from stonedem.errors import InputError, one_line
 from stonedem.io.paths import real_path
 
 # attrs (and table columns) that hold the clock time or the machine of a run
-CLOCK = ("wall_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host", "elapsed",
-         "run_seconds")
+CLOCK = ("wall_seconds", "compile_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host",
+         "elapsed", "run_seconds")
 KINDS = ("cubes", "tables", "cases", "searches", "fragility")
 # a study's CSV tables are kilobytes; two of 2 GB took 6.4 GB of memory and 28 s to call the same
 MAX_TABLE_BYTES = 256 * 2**20

@@ -191,3 +191,36 @@ def test_the_loop_is_compiled_apart_from_its_timed_stepping(monkeypatch):
     assert simulate_module.compile_for(slow, (1.0,), simulate_module.Progress(out)) >= 0.2
     lines = out.getvalue().splitlines()
     assert len(lines) == 2 and "compiling the time loop" in lines[0] and lines[1].startswith("  compiled the time loop in")
+
+
+def test_the_warm_compile_covers_every_loop_and_type_of_the_study(monkeypatch):
+    """The workflow's compile_kernels jobs (stonedem.engine.run.WARM_SCENES) compile every loop a
+    study case runs on, for its argument types, so the jobs that run the engine load the cache."""
+    import dataclasses
+    from pathlib import Path
+
+    import numba
+
+    import stonedem.engine.simulate as simulate_module
+    from stonedem.engine.run import WARM_SCENES
+    from stonedem.study.grid import case_scene, config_cases, load_config, search_case
+
+    seen = []
+    real = simulate_module.compile_for
+
+    def spy(dispatcher, args, progress=None):
+        seen.append((dispatcher.py_func.__module__, tuple(numba.typeof(a) for a in args)))
+        return real(dispatcher, args, progress)
+
+    monkeypatch.setattr(simulate_module, "compile_for", spy)
+    for spec in WARM_SCENES.values():
+        simulate(scene_from_dict(spec))
+    warm, seen[:] = set(seen), []
+    assert {module for module, _ in warm} == {"stonedem.kernels.step", "stonedem.kernels.contact_graph"}
+    root = Path(__file__).resolve().parents[1]
+    config = load_config(root / "config" / "config.yaml", root / "tests" / "workflow" / "config.yaml")
+    for cases in config_cases(config).values():
+        for case in cases:
+            scene = case_scene(search_case(case, 1.0) if case.search else case, root / "records")
+            simulate(dataclasses.replace(scene, duration=0.002))
+    assert seen and set(seen) <= warm

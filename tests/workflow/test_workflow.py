@@ -189,10 +189,22 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
 
 
 def test_slurm_profile_dry_run():
+    import re
+
+    from stonedem.kernels import sources_key
+
     proc = snakemake("-n", "--profile", "config/profiles/slurm", "--configfile", "tests/workflow/config.yaml")
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "dry-run" in proc.stdout + proc.stderr
     assert "search_ida_" not in proc.stdout  # the IDA is planned only when asked for
+    # the engine compiled once, a job per time loop, before the jobs that run it (workflow/rules/compile.smk)
+    blocks = re.findall(r"^( *)rule (\w+):\n((?:\1    .*\n)+)", proc.stdout, re.M)
+    markers = [f"results/compiled/{sources_key()}/{loop}.txt" for loop in ("contact_graph", "general")]
+    assert sorted(re.search(r"output: (.*)", text).group(1) for _, name, text in blocks
+                  if name == "compile_kernels") == markers
+    engine = [(name, text.split("output:")[0]) for _, name, text in blocks
+              if name.startswith(("simulate_", "search_", "stripes_", "validate_one"))]
+    assert len(engine) >= 20 and all(m in inputs for _, inputs in engine for m in markers), engine
 
 
 def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():

@@ -16,6 +16,7 @@ ENSEMBLE_CONFIG = os.path.relpath(
 rule ensemble:
     input:
         expand("records/{name}.nc", name=RECORD_NAMES),
+        COMPILED,
     output:
         "results/ensemble/ensemble.nc",
     params:

@@ -1,6 +1,7 @@
 # One rule per job of stonedem.study.jobs: a job runs its cases in one interpreter (one start-up,
 # one compiled-cache load), writes one NetCDF per case and logs one line per case; a
-# restored case comes from the case store (results/case_store, stonedem.study.runner).
+# restored case comes from the case store (results/case_store, stonedem.study.runner). Every job
+# that runs the engine waits for its compile (compile.smk: COMPILED).
 for job in JOBS:
     if job.is_search:
         continue
@@ -10,6 +11,7 @@ for job in JOBS:
             job.name
         input:
             job_records(job),
+            COMPILED,
         output:
             [case_path(case) for case in job.cases],
         params:
@@ -39,6 +41,7 @@ for job in JOBS + FRAGILITY_JOBS:
             job.name
         input:
             job_records(job),
+            COMPILED,
         output:
             runs=[directory(f"results/cases/{job.study}/{system.id}") for system in job.cases],
             search=[search_path(system) for system in job.cases],
@@ -70,6 +73,7 @@ for study, groups in STRIPE_GROUPS.items():
             input:
                 searches=[search_path(system) for system in members],
                 records=sorted({path for system in members for path in case_records(system)}),
+                compiled=COMPILED,
             output:
                 runs=directory(f"results/stripes/{study}/{base}"),
                 stripes=stripe_path(study, base),

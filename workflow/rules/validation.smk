@@ -36,6 +36,7 @@ VALIDATION_CAPTIONS = {
 rule validate_one:
     input:
         unpack(lambda wildcards: VALIDATION_RECORDS.get(wildcards.validation, {})),
+        compiled=COMPILED,
     output:
         "results/validation/{validation}.nc",
     log:

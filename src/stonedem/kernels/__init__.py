@@ -41,15 +41,21 @@ NO_ALLOC_OPTIONS = {**JIT_OPTIONS, "_nrt": False}
 INLINE_OPTIONS = {**NO_ALLOC_OPTIONS, "inline": "always"}
 
 
-def _kernel_cache_dir() -> Path:
+def sources_key() -> str:
+    """16 hex digits of a hash of all kernel sources: the cache folder's name, and the name of the
+    workflow's marker of a compile (workflow/rules/compile.smk)."""
     # the compiled references (stonedem.reference) share this cache and its key
     here = Path(__file__).resolve().parent
     digest = hashlib.sha256()
     for source in sorted(here.glob("*.py")) + sorted((here.parent / "reference").glob("*.py")):
         digest.update(source.name.encode())
         digest.update(source.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _kernel_cache_dir() -> Path:
     root = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return root / "stonedem" / "numba" / digest.hexdigest()[:16]
+    return root / "stonedem" / "numba" / sources_key()
 
 
 if not os.environ.get("NUMBA_CACHE_DIR"):

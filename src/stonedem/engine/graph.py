@@ -15,7 +15,7 @@ import numpy as np
 
 from stonedem.engine.pack import SceneArrays
 from stonedem.kernels.broad_phase import find_candidate_pairs
-from stonedem.kernels.contact_graph import Graph
+from stonedem.kernels.contact_graph import BROKEN_FACES, BROKEN_PAIR, BROKEN_TURN, Graph
 
 # a contact's faces count as each other's most opposed up to this share of the smallest
 # angle between a face's normal and the other normals of its body (1 would be the tie)
@@ -82,3 +82,18 @@ def contact_graph(arrays: SceneArrays) -> Graph:
     return Graph(pair_a=np.asarray(pair_a, dtype=np.int64), pair_b=np.asarray(pair_b, dtype=np.int64),
                  face_a=np.asarray(faces_a, dtype=np.int64), face_b=np.asarray(faces_b, dtype=np.int64),
                  turn_rest=np.asarray(rest, dtype=float), turn_limit=np.asarray(limit, dtype=float), index=index)
+
+
+def why_broken(broken: int, which: int, graph: Graph, names: list[str]) -> str:
+    """What made the contact graph stop holding, in words (the dataset's general_because)."""
+    if broken == BROKEN_PAIR:
+        if which < 0:
+            return "more pairs came within the broad phase's margin than the graph holds"
+        a, b = divmod(which, len(names))
+        return f"{names[a]} and {names[b]}, apart at t = 0, came within the broad phase's margin"
+    a, b = names[graph.pair_a[which]], names[graph.pair_b[which]]
+    if broken == BROKEN_TURN:
+        return f"the contact faces of {a} and {b} turned {graph.turn_limit[which]:.3g} rad against each other"
+    if broken == BROKEN_FACES:
+        return f"{a} and {b} touched on other faces than at t = 0"
+    return ""

@@ -221,6 +221,7 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "general_from": result.handover_time, "general_from_units": "s",
         "general_from_definition": "time from which the general loop went on where the contact graph stopped "
                                    "holding, NaN: never",
+        "general_because": result.handover_reason,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
         "contact_frame": law.frame,
     }

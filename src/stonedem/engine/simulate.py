@@ -27,7 +27,7 @@ from stonedem.kernels import contact_graph, step
 from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
 from stonedem.engine.laws import LAWS
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
-from stonedem.engine.graph import contact_graph as scene_graph
+from stonedem.engine.graph import contact_graph as scene_graph, why_broken
 from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
 from stonedem.engine.scene import Scene, box_pairs, posed_vertices
@@ -268,6 +268,7 @@ class RunResult:
     compile_seconds: float = 0.0  # [s] compiling the loop or loading it from the cache, before its first step
     kernel: str = "general"  # the compiled loop it started on: contact_graph or general
     handover_time: float = math.nan  # [s] from which the general loop took over from the graph's, NaN: never
+    handover_reason: str = ""  # why (stonedem.engine.graph.why_broken)
 
     @property
     def max_rocking(self) -> float:
@@ -339,6 +340,7 @@ class CompiledLoop:
     graph: contact_graph.Graph | None = None
     handover_step: int = -1  # the step from which the general loop took over from the graph's, -1: none
     started_on: str = ""  # the loop of the first call: contact_graph or general ("": not called)
+    broken: tuple = ()  # why the graph stopped holding: (contact_graph.BROKEN_*, pair or contact)
 
     def steps(self, n: int, stop: int, step_first: int, rest_from: int) -> int:
         """One call of the compiled loop over steps n..stop-1: the contact graph's while it
@@ -350,11 +352,12 @@ class CompiledLoop:
             self.compiled(contact_graph.run, (self.model, self.settings, self.state, cursor.samples, self.graph,
                                               int(n), int(stop), step_first, rest_from, cursor.n_sample,
                                               cursor.collapse))
-            status, cursor.n_sample, cursor.collapse, n = contact_graph.run(
+            status, cursor.n_sample, cursor.collapse, n, broken, which = contact_graph.run(
                 self.model, self.settings, self.state, cursor.samples, self.graph, int(n), int(stop),
                 step_first, rest_from, cursor.n_sample, cursor.collapse)
             if status != contact_graph.STATUS_GENERAL:
                 return status
+            self.broken = (int(broken), int(which), self.graph)
             self.graph, self.handover_step = None, int(n)
         self.compiled(step.run, (self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first,
                                  rest_from, cursor.n_sample, cursor.collapse))
@@ -510,6 +513,7 @@ def finish_run(plan: Plan) -> RunResult:
         onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
         kernel=plan.loop.started_on or "general",  # the ensemble runner's members run the general loop
         handover_time=plan.loop.handover_step * dt if plan.loop.handover_step >= 0 else math.nan,
+        handover_reason=why_broken(*plan.loop.broken, plan.scene.body_names) if plan.loop.broken else "",
     )
 
 

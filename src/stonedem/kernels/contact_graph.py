@@ -37,7 +37,7 @@ from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import MEM_ACTIVE, contact_power, release_contact
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
-from stonedem.kernels.point_contact import (FACE_A, N_FACE_CACHE, body_edge, body_edges, deepest_face, edge_separation,
+from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges, deepest_face, edge_separation,
                                             face_contact_forces, faces_hold, keep_faces)
 from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_AT_REST, STATUS_COLLAPSED, STATUS_NONFINITE, STATUS_OK,
                                    allocate_work, at_rest, book_energy, book_power, clear_forces, collapsed,
@@ -45,6 +45,11 @@ from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_AT_REST, STATUS_COLLAP
                                    velocities_at_step)
 
 STATUS_GENERAL = 5  # the graph no longer holds: the general loop goes on from the step returned
+# why it no longer holds (run's fifth value; its sixth names the pair a * n_body + b, or the contact)
+HELD = 0
+BROKEN_PAIR = 1  # a pair outside the graph came within the broad phase's margin
+BROKEN_TURN = 2  # a contact's faces turned past its turn limit
+BROKEN_FACES = 3  # a touching contact's edges of least overlap are no longer its faces
 
 
 class Graph(NamedTuple):
@@ -64,7 +69,8 @@ def run(model, settings, state, samples, graph, step_start, step_stop, step_firs
         n_sample, collapse_sample):
     """:func:`stonedem.kernels.step.run` for a scene with a contact graph: the same arguments
     plus ``graph`` (:class:`Graph`); returns (status, n_sample, collapse_sample, the step to
-    go on from), which with STATUS_GENERAL is the step the general loop goes on from."""
+    go on from, why the graph broke, which pair or contact), which with STATUS_GENERAL is the
+    step the general loop goes on from (BROKEN_*; else HELD, -1)."""
     n_contact = graph.pair_a.shape[0]
     work = allocate_work(model, max(first_pair_capacity(model.body_mass.shape[0]), n_contact))
     kept = np.full((n_contact, N_FACE_CACHE), -1.0)
@@ -75,8 +81,9 @@ def run(model, settings, state, samples, graph, step_start, step_stop, step_firs
 
 @njit(**INLINE_OPTIONS)
 def graph_holds(model, state, work, graph, kept, touching):
-    """The guard and narrow phase of one step: False when a contact's faces are no longer the
-    graph's; else touching[g] tells whether contact g touches (no edge separates the pair).
+    """The guard and narrow phase of one step: (BROKEN_TURN or BROKEN_FACES, contact) when a
+    contact's faces are no longer the graph's; else (HELD, -1), and touching[g] tells whether
+    contact g touches (no edge separates the pair).
 
     kept: each contact's separating axes, kept while they provably hold (rows as
     Work.face_cache's). Writes the face edges' lengths and normals into work.edge_*.
@@ -90,44 +97,80 @@ def graph_holds(model, state, work, graph, kept, touching):
         a = pair_a[g]
         b = pair_b[g]
         if abs(graph.turn_rest[g] + body_theta[b] - body_theta[a]) >= graph.turn_limit[g]:
-            return False
+            return BROKEN_TURN, g
         sa = vert_start[a]
         na = vert_start[a + 1] - sa
         sb = vert_start[b]
         nb = vert_start[b + 1] - sb
         ka = face_a[g]
         kb = face_b[g]
+        body_edge(sa, na, ka, world_x, world_y, edge_len, edge_nx, edge_ny)
+        body_edge(sb, nb, kb, world_x, world_y, edge_len, edge_nx, edge_ny)
+        # the separating axes as the general law finds them: its edges of least overlap,
+        # kept while they provably hold, else searched for over every edge of the pair
         sep_b = 0.0
         if kept[g, FACE_A] >= 0.0 and faces_hold(kept, g, a, b, body_x, body_y, body_theta, body_radius):
-            # the kept faces are the graph's: their edges only
-            body_edge(sa, na, ka, world_x, world_y, edge_len, edge_nx, edge_ny)
-            body_edge(sb, nb, kb, world_x, world_y, edge_len, edge_nx, edge_ny)
-            sep_a = edge_separation(world_x, world_y, edge_nx, edge_ny, sa + ka, sb, nb)
+            ref_a = int(kept[g, FACE_A])
+            ref_b = int(kept[g, FACE_B])
+            if ref_a != ka:
+                body_edge(sa, na, ref_a, world_x, world_y, edge_len, edge_nx, edge_ny)
+            if ref_b != kb:
+                body_edge(sb, nb, ref_b, world_x, world_y, edge_len, edge_nx, edge_ny)
+            sep_a = edge_separation(world_x, world_y, edge_nx, edge_ny, sa + ref_a, sb, nb)
             if sep_a < 0.0:
-                sep_b = edge_separation(world_x, world_y, edge_nx, edge_ny, sb + kb, sa, na)
+                sep_b = edge_separation(world_x, world_y, edge_nx, edge_ny, sb + ref_b, sa, na)
         else:
             kept[g, FACE_A] = -1.0
             body_edges(sa, na, world_x, world_y, edge_len, edge_nx, edge_ny)
             body_edges(sb, nb, world_x, world_y, edge_len, edge_nx, edge_ny)
+            ref_b = kb
             sep_a, ref_a, next_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
             if sep_a < 0.0:
                 sep_b, ref_b, next_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
                 if sep_b < 0.0:
-                    if ref_a != ka or ref_b != kb:
-                        return False
                     keep_faces(kept, g, a, b, ref_a, ref_b, sep_a - next_a, sep_b - next_b,
                                body_x, body_y, body_theta, body_radius)
+        if sep_a < 0.0 and sep_b < 0.0 and (ref_a != ka or ref_b != kb):
+            # the general law's reference face is the shallower of the two (b's only if
+            # shallower by FACE_SWITCH_TOLERANCE of the larger body's size); the other face
+            # follows from it (the turn limit), so the reference must be the graph's
+            if sep_b > sep_a + FACE_SWITCH_TOLERANCE * pair_size(world_x, world_y, sa, na, sb, nb):
+                if ref_b != kb:
+                    return BROKEN_FACES, g
+            elif ref_a != ka:
+                return BROKEN_FACES, g
         touching[g] = sep_a < 0.0 and sep_b < 0.0
-    return True
+    return HELD, -1
+
+
+@njit(**INLINE_OPTIONS)
+def pair_size(world_x, world_y, sa, na, sb, nb):
+    """The larger extent of the two bodies' bounds, along x or y [m] (what the general law
+    weighs FACE_SWITCH_TOLERANCE by)."""
+    size = 0.0
+    for s, n in ((sa, na), (sb, nb)):
+        lo_x = world_x[s]
+        hi_x = world_x[s]
+        lo_y = world_y[s]
+        hi_y = world_y[s]
+        for k in range(s + 1, s + n):
+            lo_x = min(lo_x, world_x[k])
+            hi_x = max(hi_x, world_x[k])
+            lo_y = min(lo_y, world_y[k])
+            hi_y = max(hi_y, world_y[k])
+        size = max(size, max(hi_x - lo_x, hi_y - lo_y))
+    return size
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def pairs_in_graph(graph, work, n_pair):
-    """True when every candidate pair of the last sweep is a contact of the graph."""
+def pair_outside(graph, work, n_pair):
+    """The first candidate pair of the last sweep that is no contact of the graph, as
+    a * n_body + b; -1 for none."""
+    n_body = graph.index.shape[0]
     for p in range(n_pair):
         if graph.index[work.pair_a[p], work.pair_b[p]] < 0:
-            return False
-    return True
+            return work.pair_a[p] * n_body + work.pair_b[p]
+    return -1
 
 
 @njit(**NO_ALLOC_OPTIONS)
@@ -175,15 +218,17 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
             n_pair = candidate_pairs_into(n_body, body_driven, work.lo_x, work.lo_y, work.hi_x, work.hi_y,
                                           model.margin, model.sweep_axis, work.order, work.pair_a, work.pair_b,
                                           work.pair_key, work.pair_order)
-            if n_pair > work.pair_a.shape[0] or not pairs_in_graph(graph, work, n_pair):
-                return STATUS_GENERAL, n_sample, collapse_sample, n
+            outside = pair_outside(graph, work, min(n_pair, work.pair_a.shape[0]))
+            if outside >= 0 or n_pair > work.pair_a.shape[0]:
+                return STATUS_GENERAL, n_sample, collapse_sample, n, BROKEN_PAIR, outside
             need_sweep = False
             for b in range(n_body):
                 sweep_x[b] = body_x[b]
                 sweep_y[b] = body_y[b]
                 sweep_theta[b] = body_theta[b]
-        if not graph_holds(model, state, work, graph, kept, touching):
-            return STATUS_GENERAL, n_sample, collapse_sample, n
+        broken, which = graph_holds(model, state, work, graph, kept, touching)
+        if broken != HELD:
+            return STATUS_GENERAL, n_sample, collapse_sample, n, broken, which
 
         # 3. contact forces from the velocities v_{n-1/2}, pair by pair in the general loop's order
         sample = n % settings.out_every == 0 or n == n_steps or stop
@@ -235,4 +280,4 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
         central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, kick, dt,
                                 force_x, force_y, torque,
                                 body_x, body_y, body_theta, body_vx, body_vy, body_omega)
-    return status, n_sample, collapse_sample, step_stop
+    return status, n_sample, collapse_sample, step_stop, HELD, -1

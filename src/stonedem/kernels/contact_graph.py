@@ -34,15 +34,15 @@ from numba import njit
 
 from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
-from stonedem.kernels.contact import MEM_ACTIVE, contact_power, release_contact
+from stonedem.kernels.contact import MEM_ACTIVE, release_contact
 from stonedem.kernels.excitation import base_motion
-from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
-from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges, deepest_face, edge_separation,
-                                            face_contact_forces, faces_hold, keep_faces)
-from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_AT_REST, STATUS_COLLAPSED, STATUS_NONFINITE, STATUS_OK,
-                                   allocate_work, at_rest, book_energy, book_power, clear_forces, collapsed,
-                                   first_pair_capacity, needs_resweep, sample_state, smallest_theta_cr, track,
-                                   velocities_at_step)
+from stonedem.kernels.integrate import drive_bodies, update_world_vertices
+from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges,
+                                            deepest_face, edge_separation, face_contact_forces, faces_hold,
+                                            keep_faces)
+from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_OK, allocate_work, clear_forces, collapsed,
+                                   finish_step, first_pair_capacity, needs_resweep, smallest_theta_cr,
+                                   track)
 
 STATUS_GENERAL = 5  # the graph no longer holds: the general loop goes on from the step returned
 # why it no longer holds (run's fifth value; its sixth names the pair a * n_body + b, or the contact)
@@ -180,12 +180,10 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
     dt = settings.dt
     n_steps = settings.n_steps
     n_body = model.body_mass.shape[0]
-    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
+    body_driven = model.body_driven
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
-    pair_ft, pair_memory, rest_count, events = state.pair_ft, state.pair_memory, state.rest_count, state.events
-    force_x, force_y, torque = work.force_x, work.force_y, work.torque
-    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    pair_ft, pair_memory, events = state.pair_ft, state.pair_memory, state.events
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     pair_a, pair_b, face_a, face_b = graph.pair_a, graph.pair_b, graph.face_a, graph.face_b
     n_contact_max = pair_a.shape[0]
@@ -245,39 +243,11 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
             n_contact += 1
             elastic = face_contact_forces(model, state, work, a, b, face_a[g], face_b[g], dt, sample, elastic)
 
-        # 4. velocities at t_n; 5. powers at t_n
-        half = 0.0 if n == step_first else 0.5 * dt
-        velocities_at_step(model, state, work, half)
-        p_damp, p_tan = contact_power(pair_a, pair_b, n_contact_max, pair_memory, body_x, body_y, vel_x, vel_y,
-                                      vel_om)
-        book_power(work, p_damp, p_tan, vel_h, vel_v)
-
-        # 6. a sample, which may end the run
-        if sample:
-            finite = sample_state(n, n_sample, model, state, work, samples, n_contact, elastic, half)
-            n_sample += 1
-            if not finite:
-                status = STATUS_NONFINITE
-                break
-            if collapse_sample < 0 and events[EVENT_COLLAPSE] >= 0:
-                collapse_sample = n_sample - 1
-            if stop:
-                status = STATUS_COLLAPSED
-                break
-            if n >= rest_from_step and at_rest(model, work, vel_h, vel_v, settings.rest_speed):
-                rest_count[0] += 1
-                if rest_count[0] >= settings.rest_samples:
-                    status = STATUS_AT_REST
-                    break
-            else:
-                rest_count[0] = 0
-        if n == n_steps:
+        # 4.-7. velocities and powers at t_n, a sample, the step to t_{n+1}
+        status, n_sample, collapse_sample, done = finish_step(n, model, settings, state, work, samples, pair_a, pair_b,
+                                                              n_contact_max, n_sample, collapse_sample, n_contact,
+                                                              elastic, stop, sample, step_first, rest_from_step,
+                                                              vel_h, vel_v)
+        if done:
             break
-
-        # 7. integrate
-        kick = 0.5 * dt if n == step_first else dt
-        book_energy(state, work, kick)
-        central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, kick, dt,
-                                force_x, force_y, torque,
-                                body_x, body_y, body_theta, body_vx, body_vy, body_omega)
     return status, n_sample, collapse_sample, step_stop, HELD, -1

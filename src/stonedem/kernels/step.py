@@ -550,6 +550,71 @@ def track(model, state, work, n, d_h, d_v, tilt_alarm):
     return suspect
 
 
+@njit(**INLINE_OPTIONS)
+def sample_step(n, model, settings, state, work, samples, n_sample, collapse_sample, n_contact, elastic, half, stop,
+                rest_from_step, vel_h, vel_v):
+    """Stage 6 of step n: write its sample (:func:`sample_state`); returns (status, n_sample,
+    collapse_sample), the status STATUS_OK to go on, else the one that ends the run: non-finite
+    values, the collapse that stops it (``stop``), or rest on a quiet base (from rest_from_step
+    on, settings.rest_samples samples in a row, counted in state.rest_count)."""
+    finite = sample_state(n, n_sample, model, state, work, samples, n_contact, elastic, half)
+    n_sample += 1
+    if not finite:
+        return STATUS_NONFINITE, n_sample, collapse_sample
+    if collapse_sample < 0 and state.events[EVENT_COLLAPSE] >= 0:
+        collapse_sample = n_sample - 1
+    if stop:
+        return STATUS_COLLAPSED, n_sample, collapse_sample
+    rest_count = state.rest_count
+    if n >= rest_from_step and at_rest(model, work, vel_h, vel_v, settings.rest_speed):
+        rest_count[0] += 1
+        if rest_count[0] >= settings.rest_samples:
+            return STATUS_AT_REST, n_sample, collapse_sample
+    else:
+        rest_count[0] = 0
+    return STATUS_OK, n_sample, collapse_sample
+
+
+@njit(**INLINE_OPTIONS)
+def integrate_step(model, state, work, kick, dt):
+    """Stage 7: book this step's powers over ``kick`` [s] and move the free bodies on
+    (:func:`stonedem.kernels.integrate.central_difference_step`)."""
+    book_energy(state, work, kick)
+    central_difference_step(model.body_mass.shape[0], model.body_driven, model.body_mass, model.body_inertia,
+                            model.gravity, kick, dt, work.force_x, work.force_y, work.torque,
+                            state.body_x, state.body_y, state.body_theta, state.body_vx, state.body_vy,
+                            state.body_omega)
+
+
+@njit(**INLINE_OPTIONS)
+def finish_step(n, model, settings, state, work, samples, pair_a, pair_b, n_pair, n_sample, collapse_sample,
+                n_contact, elastic, stop, sample, step_first, rest_from_step, vel_h, vel_v):
+    """Stages 4 to 7 of step n, once its contact forces are in work: the velocities and powers
+    at t_n (the contact power over pairs pair_a, pair_b[:n_pair]), its sample if ``sample``
+    (:func:`sample_step`), then, unless that ended the run or n is the last step, the step to
+    t_{n+1} (:func:`integrate_step`; the first kick is a half step, so velocities sit at
+    t + dt/2 from then on). Returns (status, n_sample, collapse_sample, whether the run ends here)."""
+    # 4. velocities at t_n; 5. powers at t_n
+    half = 0.0 if n == step_first else 0.5 * settings.dt
+    velocities_at_step(model, state, work, half)
+    p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, state.pair_memory, state.body_x, state.body_y, work.vel_x,
+                                  work.vel_y, work.vel_om)
+    book_power(work, p_damp, p_tan, vel_h, vel_v)
+    # 6. a sample, which may end the run; 7. integrate
+    status = STATUS_OK
+    if sample:
+        status, n_sample, collapse_sample = sample_step(n, model, settings, state, work, samples, n_sample,
+                                                        collapse_sample, n_contact, elastic, half, stop,
+                                                        rest_from_step, vel_h, vel_v)
+        if status != STATUS_OK:
+            return status, n_sample, collapse_sample, True
+    if n == settings.n_steps:
+        return status, n_sample, collapse_sample, True
+    dt = settings.dt
+    integrate_step(model, state, work, 0.5 * dt if n == step_first else dt, dt)
+    return status, n_sample, collapse_sample, False
+
+
 @njit(**JIT_OPTIONS)
 def run(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
         n_sample, collapse_sample):
@@ -591,14 +656,7 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     forces are not computed yet and :func:`run` calls again from it with a larger bundle."""
     dt = settings.dt
     n_steps = settings.n_steps
-    n_body = model.body_mass.shape[0]
-    # the arrays the other modules' kernels take, unpacked once per call
-    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
-    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
-    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
-    pair_memory, rest_count, events = state.pair_memory, state.rest_count, state.events
-    force_x, force_y, torque = work.force_x, work.force_y, work.torque
-    vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
+    events = state.events
 
     tilt_alarm = smallest_theta_cr(model)
     pair_a, pair_b = work.pair_a, work.pair_b
@@ -629,38 +687,10 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
         sample = n % settings.out_every == 0 or n == n_steps or stop
         n_contact, elastic = contact_forces(model, state, work, n_pair, dt, sample)
 
-        # 4. velocities at t_n; 5. powers at t_n
-        half = 0.0 if n == step_first else 0.5 * dt
-        velocities_at_step(model, state, work, half)
-        p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
-        book_power(work, p_damp, p_tan, vel_h, vel_v)
-
-        # 6. a sample, which may end the run
-        if sample:
-            finite = sample_state(n, n_sample, model, state, work, samples, n_contact, elastic, half)
-            n_sample += 1
-            if not finite:
-                status = STATUS_NONFINITE
-                break
-            if collapse_sample < 0 and events[EVENT_COLLAPSE] >= 0:
-                collapse_sample = n_sample - 1
-            if stop:
-                status = STATUS_COLLAPSED
-                break
-            if n >= rest_from_step and at_rest(model, work, vel_h, vel_v, settings.rest_speed):
-                rest_count[0] += 1
-                if rest_count[0] >= settings.rest_samples:
-                    status = STATUS_AT_REST
-                    break
-            else:
-                rest_count[0] = 0
-        if n == n_steps:
+        # 4.-7. velocities and powers at t_n, a sample, the step to t_{n+1}
+        status, n_sample, collapse_sample, done = finish_step(n, model, settings, state, work, samples, pair_a, pair_b,
+                                                              n_pair, n_sample, collapse_sample, n_contact, elastic,
+                                                              stop, sample, step_first, rest_from_step, vel_h, vel_v)
+        if done:
             break
-
-        # 7. integrate; the first kick is a half step, so velocities sit at t + dt/2 from then on
-        kick = 0.5 * dt if n == step_first else dt
-        book_energy(state, work, kick)
-        central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, kick, dt,
-                                force_x, force_y, torque,
-                                body_x, body_y, body_theta, body_vx, body_vy, body_omega)
     return status, n_sample, collapse_sample, step_stop

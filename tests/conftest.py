@@ -64,8 +64,13 @@ def pytest_sessionstart(session):
 
     import stonedem.kernels  # noqa: F401 - sets Numba's cache folder
 
-    cached = Path(numba.config.CACHE_DIR)
-    if all(any(cached.glob(f"*/{name}.run-*.nbi")) for name in ("step", "contact_graph")):
+    try:  # Numba's folder for this checkout's kernels (it keys the cache by the sources' path too)
+        from numba.core.caching import _CacheLocator
+
+        cached = Path(numba.config.CACHE_DIR) / _CacheLocator.get_suitable_cache_subpath(stonedem.kernels.__file__)
+    except (ImportError, AttributeError):
+        cached = Path(numba.config.CACHE_DIR) / "unknown"
+    if all(any(cached.glob(f"{name}.run-*.nbi")) for name in ("step", "contact_graph")):
         return  # compiled before (for this CPU or another: a worker then compiles what it lacks)
     from stonedem.engine.run import WARM_SCENES
 

@@ -66,7 +66,8 @@ class CaseStore:
         self.records_dir = Path(records_dir)
 
     def key(self, case: Case) -> str:
-        """Scene, the bytes of the records it reads and the stonedem sources, hashed."""
+        """The case (study, id and scene: a restored file's attributes are its own), the bytes
+        of the records it reads and the stonedem sources, hashed."""
         records = []
         excitation = case.scene.get("excitation") or {}
         for spec in (excitation, excitation.get("vertical") if isinstance(excitation, dict) else None):
@@ -74,9 +75,11 @@ class CaseStore:
             if name is not None:
                 path = self.records_dir / f"{name}.nc"
                 records.append(_file_digest(path) if path.is_file() else name)
-        scene = {k: v for k, v in case.scene.items() if k != "name"}
-        text = json.dumps({"scene": scene, "params": case.params, "records": records,
-                           "source": source_fingerprint()}, sort_keys=True, default=repr)
+        # two studies' identical scenes each keep their own entry: one restored from the other's
+        # carried that study's name, case id and title (the SLURM run, whose jobs ran in another
+        # order, then differed from the local one in those attributes)
+        text = json.dumps({"study": case.study, "case": case.id, "scene": case.scene, "params": case.params,
+                           "records": records, "source": source_fingerprint()}, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:32]
 
     def restore(self, case: Case, output: Path, log=None) -> bool:

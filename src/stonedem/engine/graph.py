@@ -14,29 +14,14 @@ import math
 import numpy as np
 
 from stonedem.engine.pack import SceneArrays
-from stonedem.kernels.broad_phase import find_candidate_pairs
+from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
+from stonedem.kernels.integrate import update_world_vertices
+from stonedem.kernels.point_contact import world_edges
 from stonedem.kernels.contact_graph import BROKEN_FACES, BROKEN_PAIR, BROKEN_TURN, Graph
 
 # a contact's faces count as each other's most opposed up to this share of the smallest
 # angle between a face's normal and the other normals of its body (1 would be the tie)
 TURN_SHARE = 0.9
-
-
-def world_vertices(arrays: SceneArrays, b: int) -> np.ndarray:
-    """Body b's vertices at t = 0 in the world frame (n, 2) [m]."""
-    s, e = arrays.vert_start[b], arrays.vert_start[b + 1]
-    c, s_ = math.cos(arrays.init_theta[b]), math.sin(arrays.init_theta[b])
-    lx, ly = arrays.local_x[s:e], arrays.local_y[s:e]
-    return np.column_stack([arrays.init_x[b] + c * lx - s_ * ly, arrays.init_y[b] + s_ * lx + c * ly])
-
-
-def edge_normals(vertices: np.ndarray) -> np.ndarray:
-    """Outward unit normal of each edge k -> k+1 of a counter-clockwise polygon (n, 2); (0, 0)
-    for an edge of zero length."""
-    edge = np.roll(vertices, -1, axis=0) - vertices
-    length = np.hypot(edge[:, 0], edge[:, 1])
-    normal = np.column_stack([edge[:, 1], -edge[:, 0]])
-    return np.divide(normal, length[:, None], out=np.zeros_like(normal), where=length[:, None] > 0)
 
 
 def facing_edge(normals: np.ndarray, direction: np.ndarray) -> int:
@@ -57,16 +42,23 @@ def contact_graph(arrays: SceneArrays) -> Graph:
     """The face contacts of the packed scene at t = 0: every pair the general loop's broad
     phase would list at its first sweep, on a's edge of least overlap with b and b's edge most
     opposed to it, with the relative turn up to which those stay the faces."""
-    n_body = len(arrays.body_mass)
-    vertices = [world_vertices(arrays, b) for b in range(n_body)]
-    lo = np.array([v.min(axis=0) for v in vertices])
-    hi = np.array([v.max(axis=0) for v in vertices])
-    pair_a, pair_b = find_candidate_pairs(n_body, arrays.body_driven, lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1],
-                                          arrays.margin, arrays.sweep_axis)
+    # the world vertices, bounds and edges of t = 0 by the loop's own kernels
+    n_body, n_vert, start = len(arrays.body_mass), len(arrays.local_x), arrays.vert_start
+    world_x, world_y, edge_len, edge_nx, edge_ny = (np.zeros(n_vert) for _ in range(5))
+    update_world_vertices(n_body, start, arrays.local_x, arrays.local_y, arrays.init_x, arrays.init_y,
+                          arrays.init_theta, world_x, world_y, np.empty(n_body), np.empty(n_body))
+    lo_x, lo_y, hi_x, hi_y = (np.empty(n_body) for _ in range(4))
+    body_bounds(n_body, start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
+    world_edges(n_body, start, world_x, world_y, edge_len, edge_nx, edge_ny)
+    spans = [slice(start[b], start[b + 1]) for b in range(n_body)]
+    vertices = [np.column_stack([world_x[span], world_y[span]]) for span in spans]
+    normals = [np.column_stack([edge_nx[span], edge_ny[span]]) for span in spans]
+    pair_a, pair_b = find_candidate_pairs(n_body, arrays.body_driven, lo_x, lo_y, hi_x, hi_y, arrays.margin,
+                                          arrays.sweep_axis)
     faces_a, faces_b, rest, limit = [], [], [], []
     index = np.full((n_body, n_body), -1, dtype=np.int64)
     for g, (a, b) in enumerate(zip(pair_a, pair_b)):
-        normals_a, normals_b = edge_normals(vertices[a]), edge_normals(vertices[b])
+        normals_a, normals_b = normals[a], normals[b]
         # a's edge along whose normal b lies farthest out (least overlap, or a gap)
         separation = [np.min((vertices[b] - vertices[a][k]) @ normals_a[k]) if np.any(normals_a[k] != 0.0)
                       else -np.inf for k in range(len(normals_a))]

@@ -348,22 +348,18 @@ class CompiledLoop:
         cursor = self.cursor
         if not self.started_on:
             self.started_on = "general" if self.graph is None else "contact_graph"
+        bundles = (self.model, self.settings, self.state, cursor.samples)
         if self.graph is not None:
-            self.compiled(contact_graph.run, (self.model, self.settings, self.state, cursor.samples, self.graph,
-                                              int(n), int(stop), step_first, rest_from, cursor.n_sample,
-                                              cursor.collapse))
-            status, cursor.n_sample, cursor.collapse, n, broken, which = contact_graph.run(
-                self.model, self.settings, self.state, cursor.samples, self.graph, int(n), int(stop),
-                step_first, rest_from, cursor.n_sample, cursor.collapse)
+            args = (*bundles, self.graph, int(n), int(stop), step_first, rest_from, cursor.n_sample, cursor.collapse)
+            self.compiled(contact_graph.run, args)
+            status, cursor.n_sample, cursor.collapse, n, broken, which = contact_graph.run(*args)
             if status != contact_graph.STATUS_GENERAL:
                 return status
             self.broken = (int(broken), int(which), self.graph)
             self.graph, self.handover_step = None, int(n)
-        self.compiled(step.run, (self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first,
-                                 rest_from, cursor.n_sample, cursor.collapse))
-        status, cursor.n_sample, cursor.collapse = step.run(
-            self.model, self.settings, self.state, cursor.samples, int(n), int(stop), step_first, rest_from,
-            cursor.n_sample, cursor.collapse)
+        args = (*bundles, int(n), int(stop), step_first, rest_from, cursor.n_sample, cursor.collapse)
+        self.compiled(step.run, args)
+        status, cursor.n_sample, cursor.collapse = step.run(*args)
         return status
 
     def compiled(self, loop, args) -> None:

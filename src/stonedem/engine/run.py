@@ -71,10 +71,32 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
     and runs again, up to ENERGY_RETRIES times (attrs ``dt_safety`` as run,
     ``dt_safety_requested``, ``dt_halvings``).
     """
+    run = checked_run(scene, progress, first)
+    ds = scene_dataset(run.scene, run.result, run.checks)
+    ds.attrs["dt_safety_requested"] = scene.dt_safety
+    ds.attrs["dt_halvings"] = run.halvings
+    ds.attrs["compile_seconds"] = run.compile_seconds
+    return ds
+
+
+@dataclasses.dataclass
+class CheckedRun:
+    """A finished run and what it says of itself (:func:`checked_run`)."""
+
+    scene: Scene  # as run: dt_safety halved ``halvings`` times from the scene asked for
+    result: RunResult
+    checks: dict  # stonedem.engine.simulate.run_checks
+    halvings: int
+    compile_seconds: float  # the loop's compile, whichever attempt waited for it [s]
+
+
+def checked_run(scene: Scene, progress: bool = False, first: RunResult | None = None) -> CheckedRun:
+    """Simulate a scene and check the run (:func:`run_scene` without the dataset): a diverged
+    run is an InputError, a warning line for each check past its limit, and with ``dt: auto``
+    a run that diverges or drifts past the energy tolerance repeated at half the step."""
     if first is None:  # run_scenes refused what it had to before running ``first``
         preflight(scene)
-    requested = scene.dt_safety
-    compiled = 0.0  # the loop's compile, whichever attempt waited for it
+    compiled = 0.0
     for retry in range(ENERGY_RETRIES + 1):
         result = first if retry == 0 and first is not None else simulate(scene, progress=progress)
         compiled += result.compile_seconds
@@ -95,11 +117,42 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
                          f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
     for line in checks["warnings"]:
         print(f"warning: {line}", file=sys.stderr)
-    ds = scene_dataset(scene, result, checks)
-    ds.attrs["dt_safety_requested"] = requested
-    ds.attrs["dt_halvings"] = retry
-    ds.attrs["compile_seconds"] = compiled
-    return ds
+    return CheckedRun(scene, result, checks, retry, compiled)
+
+
+def response_measures(scene: Scene, result: RunResult, checks: dict) -> dict[str, tuple[tuple, np.ndarray]]:
+    """The response of a run as {name: (dims, values)}: the histories a study cube keeps
+    (rocking, sliding, epistyle, base motion) and the measures (peaks, collapse, theta_cr;
+    a penetrated run is never reported as a collapse). What :func:`scene_dataset` and a
+    threshold search's file (:mod:`stonedem.study.cube`) hold of it."""
+    time = result.time
+    d_h, v_h, a_h = scene.horizontal.evaluate(time)
+    support = measures.supports(scene)
+    sliding = measures.relative_sliding(scene, result.x, result.y, result.theta, support)
+    free = np.array([not b.driven for b in scene.bodies])
+    total_sliding = np.abs(sliding[:, free]).sum(axis=1)
+    rocking = np.abs(result.theta[:, measures.rocking_bodies(scene)]).mean(axis=1)
+    theta_cr = measures.rocking_theta_cr(scene, result.arrays.body_group, result.arrays.group_theta_cr)
+    rel = result.x - result.x[0] - d_h[:, None]
+    epistyles = measures.epistyle_bodies(scene)
+    epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
+    collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
+    t = ("time",)
+    return {
+        "base_displacement": (t, d_h), "base_velocity": (t, v_h), "base_acceleration": (t, a_h),
+        "displacement_relative_to_base": (("time", "body"), rel), "sliding": (("time", "body"), sliding),
+        "total_sliding": (t, total_sliding), "rocking": (t, rocking), "epistyle_displacement": (t, epi),
+        # peaks and first times over every step of the run, not the samples (stonedem.kernels.step.track)
+        "max_abs_theta": (("body",), result.peak_theta),
+        "max_total_sliding": ((), result.max_total_sliding),
+        "residual_total_sliding": ((), float(total_sliding[-1])),
+        "max_rocking": ((), result.max_rocking),
+        "theta_cr": ((), theta_cr),
+        "rocking_onset_time": ((), result.rocking_onset_time),
+        "collapsed": ((), np.int8(collapsed)),
+        "collapse_time": ((), result.collapse_time if collapsed else float("nan")),
+        "max_epistyle_displacement": ((), result.max_epistyle_displacement if epistyles else float("nan")),
+    }
 
 
 def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -> xr.Dataset:
@@ -109,20 +162,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     run is never reported as a collapse."""
     time = result.time
     names = scene.body_names
-    d_h, v_h, a_h = scene.horizontal.evaluate(time)
     d_v, _, _ = scene.vertical.evaluate(time)
     e = result.energy
-    support = measures.supports(scene)
-    sliding = measures.relative_sliding(scene, result.x, result.y, result.theta, support)
-    free = np.array([not b.driven for b in scene.bodies])
-    total_sliding = np.abs(sliding[:, free]).sum(axis=1)
-    rock_idx = measures.rocking_bodies(scene)
-    rocking = np.abs(result.theta[:, rock_idx]).mean(axis=1)
-    theta_cr = measures.rocking_theta_cr(scene, result.arrays.body_group, result.arrays.group_theta_cr)
-    rel = result.x - result.x[0] - d_h[:, None]
-    epistyles = measures.epistyle_bodies(scene)
-    epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
-
     kinetic = e[:, step.ENERGY_KINETIC]
     potential = e[:, step.ENERGY_POTENTIAL] - e[0, step.ENERGY_POTENTIAL]
     elastic = e[:, step.ENERGY_ELASTIC]
@@ -133,22 +174,13 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     balance = balance - (kinetic[0] + elastic[0])
     if checks is None:
         checks = run_checks(scene, result)
-    collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
-    collapse_time = result.collapse_time if collapsed else float("nan")
+    response = response_measures(scene, result, checks)
 
     tb = ("time", "body")
     data_vars = schema_variables({
         "x": (tb, result.x), "y": (tb, result.y),
         "theta": (tb, result.theta),
-        "base_displacement": (("time",), d_h),
-        "base_velocity": (("time",), v_h),
-        "base_acceleration": (("time",), a_h),
         "base_vertical_displacement": (("time",), d_v),
-        "displacement_relative_to_base": (tb, rel),
-        "sliding": (tb, sliding),
-        "total_sliding": (("time",), total_sliding),
-        "rocking": (("time",), rocking),
-        "epistyle_displacement": (("time",), epi),
         "energy_kinetic": (("time",), kinetic),
         "energy_potential": (("time",), potential),
         "energy_elastic": (("time",), elastic),
@@ -158,16 +190,7 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "energy_base_work": (("time",), base_work),
         "energy_balance_error": (("time",), balance),
         "n_contact": (("time",), result.n_contact.astype(np.int32)),
-        # peaks and first times over every step of the run, not the samples (stonedem.kernels.step.track)
-        "max_abs_theta": (("body",), result.peak_theta),
-        "max_total_sliding": ((), result.max_total_sliding),
-        "residual_total_sliding": ((), float(total_sliding[-1])),
-        "max_rocking": ((), result.max_rocking),
-        "theta_cr": ((), theta_cr),
-        "rocking_onset_time": ((), result.rocking_onset_time),
-        "collapsed": ((), np.int8(collapsed)),
-        "collapse_time": ((), collapse_time),
-        "max_epistyle_displacement": ((), result.max_epistyle_displacement if epistyles else float("nan")),
+        **response,
     })
     coords = schema_variables({
         "time": (("time",), time),
@@ -176,9 +199,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "body_column": (("body",), np.array([b.column for b in scene.bodies], dtype=np.int32)),
         "body_mass": (("body",), np.array([b.mass for b in scene.bodies])),
         "body_inertia": (("body",), np.array([b.inertia for b in scene.bodies])),
-        "body_support": (("body",), np.array(support, dtype=np.int32)),
+        "body_support": (("body",), np.array(measures.supports(scene), dtype=np.int32)),
     })
-    law = scene.contact
     attrs = {
         "title": f"stonedem rigid-block simulation: {scene.spec.get('name', 'scene')}",
         "source": code_version(),
@@ -192,13 +214,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,
         "dt_mode": "auto" if scene.dt is None else "given",
         "output_interval": result.out_every * result.dt,
-        "contact_model": law.model,
-        "contact_law": LAWS[law.model].describe,
-        "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
-        "contact_damping": law.damping, "contact_damping_units": "1", "contact_impact": law.impact if "impact" in LAWS[law.model].defaults else "none",
-        "k_t": law.k_t, "k_t_units": "N m-1",
-        "c_t": law.c_t, "c_t_units": "N s m-1",
-        "friction": scene.friction, "gravity": scene.gravity, "depth": scene.depth,
+        **contact_attrs(scene),
+        "gravity": scene.gravity, "depth": scene.depth,
         "duration": scene.duration, "n_steps": result.n_steps, "steps_run": result.steps_run,
         "stop_on_collapse": int(scene.stop_on_collapse),
         "skip_quiet": int(scene.skip_quiet),
@@ -223,9 +240,24 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
                                    "holding, NaN: never",
         "general_because": result.handover_reason,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
-        "contact_frame": law.frame,
     }
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def contact_attrs(scene: Scene) -> dict:
+    """The contact law and friction of a scene, as a run's dataset states them in its attrs."""
+    law = scene.contact
+    return {
+        "contact_model": law.model,
+        "contact_law": LAWS[law.model].describe,
+        "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
+        "contact_damping": law.damping, "contact_damping_units": "1",
+        "contact_impact": law.impact if "impact" in LAWS[law.model].defaults else "none",
+        "k_t": law.k_t, "k_t_units": "N m-1",
+        "c_t": law.c_t, "c_t_units": "N s m-1",
+        "friction": scene.friction,
+        "contact_frame": law.frame,
+    }
 
 
 # A tiny scene per compiled time loop whose run calls every compiled kernel a study run on that loop

@@ -84,6 +84,53 @@ def test_a_search_summary_from_the_runs_in_memory_is_the_one_from_their_files(tm
     assert unstamped(summaries[0]).identical(unstamped(summaries[1])) and summaries[0].sizes["run"] >= 3
 
 
+def test_a_search_without_run_files_writes_one_file_that_the_store_gives_back_whole(tmp_path):
+    """run_search without a runs folder (the workflow's default, search_runs: summary) writes
+    only the search file: the summary the full case files give, values and attributes alike.
+    The store keeps that file whole: a second search restores it (byte for byte, one log line,
+    nothing simulated); other search settings are another entry."""
+    from stonedem.io.netcdf import open_result
+
+    search = {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 1,
+              "minimum": 0.005, "maximum": 0.64}
+    (system,) = case_table("block", {**BLOCK, "grid": {"friction": [0.7]}, "search": search})
+    full = run_search(system, tmp_path / "runs", tmp_path / "full.nc", CaseStore(None), io.StringIO())
+    store = CaseStore(tmp_path / "store", "records")
+    log = io.StringIO()
+    slim = run_search(system, None, tmp_path / "slim.nc", store, log)
+    assert slim == full and sorted(p.name for p in tmp_path.iterdir()) == ["full.nc", "runs", "slim.nc", "store"]
+    assert len(log.getvalue().splitlines()) == len(slim[0]) + 1 and "s kernel" in log.getvalue()
+    assert unstamped(open_result(tmp_path / "slim.nc")).identical(unstamped(open_result(tmp_path / "full.nc")))
+    log = io.StringIO()
+    assert run_search(system, None, tmp_path / "again.nc", store, log) == full
+    assert log.getvalue().count("\n") == 1 and "(restored from the case store)" in log.getvalue()
+    assert (tmp_path / "again.nc").read_bytes() == (tmp_path / "slim.nc").read_bytes()
+    (other,) = case_table("block", {**BLOCK, "grid": {"friction": [0.7]}, "search": {**search, "fill": 0}})
+    log = io.StringIO()
+    run_search(other, None, tmp_path / "other.nc", store, log)
+    assert "restored" not in log.getvalue() and "s kernel" in log.getvalue()
+
+
+def test_searches_together_without_run_files_match_searches_alone(tmp_path):
+    from stonedem.io.netcdf import open_result
+    from stonedem.study.runner import run_searches
+
+    study = {**BLOCK, "grid": {"friction": [0.5, 0.7]},
+             "search": {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 1,
+                        "minimum": 0.005, "maximum": 0.64}}
+    systems = case_table("block", study)
+    store = CaseStore(tmp_path / "store", "records")
+    alone = run_search(systems[0], None, tmp_path / "alone.nc", store, io.StringIO())  # kept in the store
+    log = io.StringIO()
+    together = run_searches(systems, None, [tmp_path / "t0.nc", tmp_path / "t1.nc"], store, "cpu", width=4, log=log)
+    assert together[0] == alone and "(restored from the case store)" in log.getvalue().splitlines()[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["alone.nc", "store", "t0.nc", "t1.nc"]
+    assert (tmp_path / "t0.nc").read_bytes() == (tmp_path / "alone.nc").read_bytes()
+    assert together[1] == run_search(systems[1], None, tmp_path / "alone1.nc", CaseStore(None), io.StringIO())
+    a, b = open_result(tmp_path / "alone1.nc"), open_result(tmp_path / "t1.nc")
+    assert a.drop_attrs(deep=False).equals(b.drop_attrs(deep=False)) and b.attrs["device"] == "cpu"
+
+
 def test_cheap_cases_share_jobs_and_each_search_is_one_job():
     grid = case_table("block", {**BLOCK, "grid": {"amplitude": [0.01, 0.02, 0.03, 0.04]}})
     searches = case_table("s", {**BLOCK, "grid": {"friction": [0.5, 0.7]}, "search": {"parameter": "amplitude",

@@ -34,6 +34,8 @@ if getattr(workflow, "is_main_process", True):
 validate(config, schema="../schemas/config.schema.yaml")  # fills the schema's defaults
 
 RECORDS = config["records"]
+# threshold searches write one file each; "full" also every run's case file (simulate.smk)
+FULL_SEARCH_RUNS = config.get("search_runs", "summary") == "full"
 RECORD_NAMES = list(RECORDS)
 
 

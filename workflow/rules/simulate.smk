@@ -30,8 +30,9 @@ for job in JOBS:
             "../scripts/simulate_cases.py"
 
 
-# Threshold searches (stonedem.study.search), one or more per job: each system's runs' case
-# files in one directory, its runs and bracket in results/searches/<study>/<system>.nc.
+# Threshold searches (stonedem.study.search), one or more per job: each system's runs and bracket
+# in results/searches/<study>/<system>.nc; with config search_runs: full, also its runs' case
+# files in one directory.
 for job in JOBS + FRAGILITY_JOBS:
     if not job.is_search:
         continue
@@ -43,10 +44,12 @@ for job in JOBS + FRAGILITY_JOBS:
             job_records(job),
             COMPILED,
         output:
-            runs=[directory(f"results/cases/{job.study}/{system.id}") for system in job.cases],
+            runs=[directory(f"results/cases/{job.study}/{system.id}") for system in job.cases] if FULL_SEARCH_RUNS else [],
             search=[search_path(system) for system in job.cases],
         params:
             systems=[system.as_dict() for system in job.cases],
+            # switching search_runs reruns the search (its run files come or go)
+            search_runs=config["search_runs"],
         log:
             f"results/logs/jobs/{job.name}.log",
         benchmark:

@@ -15,11 +15,13 @@ workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
 store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
 systems = [Case.from_dict(system) for system in snakemake.params.systems]  # noqa: F821
 outputs = snakemake.output  # noqa: F821
+# config search_runs: full writes every run's case file too (one folder per system); else none
+runs_dirs = list(outputs.runs) if outputs.runs else None
 if snakemake.config.get("device", "cpu") == "gpu":  # noqa: F821
     device, line = choose_device("gpu")
     print(line, file=sys.stderr)
-    run_searches(systems, outputs.runs, outputs.search, store, device=device)
+    run_searches(systems, runs_dirs, outputs.search, store, device=device)
 else:
-    for i, (system, runs, search) in enumerate(zip(systems, outputs.runs, outputs.search)):
+    for i, (system, search) in enumerate(zip(systems, outputs.search)):
         print(f"system {i + 1}/{len(systems)}", file=sys.stderr)
-        run_search(system, runs, search, store)
+        run_search(system, runs_dirs[i] if runs_dirs else None, search, store)

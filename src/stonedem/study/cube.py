@@ -7,18 +7,16 @@ In a search study's cube the searched parameter (e.g. ``pga``) is a coordinate o
 
 from __future__ import annotations
 
-from contextlib import nullcontext
-from dataclasses import asdict
-from pathlib import Path
+from dataclasses import asdict, dataclass
 
 import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.io.schema import SEARCH_VARIABLES
-from stonedem.study.grid import (MEMBER, PARAMETERS, collapse_fraction, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
+from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS, SEARCH_VARIABLES
+from stonedem.study.grid import (CASE_PARAMETERS, MEMBER, PARAMETERS, collapse_fraction, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
 from stonedem.study.search import Run
-from stonedem.io.netcdf import open_result
+from stonedem.io.netcdf import open_result, schema_variables
 
 def _attrs(name: str, parameter: str) -> dict:
     units, long_name = SEARCH_VARIABLES[name]
@@ -29,25 +27,83 @@ def _attrs(name: str, parameter: str) -> dict:
     return attrs
 
 
-def search_dataset(system: Case, runs: list[Run], cases: list[Path | str | xr.Dataset], result: dict) -> xr.Dataset:
-    """One system's search: every run's measures and histories along ``run`` (sorted by
-    value), its bracket and how the search went (stonedem.study.search.summary).
+@dataclass
+class RunPiece:
+    """What a threshold search keeps of one run: the cube's measures and histories
+    (CUBE_MEASURES, CUBE_HISTORIES) as numpy arrays, and the attributes a cube may share."""
 
-    ``cases``: each run's case file, or the case dataset that was written to it (the same
-    search as from the file, without reading it back: ~40 ms a run in the IDA)."""
+    params: dict  # the case's swept parameters (the searched one included)
+    time: np.ndarray  # output times [s], rounded to 1e-9 s (runs of different dt sample the same times)
+    variables: dict  # name -> (dims, values), dims () or ("time",)
+    attrs: dict  # CUBE_SHARED_ATTRS as the run's dataset states them
+    collapsed: bool
+
+
+def run_piece(case: Case, run) -> RunPiece:
+    """The piece of a run (:class:`stonedem.engine.run.CheckedRun`) of ``case``, without
+    building its dataset."""
+    from stonedem.engine.run import contact_attrs, response_measures
+    from stonedem.io.netcdf import code_version
+    from stonedem.io.provenance import bounded_json
+
+    response = response_measures(run.scene, run.result, run.checks)
+    attrs = {"source": code_version(), "study": case.study, **contact_attrs(run.scene),
+             "excitation": bounded_json(run.scene.horizontal.description, "excitation")}
+    return RunPiece(dict(case.params), np.round(run.result.time, 9),
+                    {name: response[name] for name in CUBE_MEASURES + CUBE_HISTORIES},
+                    {k: attrs[k] for k in CUBE_SHARED_ATTRS if k in attrs}, bool(response["collapsed"][1]))
+
+
+def dataset_piece(ds: xr.Dataset) -> RunPiece:
+    """The piece of a run's case dataset (a file of a grid or a full search run)."""
+    small = case_piece(ds)
+    params = {name: small[name].values.item() for name in case_parameters(ds)}
+    variables = {name: (small[name].dims, small[name].values) for name in small.data_vars}
+    time = small["time"].values if "time" in small.coords else np.zeros(0)
+    return RunPiece(params, time, variables, {k: ds.attrs[k] for k in CUBE_SHARED_ATTRS if k in ds.attrs},
+                    bool(small["collapsed"] > 0))
+
+
+def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> xr.Dataset:
+    """One system's search: every run's measures and histories along ``run`` (sorted by
+    value; histories padded with NaN to the longest run), its bracket and how the search
+    went (stonedem.study.search.summary).
+
+    ``cases``: each run's :class:`RunPiece`, case dataset or case file."""
     parameter = system.search.parameter
     order = sorted(range(len(runs)), key=lambda i: runs[i].value)
-    pieces, attrs = [], []
+    pieces = []
     for i in order:
-        with (nullcontext(cases[i]) if isinstance(cases[i], xr.Dataset) else open_result(cases[i])) as ds:
-            pieces.append(case_piece(ds))
-            attrs.append(dict(ds.attrs))
-    cube = xr.concat(pieces, dim="run", coords="different", compat="equals", join="outer",
-                     combine_attrs="drop")
-    cube = cube.assign_coords(run=np.arange(len(order)))
-    for name in cube.variables:  # concat keeps no variable attributes: the cases' own
-        if name in pieces[0].variables:
-            cube[name].attrs = dict(pieces[0][name].attrs)
+        if isinstance(cases[i], RunPiece):
+            pieces.append(cases[i])
+        elif isinstance(cases[i], xr.Dataset):
+            pieces.append(dataset_piece(cases[i]))
+        else:
+            with open_result(cases[i]) as ds:
+                pieces.append(dataset_piece(ds))
+    time = np.unique(np.concatenate([piece.time for piece in pieces]))
+    data = {}
+    for name in dict.fromkeys(n for piece in pieces for n in piece.variables):
+        dims = next(piece.variables[name][0] for piece in pieces if name in piece.variables)
+        if dims == ():
+            values = [piece.variables[name][1] if name in piece.variables else np.nan for piece in pieces]
+            data[name] = (("run",), np.array(values))
+            continue
+        history = np.full((len(pieces), len(time)), np.nan)
+        for k, piece in enumerate(pieces):
+            if name in piece.variables:
+                history[k, np.searchsorted(time, piece.time)] = piece.variables[name][1]
+        data[name] = (("run", "time"), history)
+    cube = xr.Dataset(schema_variables(data), coords=schema_variables({"time": (("time",), time)}))
+    params = {}
+    for name in pieces[0].params:
+        values = [piece.params.get(name) for piece in pieces]
+        _, units, long_name, _ = CASE_PARAMETERS[name]
+        attrs = {"units": units, "long_name": long_name}
+        same = all(v == values[0] for v in values)
+        params[name] = xr.Variable((), values[0], attrs) if same and name != parameter else \
+            xr.Variable(("run",), np.array(values), attrs)
+    cube = cube.assign_coords(params).assign_coords(run=np.arange(len(order)))
     cube["run"].attrs = {"units": "1", "long_name": f"run of the search, by increasing {parameter}"}
     values = {
         "search_order": (("run",), np.array(order, dtype=np.int32)),
@@ -63,7 +119,7 @@ def search_dataset(system: Case, runs: list[Run], cases: list[Path | str | xr.Da
     for name, (dims, value) in values.items():
         cube[name] = xr.Variable(dims, value, _attrs(name, parameter))
     settings = {f"search_{k}": v for k, v in asdict(system.search).items()}
-    cube.attrs = {**shared_case_attrs(attrs), **settings,
+    cube.attrs = {**shared_case_attrs([piece.attrs for piece in pieces]), **settings,
                   "search_method": "hunt and fill (Vamvatsikos & Cornell 2002), stonedem.study.search",
                   "resurrections": " ".join(f"{v:g}" for v in result["resurrections"]),
                   "title": f"stonedem threshold search: {system.study}/{system.id}", "case": system.id}

@@ -3,10 +3,12 @@ read once (stonedem.motion.excitation), one log line per case, and a store of fi
 
 A Snakemake job starts Python, imports xarray and numba, reads its first record and loads
 the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one job
-(:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every case
-still writes its own NetCDF file. The *case store* keeps every finished case under a key of
-its scene, its records' bytes and the stonedem source, so a job rerun because one of its cases
-changed re-simulates that case only and restores the others.
+(:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every grid
+case writes its own NetCDF file; a threshold search writes one file, its runs' measures and
+histories (:class:`stonedem.study.cube.RunPiece`), not each run's dataset. The *case store*
+keeps every finished case (and search file) under a key of its scene, its records' bytes and
+the stonedem source, so a job rerun because one of its cases changed re-simulates that case
+only and restores the others.
 
 An entry is never the same file as a result: it is a copy, so truncating or editing a case
 file cannot reach the store. Each entry is kept with the sha256 of its
@@ -18,6 +20,7 @@ skipped), and the case is simulated again.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import json
 import os
@@ -31,8 +34,8 @@ import xarray as xr
 from stonedem.io.netcdf import write_dataset
 from stonedem.entry import progress_print
 from stonedem.motion.suites import record_file_name
-from stonedem.study.cube import search_dataset
-from stonedem.study.grid import Case, run_case, run_cases_together, search_case
+from stonedem.study.cube import RunPiece, dataset_piece, run_piece, search_dataset
+from stonedem.study.grid import Case, case_scene, run_case, run_cases_together, search_case
 from stonedem.study.search import Run, replay, search, search_together, summary
 
 _SOURCE_FINGERPRINT: list[str] = []
@@ -78,8 +81,11 @@ class CaseStore:
         # two studies' identical scenes each keep their own entry: one restored from the other's
         # carried that study's name, case id and title (the SLURM run, whose jobs ran in another
         # order, then differed from the local one in those attributes)
-        text = json.dumps({"study": case.study, "case": case.id, "scene": case.scene, "params": case.params,
-                           "records": records, "source": source_fingerprint()}, sort_keys=True, default=repr)
+        text = {"study": case.study, "case": case.id, "scene": case.scene, "params": case.params,
+                "records": records, "source": source_fingerprint()}
+        if case.search is not None:  # a search system's entry is its whole search file
+            text["search"] = dataclasses.asdict(case.search)
+        text = json.dumps(text, sort_keys=True, default=repr)
         return hashlib.sha256(text.encode()).hexdigest()[:32]
 
     def restore(self, case: Case, output: Path, log=None) -> bool:
@@ -194,11 +200,12 @@ def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", l
     if keep_dataset:
         info["dataset"] = None if restored else ds
     info.update(restored=restored, seconds=wallclock.perf_counter() - start)
-    # the compile of the time loop (a cold cache's first case), apart from the kernel's stepping
-    compiled = f"{info['compile_seconds']:.1f} s compile, " if info.get("compile_seconds", 0.0) > COMPILE_SHOWN else ""
-    how = ("restored from the case store" if restored else
-           f"{info['steps']} steps, {info['kernel_seconds']:.2f} s kernel, {compiled}{info['seconds']:.2f} s in all")
-    progress_print(log or sys.stderr, f"{label}{case.study}/{case.id}: {how}; {info['verdict']}")
+    if restored:
+        progress_print(log or sys.stderr, f"{label}{case.study}/{case.id}: restored from the case store; "
+                                          f"{info['verdict']}")
+    else:  # the compile of the time loop (a cold cache's first case), apart from the kernel's stepping
+        progress_print(log or sys.stderr, run_line(label, case, info["steps"], info["kernel_seconds"],
+                                                   info["compile_seconds"], info["seconds"], info["verdict"]))
     return info
 
 
@@ -225,30 +232,71 @@ def run_cases(cases: list[Case], outputs: list, store: CaseStore, log=None) -> l
     return infos
 
 
-def run_search(system: Case, runs_dir: Path | str, summary_path: Path | str, store: CaseStore,
+def run_search(system: Case, runs_dir: Path | str | None, summary_path: Path | str, store: CaseStore,
                log=None):
-    """The threshold search of one system (stonedem.study.search): every run's case file in
-    ``runs_dir`` (``<case id>.nc``), the runs and the bracket in ``summary_path``."""
-    runs_dir = Path(runs_dir)
+    """The threshold search of one system (stonedem.study.search): the runs and the bracket in
+    ``summary_path``, one file (restored whole from the store when the search was made before).
+    ``runs_dir``: also every run's full case file there (``<case id>.nc``), each kept in the
+    store (config ``search_runs: full``); None: none."""
     settings = system.search
-    files: dict[float, Path] = {}
-    # each run as written, or its file when restored from the store
-    written: dict[float, Path | xr.Dataset] = {}
+    summary_path = Path(summary_path)
+    if runs_dir is None and store.restore(system, summary_path, log):
+        return restored_search(system, summary_path, log)
+    kept: dict[float, Path | xr.Dataset | RunPiece] = {}  # each run's file, dataset or piece
 
     def simulate(value: float, phase: str) -> bool:
         case = search_case(system, value)
-        files[value] = runs_dir / f"{case.id}.nc"
-        n = len(files)
-        info = run_one(case, files[value], store, f"[{settings.parameter} run {n}, {phase}] ", log,
-                       keep_dataset=True)
-        written[value] = files[value] if info["dataset"] is None else info["dataset"]
+        label = f"[{settings.parameter} run {len(kept) + 1}, {phase}] "
+        if runs_dir is None:
+            kept[value] = run_slim(case, store.records_dir, label, log)
+            return kept[value].collapsed
+        path = Path(runs_dir) / f"{case.id}.nc"
+        info = run_one(case, path, store, label, log, keep_dataset=True)
+        kept[value] = path if info["dataset"] is None else info["dataset"]
         return info["collapsed"]
 
     runs: list[Run] = search(simulate, settings)
     result = summary(runs, settings)
     progress_print(log or sys.stderr, search_line(system, result))
-    write_dataset(search_dataset(system, runs, [written[r.value] for r in runs], result), summary_path)
+    write_dataset(search_dataset(system, runs, [kept[r.value] for r in runs], result), summary_path)
+    if runs_dir is None:
+        store.keep(system, summary_path)
     return runs, result
+
+
+def restored_search(system: Case, path: Path | str, log=None) -> tuple[list[Run], dict]:
+    """The runs (in the order the search made them) and summary of a search file restored from
+    the store; its log line."""
+    with xr.open_dataset(path) as ds:
+        runs = [Run(float(v), bool(c), str(p)) for _, v, c, p in
+                sorted(zip(ds["search_order"].values, ds[system.search.parameter].values, ds["collapsed"].values,
+                           ds["search_phase"].values))]
+    result = summary(runs, system.search)
+    progress_print(log or sys.stderr, f"{search_line(system, result)} (restored from the case store)")
+    return runs, result
+
+
+def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None) -> RunPiece:
+    """Simulate ``case`` and keep what its search keeps (:class:`stonedem.study.cube.RunPiece`):
+    no dataset, no file; one log line, as :func:`run_one` gives."""
+    from stonedem.engine.run import checked_run
+
+    start = wallclock.perf_counter()
+    run = checked_run(case_scene(case, records_dir))
+    piece = run_piece(case, run)
+    status = run.checks["status"]
+    verdict = f"collapsed at {run.result.collapse_time:.2f} s ({status})" if piece.collapsed else status
+    progress_print(log or sys.stderr, run_line(label, case, run.result.steps_run, run.result.wall_seconds,
+                                               run.compile_seconds, wallclock.perf_counter() - start, verdict))
+    return piece
+
+
+def run_line(label: str, case: Case, steps: int, kernel: float, compile_seconds: float, seconds: float,
+             verdict: str) -> str:
+    """A run's log line: its steps, kernel and compile time (above COMPILE_SHOWN), and verdict."""
+    compiled = f"{compile_seconds:.1f} s compile, " if compile_seconds > COMPILE_SHOWN else ""
+    return (f"{label}{case.study}/{case.id}: {steps} steps, {kernel:.2f} s kernel, {compiled}{seconds:.2f} s in all; "
+            f"{verdict}")
 
 
 def search_line(system: Case, result: dict) -> str:
@@ -263,26 +311,43 @@ def search_line(system: Case, result: dict) -> str:
 SEARCH_WIDTH = 16
 
 
-def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, store: CaseStore, device: str = "cpu",
-                 width: int = SEARCH_WIDTH, log=None) -> list[tuple[list[Run], dict]]:
+def run_searches(systems: list[Case], runs_dirs: list | None, summary_paths: list, store: CaseStore,
+                 device: str = "cpu", width: int = SEARCH_WIDTH, log=None) -> list[tuple[list[Run], dict]]:
     """The threshold searches of ``systems`` together, in rounds
     (:func:`stonedem.study.search.search_together`): each round's runs restored from the store
     where they are, the others simulated side by side on ``device``
     (:func:`stonedem.study.grid.run_cases_together`). Each search's runs, run files and
     summary are those :func:`run_search` gives: a run is written (and kept in the store) once
     it is on the search's path; the speculative runs off it are dropped. The summary's attrs
-    say the device and the plan."""
+    say the device and the plan. ``runs_dirs`` None: no run files, and each search file kept
+    in (and restored whole from) the store, as :func:`run_search` without a ``runs_dir``."""
     log = log or sys.stderr
+    if runs_dirs is None:  # searches made before come back whole; the others run together
+        done: dict[int, tuple[list[Run], dict]] = {}
+        for i, (system, path) in enumerate(zip(systems, summary_paths)):
+            if store.restore(system, Path(path), log):
+                done[i] = restored_search(system, path, log)
+        todo = [i for i in range(len(systems)) if i not in done]
+        if todo:
+            ran = _searches_together([systems[i] for i in todo], None, [summary_paths[i] for i in todo], store,
+                                     device, width, log)
+            done.update(zip(todo, ran))
+        return [done[i] for i in range(len(systems))]
+    return _searches_together(systems, runs_dirs, summary_paths, store, device, width, log)
+
+
+def _searches_together(systems, runs_dirs, summary_paths, store, device, width, log):
     settings = [system.search for system in systems]
     known: list[dict[float, bool]] = [{} for _ in systems]  # value -> collapsed, as search_together has it
     # the files of the runs kept (on the path, or restored from the store); the summaries read
-    # them back: every search's datasets held at once could outgrow the memory of a job
-    files: list[dict[float, Path]] = [{} for _ in systems]
+    # them back: every search's datasets held at once could outgrow the memory of a job. Without
+    # run files, the runs' pieces
+    files: list[dict[float, Path | RunPiece]] = [{} for _ in systems]
     simulated = [0]
 
-    def output(i: int, value: float) -> tuple[Case, Path]:
+    def output(i: int, value: float) -> tuple[Case, Path | None]:
         case = search_case(systems[i], value)
-        return case, Path(runs_dirs[i]) / f"{case.id}.nc"
+        return case, None if runs_dirs is None else Path(runs_dirs[i]) / f"{case.id}.nc"
 
     def simulate(items: list[tuple[int, float]]) -> list[xr.Dataset]:
         simulated[0] += len(items)
@@ -290,6 +355,9 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
 
     def write(i: int, value: float, ds: xr.Dataset) -> None:
         case, path = output(i, value)
+        if path is None:
+            files[i][value] = dataset_piece(ds)
+            return
         write_dataset(ds, path)
         store.keep(case, path)
         files[i][value] = path
@@ -300,7 +368,7 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
         todo = []
         for k, (i, value, _) in enumerate(requests):
             case, path = output(i, value)
-            if store.restore(case, path, log):
+            if path is not None and store.restore(case, path, log):
                 files[i][value] = path
                 collapsed[k] = _case_info(path)["collapsed"]
             else:
@@ -331,7 +399,9 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
     for i, runs in enumerate(all_runs):  # files restored from the store off the path
         on_path = {r.value for r in runs}
         for value in [v for v in files[i] if v not in on_path]:
-            files[i].pop(value).unlink(missing_ok=True)
+            kept = files[i].pop(value)
+            if isinstance(kept, Path):
+                kept.unlink(missing_ok=True)
     plan = (f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
             f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept")
     out = []
@@ -341,6 +411,8 @@ def run_searches(systems: list[Case], runs_dirs: list, summary_paths: list, stor
         ds = search_dataset(system, runs, [written[r.value] for r in runs], result)
         ds.attrs.update(device=device, search_plan=plan, **library_versions())
         write_dataset(ds, summary_path)
+        if runs_dirs is None:
+            store.keep(system, Path(summary_path))
         out.append((runs, result))
     return out
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import functools
 import itertools
+import json
 import math
 import re
 from dataclasses import asdict, dataclass
@@ -746,11 +747,21 @@ def natural_duration(excitation: dict | None, base_dir) -> float:
     a case gives no duration."""
     from stonedem.motion.excitation import excitation_pair
 
-    horizontal, _ = excitation_pair(excitation, Path(base_dir))
-    if horizontal.duration is None:
-        raise InputError("solver.duration", "missing and the excitation has no natural length",
-                         "give solver: {duration: ...} in the study")
-    return horizontal.duration + REST_AFTER_RECORD
+    # a search's runs differ only in the scale, which leaves the length as it is
+    key = json.dumps([{k: v for k, v in (excitation or {}).items() if k not in ("pga", "scale")}, str(base_dir)],
+                     sort_keys=True, default=repr)
+    if key not in _DURATIONS:
+        horizontal, _ = excitation_pair(excitation, Path(base_dir))
+        if horizontal.duration is None:
+            raise InputError("solver.duration", "missing and the excitation has no natural length",
+                             "give solver: {duration: ...} in the study")
+        if len(_DURATIONS) >= 64:
+            _DURATIONS.clear()
+        _DURATIONS[key] = horizontal.duration
+    return _DURATIONS[key] + REST_AFTER_RECORD
+
+
+_DURATIONS: dict = {}  # natural_duration's excitations' lengths [s] in this process
 
 
 def case_piece(ds: xr.Dataset) -> xr.Dataset:

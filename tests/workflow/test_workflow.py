@@ -164,6 +164,8 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
         # a threshold search: its runs on a run dimension, the searched pga a coordinate
         assert cube["pga"].dims == ("record", "n_drums", "run") and cube["epistyle_displacement"].dims[-1] == "time"
         assert int(cube["n_runs"].sum()) == cube.sizes["run"] == 2 and str(cube["search_status"].values.flat[0])
+    # a search writes one file (search_runs: summary), no case file per run
+    assert not (tmp_path / "results/cases/colonnade_records").exists()
     assert (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
     figures = sorted(p.name for p in (tmp_path / "results/figures").glob("*.png"))
     walls = ["manuscript_fig_21.png", "manuscript_fig_22.png"]   # the tiny config's one wall case
@@ -193,7 +195,9 @@ def test_slurm_profile_dry_run():
 
     from stonedem.kernels import sources_key
 
-    proc = snakemake("-n", "--profile", "config/profiles/slurm", "--configfile", "tests/workflow/config.yaml")
+    # --forceall: the whole plan, whatever results/ of this checkout already holds (its compile markers)
+    proc = snakemake("-n", "--forceall", "--profile", "config/profiles/slurm", "--configfile",
+                     "tests/workflow/config.yaml")
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "dry-run" in proc.stdout + proc.stderr
     assert "search_ida_" not in proc.stdout  # the IDA is planned only when asked for

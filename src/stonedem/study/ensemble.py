@@ -64,22 +64,23 @@ class MemberResults(NamedTuple):
 # --- one task -------------------------------------------------------------------------------
 
 def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
-    """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]}."""
-    from stonedem.engine.run import run_scene
+    """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]} (the run's
+    measures, without building its dataset)."""
+    from stonedem.engine.run import checked_run, response_measures
     from stonedem.study.grid import case_scene
 
-    ds = run_scene(member_scene(case_scene(case, RECORDS), j, perturbation))
-    return {"collapsed": int(float(ds["collapsed"]) > 0), "max_rocking": float(ds["max_rocking"].max()),
-            "dt": float(ds.attrs["dt"])}
+    run = checked_run(member_scene(case_scene(case, RECORDS), j, perturbation))
+    measures = response_measures(run.scene, run.result, run.checks)
+    return {"collapsed": int(measures["collapsed"][1]), "max_rocking": float(measures["max_rocking"][1]),
+            "dt": float(run.result.dt)}
 
 
 def member_value(system, value: float, j: int, perturbation: str = "stiffness") -> dict:
     """Search system ``system`` run at ``value`` of its parameter by member j: {collapsed, dt [s]}."""
-    from stonedem.engine.run import run_scene
-    from stonedem.study.grid import case_scene, search_case
+    from stonedem.study.grid import search_case
 
-    ds = run_scene(member_scene(case_scene(search_case(system, value), RECORDS), j, perturbation))
-    return {"collapsed": int(float(ds["collapsed"]) > 0), "dt": float(ds.attrs["dt"])}
+    found = member_verdict(search_case(system, value), j, perturbation)
+    return {"collapsed": found["collapsed"], "dt": found["dt"]}
 
 
 def member_search(system, j: int, perturbation: str = "stiffness") -> dict:

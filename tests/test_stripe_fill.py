@@ -55,6 +55,10 @@ def test_the_fills_are_the_zone_values_a_member_has_not_run(systems, tmp_path):
         with xr.open_dataset(tmp_path / "runs" / f"{system}_pga-{value:g}.nc") as run:
             assert int(float(run["collapsed"]) > 0) == int(collapsed)  # the fill's verdict is its run's
     assert len(list((tmp_path / "runs").glob("*.nc"))) == 7
+    # without run files (search_runs: summary) the same fills and verdicts, and no folder
+    slim = stripe_fill.fill_stripes(members, paths, None, tmp_path / "slim.nc", store)
+    assert slim.identical(table) and sorted(p.name for p in tmp_path.iterdir()) == \
+        ["fills.nc", "m0.nc", "m1.nc", "m2.nc", "runs", "slim.nc"]
     with xr.open_dataset(tmp_path / "fills.nc") as ds:
         assert ds.stripe_value.attrs["units"] == "m s-2" and int(ds.attrs["members"]) == 3
     pieces = stripe_fill.stripe_pieces([tmp_path / "fills.nc"])
@@ -100,7 +104,7 @@ def test_the_study_cube_keeps_the_fills_beside_each_members_runs(systems, tmp_pa
     store = CaseStore(None, ROOT / "records")
     paths = []
     for system in members:  # the tiny config's searches: nothing collapses in 1 s up to 8 m/s2
-        run_search(system, tmp_path / system.id, tmp_path / f"{system.id}.nc", store)
+        run_search(system, None, tmp_path / f"{system.id}.nc", store)
         paths.append(tmp_path / f"{system.id}.nc")
     # a fills table as fill_stripes writes it (its verdicts made up: only the merge is tested)
     xr.Dataset({"stripe_system": ("stripe", np.array([members[1].id, members[0].id, members[1].id], dtype=object)),

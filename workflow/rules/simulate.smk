@@ -78,10 +78,11 @@ for study, groups in STRIPE_GROUPS.items():
                 records=sorted({path for system in members for path in case_records(system)}),
                 compiled=COMPILED,
             output:
-                runs=directory(f"results/stripes/{study}/{base}"),
+                runs=directory(f"results/stripes/{study}/{base}") if FULL_SEARCH_RUNS else [],
                 stripes=stripe_path(study, base),
             params:
                 systems=[system.as_dict() for system in members],
+                search_runs=config["search_runs"],
             log:
                 f"results/logs/stripes/{study}/{base}.log",
             benchmark:

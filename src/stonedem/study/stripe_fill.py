@@ -53,14 +53,14 @@ def search_runs(path: Path | str) -> dict:
                 "parameter": parameter, "units": str(ds[parameter].attrs.get("units", ""))}
 
 
-def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str, output: Path | str, store,
+def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str | None, output: Path | str, store,
                  log=None) -> xr.Dataset:
     """Run the stripe fills of one system's members (``systems``, their searches in
-    ``search_paths``, the same order): each missing (member, value) run as a case file in
-    ``runs_dir``, the fills' table in ``output`` (one row per fill: the member's system id,
-    j, value, collapsed). Returns that table."""
+    ``search_paths``, the same order): the fills' table in ``output`` (one row per fill: the
+    member's system id, j, value, collapsed), and each missing (member, value) run as a case
+    file in ``runs_dir`` (None: no run files, as a search without them). Returns that table."""
     from stonedem.study.ensemble import stripe_requests
-    from stonedem.study.runner import run_one
+    from stonedem.study.runner import run_one, run_slim
 
     if len(systems) != len(search_paths) or not systems:
         raise InputError("searches", f"{len(systems)} member systems and {len(search_paths)} search files",
@@ -70,13 +70,18 @@ def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str, 
     missing = stripe_requests(members, [f["values"] for f in found], [f["threshold"] for f in found],
                               [f["survived"] for f in found])  # (j, value), in the order (value, j)
     by_member = dict(zip(members, systems))
-    runs_dir = Path(runs_dir)
-    runs_dir.mkdir(parents=True, exist_ok=True)
+    if runs_dir is not None:
+        runs_dir = Path(runs_dir)
+        runs_dir.mkdir(parents=True, exist_ok=True)
     rows = []
     for n, (j, value) in enumerate(missing):
         case = search_case(by_member[j], value)
-        info = run_one(case, runs_dir / f"{case.id}.nc", store, f"[stripe {n + 1}/{len(missing)}] ", log)
-        rows.append((by_member[j].id, j, value, int(info["collapsed"])))
+        label = f"[stripe {n + 1}/{len(missing)}] "
+        if runs_dir is None:
+            collapsed = run_slim(case, store.records_dir, label, log).collapsed
+        else:
+            collapsed = run_one(case, runs_dir / f"{case.id}.nc", store, label, log)["collapsed"]
+        rows.append((by_member[j].id, j, value, int(collapsed)))
     base = systems[0]
     parameter, units = found[0]["parameter"], found[0]["units"]
     ds = xr.Dataset(

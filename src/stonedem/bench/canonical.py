@@ -3,6 +3,8 @@
 (a) free rocking: a rectangular block released from rest at theta0 = 0.5 alpha, pivoting on
     a corner; reference: the rigid rocking equation with Housner's energy ratio per impact.
     Error: the times of the first three impacts and the peak angles after them.
+(a1) free rocking to the first impact: the blocks of (a), released alike, run only until
+    FIRST_IMPACT_MARGIN x the exact first impact time; error: that impact's time.
 (b) pulse sliding: a squat block under a rectangular base-acceleration pulse; reference:
     Newmark's maximum sliding u_max (thesis Eq. 5.5).
 (c) an 8-drum column under a record; reference: the same engine at 1/16 of the step.
@@ -30,6 +32,9 @@ ROCKING_BLOCKS = ((0.25, 1.0), (1.0, 6.0))
 ROCKING_RATIO = 0.5  # theta0 / alpha
 ROCKING_FRICTION = 10.0  # no sliding: pure rocking
 N_IMPACTS = 3
+# (a1) run length / the exact rigid block's first impact time: a margin past the impact, so
+# the sign change of theta that marks it is sampled even by a run whose impact comes late
+FIRST_IMPACT_MARGIN = 1.2
 
 # (b) a squat block (tan alpha = 4 > a_p / g: it slides, never rocks)
 PULSE_BLOCK = (2.0, 0.5)  # width x height [m]
@@ -147,6 +152,30 @@ def rocking_duration(width, height, margin=0.25):
     times, peaks = rocking_reference(width, height)
     last_half = analytic.rocking_period_exact(width, height, peaks[-1]) / 2.0
     return float(times[-1] + (0.5 + margin) * last_half)
+
+
+def first_impact_time(width, height):
+    """Time [s] of the first impact of the exact rigid block released from rest at
+    :func:`rocking_theta0`: a quarter of the exact rigid period at that amplitude (the first
+    entry of :func:`rocking_reference`)."""
+    times, _ = rocking_reference(width, height, n_impacts=1)
+    return float(times[0])
+
+
+def first_impact_duration(width, height, margin=FIRST_IMPACT_MARGIN):
+    """Run length [s] of scene (a1): ``margin`` x the exact first impact time."""
+    return float(margin * first_impact_time(width, height))
+
+
+def first_impact_error(traj: Trajectory, width, height):
+    """|t_1 / exact t_1 - 1| [1]: relative error of the first impact time of a run.
+
+    t_1 is detected as scene (a) detects every impact (:func:`rocking_measures`: the first
+    sign change of theta, linearly interpolated between samples); no sign change in the run
+    (the block never landed) is an error of 100 %.
+    """
+    times, _ = rocking_measures(traj.time, traj.theta[:, 0], n_impacts=1)
+    return float(np.nan_to_num(abs(times[0] / first_impact_time(width, height) - 1.0), nan=1.0))
 
 
 # --- (b) pulse sliding ----------------------------------------------------------------------

@@ -2,6 +2,9 @@
 
 Scenes (:mod:`stonedem.bench.canonical`): (a) free rocking, error = worst relative error of the
 first three impact times and peaks against the exact rigid block (worst of two blocks);
+(a1) free rocking to the first impact, the blocks of (a) released from the same tilt, error =
+worst over the two blocks of |t_1 / exact t_1 - 1|, the relative error of the first impact
+time (:func:`stonedem.bench.canonical.first_impact_error`);
 (b) pulse sliding, error = |u_max / Newmark - 1|; (c) an 8-drum column under a record,
 error = worst of the rotation and sliding histories against the same engine at dt / 16.
 Engines, in the same process and run: ours, with three contact variants
@@ -9,14 +12,30 @@ Engines, in the same process and run: ours, with three contact variants
 point contacts with a calibrated dashpot, point contacts with Housner's plastic landing
 and zeta 0.05), each a sweep of k_n and dt as a fraction of the stability limit; pymunk
 (:mod:`stonedem.bench.pymunk_engine`) and MuJoCo (:mod:`stonedem.bench.mujoco_engine`), each over
-dt. Wall time is the stepping alone (ours: the compiled loop, warm; theirs: the loop of
+dt.
+
+How the runs of (a1) stop: every engine runs each block for a fixed duration,
+:data:`stonedem.bench.canonical.FIRST_IMPACT_MARGIN` (1.2) x the exact rigid block's first
+impact time (0.349 s and 0.847 s, so 0.419 s and 1.017 s; 1.436 simulated seconds in all),
+sampled every 1 ms as in (a); the impact is the first sign change of theta, linearly
+interpolated between samples, exactly as (a) detects each of its impacts (no sign change
+within the run: error 1). No engine stops at the impact itself: a fixed duration keeps the
+simulated time, hence wall time per simulated second, equal for all. The sampling sets a
+floor on the measure: interpolating across the kink of theta(t) at the impact shifts the
+detected time by up to ~1e-4 x t_1 (measured: our point law 6.5e-5 on the 0.25 x 1 m block
+with 1 ms samples against 3e-6 with 0.1 ms), so the 1e-4 level is at the floor of the
+measure; from 3e-4 up it is resolved. Ours runs the same contacts as (a) (calibrated
+dashpots, or the point law's defaults) over the same k_n x dt grid; pymunk and MuJoCo the
+same dt as in (a).
+
+Wall time is the stepping alone (ours: the compiled loop, warm; theirs: the loop of
 step calls), single thread, sampling included; each timed run is repeated ``repeats`` times
 (every engine is deterministic) and the least wall time kept, so a busy machine inflates
 fewer timings. The comparison (:func:`speedup_table`) is
 the best competitor's wall time over ours at equal or better error, for the best of our
 variants and for each.
 
-    python -m stonedem.bench.work_precision [--quick] [--scenes a c] [--contacts point area] [--repeats 3]
+    python -m stonedem.bench.work_precision [--quick] [--scenes a a1 c] [--contacts point area] [--repeats 3]
                                        [--out results/bench] [--figures results/figures]
 """
 
@@ -35,8 +54,11 @@ from stonedem.reference import analytic
 from stonedem.bench import canonical as cn
 from stonedem.bench import ours
 
-SCENES = ("a", "b", "c")
+SCENES = ("a", "a1", "b", "c")
+ROCKING_SCENES = ("a", "a1")  # free rocking: the same blocks, contacts and sweeps
 SCENE_TITLES = {"a": "free rocking from theta0 = 0.5 alpha (0.25 x 1 m and 1 x 6 m blocks)",
+                "a1": "free rocking to the first impact (scene a's blocks and tilt, run to 1.2 x the exact "
+                      "first impact time)",
                 "b": "Newmark pulse sliding (a_p = 0.5 g, T_p = 0.5 s, mu = 0.2)",
                 "c": "8-drum 6 x 1 m column under a record (PGA 16 m/s2, 10 s)"}
 ERROR_LEVELS = (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
@@ -48,19 +70,22 @@ NO_VARIANT = "-"  # the contact coordinate of the other engines' runs
 # ours: every contact variant x k_n [N m-2] x dt / stability limit, per scene
 FULL = {
     "ours": {"a": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10, 1e11), "dt_ratio": (1.0, 0.5, 0.25, 0.1)},
+             "a1": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10, 1e11), "dt_ratio": (1.0, 0.5, 0.25, 0.1)},
              "b": {"contact": ours.VARIANTS, "k_n": (1e6, 1e7, 1e8, 1e9), "dt_ratio": (0.9, 0.5, 0.25)},
              "c": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10), "dt_ratio": (1.0, 0.5, 0.25)}},
-    "pymunk": {"a": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "b": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4),
-               "c": (3e-3, 1e-3, 3e-4)},
-    "mujoco": {"a": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "b": (3e-3, 1e-3, 3e-4, 1e-4),
+    "pymunk": {"a": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "a1": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+               "b": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4), "c": (3e-3, 1e-3, 3e-4)},
+    "mujoco": {"a": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "a1": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+               "b": (3e-3, 1e-3, 3e-4, 1e-4),
                "c": (3e-3, 1e-3, 3e-4)},
 }
 QUICK = {
     "ours": {"a": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
+             "a1": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
              "b": {"contact": ours.VARIANTS, "k_n": (1e8,), "dt_ratio": (0.5,)},
              "c": {"contact": ("area", "point"), "k_n": (1e9,), "dt_ratio": (1.0,)}},
-    "pymunk": {"a": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
-    "mujoco": {"a": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
+    "pymunk": {"a": (1e-3,), "a1": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
+    "mujoco": {"a": (1e-3,), "a1": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
 }
 
 
@@ -93,18 +118,31 @@ def timed(run, repeats=1):
     return traj
 
 
-def rocking_runs(run_block, repeats=1):
-    """Worst errors, summed cost and worst status of free rocking over :data:`canonical.ROCKING_BLOCKS`."""
+def rocking_runs(run_block, repeats=1, scene="a"):
+    """Worst errors, summed cost and worst status of free rocking over :data:`canonical.ROCKING_BLOCKS`.
+
+    scene "a": each block to :func:`canonical.rocking_duration`, errors of the first three
+    impacts and peaks; "a1": each block to :func:`canonical.first_impact_duration`, error of the
+    first impact time alone (error_peak NaN).
+    """
     t_err = p_err = wall = sim = steps = 0.0
     status = 0
     for width, height in cn.ROCKING_BLOCKS:
-        duration = cn.rocking_duration(width, height)
+        if scene == "a1":
+            duration = cn.first_impact_duration(width, height)
+        else:
+            duration = cn.rocking_duration(width, height)
         theta0 = cn.rocking_theta0(width, height)
         traj = timed(lambda: run_block(width, height, theta0, duration), repeats)
-        te, pe = cn.rocking_errors(traj, width, height)
+        if scene == "a1":
+            te, pe = cn.first_impact_error(traj, width, height), 0.0
+        else:
+            te, pe = cn.rocking_errors(traj, width, height)
         t_err, p_err = max(t_err, te), max(p_err, pe)
         wall, sim, steps = wall + traj.wall_seconds, sim + duration, steps + traj.steps
         status = max(status, traj.status)
+    if scene == "a1":
+        return {"error": t_err, "error_impact_time": t_err, "error_peak": math.nan}, wall, sim, steps, status
     return dict(error=max(t_err, p_err), error_impact_time=t_err, error_peak=p_err), wall, sim, steps, status
 
 
@@ -121,7 +159,7 @@ def ours_points(scene, grid, column_duration, repeats=1):
 
 def ours_point(scene, variant, k_n, ratio, column_duration, repeats=1):
     """One row of our engine: a contact variant at k_n [N m-2] and dt = ratio x stability limit."""
-    if scene == "a":
+    if scene in ROCKING_SCENES:
         dts, laws = {}, {}
 
         def run_block(w, h, theta0, duration):
@@ -133,7 +171,7 @@ def ours_point(scene, variant, k_n, ratio, column_duration, repeats=1):
             dts[w, h] = duration / max(traj.steps, 1)
             return traj
 
-        errors, wall, sim, steps, status = rocking_runs(run_block, repeats)
+        errors, wall, sim, steps, status = rocking_runs(run_block, repeats, scene)
         laws = [laws[block] for block in cn.ROCKING_BLOCKS]
         dts = list(dts.values())
         return _row("ours", scene, k_n, min(dts), ratio, wall, sim, steps, contact=variant, status=status,
@@ -166,9 +204,9 @@ def competitor_points(engine, scene, dts, column_duration, record, repeats=1):
     module = competitor(engine)
     rows = []
     for dt in dts:
-        if scene == "a":
+        if scene in ROCKING_SCENES:
             errors, wall, sim, steps, _ = rocking_runs(
-                lambda w, h, theta0, duration: module.free_rocking(w, h, theta0, dt, duration), repeats)
+                lambda w, h, theta0, duration: module.free_rocking(w, h, theta0, dt, duration), repeats, scene)
             rows.append(_row(engine, scene, math.nan, dt, math.nan, wall, sim, steps, **errors))
         elif scene == "b":
             w, h = cn.PULSE_BLOCK
@@ -238,8 +276,8 @@ VARIABLES = {
     "steps": ("1", "time steps taken"),
     "status": ("1", "worst run status of our engine (0 ok, 2 non-finite; stonedem.kernels.step), 0 for the others"),
     "error": ("1", "benchmark error of the run (see the scene's error attrs)"),
-    "error_impact_time": ("1", "(a) worst relative error of the first three impact times"),
-    "error_peak": ("1", "(a) worst relative error of the peak angles after them"),
+    "error_impact_time": ("1", "(a) worst relative error of the first three impact times; (a1) of the first impact time"),
+    "error_peak": ("1", "(a) worst relative error of the peak angles after them (NaN for a1)"),
     "error_rotation": ("1", "(c) max |rotation - reference| / max |reference rotation|"),
     "error_sliding": ("1", "(c) max |joint sliding - reference| / max |reference sliding|"),
     "c_n": ("N s m-1", "(b), (c) normal dashpot of our area law (NaN: point law, scene a or another engine)"),
@@ -247,11 +285,11 @@ VARIABLES = {
                   "(NaN: area law, scene a or another engine)"),
 }
 BLOCK_VARIABLES = {
-    "rocking_c_n": ("N s m-1", "(a) normal dashpot of our area law per rocking block, calibrated to "
+    "rocking_c_n": ("N s m-1", "(a), (a1) normal dashpot of our area law per rocking block, calibrated to "
                                "Housner's first impact (NaN: point law or another engine)"),
-    "rocking_zeta": ("1", "(a) damping of each contact point of our point law per rocking block, fraction "
+    "rocking_zeta": ("1", "(a), (a1) damping of each contact point of our point law per rocking block, fraction "
                           "of critical (calibrated for point_dashpot; NaN: area law or another engine)"),
-    "rocking_restitution": ("1", "(a) first-impact energy ratio the calibrated damping gives at 0.1 x the "
+    "rocking_restitution": ("1", "(a), (a1) first-impact energy ratio the calibrated damping gives at 0.1 x the "
                                  "stability limit (target: housner_restitution; NaN: point or another engine)"),
 }
 
@@ -274,13 +312,13 @@ def sweep_dataset(rows, column_duration) -> xr.Dataset:
         "contact": ("run", [r["contact"] for r in rows], {
             "units": "1", "long_name": f"contact variant of ours ({', '.join(ours.VARIANTS)}; "
                                        f"'{NO_VARIANT}' for the other engines)"}),
-        "scene": ("run", [r["scene"] for r in rows], {"units": "1", "long_name": "canonical scene a, b or c"}),
+        "scene": ("run", [r["scene"] for r in rows], {"units": "1", "long_name": "canonical scene a, a1, b or c"}),
         "k_n": ("run", np.array([r["k_n"] for r in rows]), {
             "units": "N m-2", "long_name": "normal contact stiffness (ours only): per unit overlap area "
                                           "(area law) or per unit contact length (point law)"}),
         "dt": ("run", np.array([r["dt"] for r in rows]), {"units": "s", "long_name": "time step"}),
         "dt_ratio": ("run", np.array([r["dt_ratio"] for r in rows]), {"units": "1", "long_name": "dt / stability limit (ours only)"}),
-        "block": ("block", np.arange(len(cn.ROCKING_BLOCKS)), {"units": "1", "long_name": "rocking block of scene (a)"}),
+        "block": ("block", np.arange(len(cn.ROCKING_BLOCKS)), {"units": "1", "long_name": "rocking block of scenes (a), (a1)"}),
         "block_width": ("block", np.array([w for w, _ in cn.ROCKING_BLOCKS]), {"units": "m", "long_name": "width of the rocking block"}),
         "block_height": ("block", np.array([h for _, h in cn.ROCKING_BLOCKS]), {"units": "m", "long_name": "height of the rocking block"}),
         "housner_restitution": ("block", np.array([analytic.housner_restitution(w, h) for w, h in cn.ROCKING_BLOCKS]),
@@ -295,6 +333,8 @@ def sweep_dataset(rows, column_duration) -> xr.Dataset:
         "machine": f"{os.cpu_count()} cores, {sys.platform}",
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
         **{f"scene_{s}": SCENE_TITLES[s] for s in SCENES},
+        "scene_a1_stop": f"each block runs {cn.FIRST_IMPACT_MARGIN:g} x its exact first impact time, sampled "
+                         f"every 1 ms; the impact: the first sign change of theta, as in (a)",
         "scene_c_duration": column_duration, "scene_c_pga": COLUMN_PGA,
         "scene_c_reference": f"same engine at dt / {cn.COLUMN_REFERENCE_REFINEMENT}",
         **{f"contact_{v}": ours.VARIANT_TITLES[v] for v in ours.VARIANTS},
@@ -417,14 +457,14 @@ def summary_text(ds: xr.Dataset) -> str:
         for contact in table.contact.values:
             cells = [f"{v:11.2f}" if np.isfinite(v) else f"{'-':>11s}"
                      for v in table.sel(scene=scene, contact=contact).values]
-            lines.append(f"({scene})    {contact:15s} " + " ".join(cells))
+            lines.append(f"{'(' + scene + ')':7s}{contact:15s} " + " ".join(cells))
     lines += ["", "least wall time per simulated second [ms] at equal or better error:",
               "scene  engine              " + "  ".join(f"err<={level:<7g}" for level in fastest.error_level.values)]
     for scene in fastest.scene.values:
         for entry in fastest.entry.values:
             cells = [f"{1e3 * v:11.3f}" if np.isfinite(v) else f"{'-':>11s}"
                      for v in fastest.sel(scene=scene, entry=entry).values]
-            lines.append(f"({scene})    {entry:19s} " + " ".join(cells))
+            lines.append(f"{'(' + scene + ')':7s}{entry:19s} " + " ".join(cells))
     lines += ["", "best error reached (wall time per simulated second of that run):"]
     for scene in fastest.scene.values:
         for entry in fastest.entry.values:
@@ -439,7 +479,7 @@ def summary_text(ds: xr.Dataset) -> str:
             r = runs.isel(run=i)
             where = (f"k_n {float(r.k_n):.0e}, dt {float(r.dt_ratio):g} x limit = {float(r.dt):.2e} s"
                      if engine == "ours" else f"dt {float(r.dt):.0e} s")
-            lines.append(f"({scene})    {entry:19s} {float(r.error):.3e}  at {where}, "
+            lines.append(f"{'(' + scene + ')':7s}{entry:19s} {float(r.error):.3e}  at {where}, "
                          f"{1e3 * float(r.wall_per_sim_second):.3f} ms")
     return "\n".join(lines)
 

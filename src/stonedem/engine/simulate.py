@@ -226,12 +226,16 @@ def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
         return 0.0
     # Numba's own fingerprint of the arguments' types (what a call dispatches on): ~0.01 ms, where
     # typing them (numba.typeof) takes ~1 ms a run, a fifth of what a search's run may cost in Python
-    key = (dispatcher, tuple((type(arg), compute_fingerprint(arg)) for arg in args))
-    if key in _READY:
+    try:
+        key = (id(dispatcher), tuple((type(arg), compute_fingerprint(arg)) for arg in args))
+    except (NotImplementedError, ValueError, TypeError):  # a value Numba cannot fingerprint: typed below
+        key = None
+    if key is not None and key in _READY:
         return 0.0
     signature = tuple(numba.typeof(arg) for arg in args)
     if signature in dispatcher.overloads:
-        _READY.add(key)
+        if key is not None:
+            _READY.add(key)
         return 0.0
     if progress is not None:
         progress.compiling()
@@ -242,7 +246,8 @@ def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
         seconds = wallclock.perf_counter() - start
         if progress is not None:
             progress.compiled(seconds)
-    _READY.add(key)
+    if key is not None:
+        _READY.add(key)
     return seconds
 
 

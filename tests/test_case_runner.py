@@ -111,6 +111,29 @@ def test_a_search_without_run_files_writes_one_file_that_the_store_gives_back_wh
     assert "restored" not in log.getvalue() and "s kernel" in log.getvalue()
 
 
+def test_a_search_without_histories_keeps_the_same_runs_and_measures(tmp_path):
+    """search: {histories: false} (the IDA's default): the file holds every run's measures
+    and the bracket, no time dimension; the runs and measures are those with histories."""
+    import dataclasses
+
+    from stonedem.errors import InputError
+    from stonedem.io.netcdf import open_result
+    from stonedem.study.search import SearchSettings
+
+    search = {"parameter": "amplitude", "start": 0.05, "factor": 2.0, "tolerance": 0.2, "fill": 0,
+              "minimum": 0.005, "maximum": 0.64}
+    (system,) = case_table("block", {**BLOCK, "grid": {"friction": [0.7]}, "search": search})
+    bare = dataclasses.replace(system, search=dataclasses.replace(system.search, histories=False))
+    with_histories = run_search(system, None, tmp_path / "h.nc", CaseStore(None), io.StringIO())
+    assert run_search(bare, None, tmp_path / "m.nc", CaseStore(None), io.StringIO()) == with_histories
+    full, measures = open_result(tmp_path / "h.nc"), open_result(tmp_path / "m.nc")
+    assert "time" not in measures.dims and "rocking" not in measures and measures.attrs["search_histories"] == 0
+    kept = full.drop_dims("time")
+    assert kept.drop_attrs(deep=False).equals(measures.drop_attrs(deep=False))
+    with pytest.raises(InputError, match="search.histories"):
+        SearchSettings.from_config({**search, "histories": "no"}, "search", ["amplitude"])
+
+
 def test_searches_together_without_run_files_match_searches_alone(tmp_path):
     from stonedem.io.netcdf import open_result
     from stonedem.study.runner import run_searches

@@ -85,6 +85,8 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
     data = {}
     for name in dict.fromkeys(n for piece in pieces for n in piece.variables):
         dims = next(piece.variables[name][0] for piece in pieces if name in piece.variables)
+        if dims != () and not system.search.histories:
+            continue
         if dims == ():
             values = [piece.variables[name][1] if name in piece.variables else np.nan for piece in pieces]
             data[name] = (("run",), np.array(values))
@@ -94,7 +96,8 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
             if name in piece.variables:
                 history[k, np.searchsorted(time, piece.time)] = piece.variables[name][1]
         data[name] = (("run", "time"), history)
-    cube = xr.Dataset(schema_variables(data), coords=schema_variables({"time": (("time",), time)}))
+    cube = xr.Dataset(schema_variables(data),
+                      coords=schema_variables({"time": (("time",), time)} if system.search.histories else {}))
     params = {}
     for name in pieces[0].params:
         values = [piece.params.get(name) for piece in pieces]
@@ -118,7 +121,7 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
     }
     for name, (dims, value) in values.items():
         cube[name] = xr.Variable(dims, value, _attrs(name, parameter))
-    settings = {f"search_{k}": v for k, v in asdict(system.search).items()}
+    settings = {f"search_{k}": int(v) if isinstance(v, bool) else v for k, v in asdict(system.search).items()}
     cube.attrs = {**shared_case_attrs([piece.attrs for piece in pieces]), **settings,
                   "search_method": "hunt and fill (Vamvatsikos & Cornell 2002), stonedem.study.search",
                   "resurrections": " ".join(f"{v:g}" for v in result["resurrections"]),

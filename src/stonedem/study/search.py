@@ -54,6 +54,8 @@ class SearchSettings:
     maximum: float = 64.0  # no collapse up to here: the threshold lies above it
     fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...
     max_runs: int = 40  # the search stops here whatever it found
+    # its file keeps the runs' histories (the cubes' figures draw them), else measures only
+    histories: bool = True
 
     @classmethod
     def from_config(cls, spec, where: str, parameters) -> "SearchSettings":
@@ -83,6 +85,11 @@ class SearchSettings:
                 raise InputError(f"{where}.{key}", f"expected an integer {low} ... {high}, got {value!r}",
                                  f"give an integer {low} ... {high}")
             values[key] = value
+        histories = spec.get("histories", cls.histories)
+        if not isinstance(histories, bool):
+            raise InputError(f"{where}.histories", f"expected true or false, got {histories!r}",
+                             "write histories: false to keep the runs' measures only")
+        values["histories"] = histories
         if values["tolerance"] >= 1.0:
             raise InputError(f"{where}.tolerance", f"{values['tolerance']:g} is not a relative width < 1",
                              "give e.g. tolerance: 0.02 (2 %)")

@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from stonedem.engine.geometry import following
 from stonedem.engine.scene import Scene, posed_vertices
 
 
@@ -50,7 +51,7 @@ def supports(scene: Scene) -> list[int]:
 
 
 def _contains(vertices: np.ndarray, point: np.ndarray) -> bool:
-    edges = np.roll(vertices, -1, axis=0) - vertices
+    edges = following(vertices) - vertices
     rel = point - vertices
     return bool(np.all(edges[:, 0] * rel[:, 1] - edges[:, 1] * rel[:, 0] >= 0.0))
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stonedem.engine import measures
+from stonedem.engine.geometry import following
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene, initial_pose, posed_vertices
 from stonedem.errors import InputError
@@ -205,7 +206,7 @@ def _span(vertices: np.ndarray, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     """(lowest, highest) y of a convex polygon on the vertical lines at xs [m] (clipped into it)."""
     xs = np.clip(xs, vertices[:, 0].min(), vertices[:, 0].max())[:, None]
     x1, y1 = vertices[:, 0], vertices[:, 1]
-    x2, y2 = np.roll(x1, -1), np.roll(y1, -1)
+    x2, y2 = following(x1), following(y1)
     crossing = (np.minimum(x1, x2) <= xs) & (xs <= np.maximum(x1, x2))
     slanted = x2 != x1
     y = np.where(slanted, y1 + (xs - x1) / np.where(slanted, x2 - x1, 1.0) * (y2 - y1), y1)

@@ -88,6 +88,9 @@ class BaseMotion:
     def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Displacement [m], velocity [m s-1], acceleration [m s-2] at times t [s]."""
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        if self.kind == kx.KIND_NONE:  # at rest, as base_motion gives it, without the call
+            out = np.zeros((3, t.shape[0]))
+            return out[0], out[1], out[2]
         out = kx.base_motion_many(t, self.kind, self.params, self.table_accel,
                                   self.table_vel, self.table_disp, self.table_dt)
         return out[0], out[1], out[2]

@@ -92,15 +92,34 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error("--repeats: give a whole number >= 1")
+    from stonedem.entry import guarded
+
+    return guarded(lambda: measure_commits(args))
+
+
+def commit_of(rev: str, field: str) -> str:
+    """The full hash of ``rev``, or a one-line InputError naming ``field``."""
+    from stonedem.bench.kernel import ParentUnavailable, resolve_commit
+    from stonedem.errors import InputError
+
+    try:
+        return resolve_commit(rev, ROOT)
+    except ParentUnavailable as exc:
+        raise InputError(field, str(exc), "give a commit of this repository's history, or --parent none") from None
+
+
+def measure_commits(args) -> int:
     import numpy as np
     import xarray as xr
 
-    from stonedem.bench.kernel import resolve_commit
+    from stonedem.entry import check_output_path
     from stonedem.io.netcdf import code_version, write_dataset
 
-    commits = {"this": resolve_commit("HEAD", ROOT)}
+    out = Path(args.out)
+    check_output_path(out, "--out", suffixes=(".nc",))  # before minutes of measuring
+    commits = {"this": commit_of("HEAD", "checkout")}
     if args.parent != "none":
-        commits["parent"] = resolve_commit(args.parent, ROOT)
+        commits["parent"] = commit_of(args.parent, "--parent")
     with tempfile.TemporaryDirectory() as folder:
         trees = {name: checkout(commit, Path(folder)) for name, commit in commits.items()}
         best: dict[str, dict] = {}
@@ -134,9 +153,8 @@ def main(argv=None) -> int:
                            {"long_name": "git commit"})},
         attrs={"title": "stonedem benchmark: Python and output per run of the quick IDA",
                "source": code_version(), "repeats": args.repeats, "method": __doc__.split("\n\n")[1]})
-    out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    write_dataset(ds, out, overwrite=True)
+    write_dataset(ds, out)
     if "parent" in best:
         ratio = best["parent"]["per_run_ms"] / best["this"]["per_run_ms"]
         print(f"per run beyond the kernel: {best['this']['per_run_ms']:.1f} ms, parent "

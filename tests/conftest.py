@@ -50,8 +50,8 @@ def quiet_sine_record(tmp_path_factory):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
-    """Before the workers start (or the tests, without xdist): compile the engine's two time loops
-    side by side, one process each (stonedem.engine.run.warm_compile), into Numba's cache. With an
+    """Before the workers start (or the tests, without xdist): compile the engine's time loops
+    (stonedem.engine.run.WARM_SCENES) side by side, one process each (stonedem.engine.run.warm_compile), into Numba's cache. With an
     empty cache both workers otherwise compiled both loops at once, each, in their first tests
     (~55 s of a 2-core run; ~2 s when the cache is full)."""
     if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("NUMBA_DISABLE_JIT") == "1":
@@ -70,7 +70,7 @@ def pytest_sessionstart(session):
         cached = Path(numba.config.CACHE_DIR) / _CacheLocator.get_suitable_cache_subpath(stonedem.kernels.__file__)
     except (ImportError, AttributeError):
         cached = Path(numba.config.CACHE_DIR) / "unknown"
-    if all(any(cached.glob(f"{name}.run-*.nbi")) for name in ("step", "contact_graph")):
+    if all(any(cached.glob(f"{name}-*.nbi")) for name in ("step.run_area", "step.run_point", "contact_graph.run")):
         return  # compiled before (for this CPU or another: a worker then compiles what it lacks)
     from stonedem.engine.run import WARM_SCENES
 

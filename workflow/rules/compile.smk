@@ -10,7 +10,7 @@
 import stonedem.engine.run
 import stonedem.kernels
 
-COMPILED_LOOPS = list(stonedem.engine.run.WARM_SCENES)
+COMPILED_LOOPS = list(stonedem.engine.run.STUDY_LOOPS)
 COMPILED = [ancient(f"results/compiled/{stonedem.kernels.sources_key()}/{loop}.txt") for loop in COMPILED_LOOPS]
 
 

@@ -189,10 +189,13 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
     n_contact_max = pair_a.shape[0]
     h, v = model.horizontal, model.vertical
     k_t = model.law.k_t
+    out_every = settings.out_every
 
     tilt_alarm = smallest_theta_cr(model)
     need_sweep = True
     status = STATUS_OK
+    # steps to the next multiple of out_every, counted down: no integer division a step
+    to_sample = (out_every - step_start % out_every) % out_every
     for n in range(step_start, min(step_stop, n_steps + 1)):
         t = n * dt
         # 1. driven bodies at the base pose of t_n; world vertices (no bounds: no broad phase to feed)
@@ -229,7 +232,8 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
             return STATUS_GENERAL, n_sample, collapse_sample, n, broken, which
 
         # 3. contact forces from the velocities v_{n-1/2}, pair by pair in the general loop's order
-        sample = n % settings.out_every == 0 or n == n_steps or stop
+        sample = to_sample == 0 or n == n_steps or stop
+        to_sample = out_every - 1 if to_sample == 0 else to_sample - 1
         clear_forces(work)
         n_contact = 0
         elastic = 0.0

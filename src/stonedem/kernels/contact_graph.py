@@ -36,10 +36,11 @@ from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import MEM_ACTIVE, release_contact
 from stonedem.kernels.excitation import base_motion
-from stonedem.kernels.integrate import drive_bodies, update_world_vertices
+from stonedem.kernels.integrate import drive_bodies
 from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges,
                                             deepest_face, edge_separation, face_contact_forces, faces_hold,
                                             keep_faces)
+from stonedem.kernels.scalar import cos, sin
 from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_OK, allocate_work, clear_forces, collapsed,
                                    finish_step, first_pair_capacity, needs_resweep, smallest_theta_cr,
                                    track)
@@ -75,8 +76,40 @@ def run(model, settings, state, samples, graph, step_start, step_stop, step_firs
     work = allocate_work(model, max(first_pair_capacity(model.body_mass.shape[0]), n_contact))
     kept = np.full((n_contact, N_FACE_CACHE), -1.0)
     touching = np.zeros(n_contact, dtype=np.bool_)
-    return run_steps(model, settings, state, samples, graph, work, kept, touching, step_start, step_stop,
-                     step_first, rest_from_step, n_sample, collapse_sample)
+    # a driven body keeps its reference angle, so its cos and sin are the same at every step
+    n_body = model.body_mass.shape[0]
+    ref_cos = np.empty(n_body)
+    ref_sin = np.empty(n_body)
+    for b in range(n_body):
+        ref_cos[b] = cos(model.ref_theta[b])
+        ref_sin[b] = sin(model.ref_theta[b])
+    return run_steps(model, settings, state, samples, graph, work, kept, touching, ref_cos, ref_sin, step_start,
+                     step_stop, step_first, rest_from_step, n_sample, collapse_sample)
+
+
+@njit(**INLINE_OPTIONS)
+def place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v):
+    """Stage 1 of :func:`run_steps`: driven bodies at the base pose, then every body's world
+    vertices and cos and sin of theta, as :func:`stonedem.kernels.integrate.update_world_vertices`
+    computes them but for a driven body's cos and sin, which its fixed angle gives once."""
+    n_body = model.body_mass.shape[0]
+    vert_start, local_x, local_y, body_driven = model.vert_start, model.local_x, model.local_y, model.body_driven
+    body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
+    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
+    drive_bodies(n_body, body_driven, model.ref_x, model.ref_y, model.ref_theta, d_h, vel_h, d_v, vel_v,
+                 body_x, body_y, body_theta, state.body_vx, state.body_vy, state.body_omega)
+    for b in range(n_body):
+        if body_driven[b]:
+            c = ref_cos[b]
+            s = ref_sin[b]
+        else:
+            c = cos(body_theta[b])
+            s = sin(body_theta[b])
+        cos_theta[b] = c
+        sin_theta[b] = s
+        for k in range(vert_start[b], vert_start[b + 1]):
+            world_x[k] = body_x[b] + c * local_x[k] - s * local_y[k]
+            world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]
 
 
 @njit(**INLINE_OPTIONS)
@@ -174,15 +207,15 @@ def pair_outside(graph, work, n_pair):
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def run_steps(model, settings, state, samples, graph, work, kept, touching, step_start, step_stop, step_first,
-              rest_from_step, n_sample, collapse_sample):
-    """:func:`run` with its bundles; the stages of :func:`stonedem.kernels.step.run_steps`."""
+def run_steps(model, settings, state, samples, graph, work, kept, touching, ref_cos, ref_sin, step_start, step_stop,
+              step_first, rest_from_step, n_sample, collapse_sample):
+    """:func:`run` with its bundles; the stages of :func:`stonedem.kernels.step.run_steps`.
+    ref_cos, ref_sin: cos and sin of each body's reference angle (a driven body's at every step)."""
     dt = settings.dt
     n_steps = settings.n_steps
     n_body = model.body_mass.shape[0]
     body_driven = model.body_driven
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
-    body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_ft, pair_memory, events = state.pair_ft, state.pair_memory, state.events
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     pair_a, pair_b, face_a, face_b = graph.pair_a, graph.pair_b, graph.face_a, graph.face_b
@@ -201,10 +234,7 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, step
         # 1. driven bodies at the base pose of t_n; world vertices (no bounds: no broad phase to feed)
         d_h, vel_h, _ = base_motion(t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt)
         d_v, vel_v, _ = base_motion(t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt)
-        drive_bodies(n_body, body_driven, model.ref_x, model.ref_y, model.ref_theta, d_h, vel_h, d_v, vel_v,
-                     body_x, body_y, body_theta, body_vx, body_vy, body_omega)
-        update_world_vertices(n_body, model.vert_start, model.local_x, model.local_y, body_x, body_y, body_theta,
-                              work.world_x, work.world_y, work.cos_theta, work.sin_theta)
+        place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v)
 
         suspect = track(model, state, work, n, d_h, d_v, tilt_alarm)
         if suspect and events[EVENT_COLLAPSE] < 0 and collapsed(model, state, work, d_v):

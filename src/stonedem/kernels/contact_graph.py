@@ -36,11 +36,10 @@ from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import MEM_ACTIVE, release_contact
 from stonedem.kernels.excitation import base_motion
-from stonedem.kernels.integrate import drive_bodies
+from stonedem.kernels.integrate import cos_sin, drive_bodies
 from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges,
                                             deepest_face, edge_separation, face_contact_forces, faces_hold,
                                             keep_faces)
-from stonedem.kernels.scalar import cos, sin
 from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_OK, allocate_work, clear_forces, collapsed,
                                    finish_step, first_pair_capacity, needs_resweep, smallest_theta_cr,
                                    track)
@@ -81,8 +80,7 @@ def run(model, settings, state, samples, graph, step_start, step_stop, step_firs
     ref_cos = np.empty(n_body)
     ref_sin = np.empty(n_body)
     for b in range(n_body):
-        ref_cos[b] = cos(model.ref_theta[b])
-        ref_sin[b] = sin(model.ref_theta[b])
+        ref_cos[b], ref_sin[b] = cos_sin(model.ref_theta[b])
     return run_steps(model, settings, state, samples, graph, work, kept, touching, ref_cos, ref_sin, step_start,
                      step_stop, step_first, rest_from_step, n_sample, collapse_sample)
 
@@ -103,8 +101,7 @@ def place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v):
             c = ref_cos[b]
             s = ref_sin[b]
         else:
-            c = cos(body_theta[b])
-            s = sin(body_theta[b])
+            c, s = cos_sin(body_theta[b])
         cos_theta[b] = c
         sin_theta[b] = s
         for k in range(vert_start[b], vert_start[b + 1]):

@@ -12,17 +12,42 @@ from numba import njit
 from stonedem.kernels import INLINE_OPTIONS
 from stonedem.kernels.scalar import cos, sin
 
+QUARTER_PI = 0.7853981633974483  # pi / 4, rounded down to a double
+
+
+@njit(**INLINE_OPTIONS)
+def cos_sin(x):
+    """(cos x, sin x): on |x| <= pi/4 fdlibm's kernels (k_cos.c, k_sin.c of Sun's fdlibm 5.3, as in
+    glibc's and musl's libm), polynomials with an error below 1 ulp and no argument reduction;
+    beyond, libm's. A block's angle stays within pi/4 until long after it has collapsed, and
+    libm's pair of calls costs about twice the two polynomials (it reduces the argument and
+    dispatches on its range first)."""
+    if not abs(x) <= QUARTER_PI:  # NaN too
+        return cos(x), sin(x)
+    z = x * x
+    # sin x = x + x^3 (S1 + z (S2 + z (S3 + z (S4 + z (S5 + z S6)))))
+    r = 8.33333333332248946124e-03 + z * (-1.98412698298579493134e-04 + z * (2.75573137070700676789e-06
+        + z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))
+    s = x + z * x * (-1.66666666666666324348e-01 + z * r)
+    # cos x = 1 - z/2 + z^2 (C1 + z (C2 + ... + z C6)), with 1 - z/2 summed so that its
+    # rounding error is kept (k_cos.c's w = 1 - hz and ((1 - w) - hz))
+    rc = z * (4.16666666666666019037e-02 + z * (-1.38888888888741095749e-03 + z * (2.48015872894767294178e-05
+         + z * (-2.75573143513906633035e-07 + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))))
+    hz = 0.5 * z
+    w = 1.0 - hz
+    c = w + (((1.0 - w) - hz) + z * rc)
+    return c, s
+
 
 @njit(**INLINE_OPTIONS)
 def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
                           world_x, world_y, cos_theta, sin_theta):
     """World coordinates of every vertex from body pose: w = x + R(theta) v_local [m].
 
-    cos_theta, sin_theta (n_body,) receive each body's cos and sin of theta (the time loop
-    reuses them for its measures)."""
+    cos_theta, sin_theta (n_body,) receive each body's cos and sin of theta (:func:`cos_sin`; the
+    time loop reuses them for its measures)."""
     for b in range(n_body):
-        c = cos(body_theta[b])
-        s = sin(body_theta[b])
+        c, s = cos_sin(body_theta[b])
         cos_theta[b] = c
         sin_theta[b] = s
         for k in range(vert_start[b], vert_start[b + 1]):

@@ -35,7 +35,7 @@ def test_harmonic_oscillator_second_order():
         n = int(round(1.0 / dt))
         for i in range(n):
             f = np.array([-k * x[0]])
-            central_difference_step(1, np.array([False]), np.array([m]), np.ones(1), 0.0,
+            central_difference_step(1, np.array([False]), np.array([1.0 / m]), np.ones(1), 0.0,
                                     0.5 * dt if i == 0 else dt, dt, f, np.zeros(1), np.zeros(1),
                                     x, y, th, v, vy, om)
         errors.append(abs(x[0] - np.cos(omega * 1.0)))

@@ -127,7 +127,7 @@ def _sampling(model, state, work, samples, dt, n_rep):
 
 @njit(**NO_ALLOC_OPTIONS)
 def _integrate(model, state, work, n_rep):
-    body_driven, body_mass, body_inertia = model.body_driven, model.body_mass, model.body_inertia
+    body_driven, inv_mass, inv_inertia = model.body_driven, work.inv_mass, work.inv_inertia
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
@@ -135,7 +135,7 @@ def _integrate(model, state, work, n_rep):
     for r in range(n_rep):
         # kick and drift of zero: the same arithmetic, and the state does not wander off
         kstep.book_energy(state, work, 0.0)
-        central_difference_step(n_body, body_driven, body_mass, body_inertia, model.gravity, 0.0, 0.0,
+        central_difference_step(n_body, body_driven, inv_mass, inv_inertia, model.gravity, 0.0, 0.0,
                                 force_x, force_y, torque, body_x, body_y, body_theta, body_vx, body_vy, body_omega)
     return body_x[0]
 

@@ -70,11 +70,13 @@ def drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, v_h, d_v, v_
 
 
 @njit(**INLINE_OPTIONS)
-def central_difference_step(n_body, body_driven, body_mass, body_inertia, gravity, kick, dt,
+def central_difference_step(n_body, body_driven, inv_mass, inv_inertia, gravity, kick, dt,
                             force_x, force_y, torque,
                             body_x, body_y, body_theta, body_vx, body_vy, body_omega):
     """Advance free bodies one step: kick mid-step velocities by ``kick`` F/m, drift by dt v.
 
+    inv_mass, inv_inertia: 1 / mass and 1 / moment of inertia of each body [kg-1], [kg-1 m-2]
+    (multiplied: a division costs several multiplications and the masses do not change)
     gravity: acceleration of gravity, acting along -y [m s-2]
     kick: velocity update interval, dt except dt/2 on the first step [s]
     body_vx, body_vy, body_omega hold v(t - dt/2) on entry and v(t + dt/2) on exit
@@ -82,9 +84,9 @@ def central_difference_step(n_body, body_driven, body_mass, body_inertia, gravit
     for b in range(n_body):
         if body_driven[b]:
             continue
-        body_vx[b] += kick * force_x[b] / body_mass[b]  # thesis Eq. 3.7
-        body_vy[b] += kick * (force_y[b] / body_mass[b] - gravity)  # thesis Eq. 3.8
-        body_omega[b] += kick * torque[b] / body_inertia[b]  # thesis Eq. 3.9
+        body_vx[b] += kick * force_x[b] * inv_mass[b]  # thesis Eq. 3.7
+        body_vy[b] += kick * (force_y[b] * inv_mass[b] - gravity)  # thesis Eq. 3.8
+        body_omega[b] += kick * torque[b] * inv_inertia[b]  # thesis Eq. 3.9
         body_x[b] += dt * body_vx[b]
         body_y[b] += dt * body_vy[b]
         body_theta[b] += dt * body_omega[b]

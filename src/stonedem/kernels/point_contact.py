@@ -86,8 +86,9 @@ def body_edge(s, n, k, world_x, world_y, edge_len, edge_nx, edge_ny):
     length = sqrt(ex * ex + ey * ey)
     edge_len[i] = length
     if length > 0.0:
-        edge_nx[i] = ey / length
-        edge_ny[i] = -ex / length
+        inv = 1.0 / length  # one division for both components
+        edge_nx[i] = ey * inv
+        edge_ny[i] = -ex * inv
     else:
         edge_nx[i] = 0.0
         edge_ny[i] = 0.0
@@ -356,8 +357,9 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
     ny = fa_ny - fb_ny
     norm = sqrt(nx * nx + ny * ny)
     if norm > 0.0:
-        nx /= norm
-        ny /= norm
+        inv = 1.0 / norm  # one division for both components
+        nx *= inv
+        ny *= inv
     else:
         nx = fa_nx
         ny = fa_ny

@@ -211,6 +211,8 @@ class Work(NamedTuple):
     lo_y: np.ndarray
     hi_x: np.ndarray
     hi_y: np.ndarray
+    inv_mass: np.ndarray  # 1 / mass and 1 / moment of inertia of each free body, 0 for a driven one
+    inv_inertia: np.ndarray  # (n_body,) [kg-1], [kg-1 m-2] (the integrator multiplies: no division a step)
     force_x: np.ndarray  # contact force and torque on each body (n_body,) [N], [N m]
     force_y: np.ndarray
     torque: np.ndarray
@@ -248,10 +250,16 @@ def allocate_work(model, capacity):
     n_body = model.body_mass.shape[0]
     n_vert = model.local_x.shape[0]
     n_group = model.group_theta_cr.shape[0]
+    inv_mass = np.zeros(n_body)
+    inv_inertia = np.zeros(n_body)
+    for b in range(n_body):
+        if not model.body_driven[b]:
+            inv_mass[b] = 1.0 / model.body_mass[b]
+            inv_inertia[b] = 1.0 / model.body_inertia[b]
     return Work(
         world_x=np.empty(n_vert), world_y=np.empty(n_vert),
         edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
-        cos_theta=np.empty(n_body), sin_theta=np.empty(n_body),
+        cos_theta=np.empty(n_body), sin_theta=np.empty(n_body), inv_mass=inv_mass, inv_inertia=inv_inertia,
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
         base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
@@ -362,19 +370,19 @@ def velocities_at_step(model, state, work, half):
 
     half is 0 at the step a run starts from, whose state holds the velocities at t_n itself.
     """
-    body_mass, body_inertia, body_driven = model.body_mass, model.body_inertia, model.body_driven
+    body_driven, inv_mass, inv_inertia = model.body_driven, work.inv_mass, work.inv_inertia
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     force_x, force_y, torque = work.force_x, work.force_y, work.torque
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
-    for b in range(body_mass.shape[0]):
+    for b in range(body_driven.shape[0]):
         if body_driven[b]:
             vel_x[b] = body_vx[b]
             vel_y[b] = body_vy[b]
             vel_om[b] = 0.0
         else:
-            vel_x[b] = body_vx[b] + half * force_x[b] / body_mass[b]
-            vel_y[b] = body_vy[b] + half * (force_y[b] / body_mass[b] - model.gravity)
-            vel_om[b] = body_omega[b] + half * torque[b] / body_inertia[b]
+            vel_x[b] = body_vx[b] + half * force_x[b] * inv_mass[b]
+            vel_y[b] = body_vy[b] + half * (force_y[b] * inv_mass[b] - model.gravity)
+            vel_om[b] = body_omega[b] + half * torque[b] * inv_inertia[b]
 
 
 @njit(**NO_ALLOC_OPTIONS)
@@ -582,7 +590,7 @@ def integrate_step(model, state, work, kick, dt):
     """Stage 7: book this step's powers over ``kick`` [s] and move the free bodies on
     (:func:`stonedem.kernels.integrate.central_difference_step`)."""
     book_energy(state, work, kick)
-    central_difference_step(model.body_mass.shape[0], model.body_driven, model.body_mass, model.body_inertia,
+    central_difference_step(model.body_mass.shape[0], model.body_driven, work.inv_mass, work.inv_inertia,
                             model.gravity, kick, dt, work.force_x, work.force_y, work.torque,
                             state.body_x, state.body_y, state.body_theta, state.body_vx, state.body_vy,
                             state.body_omega)

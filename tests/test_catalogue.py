@@ -37,3 +37,25 @@ def test_no_library_module_names_a_results_path():
              if p.relative_to(package).as_posix() not in CLI_DEFAULTS
              and p.relative_to(package).parts[0] != "bench" and "results/" in p.read_text()]
     assert not found, f"results/ paths belong in the workflow (workflow/rules/common.smk): {found}"
+
+
+def test_fig_7_22_from_searches_without_histories_names_the_setting(tmp_path):
+    """search: {histories: false} keeps a search's measures only; Fig. 7.22 draws histories, so
+    it says which setting to change instead of failing on a missing variable."""
+    import numpy as np
+    import xarray as xr
+
+    from stonedem.errors import InputError
+    from stonedem.figures.chapter7 import _standalone_vs_colonnade
+
+    paths = []
+    for study in ("standalone_records", "colonnade_records"):
+        cube = xr.Dataset({"collapsed": (("record", "n_drums", "run"), np.zeros((1, 1, 2)))},
+                          coords={"record": ["athens_standin_kocaeli_arc000"], "n_drums": [1],
+                                  "pga": (("record", "n_drums", "run"), [[[1.0, 2.0]]])},
+                          attrs={"study": study})
+        paths.append(tmp_path / f"{study}.nc")
+        cube.to_netcdf(paths[-1])
+    with pytest.raises(InputError, match=r"studies\.standalone_records\.search\.histories"):
+        _standalone_vs_colonnade(paths, tmp_path / "fig.png")
+    assert not (tmp_path / "fig.png").exists()

@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from stonedem.errors import InputError
 from stonedem.figures.catalogue import Cube, Figure, Reduction, Table
 from stonedem.figures.drawing import (RECORD_LABEL, THESIS_RECORD, _finish, _label, _save, geometry_figure, history_figure, load_cube, snapshot_figure)
 from stonedem.study.reduce import epistyle_response, table_7_1
@@ -62,6 +63,11 @@ def _standalone_vs_colonnade(inputs, path):
     """Thesis Fig. 7.22: mean drum rotation of a standalone column and of a colonnade, same record and PGA
     (the largest PGA both were run at that the colonnade survives: the searches share their hunt values)."""
     single, row = load_cube(inputs[0]), load_cube(inputs[1])
+    for cube in (single, row):
+        if "rocking" not in cube:  # a search with histories: false keeps the runs' measures only
+            raise InputError(f"studies.{cube.attrs.get('study', '?')}.search.histories",
+                             "false: its searches kept no time histories, which Fig. 7.22 draws",
+                             "set histories: true (the default) in that study's search:")
     record = THESIS_RECORD["athens"] if THESIS_RECORD["athens"] in row["record"].values else row["record"].values[0]
     n = int(row["n_drums"].values.min())
     alone, together = _runs(single, record, n), _runs(row, record, n)

@@ -32,23 +32,40 @@ def test_tapered_columns_need_a_higher_pga_to_overturn(tmp_path):
     assert np.all(np.diff(onset) > 0), f"and so does the PGA that starts rocking {onset}"
 
 
+def collapse_fraction(name, study, members):
+    """Collapse fraction of a study's one case over ensemble members j = 0 .. members - 1
+    (stonedem.study.members: k_n x (1 - j 2^-52)): near a threshold, collapse is chaotic, so an
+    ordering there is a statement about fractions, not about one draw (docs/method/equivalence.md)."""
+    from stonedem.engine.run import checked_run, response_measures
+    from stonedem.study.grid import case_scene
+    from stonedem.study.members import member_scene
+
+    (case,) = case_table(name, study, DEFAULTS)
+    verdicts = []
+    for j in range(members):
+        run = checked_run(member_scene(case_scene(case), j, "stiffness"))
+        verdicts.append(int(response_measures(run.scene, run.result, run.checks)["collapsed"][1]))
+    return sum(verdicts) / members
+
+
 def test_lower_predominant_frequency_collapses_at_lower_pga_and_epistyle_helps(tmp_path):
     records = ["mexico_standin_chichi_tcu102", "athens_standin_kocaeli_arc000"]
     single = cube(tmp_path, "single", {
         "structure": {**COLUMN, "n_drums": 1}, "friction": 0.485, "excitation": {"kind": "record"},
-        "grid": {"record": records, "pga": [2.0, 8.0]}})
+        "grid": {"record": records, "pga": [2.0]}})
     collapsed = single["collapsed"].sel(n_drums=1) if "n_drums" in single.dims else single["collapsed"]
     # 0.41 Hz record collapses the column at 2 m/s2; the 5.7 Hz one does not
     assert int(collapsed.sel(record=records[0], pga=2.0)) == 1
     assert int(collapsed.sel(record=records[1], pga=2.0)) == 0
-    colonnade = cube(tmp_path, "colonnade", {
-        "structure": {"kind": "colonnade", "n_columns": 3, "n_drums": 1, "height": 6.0, "width": 1.0,
-                      "clear_distance": 2.0, "epistyle_type": "a", "capital": {"height": 0.6, "width": 1.4}},
-        "friction": 0.485, "excitation": {"kind": "record"},
-        "grid": {"record": records[1:], "pga": [8.0]}})
-    # thesis 7.1-7.2: the colonnade with an epistyle survives where the single column falls
-    assert int(single["collapsed"].sel(record=records[1], pga=8.0)) == 1
-    assert int(colonnade["collapsed"].sel(record=records[1], pga=8.0)) == 0
+    # thesis 7.1-7.2: the colonnade with an epistyle survives where the single column falls. Under
+    # the Athens stand-in at 9 m/s2, between their thresholds: measured 6 of 6 members of the
+    # column collapse and 0 of 6 of the colonnade (at 8 m/s2, below the column's threshold, 2 of 6)
+    athens = {"excitation": {"kind": "record"}, "friction": 0.485, "grid": {"record": records[1:], "pga": [9.0]}}
+    column = collapse_fraction("single", {**athens, "structure": {**COLUMN, "n_drums": 1}}, 3)
+    colonnade = collapse_fraction("colonnade", {**athens, "structure": {
+        "kind": "colonnade", "n_columns": 3, "n_drums": 1, "height": 6.0, "width": 1.0, "clear_distance": 2.0,
+        "epistyle_type": "a", "capital": {"height": 0.6, "width": 1.4}}}, 3)
+    assert column >= 2 / 3 and colonnade <= 1 / 3, (column, colonnade)
 
 
 def test_rocking_dominates_at_low_frequency_and_sliding_at_high(tmp_path):

@@ -190,3 +190,15 @@ def same_data(a, b):
         x, y = a[name].values, b[name].values
         assert x.shape == y.shape and (np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc"
                                        else np.array_equal(x, y)), name
+
+
+def no_partial_files(directory):
+    """Whatever is under a result's own name is a whole dataset (temporaries start with '.')."""
+    import xarray as xr
+
+    for rel in result_files(directory):
+        if rel.endswith(".nc"):
+            with xr.open_dataset(directory / rel) as ds:
+                assert len(ds.variables) > 0, rel
+                if rel.startswith("results/cases/"):  # a whole simulation, not its first samples
+                    assert "collapsed" in ds and ds.sizes["time"] > 1, rel

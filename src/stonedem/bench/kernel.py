@@ -94,10 +94,10 @@ def _broad_phase(model, state, work, n_rep):
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy):
+def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy, point_law):
     total = 0
     for r in range(n_rep):
-        n_contact, elastic = kstep.contact_forces(model, state, work, n_pair, dt, want_energy)
+        n_contact, elastic = kstep.contact_forces(model, state, work, n_pair, dt, want_energy, point_law)
         total += n_contact
     return total
 
@@ -176,8 +176,11 @@ def stage_costs(spec: dict, n_rep: int = 20000, repeats: int = 3) -> dict:
     _place(model, state, work, t, 1)
     n_pair = kstep.sweep(model, state, work)
     one = empty_samples(1, len(scene.bodies))
-    contact_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False), n_rep, repeats)
-    with_energy_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, True), n_rep, repeats)
+    point_law = True if model.law.kind == kstep.CONTACT_POINT else None  # the scene's law alone, as run_steps
+    contact_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, False, point_law), n_rep,
+                          repeats)
+    with_energy_ns = _best_ns(lambda n: _contact_forces(model, state, work, n_pair, dt, n, True, point_law), n_rep,
+                              repeats)
     costs = {
         "place": _best_ns(lambda n: _place(model, state, work, t, n), n_rep, repeats),
         "watch": _best_ns(lambda n: _watch(model, state, work, n_mid, 0.0, 0.0, n), n_rep, repeats),

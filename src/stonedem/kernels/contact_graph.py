@@ -36,7 +36,7 @@ from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import MEM_ACTIVE, release_contact
 from stonedem.kernels.excitation import base_motion
-from stonedem.kernels.integrate import cos_sin, drive_bodies
+from stonedem.kernels.integrate import body_world_vertices, cos_sin, drive_bodies
 from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges,
                                             deepest_face, edge_separation, face_contact_forces, faces_hold,
                                             keep_faces)
@@ -102,11 +102,8 @@ def place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v):
             s = ref_sin[b]
         else:
             c, s = cos_sin(body_theta[b])
-        cos_theta[b] = c
-        sin_theta[b] = s
-        for k in range(vert_start[b], vert_start[b + 1]):
-            world_x[k] = body_x[b] + c * local_x[k] - s * local_y[k]
-            world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]
+        body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
+                            sin_theta)
 
 
 @njit(**INLINE_OPTIONS)

@@ -48,11 +48,20 @@ def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, 
     time loop reuses them for its measures)."""
     for b in range(n_body):
         c, s = cos_sin(body_theta[b])
-        cos_theta[b] = c
-        sin_theta[b] = s
-        for k in range(vert_start[b], vert_start[b + 1]):
-            world_x[k] = body_x[b] + c * local_x[k] - s * local_y[k]
-            world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]
+        body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
+                            sin_theta)
+
+
+@njit(**INLINE_OPTIONS)
+def body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
+                        sin_theta):
+    """Body b's world vertices from its position and the cos c and sin s of its angle [m]; c and
+    s kept in cos_theta, sin_theta."""
+    cos_theta[b] = c
+    sin_theta[b] = s
+    for k in range(vert_start[b], vert_start[b + 1]):
+        world_x[k] = body_x[b] + c * local_x[k] - s * local_y[k]
+        world_y[k] = body_y[b] + s * local_x[k] + c * local_y[k]
 
 
 @njit(**INLINE_OPTIONS)

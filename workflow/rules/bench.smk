@@ -4,10 +4,12 @@
 # config bench_profile: full (the sweeps) or quick (a few points per engine: CI).
 import shlex
 
+import stonedem.bench.work_precision
+
 BENCH_QUICK = config.get("bench_profile", "full") == "quick"
 BENCH_OUTPUTS = {
     "bench_work_precision": ["results/bench/work_precision.nc"]
-    + [f"results/figures/work_precision_{scene}.png" for scene in "abc"],
+    + [f"results/figures/work_precision_{scene}.png" for scene in stonedem.bench.work_precision.SCENES],
     "bench_contact_cost": ["results/bench/contact_cost.nc", "results/figures/contact_cost.png"],
     "bench_stability": [
         "results/bench/stability_map.nc",

@@ -36,9 +36,12 @@ JIT_OPTIONS = {"cache": True, "fastmath": False, "nogil": True}
 # costs no reference counting, which was ~40 % of a lone block's step (an atomic increment
 # and decrement per array and call). Such a kernel cannot create or return an array.
 NO_ALLOC_OPTIONS = {**JIT_OPTIONS, "_nrt": False}
-# Small kernels the step calls: inlined by Numba into their caller, so a call does not
-# pass every array as seven words on the stack (LLVM declined to inline them).
-INLINE_OPTIONS = {**NO_ALLOC_OPTIONS, "inline": "always"}
+# Small kernels the step calls: inlined into their caller, so a call does not pass every
+# array as seven words on the stack. LLVM declined to on its own; ``forceinline`` marks them
+# always-inline for LLVM. Numba's own inlining (``inline="always"``) types every inlined copy
+# again: the area-law loop's cold compile took 30.8 s with it, 25.0 s with this, bit for bit
+# the same results.
+INLINE_OPTIONS = {**NO_ALLOC_OPTIONS, "forceinline": True}
 
 
 def sources_key() -> str:

@@ -31,9 +31,9 @@ Performance (``snakemake bench_kernel``, its dataset kernel.nc; issue 32). Nothi
 calls allocates, so :func:`run_steps` and every kernel it calls are compiled without Numba's
 runtime (``NO_ALLOC_OPTIONS``): with it, a compiled function handed arrays paid an atomic
 increment and decrement on each of them at every call, ~40 % of a lone block's step. The
-stage functions, the small kernels and both contact laws are inlined by Numba
-(``INLINE_OPTIONS``: LLVM declined the larger ones, and a call that hands over 41 arrays
-costs ~85 ns), so taking the bundles costs nothing and a new law is an inlined function of
+stage functions, the small kernels and both contact laws are inlined by LLVM
+(``INLINE_OPTIONS``: it declined the larger ones unless told, and a call that hands over 41
+arrays costs ~85 ns), so taking the bundles costs nothing and a new law is an inlined function of
 (model, state, work, n_pair, dt, want_energy) and one more branch in the loop. The pair
 list lives in Work's buffers (the broad phase sorts in place), the point law computes
 every body's edge normals once a step, not once per pair and direction, and keeps each

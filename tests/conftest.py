@@ -48,6 +48,51 @@ def quiet_sine_record(tmp_path_factory):
     return path
 
 
+# a PATH folder whose scontrol answers at once as an unreachable SLURM controller does
+_DEAD_SLURM: list[str] = []
+
+
+def pytest_configure(config):
+    """Where SLURM is installed but its controller is down (CI's machine after its SLURM step
+    stopped the daemons), ``scontrol show config`` fails only after ~9 s, and the SLURM
+    executor plugin asks it each time Snakemake starts (to word a help text): ~9 s of every
+    ``python3 -m snakemake`` a test runs, about 50 of them. Then the tests' children get an
+    scontrol first on PATH that fails at once, with the same exit status and message (what
+    the workflow and the plugin make of it is the same: no answer). A controller that answers
+    within 2 s is left alone, as is a machine without scontrol; tests that fake SLURM set
+    their own PATH (tests/faults/test_cluster_faults.py)."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        return  # the workers inherit the controller's PATH
+    import shutil
+    import subprocess
+    import tempfile
+
+    if shutil.which("scontrol") is None:
+        return
+    try:
+        subprocess.run(["scontrol", "show", "config"], capture_output=True, timeout=2, check=False)
+        return
+    except subprocess.TimeoutExpired:
+        pass
+    except OSError:
+        return
+    folder = tempfile.mkdtemp(prefix="stonedem-tests-dead-slurm-")
+    stub = os.path.join(folder, "scontrol")
+    with open(stub, "w") as f:
+        f.write("#!/bin/sh\necho 'slurm_load_ctl_conf error: Unable to contact slurm controller "
+                "(connect failure)' >&2\nexit 1\n")
+    os.chmod(stub, 0o755)
+    os.environ["PATH"] = f"{folder}{os.pathsep}{os.environ.get('PATH', '')}"
+    _DEAD_SLURM.append(folder)
+
+
+def pytest_unconfigure(config):
+    import shutil
+
+    while _DEAD_SLURM:
+        shutil.rmtree(_DEAD_SLURM.pop(), ignore_errors=True)
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
     """Before the workers start (or the tests, without xdist): compile the engine's time loops

@@ -77,13 +77,28 @@ CHILD = textwrap.dedent("""
             out[name] = rows
         return out
 
+    # each new type of the members' loop compiled on this thread before the launch: in a
+    # simulator thread it had half the GIL, the simulator's own thread polling the others
+    import numba
+    from stonedem.kernels import gpu
+    simulated = gpu.member_kernel()
+
+    class CompiledFirst:
+        def __getitem__(self, grid):
+            def launch(leaves, lengths, *rest):
+                host = [numba.typeof(gpu._host_array(a)) for a in (lengths, *rest)]
+                gpu.run_member.compile((numba.typeof(tuple(gpu._host_array(a) for a in leaves)), host[0],
+                                        numba.int64, *host[1:]))
+                return simulated[grid](leaves, lengths, *rest)
+            return launch
+    gpu.member_kernel = CompiledFirst
+
     # the modes one after the other in this one process, so the simulator's loop compiles once
     out = {"plain": run(groups)}
     capacity = ensemble.pair_capacity
     ensemble.pair_capacity = lambda model: 1  # one pair of room at first: the buffers must grow
     out["small_pairs"] = run({"colonnade": groups["colonnade"]})
     ensemble.pair_capacity = capacity
-    from stonedem.kernels import gpu
     gpu.MEMBER_FASTEST = True  # the coalescing layout (stonedem.kernels.members.stack)
     # the record group's runs (a quiet lead, two lengths of record) on column_8's eight drums:
     # the two groups' stacked leaves then have one type, so run_member compiles once for the

@@ -93,6 +93,34 @@ def pytest_unconfigure(config):
         shutil.rmtree(_DEAD_SLURM.pop(), ignore_errors=True)
 
 
+# the files that take longest (seconds of one worker, 2 cores and a third job, 2026-11-29), handed out first
+# (pyproject's addopts: --dist loadfile --no-loadscope-reorder): xdist's default order, most
+# tests first, left test_workflow.py and test_study_faults.py (a few long tests each) to start
+# last, one worker running them alone at the end
+LONGEST_FIRST = (
+    "tests/wall/test_tables.py",  # 187 s
+    "tests/workflow/test_workflow.py",  # 183 s
+    "tests/faults/test_study_faults.py",  # 167 s
+    "tests/faults/test_study_interrupts.py",  # 121 s
+    "tests/wall/test_pushover.py",  # 50 s
+    "tests/kernels/test_step.py",  # 40 s (compiles step.run and step.run_steps)
+    "tests/faults/test_cluster_faults.py",  # 38 s
+    "tests/faults/test_cli_faults.py",  # 33 s
+    "tests/test_validation.py",  # 27 s
+)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """The LONGEST_FIRST files' tests first, in that order; every file's tests stay together and
+    in their own order (the same order in every worker, as xdist requires)."""
+    rank = {path: i for i, path in enumerate(LONGEST_FIRST)}
+
+    def key(item):
+        return rank.get(item.nodeid.split("::", 1)[0], len(rank))
+
+    items[:] = sorted(items, key=key)  # stable: the rest keep pytest's order
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
     """Before the workers start (or the tests, without xdist): compile the engine's time loops

@@ -32,11 +32,16 @@ if ! alive /run/munge/munged.pid; then
     runuser -u munge -- /usr/sbin/munged --pid-file=/run/munge/munged.pid || cannot "munged did not start"
 fi
 
-# slurm.conf from what slurmd sees of this machine
+# slurm.conf from what slurmd sees of this machine (a machine's own one is kept aside, and
+# stop-local-slurm.sh puts it back)
 node=$(slurmd -C | head -1)
 host=$(hostname -s)
+MARK="# written by stonedem workflow/cluster/start-local-slurm.sh"
+if [ -s /etc/slurm/slurm.conf ] && ! head -1 /etc/slurm/slurm.conf | grep -qF "$MARK"; then
+    mv /etc/slurm/slurm.conf "$STATE/slurm.conf.machine"
+fi
 cat > /etc/slurm/slurm.conf <<CONF
-# written by stonedem workflow/cluster/start-local-slurm.sh: one node, no accounting database
+$MARK: one node, no accounting database
 ClusterName=stonedem
 SlurmctldHost=$host
 SlurmUser=root

@@ -13,6 +13,12 @@ Member j = 0 is the scene as configured, bit for bit. The perturbations:
   clockwise about its lowest right corner for even j, so that it leans onto a corner and never
   into the base. 1e-6 rad is 6 um at a 6 m capital: physically nothing, but 1e10 x rounding, so
   it shows whether the rounding band is complete (ENSEMBLES.md section 3.1).
+- ``geometry``: the same k_n perturbation, and the whole scene (every vertex, the base's
+  included) scaled by 1 + j 2^-52 about the origin, so that every coordinate, width and
+  height differs in its last bits too. A change of the code's geometric arithmetic (how a
+  normal or a vertex is computed) moves those bits, which k_n alone never does: a 1-ulp
+  widening of every body is rejected against a stiffness-only baseline (docs/notebook.md,
+  2026-11-29), so a baseline that judges such changes has to span them.
 
 The time step and the record scale are never perturbed: the first biases results (truncation
 error), the second is the axis being measured.
@@ -28,7 +34,7 @@ from stonedem.errors import InputError
 
 RELATIVE_STEP = 2.0**-52  # member j lowers k_n by j x this, relative
 TILT = 1.0e-6  # [rad] the tilt of the "tilt" perturbation
-PERTURBATIONS = ("stiffness", "tilt")
+PERTURBATIONS = ("stiffness", "tilt", "geometry")
 MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below any physics
 
 
@@ -55,7 +61,8 @@ def check_perturbation(kind, field: str = "ensemble.perturbation") -> str:
 
 def member_scene(scene, j: int, perturbation: str = "stiffness"):
     """The Scene of member ``j``: ``scene`` itself for j = 0, else its k_n times
-    stiffness_factor(j) and, for ``tilt``, the structure tilted by TILT (module docstring)."""
+    stiffness_factor(j) and, for ``tilt``, the structure tilted by TILT, for ``geometry``,
+    every vertex scaled by scale_factor(j) (module docstring)."""
     j = check_member(j)
     check_perturbation(perturbation)
     if j == 0:
@@ -64,7 +71,21 @@ def member_scene(scene, j: int, perturbation: str = "stiffness"):
     scene = dataclasses.replace(scene, contact=contact)
     if perturbation == "tilt":
         scene = dataclasses.replace(scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT))
+    elif perturbation == "geometry":
+        scene = dataclasses.replace(scene, bodies=scaled_bodies(scene.bodies, scale_factor(j)))
     return scene
+
+
+def scale_factor(j: int) -> float:
+    """The factor member j of ``geometry`` applies to every coordinate: 1 + j 2^-52."""
+    return 1.0 + j * RELATIVE_STEP
+
+
+def scaled_bodies(bodies, factor: float) -> tuple:
+    """Every body with its vertices (and tilt pivot) times ``factor`` about the origin; mass
+    and inertia kept (they move by ~1e-16 relative, nothing physical)."""
+    return tuple(dataclasses.replace(b, vertices=b.vertices * factor, tilt_pivot=np.asarray(b.tilt_pivot) * factor)
+                 for b in bodies)
 
 
 def tilted_bodies(bodies, angle: float) -> tuple:

@@ -10,7 +10,7 @@ from stonedem.engine.scene import initial_pose, posed_vertices, scene_from_dict
 from stonedem.errors import InputError
 from stonedem.study.cube import member_summary
 from stonedem.study.grid import (case_scene, check_config, config_cases, ensemble_settings, load_config, run_case)
-from stonedem.study.members import RELATIVE_STEP, TILT, member_scene, stiffness_factor
+from stonedem.study.members import RELATIVE_STEP, TILT, member_scene, perturbation_rule, scale_factor, stiffness_factor
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 COLUMN = {"structure": {"kind": "column", "n_drums": 3, "height": 6.0, "width": 1.0},
@@ -50,6 +50,24 @@ def test_a_tilt_member_leans_the_whole_structure_by_1e_6_rad_onto_a_base_corner(
     assert lowest >= base_top - 1e-15  # leans onto a corner, never into the base
     top = max(posed_vertices(b)[:, 1].max() for b in free)
     assert top - 6.0 == pytest.approx(1.0 * TILT, rel=1e-5)  # the far top corner rises by width x angle
+
+
+@pytest.mark.parametrize("j", [1, 3, 19])
+def test_a_geometry_member_scales_every_vertex_by_j_ulps_and_changes_k_n_as_stiffness_does(j):
+    scene = scene_from_dict(COLUMN)
+    member = member_scene(scene, j, "geometry")
+    assert member.contact == member_scene(scene, j).contact
+    assert scale_factor(j) == 1.0 + j * RELATIVE_STEP
+    moved = 0
+    for body, old in zip(member.bodies, scene.bodies):
+        np.testing.assert_array_equal(body.vertices, old.vertices * scale_factor(j))
+        assert (body.mass, body.inertia, body.driven, body.role) == (old.mass, old.inertia, old.driven, old.role)
+        moved += int(np.count_nonzero(body.vertices != old.vertices))
+    assert moved > 0  # the last bits do move: a factor that rounded back to 1 would change nothing
+    np.testing.assert_allclose(np.vstack([b.vertices for b in member.bodies]),
+                               np.vstack([b.vertices for b in scene.bodies]), rtol=25 * RELATIVE_STEP, atol=0)
+    assert member_scene(scene, 0, "geometry") is scene
+    assert "every vertex" in perturbation_rule("geometry") and perturbation_rule("stiffness").endswith("2^-52")
 
 
 def test_bad_members_are_refused():

@@ -36,7 +36,8 @@ import xarray as xr
 
 from stonedem.errors import InputError
 from stonedem.study.runner import machine
-from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene
+from stonedem.study.members import (MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene,
+                                    perturbation_rule)
 
 RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
 MAX_JOBS = 256
@@ -401,8 +402,7 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
                  "its last bits",
         "members": int(len(members)), "first_member": int(members[0]) if len(members) else 0,
         "perturbation": results.perturbation,
-        "perturbation_rule": "member j: contact stiffness k_n times 1 - j 2^-52"
-                             + (", structure tilted by 1e-6 rad" if results.perturbation == "tilt" else ""),
+        "perturbation_rule": perturbation_rule(results.perturbation),
         "source": code_version(), "machine": machine(), "checks": checks, **library_versions(),
     })
     ds.attrs["llvmlite_version"] = _version("llvmlite")

@@ -38,6 +38,13 @@ PERTURBATIONS = ("stiffness", "tilt", "geometry")
 MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below any physics
 
 
+def perturbation_rule(perturbation: str) -> str:
+    """What member j of ``perturbation`` changes, in words (an ensemble file's attribute)."""
+    return "member j: contact stiffness k_n times 1 - j 2^-52" + {
+        "stiffness": "", "tilt": ", structure tilted by 1e-6 rad",
+        "geometry": ", every vertex times 1 + j 2^-52"}[check_perturbation(perturbation)]
+
+
 def stiffness_factor(j: int) -> float:
     """The factor member j applies to k_n: 1 - j 2^-52 (exact in binary64 for j < 2^52)."""
     return 1.0 - j * RELATIVE_STEP

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.engine.scene import initial_pose, posed_vertices, scene_from_dict
+from stonedem.engine.scene import GEOMETRY_SCALE, initial_pose, posed_vertices, scene_from_dict
 from stonedem.errors import InputError
 from stonedem.study.cube import member_summary
 from stonedem.study.grid import (case_scene, check_config, config_cases, ensemble_settings, load_config, run_case)
@@ -68,6 +68,21 @@ def test_a_geometry_member_scales_every_vertex_by_j_ulps_and_changes_k_n_as_stif
                                np.vstack([b.vertices for b in scene.bodies]), rtol=25 * RELATIVE_STEP, atol=0)
     assert member_scene(scene, 0, "geometry") is scene
     assert "every vertex" in perturbation_rule("geometry") and perturbation_rule("stiffness").endswith("2^-52")
+
+
+def test_scenes_built_under_a_geometry_scale_have_every_vertex_scaled_and_only_then():
+    plain = scene_from_dict(COLUMN)
+    token = GEOMETRY_SCALE.set(scale_factor(2))
+    try:
+        scaled = scene_from_dict(COLUMN)
+    finally:
+        GEOMETRY_SCALE.reset(token)
+    for body, old in zip(scaled.bodies, plain.bodies):
+        np.testing.assert_array_equal(body.vertices, old.vertices * scale_factor(2))
+    assert [b.vertices.tobytes() for b in member_scene(plain, 2, "geometry").bodies] == \
+        [b.vertices.tobytes() for b in scaled.bodies]
+    again = scene_from_dict(COLUMN)  # the scale is gone once its block ends
+    assert all(np.array_equal(b.vertices, old.vertices) for b, old in zip(again.bodies, plain.bodies))
 
 
 def test_bad_members_are_refused():

@@ -7,7 +7,8 @@ A candidate passes (:func:`compare_layer_a`) when every check meets its referenc
 within 1e-9 relative of the baseline's (ENSEMBLES.md section 4, "Layer A"), or within 100 x
 the check's own last-bit floor where that is larger: undamped or many-impact rocking
 (energy_conservation, two_blocks, the later impact peaks) moves by 1e-9..1e-3 under
-k_n x (1 - 2^-52) alone.
+k_n x (1 - 2^-52) alone, and a two-block balance error by 3.6e-4 under every coordinate
+x (1 + 2^-52) (FLOOR_PERTURBATIONS).
 
 Layer B (:func:`layer_b`): the short-horizon scenes of
 :func:`stonedem.study.reference_scenes.short_horizon_members`, member 0's trajectories and the code's
@@ -37,6 +38,10 @@ import xarray as xr
 
 RELATIVE = 1e-9  # candidate vs baseline, relative (ENSEMBLES.md section 4)
 FACTOR_A = 100.0  # or this many times the check's own last-bit floor, where that is larger
+# the floors' perturbations (stonedem.study.members): k_n alone moves a two-block balance error
+# by ~1e-11, every coordinate's last bit by 3.6e-4 (docs/method/equivalence.md), and a change
+# of the code's geometric arithmetic moves those bits
+FLOOR_PERTURBATIONS = ("stiffness", "geometry")
 RAMP_RATE = 0.5  # [m s-3] the study's ramp (config ramp_drums; thesis Fig. 6.10)
 RAMP_TOLERANCE = 1e-3  # relative, as tests/test_validation_point.py holds the ramp's overturning
 RAMP_CONTACTS = {"ramp_point_study": {"model": "point", "k_n": 1e10},  # the study's contact
@@ -202,17 +207,24 @@ CHECKS = {
 }
 
 
-def check_rows(quick: bool = False, member: int = 0) -> list[dict]:
+def check_rows(quick: bool = False, member: int = 0, perturbation: str = "stiffness") -> list[dict]:
     """Every check row of :data:`CHECKS` (the quick set: fewer checks, smaller grids), each
-    run with its contact stiffness k_n x stiffness_factor(member)."""
-    from stonedem.study.members import stiffness_factor
+    run with its contact stiffness k_n x stiffness_factor(member) and, for the ``geometry``
+    perturbation, every coordinate x scale_factor(member) (stonedem.study.members)."""
+    from stonedem.engine.scene import GEOMETRY_SCALE
+    from stonedem.study.members import check_perturbation, scale_factor, stiffness_factor
 
     factor = stiffness_factor(member)
+    scale = scale_factor(member) if check_perturbation(perturbation) == "geometry" else 1.0
     rows = []
-    for name, (build, in_quick) in CHECKS.items():
-        if quick and not in_quick:
-            continue
-        rows += build(name, factor, quick)
+    token = GEOMETRY_SCALE.set(scale)
+    try:
+        for name, (build, in_quick) in CHECKS.items():
+            if quick and not in_quick:
+                continue
+            rows += build(name, factor, quick)
+    finally:
+        GEOMETRY_SCALE.reset(token)
     return rows
 
 
@@ -229,7 +241,8 @@ def _provenance():
 def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) -> xr.Dataset:
     """Layer A's dataset: one ``check`` row per number (:func:`check_rows`) with its value,
     reference, error, tolerance and verdict against the reference, and its last-bit floor:
-    the largest |value - value of member j|, j in ``floor_members`` (k_n x (1 - j 2^-52);
+    the largest |value - value of member j|, j in ``floor_members``, under each of
+    FLOOR_PERTURBATIONS (k_n x (1 - j 2^-52), and that with every coordinate x (1 + j 2^-52));
     () for a candidate, whose floors are not used)."""
     start = time.perf_counter()
     rows = check_rows(quick, member)
@@ -239,8 +252,9 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
 
     floor = np.zeros(len(rows))
     for j in floor_members:
-        other = {r["check"]: r["value"] for r in check_rows(quick, j)}
-        floor = np.maximum(floor, [abs(other.get(r["check"], math.inf) - r["value"]) for r in rows])
+        for perturbation in FLOOR_PERTURBATIONS:
+            other = {r["check"]: r["value"] for r in check_rows(quick, j, perturbation)}
+            floor = np.maximum(floor, [abs(other.get(r["check"], math.inf) - r["value"]) for r in rows])
 
     ds = xr.Dataset(
         {"check_value": ("check", column("value"), _attrs("1", "the check's number (units: check_units)")),
@@ -252,7 +266,8 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
          "check_scale": ("check", column("scale"), _attrs(
              "1", "magnitude the baseline regression is relative to: |reference|, or 1 for a normalised error")),
          "check_floor": ("check", floor if floor_members else np.full(len(rows), np.nan), _attrs(
-             "1", "largest |value change| under k_n x (1 - j 2^-52), j in floor_members (units: check_units)")),
+             "1", "largest |value change| under k_n x (1 - j 2^-52), and that with every coordinate x "
+             "(1 + j 2^-52), j in floor_members (units: check_units)")),
          "check_units": ("check", column("units", object), {"long_name": "units of check_value and check_reference"}),
          "check_measure": ("check", column("measure", object), {"long_name": "how check_error is formed"})},
         coords={"check": ("check", column("check", object), {"long_name": "validation/what is checked"})},
@@ -260,6 +275,7 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
                "profile": "quick" if quick else "full", "member": int(member),
                "floor_members": np.array(floor_members, dtype=np.int32),
                "perturbation": "contact stiffness k_n times 1 - member 2^-52",
+               "floor_perturbations": " ".join(FLOOR_PERTURBATIONS),
                "checks_passed": int(column("passes").sum()), "checks": len(rows),
                "wall_seconds": time.perf_counter() - start, **_provenance()},
     )

@@ -30,6 +30,7 @@ import dataclasses
 
 import numpy as np
 
+from stonedem.engine.scene import scaled_bodies
 from stonedem.errors import InputError
 
 RELATIVE_STEP = 2.0**-52  # member j lowers k_n by j x this, relative
@@ -86,13 +87,6 @@ def member_scene(scene, j: int, perturbation: str = "stiffness"):
 def scale_factor(j: int) -> float:
     """The factor member j of ``geometry`` applies to every coordinate: 1 + j 2^-52."""
     return 1.0 + j * RELATIVE_STEP
-
-
-def scaled_bodies(bodies, factor: float) -> tuple:
-    """Every body with its vertices (and tilt pivot) times ``factor`` about the origin; mass
-    and inertia kept (they move by ~1e-16 relative, nothing physical)."""
-    return tuple(dataclasses.replace(b, vertices=b.vertices * factor, tilt_pivot=np.asarray(b.tilt_pivot) * factor)
-                 for b in bodies)
 
 
 def tilted_bodies(bodies, angle: float) -> tuple:

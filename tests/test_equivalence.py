@@ -189,6 +189,16 @@ def test_same_source_and_shared_members_warn_but_do_not_fail(files, tmp_path, ca
                                              "members j = 0..3") for line in lines)
 
 
+def test_members_perturbed_another_way_than_the_baseline_s_warn_but_do_not_fail(files, tmp_path, capsys):
+    base, _, out = files
+    other = _ensemble(range(20, 24), seed=3, source="stonedem 0.1.0 (bbbbbbb)")
+    other.attrs["perturbation"] = "geometry"
+    cand = _write(other, tmp_path / "geometry.nc")
+    code, lines, _ = _run(capsys, base, cand, "--layers", "C", "--out", out)
+    assert code == 0 and any(line.startswith("warning: the baseline's members are perturbed by stiffness, the "
+                                             "candidate's by geometry") for line in lines)
+
+
 def test_fragility_fits_within_and_beyond_the_shift_tolerance():
     def with_fits(ds, theta, beta):
         fits = {"fit_theta": ("fit", np.array(theta), {"units": "m s-2", "long_name": "median"}),

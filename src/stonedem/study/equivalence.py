@@ -108,6 +108,17 @@ def same_runs_warning(baseline: xr.Dataset, candidate: xr.Dataset) -> str:
                     "runs, so the ensemble test is lenient; make the candidate on the changed code", 300)
 
 
+def perturbation_warning(baseline: xr.Dataset, candidate: xr.Dataset) -> str:
+    """A warning (empty: none) when the two files' members were perturbed differently: a
+    stiffness-only group has less spread than a geometry one, so the test compares unlike groups
+    (a 1-ulp change of every coordinate is rejected against a stiffness baseline)."""
+    kind_b, kind_c = baseline.attrs.get("perturbation"), candidate.attrs.get("perturbation")
+    if kind_b is None or kind_c is None or kind_b == kind_c:
+        return ""
+    return one_line(f"the baseline's members are perturbed by {kind_b}, the candidate's by {kind_c}: make the "
+                    f"candidate with --perturbation {kind_b}", 300)
+
+
 def _spans(values: list[int]) -> str:
     return f"{values[0]}..{values[-1]}" if values == list(range(values[0], values[-1] + 1)) and len(values) > 2 \
         else ", ".join(str(v) for v in values)
@@ -247,7 +258,8 @@ def judge(baseline: xr.Dataset, candidate: xr.Dataset, layers=None, n_permutatio
     if "C" in requested:
         check_layer_c(baseline, candidate, n_permutations, alpha)
     missing = available(baseline, candidate)
-    warning = same_runs_warning(baseline, candidate)
+    warning = "; ".join(w for w in (same_runs_warning(baseline, candidate),
+                                     perturbation_warning(baseline, candidate)) if w)
     verdict, summary = {}, {}
     data, coords = {}, {}
 

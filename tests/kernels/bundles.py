@@ -37,8 +37,6 @@ def law_bundles(verts, start, centres, law, *, mass, inertia, driven, vel, mu, m
     work = step.allocate_work(model, 1)
     work.world_x[:] = verts[:, 0]
     work.world_y[:] = verts[:, 1]
-    work.cos_theta[:] = 1.0  # every body at theta 0: its frame's normals are the world's
-    work.sin_theta[:] = 0.0
     body_bounds(n, model.vert_start, work.world_x, work.world_y, work.lo_x, work.lo_y, work.hi_x, work.hi_y)
     work.pair_a[0], work.pair_b[0] = 0, 1
     return model, state, work

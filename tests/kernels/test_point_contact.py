@@ -8,7 +8,7 @@ import pytest
 from stonedem.kernels import step
 from stonedem.kernels.contact import E_BASE_WORK, E_DAMPING, N_ENERGY_ACC
 from stonedem.kernels.point_contact import (FACE_A, N_FACE_CACHE, deepest_face, edge_separation, faces_hold, keep_faces,
-                                           local_edges, plastic_impulse, point_contact_forces, world_edges)
+                                           plastic_impulse, point_contact_forces, world_edges)
 
 from tests.kernels.bundles import law_bundles
 
@@ -89,17 +89,9 @@ def square(cx, cy, half=0.5, angle=0.0):
 
 def edges(xs, ys):
     """(length, nx, ny) of every edge of one polygon (world_edges on one body)."""
-    return world_polygon_edges(np.array([0, len(xs)]), xs, ys)
-
-
-def world_polygon_edges(start, xs, ys):
-    """(length, nx, ny) of every edge of polygons given in world coordinates: each body's frame
-    is the world's (theta 0), so world_edges turns its body-frame normals by nothing."""
-    length, local_nx, local_ny, nx, ny = (np.zeros(len(xs)) for _ in range(5))
-    local_edges(start, xs, ys, length, local_nx, local_ny)
-    n_body = len(start) - 1
-    world_edges(n_body, start, np.ones(n_body), np.zeros(n_body), local_nx, local_ny, nx, ny)
-    return [length, nx, ny]
+    out = [np.zeros(len(xs)) for _ in range(3)]
+    world_edges(1, np.array([0, len(xs)]), xs, ys, *out)
+    return out
 
 
 def depth_of(ax, ay, bx, by):
@@ -146,7 +138,9 @@ def _pair_world(poses, sizes):
     """World vertices and edges of two boxes (x, y, theta), (w, h), as the time loop has them."""
     verts = np.vstack([box(x, y, w, h, t) for (x, y, t), (w, h) in zip(poses, sizes)])
     wx, wy = verts[:, 0].copy(), verts[:, 1].copy()
-    return wx, wy, world_polygon_edges(np.array([0, 4, 8]), wx, wy)
+    out = [np.zeros(8) for _ in range(3)]
+    world_edges(2, np.array([0, 4, 8]), wx, wy, *out)
+    return wx, wy, out
 
 
 def test_kept_faces_hold_only_while_they_are_still_the_least_overlap():

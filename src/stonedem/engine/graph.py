@@ -16,7 +16,7 @@ import numpy as np
 from stonedem.engine.pack import SceneArrays
 from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
 from stonedem.kernels.integrate import update_world_vertices
-from stonedem.kernels.point_contact import local_edges, world_edges
+from stonedem.kernels.point_contact import world_edges
 from stonedem.kernels.contact_graph import BROKEN_FACES, BROKEN_PAIR, BROKEN_TURN, Graph
 
 # a contact's faces count as each other's most opposed up to this share of the smallest
@@ -44,14 +44,12 @@ def contact_graph(arrays: SceneArrays) -> Graph:
     opposed to it, with the relative turn up to which those stay the faces."""
     # the world vertices, bounds and edges of t = 0 by the loop's own kernels
     n_body, n_vert, start = len(arrays.body_mass), len(arrays.local_x), arrays.vert_start
-    world_x, world_y, edge_len, edge_nx, edge_ny, local_nx, local_ny = (np.zeros(n_vert) for _ in range(7))
-    cos_theta, sin_theta = np.empty(n_body), np.empty(n_body)
+    world_x, world_y, edge_len, edge_nx, edge_ny = (np.zeros(n_vert) for _ in range(5))
     update_world_vertices(n_body, start, arrays.local_x, arrays.local_y, arrays.init_x, arrays.init_y,
-                          arrays.init_theta, world_x, world_y, cos_theta, sin_theta)
+                          arrays.init_theta, world_x, world_y, np.empty(n_body), np.empty(n_body))
     lo_x, lo_y, hi_x, hi_y = (np.empty(n_body) for _ in range(4))
     body_bounds(n_body, start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
-    local_edges(start, arrays.local_x, arrays.local_y, edge_len, local_nx, local_ny)
-    world_edges(n_body, start, cos_theta, sin_theta, local_nx, local_ny, edge_nx, edge_ny)
+    world_edges(n_body, start, world_x, world_y, edge_len, edge_nx, edge_ny)
     spans = [slice(start[b], start[b + 1]) for b in range(n_body)]
     vertices = [np.column_stack([world_x[span], world_y[span]]) for span in spans]
     normals = [np.column_stack([edge_nx[span], edge_ny[span]]) for span in spans]

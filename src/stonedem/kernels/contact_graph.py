@@ -113,13 +113,12 @@ def graph_holds(model, state, work, graph, kept, touching):
     contact g touches (no edge separates the pair).
 
     kept: each contact's separating axes, kept while they provably hold (rows as
-    Work.face_cache's). Writes the face edges' normals into work.edge_nx, edge_ny (from their body-frame normals).
+    Work.face_cache's). Writes the face edges' lengths and normals into work.edge_*.
     """
     vert_start = model.vert_start
     body_x, body_y, body_theta, body_radius = state.body_x, state.body_y, state.body_theta, model.body_radius
     world_x, world_y = work.world_x, work.world_y
     edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
-    local_nx, local_ny, cos_theta, sin_theta = work.local_nx, work.local_ny, work.cos_theta, work.sin_theta
     pair_a, pair_b, face_a, face_b = graph.pair_a, graph.pair_b, graph.face_a, graph.face_b
     for g in range(pair_a.shape[0]):
         a = pair_a[g]
@@ -132,10 +131,8 @@ def graph_holds(model, state, work, graph, kept, touching):
         nb = vert_start[b + 1] - sb
         ka = face_a[g]
         kb = face_b[g]
-        ca, sna = cos_theta[a], sin_theta[a]
-        cb, snb = cos_theta[b], sin_theta[b]
-        body_edge(sa + ka, ca, sna, local_nx, local_ny, edge_nx, edge_ny)
-        body_edge(sb + kb, cb, snb, local_nx, local_ny, edge_nx, edge_ny)
+        body_edge(sa, na, ka, world_x, world_y, edge_len, edge_nx, edge_ny)
+        body_edge(sb, nb, kb, world_x, world_y, edge_len, edge_nx, edge_ny)
         # the separating axes as the general law finds them: its edges of least overlap,
         # kept while they provably hold, else searched for over every edge of the pair
         sep_b = 0.0
@@ -143,16 +140,16 @@ def graph_holds(model, state, work, graph, kept, touching):
             ref_a = int(kept[g, FACE_A])
             ref_b = int(kept[g, FACE_B])
             if ref_a != ka:
-                body_edge(sa + ref_a, ca, sna, local_nx, local_ny, edge_nx, edge_ny)
+                body_edge(sa, na, ref_a, world_x, world_y, edge_len, edge_nx, edge_ny)
             if ref_b != kb:
-                body_edge(sb + ref_b, cb, snb, local_nx, local_ny, edge_nx, edge_ny)
+                body_edge(sb, nb, ref_b, world_x, world_y, edge_len, edge_nx, edge_ny)
             sep_a = edge_separation(world_x, world_y, edge_nx, edge_ny, sa + ref_a, sb, nb)
             if sep_a < 0.0:
                 sep_b = edge_separation(world_x, world_y, edge_nx, edge_ny, sb + ref_b, sa, na)
         else:
             kept[g, FACE_A] = -1.0
-            body_edges(sa, na, ca, sna, local_nx, local_ny, edge_nx, edge_ny)
-            body_edges(sb, nb, cb, snb, local_nx, local_ny, edge_nx, edge_ny)
+            body_edges(sa, na, world_x, world_y, edge_len, edge_nx, edge_ny)
+            body_edges(sb, nb, world_x, world_y, edge_len, edge_nx, edge_ny)
             ref_b = kb
             sep_a, ref_a, next_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
             if sep_a < 0.0:

@@ -76,57 +76,40 @@ FACE_SLACK = 1e-12
 
 
 @njit(**INLINE_OPTIONS)
-def local_edges(vert_start, local_x, local_y, edge_len, local_nx, local_ny):
-    """Every edge k -> k+1 of every body in the body's own frame: its length [m] and outward
-    unit normal, constant for a rigid body, so computed once a run (in
-    :func:`stonedem.kernels.step.allocate_work`); a zero-length edge has normal (0, 0)."""
-    for b in range(vert_start.shape[0] - 1):
-        s = vert_start[b]
-        n = vert_start[b + 1] - s
-        for k in range(n):
-            i = s + k
-            i1 = i + 1 if k + 1 < n else s
-            ex = local_x[i1] - local_x[i]
-            ey = local_y[i1] - local_y[i]
-            length = sqrt(ex * ex + ey * ey)
-            edge_len[i] = length
-            if length > 0.0:
-                inv = 1.0 / length  # one division for both components
-                local_nx[i] = ey * inv
-                local_ny[i] = -ex * inv
-            else:
-                local_nx[i] = 0.0
-                local_ny[i] = 0.0
+def body_edge(s, n, k, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """Length [m] and outward unit normal of edge k -> k+1 of the body whose world vertices
+    are s..s+n-1, into edge_*[s + k]; a zero-length edge has normal (0, 0)."""
+    i = s + k
+    i1 = i + 1 if k + 1 < n else s
+    ex = world_x[i1] - world_x[i]
+    ey = world_y[i1] - world_y[i]
+    length = sqrt(ex * ex + ey * ey)
+    edge_len[i] = length
+    if length > 0.0:
+        inv = 1.0 / length  # one division for both components
+        edge_nx[i] = ey * inv
+        edge_ny[i] = -ex * inv
+    else:
+        edge_nx[i] = 0.0
+        edge_ny[i] = 0.0
 
 
 @njit(**INLINE_OPTIONS)
-def body_edge(i, c, s, local_nx, local_ny, edge_nx, edge_ny):
-    """Outward unit normal of edge i at this step, into edge_*[i]: its body-frame normal
-    turned by the body's theta (cos c, sin s). Four products where the world vertices'
-    difference took a square root and a division; the two differ by rounding."""
-    nx = local_nx[i]
-    ny = local_ny[i]
-    edge_nx[i] = c * nx - s * ny
-    edge_ny[i] = s * nx + c * ny
+def body_edges(s, n, world_x, world_y, edge_len, edge_nx, edge_ny):
+    """:func:`body_edge` of every edge of the body whose world vertices are s..s+n-1."""
+    for k in range(n):
+        body_edge(s, n, k, world_x, world_y, edge_len, edge_nx, edge_ny)
 
 
 @njit(**INLINE_OPTIONS)
-def body_edges(s, n, c, sn, local_nx, local_ny, edge_nx, edge_ny):
-    """:func:`body_edge` of every edge of the body whose vertices are s..s+n-1."""
-    for i in range(s, s + n):
-        body_edge(i, c, sn, local_nx, local_ny, edge_nx, edge_ny)
-
-
-@njit(**INLINE_OPTIONS)
-def world_edges(n_body, vert_start, cos_theta, sin_theta, local_nx, local_ny, edge_nx, edge_ny):
+def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny):
     """Every edge k -> k+1 of every body at this step (:func:`body_edges`).
 
     Once a step and body, not once per pair and direction: a column's drum has two pairs, each
     of which looked at both bodies' edges three times.
     """
     for b in range(n_body):
-        body_edges(vert_start[b], vert_start[b + 1] - vert_start[b], cos_theta[b], sin_theta[b], local_nx, local_ny,
-                   edge_nx, edge_ny)
+        body_edges(vert_start[b], vert_start[b + 1] - vert_start[b], world_x, world_y, edge_len, edge_nx, edge_ny)
 
 
 @njit(**INLINE_OPTIONS)
@@ -519,8 +502,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     pair_a, pair_b, face_cache = work.pair_a, work.pair_b, work.face_cache
     body_theta, body_radius = state.body_theta, model.body_radius
     keep = face_cache.shape[0] >= n_pair  # a Work bundle with no face cache (a test's) keeps none
-    world_edges(body_x.shape[0], vert_start, work.cos_theta, work.sin_theta, work.local_nx, work.local_ny, edge_nx,
-                edge_ny)
+    world_edges(body_x.shape[0], vert_start, world_x, world_y, edge_len, edge_nx, edge_ny)
     n_contact = 0
     stored = 0.0
     for p in range(n_pair):

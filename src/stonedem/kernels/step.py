@@ -52,7 +52,7 @@ from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_EN
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
-from stonedem.kernels.point_contact import FACE_A, N_FACE_CACHE, local_edges, point_contact_forces
+from stonedem.kernels.point_contact import FACE_A, N_FACE_CACHE, point_contact_forces
 from stonedem.kernels.scalar import isfinite
 
 STATUS_OK = 0
@@ -202,11 +202,9 @@ class Work(NamedTuple):
 
     world_x: np.ndarray  # world vertices (n_vert,) [m]
     world_y: np.ndarray
-    edge_len: np.ndarray  # point law: length of each body's edge k -> k+1 (n_vert,) [m], set once
-    edge_nx: np.ndarray  # and its outward unit normal at t_n (n_vert,) [1] (point_contact.world_edges)
+    edge_len: np.ndarray  # point law: length and outward unit normal of each body's edge k -> k+1
+    edge_nx: np.ndarray  # (n_vert,) [m], [1] (stonedem.kernels.point_contact.world_edges)
     edge_ny: np.ndarray
-    local_nx: np.ndarray  # that normal in the body's frame (n_vert,) [1], set once (point_contact.local_edges)
-    local_ny: np.ndarray
     cos_theta: np.ndarray  # cos and sin of each body's theta at t_n (n_body,)
     sin_theta: np.ndarray
     lo_x: np.ndarray  # bounds of each body (n_body,) [m]
@@ -258,13 +256,9 @@ def allocate_work(model, capacity):
         if not model.body_driven[b]:
             inv_mass[b] = 1.0 / model.body_mass[b]
             inv_inertia[b] = 1.0 / model.body_inertia[b]
-    edge_len = np.zeros(n_vert)
-    local_nx = np.zeros(n_vert)
-    local_ny = np.zeros(n_vert)
-    local_edges(model.vert_start, model.local_x, model.local_y, edge_len, local_nx, local_ny)
     return Work(
         world_x=np.empty(n_vert), world_y=np.empty(n_vert),
-        edge_len=edge_len, edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert), local_nx=local_nx, local_ny=local_ny,
+        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
         cos_theta=np.empty(n_body), sin_theta=np.empty(n_body), inv_mass=inv_mass, inv_inertia=inv_inertia,
         lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
         force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),

@@ -64,6 +64,11 @@ class MemberResults(NamedTuple):
 
 # --- one task -------------------------------------------------------------------------------
 
+# what the members change, for the file's title (stonedem.study.members.PERTURBATIONS)
+TITLE_CHANGES = {"stiffness": "k_n changed", "tilt": "k_n changed and the structure tilted 1e-6 rad",
+                 "geometry": "k_n and every coordinate changed"}
+
+
 def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
     """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]} (the run's
     measures, without building its dataset)."""
@@ -398,8 +403,8 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
                              {"long_name": "phase of the run: the search's (hunt, bisect, fill; search: not kept) "
                                            "or stripe (a stripe fill)"})
     ds = xr.Dataset(data, coords=coords, attrs={
-        "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with k_n changed in "
-                 "its last bits",
+        "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with "
+                 f"{TITLE_CHANGES[results.perturbation]} in the last bits",
         "members": int(len(members)), "first_member": int(members[0]) if len(members) else 0,
         "perturbation": results.perturbation,
         "perturbation_rule": perturbation_rule(results.perturbation),

@@ -13,9 +13,10 @@ stored baseline by :func:`stonedem.study.equivalence.judge`:
   among the cases every baseline member agrees on (seeded choice); layer C, no runs (>= 95 %).
 - ``friction``: one draw with every friction coefficient x 1.01 in the study's runs; layer C
   (reported, no target).
-- ``edge_normal``: one draw of HEAD with issue 32's body-frame edge normals (74b7bca, reverted by
-  7abaadf) put back, edge_normals.patch beside this script, run in a git worktree under /tmp;
-  every layer the baseline has (reported: a real last-bit change of the code).
+- ``edge_normal``: one draw of HEAD with issue 32's body-frame edge normals put back
+  (equivalence_calibration_edge_normals.patch beside this script: 534605d, reverted by ba4d380,
+  on the kernels of 2026-11-29; the draw in calibration.nc was made with the first version,
+  74b7bca), run in a git worktree under /tmp; every layer the baseline has (reported).
 - ``tilt``: one draw of the unchanged code with the second perturbation (members lean by
   +-1e-6 rad, :mod:`stonedem.study.members`); layer C (reported: does the k_n baseline's band
   hold the tilt members, item 1's check that the band is complete).
@@ -227,7 +228,7 @@ def edge_normal_tree(commit: str) -> Path:
     if patched.returncode != 0:
         raise InputError("--only edge_normal", f"{PATCH.name} does not apply to {commit[:10]} "
                          f"({patched.stderr.strip().splitlines()[0] if patched.stderr.strip() else 'git apply failed'})",
-                         "rebase the patch on the current kernels (git diff 7abaadf 7abaadf^ -- src/stonedem/kernels)")
+                         "rebase the patch on the current kernels (git diff ba4d380 ba4d380^ -- src tests/kernels)")
     return tree
 
 

@@ -137,7 +137,17 @@ def main(argv=None) -> int:
         return 2
     from stonedem.io.netcdf import write_dataset
 
-    ds = band_dataset(args.work)
+    from stonedem.errors import InputError
+
+    try:
+        ds = band_dataset(args.work)
+    except InputError as error:
+        print(f"--work: {error}", file=sys.stderr)
+        return 2
+    except (OSError, ValueError) as error:  # a file that is not NetCDF, or not an ensemble's
+        print(f"--work: a candidate file could not be read ({type(error).__name__}: "
+              f"{str(error).splitlines()[0] if str(error) else ''}); give the files the docstring names", file=sys.stderr)
+        return 2
     if not ds.sizes.get("draw"):
         print(f"--work: none of the candidate files is in {args.work}", file=sys.stderr)
         return 2

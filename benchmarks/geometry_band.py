@@ -31,7 +31,6 @@ Writes one row per draw: members, each layer's verdict, S_v and p_v, S_T and p_T
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -128,32 +127,39 @@ def band_dataset(work: Path) -> xr.Dataset:
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--work", type=Path, required=True, help="folder of the candidate files")
-    parser.add_argument("--out", type=Path, default=ROOT / "benchmarks/ensemble/2026-11-29/geometry_band.nc")
+    from stonedem.bench import options
+
+    parser = options.parser("python benchmarks/geometry_band.py", __doc__)
+    parser.add_argument("--work", type=options.path_arg, required=True, help="folder of the candidate files")
+    parser.add_argument("--out", type=options.path_arg, default=ROOT / "benchmarks/ensemble/2026-11-29/geometry_band.nc",
+                        help="the judgements (.nc)")
     args = parser.parse_args(argv)
-    if not args.work.is_dir():
-        print(f"--work: {args.work} is not a folder; give the folder of the candidate files", file=sys.stderr)
-        return 2
-    from stonedem.io.netcdf import write_dataset
 
-    from stonedem.errors import InputError
+    def command():
+        from stonedem.errors import InputError
+        from stonedem.io.netcdf import write_dataset
 
-    try:
-        ds = band_dataset(args.work)
-    except InputError as error:
-        print(f"--work: {error}", file=sys.stderr)
-        return 2
-    except (OSError, ValueError) as error:  # a file that is not NetCDF, or not an ensemble's
-        print(f"--work: a candidate file could not be read ({type(error).__name__}: "
-              f"{str(error).splitlines()[0] if str(error) else ''}); give the files the docstring names", file=sys.stderr)
-        return 2
-    if not ds.sizes.get("draw"):
-        print(f"--work: none of the candidate files is in {args.work}", file=sys.stderr)
-        return 2
-    write_dataset(ds, args.out)
-    print(f"wrote {args.out}")
-    return 0
+        if not args.work.is_dir():
+            raise InputError("--work", f"{args.work} is not a folder", "give the folder of the candidate files")
+        out = options.output_file(args.out, "--out", suffixes=(".nc",),
+                                  inputs=[*BASELINES.values(), *sorted(args.work.glob("*.nc"))])
+        if not any((args.work / name).is_file() for _, files, _, _ in DRAWS.values() for name in files):
+            raise InputError("--work", f"none of the candidate files is in {args.work}",
+                             "give the folder of the candidate files this script's docstring names")
+        try:
+            ds = band_dataset(args.work)
+        except InputError:  # the judge's own one line (a candidate of another config, too few members)
+            raise
+        except (OSError, ValueError) as error:  # a file that is not NetCDF, or not an ensemble's
+            raise InputError("--work", f"a candidate file could not be read ({type(error).__name__})",
+                             "give the files this script's docstring names") from None
+        if not ds.sizes.get("draw"):
+            raise InputError("--work", f"no draw has all its candidate files in {args.work}",
+                             "give the folder of the candidate files this script's docstring names")
+        write_dataset(ds, out)
+        print(f"wrote {out}")
+
+    return options.run(command)
 
 
 if __name__ == "__main__":

@@ -33,7 +33,8 @@ def script(name):
 
 # on a machine whose GPU can run the loop, gpu_check runs instead of refusing
 NO_GPU_REFUSAL_SKIPPED = gpu_available()[0]
-SCRIPTS = {name: None for name in ("engine_speed", "study_time", "table_a1_fits", "wall_supports", "wall_tables")}
+SCRIPTS = {name: None for name in ("engine_speed", "geometry_band", "study_time", "table_a1_fits", "wall_supports",
+                                   "wall_tables")}
 
 
 def main_of(name):
@@ -176,6 +177,12 @@ CASES = [
     ("work_precision", ["--out", "{file}", "--figures", "{new}"], "--out"),
     ("work_precision", ["--out", "{new}", "--figures", "{file}"], "--figures"),
     ("work_precision", ["--out", "{new}", "--figures", "{proc}"], "--figures"),
+    # benchmarks/geometry_band.py
+    ("geometry_band", ["--work", "{missing}", "--out", "{new}/g.nc"], "--work"),
+    ("geometry_band", ["--work", "{file}", "--out", "{new}/g.nc"], "--work"),
+    ("geometry_band", ["--work", "{folder}", "--out", "{new}/g.txt"], "--out"),
+    ("geometry_band", ["--work", "{folder}", "--out", "{proc}/g.nc"], "--out"),
+    ("geometry_band", ["--work", "{folder}", "--out", "{new}/g.nc"], "--work"),  # no candidate files there
     # benchmarks/engine_speed.py
     ("engine_speed", ["--out", "{file}"], "--out"),
     ("engine_speed", ["--out", "{under_file}"], "--out"),

@@ -1,9 +1,10 @@
 # `snakemake ensemble -j2`: the stored K-member baseline of the whole study (issue 44), what
 # `python -m stonedem.study.equivalence BASELINE CANDIDATE` judges a changed engine against:
 # every grid case and threshold search run by members j = 0..K-1 (config
-# ensemble.baseline_members, k_n x (1 - j 2^-52); ensemble.perturbation: tilt for the one-time
-# check), the stripe fills, and the exact checks and short-horizon floors (layers A and B).
-# Not part of `all`: K = 20 takes about 40 minutes on 2 cores.
+# ensemble.baseline_members, k_n x (1 - j 2^-52); ensemble.perturbation: geometry also moves
+# every coordinate's last bits, the baseline a change of the arithmetic needs; tilt for the
+# one-time check), the stripe fills, and the exact checks and short-horizon floors (layers A
+# and B). Not part of `all`: K = 20 takes 22-40 minutes on 2 cores.
 import os
 
 # K and the perturbation as the config check read them (stonedem.study.grid.ensemble_settings)

@@ -218,3 +218,16 @@ def test_a_candidates_layer_b_is_its_members_trajectories_without_floors():
         np.testing.assert_array_equal(ec._unpadded(cand, name), ec.trajectory(simulate(member_scene(scene, 20))))
     base = ec.layer_b(duration=0.5, kinds=("column_1_area_law",))
     assert ec.compare_layer_b(base, cand)[0]
+
+
+def test_layer_a_floors_cover_the_geometry_s_last_bits_which_k_n_s_do_not_move(monkeypatch):
+    """A two-block balance error moves ~1e-11 under k_n x (1 - 2^-52) and ~1e-4 under every
+    coordinate x (1 + 2^-52) (docs/method/equivalence.md): the floor must hold the larger."""
+    monkeypatch.setattr(ec, "CHECKS", {"two_blocks_point": ec.CHECKS["two_blocks_point"]})
+    base = {r["check"]: r["value"] for r in ec.check_rows()}
+    stiff = {r["check"]: r["value"] for r in ec.check_rows(member=1)}
+    moved_by_k_n = max(abs(stiff[k] - base[k]) for k in base)
+    assert moved_by_k_n < 1e-8
+    ds = ec.layer_a(floor_members=(1,))
+    assert "geometry" in ds.attrs["floor_perturbations"]
+    assert float(ds.check_floor.max()) > 1e3 * max(moved_by_k_n, 1e-12)

@@ -37,7 +37,7 @@ import xarray as xr
 from stonedem.errors import InputError
 from stonedem.study.runner import machine
 from stonedem.study.members import (MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene,
-                                    perturbation_rule)
+                                    perturbation_rule, perturbation_summary)
 
 RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
 MAX_JOBS = 256
@@ -63,11 +63,6 @@ class MemberResults(NamedTuple):
 
 
 # --- one task -------------------------------------------------------------------------------
-
-# what the members change, for the file's title (stonedem.study.members.PERTURBATIONS)
-TITLE_CHANGES = {"stiffness": "k_n changed", "tilt": "k_n changed and the structure tilted 1e-6 rad",
-                 "geometry": "k_n and every coordinate changed"}
-
 
 def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
     """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]} (the run's
@@ -404,7 +399,7 @@ def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none
                                            "or stripe (a stripe fill)"})
     ds = xr.Dataset(data, coords=coords, attrs={
         "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with "
-                 f"{TITLE_CHANGES[results.perturbation]} in the last bits",
+                 f"{perturbation_summary(results.perturbation)} in the last bits",
         "members": int(len(members)), "first_member": int(members[0]) if len(members) else 0,
         "perturbation": results.perturbation,
         "perturbation_rule": perturbation_rule(results.perturbation),

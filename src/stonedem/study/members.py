@@ -39,11 +39,21 @@ PERTURBATIONS = ("stiffness", "tilt", "geometry")
 MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below any physics
 
 
+# what each perturbation's members change, in words: (for an ensemble file's title, what its
+# perturbation_rule adds to the k_n change)
+WORDS = {"stiffness": ("k_n changed", ""),
+         "tilt": ("k_n changed and the structure tilted 1e-6 rad", ", structure tilted by 1e-6 rad"),
+         "geometry": ("k_n and every coordinate changed", ", every vertex times 1 + j 2^-52")}
+
+
 def perturbation_rule(perturbation: str) -> str:
     """What member j of ``perturbation`` changes, in words (an ensemble file's attribute)."""
-    return "member j: contact stiffness k_n times 1 - j 2^-52" + {
-        "stiffness": "", "tilt": ", structure tilted by 1e-6 rad",
-        "geometry": ", every vertex times 1 + j 2^-52"}[check_perturbation(perturbation)]
+    return "member j: contact stiffness k_n times 1 - j 2^-52" + WORDS[check_perturbation(perturbation)][1]
+
+
+def perturbation_summary(perturbation: str) -> str:
+    """What the members of ``perturbation`` change, in a few words (an ensemble file's title)."""
+    return WORDS[check_perturbation(perturbation)][0]
 
 
 def stiffness_factor(j: int) -> float:

@@ -83,6 +83,7 @@ def band_dataset(work: Path) -> xr.Dataset:
     from stonedem.study.equivalence import judge
 
     rows = []
+    baselines = {}  # each baseline read once, not once a draw
     for name, (base, files, layers, what) in DRAWS.items():
         paths = [work / f for f in files]
         missing = [p.name for p in paths if not p.is_file()]
@@ -90,7 +91,9 @@ def band_dataset(work: Path) -> xr.Dataset:
             print(f"{name}: not run ({', '.join(missing)} missing in {work})", file=sys.stderr)
             continue
         candidate = pooled(paths)
-        verdict = judge(xr.load_dataset(BASELINES[base]), candidate, layers=layers)
+        if base not in baselines:
+            baselines[base] = xr.load_dataset(BASELINES[base])
+        verdict = judge(baselines[base], candidate, layers=layers)
         row = {"draw": name, "baseline": base, "what": what, "members": int(candidate.sizes["member"]),
                "first_member": int(candidate.member.values.min()),
                "equivalent": verdict.attrs["equivalent"]}
@@ -101,6 +104,7 @@ def band_dataset(work: Path) -> xr.Dataset:
         rows.append(row)
         print(f"{name}: {row['equivalent']} (A {row.get('verdict_a')}, B {row.get('verdict_b')}, "
               f"C {row.get('verdict_c')}; p_v {row['p_v']:.4g}, p_T {row['p_t']:.4g})")
+
     def column(key, dtype, long_name, units=None):
         attrs = {"long_name": long_name, **({"units": units} if units else {})}
         return ("draw", np.array([r.get(key, "not run") if dtype is object else r.get(key, np.nan) for r in rows],

@@ -9,7 +9,7 @@
 # No accounting database (slurmdbd): sacct answers "accounting storage is disabled", so
 # Snakemake's SLURM executor must ask squeue, as config/profiles/slurm does.
 set -uo pipefail
-STATE=${STONEDEM_SLURM_STATE:-/var/tmp/stonedem-slurm}
+source "$(dirname "${BASH_SOURCE[0]}")/local-slurm.sh"  # STATE, MARK
 cannot() { echo "local SLURM not started: $*" >&2; exit 3; }
 [ "$(id -u)" = 0 ] || cannot "not root (it installs packages and starts daemons)"
 if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! command -v munged >/dev/null \
@@ -36,7 +36,6 @@ fi
 # stop-local-slurm.sh puts it back)
 node=$(slurmd -C | head -1)
 host=$(hostname -s)
-MARK="# written by stonedem workflow/cluster/start-local-slurm.sh"
 if [ -s /etc/slurm/slurm.conf ] && ! head -1 /etc/slurm/slurm.conf | grep -qF "$MARK"; then
     mv /etc/slurm/slurm.conf "$STATE/slurm.conf.machine"
 fi

@@ -3,7 +3,7 @@
 # PID file (never by process name: other daemons of the machine are left alone), and remove
 # the slurm.conf it wrote.
 set -uo pipefail
-STATE=${STONEDEM_SLURM_STATE:-/var/tmp/stonedem-slurm}
+source "$(dirname "${BASH_SOURCE[0]}")/local-slurm.sh"  # STATE, MARK
 for pidfile in "$STATE/slurmd.pid" "$STATE/slurmctld.pid" /run/munge/munged.pid; do
     [ -s "$pidfile" ] || continue
     pid=$(cat "$pidfile")
@@ -17,7 +17,7 @@ done
 # the slurm.conf it wrote goes too (the machine's own comes back): with a config and no
 # controller, every scontrol call waits ~9 s to fail, and Snakemake's SLURM plugin calls it at
 # each start
-if head -1 /etc/slurm/slurm.conf 2>/dev/null | grep -qF "# written by stonedem workflow/cluster/start-local-slurm.sh"; then
+if head -1 /etc/slurm/slurm.conf 2>/dev/null | grep -qF "$MARK"; then
     rm -f /etc/slurm/slurm.conf
     [ -s "$STATE/slurm.conf.machine" ] && mv "$STATE/slurm.conf.machine" /etc/slurm/slurm.conf
 fi

@@ -207,7 +207,7 @@ def test_slurm_profile_dry_run():
     assert sorted(re.search(r"output: (.*)", text).group(1) for _, name, text in blocks
                   if name == "compile_kernels") == markers
     engine = [(name, text.split("output:")[0]) for _, name, text in blocks
-              if name.startswith(("simulate_", "search_", "stripes_", "validate_one"))]
+              if name.startswith(("simulate_", "search_", "stripes_", "validate_"))]
     assert len(engine) >= 20 and all(m in inputs for _, inputs in engine for m in markers), engine
 
 

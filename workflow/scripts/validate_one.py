@@ -1,6 +1,7 @@
 """Snakemake script of workflow/rules/validation.smk, one branch per rule.
 
-validate_one        one stonedem.validation.cases.VALIDATIONS entry -> its dataset (write_result: atomic)
+validate_<k>        a batch of stonedem.validation.cases.VALIDATIONS entries -> a dataset each
+                    (write_result: atomic), one log line each
 validation_figures  the validation datasets -> every thesis figure (draw_thesis_figure: atomic)
 validation_summary  every validation dataset -> name, error, tolerance, passed (atomic)
 
@@ -10,6 +11,7 @@ whose exit status reflects the verdicts.
 """
 
 import sys
+from pathlib import Path
 
 from stonedem.validation import cases as validation
 
@@ -21,14 +23,16 @@ sm = snakemake  # noqa: F821 - provided by Snakemake
 workflow_log(sm.log[0])
 
 
-def validate_one():
-    name = sm.wildcards.validation
-    kwargs = {"record": sm.input.record} if "record" in sm.input.keys() else {}
-    result = validation.VALIDATIONS[name](**kwargs)
-    validation.write_result(result, sm.output[0])
-    verdict = "ok" if result.passed else "FAILED"
-    print(f"{name}: {verdict}: " + ", ".join(f"{k} = {v:.4g}" for k, v in result.summary.items()),
-          file=sys.stderr)
+def validate_batch():
+    for output in sm.output:
+        name = Path(output).stem
+        record = sm.params.records[name]
+        with logged_seconds(sys.stderr, name):
+            result = validation.VALIDATIONS[name](**({"record": record} if record else {}))
+            validation.write_result(result, output)
+        verdict = "ok" if result.passed else "FAILED"
+        print(f"{name}: {verdict}: " + ", ".join(f"{k} = {v:.4g}" for k, v in result.summary.items()),
+              file=sys.stderr)
 
 
 def validation_figures():
@@ -44,5 +48,7 @@ def validation_summary():
     print(f"failed: {', '.join(failed) or 'none'}", file=sys.stderr)
 
 
-{"validate_one": validate_one, "validation_figures": validation_figures,
- "validation_summary": validation_summary}[sm.rule]()
+if sm.rule.startswith("validate_"):
+    validate_batch()
+else:
+    {"validation_figures": validation_figures, "validation_summary": validation_summary}[sm.rule]()

@@ -19,7 +19,7 @@ a figure. ``stonedem validate`` runs them all and writes ``<out>/<name>.nc``, ``
 
 Each dataset also carries what the thesis chapter-5 figures plot (histories, normalised
 quantities); :data:`stonedem.validation.plots.THESIS_FIGURES` draws them. :func:`write_result`
-is the one way a result is written (``stonedem validate`` and the Snakemake rule ``validate_one``).
+is the one way a result is written (``stonedem validate`` and the Snakemake rules ``validate_<k>``).
 """
 
 from __future__ import annotations

@@ -164,6 +164,13 @@ def batches(names, size):
     return [names[i : i + size] for i in range(0, len(names), size)]
 
 
+def dealt(names, n_jobs):
+    """``names`` dealt round into ``n_jobs`` jobs (name i to job i mod n_jobs): neighbours,
+    which tend to cost alike, go to different jobs."""
+    names = list(names)
+    return [names[k::n_jobs] for k in range(min(n_jobs, len(names)))]
+
+
 CUBE_BATCHES = batches(STUDIES, 6)
 
 # the chapter-5 validations (workflow/rules/validation.smk); off in the workflow tests' tiny config

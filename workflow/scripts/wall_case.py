@@ -1,11 +1,13 @@
-"""Snakemake script: config/walls/<case>.yaml -> results/walls/<case>.nc (stonedem.wall.dataset.run_case_file)."""
+"""Snakemake script: config/walls/<case>.yaml -> results/walls/<case>.nc for each case of a job
+(stonedem.wall.dataset.run_case_file), one log line each."""
 
 import sys
 
-from stonedem.entry import workflow_log
+from stonedem.entry import logged_seconds, workflow_log
 
 from stonedem.wall.dataset import run_case_file
 
 workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-run_case_file(snakemake.input[0], snakemake.output[0],  # noqa: F821
-              limit_analysis=snakemake.params.limit_analysis)  # noqa: F821
+for case_file, output in zip(snakemake.input, snakemake.output):  # noqa: F821
+    with logged_seconds(sys.stderr, case_file):
+        run_case_file(case_file, output, limit_analysis=snakemake.params.limit_analysis)  # noqa: F821

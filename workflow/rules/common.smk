@@ -68,12 +68,14 @@ FIGURE_NAMES = list(FIGURES)
 SIMULATION_GROUP = "simulations"  # simulation, search, wall and validation jobs
 REDUCTION_GROUP = "reductions"  # cubes, tables and figures
 SEARCH_STUDIES = [name for name, cases in STUDIES.items() if any(c.search for c in cases.values())]
-# jobs sized to their cost (stonedem.study.jobs): cheap cases share a job, each search is one job
+# jobs sized to their cost (stonedem.study.jobs): cheap cases share a job, and so do cheap
+# searches (each job ~1.5 s to start: the full study's 18 searches in 9 jobs)
 # config device: gpu runs each search study's searches in one job, side by side on the GPU
 # (stonedem.study.runner.run_searches), so the device gets many members at once
 GPU_SEARCHES = config.get("device", "cpu") == "gpu"
 JOBS = stonedem.study.jobs.plan_jobs(
-    {name: list(cases.values()) for name, cases in STUDIES.items()}, search_seconds=math.inf if GPU_SEARCHES else 0.0
+    {name: list(cases.values()) for name, cases in STUDIES.items()},
+    search_seconds=math.inf if GPU_SEARCHES else stonedem.study.jobs.JOB_SECONDS,
 )
 
 

@@ -275,3 +275,20 @@ def test_records_that_broke_the_baseline_correction(tmp_path):
     _refused(short, "baseline correction raises the peak to 987.3 m/s2", units="g")
     assert excitation_from_spec({"kind": "record", "file": str(short), "units": "g",
                                  "baseline": False}).pga == pytest.approx(30 * 9.80665)
+
+
+def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_gone(tmp_path, monkeypatch):
+    import shutil
+
+    from stonedem.motion import excitation as ground_motion
+
+    shutil.copy("records/northridge_1994_mul009.nc", tmp_path / "quake.nc")
+    monkeypatch.chdir(tmp_path)
+    first = ground_motion.resolve_record("quake", "excitation.file", tmp_path)
+    looked = []
+    monkeypatch.setattr(ground_motion.Path, "is_file", lambda self: looked.append(self) or self.exists())
+    assert ground_motion.resolve_record("quake", "excitation.file", tmp_path) == first == tmp_path / "quake.nc"
+    assert looked == [first]  # one check of the path found before, no search
+    first.unlink()
+    with pytest.raises(InputError, match="record 'quake' not found"):
+        ground_motion.resolve_record("quake", "excitation.file", tmp_path)

@@ -14,6 +14,7 @@ solver's step.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -374,6 +375,11 @@ def _corrected_record(path: Path, field: str, units, dt, baseline: bool, compone
 MAX_NAME_CHARS = 4096
 
 
+# (name, base_dir, working folder, the records folders' finders) -> the record file found for
+# it: the lookup stats up to a dozen paths (0.65 ms), now once a process while the file is there
+_RESOLVED: dict = {}
+
+
 def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     """A record path: as given, relative to the scene, or by name in a records folder.
 
@@ -392,6 +398,10 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
         raise InputError(field, f"'{shown(name)}' is not a usable file name"
                          + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
                          "give a path or a record name")
+    key = (name, str(base_dir), os.getcwd(), checkout_records_dir, packaged_records_dir)
+    found = _RESOLVED.get(key)
+    if found is not None and found.is_file():  # a search resolves its record once a run
+        return found
     folders = record_folders()
     candidates = [Path(name), Path(base_dir) / name, *(folder / name for folder in folders)]
     for folder in (Path(base_dir), *folders):
@@ -401,6 +411,9 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     for path in candidates:
         try:
             if path.is_file():
+                if len(_RESOLVED) >= 256:
+                    _RESOLVED.clear()
+                _RESOLVED[key] = path
                 return path
             if path.exists():
                 not_files.append(path)

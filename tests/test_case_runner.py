@@ -249,3 +249,31 @@ def test_a_speculative_run_dropped_and_later_reached_is_simulated_again_and_writ
     late = [i for i in simulated if i.endswith("_A-0.2828")]
     assert len(late) == 2, simulated  # speculative, dropped; then again on the path
     assert len(tree(tmp_path / "runs")) == len(runs) == result["n_runs"]
+
+
+def test_a_search_builds_each_later_run_from_its_first_scene_and_gets_the_scene_case_scene_builds():
+    """SearchScenes: the first run's scene in full, each later one with its base motion alone
+    built anew, sharing the bodies; every field is what case_scene gives, the provenance too."""
+    import dataclasses
+
+    from stonedem.study.grid import SearchScenes, case_scene, search_case
+
+    (system,) = case_table("block", {**BLOCK, "grid": {"friction": [0.7]}, "search": {
+        "parameter": "amplitude", "start": 0.05, "minimum": 0.005, "maximum": 0.64}})
+    scenes = SearchScenes("records")
+    first = scenes(search_case(system, 0.05))
+    for value in (0.1, 0.4, 0.0125):
+        case = search_case(system, value)
+        got, want = scenes(case), case_scene(case, "records")
+        assert got.bodies is first.bodies and got.spec == want.spec and got.spec["excitation"]["amplitude"] == value
+        for f in dataclasses.fields(want):
+            if f.name in ("bodies", "horizontal", "vertical"):
+                continue
+            assert getattr(got, f.name) == getattr(want, f.name), f.name
+        for motion in ("horizontal", "vertical"):
+            a, b = getattr(got, motion), getattr(want, motion)
+            assert a.kind == b.kind and a.description == b.description and a.table_dt == b.table_dt
+            for name in ("params", "table_accel", "table_vel", "table_disp"):
+                assert np.array_equal(getattr(a, name), getattr(b, name)), (motion, name)
+        assert [b.name for b in got.bodies] == [b.name for b in want.bodies]
+        assert all(np.array_equal(x.vertices, y.vertices) and x.mass == y.mass for x, y in zip(got.bodies, want.bodies))

@@ -389,11 +389,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
 
-    excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
-    if not isinstance(excitation.get("kind", "none"), str):
-        raise InputError("excitation.kind", f"expected a name, got {excitation['kind']!r}",
-                         "use e.g. harmonic, one_sine, ramp, record or none")
-    horizontal, vertical = excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
+    horizontal, vertical = base_motions(spec, base_dir)
 
     spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
                 contact={"model": model, "k_n": contact.k_n,
@@ -407,6 +403,28 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
                   output_every=every, spec=spec, kernel=solver["kernel"])
     check_initial_overlaps(scene)
     return scene
+
+
+def base_motions(spec: dict, base_dir: Path | str) -> tuple[BaseMotion, BaseMotion]:
+    """The (horizontal, vertical) base motion of a scene mapping's ``excitation``, checked."""
+    excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
+    if not isinstance(excitation.get("kind", "none"), str):
+        raise InputError("excitation.kind", f"expected a name, got {excitation['kind']!r}",
+                         "use e.g. harmonic, one_sine, ramp, record or none")
+    return excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
+
+
+def scene_with_excitation(scene: Scene, spec: dict, base_dir: Path | str = ".") -> Scene:
+    """:func:`scene_from_dict` of ``spec`` when it differs from ``scene.spec`` only in its
+    ``excitation`` and ``name``: the scene's bodies, law and settings as they are (checked
+    once, shared), its base motion built and checked from ``spec``. A threshold search's runs
+    differ only so (stonedem.study.grid.SearchScenes); the bodies' identity lets the plan
+    reuse what depends on them alone (stonedem.engine.simulate)."""
+    own = {key: copy.deepcopy(spec[key]) for key in ("excitation", "name") if key in spec}
+    horizontal, vertical = base_motions(own, base_dir)
+    # the rest of the provenance is the scene's own (read-only: stonedem.api freezes it)
+    full = {**{k: v for k, v in scene.spec.items() if k not in ("excitation", "name")}, **own}
+    return dataclasses.replace(scene, horizontal=horizontal, vertical=vertical, spec=full)
 
 
 def _body(spec: dict, index: int, density: float, depth: float) -> Body:

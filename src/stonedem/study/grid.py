@@ -731,6 +731,26 @@ def case_scene(case: Case, base_dir: Path | str = "."):
     return scene if member is None else member_scene(scene, member["member"], member["perturbation"])
 
 
+class SearchScenes:
+    """The Scenes of one threshold search's runs, each what :func:`case_scene` gives: the first
+    built in full, every later one from it with only its base motion built anew
+    (:func:`stonedem.engine.scene.scene_with_excitation`), since a search sweeps an excitation
+    parameter alone (SEARCH_PARAMETERS) and keeps the member. The runs then share the first's
+    bodies, which lets each plan reuse what depends on the bodies alone."""
+
+    def __init__(self, base_dir: Path | str = "."):
+        self.base_dir = base_dir
+        self.first = None
+
+    def __call__(self, case: Case):
+        from stonedem.engine.scene import scene_with_excitation
+
+        if self.first is None:
+            self.first = case_scene(case, self.base_dir)
+            return self.first
+        return scene_with_excitation(self.first, scene_without_member(case.scene)[0], self.base_dir)
+
+
 def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
     """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
     for key, value in case.params.items():

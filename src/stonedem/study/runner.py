@@ -35,7 +35,7 @@ from stonedem.io.netcdf import write_dataset
 from stonedem.entry import progress_print
 from stonedem.motion.suites import record_file_name
 from stonedem.study.cube import RunPiece, dataset_piece, run_piece, search_dataset
-from stonedem.study.grid import Case, case_scene, run_case, run_cases_together, search_case
+from stonedem.study.grid import Case, SearchScenes, case_scene, run_case, run_cases_together, search_case
 from stonedem.study.search import Run, replay, search, search_together, summary
 
 _SOURCE_FINGERPRINT: list[str] = []
@@ -243,12 +243,13 @@ def run_search(system: Case, runs_dir: Path | str | None, summary_path: Path | s
     if runs_dir is None and store.restore(system, summary_path, log):
         return restored_search(system, summary_path, log)
     kept: dict[float, Path | xr.Dataset | RunPiece] = {}  # each run's file, dataset or piece
+    scenes = SearchScenes(store.records_dir)
 
     def simulate(value: float, phase: str) -> bool:
         case = search_case(system, value)
         label = f"[{settings.parameter} run {len(kept) + 1}, {phase}] "
         if runs_dir is None:
-            kept[value] = run_slim(case, store.records_dir, label, log)
+            kept[value] = run_slim(case, store.records_dir, label, log, scenes)
             return kept[value].collapsed
         path = Path(runs_dir) / f"{case.id}.nc"
         info = run_one(case, path, store, label, log, keep_dataset=True)
@@ -276,13 +277,15 @@ def restored_search(system: Case, path: Path | str, log=None) -> tuple[list[Run]
     return runs, result
 
 
-def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None) -> RunPiece:
+def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None,
+             scenes: SearchScenes | None = None) -> RunPiece:
     """Simulate ``case`` and keep what its search keeps (:class:`stonedem.study.cube.RunPiece`):
-    no dataset, no file; one log line, as :func:`run_one` gives."""
+    no dataset, no file; one log line, as :func:`run_one` gives. ``scenes``: its search's
+    scenes (built from the search's first), else the case's scene is built in full."""
     from stonedem.engine.run import checked_run
 
     start = wallclock.perf_counter()
-    run = checked_run(case_scene(case, records_dir))
+    run = checked_run(scenes(case) if scenes is not None else case_scene(case, records_dir))
     piece = run_piece(case, run)
     status = run.checks["status"]
     verdict = f"collapsed at {run.result.collapse_time:.2f} s ({status})" if piece.collapsed else status

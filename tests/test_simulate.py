@@ -225,3 +225,27 @@ def test_the_warm_compile_covers_every_loop_and_type_of_the_study(monkeypatch):
             scene = case_scene(search_case(case, 1.0) if case.search else case, root / "records")
             simulate(dataclasses.replace(scene, duration=0.002))
     assert seen and set(seen) <= warm
+
+
+def test_a_plan_reuses_what_depends_on_the_bodies_alone_while_the_bodies_are_the_same():
+    """BodiesMemo (the stability limit, the contact graph): kept for a scene with the same
+    bodies tuple and an equal law, computed again for other bodies or another k_n."""
+    import dataclasses
+
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.engine.simulate import BodiesMemo, stability_limit
+
+    spec = {"structure": {"kind": "column", "n_drums": 2, "height": 4.0, "width": 1.0},
+            "contact": {"model": "point", "k_n": 1.0e9}, "excitation": {"kind": "harmonic", "amplitude": 0.1,
+                                                                         "frequency": 2.0},
+            "solver": {"duration": 0.1}}
+    scene = scene_from_dict(spec)
+    calls = []
+    memo = BodiesMemo(lambda s: calls.append(s) or stability_limit(s))
+    louder = dataclasses.replace(scene, horizontal=scene_from_dict({**spec, "excitation": {
+        "kind": "harmonic", "amplitude": 0.3, "frequency": 2.0}}).horizontal)
+    assert memo(scene) == memo(louder) == stability_limit(scene) and len(calls) == 1
+    stiffer = dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=4.0e9))
+    assert memo(stiffer) == stability_limit(stiffer) < stability_limit(scene) and len(calls) == 2
+    rebuilt = scene_from_dict(spec)  # equal bodies, another tuple: computed again
+    assert memo(rebuilt) == stability_limit(scene) and len(calls) == 3

@@ -42,6 +42,25 @@ from stonedem.engine.scene import Scene, box_pairs, posed_vertices
 
 
 
+class BodiesMemo:
+    """The last value of ``function(scene, *args)``, a function of the scene's bodies and
+    contact law alone, kept while the next scene has the same bodies (the same tuple, held
+    here so its id is not reused) and an equal law: a run's preflight and plan ask twice, and a
+    threshold search's runs share their bodies (stonedem.study.grid.SearchScenes)."""
+
+    def __init__(self, function):
+        self.function = function
+        self.last: tuple | None = None  # (bodies, contact, value)
+
+    def __call__(self, scene: Scene, *args):
+        last = self.last
+        if last is not None and last[0] is scene.bodies and last[1] == scene.contact:
+            return last[2]
+        value = self.function(scene, *args)
+        self.last = (scene.bodies, scene.contact, value)
+        return value
+
+
 def stability_limit(scene: Scene) -> float:
     """Largest stable central-difference step [s]: min over bodies of 2/omega (sqrt(1+z^2) - z).
 
@@ -98,6 +117,12 @@ def stability_limit(scene: Scene) -> float:
     return limit
 
 
+kept_stability_limit = BodiesMemo(stability_limit)
+# the faces in contact at t = 0 of the packed bodies (graph.contact_graph reads only what the
+# bodies give the packed arrays: shapes, poses, driven, margin)
+body_graph = BodiesMemo(lambda scene, arrays: scene_graph(arrays))
+
+
 
 
 
@@ -134,7 +159,7 @@ def choose_time_step(scene: Scene) -> tuple[float, float]:
     """(dt, stability limit) [s]: the given dt if stable, else dt_safety x the limit when
     auto, shortened where needed to resolve the excitation (MIN_STEPS_PER_PERIOD steps in
     its shortest period: a record sampled at 400 Hz asks for dt <= 0.25 ms)."""
-    limit = stability_limit(scene)
+    limit = kept_stability_limit(scene)
     if scene.dt is None:
         resolve = min(m.shortest_period for m in (scene.horizontal, scene.vertical)) / MIN_STEPS_PER_PERIOD
         return min(scene.dt_safety * limit, resolve), limit
@@ -473,7 +498,7 @@ def plan_run(scene: Scene, progress: bool = False) -> Plan:
     )
     cursor = Cursor(empty_samples(n_steps // out_every + 2, len(scene.bodies)))
     loop = CompiledLoop(kernel_model(scene, arrays), settings, initial_state(arrays), cursor,
-                        Progress() if progress else None, graph=scene_graph(arrays) if uses_graph(scene) else None)
+                        Progress() if progress else None, graph=body_graph(scene, arrays) if uses_graph(scene) else None)
     n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
     return Plan(scene, arrays, loop, dt, limit, n_first, n_rest)
 

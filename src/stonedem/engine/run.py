@@ -120,28 +120,26 @@ def checked_run(scene: Scene, progress: bool = False, first: RunResult | None = 
     return CheckedRun(scene, result, checks, retry, compiled)
 
 
-def response_measures(scene: Scene, result: RunResult, checks: dict) -> dict[str, tuple[tuple, np.ndarray]]:
+def response_measures(scene: Scene, result: RunResult, checks: dict,
+                      histories: bool = True) -> dict[str, tuple[tuple, np.ndarray]]:
     """The response of a run as {name: (dims, values)}: the histories a study cube keeps
     (rocking, sliding, epistyle, base motion) and the measures (peaks, collapse, theta_cr;
     a penetrated run is never reported as a collapse). What :func:`scene_dataset` and a
-    threshold search's file (:mod:`stonedem.study.cube`) hold of it."""
+    threshold search's file (:mod:`stonedem.study.cube`) hold of it. ``histories`` False:
+    the measures alone (a search that keeps no histories), the same values."""
     time = result.time
-    d_h, v_h, a_h = scene.horizontal.evaluate(time)
     support = measures.supports(scene)
-    sliding = measures.relative_sliding(scene, result.x, result.y, result.theta, support)
     free = np.array([not b.driven for b in scene.bodies])
+    # the residual sliding needs only the last sample's (measured from the first's frames);
+    # each sample's sliding is a row of its own
+    rows = slice(None) if histories else [0, -1]
+    sliding = measures.relative_sliding(scene, result.x[rows], result.y[rows], result.theta[rows], support)
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
-    rocking = np.abs(result.theta[:, measures.rocking_bodies(scene)]).mean(axis=1)
     theta_cr = measures.rocking_theta_cr(scene, result.arrays.body_group, result.arrays.group_theta_cr)
-    rel = result.x - result.x[0] - d_h[:, None]
     epistyles = measures.epistyle_bodies(scene)
-    epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
     collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
     t = ("time",)
-    return {
-        "base_displacement": (t, d_h), "base_velocity": (t, v_h), "base_acceleration": (t, a_h),
-        "displacement_relative_to_base": (("time", "body"), rel), "sliding": (("time", "body"), sliding),
-        "total_sliding": (t, total_sliding), "rocking": (t, rocking), "epistyle_displacement": (t, epi),
+    response = {
         # peaks and first times over every step of the run, not the samples (stonedem.kernels.step.track)
         "max_abs_theta": (("body",), result.peak_theta),
         "max_total_sliding": ((), result.max_total_sliding),
@@ -152,6 +150,18 @@ def response_measures(scene: Scene, result: RunResult, checks: dict) -> dict[str
         "collapsed": ((), np.int8(collapsed)),
         "collapse_time": ((), result.collapse_time if collapsed else float("nan")),
         "max_epistyle_displacement": ((), result.max_epistyle_displacement if epistyles else float("nan")),
+    }
+    if not histories:
+        return response
+    d_h, v_h, a_h = scene.horizontal.evaluate(time)
+    rocking = np.abs(result.theta[:, measures.rocking_bodies(scene)]).mean(axis=1)
+    rel = result.x - result.x[0] - d_h[:, None]
+    epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
+    return {
+        "base_displacement": (t, d_h), "base_velocity": (t, v_h), "base_acceleration": (t, a_h),
+        "displacement_relative_to_base": (("time", "body"), rel), "sliding": (("time", "body"), sliding),
+        "total_sliding": (t, total_sliding), "rocking": (t, rocking), "epistyle_displacement": (t, epi),
+        **response,
     }
 
 

@@ -39,18 +39,18 @@ class RunPiece:
     collapsed: bool
 
 
-def run_piece(case: Case, run) -> RunPiece:
+def run_piece(case: Case, run, histories: bool = True) -> RunPiece:
     """The piece of a run (:class:`stonedem.engine.run.CheckedRun`) of ``case``, without
-    building its dataset."""
+    building its dataset; ``histories`` False: its measures alone."""
     from stonedem.engine.run import contact_attrs, response_measures
     from stonedem.io.netcdf import code_version
     from stonedem.io.provenance import bounded_json
 
-    response = response_measures(run.scene, run.result, run.checks)
+    response = response_measures(run.scene, run.result, run.checks, histories)
     attrs = {"source": code_version(), "study": case.study, **contact_attrs(run.scene),
              "excitation": bounded_json(run.scene.horizontal.description, "excitation")}
     return RunPiece(dict(case.params), np.round(run.result.time, 9),
-                    {name: response[name] for name in CUBE_MEASURES + CUBE_HISTORIES},
+                    {name: response[name] for name in CUBE_MEASURES + CUBE_HISTORIES if name in response},
                     {k: attrs[k] for k in CUBE_SHARED_ATTRS if k in attrs}, bool(response["collapsed"][1]))
 
 

@@ -249,7 +249,7 @@ def run_search(system: Case, runs_dir: Path | str | None, summary_path: Path | s
         case = search_case(system, value)
         label = f"[{settings.parameter} run {len(kept) + 1}, {phase}] "
         if runs_dir is None:
-            kept[value] = run_slim(case, store.records_dir, label, log, scenes)
+            kept[value] = run_slim(case, store.records_dir, label, log, scenes, settings.histories)
             return kept[value].collapsed
         path = Path(runs_dir) / f"{case.id}.nc"
         info = run_one(case, path, store, label, log, keep_dataset=True)
@@ -278,15 +278,16 @@ def restored_search(system: Case, path: Path | str, log=None) -> tuple[list[Run]
 
 
 def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None,
-             scenes: SearchScenes | None = None) -> RunPiece:
+             scenes: SearchScenes | None = None, histories: bool = True) -> RunPiece:
     """Simulate ``case`` and keep what its search keeps (:class:`stonedem.study.cube.RunPiece`):
     no dataset, no file; one log line, as :func:`run_one` gives. ``scenes``: its search's
-    scenes (built from the search's first), else the case's scene is built in full."""
+    scenes (built from the search's first), else the case's scene is built in full;
+    ``histories`` False: the measures alone (its search keeps no histories)."""
     from stonedem.engine.run import checked_run
 
     start = wallclock.perf_counter()
     run = checked_run(scenes(case) if scenes is not None else case_scene(case, records_dir))
-    piece = run_piece(case, run)
+    piece = run_piece(case, run, histories)
     status = run.checks["status"]
     verdict = f"collapsed at {run.result.collapse_time:.2f} s ({status})" if piece.collapsed else status
     progress_print(log or sys.stderr, run_line(label, case, run.result.steps_run, run.result.wall_seconds,

@@ -119,8 +119,8 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
         "n_resurrections": ((), np.int32(len(result["resurrections"]))),
         "search_status": ((), result["status"]),
     }
-    for name, (dims, value) in values.items():
-        cube[name] = xr.Variable(dims, value, _attrs(name, parameter))
+    # in one update: each item assigned alone costs a merge (~0.7 ms a search run in all)
+    cube = cube.assign({name: xr.Variable(dims, value, _attrs(name, parameter)) for name, (dims, value) in values.items()})
     settings = {f"search_{k}": int(v) if isinstance(v, bool) else v for k, v in asdict(system.search).items()}
     cube.attrs = {**shared_case_attrs([piece.attrs for piece in pieces]), **settings,
                   "search_method": "hunt and fill (Vamvatsikos & Cornell 2002), stonedem.study.search",

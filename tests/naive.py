@@ -30,7 +30,10 @@ def half_plane_clip(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     poly = [tuple(v) for v in a]
     for i in range(len(b)):
         p, q = b[i], b[(i + 1) % len(b)]
-        side = lambda v: (q[0] - p[0]) * (v[1] - p[1]) - (q[1] - p[1]) * (v[0] - p[0])  # noqa: E731
+
+        def side(v, p=p, q=q):
+            return (q[0] - p[0]) * (v[1] - p[1]) - (q[1] - p[1]) * (v[0] - p[0])
+
         new = []
         for k in range(len(poly)):
             s, f = poly[k], poly[(k + 1) % len(poly)]

@@ -7,6 +7,7 @@ import pytest
 import xarray as xr
 
 from stonedem.engine.run import run_scene
+from stonedem.errors import InputError
 
 from stonedem.io.netcdf import write_dataset
 from stonedem.engine.scene import load_scene
@@ -44,7 +45,7 @@ def test_failed_write_leaves_no_file(tmp_path, rocking_dataset):
     bad = rocking_dataset.copy()
     bad.attrs["not_serialisable"] = {"a": object()}
     target = tmp_path / "b.nc"
-    with pytest.raises(Exception):
+    with pytest.raises(InputError, match="not_serialisable"):
         write_dataset(bad, target)
     assert not target.exists() and list(tmp_path.iterdir()) == []
 

@@ -188,8 +188,9 @@ def test_area_law_layer_b_refuses_k_n_times_1_plus_1e_minus_6_not_a_fresh_member
 
     passed, table = candidate(lambda scene: member_scene(scene, 20))
     assert passed and max(r["position_in_floors"] for r in table) < 1.0, table
-    stiffer = lambda scene: dataclasses.replace(scene, contact=dataclasses.replace(scene.contact,
-                                                                                  k_n=scene.contact.k_n * (1 + 1e-6)))
+    def stiffer(scene):
+        return dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * (1 + 1e-6)))
+
     passed, table = candidate(stiffer)
     assert not passed and table[0]["position_in_floors"] > 10 * ec.FACTOR, table
 

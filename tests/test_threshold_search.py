@@ -125,7 +125,7 @@ def test_searches_together_make_exactly_the_runs_each_search_makes_alone(systems
 
     together, rounds = search_together(run_many, [settings] * len(rules), width)
     for rule, runs in zip(rules, together):
-        assert runs == search(lambda value, phase: rule(value), settings)
+        assert runs == search(lambda value, phase, rule=rule: rule(value), settings)
     assert rounds == len(asked) and max(asked) <= width * len(rules)
     if width == 1:  # one run a round: the sequential search itself
         assert rounds == max(len(runs) for runs in together)

@@ -21,7 +21,6 @@ import sys
 import threading
 import time
 from contextlib import contextmanager
-from pathlib import Path
 from typing import Callable
 
 from stonedem.errors import InputError, one_line

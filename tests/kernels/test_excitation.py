@@ -8,7 +8,10 @@ from stonedem.kernels import excitation as kx
 H = 1e-6
 
 
-def motion(kind, params, t, table=(np.zeros(1), np.zeros(1), np.zeros(1), 1.0)):
+NO_TABLE = (np.zeros(1), np.zeros(1), np.zeros(1), 1.0)
+
+
+def motion(kind, params, t, table=NO_TABLE):
     return np.array(kx.base_motion(t, kind, np.asarray(params, float), *table))
 
 

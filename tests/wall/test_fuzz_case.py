@@ -73,7 +73,7 @@ def assert_sane(ci):
     assert ci.joint["mu"] > 0 and ci.joint["k_n"] > 0 and ci.joint["k_t"] > 0 and ci.joint["alpha"] >= 1
     for jp in ci.support_joint.values():
         assert all(type(v) is float and math.isfinite(v) for v in jp.values())
-    for count, force, edge in ci.extras:
+    for count, force, _edge in ci.extras:
         assert type(count) is int and count >= 1 and math.isfinite(force) and force >= 0
     for key, v in ci.settings.as_dict().items():
         assert type(v) is type(DEFAULTS[key]) and math.isfinite(v) and v >= 0, (key, v)

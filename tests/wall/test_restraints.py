@@ -61,7 +61,7 @@ def test_the_left_edge_line_passes_the_panel_edge_not_the_block_centres():
         assert a[0] == b[0] == 0.0
         assert panel.centre[blk, 0] - panel.size[blk, 0] / 2 == pytest.approx(0.0)
     offset = LineRestraint("left", (2,), distance=0.15)
-    for blk, a, b in offset.chords(panel):
+    for blk, _a, _b in offset.chords(panel):
         lo, hi = panel.centre[blk, 0] - panel.size[blk, 0] / 2, panel.centre[blk, 0] + panel.size[blk, 0] / 2
         assert lo <= 0.15 < hi
 

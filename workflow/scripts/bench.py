@@ -9,7 +9,7 @@ exit 2, before anything runs; the job's exit status is the module's.
 import os
 import sys
 
-sm = snakemake  # noqa: F821 - provided by Snakemake
+sm = snakemake
 sys.stderr = open(sm.log[0], "w")
 sys.stdout = sys.stderr
 quick = ["--quick"] if sm.params.quick else []

@@ -8,8 +8,8 @@ from stonedem.study.cube import combine_searches
 from stonedem.study.grid import combine_cases
 from stonedem.study.stripe_fill import stripe_pieces
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-for (study, spec), output in zip(snakemake.params.studies.items(), snakemake.output):  # noqa: F821
+workflow_log(snakemake.log[0])
+for (_study, spec), output in zip(snakemake.params.studies.items(), snakemake.output):
     if spec["search"]:
         stripes = stripe_pieces(spec["stripes"]) if spec["stripes"] else None  # None: one member, no fills
         cube = combine_searches(list(spec["inputs"]), spec["description"], stripes)

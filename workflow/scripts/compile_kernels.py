@@ -9,11 +9,11 @@ from stonedem.engine.run import warm_compile
 from stonedem.entry import workflow_log
 from stonedem.io.atomic import write_text
 
-log = workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
+log = workflow_log(snakemake.log[0])
 start = time.perf_counter()
-loop = snakemake.wildcards.loop  # noqa: F821
+loop = snakemake.wildcards.loop
 seconds = warm_compile([loop])[loop]
 text = (f"{loop}: {seconds:.1f} s compile, {time.perf_counter() - start:.1f} s in all; "
         f"cache {numba.config.CACHE_DIR}\n")
 print(text, end="", file=log)
-write_text(snakemake.output[0], text)  # noqa: F821
+write_text(snakemake.output[0], text)

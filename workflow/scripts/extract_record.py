@@ -1,14 +1,13 @@
 """Snakemake script: one FEMA P695 record -> records/<name>.nc (stonedem.motion.fema_p695)."""
 
-import sys
 
 from stonedem.entry import workflow_log
 
 from stonedem.io.netcdf import write_dataset
 from stonedem.motion.fema_p695 import extract_record
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-spec = dict(snakemake.params.record)  # noqa: F821
+workflow_log(snakemake.log[0])
+spec = dict(snakemake.params.record)
 ds = extract_record(spec.pop("set"), spec.pop("id"), spec.pop("component"),
-                    name=snakemake.wildcards.name, extra_attrs=spec)  # noqa: F821
-write_dataset(ds, snakemake.output[0])  # noqa: F821
+                    name=snakemake.wildcards.name, extra_attrs=spec)
+write_dataset(ds, snakemake.output[0])

@@ -7,8 +7,8 @@ from stonedem.study.grid import Case
 from stonedem.study.runner import CaseStore
 from stonedem.study.stripe_fill import fill_stripes
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
-systems = [Case.from_dict(system) for system in snakemake.params.systems]  # noqa: F821
-runs = snakemake.output.runs or None  # noqa: F821 - config search_runs: full, one case file per fill
-fill_stripes(systems, list(snakemake.input.searches), runs, snakemake.output.stripes, store)  # noqa: F821
+workflow_log(snakemake.log[0])
+store = CaseStore(snakemake.config.get("case_store"), "records")
+systems = [Case.from_dict(system) for system in snakemake.params.systems]
+runs = snakemake.output.runs or None  # config search_runs: full, one case file per fill
+fill_stripes(systems, list(snakemake.input.searches), runs, snakemake.output.stripes, store)

@@ -1,7 +1,6 @@
 """Snakemake script: fragility curves per structure and the medians / pulse figure
 (stonedem.figures.fragility)."""
 
-import sys
 
 from stonedem.entry import workflow_log
 
@@ -9,14 +8,14 @@ from stonedem.entry import workflow_log
 from stonedem.figures.fragility import fragility_curves_figure, medians_figure
 from stonedem.io.netcdf import open_result
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-inputs, params = snakemake.input, snakemake.params  # noqa: F821
+workflow_log(snakemake.log[0])
+inputs, params = snakemake.input, snakemake.params
 with open_result(inputs.cube) as cube, open_result(inputs.fits) as fits:
     cube, fits = cube.load(), fits.load()
 pulse = None
 if inputs.pulse:
     with open_result(inputs.pulse[0]) as pulse:
         pulse = pulse.load()
-for structure, path in zip(params.structures, snakemake.output.curves):  # noqa: F821
+for structure, path in zip(params.structures, snakemake.output.curves):
     fragility_curves_figure(cube, fits, structure, path)
-medians_figure(fits, pulse, snakemake.output.medians)  # noqa: F821
+medians_figure(fits, pulse, snakemake.output.medians)

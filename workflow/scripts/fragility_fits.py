@@ -10,9 +10,9 @@ from stonedem.io.netcdf import open_result, write_dataset
 from stonedem.fragility.fit import fragility_dataset, fragility_table
 from stonedem.fragility.checks import ordering_checks, pulse_check, pulse_rows
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-params, output = snakemake.params, snakemake.output  # noqa: F821
-cube = open_result(snakemake.input[0])  # noqa: F821
+workflow_log(snakemake.log[0])
+params, output = snakemake.params, snakemake.output
+cube = open_result(snakemake.input[0])
 fits = fragility_dataset(cube, samples=params.bootstrap)
 write_dataset(fits, output.fits)
 write_csv(output.table, fragility_table(fits))

@@ -5,8 +5,8 @@ import sys
 from stonedem.entry import logged_seconds, workflow_log
 from stonedem.figures import figures
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-catalogue = figures(snakemake.config)  # noqa: F821
-for (name, inputs), output in zip(snakemake.params.figures.items(), snakemake.output):  # noqa: F821
+workflow_log(snakemake.log[0])
+catalogue = figures(snakemake.config)
+for (name, inputs), output in zip(snakemake.params.figures.items(), snakemake.output):
     with logged_seconds(sys.stderr, name):
         catalogue[name].draw(list(inputs), output)

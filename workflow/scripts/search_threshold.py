@@ -11,13 +11,13 @@ from stonedem.entry import workflow_log
 from stonedem.study.grid import Case
 from stonedem.study.runner import CaseStore, choose_device, run_search, run_searches
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-store = CaseStore(snakemake.config.get("case_store"), "records")  # noqa: F821
-systems = [Case.from_dict(system) for system in snakemake.params.systems]  # noqa: F821
-outputs = snakemake.output  # noqa: F821
+workflow_log(snakemake.log[0])
+store = CaseStore(snakemake.config.get("case_store"), "records")
+systems = [Case.from_dict(system) for system in snakemake.params.systems]
+outputs = snakemake.output
 # config search_runs: full writes every run's case file too (one folder per system); else none
 runs_dirs = list(outputs.runs) if outputs.runs else None
-if snakemake.config.get("device", "cpu") == "gpu":  # noqa: F821
+if snakemake.config.get("device", "cpu") == "gpu":
     device, line = choose_device("gpu")
     print(line, file=sys.stderr)
     run_searches(systems, runs_dirs, outputs.search, store, device=device)

@@ -1,12 +1,11 @@
 """Snakemake script: a job's cases -> one NetCDF each (stonedem.study.runner.run_cases)."""
 
-import sys
 
 from stonedem.entry import workflow_log
 
 from stonedem.study.runner import CaseStore, run_cases
 from stonedem.study.grid import Case
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-cases = [Case.from_dict(spec) for spec in snakemake.params.cases]  # noqa: F821
-run_cases(cases, list(snakemake.output), CaseStore(snakemake.config.get("case_store"), "records"))  # noqa: F821
+workflow_log(snakemake.log[0])
+cases = [Case.from_dict(spec) for spec in snakemake.params.cases]
+run_cases(cases, list(snakemake.output), CaseStore(snakemake.config.get("case_store"), "records"))

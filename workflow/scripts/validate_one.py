@@ -19,7 +19,7 @@ from stonedem.validation import plots as validation_plots
 from stonedem.entry import logged_seconds, workflow_log
 from stonedem.io.atomic import write_text
 
-sm = snakemake  # noqa: F821 - provided by Snakemake
+sm = snakemake
 workflow_log(sm.log[0])
 
 

@@ -7,7 +7,7 @@ from stonedem.entry import logged_seconds, workflow_log
 
 from stonedem.wall.dataset import run_case_file
 
-workflow_log(snakemake.log[0])  # noqa: F821 - provided by Snakemake
-for case_file, output in zip(snakemake.input, snakemake.output):  # noqa: F821
+workflow_log(snakemake.log[0])
+for case_file, output in zip(snakemake.input, snakemake.output):
     with logged_seconds(sys.stderr, case_file):
-        run_case_file(case_file, output, limit_analysis=snakemake.params.limit_analysis)  # noqa: F821
+        run_case_file(case_file, output, limit_analysis=snakemake.params.limit_analysis)

@@ -6,7 +6,7 @@ import sys
 from stonedem.entry import logged_seconds, workflow_log
 from stonedem.wall.figures import plot_from_files
 
-sm = snakemake  # noqa: F821 - provided by Snakemake
+sm = snakemake
 workflow_log(sm.log[0])
 for (number, figure), output in zip(sm.params.figures.items(), sm.output):
     with logged_seconds(sys.stderr, f"manuscript Fig. {number}"):

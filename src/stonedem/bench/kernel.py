@@ -68,7 +68,7 @@ STAGE_TITLES = {
 @njit(**NO_ALLOC_OPTIONS)
 def _place(model, state, work, t, n_rep):
     acc = 0.0
-    for r in range(n_rep):
+    for _r in range(n_rep):
         d_h, vel_h, d_v, vel_v = kstep.place_bodies(model, state, work, t)
         acc += work.hi_x[0] + d_h
     return acc
@@ -78,7 +78,7 @@ def _place(model, state, work, t, n_rep):
 def _watch(model, state, work, n, d_h, d_v, n_rep):
     tilt_alarm = kstep.smallest_theta_cr(model)
     count = 0
-    for r in range(n_rep):
+    for _r in range(n_rep):
         if kstep.track(model, state, work, n, d_h, d_v, tilt_alarm) and kstep.collapsed(model, state, work, d_v):
             count += 1
     return count
@@ -87,7 +87,7 @@ def _watch(model, state, work, n, d_h, d_v, n_rep):
 @njit(**NO_ALLOC_OPTIONS)
 def _broad_phase(model, state, work, n_rep):
     count = 0
-    for r in range(n_rep):
+    for _r in range(n_rep):
         if kstep.needs_resweep(model, state, work):
             count += 1
     return count
@@ -96,7 +96,7 @@ def _broad_phase(model, state, work, n_rep):
 @njit(**NO_ALLOC_OPTIONS)
 def _contact_forces(model, state, work, n_pair, dt, n_rep, want_energy, point_law):
     total = 0
-    for r in range(n_rep):
+    for _r in range(n_rep):
         n_contact, elastic = kstep.contact_forces(model, state, work, n_pair, dt, want_energy, point_law)
         total += n_contact
     return total
@@ -108,7 +108,7 @@ def _velocities_power(model, state, work, n_pair, dt, n_rep):
     body_x, body_y = state.body_x, state.body_y
     vel_x, vel_y, vel_om = work.vel_x, work.vel_y, work.vel_om
     acc = 0.0
-    for r in range(n_rep):
+    for _r in range(n_rep):
         kstep.velocities_at_step(model, state, work, 0.5 * dt)
         p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, vel_x, vel_y, vel_om)
         kstep.book_power(work, p_damp, p_tan, 0.0, 0.0)
@@ -132,7 +132,7 @@ def _integrate(model, state, work, n_rep):
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     n_body = body_x.shape[0]
-    for r in range(n_rep):
+    for _r in range(n_rep):
         # kick and drift of zero: the same arithmetic, and the state does not wander off
         kstep.book_energy(state, work, 0.0)
         central_difference_step(n_body, body_driven, inv_mass, inv_inertia, model.gravity, 0.0, 0.0,

@@ -41,6 +41,7 @@ variants and for each.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import sys
@@ -133,7 +134,7 @@ def rocking_runs(run_block, repeats=1, scene="a"):
         else:
             duration = cn.rocking_duration(width, height)
         theta0 = cn.rocking_theta0(width, height)
-        traj = timed(lambda: run_block(width, height, theta0, duration), repeats)
+        traj = timed(functools.partial(run_block, width, height, theta0, duration), repeats)
         if scene == "a1":
             te, pe = cn.first_impact_error(traj, width, height), 0.0
         else:
@@ -206,18 +207,18 @@ def competitor_points(engine, scene, dts, column_duration, record, repeats=1):
     for dt in dts:
         if scene in ROCKING_SCENES:
             errors, wall, sim, steps, _ = rocking_runs(
-                lambda w, h, theta0, duration: module.free_rocking(w, h, theta0, dt, duration), repeats, scene)
+                lambda w, h, theta0, duration, dt=dt: module.free_rocking(w, h, theta0, dt, duration), repeats, scene)
             rows.append(_row(engine, scene, math.nan, dt, math.nan, wall, sim, steps, **errors))
         elif scene == "b":
             w, h = cn.PULSE_BLOCK
             sim = cn.pulse_run_duration()
-            traj = timed(lambda: module.pulse_sliding(w, h, cn.PULSE_FRICTION, cn.PULSE_ACCEL, cn.PULSE_DURATION,
-                                                      dt, sim), repeats)
+            traj = timed(functools.partial(module.pulse_sliding, w, h, cn.PULSE_FRICTION, cn.PULSE_ACCEL,
+                                           cn.PULSE_DURATION, dt, sim), repeats)
             rows.append(_row(engine, scene, math.nan, dt, math.nan, traj.wall_seconds, sim, traj.steps,
                              error=cn.pulse_error(traj)))
         else:
             args = (cn.COLUMN_DRUMS, cn.COLUMN_WIDTH, cn.COLUMN_HEIGHT, cn.COLUMN_FRICTION, *record)
-            run = timed(lambda: module.column_record(*args, dt, column_duration, sample_every=1e-2), repeats)
+            run = timed(functools.partial(module.column_record, *args, dt, column_duration, sample_every=1e-2), repeats)
             ref = module.column_record(*args, dt / cn.COLUMN_REFERENCE_REFINEMENT, column_duration,
                                        sample_every=1e-2)
             e_rot, e_slide = cn.history_errors(run, ref)
@@ -424,7 +425,7 @@ def plot_work_precision(ds: xr.Dataset, scene: str, path: Path) -> Path:
                     label=f"{engine} (dt {e.dt.min().item():.0e}-{e.dt.max().item():.0e} s)")
     o = sub.where(sub.engine == "ours", drop=True)
     k_values = np.unique(o.k_n.values) if o.run.size else []
-    for v, variant in enumerate(ours.VARIANTS):
+    for variant in ours.VARIANTS:
         marker, ls = VARIANT_STYLES[variant]
         for c, k_n in enumerate(k_values):
             e = o.where((o.k_n == k_n) & (o.contact == variant), drop=True)

@@ -98,7 +98,7 @@ def pack_scene(scene: Scene) -> SceneArrays:
         key = ("column", body.tier, body.column) if body.column >= 0 else ("body", i)
         body_group[i] = groups.setdefault(key, len(groups))
     group_theta_cr = np.empty(len(groups))
-    for key, g in groups.items():
+    for g in groups.values():
         members = np.flatnonzero(body_group == g)
         verts = np.vstack([bodies[i].vertices for i in members])
         width, height = np.ptp(verts, axis=0)

@@ -46,7 +46,7 @@ def _constructor(cls, first: int) -> tuple[str, int]:
     """Source of ``cls(...)`` over leaves first, first + 1, ... of member m; the next free leaf."""
     parts = []
     k = first
-    for name, kind in cls.__annotations__.items():
+    for kind in cls.__annotations__.values():
         if _is_bundle(kind):
             source, k = _constructor(kind, k)
             parts.append(source)

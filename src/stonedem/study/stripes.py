@@ -84,8 +84,8 @@ def _member_table(v, m, c):
     np.logical_or.at(hit, (mi, li), c == 1)
     np.logical_or.at(miss, (mi, li), c == 0)
     if np.any(hit & miss):
-        k, l = np.argwhere(hit & miss)[0]
-        raise InputError("collapsed", f"member {member_ids[k]} both collapsed and stood at {levels[l]:g}",
+        k, level = np.argwhere(hit & miss)[0]
+        raise InputError("collapsed", f"member {member_ids[k]} both collapsed and stood at {levels[level]:g}",
                          "a member's runs at one value must agree: check the run table")
     return member_ids, levels, ran, hit
 

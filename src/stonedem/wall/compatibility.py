@@ -29,8 +29,8 @@ def interface_matrix(dy1: float, dy2: float) -> np.ndarray:
     """The 6 x 12 H of manuscript Eq. A2-A3 for centres dy = (dy1, dy2) apart."""
     Di = 0.5 * np.array([[0, 0, -dy2], [0, 0, dy1], [dy2, -dy1, 0]])
     Dj = 0.5 * np.array([[0, 0, dy2], [0, 0, -dy1], [-dy2, dy1, 0]])
-    I, Z = np.eye(3), np.zeros((3, 3))
-    return np.block([[-I, -Di, I, Dj], [Z, -I, Z, I]])
+    eye, zero = np.eye(3), np.zeros((3, 3))
+    return np.block([[-eye, -Di, eye, Dj], [zero, -eye, zero, eye]])
 
 
 def block_blocks(panel: Panel):

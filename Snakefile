@@ -26,6 +26,7 @@ include: "workflow/rules/ensemble.smk"
 
 
 rule all:
+    default_target: True
     input:
         expand("records/{name}.nc", name=RECORD_NAMES),
         expand("results/cubes/{study}.nc", study=STUDIES),
@@ -33,4 +34,3 @@ rule all:
         expand("results/figures/{figure}.png", figure=FIGURE_NAMES),
         VALIDATION_TARGETS,
         WALL_OUTPUTS,
-    default_target: True

@@ -22,9 +22,25 @@ SECTIONS = {
     ("ensemble_run2.txt", "ens32"): ("member index fastest (F order)", "two roundings", 32),
 }
 # rows whose timing is known to hold something else (the folder's README says how it is known)
-NOTES = {("ensemble_run2.txt", "ens64", "gpu", 256): "includes a kernel compile (a one-member warm-up was typed C-ordered)"}
-COLUMNS = ["log", "layout", "multiply_add", "threads_per_block", "backend", "members", "member_steps_per_s",
-           "ns_per_member_step", "note"]
+NOTES = {
+    (
+        "ensemble_run2.txt",
+        "ens64",
+        "gpu",
+        256,
+    ): "includes a kernel compile (a one-member warm-up was typed C-ordered)"
+}
+COLUMNS = [
+    "log",
+    "layout",
+    "multiply_add",
+    "threads_per_block",
+    "backend",
+    "members",
+    "member_steps_per_s",
+    "ns_per_member_step",
+    "note",
+]
 
 
 def rows(folder: Path) -> list[dict]:
@@ -39,15 +55,35 @@ def rows(folder: Path) -> list[dict]:
             if match and (marker is None or section == marker):
                 backend, members, rate, ns = match.groups()
                 note = NOTES.get((log, marker, backend, int(members)), "")
-                out.append(dict(zip(COLUMNS, (log, layout, fma if backend == "gpu" else "", block if backend == "gpu" else "",
-                                              backend, int(members), float(rate), float(ns), note))))
+                out.append(
+                    dict(
+                        zip(
+                            COLUMNS,
+                            (
+                                log,
+                                layout,
+                                fma if backend == "gpu" else "",
+                                block if backend == "gpu" else "",
+                                backend,
+                                int(members),
+                                float(rate),
+                                float(ns),
+                                note,
+                            ),
+                        )
+                    )
+                )
     return out
 
 
 def build_parser():
     parser = options.parser("python benchmarks/device_logs.py", __doc__)
-    parser.add_argument("--folder", type=options.path_arg, default=Path("benchmarks/device/h100-2026-11-27"),
-                        help="a run's folder of benchmarks/device (it gets ensemble.csv)")
+    parser.add_argument(
+        "--folder",
+        type=options.path_arg,
+        default=Path("benchmarks/device/h100-2026-11-27"),
+        help="a run's folder of benchmarks/device (it gets ensemble.csv)",
+    )
     return parser
 
 

@@ -41,32 +41,43 @@ def synthetic_record(path: Path, duration=20.0, dt=0.01, seed=1) -> Path:
     accel = signal * envelope
     accel *= 3.0 / np.abs(accel).max()
     header = "synthetic accelerogram for benchmarks: band-limited (0.5-8 Hz) noise, seed 1\ntime [s], acceleration [m/s2]"
-    return write_atomically(path, lambda tmp: np.savetxt(tmp, np.column_stack([t, accel]), header=header, fmt="%.6f"))
+    return write_atomically(
+        path, lambda tmp: np.savetxt(tmp, np.column_stack([t, accel]), header=header, fmt="%.6f")
+    )
 
 
 def column_scene(dt=None, duration=20.0):
-    return scene_from_dict({
-        "name": "bench_b_8_drum_column",
-        "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
-        "friction": 0.5,
-        "contact": {"k_n": 1.0e9, "c_n": 1.0e4},
-        "excitation": {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25},
-        "solver": {"duration": duration, "dt": dt if dt else "auto", "stop_on_collapse": False},
-        "output": {"every": 0.01},
-    })
+    return scene_from_dict(
+        {
+            "name": "bench_b_8_drum_column",
+            "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
+            "friction": 0.5,
+            "contact": {"k_n": 1.0e9, "c_n": 1.0e4},
+            "excitation": {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25},
+            "solver": {"duration": duration, "dt": dt if dt else "auto", "stop_on_collapse": False},
+            "output": {"every": 0.01},
+        }
+    )
 
 
 def colonnade_scene(record: Path, duration=20.0):
-    return scene_from_dict({
-        "name": "bench_c_colonnade",
-        "structure": {"kind": "colonnade", "n_columns": 5, "n_drums": 3, "epistyle_type": "a",
-                      "capital": {"height": 0.6, "width": 1.4}},
-        "friction": 0.5,
-        "contact": {"k_n": 1.0e9, "c_n": 1.0e4},
-        "excitation": {"kind": "record", "file": str(record), "scale": 1.0},
-        "solver": {"duration": duration, "dt": "auto", "stop_on_collapse": False},
-        "output": {"every": 0.01},
-    })
+    return scene_from_dict(
+        {
+            "name": "bench_c_colonnade",
+            "structure": {
+                "kind": "colonnade",
+                "n_columns": 5,
+                "n_drums": 3,
+                "epistyle_type": "a",
+                "capital": {"height": 0.6, "width": 1.4},
+            },
+            "friction": 0.5,
+            "contact": {"k_n": 1.0e9, "c_n": 1.0e4},
+            "excitation": {"kind": "record", "file": str(record), "scale": 1.0},
+            "solver": {"duration": duration, "dt": "auto", "stop_on_collapse": False},
+            "output": {"every": 0.01},
+        }
+    )
 
 
 def timed(scene):
@@ -90,10 +101,12 @@ def response(scene, result):
     drums = slice(1, None)
     rocking = np.abs(result.theta[:, drums]).mean(axis=1)
     collapsed = result.collapse_sample >= 0
-    return {"collapsed": float(collapsed),
-            "max_rocking_first_2s": float(rocking[first].max()),
-            "max_top_rotation_first_2s": float(np.abs(result.theta[first, -1]).max()),
-            "collapse_time": float(result.time[result.collapse_sample]) if collapsed else float("nan")}
+    return {
+        "collapsed": float(collapsed),
+        "max_rocking_first_2s": float(rocking[first].max()),
+        "max_top_rotation_first_2s": float(np.abs(result.theta[first, -1]).max()),
+        "collapse_time": float(result.time[result.collapse_sample]) if collapsed else float("nan"),
+    }
 
 
 OUTPUTS = ("synthetic_record_20s.txt", "engine_speed.nc", "engine_speed.csv")
@@ -102,15 +115,23 @@ SCENE_A = ROOT / "tests" / "data" / "scenes" / "rocking_block.yaml"
 
 def build_parser():
     parser = options.parser("python benchmarks/engine_speed.py", __doc__)
-    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results" / "bench",
-                        help="output folder (writes " + ", ".join(OUTPUTS) + ")")
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=ROOT / "results" / "bench",
+        help="output folder (writes " + ", ".join(OUTPUTS) + ")",
+    )
     return parser
 
 
 def check_args(args) -> Path:
     """The output folder, or an InputError before anything runs."""
     out = options.output_folder(args.out, "--out", files=OUTPUTS)
-    options.input_file(SCENE_A, "scene (a)", "scene file (tests/data/scenes/rocking_block.yaml of a source checkout)")
+    options.input_file(
+        SCENE_A,
+        "scene (a)",
+        "scene file (tests/data/scenes/rocking_block.yaml of a source checkout)",
+    )
     return out
 
 
@@ -130,13 +151,24 @@ def benchmark(out: Path) -> int:
     rows = []
     for name, scene in scenes.items():
         result, total, contacts, ns = timed(scene)
-        rows.append(dict(scene=name, n_body=len(scene.bodies), dt=result.dt,
-                         steps=result.steps_run, mean_contacts=contacts, ns_per_contact_step=ns,
-                         kernel_wall=result.wall_seconds, total_wall=total,
-                         wall_per_sim_second=result.wall_seconds / scene.duration))
-        print(f"{name:28s} bodies {len(scene.bodies):3d}  dt {result.dt:.3g} s  steps {result.steps_run:8d}  "
-              f"contacts {contacts:5.1f}  {ns:6.1f} ns/contact/step  kernel {result.wall_seconds:6.2f} s  "
-              f"total {total:6.2f} s  {result.wall_seconds / scene.duration:.4f} wall s per sim s")
+        rows.append(
+            dict(
+                scene=name,
+                n_body=len(scene.bodies),
+                dt=result.dt,
+                steps=result.steps_run,
+                mean_contacts=contacts,
+                ns_per_contact_step=ns,
+                kernel_wall=result.wall_seconds,
+                total_wall=total,
+                wall_per_sim_second=result.wall_seconds / scene.duration,
+            )
+        )
+        print(
+            f"{name:28s} bodies {len(scene.bodies):3d}  dt {result.dt:.3g} s  steps {result.steps_run:8d}  "
+            f"contacts {contacts:5.1f}  {ns:6.1f} ns/contact/step  kernel {result.wall_seconds:6.2f} s  "
+            f"total {total:6.2f} s  {result.wall_seconds / scene.duration:.4f} wall s per sim s"
+        )
     # (b) at dt/2: how much does the answer move?
     base = simulate(scenes["b_8_drum_column_harmonic"])
     half = simulate(column_scene(dt=base.dt / 2))
@@ -146,22 +178,35 @@ def benchmark(out: Path) -> int:
     for k in r1:
         print(f"  (b) {k:26s} dt: {r1[k]:.5g}  dt/2: {r2[k]:.5g}  change {100 * change[k]:.3f} %")
     ds = xr.Dataset(
-        {key: ("scene", np.array([r[key] for r in rows]),
-               {"units": unit, "long_name": long})
-         for key, unit, long in [
-             ("n_body", "1", "number of bodies"), ("dt", "s", "time step"),
-             ("steps", "1", "steps run"), ("mean_contacts", "1", "mean number of contacts"),
-             ("ns_per_contact_step", "ns", "kernel time per contact per step"),
-             ("kernel_wall", "s", "wall time of the compiled loop, warm cache, one core"),
-             ("total_wall", "s", "wall time including set-up"),
-             ("wall_per_sim_second", "1", "kernel wall seconds per simulated second")]},
-        coords={"scene": ("scene", [r["scene"] for r in rows], {"units": "1", "long_name": "benchmark scene"})},
-        attrs={"title": "stonedem engine speed benchmark", "source": code_version(),
-               "machine": f"{os.cpu_count()} cores, {sys.platform}",
-               "b_dt": base.dt,
-               **{f"b_{k}_dt": v for k, v in r1.items()},
-               **{f"b_{k}_dt_half": v for k, v in r2.items()},
-               **{f"b_dt_half_change_{k}": v for k, v in change.items()}},
+        {
+            key: ("scene", np.array([r[key] for r in rows]), {"units": unit, "long_name": long})
+            for key, unit, long in [
+                ("n_body", "1", "number of bodies"),
+                ("dt", "s", "time step"),
+                ("steps", "1", "steps run"),
+                ("mean_contacts", "1", "mean number of contacts"),
+                ("ns_per_contact_step", "ns", "kernel time per contact per step"),
+                ("kernel_wall", "s", "wall time of the compiled loop, warm cache, one core"),
+                ("total_wall", "s", "wall time including set-up"),
+                ("wall_per_sim_second", "1", "kernel wall seconds per simulated second"),
+            ]
+        },
+        coords={
+            "scene": (
+                "scene",
+                [r["scene"] for r in rows],
+                {"units": "1", "long_name": "benchmark scene"},
+            )
+        },
+        attrs={
+            "title": "stonedem engine speed benchmark",
+            "source": code_version(),
+            "machine": f"{os.cpu_count()} cores, {sys.platform}",
+            "b_dt": base.dt,
+            **{f"b_{k}_dt": v for k, v in r1.items()},
+            **{f"b_{k}_dt_half": v for k, v in r2.items()},
+            **{f"b_dt_half_change_{k}": v for k, v in change.items()},
+        },
     )
     write_dataset(ds, out / "engine_speed.nc")
     options.write_text(out / "engine_speed.csv", ds.to_dataframe().to_csv())

@@ -76,6 +76,7 @@ LAYER_B_SECONDS = 0.5  # [s] the runner's layer B horizon (stonedem.study.ensemb
 
 # --- the change, in the scene every worker builds -------------------------------------------
 
+
 def scaled_motion(motion, factor: float):
     """A BaseMotion x ``factor``: displacement, velocity and acceleration (every kind is linear
     in params[0], a table in its three columns: stonedem.kernels.excitation.base_motion)."""
@@ -84,8 +85,12 @@ def scaled_motion(motion, factor: float):
     if motion.kind == kx.KIND_NONE:
         return motion
     if motion.kind == kx.KIND_TABLE:
-        return dataclasses.replace(motion, table_accel=motion.table_accel * factor,
-                                   table_vel=motion.table_vel * factor, table_disp=motion.table_disp * factor)
+        return dataclasses.replace(
+            motion,
+            table_accel=motion.table_accel * factor,
+            table_vel=motion.table_vel * factor,
+            table_disp=motion.table_disp * factor,
+        )
     params = motion.params.copy()
     params[0] *= factor  # amplitude, pulse height or ramp rate
     return dataclasses.replace(motion, params=params)
@@ -96,14 +101,23 @@ def changed_scene(scene, change: dict):
     {"friction": f} every friction coefficient (the scene's, each body's, each pair's)."""
     if "motion" in change:
         f = change["motion"]
-        scene = dataclasses.replace(scene, horizontal=scaled_motion(scene.horizontal, f),
-                                    vertical=scaled_motion(scene.vertical, f))
+        scene = dataclasses.replace(
+            scene,
+            horizontal=scaled_motion(scene.horizontal, f),
+            vertical=scaled_motion(scene.vertical, f),
+        )
     if "friction" in change:
         f = change["friction"]
-        bodies = tuple(b if b.friction is None else dataclasses.replace(b, friction=b.friction * f)
-                       for b in scene.bodies)
-        scene = dataclasses.replace(scene, friction=scene.friction * f, bodies=bodies,
-                                    pair_friction={k: v * f for k, v in scene.pair_friction.items()})
+        bodies = tuple(
+            b if b.friction is None else dataclasses.replace(b, friction=b.friction * f)
+            for b in scene.bodies
+        )
+        scene = dataclasses.replace(
+            scene,
+            friction=scene.friction * f,
+            bodies=bodies,
+            pair_friction={k: v * f for k, v in scene.pair_friction.items()},
+        )
     return scene
 
 
@@ -113,7 +127,9 @@ def parse_change(text: str) -> dict:
     for item in filter(None, (text or "").split(",")):
         key, _, value = item.partition("=")
         if key not in ("motion", "friction"):
-            raise InputError(CHANGE_VARIABLE, f"unknown change {key!r}", "give motion=F or friction=F")
+            raise InputError(
+                CHANGE_VARIABLE, f"unknown change {key!r}", "give motion=F or friction=F"
+            )
         change[key] = float(value)
     return change
 
@@ -146,6 +162,7 @@ if os.environ.get(CHANGE_VARIABLE):  # this process is a worker of a shift or fr
 
 # --- draws -------------------------------------------------------------------------------------
 
+
 def draw_members(first_fresh: int, d: int) -> list[int]:
     """Members j of draw d: J + 4d .. J + 4d + 3, J one past the baseline's last member."""
     return list(range(first_fresh + MEMBERS * d, first_fresh + MEMBERS * (d + 1)))
@@ -166,8 +183,12 @@ def usable_draw(path: Path, kind: str, d: int, members: list[int], baseline: xr.
         raise
     except Exception:  # noqa: BLE001 - a damaged or foreign file is made again
         return False
-    return (attrs.get("calibration_kind") == kind and int(attrs.get("calibration_draw", -1)) == d
-            and found == members and attrs.get("calibration_baseline") == baseline_key(baseline))
+    return (
+        attrs.get("calibration_kind") == kind
+        and int(attrs.get("calibration_draw", -1)) == d
+        and found == members
+        and attrs.get("calibration_baseline") == baseline_key(baseline)
+    )
 
 
 def baseline_key(baseline: xr.Dataset) -> str:
@@ -187,28 +208,49 @@ def make_candidate(plan: dict, kind: str, d: int, members: list[int], path: Path
     os.environ[CHANGE_VARIABLE] = ",".join(f"{k}={v!r}" for k, v in change.items())  # the workers'
     install_change(change)  # this process's (--jobs 1)
     try:
-        results = ensemble.run_members(plan["cases"], plan["systems"], members, plan["jobs"],
-                                       perturbation="tilt" if kind == "tilt" else "stiffness",
-                                       label=f"{kind} {d} member")
+        results = ensemble.run_members(
+            plan["cases"],
+            plan["systems"],
+            members,
+            plan["jobs"],
+            perturbation="tilt" if kind == "tilt" else "stiffness",
+            label=f"{kind} {d} member",
+        )
     finally:
         os.environ.pop(CHANGE_VARIABLE, None)
         install_change({})
-    ds = ensemble.ensemble_dataset(plan["cases"], plan["systems"], results, "none", attrs={
-        "config": plan["baseline"].attrs.get("config", ""), "config_digest": plan["baseline"].attrs.get("config_digest", ""),
-        "command": f"benchmarks/equivalence_calibration.py, draw {kind} {d}"})
+    ds = ensemble.ensemble_dataset(
+        plan["cases"],
+        plan["systems"],
+        results,
+        "none",
+        attrs={
+            "config": plan["baseline"].attrs.get("config", ""),
+            "config_digest": plan["baseline"].attrs.get("config_digest", ""),
+            "command": f"benchmarks/equivalence_calibration.py, draw {kind} {d}",
+        },
+    )
     if kind in ("null", "edge_normal"):
         if "check" in plan["baseline"].dims:
             quick = plan["baseline"].attrs.get("checks") == "quick"
-            ds = xr.merge([ds, exact_checks.layer_a(quick=quick, floor_members=(), member=members[0])],
-                          combine_attrs="override")
+            ds = xr.merge(
+                [ds, exact_checks.layer_a(quick=quick, floor_members=(), member=members[0])],
+                combine_attrs="override",
+            )
         if "scene" in plan["baseline"].dims:
-            ds = xr.merge([ds, exact_checks.layer_b(LAYER_B_SECONDS, floor_members=(), member=members[0])],
-                          combine_attrs="override")
+            ds = xr.merge(
+                [ds, exact_checks.layer_b(LAYER_B_SECONDS, floor_members=(), member=members[0])],
+                combine_attrs="override",
+            )
     wall = time.perf_counter() - start
-    ds.attrs.update(calibration_kind=kind, calibration_draw=int(d), calibration_baseline=baseline_key(plan["baseline"]),
-                    calibration_change=", ".join(f"{k} x {v:g}" for k, v in change.items()) or "none",
-                    wall_seconds=wall, title=f"equivalence calibration: {kind} draw {d}, members {members[0]}.."
-                                             f"{members[-1]}")
+    ds.attrs.update(
+        calibration_kind=kind,
+        calibration_draw=int(d),
+        calibration_baseline=baseline_key(plan["baseline"]),
+        calibration_change=", ".join(f"{k} x {v:g}" for k, v in change.items()) or "none",
+        wall_seconds=wall,
+        title=f"equivalence calibration: {kind} draw {d}, members {members[0]}..{members[-1]}",
+    )
     write_dataset(ds, path)
     return wall
 
@@ -218,36 +260,65 @@ def edge_normal_tree(commit: str) -> Path:
     tree = Path("/tmp") / f"stonedem-edge-normal-{commit[:10]}"
     git = ["git", "-C", str(ROOT)]
     if tree.is_dir():
-        applied = subprocess.run(["git", "-C", str(tree), "apply", "--reverse", "--check", str(PATCH)],
-                                 capture_output=True).returncode == 0
+        applied = (
+            subprocess.run(
+                ["git", "-C", str(tree), "apply", "--reverse", "--check", str(PATCH)],
+                capture_output=True,
+            ).returncode
+            == 0
+        )
         if applied:
             return tree
         subprocess.run([*git, "worktree", "remove", "--force", str(tree)], capture_output=True)
-    subprocess.run([*git, "worktree", "add", "--detach", str(tree), commit], check=True, capture_output=True)
-    patched = subprocess.run(["git", "-C", str(tree), "apply", str(PATCH)], capture_output=True, text=True)
+    subprocess.run(
+        [*git, "worktree", "add", "--detach", str(tree), commit], check=True, capture_output=True
+    )
+    patched = subprocess.run(
+        ["git", "-C", str(tree), "apply", str(PATCH)], capture_output=True, text=True
+    )
     if patched.returncode != 0:
-        raise InputError("--only edge_normal", f"{PATCH.name} does not apply to {commit[:10]} "
-                         f"({patched.stderr.strip().splitlines()[0] if patched.stderr.strip() else 'git apply failed'})",
-                         "rebase the patch on the current kernels (git diff ba4d380 ba4d380^ -- src tests/kernels)")
+        raise InputError(
+            "--only edge_normal",
+            f"{PATCH.name} does not apply to {commit[:10]} "
+            f"({patched.stderr.strip().splitlines()[0] if patched.stderr.strip() else 'git apply failed'})",
+            "rebase the patch on the current kernels (git diff ba4d380 ba4d380^ -- src tests/kernels)",
+        )
     return tree
 
 
 def run_edge_normal(plan: dict, members: list[int], path: Path) -> float:
     """The edge_normal draw, made by this script in a child process on the patched worktree's code."""
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], check=True, capture_output=True,
-                            text=True).stdout.strip()
+    commit = subprocess.run(
+        ["git", "-C", str(ROOT), "rev-parse", "HEAD"], check=True, capture_output=True, text=True
+    ).stdout.strip()
     tree = edge_normal_tree(commit)
     env = dict(os.environ, PYTHONPATH=str(tree / "src"), XDG_CACHE_HOME=str(tree / ".cache"))
     env.pop("NUMBA_CACHE_DIR", None)  # the patched kernels compile into their own cache
     env.pop(CHANGE_VARIABLE, None)
     start = time.perf_counter()
-    argv = [sys.executable, str(Path(__file__).resolve()), "--baseline", str(plan["baseline_path"]),
-            "--config", str(plan["config"]), "--jobs", str(plan["jobs"]), "--work", str(plan["work"]),
-            "--make-draw", "edge_normal", "--out", str(plan["out"])]
+    argv = [
+        sys.executable,
+        str(Path(__file__).resolve()),
+        "--baseline",
+        str(plan["baseline_path"]),
+        "--config",
+        str(plan["config"]),
+        "--jobs",
+        str(plan["jobs"]),
+        "--work",
+        str(plan["work"]),
+        "--make-draw",
+        "edge_normal",
+        "--out",
+        str(plan["out"]),
+    ]
     status = subprocess.run(argv, cwd=ROOT, env=env).returncode
     if status != 0 or not path.is_file():
-        raise InputError("--only edge_normal", f"the patched worktree {tree} could not make the draw (exit {status})",
-                         "see the lines above; the patch may no longer fit the kernels")
+        raise InputError(
+            "--only edge_normal",
+            f"the patched worktree {tree} could not make the draw (exit {status})",
+            "see the lines above; the patch may no longer fit the kernels",
+        )
     return time.perf_counter() - start
 
 
@@ -257,8 +328,11 @@ def flipped(candidate: xr.Dataset, baseline: xr.Dataset, seed: int) -> tuple[xr.
     base = baseline.collapsed.transpose("case", "member").values
     unanimous = np.flatnonzero(base.min(axis=1) == base.max(axis=1))
     if unanimous.size < N_FLIPS:
-        raise InputError("--baseline", f"only {unanimous.size} grid cases every member agrees on",
-                         f"give a baseline with at least {N_FLIPS} such cases")
+        raise InputError(
+            "--baseline",
+            f"only {unanimous.size} grid cases every member agrees on",
+            f"give a baseline with at least {N_FLIPS} such cases",
+        )
     chosen = np.sort(np.random.default_rng(seed).choice(unanimous, N_FLIPS, replace=False))
     names = [str(baseline.case.values[k]) for k in chosen]
     out = candidate.copy(deep=True)
@@ -269,16 +343,21 @@ def flipped(candidate: xr.Dataset, baseline: xr.Dataset, seed: int) -> tuple[xr.
 
 # --- the judgements ----------------------------------------------------------------------------
 
+
 def judged(baseline, candidate, layers, seed: int, n_permutations: int) -> dict:
     """One draw's row: layer verdicts, the test's numbers, rejected or not."""
     from stonedem.study.equivalence import judge
 
     j = judge(baseline, candidate, layers=layers, n_permutations=n_permutations, seed=seed)
     verdict = dict(zip([str(v) for v in j.layer.values], [str(v) for v in j.verdict.values]))
-    return {"verdict_a": verdict["A"], "verdict_b": verdict["B"], "verdict_c": verdict["C"],
-            "rejected": int(j.attrs["equivalent"] != "yes"),
-            **{k: float(j[k]) for k in ("p_v", "p_t", "s_v", "s_t")},
-            "unanimous_flips": int(j.unanimous_flip.sum()) if "unanimous_flip" in j else 0}
+    return {
+        "verdict_a": verdict["A"],
+        "verdict_b": verdict["B"],
+        "verdict_c": verdict["C"],
+        "rejected": int(j.attrs["equivalent"] != "yes"),
+        **{k: float(j[k]) for k in ("p_v", "p_t", "s_v", "s_t")},
+        "unanimous_flips": int(j.unanimous_flip.sum()) if "unanimous_flip" in j else 0,
+    }
 
 
 def binomial_interval(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
@@ -296,12 +375,32 @@ def binomial_interval(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[f
 # --- the rates resampled from the runs on disk (no runs) -----------------------------------------
 
 RESAMPLED = {  # estimate -> (the candidate's pool, the baseline, flips, what it measures)
-    "false_alarm": ("null", "stored", False, "false alarms: 4 of the fresh null members against the stored baseline"),
-    "false_alarm_pooled": ("null", "pooled", False, "false alarms: 20 + 4 distinct of the baseline and fresh null "
-                                                    "members (any baseline, not only the stored one)"),
-    "power_shift": ("shift", "stored", False, "power vs +2 %: 4 of the shift members against the stored baseline"),
-    "power_flips": ("null", "stored", True, f"power vs {N_FLIPS} flips: 4 of the fresh null members, "
-                                            f"{N_FLIPS} unanimous verdicts flipped, against the stored baseline"),
+    "false_alarm": (
+        "null",
+        "stored",
+        False,
+        "false alarms: 4 of the fresh null members against the stored baseline",
+    ),
+    "false_alarm_pooled": (
+        "null",
+        "pooled",
+        False,
+        "false alarms: 20 + 4 distinct of the baseline and fresh null "
+        "members (any baseline, not only the stored one)",
+    ),
+    "power_shift": (
+        "shift",
+        "stored",
+        False,
+        "power vs +2 %: 4 of the shift members against the stored baseline",
+    ),
+    "power_flips": (
+        "null",
+        "stored",
+        True,
+        f"power vs {N_FLIPS} flips: 4 of the fresh null members, "
+        f"{N_FLIPS} unanimous verdicts flipped, against the stored baseline",
+    ),
 }
 
 
@@ -312,18 +411,28 @@ def runs_of(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     return _stack(ds, "collapsed", "case"), _stack(ds, "threshold", "system")
 
 
-def pooled_runs(baseline: xr.Dataset, candidates: list[xr.Dataset]) -> tuple[np.ndarray, np.ndarray]:
+def pooled_runs(
+    baseline: xr.Dataset, candidates: list[xr.Dataset]
+) -> tuple[np.ndarray, np.ndarray]:
     """Every candidate's runs side by side, in the baseline's case and system order."""
     from stonedem.study.equivalence import matched
 
     pairs = [runs_of(matched(baseline, c)) for c in candidates]
     if not pairs:
         return np.zeros((baseline.sizes["case"], 0)), np.zeros((baseline.sizes.get("system", 0), 0))
-    return np.concatenate([v for v, _ in pairs], axis=1), np.concatenate([t for _, t in pairs], axis=1)
+    return np.concatenate([v for v, _ in pairs], axis=1), np.concatenate(
+        [t for _, t in pairs], axis=1
+    )
 
 
-def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[xr.Dataset], resamples: int,
-                    n_permutations: int, seed: int) -> xr.Dataset:
+def resampled_rates(
+    baseline: xr.Dataset,
+    nulls: list[xr.Dataset],
+    shifts: list[xr.Dataset],
+    resamples: int,
+    n_permutations: int,
+    seed: int,
+) -> xr.Dataset:
     """Each :data:`RESAMPLED` estimate's rejection rate over ``resamples`` random picks of runs
     already made (no new run): the draws' rates bound a 2 % false-alarm rate only loosely (0 of
     10 draws: <= 31 % at 95 %); members picked again and again are the same runs, so these are
@@ -332,7 +441,11 @@ def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[
 
     base_v, base_t = runs_of(baseline)
     pools = {"null": pooled_runs(baseline, nulls), "shift": pooled_runs(baseline, shifts)}
-    tolerance = np.asarray(baseline.search_tolerance.values, dtype=float) if "system" in baseline.dims else np.zeros(0)
+    tolerance = (
+        np.asarray(baseline.search_tolerance.values, dtype=float)
+        if "system" in baseline.dims
+        else np.zeros(0)
+    )
     unanimous = np.flatnonzero(base_v.min(axis=1) == base_v.max(axis=1))
     rng = np.random.default_rng(seed)
     names = [n for n, (pool, *_) in RESAMPLED.items() if pools[pool][0].shape[1] >= MEMBERS]
@@ -343,7 +456,10 @@ def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[
         pool, against, flips, _ = RESAMPLED[name]
         pool_v, pool_t = pools[pool]
         if against == "pooled":
-            pool_v, pool_t = np.concatenate([base_v, pool_v], axis=1), np.concatenate([base_t, pool_t], axis=1)
+            pool_v, pool_t = (
+                np.concatenate([base_v, pool_v], axis=1),
+                np.concatenate([base_t, pool_t], axis=1),
+            )
         for r in range(resamples):
             if against == "pooled":
                 picked = rng.choice(pool_v.shape[1], base_v.shape[1] + MEMBERS, replace=False)
@@ -356,22 +472,61 @@ def resampled_rates(baseline: xr.Dataset, nulls: list[xr.Dataset], shifts: list[
             if flips:
                 chosen = rng.choice(unanimous, N_FLIPS, replace=False)
                 c_v[chosen, :] = 1.0 - base_v[chosen, :1]
-            result = permutation_test(b_v, b_t, c_v, c_t, tolerance, n_permutations=n_permutations,
-                                      seed=int(rng.integers(2**32)))
+            result = permutation_test(
+                b_v,
+                b_t,
+                c_v,
+                c_t,
+                tolerance,
+                n_permutations=n_permutations,
+                seed=int(rng.integers(2**32)),
+            )
             p_v[e, r], p_t[e, r], rejected[e, r] = result["p_v"], result["p_t"], result["reject"]
-    pool_sizes = [pools[RESAMPLED[n][0]][0].shape[1] + (base_v.shape[1] if RESAMPLED[n][1] == "pooled" else 0)
-                  for n in names]
+    pool_sizes = [
+        pools[RESAMPLED[n][0]][0].shape[1] + (base_v.shape[1] if RESAMPLED[n][1] == "pooled" else 0)
+        for n in names
+    ]
     return xr.Dataset(
-        {"resampled_rate": ("estimate", rejected.mean(axis=1) if resamples else np.full(len(names), np.nan),
-                            {"units": "1", "long_name": "fraction of the resamples the test rejects"}),
-         "resampled_pool": ("estimate", np.array(pool_sizes, dtype=np.int32),
-                            {"units": "1", "long_name": "runs the resamples are picked from"}),
-         "resampled_p_v": (("estimate", "resample"), p_v, {"units": "1", "long_name": "permutation p of S_v"}),
-         "resampled_p_t": (("estimate", "resample"), p_t, {"units": "1", "long_name": "permutation p of S_T"}),
-         "resampled_what": ("estimate", np.array([RESAMPLED[n][3] for n in names], dtype=object),
-                            {"long_name": "what the estimate measures, and how its resamples are picked"})},
-        coords={"estimate": ("estimate", np.array(names, dtype=object), {"long_name": "resampled estimate"}),
-                "resample": ("resample", np.arange(resamples, dtype=np.int32), {"long_name": "resample index"})})
+        {
+            "resampled_rate": (
+                "estimate",
+                rejected.mean(axis=1) if resamples else np.full(len(names), np.nan),
+                {"units": "1", "long_name": "fraction of the resamples the test rejects"},
+            ),
+            "resampled_pool": (
+                "estimate",
+                np.array(pool_sizes, dtype=np.int32),
+                {"units": "1", "long_name": "runs the resamples are picked from"},
+            ),
+            "resampled_p_v": (
+                ("estimate", "resample"),
+                p_v,
+                {"units": "1", "long_name": "permutation p of S_v"},
+            ),
+            "resampled_p_t": (
+                ("estimate", "resample"),
+                p_t,
+                {"units": "1", "long_name": "permutation p of S_T"},
+            ),
+            "resampled_what": (
+                "estimate",
+                np.array([RESAMPLED[n][3] for n in names], dtype=object),
+                {"long_name": "what the estimate measures, and how its resamples are picked"},
+            ),
+        },
+        coords={
+            "estimate": (
+                "estimate",
+                np.array(names, dtype=object),
+                {"long_name": "resampled estimate"},
+            ),
+            "resample": (
+                "resample",
+                np.arange(resamples, dtype=np.int32),
+                {"long_name": "resample index"},
+            ),
+        },
+    )
 
 
 ROW_VARIABLES = {  # name -> (units (None: text), long name)
@@ -390,7 +545,10 @@ ROW_VARIABLES = {  # name -> (units (None: text), long name)
     "unanimous_flips": ("1", "candidate flips of cases every baseline member agrees on"),
     "flipped_cases": (None, "flips draws: the cases whose verdicts were flipped"),
     "candidate_source": (None, "code version the candidate ran (stonedem.io.netcdf.code_version)"),
-    "candidate_seconds": ("s", "wall time of making the candidate's runs and checks (flips: 0, no runs)"),
+    "candidate_seconds": (
+        "s",
+        "wall time of making the candidate's runs and checks (flips: 0, no runs)",
+    ),
 }
 
 
@@ -400,33 +558,68 @@ def calibration_dataset(rows: list[dict], attrs: dict) -> xr.Dataset:
     for name, (units, long_name) in ROW_VARIABLES.items():
         values = [r.get(name) for r in rows]
         if units is None:
-            data[name] = ("draw", np.array(["" if v is None else str(v) for v in values], dtype=object),
-                          {"long_name": long_name})
+            data[name] = (
+                "draw",
+                np.array(["" if v is None else str(v) for v in values], dtype=object),
+                {"long_name": long_name},
+            )
         else:
-            kind = np.int32 if name in ("draw_index", "first_member", "members", "rejected", "unanimous_flips") else float
-            data[name] = ("draw", np.array([np.nan if v is None else v for v in values], dtype=kind),
-                          {"units": units, "long_name": long_name})
-    return xr.Dataset(data, coords={"draw": ("draw", names, {"long_name": "kind/d of a draw"})}, attrs=attrs)
+            kind = (
+                np.int32
+                if name in ("draw_index", "first_member", "members", "rejected", "unanimous_flips")
+                else float
+            )
+            data[name] = (
+                "draw",
+                np.array([np.nan if v is None else v for v in values], dtype=kind),
+                {"units": units, "long_name": long_name},
+            )
+    return xr.Dataset(
+        data, coords={"draw": ("draw", names, {"long_name": "kind/d of a draw"})}, attrs=attrs
+    )
 
 
 def summary_attrs(rows: list[dict]) -> dict:
     """The rates (with Clopper-Pearson 95 % intervals) and the report-only draws' numbers."""
     attrs = {}
-    for kind, name in (("null", "false_alarm_rate"), ("shift", "power_shift"), ("flips", "power_flips")):
+    for kind, name in (
+        ("null", "false_alarm_rate"),
+        ("shift", "power_shift"),
+        ("flips", "power_flips"),
+    ):
         picked = [r for r in rows if r["draw_kind"] == kind]
         k, n = sum(r["rejected"] for r in picked), len(picked)
         low, high = binomial_interval(k, n)
-        attrs.update({name: k / n if n else math.nan, f"{name}_low": low, f"{name}_high": high,
-                      f"{name}_draws": n, f"{name}_rejections": k, f"{name}_target": TARGETS[name]})
+        attrs.update(
+            {
+                name: k / n if n else math.nan,
+                f"{name}_low": low,
+                f"{name}_high": high,
+                f"{name}_draws": n,
+                f"{name}_rejections": k,
+                f"{name}_target": TARGETS[name],
+            }
+        )
     for kind in SINGLE:
         picked = [r for r in rows if r["draw_kind"] == kind]
         if picked:
-            attrs.update({f"{kind}_p_v": picked[0]["p_v"], f"{kind}_p_t": picked[0]["p_t"],
-                          f"{kind}_rejected": picked[0]["rejected"],
-                          f"{kind}_verdicts": " ".join(picked[0][f"verdict_{x}"] for x in "abc")})
+            attrs.update(
+                {
+                    f"{kind}_p_v": picked[0]["p_v"],
+                    f"{kind}_p_t": picked[0]["p_t"],
+                    f"{kind}_rejected": picked[0]["rejected"],
+                    f"{kind}_verdicts": " ".join(picked[0][f"verdict_{x}"] for x in "abc"),
+                }
+            )
         else:  # not drawn yet (the draws are made over several runs): said so, not left out
-            attrs.update({f"{kind}_p_v": math.nan, f"{kind}_p_t": math.nan, f"{kind}_rejected": "not run yet",
-                          f"{kind}_verdicts": "not run yet"})
+            attrs.update(
+                {
+                    f"{kind}_p_v": math.nan,
+                    f"{kind}_p_t": math.nan,
+                    f"{kind}_rejected": "not run yet",
+                    f"{kind}_verdicts": "not run yet",
+                }
+            )
     return attrs
 
 
@@ -434,49 +627,93 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     lines = []
     for r in range(ds.sizes["draw"]):
         row = ds.isel(draw=r)
-        lines.append(f"  {str(row.draw.values):<14} j {int(row.first_member)}..{int(row.first_member) + int(row.members) - 1}"
-                     f"  A {row.verdict_a.values} B {row.verdict_b.values} C {row.verdict_c.values}"
-                     f"  p_v {float(row.p_v):.3g} p_t {float(row.p_t):.3g}  "
-                     f"{'REJECTED' if int(row.rejected) else 'equivalent'}")
+        lines.append(
+            f"  {str(row.draw.values):<14} j {int(row.first_member)}..{int(row.first_member) + int(row.members) - 1}"
+            f"  A {row.verdict_a.values} B {row.verdict_b.values} C {row.verdict_c.values}"
+            f"  p_v {float(row.p_v):.3g} p_t {float(row.p_t):.3g}  "
+            f"{'REJECTED' if int(row.rejected) else 'equivalent'}"
+        )
     a = ds.attrs
-    for name, what in (("false_alarm_rate", "false alarms"), ("power_shift", "power vs +2 %"),
-                       ("power_flips", f"power vs {N_FLIPS} flips")):
+    for name, what in (
+        ("false_alarm_rate", "false alarms"),
+        ("power_shift", "power vs +2 %"),
+        ("power_flips", f"power vs {N_FLIPS} flips"),
+    ):
         if a[f"{name}_draws"]:
-            lines.append(f"{what}: {a[f'{name}_rejections']}/{a[f'{name}_draws']} = {a[name]:.2f} "
-                         f"(95 % {a[f'{name}_low']:.2f}..{a[f'{name}_high']:.2f}; target "
-                         f"{'<=' if name == 'false_alarm_rate' else '>='} {a[f'{name}_target']:g})")
+            lines.append(
+                f"{what}: {a[f'{name}_rejections']}/{a[f'{name}_draws']} = {a[name]:.2f} "
+                f"(95 % {a[f'{name}_low']:.2f}..{a[f'{name}_high']:.2f}; target "
+                f"{'<=' if name == 'false_alarm_rate' else '>='} {a[f'{name}_target']:g})"
+            )
     if "estimate" in ds.dims:
         for name in ds.estimate.values:
             row = ds.sel(estimate=name)
-            lines.append(f"resampled {name}: {float(row.resampled_rate):.3f} of {ds.sizes['resample']} picks "
-                         f"from {int(row.resampled_pool)} runs")
+            lines.append(
+                f"resampled {name}: {float(row.resampled_rate):.3f} of {ds.sizes['resample']} picks "
+                f"from {int(row.resampled_pool)} runs"
+            )
     for kind in SINGLE:
         if f"{kind}_p_v" in a and a[f"{kind}_verdicts"] != "not run yet":
-            lines.append(f"{kind}: p_v {a[f'{kind}_p_v']:.3g}, p_t {a[f'{kind}_p_t']:.3g}, layers A B C "
-                         f"{a[f'{kind}_verdicts']}: {'rejected' if a[f'{kind}_rejected'] else 'equivalent'}")
+            lines.append(
+                f"{kind}: p_v {a[f'{kind}_p_v']:.3g}, p_t {a[f'{kind}_p_t']:.3g}, layers A B C "
+                f"{a[f'{kind}_verdicts']}: {'rejected' if a[f'{kind}_rejected'] else 'equivalent'}"
+            )
     return lines
 
 
 # --- the command -------------------------------------------------------------------------------
 
+
 def build_parser():
     import argparse
 
     parser = options.parser("python benchmarks/equivalence_calibration.py", __doc__)
-    parser.add_argument("--baseline", type=options.path_arg, required=True, help="the baseline ensemble file")
-    parser.add_argument("--config", type=options.path_arg, default=None,
-                        help="the baseline's config (default: the last file its attrs `config` name)")
-    parser.add_argument("--draws", type=int, default=10, help="D, draws of null, shift and flips (default 10)")
-    parser.add_argument("--only", nargs="+", default=list(KINDS), help=f"kinds to draw, of {' '.join(KINDS)} "
-                        "(default all; the summary covers every draw found in --work)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the CPUs)")
-    parser.add_argument("--permutations", type=int, default=10_000, help="layer C's random assignments (default 10000)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the flips and permutations (default 0)")
-    parser.add_argument("--resamples", type=int, default=RESAMPLES,
-                        help=f"random picks of the runs on disk per resampled rate (default {RESAMPLES}; 0: none)")
-    parser.add_argument("--work", type=options.path_arg, default=WORK, help=f"the draws' files (default {WORK})")
-    parser.add_argument("--out", type=options.path_arg, default=None, help="calibration.nc (default: in --work)")
-    parser.add_argument("--make-draw", default=None, help=argparse.SUPPRESS)  # the edge_normal child
+    parser.add_argument(
+        "--baseline", type=options.path_arg, required=True, help="the baseline ensemble file"
+    )
+    parser.add_argument(
+        "--config",
+        type=options.path_arg,
+        default=None,
+        help="the baseline's config (default: the last file its attrs `config` name)",
+    )
+    parser.add_argument(
+        "--draws", type=int, default=10, help="D, draws of null, shift and flips (default 10)"
+    )
+    parser.add_argument(
+        "--only",
+        nargs="+",
+        default=list(KINDS),
+        help=f"kinds to draw, of {' '.join(KINDS)} "
+        "(default all; the summary covers every draw found in --work)",
+    )
+    parser.add_argument(
+        "--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: the CPUs)"
+    )
+    parser.add_argument(
+        "--permutations",
+        type=int,
+        default=10_000,
+        help="layer C's random assignments (default 10000)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, help="seed of the flips and permutations (default 0)"
+    )
+    parser.add_argument(
+        "--resamples",
+        type=int,
+        default=RESAMPLES,
+        help=f"random picks of the runs on disk per resampled rate (default {RESAMPLES}; 0: none)",
+    )
+    parser.add_argument(
+        "--work", type=options.path_arg, default=WORK, help=f"the draws' files (default {WORK})"
+    )
+    parser.add_argument(
+        "--out", type=options.path_arg, default=None, help="calibration.nc (default: in --work)"
+    )
+    parser.add_argument(
+        "--make-draw", default=None, help=argparse.SUPPRESS
+    )  # the edge_normal child
     return parser
 
 
@@ -487,43 +724,75 @@ def check_args(args) -> dict:
     baseline = read_ensemble(args.baseline, "--baseline")
     draws = options.number(args.draws, "--draws", lo=1, hi=100, whole=True, example="10")
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=256, whole=True, example="2")
-    n_permutations = options.number(args.permutations, "--permutations", lo=200, hi=1_000_000, whole=True,
-                                    example="10000")
+    n_permutations = options.number(
+        args.permutations, "--permutations", lo=200, hi=1_000_000, whole=True, example="10000"
+    )
     seed = options.number(args.seed, "--seed", lo=0, hi=2**32 - 1, whole=True, example="0")
-    resamples = options.number(args.resamples, "--resamples", lo=0, hi=100_000, whole=True, example=str(RESAMPLES))
+    resamples = options.number(
+        args.resamples, "--resamples", lo=0, hi=100_000, whole=True, example=str(RESAMPLES)
+    )
     only = options.chosen(args.only, "--only", KINDS)
     config = args.config
     if config is None:
         named = str(baseline.attrs.get("config", "")).split()
         if not named:
-            raise InputError("--config", "the baseline names no config (attrs `config`)", "give --config")
+            raise InputError(
+                "--config", "the baseline names no config (attrs `config`)", "give --config"
+            )
         config = Path(named[-1])
     config_dict, _ = options.study_config(config, Path("records"))
-    names = [str(v) for dim in ("case", "system") if dim in baseline.dims for v in baseline[dim].values]
+    names = [
+        str(v) for dim in ("case", "system") if dim in baseline.dims for v in baseline[dim].values
+    ]
     studies = list(dict.fromkeys(name.split("/")[0] for name in names))
     if any(s not in (config_dict.get("studies") or {}) for s in studies):
-        raise InputError("--config", f"lacks a study of the baseline ({', '.join(studies)})", "give the baseline's config")
+        raise InputError(
+            "--config",
+            f"lacks a study of the baseline ({', '.join(studies)})",
+            "give the baseline's config",
+        )
     cases, systems = [], []
     for group in config_cases(config_dict, studies).values():
         for case in group:
             (systems if case.search is not None else cases).append(case)
     mine = [f"{c.study}/{c.id}" for c in cases + systems]
     if sorted(mine) != sorted(names):
-        raise InputError("--config", f"its cases differ from the baseline's ({len(mine)} against {len(names)})",
-                         "give the config the baseline was made with (its attrs `config`)")
+        raise InputError(
+            "--config",
+            f"its cases differ from the baseline's ({len(mine)} against {len(names)})",
+            "give the config the baseline was made with (its attrs `config`)",
+        )
     if "system" in baseline.dims and "shift" in only:
         pga = {str(p) for p in baseline.search_parameter.values} - {"pga", "pga_scale", "amplitude"}
         if pga:
-            raise InputError("--only shift", f"searches over {', '.join(sorted(pga))}: not moved by the base motion",
-                             "leave shift out")
+            raise InputError(
+                "--only shift",
+                f"searches over {', '.join(sorted(pga))}: not moved by the base motion",
+                "leave shift out",
+            )
     work = Path(args.work)
-    out = options.output_file(args.out or work / "calibration.nc", "--out", suffixes=(".nc",), inputs=[args.baseline])
+    out = options.output_file(
+        args.out or work / "calibration.nc", "--out", suffixes=(".nc",), inputs=[args.baseline]
+    )
     if work.exists() and not work.is_dir():
         raise InputError("--work", f"{work} is not a folder", "give a folder for the draws' files")
     members = [int(j) for j in baseline.member.values]
-    return {"baseline": baseline, "baseline_path": Path(args.baseline).resolve(), "config": Path(config).resolve(),
-            "cases": cases, "systems": systems, "draws": draws, "jobs": jobs, "n_permutations": n_permutations,
-            "seed": seed, "resamples": resamples, "only": only, "work": work.resolve(), "out": out.resolve(), "first_fresh": max(members) + 1}
+    return {
+        "baseline": baseline,
+        "baseline_path": Path(args.baseline).resolve(),
+        "config": Path(config).resolve(),
+        "cases": cases,
+        "systems": systems,
+        "draws": draws,
+        "jobs": jobs,
+        "n_permutations": n_permutations,
+        "seed": seed,
+        "resamples": resamples,
+        "only": only,
+        "work": work.resolve(),
+        "out": out.resolve(),
+        "first_fresh": max(members) + 1,
+    }
 
 
 def main(argv=None) -> int:
@@ -552,7 +821,11 @@ def main(argv=None) -> int:
                 if not usable_draw(path, made, d, members, baseline):
                     if kind not in plan["only"]:
                         continue
-                    print(f"{kind} draw {d}: members {members[0]}..{members[-1]} ...", file=sys.stderr, flush=True)
+                    print(
+                        f"{kind} draw {d}: members {members[0]}..{members[-1]} ...",
+                        file=sys.stderr,
+                        flush=True,
+                    )
                     if kind == "edge_normal":
                         seconds = run_edge_normal(plan, members, path)
                     else:
@@ -564,36 +837,78 @@ def main(argv=None) -> int:
                 if kind == "flips":
                     candidate, flips = flipped(candidate, baseline, plan["seed"] + d)
                 elif kind in ("null", "edge_normal"):
-                    layers = [x for x in "ABC" if x == "C" or {"A": "check", "B": "scene"}[x] in baseline.dims]
+                    layers = [
+                        x
+                        for x in "ABC"
+                        if x == "C" or {"A": "check", "B": "scene"}[x] in baseline.dims
+                    ]
                 row = judged(baseline, candidate, layers, plan["seed"] + d, plan["n_permutations"])
-                row.update(draw_kind=kind, draw_index=d, first_member=members[0], members=len(members),
-                           flipped_cases=" ".join(flips), candidate_source=str(candidate.attrs.get("source", "")),
-                           candidate_seconds=0.0 if kind == "flips" else float(candidate.attrs.get("wall_seconds", seconds)))
+                row.update(
+                    draw_kind=kind,
+                    draw_index=d,
+                    first_member=members[0],
+                    members=len(members),
+                    flipped_cases=" ".join(flips),
+                    candidate_source=str(candidate.attrs.get("source", "")),
+                    candidate_seconds=0.0
+                    if kind == "flips"
+                    else float(candidate.attrs.get("wall_seconds", seconds)),
+                )
                 rows.append(row)
         if not rows:
             raise InputError("--only", "no draw made or found in --work", "give kinds to draw")
         from stonedem.study.runner import library_versions
 
-        attrs = {"title": "equivalence test calibration: false-alarm rate and power (issue 44, item 6)",
-                 **summary_attrs(rows), "baseline": str(plan["baseline_path"]),
-                 "baseline_source": str(baseline.attrs.get("source", "")),
-                 "baseline_machine": str(baseline.attrs.get("machine", "")),
-                 "baseline_members": int(baseline.sizes["member"]), "config": str(plan["config"]),
-                 "candidate_members": MEMBERS, "shift_factor": SHIFT, "friction_factor": FRICTION,
-                 "flips_per_draw": N_FLIPS, "alpha": 0.005, "permutations": plan["n_permutations"],
-                 "seed": plan["seed"], "confidence": CONFIDENCE, "interval": "Clopper-Pearson",
-                 "edge_normal_patch": PATCH.name, "source": code_version(), "machine": machine(),
-                 **library_versions(),
-                 "command": " ".join(["benchmarks/equivalence_calibration.py", *(sys.argv[1:] if argv is None else argv)])}
+        attrs = {
+            "title": "equivalence test calibration: false-alarm rate and power (issue 44, item 6)",
+            **summary_attrs(rows),
+            "baseline": str(plan["baseline_path"]),
+            "baseline_source": str(baseline.attrs.get("source", "")),
+            "baseline_machine": str(baseline.attrs.get("machine", "")),
+            "baseline_members": int(baseline.sizes["member"]),
+            "config": str(plan["config"]),
+            "candidate_members": MEMBERS,
+            "shift_factor": SHIFT,
+            "friction_factor": FRICTION,
+            "flips_per_draw": N_FLIPS,
+            "alpha": 0.005,
+            "permutations": plan["n_permutations"],
+            "seed": plan["seed"],
+            "confidence": CONFIDENCE,
+            "interval": "Clopper-Pearson",
+            "edge_normal_patch": PATCH.name,
+            "source": code_version(),
+            "machine": machine(),
+            **library_versions(),
+            "command": " ".join(
+                ["benchmarks/equivalence_calibration.py", *(sys.argv[1:] if argv is None else argv)]
+            ),
+        }
         ds = calibration_dataset(rows, attrs)
         if plan["resamples"]:
-            print(f"resampling the runs on disk ({plan['resamples']} picks per rate) ...", file=sys.stderr, flush=True)
-            resampled = resampled_rates(baseline, made_draws["null"], made_draws["shift"], plan["resamples"],
-                                        RESAMPLE_PERMUTATIONS, plan["seed"])
+            print(
+                f"resampling the runs on disk ({plan['resamples']} picks per rate) ...",
+                file=sys.stderr,
+                flush=True,
+            )
+            resampled = resampled_rates(
+                baseline,
+                made_draws["null"],
+                made_draws["shift"],
+                plan["resamples"],
+                RESAMPLE_PERMUTATIONS,
+                plan["seed"],
+            )
             ds = xr.merge([ds, resampled], combine_attrs="override")
-            ds.attrs.update({f"resampled_{n}": float(r) for n, r in zip(resampled.estimate.values,
-                                                                         resampled.resampled_rate.values)})
-            ds.attrs.update(resamples=plan["resamples"], resample_permutations=RESAMPLE_PERMUTATIONS)
+            ds.attrs.update(
+                {
+                    f"resampled_{n}": float(r)
+                    for n, r in zip(resampled.estimate.values, resampled.resampled_rate.values)
+                }
+            )
+            ds.attrs.update(
+                resamples=plan["resamples"], resample_permutations=RESAMPLE_PERMUTATIONS
+            )
         write_dataset(ds, plan["out"])
         for line in summary_lines(ds):
             print(line)

@@ -70,25 +70,35 @@ print(json.dumps({"wall": wall, "stepping": stepping[0], "runs": stepping[1], "s
 def checkout(commit: str, folder: Path) -> Path:
     """A worktree of ``commit`` in ``folder`` (removed by the caller's temporary folder)."""
     path = folder / commit[:10]
-    subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(path), commit], check=True,
-                   capture_output=True)
+    subprocess.run(
+        ["git", "-C", str(ROOT), "worktree", "add", "--detach", str(path), commit],
+        check=True,
+        capture_output=True,
+    )
     return path
 
 
 def measure(tree: Path) -> dict:
     env = {**os.environ, "PYTHONPATH": str(tree / "src")}
-    proc = subprocess.run([sys.executable, "-c", WORKER, str(ROOT)], env=env, capture_output=True, text=True,
-                          cwd=tree)
+    proc = subprocess.run(
+        [sys.executable, "-c", WORKER, str(ROOT)], env=env, capture_output=True, text=True, cwd=tree
+    )
     if proc.returncode != 0:
-        raise SystemExit(f"error: the worker failed in {tree}: {proc.stderr.strip().splitlines()[-1:]}")
+        raise SystemExit(
+            f"error: the worker failed in {tree}: {proc.stderr.strip().splitlines()[-1:]}"
+        )
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--parent", default="HEAD~1", help="the commit to compare against, or none")
-    parser.add_argument("--repeats", type=int, default=3, help="alternating runs per commit; best kept")
-    parser.add_argument("--out", default="results/bench/run_overhead.nc", help="the dataset to write")
+    parser.add_argument(
+        "--repeats", type=int, default=3, help="alternating runs per commit; best kept"
+    )
+    parser.add_argument(
+        "--out", default="results/bench/run_overhead.nc", help="the dataset to write"
+    )
     args = parser.parse_args(argv)
     if args.repeats < 1:
         parser.error("--repeats: give a whole number >= 1")
@@ -105,7 +115,9 @@ def commit_of(rev: str, field: str) -> str:
     try:
         return resolve_commit(rev, ROOT)
     except ParentUnavailable as exc:
-        raise InputError(field, str(exc), "give a commit of this repository's history, or --parent none") from None
+        raise InputError(
+            field, str(exc), "give a commit of this repository's history, or --parent none"
+        ) from None
 
 
 def measure_commits(args) -> int:
@@ -128,37 +140,75 @@ def measure_commits(args) -> int:
                 for name, tree in trees.items():
                     got = measure(tree)
                     got["per_run_ms"] = 1e3 * (got["wall"] - got["stepping"]) / got["runs"]
-                    print(f"[{k + 1}/{args.repeats}] {name} {commits[name][:10]}: {got['runs']} runs in "
-                          f"{got['searches']} searches, {got['wall']:.2f} s, stepping {got['stepping']:.2f} s, "
-                          f"{got['per_run_ms']:.1f} ms a run beyond it", flush=True)
+                    print(
+                        f"[{k + 1}/{args.repeats}] {name} {commits[name][:10]}: {got['runs']} runs in "
+                        f"{got['searches']} searches, {got['wall']:.2f} s, stepping {got['stepping']:.2f} s, "
+                        f"{got['per_run_ms']:.1f} ms a run beyond it",
+                        flush=True,
+                    )
                     if name not in best or got["per_run_ms"] < best[name]["per_run_ms"]:
                         best[name] = got
         finally:
             for tree in trees.values():
-                subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)],
-                               capture_output=True)
+                subprocess.run(
+                    ["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)],
+                    capture_output=True,
+                )
     names = list(best)
     ds = xr.Dataset(
-        {"python_ms_per_run": ("version", [best[n]["per_run_ms"] for n in names],
-                               {"units": "ms", "long_name": "wall time per run beyond the compiled loop "
-                                                            "(scene, plan, checks, dataset or piece, files)"}),
-         "runs": ("version", np.array([best[n]["runs"] for n in names], dtype=np.int32),
-                  {"units": "1", "long_name": "runs of the quick IDA's searches"}),
-         "stepping_seconds": ("version", [best[n]["stepping"] for n in names],
-                              {"units": "s", "long_name": "the compiled loop's wall time, summed"}),
-         "wall_seconds": ("version", [best[n]["wall"] for n in names],
-                          {"units": "s", "long_name": "the searches' wall time"})},
-        coords={"version": ("version", np.array(names, dtype=object), {"long_name": "this commit or its parent"}),
-                "commit": ("version", np.array([commits[n] for n in names], dtype=object),
-                           {"long_name": "git commit"})},
-        attrs={"title": "stonedem benchmark: Python and output per run of the quick IDA",
-               "source": code_version(), "repeats": args.repeats, "method": __doc__.split("\n\n")[1]})
+        {
+            "python_ms_per_run": (
+                "version",
+                [best[n]["per_run_ms"] for n in names],
+                {
+                    "units": "ms",
+                    "long_name": "wall time per run beyond the compiled loop "
+                    "(scene, plan, checks, dataset or piece, files)",
+                },
+            ),
+            "runs": (
+                "version",
+                np.array([best[n]["runs"] for n in names], dtype=np.int32),
+                {"units": "1", "long_name": "runs of the quick IDA's searches"},
+            ),
+            "stepping_seconds": (
+                "version",
+                [best[n]["stepping"] for n in names],
+                {"units": "s", "long_name": "the compiled loop's wall time, summed"},
+            ),
+            "wall_seconds": (
+                "version",
+                [best[n]["wall"] for n in names],
+                {"units": "s", "long_name": "the searches' wall time"},
+            ),
+        },
+        coords={
+            "version": (
+                "version",
+                np.array(names, dtype=object),
+                {"long_name": "this commit or its parent"},
+            ),
+            "commit": (
+                "version",
+                np.array([commits[n] for n in names], dtype=object),
+                {"long_name": "git commit"},
+            ),
+        },
+        attrs={
+            "title": "stonedem benchmark: Python and output per run of the quick IDA",
+            "source": code_version(),
+            "repeats": args.repeats,
+            "method": __doc__.split("\n\n")[1],
+        },
+    )
     out.parent.mkdir(parents=True, exist_ok=True)
     write_dataset(ds, out)
     if "parent" in best:
         ratio = best["parent"]["per_run_ms"] / best["this"]["per_run_ms"]
-        print(f"per run beyond the kernel: {best['this']['per_run_ms']:.1f} ms, parent "
-              f"{best['parent']['per_run_ms']:.1f} ms (x{ratio:.2f} less); wrote {out}")
+        print(
+            f"per run beyond the kernel: {best['this']['per_run_ms']:.1f} ms, parent "
+            f"{best['parent']['per_run_ms']:.1f} ms (x{ratio:.2f} less); wrote {out}"
+        )
     return 0
 
 

@@ -38,8 +38,11 @@ def commit_of(rev: str) -> str:
     try:
         return resolve_commit(rev, ROOT)
     except ParentUnavailable as exc:
-        raise InputError("--parent" if rev != "HEAD" else "checkout", str(exc),
-                         "give a commit of this repository's history") from None
+        raise InputError(
+            "--parent" if rev != "HEAD" else "checkout",
+            str(exc),
+            "give a commit of this repository's history",
+        ) from None
 
 
 FIELDS = ("target", "config", "version", "commit", "wall_seconds", "exit_status", "jobs", "machine")
@@ -62,7 +65,11 @@ def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) 
     clone = workdir / commit[:10]
     subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
     subprocess.run(["git", "-C", str(clone), "checkout", "--quiet", commit], check=True)
-    env = dict(os.environ, PYTHONPATH=str(clone / "src"), XDG_CACHE_HOME=str(workdir / f"cache-{commit[:10]}"))
+    env = dict(
+        os.environ,
+        PYTHONPATH=str(clone / "src"),
+        XDG_CACHE_HOME=str(workdir / f"cache-{commit[:10]}"),
+    )
     env.pop("NUMBA_CACHE_DIR", None)
     command = [sys.executable, "-m", "snakemake", "-j2", target]
     for path in configfiles:
@@ -70,22 +77,46 @@ def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) 
     log = clone / "study_time.log"
     start = time.perf_counter()
     with open(log, "w") as out:
-        status = subprocess.run(command, cwd=clone, env=env, stdout=out, stderr=subprocess.STDOUT).returncode
+        status = subprocess.run(
+            command, cwd=clone, env=env, stdout=out, stderr=subprocess.STDOUT
+        ).returncode
     wall = time.perf_counter() - start
-    jobs = sum(1 for line in log.read_text(errors="replace").splitlines() if line.startswith("Finished job"))
+    jobs = sum(
+        1
+        for line in log.read_text(errors="replace").splitlines()
+        if line.startswith("Finished job")
+    )
     return {"wall_seconds": round(wall, 1), "exit_status": status, "jobs": jobs}
 
 
 def main(argv=None) -> int:
     parser = options.parser("python benchmarks/study_time.py", __doc__)
-    parser.add_argument("--parent", default="HEAD~1",
-                        help="the commit to compare against (default HEAD~1), or none: this commit alone")
-    parser.add_argument("--target", default="all", choices=("all", "fragility"),
-                        help="the Snakemake target: all (the study, default) or fragility (the IDA)")
-    parser.add_argument("--configfile", action="append", default=[], help="extra config files, as snakemake takes them")
-    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results/bench/study_time.csv")
-    parser.add_argument("--out-clones", type=options.path_arg, default=None,
-                        help="clone into this new folder and keep it (its results/ to compare); default: a temporary one")
+    parser.add_argument(
+        "--parent",
+        default="HEAD~1",
+        help="the commit to compare against (default HEAD~1), or none: this commit alone",
+    )
+    parser.add_argument(
+        "--target",
+        default="all",
+        choices=("all", "fragility"),
+        help="the Snakemake target: all (the study, default) or fragility (the IDA)",
+    )
+    parser.add_argument(
+        "--configfile",
+        action="append",
+        default=[],
+        help="extra config files, as snakemake takes them",
+    )
+    parser.add_argument(
+        "--out", type=options.path_arg, default=ROOT / "results/bench/study_time.csv"
+    )
+    parser.add_argument(
+        "--out-clones",
+        type=options.path_arg,
+        default=None,
+        help="clone into this new folder and keep it (its results/ to compare); default: a temporary one",
+    )
     args = parser.parse_args(argv)
 
     def command():
@@ -93,28 +124,53 @@ def main(argv=None) -> int:
         if args.out_clones is not None:
             check_output_path(args.out_clones, "--out-clones")  # writable, creates nothing
             if args.out_clones.exists():
-                raise InputError("--out-clones", f"{args.out_clones} exists", "give a folder that does not exist yet")
+                raise InputError(
+                    "--out-clones",
+                    f"{args.out_clones} exists",
+                    "give a folder that does not exist yet",
+                )
         for config in args.configfile:
             options.input_file(ROOT / config, "--configfile", "YAML config file")
         if args.configfile:  # read as the workflow reads it: a file it cannot take is refused here
-            options.workflow_config([ROOT / "config/config.yaml"] + [ROOT / c for c in args.configfile], "--configfile")
+            options.workflow_config(
+                [ROOT / "config/config.yaml"] + [ROOT / c for c in args.configfile], "--configfile"
+            )
         commits = {"current": commit_of("HEAD")}
         if args.parent.lower() != "none":
             commits["parent"] = commit_of(args.parent)
         config = " ".join(args.configfile) or "config/config.yaml"
-        rows = [row for row in earlier_rows(path) if (row.get("target"), row.get("config")) != (args.target, config)]
+        rows = [
+            row
+            for row in earlier_rows(path)
+            if (row.get("target"), row.get("config")) != (args.target, config)
+        ]
         with tempfile.TemporaryDirectory(prefix="stonedem-study-time-") as tmp:
             if args.out_clones is not None:
                 args.out_clones.mkdir(parents=True)
                 tmp = args.out_clones
             for version, commit in commits.items():
-                print(f"{version} {commit[:10]}: snakemake -j2 {args.target} ...", file=sys.stderr, flush=True)
+                print(
+                    f"{version} {commit[:10]}: snakemake -j2 {args.target} ...",
+                    file=sys.stderr,
+                    flush=True,
+                )
                 timing = run_target(commit, args.target, args.configfile, Path(tmp))
-                print(f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, {timing['jobs']} jobs",
-                      file=sys.stderr, flush=True)
-                rows.append({"target": args.target, "config": config, "version": version, "commit": commit[:10],
-                             **timing, "machine": f"{os.cpu_count()} cores"})
-        new = rows[-len(commits):]
+                print(
+                    f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, {timing['jobs']} jobs",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                rows.append(
+                    {
+                        "target": args.target,
+                        "config": config,
+                        "version": version,
+                        "commit": commit[:10],
+                        **timing,
+                        "machine": f"{os.cpu_count()} cores",
+                    }
+                )
+        new = rows[-len(commits) :]
         options.write_csv(path, rows, fieldnames=FIELDS)
         line = f"{args.target}: {new[0]['wall_seconds']:.0f} s"
         if len(new) == 2:

@@ -40,8 +40,16 @@ TOLERANCE = 0.05
 
 
 def push_point(spring, phi, angle, slip, c_T):
-    d = np.array([math.cos(phi) * math.cos(angle), math.cos(phi) * math.sin(angle), 0, 0, 0,
-                  math.sin(phi) / c_T])
+    d = np.array(
+        [
+            math.cos(phi) * math.cos(angle),
+            math.cos(phi) * math.sin(angle),
+            0,
+            0,
+            0,
+            math.sin(phi) / c_T,
+        ]
+    )
     res = spring.push(ramp(d, slip, STEPS), spring.uniform_stress(NORMAL_FORCE)).ultimate
     return res[0], res[1], res[5]
 
@@ -86,11 +94,13 @@ def fits(points):
     def best(cost):
         return float(optimize.minimize_scalar(cost, **bounded).x)
 
-    out = {"area": fit_alpha(points),
-           "ls_m": best(lambda a: np.sum((m - np.clip(1 - f**2, 0, None) ** (1 / a)) ** 2)),
-           "radial": best(lambda a: np.sum((radius - ray_radius(theta, a)) ** 2)),
-           "ls_g": best(lambda a: np.sum((m[inner] ** a + f[inner] ** 2 - 1) ** 2)),
-           "minimax": best(lambda a: np.max(np.abs(radius - ray_radius(theta, a))))}
+    out = {
+        "area": fit_alpha(points),
+        "ls_m": best(lambda a: np.sum((m - np.clip(1 - f**2, 0, None) ** (1 / a)) ** 2)),
+        "radial": best(lambda a: np.sum((radius - ray_radius(theta, a)) ** 2)),
+        "ls_g": best(lambda a: np.sum((m[inner] ** a + f[inner] ** 2 - 1) ** 2)),
+        "minimax": best(lambda a: np.max(np.abs(radius - ray_radius(theta, a)))),
+    }
     # through the domain's point on the 45 degree ray (interpolated along the boundary)
     k = np.argsort(theta)
     r45 = float(np.interp(math.pi / 4, theta[k], radius[k]))
@@ -101,7 +111,13 @@ def fits(points):
 def build_parser():
     parser = options.parser("python benchmarks/table_a1_fits.py", __doc__)
     parser.add_argument("--quick", action="store_true", help="grids of 8 and 16 springs only")
-    parser.add_argument("-o", "--output", type=options.path_arg, default="results/walls/table_a1_fits.csv", help="output table (.csv)")
+    parser.add_argument(
+        "-o",
+        "--output",
+        type=options.path_arg,
+        default="results/walls/table_a1_fits.csv",
+        help="output table (.csv)",
+    )
     return parser
 
 
@@ -123,37 +139,58 @@ def table_a1_fits(output: Path, quick: bool = False) -> int:
     for n in grids:
         for ratio, *refs in TABLE_A1:
             spring = SpringInterface(ratio * 0.2, 0.2, n=n)
-            for (direction, ref) in zip(DIRECTIONS, refs):
-                readings = [("drive 45", False)] + ([("force 45", True)] if direction == "f1=f2" else [])
+            for direction, ref in zip(DIRECTIONS, refs):
+                readings = [("drive 45", False)] + (
+                    [("force 45", True)] if direction == "f1=f2" else []
+                )
                 for reading, force_45 in readings:
                     raw, f_su, m3u = domain(spring, direction, force_45)
                     for norm in ("c_T f_su", "own torsion"):
                         scale = m3u if norm == "c_T f_su" else raw[-1, 1]
                         pts = np.column_stack([raw[:, 0] / f_su, raw[:, 1] / scale])
                         for criterion, alpha in fits(pts).items():
-                            rows.append({"n": n, "l1_over_l2": ratio, "shear": direction, "reading": reading,
-                                         "m3_normalised_by": norm, "criterion": criterion,
-                                         "alpha": round(alpha, 4), "alpha_manuscript": ref,
-                                         "error": round(alpha - ref, 4)})
+                            rows.append(
+                                {
+                                    "n": n,
+                                    "l1_over_l2": ratio,
+                                    "shear": direction,
+                                    "reading": reading,
+                                    "m3_normalised_by": norm,
+                                    "criterion": criterion,
+                                    "alpha": round(alpha, 4),
+                                    "alpha_manuscript": ref,
+                                    "error": round(alpha - ref, 4),
+                                }
+                            )
         print(f"n = {n}: {time.perf_counter() - start:.0f} s", flush=True)
     options.write_csv(output, rows)
     # the summary: per combination, f1=f2 read either way (the other columns as they are)
-    print(f"\n{'n':>3} {'f1=f2 reading':14} {'m3 by':12} {'criterion':8} within/21  max|err|  worst entry")
+    print(
+        f"\n{'n':>3} {'f1=f2 reading':14} {'m3 by':12} {'criterion':8} within/21  max|err|  worst entry"
+    )
     keys = sorted({(r["n"], r["m3_normalised_by"], r["criterion"]) for r in rows})
     best = None
     for (n, norm, criterion), reading in itertools.product(keys, ("drive 45", "force 45")):
-        pick = [r for r in rows if (r["n"], r["m3_normalised_by"], r["criterion"]) == (n, norm, criterion)
-                and (r["reading"] == reading or r["shear"] != "f1=f2")]
+        pick = [
+            r
+            for r in rows
+            if (r["n"], r["m3_normalised_by"], r["criterion"]) == (n, norm, criterion)
+            and (r["reading"] == reading or r["shear"] != "f1=f2")
+        ]
         errors = np.array([abs(r["error"]) for r in pick])
         worst = pick[int(np.argmax(errors))]
         within = int(np.sum(errors <= TOLERANCE))
-        print(f"{n:>3} {reading:14} {norm:12} {criterion:8} {within:>5}    {errors.max():.3f}    "
-              f"({worst['l1_over_l2']:g}, {worst['shear']}) {worst['alpha']:.2f} vs {worst['alpha_manuscript']:.2f}")
+        print(
+            f"{n:>3} {reading:14} {norm:12} {criterion:8} {within:>5}    {errors.max():.3f}    "
+            f"({worst['l1_over_l2']:g}, {worst['shear']}) {worst['alpha']:.2f} vs {worst['alpha_manuscript']:.2f}"
+        )
         if best is None or (within, -errors.max()) > best[0]:
             best = ((within, -errors.max()), n, reading, norm, criterion)
     (within, neg), n, reading, norm, criterion = best
-    print(f"\nbest: n = {n}, f1=f2 as {reading}, m3 by {norm}, {criterion}: {within}/21 within {TOLERANCE}, "
-          f"max error {-neg:.3f}; {output}")
+    print(
+        f"\nbest: n = {n}, f1=f2 as {reading}, m3 by {norm}, {criterion}: {within}/21 within {TOLERANCE}, "
+        f"max error {-neg:.3f}; {output}"
+    )
     return 0
 
 

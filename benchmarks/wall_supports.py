@@ -43,9 +43,25 @@ from stonedem.wall.case import case_from_dict, read_case
 from stonedem.wall.pushover import ConvergenceError, pushover
 
 ROOT = Path(__file__).resolve().parents[1]
-CASES = ["orduna_case1", "orduna_case2", "chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15",
-         "chee_liang_4_5", "chee_liang_9_13", "chee_liang_10_11"]
-COLUMN_CASES = ["s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s5"]   # Table 2, fixed lateral columns
+CASES = [
+    "orduna_case1",
+    "orduna_case2",
+    "chee_liang_2_3",
+    "chee_liang_8_12",
+    "chee_liang_14_15",
+    "chee_liang_4_5",
+    "chee_liang_9_13",
+    "chee_liang_10_11",
+]
+COLUMN_CASES = [
+    "s11",
+    "s12",
+    "s13",
+    "s15",
+    "s6",
+    "s1_s2_s3",
+    "s5",
+]  # Table 2, fixed lateral columns
 
 
 def _edge_restraints(spec, change):
@@ -58,6 +74,7 @@ def at_centre(spec):
     def change(r):
         r.pop("hold", None), r.pop("offset", None)
         r["at"] = "centre"
+
     _edge_restraints(spec, change)
 
 
@@ -65,7 +82,9 @@ def hold(kind):
     def variant(spec):
         def change(r):
             r["at"], r["hold"] = "edge", kind
+
         _edge_restraints(spec, change)
+
     return variant
 
 
@@ -79,7 +98,7 @@ def bare_brick_interfaces(model):
     panel.width = panel.width.copy()
     panel.width[panel.kind == KIND_HEAD] -= e
     panel.width[panel.kind == KIND_BED] -= e
-    return dataclasses.replace(model, panel=panel)   # rebuilt: compatibility, sections, reduction
+    return dataclasses.replace(model, panel=panel)  # rebuilt: compatibility, sections, reduction
 
 
 def columns_one_block_deep(model):
@@ -99,7 +118,9 @@ def columns_one_block_deep(model):
         fixed[x <= depth] = True
     if (column & (x > length / 2)).any():
         fixed[x >= length - depth] = True
-    return dataclasses.replace(model, fixed=fixed.ravel())   # rebuilt: the reduction of the restraints
+    return dataclasses.replace(
+        model, fixed=fixed.ravel()
+    )  # rebuilt: the reduction of the restraints
 
 
 def base_bonded(spec):
@@ -121,10 +142,12 @@ def top_held_in_plane(spec):
 def side_lines_inside(distance):
     """The left and right lines ``distance`` metres inside the panel edges (at: offset): the
     span between the supports is not given, only the specimen's length."""
+
     def variant(spec):
         for r in spec["restraints"]:
             if r["edge"] in ("left", "right") and r.get("at") == "edge":
                 r["at"], r["offset"] = "offset", distance
+
     return variant
 
 
@@ -150,8 +173,10 @@ VARIANTS = {
 CONDITIONAL_VARIANTS = {
     "base mortared (bonded support joint)": (base_bonded, has_base_joint_override),
     "top line holds translations (arching)": (top_held_in_plane, has_top_line),
-    **{f"side lines {1000 * d:g} mm inside": (side_lines_inside(d), has_side_lines)
-       for d in (0.015, 0.0305, 0.045, 0.061)},
+    **{
+        f"side lines {1000 * d:g} mm inside": (side_lines_inside(d), has_side_lines)
+        for d in (0.015, 0.0305, 0.045, 0.061)
+    },
 }
 LAW_VARIANTS = {
     "Fig. 10 on no-tension joints only": {"torsion_all_joints": False},
@@ -160,9 +185,11 @@ LAW_VARIANTS = {
 
 
 # which joints carry a mechanism: one strength of one kind of interface x 1.5 (mortared walls)
-JOINT_LEVERS = {f"{kind} joints' {label} x 1.5": (kind, field, 1.5)
-                for kind in ("bed", "head")
-                for label, field in (("tensile strength", "tensile_strength"), ("cohesion", "cohesion"))}
+JOINT_LEVERS = {
+    f"{kind} joints' {label} x 1.5": (kind, field, 1.5)
+    for kind in ("bed", "head")
+    for label, field in (("tensile strength", "tensile_strength"), ("cohesion", "cohesion"))
+}
 
 
 def scale_joint_strength(model, kind, field, factor):
@@ -191,17 +218,34 @@ def run(spec, name, law=None, transform=None, lever=None):
 
 def build_parser():
     ap = options.parser("python benchmarks/wall_supports.py", __doc__)
-    ap.add_argument("--only", nargs="*", help="case file stems, each once, from: " + " ".join(CASES + COLUMN_CASES)
-                    + " (default: all of them, Tables 1 and 3 and the Table 2 walls held by lateral columns)")
-    ap.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "walls"), help="output folder (writes supports.csv)")
+    ap.add_argument(
+        "--only",
+        nargs="*",
+        help="case file stems, each once, from: "
+        + " ".join(CASES + COLUMN_CASES)
+        + " (default: all of them, Tables 1 and 3 and the Table 2 walls held by lateral columns)",
+    )
+    ap.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=str(ROOT / "results" / "walls"),
+        help="output folder (writes supports.csv)",
+    )
     return ap
 
 
 def check_args(args):
     """(case names, output folder), or an InputError before anything runs."""
-    names = options.chosen(args.only, "--only", CASES + COLUMN_CASES, empty_ok=True) or CASES + COLUMN_CASES
+    names = (
+        options.chosen(args.only, "--only", CASES + COLUMN_CASES, empty_ok=True)
+        or CASES + COLUMN_CASES
+    )
     for name in names:
-        options.input_file(ROOT / "config" / "walls" / f"{name}.yaml", "--only", "case file config/walls/<name>.yaml")
+        options.input_file(
+            ROOT / "config" / "walls" / f"{name}.yaml",
+            "--only",
+            "case file config/walls/<name>.yaml",
+        )
     return names, options.output_folder(args.out, "--out", files=("supports.csv",))
 
 
@@ -225,12 +269,17 @@ def supports(names, out: Path) -> int:
         dem = ref.get("p_dem", ref.get("lambda_dem"))
         scale = 1e-3 if "p_dem" in ref else 1.0
         if name in COLUMN_CASES:
-            runs = [("as given", None, None, None, None),
-                    ("lateral columns one block deep", None, None, columns_one_block_deep, None)]
+            runs = [
+                ("as given", None, None, None, None),
+                ("lateral columns one block deep", None, None, columns_one_block_deep, None),
+            ]
         else:
             runs = [(label, change, None, None, None) for label, change in VARIANTS.items()]
-            runs += [(label, change, None, None, None)
-                     for label, (change, applies) in CONDITIONAL_VARIANTS.items() if applies(base)]
+            runs += [
+                (label, change, None, None, None)
+                for label, (change, applies) in CONDITIONAL_VARIANTS.items()
+                if applies(base)
+            ]
             runs += [(label, None, law, None, None) for label, law in LAW_VARIANTS.items()]
         if base["panel"].get("joint_thickness"):
             runs.append(("interfaces of the bare bricks", None, None, bare_brick_interfaces, None))
@@ -242,12 +291,22 @@ def supports(names, out: Path) -> int:
                 change(spec)
             lam, status, seconds = run(spec, name, law, transform, lever)
             err = lam / dem - 1.0
-            rows.append({"case": name, "variant": label, "ours": round(lam * scale, 4),
-                         "manuscript_dem": dem * scale, "error": round(err, 4),
-                         "unit": "kPa" if scale != 1.0 else "lambda", "status": status,
-                         "seconds": round(seconds, 1)})
-            print(f"{name:>18} {label:>44} {lam * scale:9.4g} {dem * scale:8.4g} {err:+7.1%} {seconds:5.1f}",
-                  flush=True)
+            rows.append(
+                {
+                    "case": name,
+                    "variant": label,
+                    "ours": round(lam * scale, 4),
+                    "manuscript_dem": dem * scale,
+                    "error": round(err, 4),
+                    "unit": "kPa" if scale != 1.0 else "lambda",
+                    "status": status,
+                    "seconds": round(seconds, 1),
+                }
+            )
+            print(
+                f"{name:>18} {label:>44} {lam * scale:9.4g} {dem * scale:8.4g} {err:+7.1%} {seconds:5.1f}",
+                flush=True,
+            )
     path = options.write_csv(out / "supports.csv", rows)
     print(f"wrote {path}")
     return 0

@@ -22,19 +22,28 @@ from matplotlib.collections import PolyCollection
 import stonedem
 from stonedem.figures import snapshots
 
-ds = stonedem.run_scene({
-    "name": "column under Northridge",
-    "structure": {"kind": "column", "n_drums": 4, "height": 6.0, "width": 1.0,
-                  "capital": {"height": 0.6, "width": 1.4}},
-    "friction": 0.485,
-    "contact": {"model": "point", "k_n": 1.0e10},
-    "excitation": {"kind": "record", "file": "northridge_1994_mul009", "pga": 10.0},
-    "solver": {"duration": 12.0, "dt_safety": 1.0},   # [s] of the record
-    "output": {"every": 0.01},
-})
-print(f"{ds.attrs['status']}: max rocking {float(ds['max_rocking']):.3f} rad "
-      f"(theta_cr {float(ds['theta_cr']):.3f} rad), "
-      f"max sliding {float(ds['max_total_sliding']) * 1000:.1f} mm, collapsed: {bool(ds['collapsed'])}")
+ds = stonedem.run_scene(
+    {
+        "name": "column under Northridge",
+        "structure": {
+            "kind": "column",
+            "n_drums": 4,
+            "height": 6.0,
+            "width": 1.0,
+            "capital": {"height": 0.6, "width": 1.4},
+        },
+        "friction": 0.485,
+        "contact": {"model": "point", "k_n": 1.0e10},
+        "excitation": {"kind": "record", "file": "northridge_1994_mul009", "pga": 10.0},
+        "solver": {"duration": 12.0, "dt_safety": 1.0},  # [s] of the record
+        "output": {"every": 0.01},
+    }
+)
+print(
+    f"{ds.attrs['status']}: max rocking {float(ds['max_rocking']):.3f} rad "
+    f"(theta_cr {float(ds['theta_cr']):.3f} rad), "
+    f"max sliding {float(ds['max_total_sliding']) * 1000:.1f} mm, collapsed: {bool(ds['collapsed'])}"
+)
 
 # %%
 # The base motion and the rocking
@@ -67,7 +76,9 @@ colours = snapshots.body_colours(ds)
 fig, axes = plt.subplots(1, len(samples), figsize=(12, 4.2), sharey=True, layout="constrained")
 for ax, i in zip(axes, samples):
     polygons = snapshots.posed_polygons(local, x[i], y[i], theta[i])
-    ax.add_collection(PolyCollection(polygons, facecolors=colours, edgecolors="#3a3a3a", linewidths=0.6))
+    ax.add_collection(
+        PolyCollection(polygons, facecolors=colours, edgecolors="#3a3a3a", linewidths=0.6)
+    )
     ax.set_xlim(box[0], box[1])
     ax.set_ylim(box[2], box[3])
     ax.set_aspect("equal")

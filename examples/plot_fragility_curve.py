@@ -32,16 +32,30 @@ from stonedem.fragility.ida import LIMIT_STATES, fragility_studies, ida_cube
 from stonedem.study.grid import case_table
 from stonedem.study.runner import CaseStore, run_search
 
-structures = {"column": {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0,
-                                       "capital": {"height": 0.6, "width": 1.4}},
-                         "friction": 0.485}}
+structures = {
+    "column": {
+        "structure": {
+            "kind": "column",
+            "n_drums": 1,
+            "height": 6.0,
+            "width": 1.0,
+            "capital": {"height": 0.6, "width": 1.4},
+        },
+        "friction": 0.485,
+    }
+}
 config = {
-    "defaults": {"contact": {"model": "point", "k_n": 1.0e10},
-                 "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
-                 "output": {"every": 0.01}},
-    "fragility": {"structures": structures, "suites": ["far_field"],
-                  "components": [f"FF{k:02d}{c}" for k in range(1, 9) for c in "ab"],   # FF01a ... FF08b
-                  "search": {"start": 2.0, "factor": 1.8, "tolerance": 0.1, "fill": 0, "max_runs": 12}},
+    "defaults": {
+        "contact": {"model": "point", "k_n": 1.0e10},
+        "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
+        "output": {"every": 0.01},
+    },
+    "fragility": {
+        "structures": structures,
+        "suites": ["far_field"],
+        "components": [f"FF{k:02d}{c}" for k in range(1, 9) for c in "ab"],  # FF01a ... FF08b
+        "search": {"start": 2.0, "factor": 1.8, "tolerance": 0.1, "fill": 0, "max_runs": 12},
+    },
 }
 [(study, spec)] = fragility_studies(config).items()
 systems = case_table(study, spec, config["defaults"])
@@ -52,7 +66,7 @@ print(study, "-", len(systems), "records:", ", ".join(system.id for system in sy
 # ---------------------
 # :func:`stonedem.study.runner.run_search` runs a system's hunt-and-fill search, writes each
 # run's case file and the search file, and logs one line per run.
-workdir = tempfile.TemporaryDirectory(prefix="stonedem_ida_")   # removed when the script ends
+workdir = tempfile.TemporaryDirectory(prefix="stonedem_ida_")  # removed when the script ends
 folder = Path(workdir.name)
 searches = []
 for system in systems:
@@ -79,7 +93,10 @@ ran = collapse["censored"].values >= 0
 pga = collapse["pga_at_limit"].values[ran]
 censored = collapse["censored"].values[ran] == 1
 for name, x, c in zip(collapse["record"].values[ran], pga, censored):
-    print(f"{name}: collapse at {x:.3g} m/s2" + (" (no collapse up to here: a lower bound)" if c else ""))
+    print(
+        f"{name}: collapse at {x:.3g} m/s2"
+        + (" (no collapse up to here: a lower bound)" if c else "")
+    )
 
 # %%
 # The fragility curve
@@ -90,16 +107,22 @@ for name, x, c in zip(collapse["record"].values[ran], pga, censored):
 # static g b/h), so its curve is steep; collapse scatters widely from record to record.
 fit = fit_lognormal(pga, censored)
 f = fits.sel(structure="column", record_set="all", limit_state="collapse")
-print(f"median {fit.median:.3g} m/s2 (file: {float(f.median_pga):.3g}), beta {fit.beta:.2f} "
-      f"(file: {float(f.beta_pga):.2f}), {fit.n} records, {fit.censored} censored")
+print(
+    f"median {fit.median:.3g} m/s2 (file: {float(f.median_pga):.3g}), beta {fit.beta:.2f} "
+    f"(file: {float(f.beta_pga):.2f}), {fit.n} records, {fit.censored} censored"
+)
 
 grid = fits["pga_grid"].values
 band = f["probability_pga_band"].values
 x, p = empirical_points(pga, censored)
 fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
 ax.fill_between(grid, band[0], band[1], color="0.85", lw=0, label="90 % bootstrap band")
-ax.plot(grid, fit.probability(grid), color="k",
-        label=f"lognormal MLE: theta {fit.median:.3g} m/s2, beta {fit.beta:.2f}")
+ax.plot(
+    grid,
+    fit.probability(grid),
+    color="k",
+    label=f"lognormal MLE: theta {fit.median:.3g} m/s2, beta {fit.beta:.2f}",
+)
 ax.plot(x, p, "o", color="#d62728", label="records (empirical)")
 for state, colour in (("half_critical_rotation", "#1f77b4"), ("rocking_onset", "#2ca02c")):
     curve = fits["probability_pga"].sel(structure="column", record_set="all", limit_state=state)
@@ -110,6 +133,8 @@ ax.set_xlim(0.3, 60)
 ax.set_ylim(0, 1)
 ax.set_xlabel("PGA [m s-2]")
 ax.set_ylabel("P(limit state exceeded | PGA)")
-ax.set_title(f"Fragility of a 6 m x 1 m column with a capital: {fit.n} far-field records", fontsize=10)
+ax.set_title(
+    f"Fragility of a 6 m x 1 m column with a capital: {fit.n} far-field records", fontsize=10
+)
 ax.legend(fontsize=8, loc="lower right")
 plt.show()

@@ -26,15 +26,20 @@ import numpy as np
 import stonedem
 from stonedem.study.grid import case_table, combine_cases, run_case
 
-defaults = {"contact": {"model": "point", "k_n": 1.0e10},
-            "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
-            "output": {"every": 0.01}}
+defaults = {
+    "contact": {"model": "point", "k_n": 1.0e10},
+    "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
+    "output": {"every": 0.01},
+}
 study = {
     "structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
     "friction": 0.485,
     "excitation": {"kind": "harmonic"},
-    "solver": {"duration": 4.0},          # [s]
-    "grid": {"frequency": [1.0, 2.0, 4.0], "pga": [1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 11.0, 15.0]},
+    "solver": {"duration": 4.0},  # [s]
+    "grid": {
+        "frequency": [1.0, 2.0, 4.0],
+        "pga": [1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 11.0, 15.0],
+    },
 }
 cases = case_table("overturning", study, defaults)
 print(f"{len(cases)} cases:", ", ".join(case.id for case in cases))
@@ -44,10 +49,12 @@ print(f"{len(cases)} cases:", ", ".join(case.id for case in cases))
 # ------------------------------
 # Each case is one simulation whose dataset carries its parameters as scalar coordinates;
 # :func:`stonedem.study.grid.combine_cases` merges the case files into the cube.
-workdir = tempfile.TemporaryDirectory(prefix="stonedem_cube_")   # removed when the script ends
+workdir = tempfile.TemporaryDirectory(prefix="stonedem_cube_")  # removed when the script ends
 folder = Path(workdir.name)
 paths = [stonedem.write_dataset(run_case(case), folder / f"{case.id}.nc") for case in cases]
-stonedem.write_dataset(combine_cases(paths, description="gallery example"), folder / "overturning.nc")
+stonedem.write_dataset(
+    combine_cases(paths, description="gallery example"), folder / "overturning.nc"
+)
 
 # %%
 # Open the cube

@@ -22,17 +22,27 @@ import numpy as np
 
 import stonedem
 
-scene = stonedem.load_scene({
-    "bodies": [
-        {"name": "base", "box": {"width": 4.0, "height": 0.5, "center": [0.0, -0.25]}, "driven": True},
-        {"name": "block", "box": {"width": 0.25, "height": 1.0, "center": [0.0, 0.5]}, "mass": 503.0,
-         "tilt": {"angle": 0.05236, "about": "bottom_right"}},
-    ],
-    "friction": 10.0,                       # no sliding: the block only rocks
-    "excitation": {"kind": "none"},
-    "solver": {"duration": 3.0},            # [s]
-    "output": {"every": 0.001},             # [s] between stored samples
-})
+scene = stonedem.load_scene(
+    {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 4.0, "height": 0.5, "center": [0.0, -0.25]},
+                "driven": True,
+            },
+            {
+                "name": "block",
+                "box": {"width": 0.25, "height": 1.0, "center": [0.0, 0.5]},
+                "mass": 503.0,
+                "tilt": {"angle": 0.05236, "about": "bottom_right"},
+            },
+        ],
+        "friction": 10.0,  # no sliding: the block only rocks
+        "excitation": {"kind": "none"},
+        "solver": {"duration": 3.0},  # [s]
+        "output": {"every": 0.001},  # [s] between stored samples
+    }
+)
 print(scene.body_names, f"{scene.duration} s", scene.contact)
 
 # %%
@@ -60,19 +70,29 @@ size = np.abs(theta.values)
 peaks = np.flatnonzero((size[1:-1] > size[:-2]) & (size[1:-1] >= size[2:])) + 1
 housner = [abs(float(theta[0]))]
 for _ in peaks:
-    housner.append(alpha - np.arccos(np.cos(alpha) + r**2 * (np.cos(alpha - housner[-1]) - np.cos(alpha))))
+    housner.append(
+        alpha - np.arccos(np.cos(alpha) + r**2 * (np.cos(alpha - housner[-1]) - np.cos(alpha)))
+    )
 print(f"alpha = {alpha:.3f} rad, r = {r:.3f}; {peaks.size} half-cycles in {scene.duration} s")
 for t, engine, rigid in list(zip(time[peaks], size[peaks], housner[1:]))[:5]:
     print(f"peak at {t:.3f} s: engine {engine:.4f} rad, Housner {rigid:.4f} rad")
 
 fig, ax = plt.subplots(figsize=(7.5, 3.8), layout="constrained")
 ax.plot(time, theta, lw=1.2, color="#8c564b", label="engine")
-ax.plot(time[peaks], np.sign(theta.values[peaks]) * housner[1:], "k_", ms=14, mew=1.5,
-        label=f"Housner's peaks (r = {r:.3f})")
+ax.plot(
+    time[peaks],
+    np.sign(theta.values[peaks]) * housner[1:],
+    "k_",
+    ms=14,
+    mew=1.5,
+    label=f"Housner's peaks (r = {r:.3f})",
+)
 ax.axhline(0.0, color="0.6", lw=0.6)
 ax.set_xlabel(f"time [{ds['time'].attrs['units']}]")
 ax.set_ylabel(f"theta of the block [{theta.attrs['units']}]")
-ax.set_title(f"Free rocking: {ds.attrs['status']}, {ds.sizes['time']} samples, "
-             f"dt = {ds.attrs['dt']:.2g} s", fontsize=10)
+ax.set_title(
+    f"Free rocking: {ds.attrs['status']}, {ds.sizes['time']} samples, dt = {ds.attrs['dt']:.2g} s",
+    fontsize=10,
+)
 ax.legend(loc="upper right")
 plt.show()

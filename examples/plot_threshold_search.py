@@ -27,17 +27,25 @@ from stonedem.study.cube import search_dataset
 from stonedem.study.grid import case_table, run_case, search_case
 from stonedem.study.search import next_value, search, summary
 
-defaults = {"contact": {"model": "point", "k_n": 1.0e10},
-            "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
-            "output": {"every": 0.01}}
+defaults = {
+    "contact": {"model": "point", "k_n": 1.0e10},
+    "solver": {"dt": "auto", "dt_safety": 1.0, "stop_on_collapse": True},
+    "output": {"every": 0.01},
+}
 study = {
     "structure": {"kind": "column", "n_drums": 2, "height": 6.0, "width": 1.0},
     "friction": 0.485,
     "excitation": {"kind": "harmonic"},
     "solver": {"duration": 4.0},
     "grid": {"frequency": [1.5]},
-    "search": {"parameter": "pga", "start": 1.0, "factor": 1.8, "tolerance": 0.05,
-               "maximum": 32.0, "fill": 1},
+    "search": {
+        "parameter": "pga",
+        "start": 1.0,
+        "factor": 1.8,
+        "tolerance": 0.05,
+        "maximum": 32.0,
+        "fill": 1,
+    },
 }
 [system] = case_table("search_example", study, defaults)
 settings = system.search
@@ -50,7 +58,7 @@ print("first value to run:", next_value([], settings))
 # :func:`stonedem.study.search.search` calls ``collapses(value, phase)`` until the search
 # is done; each call simulates the system at that PGA (:func:`~stonedem.study.grid.search_case`
 # makes the case, :func:`~stonedem.study.grid.run_case` runs it) and keeps its file.
-workdir = tempfile.TemporaryDirectory(prefix="stonedem_search_")   # removed when the script ends
+workdir = tempfile.TemporaryDirectory(prefix="stonedem_search_")  # removed when the script ends
 folder = Path(workdir.name)
 files = {}
 
@@ -59,15 +67,19 @@ def collapses(value, phase):
     case = search_case(system, value)
     ds = run_case(case)
     files[value] = stonedem.write_dataset(ds, folder / f"{case.id}.nc")
-    print(f"{phase:7s} PGA {value:6.4g} m/s2: "
-          + (f"collapsed at {float(ds['collapse_time']):.2f} s" if ds["collapsed"] else "survived"))
+    print(
+        f"{phase:7s} PGA {value:6.4g} m/s2: "
+        + (f"collapsed at {float(ds['collapse_time']):.2f} s" if ds["collapsed"] else "survived")
+    )
     return bool(ds["collapsed"])
 
 
 runs = search(collapses, settings)
 result = summary(runs, settings)
-print(f"{result['status']}: collapse between {result['lower']:.4g} and {result['upper']:.4g} m/s2 "
-      f"({result['n_runs']} runs)")
+print(
+    f"{result['status']}: collapse between {result['lower']:.4g} and {result['upper']:.4g} m/s2 "
+    f"({result['n_runs']} runs)"
+)
 
 # %%
 # The search file
@@ -75,8 +87,9 @@ print(f"{result['status']}: collapse between {result['lower']:.4g} and {result['
 # :func:`stonedem.study.cube.search_dataset` gathers the runs (sorted by value) and the
 # bracket into one dataset, as the workflow's ``results/searches/<study>/<system>.nc``;
 # :func:`stonedem.open_search` opens such a file.
-path = stonedem.write_dataset(search_dataset(system, runs, [files[r.value] for r in runs], result),
-                              folder / "search.nc")
+path = stonedem.write_dataset(
+    search_dataset(system, runs, [files[r.value] for r in runs], result), folder / "search.nc"
+)
 found = stonedem.open_search(path)
 print(found[["collapse_threshold", "survived_below_threshold", "bracket_width", "search_status"]])
 
@@ -97,10 +110,22 @@ order.set_ylabel("PGA [m s-2] (X: collapsed)")
 
 theta_cr = float(found["theta_cr"].max())
 fell = found["collapsed"].values > 0
-curve.axvspan(float(found.survived_below_threshold), float(found.collapse_threshold), color="0.85",
-              label=f"bracket ({float(found.bracket_width):.1%})")
-curve.plot(found["pga"][~fell], found["max_rocking"][~fell] / theta_cr, "o", color=colour[False], label="survived")
-curve.plot(found["pga"][fell], [1.0] * int(fell.sum()), "X", color=colour[True], ms=9, label="collapsed")
+curve.axvspan(
+    float(found.survived_below_threshold),
+    float(found.collapse_threshold),
+    color="0.85",
+    label=f"bracket ({float(found.bracket_width):.1%})",
+)
+curve.plot(
+    found["pga"][~fell],
+    found["max_rocking"][~fell] / theta_cr,
+    "o",
+    color=colour[False],
+    label="survived",
+)
+curve.plot(
+    found["pga"][fell], [1.0] * int(fell.sum()), "X", color=colour[True], ms=9, label="collapsed"
+)
 curve.set_xscale("log")
 curve.set_xlabel("PGA [m s-2]")
 curve.set_ylabel("max rocking / theta_cr [1]")

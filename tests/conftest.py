@@ -9,13 +9,22 @@ import os
 import pytest
 from hypothesis import HealthCheck, settings
 
-settings.register_profile("ci", max_examples=50, deadline=None, derandomize=True,
-                          suppress_health_check=[HealthCheck.too_slow])
-settings.register_profile("fuzz", max_examples=10_000, deadline=None,
-                          suppress_health_check=[HealthCheck.too_slow])
+settings.register_profile(
+    "ci",
+    max_examples=50,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "fuzz", max_examples=10_000, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
 # another count for one run of the fuzz profile (e.g. 1000 for the slow argv fuzz of the subcommands)
-settings.register_profile("fuzz_n", parent=settings.get_profile("fuzz"),
-                          max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "10000")))
+settings.register_profile(
+    "fuzz_n",
+    parent=settings.get_profile("fuzz"),
+    max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "10000")),
+)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
@@ -79,8 +88,10 @@ def pytest_configure(config):
     folder = tempfile.mkdtemp(prefix="stonedem-tests-dead-slurm-")
     stub = os.path.join(folder, "scontrol")
     with open(stub, "w") as f:
-        f.write("#!/bin/sh\necho 'slurm_load_ctl_conf error: Unable to contact slurm controller "
-                "(connect failure)' >&2\nexit 1\n")
+        f.write(
+            "#!/bin/sh\necho 'slurm_load_ctl_conf error: Unable to contact slurm controller "
+            "(connect failure)' >&2\nexit 1\n"
+        )
     os.chmod(stub, 0o755)
     os.environ["PATH"] = f"{folder}{os.pathsep}{os.environ.get('PATH', '')}"
     _DEAD_SLURM.append(folder)
@@ -140,10 +151,15 @@ def pytest_sessionstart(session):
     try:  # Numba's folder for this checkout's kernels (it keys the cache by the sources' path too)
         from numba.core.caching import _CacheLocator
 
-        cached = Path(numba.config.CACHE_DIR) / _CacheLocator.get_suitable_cache_subpath(stonedem.kernels.__file__)
+        cached = Path(numba.config.CACHE_DIR) / _CacheLocator.get_suitable_cache_subpath(
+            stonedem.kernels.__file__
+        )
     except (ImportError, AttributeError):
         cached = Path(numba.config.CACHE_DIR) / "unknown"
-    if all(any(cached.glob(f"{name}-*.nbi")) for name in ("step.run_area", "step.run_point", "contact_graph.run")):
+    if all(
+        any(cached.glob(f"{name}-*.nbi"))
+        for name in ("step.run_area", "step.run_point", "contact_graph.run")
+    ):
         return  # compiled before (for this CPU or another: a worker then compiles what it lacks)
     from stonedem.engine.run import WARM_SCENES
 
@@ -151,10 +167,19 @@ def pytest_sessionstart(session):
     # two loops (23 + 29 s) in one, the area law's general loop (29 s) in the other
     groups = [[loop for loop in WARM_SCENES if loop != "general"], ["general"]]
     code = "import sys; from stonedem.engine.run import warm_compile; warm_compile(sys.argv[1:])"
-    compiles = [subprocess.Popen([sys.executable, "-c", code, *loops], stdout=subprocess.DEVNULL,
-                                 stderr=subprocess.PIPE, text=True) for loops in groups]
+    compiles = [
+        subprocess.Popen(
+            [sys.executable, "-c", code, *loops],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for loops in groups
+    ]
     for loops, compile_ in zip(groups, compiles):
         _, err = compile_.communicate()
         if compile_.returncode != 0:  # the tests will say what is wrong; this only warms the cache
-            print(f"warming the compiled {', '.join(loops)} loop failed: {err.strip().splitlines()[-1:]}",
-                  file=sys.stderr)
+            print(
+                f"warming the compiled {', '.join(loops)} loop failed: {err.strip().splitlines()[-1:]}",
+                file=sys.stderr,
+            )

@@ -10,7 +10,9 @@ def interrupt_after_line(args, ready, signum, timeout=300.0, before=None, cwd=No
     """Run ``args``; once a stderr line satisfies ``ready(line)``, call ``before()`` (if
     given), send ``signum``; return (exit status, seconds from the signal to the exit,
     the stderr lines seen up to the signal)."""
-    proc = subprocess.Popen(args, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        args, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
     lines = queue.Queue()
     threading.Thread(target=lambda: [lines.put(x) for x in proc.stderr], daemon=True).start()
     seen = []

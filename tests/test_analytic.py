@@ -25,7 +25,9 @@ def test_rectangle_rocking_properties():
     radius = math.hypot(0.25, 1.0)
     assert blk.alpha == pytest.approx(math.atan(0.25)), f"alpha {blk.alpha} vs atan(b/h), tol 1e-12"
     assert blk.radius == pytest.approx(radius), f"R {blk.radius} vs {radius}, tol 1e-12"
-    assert blk.inertia_corner == pytest.approx(4.0 / 3.0 * 3.0 * radius**2), "I_O = 4/3 m R^2, tol 1e-12"
+    assert blk.inertia_corner == pytest.approx(4.0 / 3.0 * 3.0 * radius**2), (
+        "I_O = 4/3 m R^2, tol 1e-12"
+    )
     assert blk.p == pytest.approx(math.sqrt(3.0 * G / (4.0 * radius))), "p = sqrt(3g/4R), tol 1e-12"
     with pytest.raises(ValueError):
         analytic.rectangle_rocking_properties(-1.0, 1.0)
@@ -43,8 +45,12 @@ def test_housner_period_slender_eq51_scalar_and_array():
     assert periods.shape == (3,)
     np.testing.assert_allclose(periods, ref, rtol=1e-14, err_msg="Eq. 5.1, tol 1e-14")
     single = analytic.housner_period_slender(w, h, -0.5 * blk.alpha)
-    assert np.ndim(single) == 0 and single == pytest.approx(ref[1], rel=1e-14), "Eq. 5.1 is even in theta0"
-    assert analytic.housner_period_slender(w, h, blk.alpha) == np.inf, "Eq. 5.1 at theta0 = alpha: inf"
+    assert np.ndim(single) == 0 and single == pytest.approx(ref[1], rel=1e-14), (
+        "Eq. 5.1 is even in theta0"
+    )
+    assert analytic.housner_period_slender(w, h, blk.alpha) == np.inf, (
+        "Eq. 5.1 at theta0 = alpha: inf"
+    )
 
 
 @pytest.mark.parametrize("width, height", [(0.25, 1.0), (1.0, 1.0), (1.0, 6.0)])
@@ -59,11 +65,19 @@ def test_rocking_period_exact_vs_ode_quarter_period(width, height):
 
     reach_zero.terminal = True
     for theta0, period in zip(ratios * blk.alpha, periods):
-        sol = solve_ivp(lambda t, y: [y[1], -blk.p**2 * math.sin(blk.alpha - y[0])], (0.0, 100.0),
-                        [theta0, 0.0], method="DOP853", events=reach_zero, rtol=1e-12, atol=1e-14)
+        sol = solve_ivp(
+            lambda t, y: [y[1], -(blk.p**2) * math.sin(blk.alpha - y[0])],
+            (0.0, 100.0),
+            [theta0, 0.0],
+            method="DOP853",
+            events=reach_zero,
+            rtol=1e-12,
+            atol=1e-14,
+        )
         quarter = sol.t_events[0][0]
         assert period == pytest.approx(4.0 * quarter, rel=1e-6), (
-            f"exact period {period} vs 4 x ODE quarter period {4 * quarter}, tol 1e-6")
+            f"exact period {period} vs 4 x ODE quarter period {4 * quarter}, tol 1e-6"
+        )
 
 
 def test_rocking_period_exact_tends_to_eq51_for_slender_blocks():
@@ -76,7 +90,9 @@ def test_rocking_period_exact_tends_to_eq51_for_slender_blocks():
         misfit[width] = np.abs(exact / slender - 1.0).max()
         assert misfit[width] < alpha**2 / 10.0, f"exact vs Eq. 5.1: {misfit[width]}, tol alpha^2/10"
     ratio = misfit[0.04] / misfit[0.02]
-    assert 3.5 < ratio < 4.5, f"exact vs Eq. 5.1 misfit should scale as alpha^2, ratio {ratio}, tol 4 +- 0.5"
+    assert 3.5 < ratio < 4.5, (
+        f"exact vs Eq. 5.1 misfit should scale as alpha^2, ratio {ratio}, tol 4 +- 0.5"
+    )
     assert analytic.rocking_period_exact(0.25, 1.0, 0.0) == 0.0
 
 
@@ -90,23 +106,36 @@ def test_eq53_eq54_and_their_inverse_are_consistent():
     peaks = analytic.rocking_peak_angles_eq53(w, h, theta0, r, 6)
     assert peaks.shape == (7,) and peaks[0] == pytest.approx(theta0, rel=1e-14), "Eq. 5.3 at n = 0"
     assert np.all(np.diff(peaks) < 0.0), "Eq. 5.3 peaks must decrease"
-    np.testing.assert_allclose(analytic.restitution_from_peaks(w, h, peaks), r, rtol=1e-12,
-                               err_msg="inverse of Eq. 5.3, tol 1e-12")
+    np.testing.assert_allclose(
+        analytic.restitution_from_peaks(w, h, peaks),
+        r,
+        rtol=1e-12,
+        err_msg="inverse of Eq. 5.3, tol 1e-12",
+    )
     # Eq. 5.4: a half cycle of amplitude theta_n lasts half the Eq. 5.1 period at theta_n
     half = analytic.rocking_half_periods_eq54(w, h, theta0, r, 6)
-    np.testing.assert_allclose(half, analytic.housner_period_slender(w, h, peaks) / 2.0, rtol=1e-12,
-                               err_msg="Eq. 5.4 vs Eq. 5.1 / 2 at the Eq. 5.3 peaks, tol 1e-12")
+    np.testing.assert_allclose(
+        half,
+        analytic.housner_period_slender(w, h, peaks) / 2.0,
+        rtol=1e-12,
+        err_msg="Eq. 5.4 vs Eq. 5.1 / 2 at the Eq. 5.3 peaks, tol 1e-12",
+    )
     # the exact energy ratio of the Eq. 5.3 peaks is r up to the slender-block approximation
     exact_r = analytic.restitution_from_peaks_exact(w, h, peaks)
-    assert np.abs(exact_r - r).max() < alpha**2 / 20.0, f"exact energy ratio {exact_r} vs {r}, tol alpha^2/20"
+    assert np.abs(exact_r - r).max() < alpha**2 / 20.0, (
+        f"exact energy ratio {exact_r} vs {r}, tol alpha^2/20"
+    )
 
 
 def test_housner_restitution():
     assert analytic.housner_restitution(1.0, 1.0) == pytest.approx(0.0625, rel=1e-12), (
-        "square block: (1 - 3/2 * 1/2)^2, tol 1e-12")
+        "square block: (1 - 3/2 * 1/2)^2, tol 1e-12"
+    )
     alpha = _alpha(1.0, 6.0)
     ref = (1.0 - 1.5 * math.sin(alpha) ** 2) ** 2
-    assert analytic.housner_restitution(1.0, 6.0) == pytest.approx(ref, rel=1e-14), "Housner r, tol 1e-14"
+    assert analytic.housner_restitution(1.0, 6.0) == pytest.approx(ref, rel=1e-14), (
+        "Housner r, tol 1e-14"
+    )
 
 
 # --- 5.1.3 -------------------------------------------------------------------------------
@@ -127,13 +156,25 @@ def test_rigid_plastic_sliding_rectangular_pulse_eq55(mu):
     ref = analytic.newmark_pulse_max_sliding(a_p, t_p, mu)
     t_end = t_p * a_p / (mu * G) + 1.0
     # (a) a jump: repeated instants; (b) 1 ns linear ramps; (c) 1 ms samples
-    jump = analytic.rigid_plastic_sliding([0.0, 0.0, t_p, t_p, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu)
-    ramp = analytic.rigid_plastic_sliding([0.0, 1e-9, t_p, t_p + 1e-9, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu)
-    assert np.abs(jump.u).max() == pytest.approx(ref, rel=1e-12), f"Eq. 5.5: {np.abs(jump.u).max()} vs {ref}, tol 1e-12"
-    assert np.abs(ramp.u).max() == pytest.approx(ref, rel=1e-6), f"Eq. 5.5: {np.abs(ramp.u).max()} vs {ref}, tol 1e-6"
-    assert jump.u[-1] < 0.0 and jump.v[-1] == 0.0, "positive ground pulse drives u negative, block stops"
+    jump = analytic.rigid_plastic_sliding(
+        [0.0, 0.0, t_p, t_p, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu
+    )
+    ramp = analytic.rigid_plastic_sliding(
+        [0.0, 1e-9, t_p, t_p + 1e-9, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu
+    )
+    assert np.abs(jump.u).max() == pytest.approx(ref, rel=1e-12), (
+        f"Eq. 5.5: {np.abs(jump.u).max()} vs {ref}, tol 1e-12"
+    )
+    assert np.abs(ramp.u).max() == pytest.approx(ref, rel=1e-6), (
+        f"Eq. 5.5: {np.abs(ramp.u).max()} vs {ref}, tol 1e-6"
+    )
+    assert jump.u[-1] < 0.0 and jump.v[-1] == 0.0, (
+        "positive ground pulse drives u negative, block stops"
+    )
     # velocity at the end of the pulse: -(a_p - mu g) T_p
-    assert jump.v[2] == pytest.approx(-(a_p - mu * G) * t_p, rel=1e-12), "v(T_p) closed form, tol 1e-12"
+    assert jump.v[2] == pytest.approx(-(a_p - mu * G) * t_p, rel=1e-12), (
+        "v(T_p) closed form, tol 1e-12"
+    )
     t = np.linspace(0.0, t_end, 3001)
     sampled = analytic.rigid_plastic_sliding(t, np.where(t <= t_p, a_p, 0.0), mu)
     tol = 2.0 * (t[1] - t[0]) / t_p  # one sample of ramp at each pulse edge
@@ -148,7 +189,9 @@ def test_rigid_plastic_sliding_stuck_below_friction_and_antisymmetric():
     a = 0.6 * G * np.sin(2 * np.pi * 1.5 * t) + 0.1 * G * np.sin(2 * np.pi * 4.0 * t)
     plus = analytic.rigid_plastic_sliding(t, a, 0.3)
     minus = analytic.rigid_plastic_sliding(t, -a, 0.3)
-    np.testing.assert_allclose(minus.u, -plus.u, rtol=0, atol=1e-14, err_msg="odd in a_g, tol 1e-14 m")
+    np.testing.assert_allclose(
+        minus.u, -plus.u, rtol=0, atol=1e-14, err_msg="odd in a_g, tol 1e-14 m"
+    )
     assert plus.u[100] < 0.0, "a_g > mu g first: u decreases"
 
 
@@ -165,8 +208,11 @@ def test_rigid_plastic_sliding_sine_vs_hand_solution_and_smoothed_ode():
         return amp / omega * (math.cos(omega * tt) - math.cos(omega * t1)) + mu * G * (tt - t1)
 
     def u_hand(tt):
-        return (amp / omega**2 * (math.sin(omega * tt) - math.sin(omega * t1))
-                - amp / omega * math.cos(omega * t1) * (tt - t1) + 0.5 * mu * G * (tt - t1) ** 2)
+        return (
+            amp / omega**2 * (math.sin(omega * tt) - math.sin(omega * t1))
+            - amp / omega * math.cos(omega * t1) * (tt - t1)
+            + 0.5 * mu * G * (tt - t1) ** 2
+        )
 
     t2 = brentq(v_hand, t1 + 1e-6, 0.5 / 2.0 + 0.2)
     inside = (t > t1) & (t < t2)
@@ -181,8 +227,9 @@ def test_rigid_plastic_sliding_sine_vs_hand_solution_and_smoothed_ode():
     def rhs(tt, y):
         return [y[1], -amp * math.sin(omega * tt) * (tt <= 2.0) - mu * G * math.tanh(y[1] / eps)]
 
-    sol = solve_ivp(rhs, (0.0, 3.0), [0.0, 0.0], method="LSODA", t_eval=t, rtol=1e-10, atol=1e-12,
-                    max_step=1e-3)
+    sol = solve_ivp(
+        rhs, (0.0, 3.0), [0.0, 0.0], method="LSODA", t_eval=t, rtol=1e-10, atol=1e-12, max_step=1e-3
+    )
     peak = np.abs(res.u).max()
     err = np.abs(sol.y[0] - res.u).max() / peak
     assert err < 1e-3, f"rigid-plastic vs smoothed-sign ODE: {err} of peak, tol 1e-3"
@@ -196,7 +243,9 @@ def test_bouc_wen_sliding_close_to_rigid_plastic():
     bw = analytic.bouc_wen_sliding(t, a, mu)
     peak = np.abs(exact.u).max()
     err = np.abs(bw.u - exact.u).max() / peak
-    assert peak > 0.01 and err < 0.02, f"Eq. 5.6-5.7 vs rigid-plastic: {err} of peak {peak} m, tol 0.02"
+    assert peak > 0.01 and err < 0.02, (
+        f"Eq. 5.6-5.7 vs rigid-plastic: {err} of peak {peak} m, tol 0.02"
+    )
 
 
 def test_compiled_bouc_wen_matches_lsoda():
@@ -206,9 +255,14 @@ def test_compiled_bouc_wen_matches_lsoda():
     a = (0.7 * G * np.sin(2 * np.pi * 2.0 * t) + 0.2 * G * np.sin(2 * np.pi * 5.0 * t)) * (t <= 2.0)
     ref = analytic.bouc_wen_sliding(t, a, mu)
     peak = np.abs(ref.u).max()
-    u = {n: analytic.bouc_wen_sliding_compiled(t, a, mu, steps_per_period=n).u for n in (192, 768, 3072)}
+    u = {
+        n: analytic.bouc_wen_sliding_compiled(t, a, mu, steps_per_period=n).u
+        for n in (192, 768, 3072)
+    }
     error = np.abs(u[768] - ref.u).max() / peak
-    assert error < 1e-5, f"history error {error:.2e} of the peak at the default, tol 1e-5 (LSODA's own: 2.6e-6)"
+    assert error < 1e-5, (
+        f"history error {error:.2e} of the peak at the default, tol 1e-5 (LSODA's own: 2.6e-6)"
+    )
     coarse, fine = (np.abs(u[n] - u[3072]).max() / peak for n in (192, 768))
     assert coarse / fine > 8.0, f"2nd order: 4x the steps, {coarse / fine:.1f}x smaller (16 ideal)"
     with pytest.raises(ValueError, match="steps_per_period"):
@@ -245,8 +299,12 @@ def test_rigid_rocking_free_period_matches_exact():
     err = np.abs(np.diff(t_peak) / period - 1.0).max()
     assert err < 1e-5, f"peak-to-peak vs rocking_period_exact {period} s: {err}, tol 1e-5"
     impacts = np.array(res.impact_times)
-    np.testing.assert_allclose(impacts[2:] - impacts[:-2], period, rtol=1e-8,
-                               err_msg="impact-to-impact vs rocking_period_exact, tol 1e-8")
+    np.testing.assert_allclose(
+        impacts[2:] - impacts[:-2],
+        period,
+        rtol=1e-8,
+        err_msg="impact-to-impact vs rocking_period_exact, tol 1e-8",
+    )
     assert impacts[0] == pytest.approx(period / 4.0, rel=1e-8), "first impact at T/4, tol 1e-8"
     assert not res.overturned and np.nanmax(np.abs(th)) == pytest.approx(0.5 * alpha, rel=1e-9)
 
@@ -259,7 +317,9 @@ def test_rigid_rocking_impact_energy_ratio():
     peaks = _peaks_from_energy(res, w, h)
     assert len(peaks) >= 10
     r = analytic.restitution_from_peaks_exact(w, h, np.r_[0.5 * alpha, peaks])
-    np.testing.assert_allclose(r, 0.85, rtol=0, atol=1e-6, err_msg="exact energy ratio per impact, tol 1e-6")
+    np.testing.assert_allclose(
+        r, 0.85, rtol=0, atol=1e-6, err_msg="exact energy ratio per impact, tol 1e-6"
+    )
     # Eq. 5.4 half periods hold up to the slender-block approximation
     half = analytic.rocking_half_periods_eq54(w, h, 0.5 * alpha, 0.85, 4)[1:]
     measured = np.diff(res.impact_times)[:4]
@@ -273,7 +333,9 @@ def test_rigid_rocking_settles_after_chattering():
     res = analytic.rigid_rocking_response(t, np.zeros_like(t), w, h, 0.6, theta0=0.5 * _alpha(w, h))
     assert res.impact_times[-1] < 4.0, "impacts accumulate in finite time"
     late = t > res.impact_times[-1]
-    assert np.all(res.theta[late] == 0.0) and np.all(res.omega[late] == 0.0), "block at rest after chattering"
+    assert np.all(res.theta[late] == 0.0) and np.all(res.omega[late] == 0.0), (
+        "block at rest after chattering"
+    )
 
 
 def test_rigid_rocking_constant_acceleration_below_uplift_stays_at_rest():
@@ -281,18 +343,26 @@ def test_rigid_rocking_constant_acceleration_below_uplift_stays_at_rest():
     t = np.arange(0.0, 3.0, 1e-3)
     threshold = G * math.tan(_alpha(w, h))
     for sign in (1.0, -1.0):
-        res = analytic.rigid_rocking_response(t, np.full_like(t, 0.99 * sign * threshold), w, h, 0.85)
-        assert np.all(res.theta == 0.0) and np.all(res.omega == 0.0), "|a_g| < g tan(alpha): theta = 0"
+        res = analytic.rigid_rocking_response(
+            t, np.full_like(t, 0.99 * sign * threshold), w, h, 0.85
+        )
+        assert np.all(res.theta == 0.0) and np.all(res.omega == 0.0), (
+            "|a_g| < g tan(alpha): theta = 0"
+        )
         assert not res.overturned and res.impact_times == []
 
 
 def test_rigid_rocking_constant_acceleration_above_uplift_overturns():
     w, h = SLENDER
     t = np.arange(0.0, 3.0, 1e-3)
-    res = analytic.rigid_rocking_response(t, np.full_like(t, -1.01 * G * math.tan(_alpha(w, h))), w, h, 0.85)
+    res = analytic.rigid_rocking_response(
+        t, np.full_like(t, -1.01 * G * math.tan(_alpha(w, h))), w, h, 0.85
+    )
     assert res.overturned, "a_g = -1.01 g tan(alpha) held: overturns"
     finite = np.isfinite(res.theta)
-    assert np.all(res.theta[finite] >= 0.0), "a_g < 0 tips the block onto its right corner (theta > 0)"
+    assert np.all(res.theta[finite] >= 0.0), (
+        "a_g < 0 tips the block onto its right corner (theta > 0)"
+    )
     assert np.isnan(res.theta[-1]) and np.nanmax(res.theta) <= 0.5 * math.pi
 
 
@@ -307,10 +377,18 @@ def test_rigid_rocking_one_sine_pulse_sign():
     assert len(moving), "3 g tan(alpha) one-sine pulse must uplift the block"
     t_uplift = math.asin(1.0 / 3.0) / (2 * np.pi * f)  # a_g = g tan(alpha)
     assert t[moving[0] - 1] <= t_uplift < t[moving[0]], "uplift when a_g first exceeds g tan(alpha)"
-    assert res.theta[moving[0]] < 0.0, "positive a_g tips the block onto its left corner (theta < 0)"
+    assert res.theta[moving[0]] < 0.0, (
+        "positive a_g tips the block onto its left corner (theta < 0)"
+    )
     mirror = analytic.rigid_rocking_response(t, -a, w, h, 0.85)
-    np.testing.assert_allclose(mirror.theta, -res.theta, rtol=0, atol=1e-9, equal_nan=True,
-                               err_msg="rocking is odd in a_g, tol 1e-9 rad")
+    np.testing.assert_allclose(
+        mirror.theta,
+        -res.theta,
+        rtol=0,
+        atol=1e-9,
+        equal_nan=True,
+        err_msg="rocking is odd in a_g, tol 1e-9 rad",
+    )
 
 
 def test_input_checks():
@@ -383,7 +461,8 @@ def test_one_sine_min_overturning_vs_sampled_brute_force(ratio, grid):
     assert falls == [amp >= first for amp in grid], f"brute force overturns from {first}: {falls}"
     assert 0.0 <= first - thr.amplitude <= 0.005, (
         f"threshold {thr.amplitude:.5f} vs smallest overturning grid amplitude {first}, "
-        "tol: grid spacing 0.005")
+        "tol: grid spacing 0.005"
+    )
     assert thr.mode == "impact", "overturns after an impact"
     assert all(len(res.impact_times) >= 1 for res in brute if res.overturned), "brute force too"
 
@@ -417,8 +496,11 @@ def test_one_sine_min_overturning_short_pulse_limit(ratio):
     w, h = ISSUE_BLOCK
     alpha = _alpha(w, h)
     r = analytic.housner_restitution(w, h)
-    c_star = (2.0 * (1.0 - math.cos(alpha)) / (9.0 * math.pi**2 * r * math.tan(alpha) ** 2
-                                                 * math.sin(alpha) ** 4)) ** 0.25
+    c_star = (
+        2.0
+        * (1.0 - math.cos(alpha))
+        / (9.0 * math.pi**2 * r * math.tan(alpha) ** 2 * math.sin(alpha) ** 4)
+    ) ** 0.25
     thr = analytic.rigid_one_sine_min_overturning(ratio, w, h, r, rel_tol=1e-6, step=1.2, cap=1e12)
     q = thr.amplitude / (c_star * ratio**1.5)
     assert thr.mode == "impact"
@@ -433,8 +515,11 @@ def test_one_sine_early_stop_matches_integrating_free_rocking():
     r = analytic.housner_restitution(w, h)
     rng = np.random.default_rng(5)
     ratios = np.r_[rng.uniform(1.0, 8.0, 20), 2.0, 2.0, 5.0, 5.0]
-    amps = np.r_[np.exp(rng.uniform(0.0, math.log(20.0), 20)), 1.2233 * np.array([0.998, 1.002]),
-                 2.8488 * np.array([0.998, 1.002])]
+    amps = np.r_[
+        np.exp(rng.uniform(0.0, math.log(20.0), 20)),
+        1.2233 * np.array([0.998, 1.002]),
+        2.8488 * np.array([0.998, 1.002]),
+    ]
     signs = np.r_[rng.choice([-1.0, 1.0], 20), 1.0, -1.0, 1.0, -1.0]
     modes = set()
     for ratio, amp, sign in zip(ratios, amps, signs):
@@ -445,15 +530,17 @@ def test_one_sine_early_stop_matches_integrating_free_rocking():
         assert fast.peak == pytest.approx(full.peak, rel=1e-6), "same peak / alpha, tol 1e-6"
         modes.add(fast.mode)
     assert modes == {"none", "impact", "no_impact"}, f"all three outcomes among the cases: {modes}"
-    near = [analytic.rigid_one_sine_response(s * a * _onset(w, h), x * blk.p, w, h, r).overturned
-            for x, a, s in zip(ratios[20:], amps[20:], signs[20:])]
+    near = [
+        analytic.rigid_one_sine_response(s * a * _onset(w, h), x * blk.p, w, h, r).overturned
+        for x, a, s in zip(ratios[20:], amps[20:], signs[20:])
+    ]
     assert near == [False, True, False, True], "either side of the thresholds of the table"
 
 
 def _overturn_instant(t, theta):
     """Instant |theta| reaches pi/2: a parabola through the last three finite samples."""
     k = np.flatnonzero(np.isfinite(theta))[-1]
-    c2, c1, c0 = np.polyfit(t[k - 2:k + 1] - t[k], np.abs(theta[k - 2:k + 1]), 2)
+    c2, c1, c0 = np.polyfit(t[k - 2 : k + 1] - t[k], np.abs(theta[k - 2 : k + 1]), 2)
     roots = np.roots([c2, c1, c0 - 0.5 * math.pi])
     roots = roots[np.isreal(roots)].real
     return t[k] + roots[roots > 0.0].min()
@@ -484,31 +571,45 @@ def test_compiled_rigid_rocking_matches_the_scipy_integrator(scale):
     exact = analytic.rigid_rocking_response(t, a, w, h, r)
     fast = analytic.rigid_rocking_response_compiled(t, a, w, h, r)
     assert fast.overturned == exact.overturned == (scale == 3.0), (
-        f"scale {scale}: overturned {fast.overturned} vs {exact.overturned}")
+        f"scale {scale}: overturned {fast.overturned} vs {exact.overturned}"
+    )
     assert len(fast.impact_times) == len(exact.impact_times) > 0, "same number of impacts"
     # reference accuracy: impact instants to 3.7e-6 s
-    np.testing.assert_allclose(fast.impact_times, exact.impact_times, rtol=0, atol=1e-5,
-                               err_msg="impact instants within 1e-5 s")
+    np.testing.assert_allclose(
+        fast.impact_times,
+        exact.impact_times,
+        rtol=0,
+        atol=1e-5,
+        err_msg="impact instants within 1e-5 s",
+    )
     falling = exact.overturned & (t > exact.impact_times[-1])  # falling: after its last impact
     # reference accuracy: theta to 8.6e-7 rad
-    np.testing.assert_allclose(fast.theta[~falling], exact.theta[~falling], rtol=2e-6, atol=1e-6,
-                               err_msg="theta within 1e-6 rad + 2e-6 of itself at every sample")
+    np.testing.assert_allclose(
+        fast.theta[~falling],
+        exact.theta[~falling],
+        rtol=2e-6,
+        atol=1e-6,
+        err_msg="theta within 1e-6 rad + 2e-6 of itself at every sample",
+    )
     if not exact.overturned:
         # reference accuracy: the peak to 1.9e-7 relative
         peak_fast, peak_exact = np.nanmax(np.abs(fast.theta)), np.nanmax(np.abs(exact.theta))
         assert peak_fast == pytest.approx(peak_exact, rel=1e-6), (
-            f"peak {peak_fast} vs {peak_exact}, rel 1e-6")
+            f"peak {peak_fast} vs {peak_exact}, rel 1e-6"
+        )
         return
     # reference accuracy: during the fall theta to 3.0e-6 s of its theta', the instant of
     # overturning to 3.4e-6 s, its impact instants to 3.7e-6 s: 1e-5 s for all three
     up = falling & np.isfinite(fast.theta) & np.isfinite(exact.theta)
     gap = np.abs(fast.theta[up] - exact.theta[up]) / (1e-6 + 1e-5 * np.abs(exact.omega[up]))
     assert up.sum() > 100 and gap.max() <= 1.0, (
-        f"falling: theta within 1e-6 rad + |theta'| x 1e-5 s, worst {gap.max():.2f} of that")
+        f"falling: theta within 1e-6 rad + |theta'| x 1e-5 s, worst {gap.max():.2f} of that"
+    )
     fall_fast, fall_exact = _overturn_instant(t, fast.theta), _overturn_instant(t, exact.theta)
     assert fall_exact > exact.impact_times[-1], "falls after its last impact"
     assert fall_fast == pytest.approx(fall_exact, rel=0, abs=1e-5), (
-        f"overturns at {fall_fast:.7f} s vs {fall_exact:.7f} s, tol 1e-5 s")
+        f"overturns at {fall_fast:.7f} s vs {fall_exact:.7f} s, tol 1e-5 s"
+    )
 
 
 def test_compiled_rigid_rocking_converges_in_its_substeps():
@@ -516,11 +617,16 @@ def test_compiled_rigid_rocking_converges_in_its_substeps():
     t = np.arange(0.0, 6.0, 0.01)
     w, h = SLENDER
     a = 1.5 * G * math.tan(_alpha(w, h)) * np.sin(2.0 * np.pi * 1.3 * t) * np.exp(-0.3 * t)
-    runs = {m: analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=m) for m in (4, 16, 64)}
+    runs = {
+        m: analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=m)
+        for m in (4, 16, 64)
+    }
     coarse = np.nanmax(np.abs(runs[4].theta - runs[64].theta))
     default = np.nanmax(np.abs(runs[16].theta - runs[64].theta))
     assert default < 1e-9, f"substeps 16 vs 64: {default} rad, tol 1e-9"
-    assert coarse > 50.0 * default, f"4 -> 16 substeps cut the error {coarse / default:.0f}x (>= 50x for order 4)"
+    assert coarse > 50.0 * default, (
+        f"4 -> 16 substeps cut the error {coarse / default:.0f}x (>= 50x for order 4)"
+    )
     for bad in (0, 2.5, True):
         with pytest.raises(ValueError, match="substeps"):
             analytic.rigid_rocking_response_compiled(t, a, w, h, 0.8, substeps=bad)
@@ -539,7 +645,9 @@ def test_compiled_one_sine_matches_the_scipy_integrator():
         a_p, r = rng.choice([-1.0, 1.0]) * amp * _onset(w, h), rng.uniform(0.4, 1.0)
         ref = analytic.rigid_one_sine_response(a_p, ratio * blk.p, w, h, r)
         fast = analytic.rigid_one_sine_response_compiled(a_p, ratio * blk.p, w, h, r)
-        assert fast[:2] == ref[:2], f"omega_p/p {ratio:.3f}, a_p {a_p:.3f}, r {r:.3f}: {fast} vs {ref}"
+        assert fast[:2] == ref[:2], (
+            f"omega_p/p {ratio:.3f}, a_p {a_p:.3f}, r {r:.3f}: {fast} vs {ref}"
+        )
         assert fast.peak == pytest.approx(ref.peak, abs=1e-8), "same peak / alpha, tol 1e-8"
         modes.add(fast.mode)
     assert modes == {"none", "impact", "no_impact"}, f"all three outcomes among the cases: {modes}"
@@ -563,16 +671,26 @@ def test_compiled_one_sine_converges_at_fourth_order():
     w, h = ISSUE_BLOCK
     blk = analytic.rectangle_rocking_properties(w, h)
     r = analytic.housner_restitution(w, h)
-    runs = [one_sine_pulse(1.5 * _onset(w, h), 2.0 * blk.p, blk.alpha, blk.p**2, 9.81, r, 1e-6 * blk.p, n)
-            for n in (250, 1000, 4000, 16000)]
+    runs = [
+        one_sine_pulse(
+            1.5 * _onset(w, h), 2.0 * blk.p, blk.alpha, blk.p**2, 9.81, r, 1e-6 * blk.p, n
+        )
+        for n in (250, 1000, 4000, 16000)
+    ]
     assert [run[0] for run in runs] == [PULSE_ENDED] * 4 and [run[4] for run in runs] == [1] * 4
     errors = [abs(run[1] - runs[-1][1]) for run in runs[:-1]]
-    assert errors[0] / errors[1] > 150.0 and errors[0] < 1e-9, f"theta errors vs 16000 steps: {errors}"
+    assert errors[0] / errors[1] > 150.0 and errors[0] < 1e-9, (
+        f"theta errors vs 16000 steps: {errors}"
+    )
 
 
 def test_compiled_one_sine_refuses_bad_input():
     w, h = ISSUE_BLOCK
-    for kwargs, match in (({"steps": True}, "steps"), ({"steps": 0}, "steps"), ({"steps": 2.5}, "steps")):
+    for kwargs, match in (
+        ({"steps": True}, "steps"),
+        ({"steps": 0}, "steps"),
+        ({"steps": 2.5}, "steps"),
+    ):
         with pytest.raises(ValueError, match=match):
             analytic.rigid_one_sine_response_compiled(1.0, 1.0, w, h, 0.8, **kwargs)
     with pytest.raises(ValueError, match="r must be"):

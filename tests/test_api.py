@@ -23,10 +23,19 @@ SHORT = {"solver.duration": 0.3}
 
 # --- the face ---------------------------------------------------------------------------------
 
+
 def loaded_after(code: str) -> set[str]:
-    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\n"
-                          "print(sorted({n.split('.')[1] for n in sys.modules if n.startswith('stonedem.')}))"],
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            code + "\nimport sys\n"
+            "print(sorted({n.split('.')[1] for n in sys.modules if n.startswith('stonedem.')}))",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     return set(ast.literal_eval(out.strip().splitlines()[-1]))
 
 
@@ -34,7 +43,14 @@ def test_import_stonedem_alone_loads_no_engine():
     assert loaded_after("import stonedem") <= {"version"}
     # a name of the face loads the face, still not the engine (it is loaded on first use)
     loaded = loaded_after("import stonedem\nstonedem.open_cube\nstonedem.InputError")
-    assert "api" in loaded and not loaded & {"engine", "kernels", "study", "fragility", "wall", "figures"}, loaded
+    assert "api" in loaded and not loaded & {
+        "engine",
+        "kernels",
+        "study",
+        "fragility",
+        "wall",
+        "figures",
+    }, loaded
 
 
 def test_the_package_names_the_face():
@@ -52,26 +68,45 @@ def test_the_package_names_the_face():
 
 # --- scenes -----------------------------------------------------------------------------------
 
+
 def test_load_scene_from_a_file_or_a_mapping_with_overrides():
     by_list = stonedem.load_scene(SCENE, overrides=["solver.duration=0.3", "bodies.block.mass=10"])
-    by_map = stonedem.load_scene(str(SCENE), overrides={"solver.duration": 0.3, "bodies.block.mass": 10.0})
+    by_map = stonedem.load_scene(
+        str(SCENE), overrides={"solver.duration": 0.3, "bodies.block.mass": 10.0}
+    )
     spec = yaml.safe_load(SCENE.read_text())
-    by_dict = stonedem.load_scene(spec, base_dir=SCENE.parent, overrides={"solver.duration": 0.3,
-                                                                          "bodies.block.mass": 10.0})
+    by_dict = stonedem.load_scene(
+        spec, base_dir=SCENE.parent, overrides={"solver.duration": 0.3, "bodies.block.mass": 10.0}
+    )
     for scene in (by_list, by_map, by_dict):
         assert scene.duration == 0.3 and scene.body_names == ["base", "block"]
         assert scene.bodies[1].mass == 10.0
     assert spec["solver"]["duration"] == 4.0, "the caller's mapping is left as it was"
 
 
-@pytest.mark.parametrize("source, overrides, message", [
-    (ROOT / "no_such_scene.yaml", None, "scene file not found; check the path"),
-    (42, None, "scene: expected a scene file path or a mapping, got int; give the path"),
-    (SCENE, {"bodies.nobody.mass": 1.0}, "overrides bodies.nobody: no list item 'nobody'; use an index or a body name"),
-    (SCENE, ["solver.duration"], "--set: 'solver.duration' is not key=value"),
-    (SCENE, "solver.duration=1", "overrides: expected a list of key=value strings or a mapping"),
-    ({"bodies": []}, None, "bodies: the scene has no bodies; list bodies: or give a structure:"),
-])
+@pytest.mark.parametrize(
+    "source, overrides, message",
+    [
+        (ROOT / "no_such_scene.yaml", None, "scene file not found; check the path"),
+        (42, None, "scene: expected a scene file path or a mapping, got int; give the path"),
+        (
+            SCENE,
+            {"bodies.nobody.mass": 1.0},
+            "overrides bodies.nobody: no list item 'nobody'; use an index or a body name",
+        ),
+        (SCENE, ["solver.duration"], "--set: 'solver.duration' is not key=value"),
+        (
+            SCENE,
+            "solver.duration=1",
+            "overrides: expected a list of key=value strings or a mapping",
+        ),
+        (
+            {"bodies": []},
+            None,
+            "bodies: the scene has no bodies; list bodies: or give a structure:",
+        ),
+    ],
+)
 def test_load_scene_refuses_bad_input_naming_the_fix(source, overrides, message):
     with pytest.raises(InputError) as err:
         stonedem.load_scene(source, overrides=overrides)
@@ -92,7 +127,9 @@ def test_run_scene_from_a_scene_a_file_or_a_mapping(rocking):
     spec = yaml.safe_load(SCENE.read_text())
     spec["solver"]["duration"] = 0.3
     from_dict = stonedem.run_scene(spec)
-    assert np.array_equal(from_dict["theta"].values, ds["theta"].values), "the same scene, the same run"
+    assert np.array_equal(from_dict["theta"].values, ds["theta"].values), (
+        "the same scene, the same run"
+    )
     with pytest.raises(InputError, match="scene file not found"):
         stonedem.run_scene(ROOT / "missing.yaml")
 
@@ -108,13 +145,20 @@ def test_the_command_line_runs_through_the_face(tmp_path, rocking):
 
 # --- walls ------------------------------------------------------------------------------------
 
+
 def small_wall() -> dict:
     """tests/wall/test_pushover.py's free-standing wall: 2 blocks x 8 courses, overturns at s/H."""
-    return {"panel": {"block": {"a": 0.081, "b": 0.210, "s": 0.070}, "blocks_per_course": 2,
-                      "courses": 8, "unit_weight": 20000.0},
-            "joints": {"kind": "dry", "mu": 0.7, "k_n": 2.4e9, "k_t": 1.0e9},
-            "restraints": [{"edge": "base", "fix": "all"}],
-            "load": {"kind": "proportional", "direction": "out_of_plane"}}
+    return {
+        "panel": {
+            "block": {"a": 0.081, "b": 0.210, "s": 0.070},
+            "blocks_per_course": 2,
+            "courses": 8,
+            "unit_weight": 20000.0,
+        },
+        "joints": {"kind": "dry", "mu": 0.7, "k_n": 2.4e9, "k_t": 1.0e9},
+        "restraints": [{"edge": "base", "fix": "all"}],
+        "load": {"kind": "proportional", "direction": "out_of_plane"},
+    }
 
 
 def test_run_wall_from_a_mapping_and_from_a_case_file():
@@ -127,11 +171,17 @@ def test_run_wall_from_a_mapping_and_from_a_case_file():
     assert from_file.attrs["title"].endswith("free_standing")
 
 
-@pytest.mark.parametrize("case, message", [
-    (ROOT / "no_such_wall.yaml", "a wall case file not found; check the path"),
-    ({**small_wall(), "joints": {"kind": "dry", "mu": -1.0, "k_n": 2.4e9, "k_t": 1.0e9}}, "joints.mu"),
-    (3.5, "case: expected a wall case file path or a mapping, got float"),
-])
+@pytest.mark.parametrize(
+    "case, message",
+    [
+        (ROOT / "no_such_wall.yaml", "a wall case file not found; check the path"),
+        (
+            {**small_wall(), "joints": {"kind": "dry", "mu": -1.0, "k_n": 2.4e9, "k_t": 1.0e9}},
+            "joints.mu",
+        ),
+        (3.5, "case: expected a wall case file path or a mapping, got float"),
+    ],
+)
 def test_run_wall_refuses_bad_input_naming_the_field(case, message):
     with pytest.raises(InputError, match=message.replace(".", r"\.")):
         stonedem.run_wall(case)
@@ -139,12 +189,17 @@ def test_run_wall_refuses_bad_input_naming_the_field(case, message):
 
 # --- the study's files ------------------------------------------------------------------------
 
+
 def case_file(path, pga, collapsed, rocking):
     """A case file as stonedem.study.grid.run_case writes it (the variables a cube keeps)."""
-    ds = xr.Dataset({"collapsed": ((), float(collapsed), {"units": "1", "long_name": "collapsed"}),
-                     "max_rocking": ((), rocking, {"units": "rad", "long_name": "peak rocking"})},
-                    coords={"pga": ((), pga, {"units": "m s-2", "long_name": "PGA"})},
-                    attrs={"study": "tiny", "title": "stonedem rigid-block simulation: tiny"})
+    ds = xr.Dataset(
+        {
+            "collapsed": ((), float(collapsed), {"units": "1", "long_name": "collapsed"}),
+            "max_rocking": ((), rocking, {"units": "rad", "long_name": "peak rocking"}),
+        },
+        coords={"pga": ((), pga, {"units": "m s-2", "long_name": "PGA"})},
+        attrs={"study": "tiny", "title": "stonedem rigid-block simulation: tiny"},
+    )
     return stonedem.write_dataset(ds, path)
 
 
@@ -160,28 +215,47 @@ def study_files(tmp_path_factory):
 
     d = tmp_path_factory.mktemp("study")
     runs = [Run(1.0, False, "hunt"), Run(1.8, True, "hunt"), Run(1.4, False, "bisect")]
-    cases = [case_file(d / f"pga-{r.value:g}.nc", r.value, r.collapsed, 0.1 * r.value) for r in runs]
+    cases = [
+        case_file(d / f"pga-{r.value:g}.nc", r.value, r.collapsed, 0.1 * r.value) for r in runs
+    ]
     files = {"scene": cases[0], "cube": stonedem.write_dataset(combine_cases(cases), d / "cube.nc")}
     settings = SearchSettings(start=1.0, tolerance=0.3, fill=0)
     system = Case("tiny", "block", {}, {}, settings)
-    files["search"] = stonedem.write_dataset(search_dataset(system, runs, cases, summary(runs, settings)),
-                                             d / "search.nc")
+    files["search"] = stonedem.write_dataset(
+        search_dataset(system, runs, cases, summary(runs, settings)), d / "search.nc"
+    )
     searches = []
     for comp, pga_c in (("FF01a", 4.0), ("FF01b", 5.0), ("FF02a", 8.0)):
         values = np.array([1.0, 2.0, 3.0, 4.0, 6.0]) * pga_c / 4.0
         collapsed = values >= pga_c
-        searches.append(_search_file(d / f"ida_{comp}.nc", "col", comp, values, collapsed,
-                                     np.where(collapsed, 0.2, 0.001 * values ** 2), np.zeros(values.size)))
+        searches.append(
+            _search_file(
+                d / f"ida_{comp}.nc",
+                "col",
+                comp,
+                values,
+                collapsed,
+                np.where(collapsed, 0.2, 0.001 * values**2),
+                np.zeros(values.size),
+            )
+        )
     ida = ida_cube(searches, {"col": COLUMN}, ["far_field"])
     files["ida"] = stonedem.write_dataset(ida, d / "ida.nc")
-    files["fragility"] = stonedem.write_dataset(fragility_dataset(ida, samples=20), d / "fragility.nc")
+    files["fragility"] = stonedem.write_dataset(
+        fragility_dataset(ida, samples=20), d / "fragility.nc"
+    )
     (d / "notes.txt").write_text("not a NetCDF file\n")
     files["text"] = d / "notes.txt"
     files["untitled"] = stonedem.write_dataset(xr.Dataset({"x": ((), 1.0)}), d / "untitled.nc")
     return files
 
 
-OPENERS = {"cube": "open_cube", "search": "open_search", "ida": "open_ida", "fragility": "open_fragility"}
+OPENERS = {
+    "cube": "open_cube",
+    "search": "open_search",
+    "ida": "open_ida",
+    "fragility": "open_fragility",
+}
 
 
 def test_each_kind_of_file_opens_in_memory(study_files):
@@ -191,12 +265,17 @@ def test_each_kind_of_file_opens_in_memory(study_files):
     assert float(search.collapse_threshold) == 1.8 and float(search.survived_below_threshold) == 1.4
     assert list(search["pga"].values) == [1.0, 1.4, 1.8], "runs sorted by the searched value"
     ida = stonedem.open_ida(study_files["ida"])
-    collapse = ida.pga_at_limit.sel(structure="col", limit_state="collapse", record=["FF01a", "FF01b", "FF02a"])
-    assert collapse.values.tolist() == [4.0, 5.0, 8.0] and ida.pga_at_limit.attrs["units"] == "m s-2"
+    collapse = ida.pga_at_limit.sel(
+        structure="col", limit_state="collapse", record=["FF01a", "FF01b", "FF02a"]
+    )
+    assert (
+        collapse.values.tolist() == [4.0, 5.0, 8.0] and ida.pga_at_limit.attrs["units"] == "m s-2"
+    )
     fits = stonedem.open_fragility(study_files["fragility"])
-    median = float(fits.median_pga.sel(structure="col", record_set="far_field", limit_state="collapse"))
+    median = float(
+        fits.median_pga.sel(structure="col", record_set="far_field", limit_state="collapse")
+    )
     assert median == pytest.approx((4.0 * 5.0 * 8.0) ** (1 / 3))
-
 
 
 def test_an_opened_file_is_in_memory_and_closed(study_files, tmp_path):
@@ -218,7 +297,9 @@ def test_a_file_of_another_kind_is_refused_naming_its_opener(study_files, kind):
             opener(study_files[other])
         message = str(err.value)
         assert f"open it with stonedem.{other_opener}" in message and "\n" not in message, message
-    with pytest.raises(InputError, match=r"is a rigid-block simulation, not .*; give .* written by"):
+    with pytest.raises(
+        InputError, match=r"is a rigid-block simulation, not .*; give .* written by"
+    ):
         opener(study_files["scene"])
     with pytest.raises(InputError, match=r"is not .* \(title ''\); give .* written by stonedem\."):
         opener(study_files["untitled"])
@@ -227,9 +308,14 @@ def test_a_file_of_another_kind_is_refused_naming_its_opener(study_files, kind):
 @pytest.mark.parametrize("kind", list(OPENERS))
 def test_a_text_file_a_missing_file_and_a_folder_are_refused(study_files, kind, tmp_path):
     opener = getattr(stonedem, OPENERS[kind])
-    with pytest.raises(InputError, match=r"notes\.txt: not a NetCDF file; give .* \(\.nc\) written by stonedem\."):
+    with pytest.raises(
+        InputError, match=r"notes\.txt: not a NetCDF file; give .* \(\.nc\) written by stonedem\."
+    ):
         opener(study_files["text"])
-    with pytest.raises(InputError, match=r"nothing\.nc: file not found; check the path, or write .* with stonedem\."):
+    with pytest.raises(
+        InputError,
+        match=r"nothing\.nc: file not found; check the path, or write .* with stonedem\.",
+    ):
         opener(tmp_path / "nothing.nc")
     with pytest.raises(InputError, match="is not a regular file; give the path of"):
         opener(tmp_path)
@@ -239,7 +325,9 @@ def test_a_text_file_a_missing_file_and_a_folder_are_refused(study_files, kind, 
 
 def test_a_run_of_the_engine_is_not_a_study_file(tmp_path, rocking):
     path = stonedem.write_dataset(rocking, tmp_path / "rocking.nc")
-    with pytest.raises(InputError, match="rocking.nc: is a rigid-block simulation, not an IDA cube; give"):
+    with pytest.raises(
+        InputError, match="rocking.nc: is a rigid-block simulation, not an IDA cube; give"
+    ):
         stonedem.open_ida(path)
 
 
@@ -250,14 +338,27 @@ def test_every_public_name_has_a_numpydoc_docstring():
         if name.startswith("__"):
             continue
         doc = getattr(stonedem, name).__doc__ or ""
-        assert "Parameters\n" in doc and "----------" in doc, f"stonedem.{name}: no numpydoc Parameters section"
+        assert "Parameters\n" in doc and "----------" in doc, (
+            f"stonedem.{name}: no numpydoc Parameters section"
+        )
 
 
 def test_run_scenes_gives_each_scene_what_run_scene_gives_it():
-    spec = {"bodies": [
-        {"name": "base", "box": {"width": 2.0, "height": 0.2, "center": [0.0, -0.1]}, "driven": True},
-        {"name": "block", "box": {"width": 0.2, "height": 1.0, "center": [0.0, 0.5]},
-         "tilt": {"angle": 0.05, "about": "bottom_right"}}], "solver": {"duration": 0.3}}
+    spec = {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 2.0, "height": 0.2, "center": [0.0, -0.1]},
+                "driven": True,
+            },
+            {
+                "name": "block",
+                "box": {"width": 0.2, "height": 1.0, "center": [0.0, 0.5]},
+                "tilt": {"angle": 0.05, "about": "bottom_right"},
+            },
+        ],
+        "solver": {"duration": 0.3},
+    }
     other = {**spec, "solver": {"duration": 0.2}}
     together = stonedem.run_scenes([spec, other])
     for source, ds in zip([spec, other], together):
@@ -270,13 +371,20 @@ def test_run_scenes_gives_each_scene_what_run_scene_gives_it():
 
 # --- numpy values are numbers ----------------------------------------------------------------
 
+
 def test_numpy_scalars_and_0d_arrays_are_numbers_everywhere():
     """A script's np.float32 friction, np.int64 drum count or 0-d array is the number it holds
     (refused before: 'expected a number'); np.bool_ stays refused like bool."""
-    plain = {"structure": {"kind": "column", "n_drums": 3, "height": 3.0},
-             "friction": 0.625, "solver": {"duration": 0.05}}
-    numpy = {"structure": {"kind": "column", "n_drums": np.int64(3), "height": np.array(3.0)},
-             "friction": np.float32(0.625), "solver": {"duration": np.float64(0.05)}}
+    plain = {
+        "structure": {"kind": "column", "n_drums": 3, "height": 3.0},
+        "friction": 0.625,
+        "solver": {"duration": 0.05},
+    }
+    numpy = {
+        "structure": {"kind": "column", "n_drums": np.int64(3), "height": np.array(3.0)},
+        "friction": np.float32(0.625),
+        "solver": {"duration": np.float64(0.05)},
+    }
     a, b = stonedem.load_scene(plain), stonedem.load_scene(numpy)
     assert len(b.bodies) == 4 and b.friction == 0.625 and b.duration == 0.05
     assert [body.mass for body in a.bodies] == [body.mass for body in b.bodies]
@@ -292,10 +400,14 @@ def test_numpy_scalars_and_0d_arrays_are_numbers_everywhere():
     wall["joints"]["mu"] = np.float32(0.75)
     case = check_case(wall)
     assert case.courses == 8 and type(case.courses) is int
-    assert case.spec == check_case(small_wall() | {"joints": {**small_wall()["joints"], "mu": 0.75}}).spec
+    assert (
+        case.spec
+        == check_case(small_wall() | {"joints": {**small_wall()["joints"], "mu": 0.75}}).spec
+    )
 
 
 # --- write_dataset ---------------------------------------------------------------------------
+
 
 def test_write_dataset_refuses_to_replace_what_it_did_not_write(tmp_path, rocking):
     scene = tmp_path / "scene.yaml"
@@ -305,16 +417,25 @@ def test_write_dataset_refuses_to_replace_what_it_did_not_write(tmp_path, rockin
     for overwrite in (False, True):  # an input of the dataset, whatever the flag
         with pytest.raises(InputError, match=r"scene\.yaml is the input file"):
             stonedem.write_dataset(ds, scene, overwrite=overwrite)
-    ds.attrs.pop("scene_file")  # loaded first: the dataset does not know its file, the file is no NetCDF
-    with pytest.raises(InputError, match=r"scene\.yaml exists and is not a NetCDF file; it is not replaced"):
+    ds.attrs.pop(
+        "scene_file"
+    )  # loaded first: the dataset does not know its file, the file is no NetCDF
+    with pytest.raises(
+        InputError, match=r"scene\.yaml exists and is not a NetCDF file; it is not replaced"
+    ):
         stonedem.write_dataset(ds, scene)
     (tmp_path / "notes.nc").write_text("notes\n")
     xr.Dataset({"a": ((), 1.0)}).to_netcdf(tmp_path / "foreign.nc")
-    with pytest.raises(InputError, match="notes.nc exists and is not a NetCDF file.*pass overwrite=True"):
+    with pytest.raises(
+        InputError, match="notes.nc exists and is not a NetCDF file.*pass overwrite=True"
+    ):
         stonedem.write_dataset(rocking, tmp_path / "notes.nc")
     with pytest.raises(InputError, match="foreign.nc is a NetCDF file stonedem did not write"):
         stonedem.write_dataset(rocking, tmp_path / "foreign.nc")
-    assert scene.read_text().startswith(SCENE.read_text()[:20]) and (tmp_path / "notes.nc").read_text() == "notes\n"
+    assert (
+        scene.read_text().startswith(SCENE.read_text()[:20])
+        and (tmp_path / "notes.nc").read_text() == "notes\n"
+    )
     # its own files, and anything with overwrite=True, are replaced
     for name in ("ours.nc", "ours.nc", "notes.nc"):
         stonedem.write_dataset(rocking, tmp_path / name, overwrite=name == "notes.nc")
@@ -322,18 +443,24 @@ def test_write_dataset_refuses_to_replace_what_it_did_not_write(tmp_path, rockin
             assert back.sizes["time"] == rocking.sizes["time"]
 
 
-@pytest.mark.parametrize("ds, field", [
-    (xr.Dataset({"z": (("t",), np.array([1 + 2j]))}), "ds['z']: has dtype complex128"),
-    (xr.Dataset({"x": (("t",), np.zeros(2, np.float16))}), "ds['x']: has dtype float16"),
-    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": {"b": 1}}), "ds.attrs['a']: is a dict"),
-    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": None}), "ds.attrs['a']: is a NoneType"),
-    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": True}), "ds.attrs['a']: is a bool"),
-    (xr.Dataset({"x": ((), 1.0)}, attrs={"a": [[1, 2]]}), "ds.attrs['a']: is a sequence"),
-    (xr.Dataset({"x": ((), 1.0, {"units": None})}), "ds['x'].attrs['units']: is a NoneType"),
-    (xr.Dataset({"a/b": ((), 1.0)}), "ds['a/b']: a variable or dimension name"),
-    (xr.Dataset({1: ((), 1.0)}), "ds[1]: a variable or dimension name"),
-    (xr.Dataset({"x": (("t",), np.array([1, "a"], dtype=object))}), "ds: cannot be written as NetCDF (ValueError"),
-])
+@pytest.mark.parametrize(
+    "ds, field",
+    [
+        (xr.Dataset({"z": (("t",), np.array([1 + 2j]))}), "ds['z']: has dtype complex128"),
+        (xr.Dataset({"x": (("t",), np.zeros(2, np.float16))}), "ds['x']: has dtype float16"),
+        (xr.Dataset({"x": ((), 1.0)}, attrs={"a": {"b": 1}}), "ds.attrs['a']: is a dict"),
+        (xr.Dataset({"x": ((), 1.0)}, attrs={"a": None}), "ds.attrs['a']: is a NoneType"),
+        (xr.Dataset({"x": ((), 1.0)}, attrs={"a": True}), "ds.attrs['a']: is a bool"),
+        (xr.Dataset({"x": ((), 1.0)}, attrs={"a": [[1, 2]]}), "ds.attrs['a']: is a sequence"),
+        (xr.Dataset({"x": ((), 1.0, {"units": None})}), "ds['x'].attrs['units']: is a NoneType"),
+        (xr.Dataset({"a/b": ((), 1.0)}), "ds['a/b']: a variable or dimension name"),
+        (xr.Dataset({1: ((), 1.0)}), "ds[1]: a variable or dimension name"),
+        (
+            xr.Dataset({"x": (("t",), np.array([1, "a"], dtype=object))}),
+            "ds: cannot be written as NetCDF (ValueError",
+        ),
+    ],
+)
 def test_write_dataset_names_what_netcdf_cannot_hold(tmp_path, ds, field):
     with pytest.raises(InputError) as err:
         stonedem.write_dataset(ds, tmp_path / "out.nc")
@@ -343,13 +470,19 @@ def test_write_dataset_names_what_netcdf_cannot_hold(tmp_path, ds, field):
 
 def test_write_dataset_checks_its_arguments_first(tmp_path, rocking):
     (tmp_path / "loop.nc").symlink_to("loop.nc")
-    for args, kind, start in [((None, tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset, got NoneType"),
-                              ((rocking["theta"], tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset"),
-                              ((rocking, None), TypeError, "path: expected a file path"),
-                              ((rocking, b"o.nc"), TypeError, "path: expected a file path (str or os.PathLike), got bytes"),
-                              ((rocking, tmp_path), InputError, "path: "),
-                              ((rocking, tmp_path / "loop.nc"), InputError, "path: "),
-                              ((rocking, tmp_path / "o.nc", [1]), TypeError, "encoding: expected a dict")]:
+    for args, kind, start in [
+        ((None, tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset, got NoneType"),
+        ((rocking["theta"], tmp_path / "o.nc"), TypeError, "ds: expected an xarray.Dataset"),
+        ((rocking, None), TypeError, "path: expected a file path"),
+        (
+            (rocking, b"o.nc"),
+            TypeError,
+            "path: expected a file path (str or os.PathLike), got bytes",
+        ),
+        ((rocking, tmp_path), InputError, "path: "),
+        ((rocking, tmp_path / "loop.nc"), InputError, "path: "),
+        ((rocking, tmp_path / "o.nc", [1]), TypeError, "encoding: expected a dict"),
+    ]:
         with pytest.raises(kind) as err:
             stonedem.write_dataset(*args)
         assert str(err.value).startswith(start) and "\n" not in str(err.value), err.value
@@ -360,10 +493,15 @@ def test_write_dataset_checks_its_arguments_first(tmp_path, rocking):
 
 # --- the API's arguments ---------------------------------------------------------------------
 
+
 def test_a_loaded_scene_cannot_record_a_false_provenance():
     scene = stonedem.load_scene(SCENE, overrides=SHORT)
-    for change in (lambda s: s.spec.__setitem__("friction", 0.9), lambda s: s.spec["solver"].update(duration=9.0),
-                   lambda s: s.spec["bodies"][1].__setitem__("mass", 1.0), lambda s: s.spec.pop("solver")):
+    for change in (
+        lambda s: s.spec.__setitem__("friction", 0.9),
+        lambda s: s.spec["solver"].update(duration=9.0),
+        lambda s: s.spec["bodies"][1].__setitem__("mass", 1.0),
+        lambda s: s.spec.pop("solver"),
+    ):
         with pytest.raises(TypeError, match="scene.spec is read-only"):
             change(scene)
     import copy
@@ -383,15 +521,21 @@ def test_run_scenes_takes_one_scene_or_many_and_names_a_bad_argument(tmp_path):
     for one in (str(short), short):  # a path is one scene, not its characters
         (ds,) = stonedem.run_scenes(one)
         assert ds.attrs["scene_file"] == str(short) and float(ds["time"][-1]) == pytest.approx(0.02)
-    for bad, message in ((None, "scenes: expected a scene"), (3, "got int"), ([scene, 3], r"scenes\[1\]: expected"),
-                         (iter([None]), r"scenes\[0\]")):
+    for bad, message in (
+        (None, "scenes: expected a scene"),
+        (3, "got int"),
+        ([scene, 3], r"scenes\[1\]: expected"),
+        (iter([None]), r"scenes\[0\]"),
+    ):
         with pytest.raises(TypeError, match=message):
             stonedem.run_scenes(bad)
-    for call, message in ((lambda: stonedem.run_scenes([scene], threads="2"), "threads: expected"),
-                          (lambda: stonedem.run_scenes([scene], device=None), "device: expected"),
-                          (lambda: stonedem.run_scene(scene, progress="no"), "progress: expected True or False"),
-                          (lambda: stonedem.run_wall(small_wall(), limit_analysis=1), "limit_analysis: expected"),
-                          (lambda: stonedem.load_scene(SCENE, base_dir=3), "base_dir: expected a folder path")):
+    for call, message in (
+        (lambda: stonedem.run_scenes([scene], threads="2"), "threads: expected"),
+        (lambda: stonedem.run_scenes([scene], device=None), "device: expected"),
+        (lambda: stonedem.run_scene(scene, progress="no"), "progress: expected True or False"),
+        (lambda: stonedem.run_wall(small_wall(), limit_analysis=1), "limit_analysis: expected"),
+        (lambda: stonedem.load_scene(SCENE, base_dir=3), "base_dir: expected a folder path"),
+    ):
         with pytest.raises(TypeError, match=message):
             call()
 

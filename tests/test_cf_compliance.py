@@ -18,12 +18,16 @@ import shutil
 import numpy as np
 import pytest
 
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("compliance_checker") is None,
-                                reason="the IOOS compliance checker is not installed (pip install -e '.[check]')")
+pytestmark = pytest.mark.skipif(
+    importlib.util.find_spec("compliance_checker") is None,
+    reason="the IOOS compliance checker is not installed (pip install -e '.[check]')",
+)
 
 # the errors simulation time in seconds costs, and only those (see the module docstring)
-DELIBERATE = (re.compile(r"^time must be in a valid units format <unit> since <epoch> not s$"),
-              re.compile(r"^time does not have correct time units$"))
+DELIBERATE = (
+    re.compile(r"^time must be in a valid units format <unit> since <epoch> not s$"),
+    re.compile(r"^time does not have correct time units$"),
+)
 
 
 def cf_errors(path) -> list[str]:
@@ -32,10 +36,13 @@ def cf_errors(path) -> list[str]:
 
     CheckSuite().load_all_available_checkers()
     report = path.with_suffix(".cf.json")
-    ComplianceChecker.run_checker(str(path), ["cf:1.10"], 0, "normal", output_filename=str(report),
-                                  output_format="json")
+    ComplianceChecker.run_checker(
+        str(path), ["cf:1.10"], 0, "normal", output_filename=str(report), output_format="json"
+    )
     results = json.loads(report.read_text())["cf:1.10"]
-    return [message for item in results.get("high_priorities", []) for message in item.get("msgs", [])]
+    return [
+        message for item in results.get("high_priorities", []) for message in item.get("msgs", [])
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -60,32 +67,73 @@ def outputs(tmp_path_factory):
     for i, case in enumerate(cases):
         write_dataset(run_case(case), folder / f"case{i}.nc")
     out["case"] = folder / "case0.nc"
-    out["cube"] = write_dataset(combine_cases([folder / "case0.nc", folder / "case1.nc"]), folder / "cube.nc")
-    (system,) = case_table("block", {**BLOCK, "grid": {"friction": [0.7]}, "search": {
-        "parameter": "amplitude", "start": 0.1, "factor": 2.0, "tolerance": 0.5, "fill": 0, "minimum": 0.01,
-        "maximum": 0.64}})
+    out["cube"] = write_dataset(
+        combine_cases([folder / "case0.nc", folder / "case1.nc"]), folder / "cube.nc"
+    )
+    (system,) = case_table(
+        "block",
+        {
+            **BLOCK,
+            "grid": {"friction": [0.7]},
+            "search": {
+                "parameter": "amplitude",
+                "start": 0.1,
+                "factor": 2.0,
+                "tolerance": 0.5,
+                "fill": 0,
+                "minimum": 0.01,
+                "maximum": 0.64,
+            },
+        },
+    )
     run_search(system, folder / "runs", folder / "search.nc", CaseStore(None), io.StringIO())
     out["search"] = folder / "search.nc"
     searches = []
     for comp, pga in (("FF01a", 4.0), ("FF01b", 5.0), ("FF02a", 8.0)):
         values = np.array([1.0, 2.0, 4.0, 8.0]) * pga / 4.0
-        searches.append(_search_file(folder / f"s_{comp}.nc", "col", comp, values, values >= pga,
-                                     0.01 * values, np.zeros(values.size)))
+        searches.append(
+            _search_file(
+                folder / f"s_{comp}.nc",
+                "col",
+                comp,
+                values,
+                values >= pga,
+                0.01 * values,
+                np.zeros(values.size),
+            )
+        )
     cube = ida_cube(searches, {"col": COLUMN}, ["far_field"])
     out["ida"] = write_dataset(cube, folder / "ida.nc")
     out["fragility"] = write_dataset(fragility_dataset(cube, samples=20), folder / "fragility.nc")
     out["wall"] = write_dataset(stonedem.run_wall(small_wall()), folder / "wall.nc")
     out["record"] = folder.parent / "record.nc"
     shutil.copy("records/athens_standin_kocaeli_arc000.nc", out["record"])
-    out["validation"] = write_result(VALIDATIONS["housner_period_point"](), folder / "validation.nc")
-    assert ensemble.main(["--quick", "--members", "1", "--scene", "lone_block", "--repeats", "1",
-                          "--out", str(folder / "bench")]) == 0
+    out["validation"] = write_result(
+        VALIDATIONS["housner_period_point"](), folder / "validation.nc"
+    )
+    assert (
+        ensemble.main(
+            [
+                "--quick",
+                "--members",
+                "1",
+                "--scene",
+                "lone_block",
+                "--repeats",
+                "1",
+                "--out",
+                str(folder / "bench"),
+            ]
+        )
+        == 0
+    )
     out["bench"] = folder / "bench" / "ensemble.nc"
     return out
 
 
-@pytest.mark.parametrize("kind", ["case", "cube", "search", "ida", "fragility", "wall", "record", "validation",
-                                  "bench"])
+@pytest.mark.parametrize(
+    "kind", ["case", "cube", "search", "ida", "fragility", "wall", "record", "validation", "bench"]
+)
 def test_every_output_kind_passes_the_cf_checker(outputs, kind):
     import xarray as xr
 

@@ -60,10 +60,21 @@ def test_symlink_loops_and_links_onto_the_input_are_one_line(tmp_path):
     (tmp_path / "loop").symlink_to("loop")
     (tmp_path / "loop.nc").symlink_to("loop.nc")
     (tmp_path / "link.nc").symlink_to("s.yaml")
-    cases = [(["run", str(tmp_path / "loop"), "-o", str(tmp_path / "x.nc")], "Too many levels of symbolic links"),
-             (["run", str(scene), "-o", str(tmp_path / "loop.nc")], "loop.nc cannot be followed (a symlink loop)"),
-             (["run", str(scene), "-o", str(tmp_path / "loop" / "x.nc")], "cannot be followed (a symlink loop)"),
-             (["run", str(scene), "-o", str(tmp_path / "link.nc")], "link.nc is the input file")]
+    cases = [
+        (
+            ["run", str(tmp_path / "loop"), "-o", str(tmp_path / "x.nc")],
+            "Too many levels of symbolic links",
+        ),
+        (
+            ["run", str(scene), "-o", str(tmp_path / "loop.nc")],
+            "loop.nc cannot be followed (a symlink loop)",
+        ),
+        (
+            ["run", str(scene), "-o", str(tmp_path / "loop" / "x.nc")],
+            "cannot be followed (a symlink loop)",
+        ),
+        (["run", str(scene), "-o", str(tmp_path / "link.nc")], "link.nc is the input file"),
+    ]
     for argv, message in cases:
         proc = stonedem(*argv, "-q")
         lines = proc.stderr.strip().splitlines()

@@ -18,8 +18,11 @@ def _study(folder: Path, wall_seconds: float = 1.0, wall_time: str = "3.5") -> P
     """A study folder with one cube and one table; the clock attr and column as given."""
     (folder / "results/cubes").mkdir(parents=True)
     (folder / "results/tables").mkdir(parents=True)
-    ds = xr.Dataset({"collapsed": ("pga", np.array([0, 1], np.int8))}, coords={"pga": [1.0, 2.0]},
-                    attrs={"study": "s", "wall_seconds": wall_seconds})
+    ds = xr.Dataset(
+        {"collapsed": ("pga", np.array([0, 1], np.int8))},
+        coords={"pga": [1.0, 2.0]},
+        attrs={"study": "s", "wall_seconds": wall_seconds},
+    )
     ds.to_netcdf(folder / CUBE, engine="netcdf4")
     (folder / TABLE).write_text(f"system,threshold,wall_seconds\na,1.5,{wall_time}\n")
     return folder
@@ -35,8 +38,11 @@ def test_two_runs_differing_only_in_their_clocks_are_the_same(tmp_path, capsys):
     a, b = _study(tmp_path / "a"), _study(tmp_path / "b", wall_seconds=9.0, wall_time="7.25")
     assert _compare(capsys, a, b) == (0, [], ["2 files compared: the same"])
     (b / TABLE).write_text("system,threshold,wall_seconds\na,1.6,3.5\n")
-    assert _compare(capsys, a, b) == (1, [f"{TABLE} differs outside its clock columns"],
-                                      ["2 files compared: 1 differ"])
+    assert _compare(capsys, a, b) == (
+        1,
+        [f"{TABLE} differs outside its clock columns"],
+        ["2 files compared: 1 differ"],
+    )
 
 
 def test_a_file_on_either_side_only_is_a_difference_named_with_its_folder(tmp_path, capsys):
@@ -46,7 +52,10 @@ def test_a_file_on_either_side_only_is_a_difference_named_with_its_folder(tmp_pa
     (b / "results/cases/s/right.nc").write_bytes((b / CUBE).read_bytes())
     code, out, err = _compare(capsys, a, b)
     assert code == 1 and err == ["4 files compared: 2 differ"]
-    assert out == [f"results/cases/s/right.nc: only in {b}", f"results/tables/left.csv: only in {a}"]
+    assert out == [
+        f"results/cases/s/right.nc: only in {b}",
+        f"results/tables/left.csv: only in {a}",
+    ]
 
 
 def test_a_damaged_file_is_a_difference_in_one_line_not_a_traceback(tmp_path, capsys):
@@ -68,9 +77,13 @@ def test_a_huge_table_is_a_difference_named_by_its_size(tmp_path, capsys, monkey
 
     a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
     monkeypatch.setattr(compare, "MAX_TABLE_BYTES", 20)  # the tables are 40 bytes
-    code, out, err = _compare(capsys, a, b)  # was: both read whole, 6.4 GB of memory for 2 GB tables
-    assert code == 1 and out == [f"{TABLE}: {a / TABLE} is 0 MB, more than a study table holds (0 MB)",
-                                 f"{TABLE}: {b / TABLE} is 0 MB, more than a study table holds (0 MB)"]
+    code, out, err = _compare(
+        capsys, a, b
+    )  # was: both read whole, 6.4 GB of memory for 2 GB tables
+    assert code == 1 and out == [
+        f"{TABLE}: {a / TABLE} is 0 MB, more than a study table holds (0 MB)",
+        f"{TABLE}: {b / TABLE} is 0 MB, more than a study table holds (0 MB)",
+    ]
     # any other file is compared in pieces: a difference past the first MiB is found
     for side, last in ((a, b"x"), (b, b"y")):
         (side / "results/cases").mkdir()
@@ -90,8 +103,11 @@ def test_an_unreadable_file_is_a_difference(tmp_path, capsys, monkeypatch):
         return read_bytes(path)
 
     monkeypatch.setattr(Path, "read_bytes", refuse)
-    assert _compare(capsys, a, b) == (1, [f"{TABLE}: cannot read {unreadable} (Permission denied)"],
-                                      ["2 files compared: 1 differ"])
+    assert _compare(capsys, a, b) == (
+        1,
+        [f"{TABLE}: cannot read {unreadable} (Permission denied)"],
+        ["2 files compared: 1 differ"],
+    )
 
 
 def test_two_folders_with_nothing_to_compare_are_refused(tmp_path, capsys):
@@ -100,7 +116,9 @@ def test_two_folders_with_nothing_to_compare_are_refused(tmp_path, capsys):
         (tmp_path / side / "results/logs/job.log").write_text("ran\n")  # not a study file
     code, out, err = _compare(capsys, tmp_path / "a", tmp_path / "b")
     assert code == 2 and out == [] and len(err) == 1
-    assert err[0].startswith("error: STUDY_A, STUDY_B: no study files (results folders {cubes,tables,")
+    assert err[0].startswith(
+        "error: STUDY_A, STUDY_B: no study files (results folders {cubes,tables,"
+    )
 
 
 def test_wrong_arguments_give_one_line_and_exit_2(tmp_path, capsys):
@@ -110,15 +128,28 @@ def test_wrong_arguments_give_one_line_and_exit_2(tmp_path, capsys):
     for args, expected in [
         ([study], "error: arguments: expected two study folders, got 1"),
         ([study, tmp_path / "missing"], f"error: STUDY_B: {tmp_path / 'missing'}: no such folder"),
-        ([tmp_path / "plain", study], f"error: STUDY_A: {tmp_path / 'plain'} is a file, not a folder"),
-        ([study, tmp_path / "bare"], f"error: STUDY_B: {tmp_path / 'bare'} holds no results folder"),
-        ([study, study / "results" / ".."], f"error: STUDY_B: {study / 'results' / '..'} is the folder STUDY_A"),
+        (
+            [tmp_path / "plain", study],
+            f"error: STUDY_A: {tmp_path / 'plain'} is a file, not a folder",
+        ),
+        (
+            [study, tmp_path / "bare"],
+            f"error: STUDY_B: {tmp_path / 'bare'} holds no results folder",
+        ),
+        (
+            [study, study / "results" / ".."],
+            f"error: STUDY_B: {study / 'results' / '..'} is the folder STUDY_A",
+        ),
     ]:
         code, out, err = _compare(capsys, *args)
         assert code == 2 and out == [] and len(err) == 1 and err[0].startswith(expected), err
     # and so from the command line (.ci/run's call)
-    proc = subprocess.run([sys.executable, "-m", "stonedem.study.compare", str(study), str(tmp_path / "bare")],
-                          capture_output=True, text=True, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "stonedem.study.compare", str(study), str(tmp_path / "bare")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert (proc.returncode, proc.stdout) == (2, "") and proc.stderr.count("\n") == 1, proc.stderr
 
 

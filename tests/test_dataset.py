@@ -7,11 +7,10 @@ import pytest
 import xarray as xr
 
 from stonedem.engine.run import run_scene
-from stonedem.errors import InputError
-
-from stonedem.io.netcdf import write_dataset
 from stonedem.engine.scene import load_scene
+from stonedem.errors import InputError
 from stonedem.io import schema
+from stonedem.io.netcdf import write_dataset
 from stonedem.io.schema import missing_metadata
 
 
@@ -28,9 +27,13 @@ def test_every_variable_and_coordinate_has_units_and_long_name(rocking_dataset):
 
 def test_schema_names_every_variable_a_run_writes(rocking_dataset):
     written = list(rocking_dataset.data_vars) + list(rocking_dataset.coords)
-    assert {name: rocking_dataset[name].attrs for name in written} == {name: schema.attrs_for(name) for name in written}
+    assert {name: rocking_dataset[name].attrs for name in written} == {
+        name: schema.attrs_for(name) for name in written
+    }
     assert set(schema.CUBE_MEASURES + schema.CUBE_HISTORIES) <= set(written)
-    assert not schema.SCENE_VARIABLES.keys() & schema.WALL_VARIABLES.keys(), "attrs_for serves both solvers"
+    assert not schema.SCENE_VARIABLES.keys() & schema.WALL_VARIABLES.keys(), (
+        "attrs_for serves both solvers"
+    )
 
 
 def test_round_trip_through_netcdf(tmp_path, rocking_dataset):
@@ -55,8 +58,11 @@ def test_failed_write_leaves_no_file(tmp_path, rocking_dataset):
 # 1.7 % runs at 0.003 % since the automatic step divides the 1 ms clock), so the mechanism is
 # tested against a tolerance of 0.01 %, patched in by the fixture below
 HARMONIC_8_DRUMS = {
-    "name": "drift", "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
-    "density": 2000.0, "friction": 0.48, "contact": {"model": "point", "k_n": 1.0e10},
+    "name": "drift",
+    "structure": {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0},
+    "density": 2000.0,
+    "friction": 0.48,
+    "contact": {"model": "point", "k_n": 1.0e10},
     "excitation": {"kind": "harmonic", "frequency": 20.0, "amplitude": 0.2},
     "solver": {"duration": 10.0, "dt": "auto", "dt_safety": 1.0, "stop_on_collapse": False},
     "output": {"every": 0.01},
@@ -78,7 +84,9 @@ def test_auto_step_is_halved_when_the_energy_balance_drifts(tight_energy_toleran
 
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_safety_requested"] == 1.0
-    assert ds.attrs["dt_halvings"] >= 1 and ds.attrs["dt_safety"] == 1.0 / 2 ** ds.attrs["dt_halvings"]
+    assert (
+        ds.attrs["dt_halvings"] >= 1 and ds.attrs["dt_safety"] == 1.0 / 2 ** ds.attrs["dt_halvings"]
+    )
     assert ds.attrs["status"] != "energy balance error"
     assert ds.attrs["energy_error"] <= ds.attrs["energy_error_limit"] == TIGHT_TOLERANCE
 
@@ -98,15 +106,20 @@ def test_no_repeat_beyond_the_engines_step_limit(monkeypatch, tight_energy_toler
     import stonedem.engine.simulate
     from stonedem.engine.scene import scene_from_dict
 
-    monkeypatch.setattr(stonedem.engine.simulate, "MAX_STEPS", 61000)  # the run takes 60,000 steps, its repeat 120,000
+    monkeypatch.setattr(
+        stonedem.engine.simulate, "MAX_STEPS", 61000
+    )  # the run takes 60,000 steps, its repeat 120,000
     ds = run_scene(scene_from_dict(HARMONIC_8_DRUMS))
     assert ds.attrs["dt_halvings"] == 0 and ds.attrs["dt_safety"] == 1.0
     assert ds.attrs["status"] == "energy balance error"
 
 
 ROCKING_BLOCK = {  # a 1 x 6 m block tipped by a ramp; the engine's defaults otherwise
-    "name": "tip", "structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
-    "friction": 0.485, "excitation": {"kind": "ramp", "rate": 0.5}, "solver": {"duration": 1.0},
+    "name": "tip",
+    "structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
+    "friction": 0.485,
+    "excitation": {"kind": "ramp", "rate": 0.5},
+    "solver": {"duration": 1.0},
 }
 
 
@@ -122,7 +135,12 @@ def _diverging_first(monkeypatch, n_diverged):
     def simulate(scene, progress=False):
         calls.append(scene.dt_safety)
         result = real(scene, progress=progress)
-        return dataclasses.replace(result, status=step.STATUS_NONFINITE) if len(calls) <= n_diverged else result
+        return (
+            dataclasses.replace(result, status=step.STATUS_NONFINITE)
+            if len(calls) <= n_diverged
+            else result
+        )
+
     monkeypatch.setattr(stonedem.engine.run, "simulate", simulate)
     return calls
 
@@ -136,8 +154,8 @@ def test_a_diverged_auto_step_is_halved(monkeypatch):
 
 
 def test_a_run_that_diverges_at_every_step_tried_is_an_error(monkeypatch):
-    from stonedem.errors import InputError
     from stonedem.engine.scene import scene_from_dict
+    from stonedem.errors import InputError
 
     calls = _diverging_first(monkeypatch, 3)
     with pytest.raises(InputError, match="diverged"):
@@ -164,7 +182,9 @@ def test_a_full_disk_is_one_line_and_leaves_nothing(tmp_path, rocking_dataset):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     target = tmp_path / "new" / "deeper" / "b.nc"
-    with pytest.raises(WriteFailed, match=r"b\.nc: cannot write the file \(No space left on device\)"):
+    with pytest.raises(
+        WriteFailed, match=r"b\.nc: cannot write the file \(No space left on device\)"
+    ):
         write_atomically(target, fill)
     assert list(tmp_path.iterdir()) == []
 
@@ -174,13 +194,31 @@ def test_a_file_size_limit_while_writing_netcdf_is_one_line(tmp_path):
     import subprocess
     import sys
 
-    code = ("import resource, signal; signal.signal(signal.SIGXFSZ, signal.SIG_IGN); "
-            "resource.setrlimit(resource.RLIMIT_FSIZE, (20000, 20000)); "
-            "import sys; from stonedem.cli import main; sys.exit(main(sys.argv[1:]))")
+    code = (
+        "import resource, signal; signal.signal(signal.SIGXFSZ, signal.SIG_IGN); "
+        "resource.setrlimit(resource.RLIMIT_FSIZE, (20000, 20000)); "
+        "import sys; from stonedem.cli import main; sys.exit(main(sys.argv[1:]))"
+    )
     out = tmp_path / "sub" / "full.nc"
-    proc = subprocess.run([sys.executable, "-c", code, "run", "tests/data/scenes/rocking_block.yaml", "-o", str(out),
-                           "-q", "--set", "solver.duration=0.2"], capture_output=True, text=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            code,
+            "run",
+            "tests/data/scenes/rocking_block.yaml",
+            "-o",
+            str(out),
+            "-q",
+            "--set",
+            "solver.duration=0.2",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"error: {out}: cannot write the file"), proc.stderr
+    assert len(lines) == 1 and lines[0].startswith(f"error: {out}: cannot write the file"), (
+        proc.stderr
+    )
     assert list(tmp_path.iterdir()) == []

@@ -11,7 +11,16 @@ from stonedem.engine.simulate import simulate
 from stonedem.errors import InputError
 
 FIELDS = ("time", "x", "y", "theta", "energy", "n_contact", "peaks", "peak_theta")
-SCALARS = ("status", "steps_run", "collapse_sample", "onset_step", "collapse_step", "quiet_lead", "n_steps", "dt")
+SCALARS = (
+    "status",
+    "steps_run",
+    "collapse_sample",
+    "onset_step",
+    "collapse_step",
+    "quiet_lead",
+    "n_steps",
+    "dt",
+)
 
 
 def _members(record):
@@ -19,14 +28,23 @@ def _members(record):
     lone block, a colonnade under a harmonic, the area law; different structures side by side."""
     specs = [
         # settles, is carried through 1 s of silence, rocks, comes to rest on a quiet base
-        {"structure": {"kind": "column", "n_drums": 1, "height": 3.0, "width": 0.6}, "friction": 0.6,
-         "contact": {"model": "area", "k_n": 1e9, "c_n": 1.2e6}, "excitation": {"kind": "record", "file": str(record),
-                                                                                "baseline": False},
-         "solver": {"duration": 4.0}, "output": {"every": 0.01}},
+        {
+            "structure": {"kind": "column", "n_drums": 1, "height": 3.0, "width": 0.6},
+            "friction": 0.6,
+            "contact": {"model": "area", "k_n": 1e9, "c_n": 1.2e6},
+            "excitation": {"kind": "record", "file": str(record), "baseline": False},
+            "solver": {"duration": 4.0},
+            "output": {"every": 0.01},
+        },
         # a 1 x 4 m block overturned by a 2 Hz, 0.4 m harmonic within 1.5 s
-        {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
-         "contact": {"model": "point", "k_n": 1e9}, "excitation": {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.4},
-         "solver": {"duration": 1.5, "stop_on_collapse": True}, "output": {"every": 0.01}},
+        {
+            "structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0},
+            "friction": 0.7,
+            "contact": {"model": "point", "k_n": 1e9},
+            "excitation": {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.4},
+            "solver": {"duration": 1.5, "stop_on_collapse": True},
+            "output": {"every": 0.01},
+        },
     ]
     for pga in (2.0, 16.0):
         spec = SCENES["column_8"][1](3.0)
@@ -63,7 +81,7 @@ def test_every_member_runs_bit_for_bit_as_simulate_runs_it(quiet_sine_record, th
 def test_no_members_and_bad_thread_counts(quiet_sine_record):
     assert run_ensemble([]) == []
     scene = _members(quiet_sine_record)[4]
-    for bad in (0, -1, 10 ** 6, 1.5, True, "2"):
+    for bad in (0, -1, 10**6, 1.5, True, "2"):
         with pytest.raises(InputError, match="threads"):
             run_ensemble([scene], threads=bad)
     for bad in ([scene, {"structure": {}}], [None]):

@@ -115,16 +115,23 @@ CHILD = textwrap.dedent("""
 def simulated(quiet_sine_record) -> dict:
     """{mode: {group: rows}} of one child process under the simulator (every mode in it)."""
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
-    done = subprocess.run([sys.executable, "-c", CHILD, str(quiet_sine_record)], env=env, capture_output=True,
-                          text=True, timeout=900)
+    done = subprocess.run(
+        [sys.executable, "-c", CHILD, str(quiet_sine_record)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     return json.loads(done.stdout.splitlines()[-1])
 
 
 # the simulator numba-cuda ships (numba's own is deprecated); the [gpu] extra installs it, and
 # CI's GPU step runs this file with it (compiling the simulated loop takes ~3 min cold)
-@pytest.mark.skipif(importlib.util.find_spec("numba_cuda") is None,
-                    reason="numba-cuda is not installed (pip install -e '.[gpu]')")
+@pytest.mark.skipif(
+    importlib.util.find_spec("numba_cuda") is None,
+    reason="numba-cuda is not installed (pip install -e '.[gpu]')",
+)
 @pytest.mark.parametrize("mode", ["plain", "small_pairs", "member_fastest"])
 def test_simulated_gpu_members_run_as_simulate_runs_them(simulated, mode):
     groups = simulated[mode]
@@ -133,7 +140,9 @@ def test_simulated_gpu_members_run_as_simulate_runs_them(simulated, mode):
         for i, row in enumerate(rows):
             where = f"{name}[{i}]"
             for key in ("status", "steps", "collapse", "onset", "samples"):
-                assert row[key][0] == row[key][1], f"{where}: {key} cpu {row[key][0]}, gpu {row[key][1]}"
+                assert row[key][0] == row[key][1], (
+                    f"{where}: {key} cpu {row[key][0]}, gpu {row[key][1]}"
+                )
             assert row["position"] <= TOLERANCE and row["theta"] <= TOLERANCE, where
             assert row["peaks"] <= TOLERANCE, where
     if mode == "plain":  # the groups do what they are there for

@@ -13,11 +13,19 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-from stonedem.entry import check_output_path
-from tests.signals import interrupt_after_line
-from stonedem.errors import InputError
 from stonedem.engine.scene import scene_from_dict
-from stonedem.engine.simulate import (ENERGY_TOLERANCE, MAX_STEPS, MIN_STEPS_PER_PERIOD, PENETRATION_LIMIT, preflight, run_checks, simulate)
+from stonedem.engine.simulate import (
+    ENERGY_TOLERANCE,
+    MAX_STEPS,
+    MIN_STEPS_PER_PERIOD,
+    PENETRATION_LIMIT,
+    preflight,
+    run_checks,
+    simulate,
+)
+from stonedem.entry import check_output_path
+from stonedem.errors import InputError
+from tests.signals import interrupt_after_line
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 # how long after the signal the process may take to end (measured 0.6-0.7 s; the issue
@@ -26,10 +34,13 @@ SIGNAL_EXIT_SECONDS = 1.5
 
 
 def stonedem(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "stonedem", *args], capture_output=True, text=True, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "stonedem", *args], capture_output=True, text=True, **kw
+    )
 
 
 # --- output paths ---------------------------------------------------------------------
+
 
 def test_output_path_that_is_the_input_is_refused(tmp_path):
     scene = tmp_path / "s.nc"
@@ -47,8 +58,13 @@ def test_output_path_refusals(tmp_path):
     with pytest.raises(InputError, match="does not end in .nc"):
         check_output_path(tmp_path / "out.txt", "-o", suffixes=(".nc",))
     with pytest.raises(InputError, match="has no name before .nc; give a name such as out.nc"):
-        check_output_path(tmp_path / ".nc", "-o", suffixes=(".nc", ".nc4"))  # not "does not end in .nc"
-    for empty in ("", Path("")):  # was ". does not end in .nc": argparse gives Path(""), which is "."
+        check_output_path(
+            tmp_path / ".nc", "-o", suffixes=(".nc", ".nc4")
+        )  # not "does not end in .nc"
+    for empty in (
+        "",
+        Path(""),
+    ):  # was ". does not end in .nc": argparse gives Path(""), which is "."
         with pytest.raises(InputError, match="^-o: is empty"):
             check_output_path(empty, "-o", suffixes=(".nc",))
     # accepted, and nothing created: the write makes the folder (a later refusal leaves none)
@@ -105,6 +121,7 @@ def test_run_refuses_output_over_its_scene_before_computing(tmp_path):
 
 # --- conventions ----------------------------------------------------------------------
 
+
 def test_version_and_help_list_every_command():
     proc = stonedem("--version")
     assert proc.returncode == 0 and proc.stdout.startswith("stonedem ")
@@ -122,8 +139,12 @@ def test_usage_error_is_one_line_exit_2():
 def test_closed_stdout_gives_no_traceback():
     read, write = os.pipe()
     os.close(read)
-    proc = subprocess.run([sys.executable, "-m", "stonedem", "validate", "--list"], stdout=write,
-                          stderr=subprocess.PIPE, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "stonedem", "validate", "--list"],
+        stdout=write,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     os.close(write)
     assert "Traceback" not in proc.stderr and proc.returncode == 0
 
@@ -144,8 +165,11 @@ def test_signal_during_the_compiled_loop(tmp_path, signum, status):
     scene.write_text(LONG_SCENE)
     out = tmp_path / "long.nc"
     # a progress line: the time loop is running
-    rc, took, _ = interrupt_after_line([sys.executable, "-m", "stonedem", "run", str(scene), "-o", str(out)],
-                                       lambda line: "t = " in line, signum)
+    rc, took, _ = interrupt_after_line(
+        [sys.executable, "-m", "stonedem", "run", str(scene), "-o", str(out)],
+        lambda line: "t = " in line,
+        signum,
+    )
     assert rc == status
     assert took < SIGNAL_EXIT_SECONDS, took
     assert list(tmp_path.iterdir()) == [scene], "no output and no temporary file"
@@ -173,38 +197,57 @@ def test_signal_during_the_write_leaves_nothing(tmp_path):
     def one_temporary_file():
         assert len(list(tmp_path.iterdir())) == 1
 
-    rc, took, _ = interrupt_after_line([sys.executable, "-c", SLOW_WRITER, str(out)],
-                                       lambda line: "writing" in line, signal.SIGINT, 60, one_temporary_file)
+    rc, took, _ = interrupt_after_line(
+        [sys.executable, "-c", SLOW_WRITER, str(out)],
+        lambda line: "writing" in line,
+        signal.SIGINT,
+        60,
+        one_temporary_file,
+    )
     assert rc == 130 and took < SIGNAL_EXIT_SECONDS
     assert list(tmp_path.iterdir()) == []
 
 
 # --- refused before computing, and what a run says of itself ----------------------------
 
+
 def column(**changes):
-    spec = {"structure": {"kind": "column", "n_drums": 2}, "solver": {"duration": 1.0},
-            "output": {"every": 0.01}}
+    spec = {
+        "structure": {"kind": "column", "n_drums": 2},
+        "solver": {"duration": 1.0},
+        "output": {"every": 0.01},
+    }
     for key, value in changes.items():
         spec[key] = {**spec.get(key, {}), **value}
     return spec
 
 
-@pytest.mark.parametrize("changes, field", [
-    ({"solver": {"duration": 1e9}}, "solver.duration"),
-    ({"solver": {"duration": 3000.0, "dt_safety": 1e-3}}, "solver.duration"),
-    ({"solver": {"dt_safety": 1e-9}}, "solver.duration"),
-    # a given dt that reads an 800 Hz harmonic 12.5 times a period (dt: auto would resolve it)
-    ({"excitation": {"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0}, "solver": {"dt": 1e-4}},
-     "solver.dt"),
-    ({"output": {"every": 1e-7}, "solver": {"duration": 3.0}}, "output.every"),
-])
+@pytest.mark.parametrize(
+    "changes, field",
+    [
+        ({"solver": {"duration": 1e9}}, "solver.duration"),
+        ({"solver": {"duration": 3000.0, "dt_safety": 1e-3}}, "solver.duration"),
+        ({"solver": {"dt_safety": 1e-9}}, "solver.duration"),
+        # a given dt that reads an 800 Hz harmonic 12.5 times a period (dt: auto would resolve it)
+        (
+            {
+                "excitation": {"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0},
+                "solver": {"dt": 1e-4},
+            },
+            "solver.dt",
+        ),
+        ({"output": {"every": 1e-7}, "solver": {"duration": 3.0}}, "output.every"),
+    ],
+)
 def test_preflight_refuses_absurd_requests(changes, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         preflight(scene_from_dict(column(**changes)))
 
 
 def test_auto_dt_resolves_a_fast_excitation():
-    scene = scene_from_dict(column(excitation={"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0}))
+    scene = scene_from_dict(
+        column(excitation={"kind": "harmonic", "amplitude": 1e-9, "frequency": 800.0})
+    )
     dt, limit, _ = preflight(scene)
     assert dt <= 1 / 800.0 / MIN_STEPS_PER_PERIOD < scene.dt_safety * limit
 
@@ -230,7 +273,9 @@ def yaml_block(**body):
 
 
 def test_soft_contact_sinking_is_penetration_not_collapse():
-    scene = scene_from_dict(column(contact={"model": "point", "k_n": 1e5}, solver={"duration": 2.0}))
+    scene = scene_from_dict(
+        column(contact={"model": "point", "k_n": 1e5}, solver={"duration": 2.0})
+    )
     result = simulate(scene)
     checks = run_checks(scene, result)
     assert checks["status"] == "penetrated" and checks["penetration"] > PENETRATION_LIMIT
@@ -239,10 +284,12 @@ def test_soft_contact_sinking_is_penetration_not_collapse():
 
 def test_tall_undamped_stack_at_the_limit_reports_its_energy_drift():
     # README "Stability": 30 undamped drums at dt_safety 1.0 drift 3.9 % (point law)
-    spec = column(structure={"n_drums": 30}, contact={"model": "point", "k_n": 1e10, "damping": 0.0,
-                                                      "impact": "none"},
-                  excitation={"kind": "harmonic", "amplitude": 0.05, "frequency": 1.5},
-                  solver={"duration": 4.0, "dt_safety": 1.0, "stop_on_collapse": False})
+    spec = column(
+        structure={"n_drums": 30},
+        contact={"model": "point", "k_n": 1e10, "damping": 0.0, "impact": "none"},
+        excitation={"kind": "harmonic", "amplitude": 0.05, "frequency": 1.5},
+        solver={"duration": 4.0, "dt_safety": 1.0, "stop_on_collapse": False},
+    )
     scene = scene_from_dict(spec)
     checks = run_checks(scene, simulate(scene))
     assert checks["energy_error"] > ENERGY_TOLERANCE and checks["status"] == "energy balance error"
@@ -262,4 +309,3 @@ def test_written_dataset_follows_cf(tmp_path):
         assert "units" not in nc.variables["body"].ncattrs()
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "completed" and ds.attrs["energy_error"] < ENERGY_TOLERANCE
-

@@ -17,40 +17,58 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def calibration():
-    spec = importlib.util.spec_from_file_location("benchmarks_equivalence_calibration",
-                                                  ROOT / "benchmarks" / "equivalence_calibration.py")
+    spec = importlib.util.spec_from_file_location(
+        "benchmarks_equivalence_calibration", ROOT / "benchmarks" / "equivalence_calibration.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
 def column(excitation, **extra):
-    return scene_from_dict({"structure": {"kind": "column", "n_drums": 2, "height": 6.0, "width": 1.0},
-                            "friction": 0.485, "excitation": excitation, "solver": {"duration": 6.0}, **extra},
-                           base_dir=ROOT)
+    return scene_from_dict(
+        {
+            "structure": {"kind": "column", "n_drums": 2, "height": 6.0, "width": 1.0},
+            "friction": 0.485,
+            "excitation": excitation,
+            "solver": {"duration": 6.0},
+            **extra,
+        },
+        base_dir=ROOT,
+    )
 
 
-@pytest.mark.parametrize("excitation", [
-    {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25},
-    {"kind": "ramp", "rate": 0.5},
-    {"kind": "sine_pulse", "accel": 3.0, "frequency": 2.0},
-    {"kind": "rect_pulse", "accel": 3.0, "duration": 0.4},
-    {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 8.0},
-])
+@pytest.mark.parametrize(
+    "excitation",
+    [
+        {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25},
+        {"kind": "ramp", "rate": 0.5},
+        {"kind": "sine_pulse", "accel": 3.0, "frequency": 2.0},
+        {"kind": "rect_pulse", "accel": 3.0, "duration": 0.4},
+        {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 8.0},
+    ],
+)
 def test_the_shift_scales_the_whole_base_motion_by_its_factor(calibration, excitation):
     scene = column(excitation)
     shifted = calibration.changed_scene(scene, {"motion": 1.02})
     t = np.linspace(0.0, 6.0, 601)
-    for plain, moved in ((scene.horizontal, shifted.horizontal), (scene.vertical, shifted.vertical)):
-        for a, b in zip(plain.evaluate(t), moved.evaluate(t)):  # displacement, velocity, acceleration
+    for plain, moved in (
+        (scene.horizontal, shifted.horizontal),
+        (scene.vertical, shifted.vertical),
+    ):
+        for a, b in zip(
+            plain.evaluate(t), moved.evaluate(t)
+        ):  # displacement, velocity, acceleration
             np.testing.assert_allclose(b, 1.02 * a, rtol=1e-14, atol=1e-300)
     assert np.abs(shifted.horizontal.evaluate(t)[2]).max() > 0.1  # not a motion of zeros
     assert shifted.contact == scene.contact and shifted.bodies == scene.bodies
 
 
 def test_the_friction_change_reaches_every_coefficient(calibration):
-    scene = column({"kind": "ramp", "rate": 0.5},
-                   interface_friction=[{"bodies": ["c0_d0", "c0_d1"], "mu": 0.3}])
+    scene = column(
+        {"kind": "ramp", "rate": 0.5},
+        interface_friction=[{"bodies": ["c0_d0", "c0_d1"], "mu": 0.3}],
+    )
     assert scene.pair_friction  # the case this test is about: a pair of its own
     changed = calibration.changed_scene(scene, {"friction": 1.01})
     assert changed.friction == scene.friction * 1.01
@@ -77,13 +95,19 @@ def test_the_change_hook_wraps_the_runners_member_scene_and_unwraps_it(calibrati
 
 def ensemble_file(collapsed, members):
     collapsed = np.asarray(collapsed, dtype=np.int8)
-    return xr.Dataset({"collapsed": (("case", "member"), collapsed)},
-                      coords={"case": [f"s/c{i}" for i in range(collapsed.shape[0])], "member": members})
+    return xr.Dataset(
+        {"collapsed": (("case", "member"), collapsed)},
+        coords={"case": [f"s/c{i}" for i in range(collapsed.shape[0])], "member": members},
+    )
 
 
 def test_a_flips_draw_flips_three_cases_the_baseline_never_splits(calibration):
-    baseline = ensemble_file([[1] * 8, [0, 1] * 4, [0] * 8, [1] * 8, [0] * 8, [1, 1, 1, 1, 1, 1, 1, 0]], range(8))
-    candidate = ensemble_file([[1] * 4, [0, 1, 1, 0], [0] * 4, [1] * 4, [0] * 4, [1] * 4], range(8, 12))
+    baseline = ensemble_file(
+        [[1] * 8, [0, 1] * 4, [0] * 8, [1] * 8, [0] * 8, [1, 1, 1, 1, 1, 1, 1, 0]], range(8)
+    )
+    candidate = ensemble_file(
+        [[1] * 4, [0, 1, 1, 0], [0] * 4, [1] * 4, [0] * 4, [1] * 4], range(8, 12)
+    )
     for seed in range(20):
         out, names = calibration.flipped(candidate, baseline, seed)
         changed = np.flatnonzero((out.collapsed.values != candidate.collapsed.values).any(axis=1))
@@ -99,7 +123,7 @@ def test_the_rates_carry_exact_binomial_intervals(calibration):
     low, high = calibration.binomial_interval(0, 10)
     assert low == 0.0 and high == pytest.approx(0.3085, abs=1e-4)  # 1 - 0.025^(1/10)
     low, high = calibration.binomial_interval(10, 10)
-    assert high == 1.0 and low == pytest.approx(0.025 ** 0.1, rel=1e-9)
+    assert high == 1.0 and low == pytest.approx(0.025**0.1, rel=1e-9)
     low, high = calibration.binomial_interval(7, 10)
     assert low == pytest.approx(0.3475, abs=1e-4) and high == pytest.approx(0.9333, abs=1e-4)
 
@@ -108,32 +132,42 @@ def test_an_earlier_draw_is_reused_only_when_it_is_that_draw(calibration, tmp_pa
     baseline = ensemble_file([[1] * 8], range(8)).assign_attrs(config_digest="abc")
     path = tmp_path / "candidate-null-01.nc"
     ds = ensemble_file([[1] * 4], [24, 25, 26, 27]).assign_attrs(
-        calibration_kind="null", calibration_draw=1, calibration_baseline=calibration.baseline_key(baseline))
+        calibration_kind="null",
+        calibration_draw=1,
+        calibration_baseline=calibration.baseline_key(baseline),
+    )
     ds.to_netcdf(path)
     assert calibration.draw_members(20, 1) == [24, 25, 26, 27]
     assert calibration.usable_draw(path, "null", 1, [24, 25, 26, 27], baseline)
     assert not calibration.usable_draw(path, "shift", 1, [24, 25, 26, 27], baseline)
     assert not calibration.usable_draw(path, "null", 1, [28, 29, 30, 31], baseline)
-    assert not calibration.usable_draw(path, "null", 1, [24, 25, 26, 27], baseline.assign_attrs(config_digest="x"))
+    assert not calibration.usable_draw(
+        path, "null", 1, [24, 25, 26, 27], baseline.assign_attrs(config_digest="x")
+    )
     path.write_bytes(b"half a file")
     assert not calibration.usable_draw(path, "null", 1, [24, 25, 26, 27], baseline)
 
 
-
 def synthetic_ensemble(rng, rates, members):
     """Members whose verdicts are independent draws at each case's collapse rate."""
-    collapsed = (rng.random((len(rates), len(members))) < np.asarray(rates)[:, None]).astype(np.int8)
+    collapsed = (rng.random((len(rates), len(members))) < np.asarray(rates)[:, None]).astype(
+        np.int8
+    )
     return ensemble_file(collapsed, members)
 
 
 def test_resampled_rates_hold_alpha_under_the_null_and_see_a_shift(calibration):
     rng = np.random.default_rng(7)
-    rates = np.r_[np.linspace(0.2, 0.8, 20), np.zeros(10), np.ones(10)]  # 20 split cases, 20 unanimous
+    rates = np.r_[
+        np.linspace(0.2, 0.8, 20), np.zeros(10), np.ones(10)
+    ]  # 20 split cases, 20 unanimous
     baseline = synthetic_ensemble(rng, rates, range(20))
     nulls = [synthetic_ensemble(rng, rates, range(20 + 4 * d, 24 + 4 * d)) for d in range(5)]
     shifted = np.clip(rates + 0.5, 0.0, 1.0)
     shifts = [synthetic_ensemble(rng, shifted, range(20 + 4 * d, 24 + 4 * d)) for d in range(3)]
-    ds = calibration.resampled_rates(baseline, nulls, shifts, resamples=150, n_permutations=1000, seed=1)
+    ds = calibration.resampled_rates(
+        baseline, nulls, shifts, resamples=150, n_permutations=1000, seed=1
+    )
     rate = dict(zip(ds.estimate.values, ds.resampled_rate.values))
     assert set(rate) == set(calibration.RESAMPLED)
     # alpha 0.005 per statistic: a valid test rejects about 1 % of null picks; 150 picks see
@@ -141,8 +175,14 @@ def test_resampled_rates_hold_alpha_under_the_null_and_see_a_shift(calibration):
     assert rate["false_alarm"] <= 4 / 150 and rate["false_alarm_pooled"] <= 4 / 150
     assert rate["power_shift"] >= 0.9 and rate["power_flips"] >= 0.9
     assert dict(zip(ds.estimate.values, ds.resampled_pool.values)) == {
-        "false_alarm": 20, "false_alarm_pooled": 40, "power_shift": 12, "power_flips": 20}
+        "false_alarm": 20,
+        "false_alarm_pooled": 40,
+        "power_shift": 12,
+        "power_flips": 20,
+    }
     assert ds.resampled_p_v.attrs["units"] == "1" and ds.sizes["resample"] == 150
     # a pool of fewer runs than one candidate gives no estimate of its kind, not a wrong one
-    few = calibration.resampled_rates(baseline, nulls, shifts[:0], resamples=10, n_permutations=1000, seed=1)
+    few = calibration.resampled_rates(
+        baseline, nulls, shifts[:0], resamples=10, n_permutations=1000, seed=1
+    )
     assert "power_shift" not in set(few.estimate.values)

@@ -13,12 +13,20 @@ def layer_a_dataset(values, references, tolerance=0.01, floors=None):
     values, references = np.asarray(values, float), np.asarray(references, float)
     error = np.abs(values / references - 1.0)
     return xr.Dataset(
-        {"check_value": ("check", values), "check_reference": ("check", references),
-         "check_error": ("check", error), "check_tolerance": ("check", np.full(len(values), tolerance)),
-         "check_passes": ("check", (error <= tolerance).astype(np.int8)),
-         "check_scale": ("check", np.abs(references)),
-         "check_floor": ("check", np.zeros(len(values)) if floors is None else np.asarray(floors, float))},
-        coords={"check": ("check", [f"c{k}" for k in range(len(values))])})
+        {
+            "check_value": ("check", values),
+            "check_reference": ("check", references),
+            "check_error": ("check", error),
+            "check_tolerance": ("check", np.full(len(values), tolerance)),
+            "check_passes": ("check", (error <= tolerance).astype(np.int8)),
+            "check_scale": ("check", np.abs(references)),
+            "check_floor": (
+                "check",
+                np.zeros(len(values)) if floors is None else np.asarray(floors, float),
+            ),
+        },
+        coords={"check": ("check", [f"c{k}" for k in range(len(values))])},
+    )
 
 
 def layer_b_dataset(trajectories, floor=1e-14):
@@ -32,11 +40,14 @@ def layer_b_dataset(trajectories, floor=1e-14):
         padded[i, : t.shape[0], : t.shape[1]] = t
         kind[i, : t.shape[1]] = np.tile([0, 0, 1], t.shape[1] // 3)
     return xr.Dataset(
-        {"trajectory": (("scene", "sample", "coordinate"), padded),
-         "coordinate_kind": (("scene", "coordinate"), kind),
-         "floor_position": ("scene", np.full(len(names), floor)),
-         "floor_rotation": ("scene", np.full(len(names), floor))},
-        coords={"scene": ("scene", names)})
+        {
+            "trajectory": (("scene", "sample", "coordinate"), padded),
+            "coordinate_kind": (("scene", "coordinate"), kind),
+            "floor_position": ("scene", np.full(len(names), floor)),
+            "floor_rotation": ("scene", np.full(len(names), floor)),
+        },
+        coords={"scene": ("scene", names)},
+    )
 
 
 @pytest.fixture
@@ -73,7 +84,11 @@ def test_a_trajectory_moved_by_1000_floors_fails_layer_b(trajectories):
 def test_a_missing_scene_or_another_shape_fails_layer_b_with_a_reason(trajectories):
     base = layer_b_dataset(trajectories)
     passed, table = ec.compare_layer_b(base, layer_b_dataset({"block": trajectories["block"]}))
-    assert not passed and table[1] == {"scene": "column/pga_3", "passed": False, "reason": "missing in the candidate"}
+    assert not passed and table[1] == {
+        "scene": "column/pga_3",
+        "passed": False,
+        "reason": "missing in the candidate",
+    }
     shorter = {**trajectories, "block": trajectories["block"][:30]}  # the candidate stopped early
     passed, table = ec.compare_layer_b(base, layer_b_dataset(shorter))
     assert not passed and not table[0]["passed"] and "shape (30, 6)" in table[0]["reason"]
@@ -136,15 +151,22 @@ def test_a_check_failing_its_reference_fails_layer_a():
 def test_layer_b_lone_block_floor_is_its_initial_contact_tie():
     ds = ec.layer_b(duration=0.5, kinds=("lone_block",))
     assert list(ds.scene.values) == ["lone_block"] and missing_metadata(ds) == []
-    assert list(ds.family_parameter.values[0]) == ["contact.k_n", "bodies.1.box.width", "bodies.1.box.height",
-                                                   "bodies.1.tilt.angle", "none"]
+    assert list(ds.family_parameter.values[0]) == [
+        "contact.k_n",
+        "bodies.1.box.width",
+        "bodies.1.box.height",
+        "bodies.1.tilt.angle",
+        "none",
+    ]
     family = dict(zip(ds.family.values, ds.family_position.values[0]))
     # measured: k_n 1.9e-15 m, width and tilt 1.4e-14 m; the height's last bit decides whether
     # the pivot corner starts inside the base (a tie): 9.6e-7 m, the H100's gap (ENSEMBLES.md 2.3)
     assert family["stiffness"] < 1e-13 and family["width"] < 1e-12 and family["tilt"] < 1e-12
     assert 3e-7 < family["height"] < 3e-6 and np.isnan(family["amplitude"])
     floor_p, floor_r = float(ds.floor_position[0]), float(ds.floor_rotation[0])
-    assert floor_p == np.nanmax(ds.family_position.values) and floor_r == np.nanmax(ds.family_rotation.values)
+    assert floor_p == np.nanmax(ds.family_position.values) and floor_r == np.nanmax(
+        ds.family_rotation.values
+    )
     assert 0.0 < floor_r < 1e-6
     present = ds.variant_family.values != "amplitude"
     assert np.all(ds.divergence_position.values[0, present] >= 0.0)
@@ -158,13 +180,23 @@ def test_layer_b_lone_block_floor_is_its_initial_contact_tie():
 
 
 def test_last_bit_families_of_a_structure_and_a_block():
-    column = {"structure": {"kind": "column", "width": 1.0, "height": 6.0}, "excitation": {"kind": "record", "pga": 3.0}}
-    assert ec.last_bit_families(column) == {"width": ("structure", "width"), "height": ("structure", "height"),
-                                            "amplitude": ("excitation", "pga")}
-    block = {"bodies": [{"box": {"width": 4.0}, "driven": True}, {"box": {"width": 0.4, "height": 1.6}}],
-             "excitation": {"kind": "none"}}
-    assert ec.last_bit_families(block) == {"width": ("bodies", 1, "box", "width"),
-                                           "height": ("bodies", 1, "box", "height")}
+    column = {
+        "structure": {"kind": "column", "width": 1.0, "height": 6.0},
+        "excitation": {"kind": "record", "pga": 3.0},
+    }
+    assert ec.last_bit_families(column) == {
+        "width": ("structure", "width"),
+        "height": ("structure", "height"),
+        "amplitude": ("excitation", "pga"),
+    }
+    block = {
+        "bodies": [{"box": {"width": 4.0}, "driven": True}, {"box": {"width": 0.4, "height": 1.6}}],
+        "excitation": {"kind": "none"},
+    }
+    assert ec.last_bit_families(block) == {
+        "width": ("bodies", 1, "box", "width"),
+        "height": ("bodies", 1, "box", "height"),
+    }
 
 
 def test_area_law_layer_b_refuses_k_n_times_1_plus_1e_minus_6_not_a_fresh_member():
@@ -188,8 +220,11 @@ def test_area_law_layer_b_refuses_k_n_times_1_plus_1e_minus_6_not_a_fresh_member
 
     passed, table = candidate(lambda scene: member_scene(scene, 20))
     assert passed and max(r["position_in_floors"] for r in table) < 1.0, table
+
     def stiffer(scene):
-        return dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * (1 + 1e-6)))
+        return dataclasses.replace(
+            scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * (1 + 1e-6))
+        )
 
     passed, table = candidate(stiffer)
     assert not passed and table[0]["position_in_floors"] > 10 * ec.FACTOR, table
@@ -199,8 +234,9 @@ def test_quick_layer_a_meets_every_reference():
     """Measured: 45 checks, all within their references, 6 s with a warm kernel cache."""
     ds = ec.layer_a(quick=True, floor_members=())
     assert missing_metadata(ds) == [] and ds.attrs["profile"] == "quick"
-    assert ds.sizes["check"] == 45 and int(ds.check_passes.sum()) == 45, \
-        [str(c) for c in ds.check.values[ds.check_passes.values == 0]]
+    assert ds.sizes["check"] == 45 and int(ds.check_passes.sum()) == 45, [
+        str(c) for c in ds.check.values[ds.check_passes.values == 0]
+    ]
     assert (ds.check_error <= ds.check_tolerance).all()
     over = ds.sel(check="ramp_point_study/overturning_pga")
     assert float(over.check_reference) == pytest.approx(2.5205, rel=1e-4)  # the rigid limit
@@ -216,7 +252,9 @@ def test_a_candidates_layer_b_is_its_members_trajectories_without_floors():
     cand = ec.layer_b(duration=0.5, floor_members=(), kinds=("column_1_area_law",), member=20)
     assert cand.attrs["member"] == 20 and np.isnan(cand.floor_position.values).all()
     for name, scene in ec.short_horizon_scenes(0.5, ("column_1_area_law",)).items():
-        np.testing.assert_array_equal(ec._unpadded(cand, name), ec.trajectory(simulate(member_scene(scene, 20))))
+        np.testing.assert_array_equal(
+            ec._unpadded(cand, name), ec.trajectory(simulate(member_scene(scene, 20)))
+        )
     base = ec.layer_b(duration=0.5, kinds=("column_1_area_law",))
     assert ec.compare_layer_b(base, cand)[0]
 

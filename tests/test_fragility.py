@@ -8,7 +8,7 @@ import pytest
 from stonedem.errors import InputError
 from stonedem.fragility.fit import bootstrap_band, empirical_points, fit_lognormal
 
-THETA, BETA = 0.35, 0.45   # a median collapse PGA in g and a typical record-to-record dispersion
+THETA, BETA = 0.35, 0.45  # a median collapse PGA in g and a typical record-to-record dispersion
 
 
 def _sample(n, seed):
@@ -18,18 +18,22 @@ def _sample(n, seed):
 def test_closed_form_mle_recovers_the_law():
     fit = fit_lognormal(_sample(4000, 1))
     # standard errors: beta / sqrt(n) on ln theta (0.7 %), beta / sqrt(2 n) on beta (1.1 %)
-    assert fit.median == pytest.approx(THETA, rel=0.03) and fit.beta == pytest.approx(BETA, rel=0.04)
+    assert fit.median == pytest.approx(THETA, rel=0.03) and fit.beta == pytest.approx(
+        BETA, rel=0.04
+    )
     assert fit.probability(fit.median) == pytest.approx(0.5)
 
 
 def test_censored_records_are_lower_bounds_not_dropped():
     x = _sample(4000, 2)
-    cap = THETA * 1.5                         # the search's maximum: above it only "survived"
+    cap = THETA * 1.5  # the search's maximum: above it only "survived"
     censored = x > cap
     fit = fit_lognormal(np.minimum(x, cap), censored)
     assert fit.censored == censored.sum() > 400
-    assert fit.median == pytest.approx(THETA, rel=0.03) and fit.beta == pytest.approx(BETA, rel=0.05)
-    naive = fit_lognormal(x[~censored])       # dropping them biases the median low
+    assert fit.median == pytest.approx(THETA, rel=0.03) and fit.beta == pytest.approx(
+        BETA, rel=0.05
+    )
+    naive = fit_lognormal(x[~censored])  # dropping them biases the median low
     assert naive.median < 0.95 * THETA
 
 
@@ -37,10 +41,12 @@ def test_numerical_mle_equals_the_closed_form_without_censoring():
     x = _sample(50, 3)
     c = np.zeros(50, bool)
     c[0] = True
-    x[0] = x.min() / 50     # "not exceeded up to" far below all: no information, no weight
+    x[0] = x.min() / 50  # "not exceeded up to" far below all: no information, no weight
     full = fit_lognormal(x[1:])
     cens = fit_lognormal(x, c)
-    assert cens.median == pytest.approx(full.median, rel=1e-3) and cens.beta == pytest.approx(full.beta, rel=1e-3)
+    assert cens.median == pytest.approx(full.median, rel=1e-3) and cens.beta == pytest.approx(
+        full.beta, rel=1e-3
+    )
 
 
 def test_bootstrap_band_holds_the_fit_and_narrows_with_records():

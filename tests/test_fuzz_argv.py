@@ -34,23 +34,57 @@ ROOT = Path(__file__).resolve().parents[1]
 HANG_SECONDS = 120  # the slowest valid argv (a wall pushover with --limit) takes ~5 s
 
 # values that fit no option, and values that fit some
-BAD_NUMBERS = ["nan", "-inf", "inf", "1e309", "-1", "0", "-0", "1e-300", "1e300", "abc", "", "0x10", "1_0"]
+BAD_NUMBERS = [
+    "nan",
+    "-inf",
+    "inf",
+    "1e309",
+    "-1",
+    "0",
+    "-0",
+    "1e-300",
+    "1e300",
+    "abc",
+    "",
+    "0x10",
+    "1_0",
+]
 GOOD_NUMBERS = ["1", "2", "0.5", "20", "3"]
-TEXT = ["", "plain title", "$\\frac{$", "$x$", "a\nb", "\x1b[31mred", "é ü", "x" * 400, "-", "--", "%s%d"]
+TEXT = [
+    "",
+    "plain title",
+    "$\\frac{$",
+    "$x$",
+    "a\nb",
+    "\x1b[31mred",
+    "é ü",
+    "x" * 400,
+    "-",
+    "--",
+    "%s%d",
+]
 
 
 def _arena(root: Path) -> dict[str, str]:
     """The files an argv may name, made once: good ones and every wrong kind."""
     root.mkdir(parents=True, exist_ok=True)
     scene = root / "scene.yaml"
-    scene.write_text((ROOT / "tests/data/scenes/rocking_block.yaml").read_text()
-                     .replace("duration: 4.0", "duration: 0.02").replace("every: 0.001", "every: 0.005"))
+    scene.write_text(
+        (ROOT / "tests/data/scenes/rocking_block.yaml")
+        .read_text()
+        .replace("duration: 4.0", "duration: 0.02")
+        .replace("every: 0.001", "every: 0.005")
+    )
     result = root / "result.nc"
     if not result.exists():
         assert stonedem_main(["run", str(scene), "-o", str(result), "-q"]) == 0
     wall = root / "wall.yaml"
-    wall.write_text((ROOT / "config/walls/free_standing.yaml").read_text()
-                    .replace("blocks_per_course: 3", "blocks_per_course: 2").replace("courses: 13", "courses: 3"))
+    wall.write_text(
+        (ROOT / "config/walls/free_standing.yaml")
+        .read_text()
+        .replace("blocks_per_course: 3", "blocks_per_course: 2")
+        .replace("courses: 13", "courses: 3")
+    )
     shutil.copy(ROOT / "tests/data/records/synthetic_two_column.txt", root / "record.txt")
     (root / "latin1.yaml").write_bytes("bodies: [caf\xe9]\n".encode("latin-1"))
     (root / "utf16.yaml").write_bytes("bodies: []\n".encode("utf-16"))
@@ -63,11 +97,22 @@ def _arena(root: Path) -> dict[str, str]:
         handle.truncate(300_000_000)
     (root / "folder").mkdir(exist_ok=True)
     return {
-        "scene": str(scene), "result": str(result), "wall": str(wall), "record": str(root / "record.txt"),
-        "latin1": str(root / "latin1.yaml"), "utf16": str(root / "utf16.yaml"), "empty": str(root / "empty.yaml"),
-        "list": str(root / "list.yaml"), "deep": str(root / "deep.yaml"), "garbage": str(root / "garbage.nc"),
-        "text": str(root / "text.nc"), "sparse": str(root / "sparse.yaml"), "folder": str(root / "folder"),
-        "missing": str(root / "missing.yaml"), "proc": "/proc/stonedem-fuzz/x.nc", "dev_null": "/dev/null",
+        "scene": str(scene),
+        "result": str(result),
+        "wall": str(wall),
+        "record": str(root / "record.txt"),
+        "latin1": str(root / "latin1.yaml"),
+        "utf16": str(root / "utf16.yaml"),
+        "empty": str(root / "empty.yaml"),
+        "list": str(root / "list.yaml"),
+        "deep": str(root / "deep.yaml"),
+        "garbage": str(root / "garbage.nc"),
+        "text": str(root / "text.nc"),
+        "sparse": str(root / "sparse.yaml"),
+        "folder": str(root / "folder"),
+        "missing": str(root / "missing.yaml"),
+        "proc": "/proc/stonedem-fuzz/x.nc",
+        "dev_null": "/dev/null",
     }
 
 
@@ -79,16 +124,46 @@ def arena(tmp_path_factory):
 
 def _inputs(files, good, *other_good):
     """Half the draws the right kind of file, half any other kind."""
-    wrong = [files[k] for k in (*other_good, "latin1", "utf16", "empty", "list", "deep", "garbage", "text", "sparse",
-                                "folder", "missing", "proc", "dev_null")]
+    wrong = [
+        files[k]
+        for k in (
+            *other_good,
+            "latin1",
+            "utf16",
+            "empty",
+            "list",
+            "deep",
+            "garbage",
+            "text",
+            "sparse",
+            "folder",
+            "missing",
+            "proc",
+            "dev_null",
+        )
+    ]
     return st.one_of(st.just(files[good]), st.sampled_from(wrong))
 
 
 def _outputs(files, out_dir: Path, suffixes):
-    names = [str(out_dir / f"o{s}") for s in suffixes] + [str(out_dir / "new folder é" / f"o{suffixes[0]}")]
-    return st.one_of(st.sampled_from(names), st.sampled_from(
-        [files["folder"], files["scene"], files["result"], files["proc"], str(out_dir / "o.txt"),
-         str(out_dir / ("x" * 300 + suffixes[0])), str(out_dir / "missing" / ".." / ".." / "o.nc"), ""]))
+    names = [str(out_dir / f"o{s}") for s in suffixes] + [
+        str(out_dir / "new folder é" / f"o{suffixes[0]}")
+    ]
+    return st.one_of(
+        st.sampled_from(names),
+        st.sampled_from(
+            [
+                files["folder"],
+                files["scene"],
+                files["result"],
+                files["proc"],
+                str(out_dir / "o.txt"),
+                str(out_dir / ("x" * 300 + suffixes[0])),
+                str(out_dir / "missing" / ".." / ".." / "o.nc"),
+                "",
+            ]
+        ),
+    )
 
 
 def _options(draw, pool: dict, positional=()):
@@ -127,7 +202,9 @@ def call(main, argv, root: Path):
             try:
                 status = main(argv)
             except SystemExit as stop:
-                status = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
+                status = (
+                    stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 1)
+                )
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
@@ -153,31 +230,77 @@ def _command(name, draw, files, out_dir):
     numbers = st.one_of(st.sampled_from(GOOD_NUMBERS), st.sampled_from(BAD_NUMBERS))
     text = st.sampled_from(TEXT)
     if name == "run":
-        sets = st.sampled_from(["solver.duration=0.01", "solver.duration=0.01", "friction=0.5", "solver.duration=-1", "solver.duration=1e12", "solver.dt=nan",
-                                "bodies.7.mass=1", "x=[[[", "friction=é", "=", "solver=3", "output.every=1e-12",
-                                "excitation.kind=record", "contact.k_n=0", "bodies=[]", "solver.duration=" + "[" * 99])
-        return ["run"] + _options(draw, {"-o": _outputs(files, out_dir, [".nc"]), "--set": sets, "-q": None},
-                                  [_inputs(files, "scene", "result")])
+        sets = st.sampled_from(
+            [
+                "solver.duration=0.01",
+                "solver.duration=0.01",
+                "friction=0.5",
+                "solver.duration=-1",
+                "solver.duration=1e12",
+                "solver.dt=nan",
+                "bodies.7.mass=1",
+                "x=[[[",
+                "friction=é",
+                "=",
+                "solver=3",
+                "output.every=1e-12",
+                "excitation.kind=record",
+                "contact.k_n=0",
+                "bodies=[]",
+                "solver.duration=" + "[" * 99,
+            ]
+        )
+        return ["run"] + _options(
+            draw,
+            {"-o": _outputs(files, out_dir, [".nc"]), "--set": sets, "-q": None},
+            [_inputs(files, "scene", "result")],
+        )
     if name == "validate":
         # a valid validate runs every validation (minutes): one bad --only keeps it a question of checks
         argv = ["validate", "--only", draw(st.sampled_from(["nope", "", "é", "--list"]))]
-        return argv + _options(draw, {"-o": _outputs(files, out_dir, [""]), "--only": st.sampled_from(["x", "-"])})
+        return argv + _options(
+            draw, {"-o": _outputs(files, out_dir, [""]), "--only": st.sampled_from(["x", "-"])}
+        )
     if name == "record":
         return ["record", "info"] + _options(
-            draw, {"--units": st.sampled_from(["g", "m/s2", "cm/s2", "furlong", ""]), "--dt": numbers,
-                   "--plot": _outputs(files, out_dir, [".png", ".svg"]), "--damping": numbers},
-            [_inputs(files, "record", "result")])
+            draw,
+            {
+                "--units": st.sampled_from(["g", "m/s2", "cm/s2", "furlong", ""]),
+                "--dt": numbers,
+                "--plot": _outputs(files, out_dir, [".png", ".svg"]),
+                "--damping": numbers,
+            },
+            [_inputs(files, "record", "result")],
+        )
     if name == "snapshots":
         return ["snapshots"] + _options(
-            draw, {"-o": _outputs(files, out_dir, [".png"]), "-n": numbers, "--times": numbers, "--title": text},
-            [_inputs(files, "result", "scene")])
+            draw,
+            {
+                "-o": _outputs(files, out_dir, [".png"]),
+                "-n": numbers,
+                "--times": numbers,
+                "--title": text,
+            },
+            [_inputs(files, "result", "scene")],
+        )
     if name == "animate":
         return ["animate"] + _options(
-            draw, {"-o": _outputs(files, out_dir, [".gif"]), "--fps": numbers, "--max-frames": numbers,
-                   "--every": numbers, "--title": text}, [_inputs(files, "result", "scene")])
+            draw,
+            {
+                "-o": _outputs(files, out_dir, [".gif"]),
+                "--fps": numbers,
+                "--max-frames": numbers,
+                "--every": numbers,
+                "--title": text,
+            },
+            [_inputs(files, "result", "scene")],
+        )
     if name == "wall":
-        return ["wall"] + _options(draw, {"-o": _outputs(files, out_dir, [".nc"]), "--limit": None, "-q": None},
-                                   [_inputs(files, "wall", "scene")])
+        return ["wall"] + _options(
+            draw,
+            {"-o": _outputs(files, out_dir, [".nc"]), "--limit": None, "-q": None},
+            [_inputs(files, "wall", "scene")],
+        )
     raise ValueError(name)
 
 
@@ -202,20 +325,37 @@ def test_fuzz_argv_of_every_subcommand(arena, command, data):
 
 # --- benchmark scripts ------------------------------------------------------------------
 
-BENCH_MODULES = ["stonedem.bench.contact_cost", "stonedem.bench.ensemble", "stonedem.bench.fuzz",
-                 "stonedem.bench.gpu_check", "stonedem.bench.kernel",
-                 "stonedem.bench.restitution", "stonedem.bench.rounding", "stonedem.bench.skipping",
-                 "stonedem.bench.stability",
-                 "stonedem.bench.work_precision", "stonedem.study.ensemble"]
-BENCH_SCRIPTS = ["device_logs", "engine_speed", "equivalence_calibration", "study_time", "table_a1_fits", "tilt_quiet_probe",
-                 "wall_supports",
-                 "wall_tables"]
+BENCH_MODULES = [
+    "stonedem.bench.contact_cost",
+    "stonedem.bench.ensemble",
+    "stonedem.bench.fuzz",
+    "stonedem.bench.gpu_check",
+    "stonedem.bench.kernel",
+    "stonedem.bench.restitution",
+    "stonedem.bench.rounding",
+    "stonedem.bench.skipping",
+    "stonedem.bench.stability",
+    "stonedem.bench.work_precision",
+    "stonedem.study.ensemble",
+]
+BENCH_SCRIPTS = [
+    "device_logs",
+    "engine_speed",
+    "equivalence_calibration",
+    "study_time",
+    "table_a1_fits",
+    "tilt_quiet_probe",
+    "wall_supports",
+    "wall_tables",
+]
 
 
 @functools.cache
 def _bench_main(name):
     if name in BENCH_SCRIPTS:
-        spec = importlib.util.spec_from_file_location(f"bench_{name}", ROOT / "benchmarks" / f"{name}.py")
+        spec = importlib.util.spec_from_file_location(
+            f"bench_{name}", ROOT / "benchmarks" / f"{name}.py"
+        )
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
     else:
@@ -245,15 +385,25 @@ def _bench_options(main) -> dict:
     finally:
         argparse.ArgumentParser.parse_args = real
     parser = captured["parser"]
-    return {a.option_strings[-1]: (a.nargs != 0) for a in parser._actions
-            if a.option_strings and a.dest not in ("help",)}
+    return {
+        a.option_strings[-1]: (a.nargs != 0)
+        for a in parser._actions
+        if a.option_strings and a.dest not in ("help",)
+    }
 
 
 # output options that name a file (the others name a folder)
-FILE_OUTPUTS = {("stonedem.bench.fuzz", "--out"), ("table_a1_fits", "--output"), ("stonedem.bench.stability", "--figure"),
-                ("stonedem.bench.kernel", "--figure"),
-                ("stonedem.bench.ensemble", "--figure"), ("study_time", "--out"), ("stonedem.study.ensemble", "--out"),
-                ("equivalence_calibration", "--out"), ("tilt_quiet_probe", "--out")}
+FILE_OUTPUTS = {
+    ("stonedem.bench.fuzz", "--out"),
+    ("table_a1_fits", "--output"),
+    ("stonedem.bench.stability", "--figure"),
+    ("stonedem.bench.kernel", "--figure"),
+    ("stonedem.bench.ensemble", "--figure"),
+    ("study_time", "--out"),
+    ("stonedem.study.ensemble", "--out"),
+    ("equivalence_calibration", "--out"),
+    ("tilt_quiet_probe", "--out"),
+}
 # wrong for any number, count, name or input file an option may take
 BAD_VALUES = ["nan", "-inf", "inf", "1e309", "-1", "abc", "", "0x10", "é", "1e3e3"]
 

@@ -22,7 +22,17 @@ from hypothesis import given, note
 from hypothesis import strategies as st
 
 from stonedem.errors import InputError
-from stonedem.study.grid import (CASE_ID_PATTERN, CHOICES, COUNTS, NONNEGATIVE, PARAMETERS, POSITIVE, check_config, config_cases, load_config)
+from stonedem.study.grid import (
+    CASE_ID_PATTERN,
+    CHOICES,
+    COUNTS,
+    NONNEGATIVE,
+    PARAMETERS,
+    POSITIVE,
+    check_config,
+    config_cases,
+    load_config,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
@@ -32,9 +42,42 @@ RECORD_NAMES = sorted(BASE["records"])
 
 # values no parameter or scene field should take, and some it should
 HOSTILE = st.one_of(
-    st.sampled_from([-2.0, -1, 0, 0.0, -0.0, float("nan"), float("inf"), -float("inf"), 1e300, 1e-300, 10**9,
-                     "high", "1.0e9", "", " ", "a/b", True, False, None, [], {}, [1.0], {"a": 1}, "per_span",
-                     "nope", "mexico_standin_chichi_tcu102", 1, 2, 3, 0.5, 1.5, 1000.0]),
+    st.sampled_from(
+        [
+            -2.0,
+            -1,
+            0,
+            0.0,
+            -0.0,
+            float("nan"),
+            float("inf"),
+            -float("inf"),
+            1e300,
+            1e-300,
+            10**9,
+            "high",
+            "1.0e9",
+            "",
+            " ",
+            "a/b",
+            True,
+            False,
+            None,
+            [],
+            {},
+            [1.0],
+            {"a": 1},
+            "per_span",
+            "nope",
+            "mexico_standin_chichi_tcu102",
+            1,
+            2,
+            3,
+            0.5,
+            1.5,
+            1000.0,
+        ]
+    ),
     st.floats(allow_nan=True, allow_infinity=True),
     st.integers(-5, 200),
     st.text(max_size=4),
@@ -51,23 +94,62 @@ def plausible(key: str):
         return st.sampled_from(CHOICES[key])
     if key in COUNTS:
         return st.integers(COUNTS[key][0], min(COUNTS[key][0] + 7, COUNTS[key][1]))
-    low, high = {"pga": (0.5, 16.0), "pga_scale": (0.5, 9.0), "frequency": (0.1, 20.0), "amplitude": (0.01, 0.5),
-                 "clear_distance": (1.0, 4.0), "epistyle_density": (2000.0, 12000.0), "taper": (1.0, 2.0),
-                 "friction": (0.2, 1.0), "weak_joint_mu": (0.0, 0.5)}[key]
+    low, high = {
+        "pga": (0.5, 16.0),
+        "pga_scale": (0.5, 9.0),
+        "frequency": (0.1, 20.0),
+        "amplitude": (0.01, 0.5),
+        "clear_distance": (1.0, 4.0),
+        "epistyle_density": (2000.0, 12000.0),
+        "taper": (1.0, 2.0),
+        "friction": (0.2, 1.0),
+        "weak_joint_mu": (0.0, 0.5),
+    }[key]
     return st.floats(low, high).map(lambda v: round(v, 3))
 
 
-assert set(PARAMETERS) == {"record", "component", *CHOICES, *COUNTS, *POSITIVE, *NONNEGATIVE}, "a parameter without a value rule"
+assert set(PARAMETERS) == {"record", "component", *CHOICES, *COUNTS, *POSITIVE, *NONNEGATIVE}, (
+    "a parameter without a value rule"
+)
 
-SCENE_FIELDS = [("friction",), ("contact", "k_n"), ("contact", "model"), ("contact", "c_n"), ("contact", "damping"),
-                ("contact", "k_t"), ("contact", "frame"), ("solver", "duration"), ("solver", "dt"),
-                ("solver", "dt_safety"), ("solver", "stop_on_collapse"), ("output", "every"), ("excitation",),
-                ("excitation", "kind"), ("excitation", "pga"), ("excitation", "frequency"),
-                ("excitation", "amplitude"), ("excitation", "file"), ("excitation", "rate"), ("excitation", "scale"),
-                ("structure",), ("structure", "kind"), ("structure", "n_drums"), ("structure", "height"),
-                ("structure", "width"), ("structure", "taper"), ("structure", "capital"), ("structure", "n_columns"),
-                ("structure", "clear_distance"), ("structure", "epistyle_type"), ("structure", "density"),
-                ("weak_joint",), ("weak_joint", "mu"), ("interface_friction",), ("depth",), ("gravity",)]
+SCENE_FIELDS = [
+    ("friction",),
+    ("contact", "k_n"),
+    ("contact", "model"),
+    ("contact", "c_n"),
+    ("contact", "damping"),
+    ("contact", "k_t"),
+    ("contact", "frame"),
+    ("solver", "duration"),
+    ("solver", "dt"),
+    ("solver", "dt_safety"),
+    ("solver", "stop_on_collapse"),
+    ("output", "every"),
+    ("excitation",),
+    ("excitation", "kind"),
+    ("excitation", "pga"),
+    ("excitation", "frequency"),
+    ("excitation", "amplitude"),
+    ("excitation", "file"),
+    ("excitation", "rate"),
+    ("excitation", "scale"),
+    ("structure",),
+    ("structure", "kind"),
+    ("structure", "n_drums"),
+    ("structure", "height"),
+    ("structure", "width"),
+    ("structure", "taper"),
+    ("structure", "capital"),
+    ("structure", "n_columns"),
+    ("structure", "clear_distance"),
+    ("structure", "epistyle_type"),
+    ("structure", "density"),
+    ("weak_joint",),
+    ("weak_joint", "mu"),
+    ("interface_friction",),
+    ("depth",),
+    ("gravity",),
+]
 
 
 def _set_path(node: dict, path, value) -> None:
@@ -88,34 +170,71 @@ def mutations(draw, hostile: bool = True):
     values = (lambda key: st.one_of(plausible(key), HOSTILE)) if hostile else plausible
     kinds = ["grid_values", "add_grid_key", "remove_grid_key", "reorder_grid", "case"]
     if hostile:
-        kinds += ["unknown_grid_key", "scene_field", "drop_key", "unknown_key", "unknown_record", "record_file"]
+        kinds += [
+            "unknown_grid_key",
+            "scene_field",
+            "drop_key",
+            "unknown_key",
+            "unknown_record",
+            "record_file",
+        ]
     for kind in draw(st.lists(st.sampled_from(kinds), min_size=1, max_size=3)):
         grid = study.get("grid") if isinstance(study.get("grid"), dict) else None
         if kind == "grid_values":
             key = draw(st.sampled_from(sorted(PARAMETERS)))
             study["grid"] = grid if grid is not None else {}
-            study["grid"][key] = draw(st.lists(values(key), min_size=0 if hostile else 1, max_size=3))
+            study["grid"][key] = draw(
+                st.lists(values(key), min_size=0 if hostile else 1, max_size=3)
+            )
         elif kind == "add_grid_key":
             key = draw(st.sampled_from(sorted(set(PARAMETERS) - set(grid or {}))))
             study["grid"] = grid if grid is not None else {}
-            study["grid"][key] = list(dict.fromkeys(draw(st.lists(plausible(key), min_size=1, max_size=3))))
+            study["grid"][key] = list(
+                dict.fromkeys(draw(st.lists(plausible(key), min_size=1, max_size=3)))
+            )
         elif kind == "remove_grid_key" and grid:
             del grid[draw(st.sampled_from(sorted(grid)))]
         elif kind == "reorder_grid" and grid:
             study["grid"] = dict(draw(st.permutations(list(grid.items()))))
         elif kind == "case":
-            keys = draw(st.lists(st.sampled_from(sorted(PARAMETERS) + (["bogus"] if hostile else [])),
-                                 min_size=1, max_size=3, unique=True))
+            keys = draw(
+                st.lists(
+                    st.sampled_from(sorted(PARAMETERS) + (["bogus"] if hostile else [])),
+                    min_size=1,
+                    max_size=3,
+                    unique=True,
+                )
+            )
             case = {k: draw(values(k) if k in PARAMETERS else HOSTILE) for k in keys}
-            study["cases"] = [*(study.get("cases") if isinstance(study.get("cases"), list) else []), case]
+            study["cases"] = [
+                *(study.get("cases") if isinstance(study.get("cases"), list) else []),
+                case,
+            ]
         elif kind == "unknown_grid_key":
-            study["grid"] = {**(grid or {}), draw(st.sampled_from(["speed", "Pga", "duration", "k_n", ""])): [1.0]}
+            study["grid"] = {
+                **(grid or {}),
+                draw(st.sampled_from(["speed", "Pga", "duration", "k_n", ""])): [1.0],
+            }
         elif kind == "scene_field":
             target = config["defaults"] if draw(st.booleans()) else study
             _set_path(target, draw(st.sampled_from(SCENE_FIELDS)), draw(HOSTILE))
         elif kind == "drop_key":
-            where = draw(st.sampled_from(["structure", "excitation", "grid", "cases", "solver", "friction",
-                                          "contact", "defaults.contact", "defaults.solver", "records"]))
+            where = draw(
+                st.sampled_from(
+                    [
+                        "structure",
+                        "excitation",
+                        "grid",
+                        "cases",
+                        "solver",
+                        "friction",
+                        "contact",
+                        "defaults.contact",
+                        "defaults.solver",
+                        "records",
+                    ]
+                )
+            )
             if where.startswith("defaults."):
                 config["defaults"].pop(where.split(".")[1], None)
             elif where == "records":
@@ -123,14 +242,25 @@ def mutations(draw, hostile: bool = True):
             else:
                 study.pop(where, None)
         elif kind == "unknown_key":
-            target = draw(st.sampled_from(["study", "structure", "contact", "solver", "excitation", "defaults",
-                                           "config"]))
+            target = draw(
+                st.sampled_from(
+                    ["study", "structure", "contact", "solver", "excitation", "defaults", "config"]
+                )
+            )
             node = {"study": study, "defaults": config["defaults"], "config": config}.get(target)
             if node is None:
-                node = study.setdefault(target, {}) if isinstance(study.get(target, {}), dict) else study
+                node = (
+                    study.setdefault(target, {})
+                    if isinstance(study.get(target, {}), dict)
+                    else study
+                )
             node["bogus_key"] = 1
         elif kind == "unknown_record":
-            bad = draw(st.sampled_from(["nope", "athens", "Mexico_standin_chichi_tcu102", "records/x.nc", 5]))
+            bad = draw(
+                st.sampled_from(
+                    ["nope", "athens", "Mexico_standin_chichi_tcu102", "records/x.nc", 5]
+                )
+            )
             if draw(st.booleans()):
                 study["grid"] = {**(grid or {}), "record": [bad]}
             else:
@@ -144,21 +274,31 @@ def mutations(draw, hostile: bool = True):
 
 def _is_config_path(field: str, config: dict) -> bool:
     parts = [p for p in re.split(r"[.\[\]]", field) if p]
-    if not parts or (parts[0] not in config and parts[0] not in ("config", "studies", "defaults", "records")):
+    if not parts or (
+        parts[0] not in config and parts[0] not in ("config", "studies", "defaults", "records")
+    ):
         return False
-    return parts[0] != "studies" or len(parts) == 1 or any(field.startswith(f"studies.{n}") for n in config["studies"])
+    return (
+        parts[0] != "studies"
+        or len(parts) == 1
+        or any(field.startswith(f"studies.{n}") for n in config["studies"])
+    )
 
 
 def _assert_refused_cleanly(error: InputError, config: dict) -> None:
     message = str(error)
     assert "\n" not in message, message
     assert message.startswith(f"{error.field}: ") and error.problem, message
-    assert _is_config_path(error.field, config), f"{error.field!r} is not a path of the config: {message}"
+    assert _is_config_path(error.field, config), (
+        f"{error.field!r} is not a path of the config: {message}"
+    )
 
 
 def _outputs(config: dict, tables: dict, catalogue_tables: dict) -> set:
     """Files some rule makes (workflow/rules/*.smk, common.smk), or on disk (records/)."""
-    made = {f"records/{name}.nc" for name in config["records"]} | {f"records/{p.name}" for p in RECORDS.glob("*.nc")}
+    made = {f"records/{name}.nc" for name in config["records"]} | {
+        f"records/{p.name}" for p in RECORDS.glob("*.nc")
+    }
     made |= {f"results/cubes/{s}.nc" for s in tables}
     made |= {f"results/cases/{s}/{c.id}.nc" for s, cases in tables.items() for c in cases}
     made |= {f"results/tables/{name}.csv" for name in catalogue_tables}
@@ -208,8 +348,9 @@ def _check(config: dict):
     except InputError as error:
         _assert_refused_cleanly(error, config)
         return None
-    assert {n: [c.id for c in cases] for n, cases in tables.items()} == \
-        {n: [c.id for c in cases] for n, cases in config_cases(config).items()}, "common.smk's STUDIES"
+    assert {n: [c.id for c in cases] for n, cases in tables.items()} == {
+        n: [c.id for c in cases] for n, cases in config_cases(config).items()
+    }, "common.smk's STUDIES"
     return tables
 
 
@@ -235,38 +376,83 @@ def test_fuzz_config_grid_keys_added_removed_reordered_keep_the_dag(mutated):
     _assert_dag_builds(whole, config_cases(whole))
 
 
-@pytest.mark.parametrize("mutate, field", [
-    (lambda c: c["studies"]["ramp_drums"]["grid"].update(n_drums=[1, -2]), "studies.ramp_drums.grid.n_drums[1]"),
-    (lambda c: c["studies"]["standalone_records"]["grid"].update(pga=["high"]),
-     "studies.standalone_records.grid.pga[0]"),
-    (lambda c: c["studies"]["standalone_records"]["grid"].update(pga=[math.nan]),
-     "studies.standalone_records.grid.pga[0]"),
-    (lambda c: c["defaults"]["contact"].update(k_n=-1.0e9), "defaults.contact.k_n"),
-    (lambda c: c["studies"]["ramp_drums"].update(contact={"k_n": -1.0}), "studies.ramp_drums.contact.k_n"),
-    (lambda c: c["studies"]["ramp_drums"].pop("structure"), "studies.ramp_drums.structure"),
-    (lambda c: c["studies"]["standalone_records"]["grid"].update(record=["nope"]),
-     "studies.standalone_records.grid.record[0]"),
-    (lambda c: c["studies"]["colonnade_columns"]["excitation"].update(file="nope"),
-     "studies.colonnade_columns.excitation.file"),
-    (lambda c: c["records"].update(missing_record={"set": "farfield", "id": 3, "component": "a"}),
-     "records.missing_record"),
-    (lambda c: c["studies"]["ramp_drums"]["grid"].update(speed=[1.0]), "studies.ramp_drums.grid.speed"),
-    (lambda c: c["studies"]["ramp_drums"]["grid"].update(n_drums=list(range(1, 101)), friction=[0.1 * i for i in
-                                                                                             range(30)]),
-     "studies.ramp_drums.grid"),
-    (lambda c: c["studies"]["ramp_drums"]["solver"].update(duration=1.0e6), "studies.ramp_drums.solver.duration"),
-    (lambda c: c["studies"]["ramp_drums"].update(output={"every": 1e-8}), "studies.ramp_drums.output.every"),
-    (lambda c: c["studies"]["ramp_drums"]["solver"].update(dt=0.1), "studies.ramp_drums.solver.dt"),
-    (lambda c: c["studies"]["ramp_taper"]["structure"].update(n_drums=10**6), "studies.ramp_taper.structure.n_drums"),
-    (lambda c: c["studies"]["friction_levels"]["grid"].update(weak_joint=[4]),
-     "studies.friction_levels.grid.weak_joint[0]"),
-    (lambda c: c["studies"]["harmonic_drums"]["grid"].update(record=[RECORD_NAMES[0]]),
-     "studies.harmonic_drums.grid.record[0]"),
-    (lambda c: c["studies"]["colonnade_distance"]["grid"].update(clear_distance=[1e-6]),
-     "studies.colonnade_distance.structure"),
-    (lambda c: c.update(wall_cases=["nope"]), "wall_cases[0]"),
-    (lambda c: c.update(studdies={}), "studdies"),  # ignored, it planned the whole study
-])
+@pytest.mark.parametrize(
+    "mutate, field",
+    [
+        (
+            lambda c: c["studies"]["ramp_drums"]["grid"].update(n_drums=[1, -2]),
+            "studies.ramp_drums.grid.n_drums[1]",
+        ),
+        (
+            lambda c: c["studies"]["standalone_records"]["grid"].update(pga=["high"]),
+            "studies.standalone_records.grid.pga[0]",
+        ),
+        (
+            lambda c: c["studies"]["standalone_records"]["grid"].update(pga=[math.nan]),
+            "studies.standalone_records.grid.pga[0]",
+        ),
+        (lambda c: c["defaults"]["contact"].update(k_n=-1.0e9), "defaults.contact.k_n"),
+        (
+            lambda c: c["studies"]["ramp_drums"].update(contact={"k_n": -1.0}),
+            "studies.ramp_drums.contact.k_n",
+        ),
+        (lambda c: c["studies"]["ramp_drums"].pop("structure"), "studies.ramp_drums.structure"),
+        (
+            lambda c: c["studies"]["standalone_records"]["grid"].update(record=["nope"]),
+            "studies.standalone_records.grid.record[0]",
+        ),
+        (
+            lambda c: c["studies"]["colonnade_columns"]["excitation"].update(file="nope"),
+            "studies.colonnade_columns.excitation.file",
+        ),
+        (
+            lambda c: c["records"].update(
+                missing_record={"set": "farfield", "id": 3, "component": "a"}
+            ),
+            "records.missing_record",
+        ),
+        (
+            lambda c: c["studies"]["ramp_drums"]["grid"].update(speed=[1.0]),
+            "studies.ramp_drums.grid.speed",
+        ),
+        (
+            lambda c: c["studies"]["ramp_drums"]["grid"].update(
+                n_drums=list(range(1, 101)), friction=[0.1 * i for i in range(30)]
+            ),
+            "studies.ramp_drums.grid",
+        ),
+        (
+            lambda c: c["studies"]["ramp_drums"]["solver"].update(duration=1.0e6),
+            "studies.ramp_drums.solver.duration",
+        ),
+        (
+            lambda c: c["studies"]["ramp_drums"].update(output={"every": 1e-8}),
+            "studies.ramp_drums.output.every",
+        ),
+        (
+            lambda c: c["studies"]["ramp_drums"]["solver"].update(dt=0.1),
+            "studies.ramp_drums.solver.dt",
+        ),
+        (
+            lambda c: c["studies"]["ramp_taper"]["structure"].update(n_drums=10**6),
+            "studies.ramp_taper.structure.n_drums",
+        ),
+        (
+            lambda c: c["studies"]["friction_levels"]["grid"].update(weak_joint=[4]),
+            "studies.friction_levels.grid.weak_joint[0]",
+        ),
+        (
+            lambda c: c["studies"]["harmonic_drums"]["grid"].update(record=[RECORD_NAMES[0]]),
+            "studies.harmonic_drums.grid.record[0]",
+        ),
+        (
+            lambda c: c["studies"]["colonnade_distance"]["grid"].update(clear_distance=[1e-6]),
+            "studies.colonnade_distance.structure",
+        ),
+        (lambda c: c.update(wall_cases=["nope"]), "wall_cases[0]"),
+        (lambda c: c.update(studdies={}), "studdies"),  # ignored, it planned the whole study
+    ],
+)
 def test_each_class_of_bad_config_is_refused_by_its_path(mutate, field):
     config = copy.deepcopy(BASE)
     mutate(config)
@@ -279,13 +465,23 @@ def test_each_class_of_bad_config_is_refused_by_its_path(mutate, field):
 def test_the_real_configs_pass_and_the_schema_knows_every_parameter():
     import yaml
 
-    for extra in ((), (ROOT / "config" / "quick.yaml",), (ROOT / "tests" / "workflow" / "config.yaml",)):
+    for extra in (
+        (),
+        (ROOT / "config" / "quick.yaml",),
+        (ROOT / "tests" / "workflow" / "config.yaml",),
+    ):
         config = load_config(ROOT / "config" / "config.yaml", *extra)
         tables = check_config(config, records_dir=RECORDS, schema=SCHEMA)
         _assert_dag_builds(config, tables)
     schema = yaml.safe_load(SCHEMA.read_text())
     study = schema["properties"]["studies"]["additionalProperties"]["properties"]
-    assert set(study["grid"]["properties"]) == set(PARAMETERS) == set(study["cases"]["items"]["properties"])
+    assert (
+        set(study["grid"]["properties"])
+        == set(PARAMETERS)
+        == set(study["cases"]["items"]["properties"])
+    )
     for key, (low, high) in COUNTS.items():
-        assert (schema["$defs"][key]["minimum"], schema["$defs"][key]["maximum"]) == (low, high), key
+        assert (schema["$defs"][key]["minimum"], schema["$defs"][key]["maximum"]) == (low, high), (
+            key
+        )
     assert schema["$defs"]["epistyle_type"]["enum"] == list(CHOICES["epistyle_type"])

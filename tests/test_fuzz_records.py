@@ -27,14 +27,20 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from stonedem.motion import records
 from stonedem.errors import InputError
+from stonedem.motion import records
 from stonedem.motion.excitation import UNIT_FACTORS, excitation_from_spec, read_record
 
 FIELD = "excitation.file"
 FIELDS = (FIELD, "excitation.units", "excitation.dt")
-HEALTH = settings(suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture,
-                                         HealthCheck.data_too_large, HealthCheck.large_base_example])
+HEALTH = settings(
+    suppress_health_check=[
+        HealthCheck.too_slow,
+        HealthCheck.function_scoped_fixture,
+        HealthCheck.data_too_large,
+        HealthCheck.large_base_example,
+    ]
+)
 
 _WORK = Path(tempfile.mkdtemp(prefix="stonedem-fuzz-records-"))
 
@@ -76,17 +82,22 @@ def check_downstream(path: Path, time, accel, **kwargs) -> None:
         warnings.simplefilter("error", RuntimeWarning)  # an overflow or 0/0 anywhere is a bug
         for spec in ({}, {"baseline": False}, {"pga": 3.0}):
             try:
-                motion = excitation_from_spec({"kind": "record", "file": str(path), **given, **spec})
+                motion = excitation_from_spec(
+                    {"kind": "record", "file": str(path), **given, **spec}
+                )
             except InputError as err:  # only what the record's processing can refuse
-                assert ("all zeros" in str(err) or "baseline correction raises the peak" in str(err)) \
-                    and one_line(str(err)), str(err)
+                assert (
+                    "all zeros" in str(err) or "baseline correction raises the peak" in str(err)
+                ) and one_line(str(err)), str(err)
                 continue
             for table in (motion.table_accel, motion.table_vel, motion.table_disp):
                 assert np.all(np.isfinite(table))
         psa = records.response_spectrum(time, accel, records.SPECTRUM_PERIODS[::10], 0.05)
         assert np.all(np.isfinite(psa))
         f_p = records.predominant_frequency(time, accel)
-    assert (math.isnan(f_p) and (records.is_constant(accel) or len(time) < 4)) or 0.1 <= f_p <= 25.0, f_p
+    assert (
+        math.isnan(f_p) and (records.is_constant(accel) or len(time) < 4)
+    ) or 0.1 <= f_p <= 25.0, f_p
 
 
 _COUNTER = itertools.count()
@@ -111,13 +122,44 @@ def write(name: str, data: bytes) -> Path:
 
 # --- strategies ------------------------------------------------------------------------------
 
-JUNK_TOKENS = ["", "abc", "1e-", ".", "-", "+", "1,5", "0x10", "1_0", "\u0661", "nan", "-inf", "inf",
-               "1e999", "-1e999", "1e-999", "1e308", "-1e308", "\x00", "\ufeff1", "\u00e9", "#", "dt",
-               "dt=", "=", "NPTS", "\t", "\r", "\x0b", "1e5", "-1e5", "9" * 40]
+JUNK_TOKENS = [
+    "",
+    "abc",
+    "1e-",
+    ".",
+    "-",
+    "+",
+    "1,5",
+    "0x10",
+    "1_0",
+    "\u0661",
+    "nan",
+    "-inf",
+    "inf",
+    "1e999",
+    "-1e999",
+    "1e-999",
+    "1e308",
+    "-1e308",
+    "\x00",
+    "\ufeff1",
+    "\u00e9",
+    "#",
+    "dt",
+    "dt=",
+    "=",
+    "NPTS",
+    "\t",
+    "\r",
+    "\x0b",
+    "1e5",
+    "-1e5",
+    "9" * 40,
+]
 numbers = st.one_of(
     st.floats(-50.0, 50.0).map(lambda v: f"{v:.6g}"),
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
-    st.integers(-10**30, 10**30).map(str),
+    st.integers(-(10**30), 10**30).map(str),
     st.sampled_from(JUNK_TOKENS),
     st.text(max_size=6),
 )
@@ -127,8 +169,13 @@ separators = st.sampled_from([" ", "  ", "\t", ",", ", ", ";"])
 @st.composite
 def sane_series(draw, max_n=60):
     n = draw(st.integers(0, max_n))
-    dt = draw(st.one_of(st.sampled_from([0.005, 0.01, 0.02, 1.0 / 3.0]), st.floats(1e-4, 1.0),
-                        st.floats(1e-6, 3.0)))
+    dt = draw(
+        st.one_of(
+            st.sampled_from([0.005, 0.01, 0.02, 1.0 / 3.0]),
+            st.floats(1e-4, 1.0),
+            st.floats(1e-6, 3.0),
+        )
+    )
     values = draw(st.lists(st.floats(-30.0, 30.0), min_size=n, max_size=n))
     shape = draw(st.sampled_from(["sine", "random", "zeros", "constant"]))
     if shape == "sine":
@@ -190,7 +237,9 @@ def text_records(draw) -> bytes:
     t0, dt, values = draw(sane_series())
     form = draw(st.sampled_from(["two", "one_header", "one_comment_header", "one_bare"]))
     sep = draw(separators)
-    lines = [draw(st.sampled_from(["# time [s], acceleration [m/s2]", "# station X \u00e9", "", "#"]))]
+    lines = [
+        draw(st.sampled_from(["# time [s], acceleration [m/s2]", "# station X \u00e9", "", "#"]))
+    ]
     if form == "two":
         lines += [f"{t0 + i * dt!r}{sep}{v!r}" for i, v in enumerate(values)]
     else:
@@ -208,28 +257,54 @@ def at2_records(draw) -> bytes:
     _, dt, values = draw(sane_series())
     npts = len(values)
     style = draw(st.sampled_from(["new", "old"]))
-    header = ["PEER NGA STRONG MOTION DATABASE RECORD",
-              draw(st.sampled_from(["Test event 2000, Station, 090", "Caf\u00e9 \x1b[31m red", "a\x0bb"])),
-              "ACCELERATION TIME SERIES IN UNITS OF G",
-              f"NPTS= {npts:7d}, DT= {dt:.4f} SEC" if style == "new" else f"  {npts}  {dt:.4f}  NPTS, DT"]
+    header = [
+        "PEER NGA STRONG MOTION DATABASE RECORD",
+        draw(
+            st.sampled_from(["Test event 2000, Station, 090", "Caf\u00e9 \x1b[31m red", "a\x0bb"])
+        ),
+        "ACCELERATION TIME SERIES IN UNITS OF G",
+        f"NPTS= {npts:7d}, DT= {dt:.4f} SEC" if style == "new" else f"  {npts}  {dt:.4f}  NPTS, DT",
+    ]
     if draw(st.sampled_from([False, False, True])):  # garble a header line
         i = draw(st.integers(0, 3))
-        header[i] = draw(st.one_of(
-            st.text(max_size=40),
-            st.builds(lambda n, d: f"NPTS= {n}, DT= {d}", numbers, numbers),
-            st.builds(lambda n, d: f"{n} {d} NPTS, DT", numbers, numbers),
-            st.sampled_from(["UNITS OF CM/S/S", "UNITS OF g", "NPTS=, DT=", "NPTS= 5 DT= 1e-", ""])))
-    body = [" ".join(f"{v / 9.80665: .7E}" for v in values[i:i + 5]) for i in range(0, npts, 5)]
+        header[i] = draw(
+            st.one_of(
+                st.text(max_size=40),
+                st.builds(lambda n, d: f"NPTS= {n}, DT= {d}", numbers, numbers),
+                st.builds(lambda n, d: f"{n} {d} NPTS, DT", numbers, numbers),
+                st.sampled_from(
+                    ["UNITS OF CM/S/S", "UNITS OF g", "NPTS=, DT=", "NPTS= 5 DT= 1e-", ""]
+                ),
+            )
+        )
+    body = [" ".join(f"{v / 9.80665: .7E}" for v in values[i : i + 5]) for i in range(0, npts, 5)]
     lines = header + draw(mutated_lines(body))
     if draw(st.sampled_from([False] * 9 + [True])):  # cut short
         lines = lines[: draw(st.integers(0, len(lines)))]
     return draw(byte_mutations("\n".join(lines).encode("utf-8") + b"\n"))
 
 
-ATTR_VALUES = st.one_of(st.sampled_from([*UNIT_FACTORS, "M/S2", " g ", "furlong", "", "s", "seconds",
-                                         "seconds since 2000-01-01", "ms", "days", "m/s"]),
-                        st.text(max_size=8), st.floats(allow_nan=True), st.integers(-5, 5),
-                        st.lists(st.floats(-1, 1), min_size=1, max_size=3))
+ATTR_VALUES = st.one_of(
+    st.sampled_from(
+        [
+            *UNIT_FACTORS,
+            "M/S2",
+            " g ",
+            "furlong",
+            "",
+            "s",
+            "seconds",
+            "seconds since 2000-01-01",
+            "ms",
+            "days",
+            "m/s",
+        ]
+    ),
+    st.text(max_size=8),
+    st.floats(allow_nan=True),
+    st.integers(-5, 5),
+    st.lists(st.floats(-1, 1), min_size=1, max_size=3),
+)
 
 
 @st.composite
@@ -242,8 +317,14 @@ def netcdf_records(draw) -> bytes | None:
     dims = draw(st.sampled_from([("time",)] * 10 + [("t",), ("time", "component"), ()]))
     accel = np.asarray(values, dtype=float)
     if draw(st.sampled_from([False, False, False, True])):  # splice in arbitrary floats
-        extra = draw(st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=n, max_size=n))
-        accel = np.where(draw(st.lists(st.booleans(), min_size=n, max_size=n)), extra, accel) if n else accel
+        extra = draw(
+            st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=n, max_size=n)
+        )
+        accel = (
+            np.where(draw(st.lists(st.booleans(), min_size=n, max_size=n)), extra, accel)
+            if n
+            else accel
+        )
     dtype = draw(st.sampled_from(["f8", "f8", "f4", "i4", "S"]))
     if dims == ("time", "component"):
         accel = np.stack([accel, accel], axis=1)
@@ -263,20 +344,28 @@ def netcdf_records(draw) -> bytes | None:
         if time_form == "uniform":
             tvals = t0 + np.arange(dim_len) * dt
         elif time_form == "random":
-            tvals = np.asarray(draw(st.lists(st.floats(allow_nan=True), min_size=dim_len, max_size=dim_len)))
+            tvals = np.asarray(
+                draw(st.lists(st.floats(allow_nan=True), min_size=dim_len, max_size=dim_len))
+            )
         elif time_form == "constant":
             tvals = np.full(dim_len, t0)
         else:
             tvals = (t0 + np.arange(dim_len) * dt)[::-1]
         time_units = draw(st.sampled_from([None, "s", "seconds", "junk"]))
-        tattrs = {} if time_units is None else {
-            "units": draw(ATTR_VALUES) if time_units == "junk" else time_units}
+        tattrs = (
+            {}
+            if time_units is None
+            else {"units": draw(ATTR_VALUES) if time_units == "junk" else time_units}
+        )
         coords["time"] = ("time", tvals, tattrs)
     title = draw(st.sampled_from(["Quake\nline two", "T\x1b[2J", "ok"]))
     path = _WORK / f"gen{next(_COUNTER)}.nc"
     try:
-        xr.Dataset({k: (d, v, attrs) for k, (d, v) in variables.items()}, coords=coords,
-                   attrs={"title": title}).to_netcdf(path)
+        xr.Dataset(
+            {k: (d, v, attrs) for k, (d, v) in variables.items()},
+            coords=coords,
+            attrs={"title": title},
+        ).to_netcdf(path)
         data = path.read_bytes()
     except Exception:  # a combination netCDF cannot store: not a reader test
         return None
@@ -289,8 +378,12 @@ def netcdf_records(draw) -> bytes | None:
 
 # --- the fuzz tests ----------------------------------------------------------------------------
 
+
 @HEALTH
-@given(data=st.binary(max_size=400), suffix=st.sampled_from([".txt", ".AT2", ".nc", ".csv", ".dat", ".NC"]))
+@given(
+    data=st.binary(max_size=400),
+    suffix=st.sampled_from([".txt", ".AT2", ".nc", ".csv", ".dat", ".NC"]),
+)
 def test_fuzz_random_bytes(data, suffix):
     path = write(f"random{suffix}", data)
     got = check_file(path)
@@ -299,8 +392,11 @@ def test_fuzz_random_bytes(data, suffix):
 
 
 @HEALTH
-@given(data=text_records(), units=st.sampled_from([None, None, "g", "cm/s2", "m s-2"]),
-       dt=st.sampled_from([None, None, 0.01, 1e-9]))
+@given(
+    data=text_records(),
+    units=st.sampled_from([None, None, "g", "cm/s2", "m s-2"]),
+    dt=st.sampled_from([None, None, 0.01, 1e-9]),
+)
 def test_fuzz_text_records(data, units, dt):
     path = write("record.txt", data)
     got = check_file(path, units=units, dt=dt)
@@ -318,8 +414,11 @@ def test_fuzz_at2_records(data, units):
 
 
 @HEALTH
-@given(data=netcdf_records(), units=st.sampled_from([None, None, "g", "m s-2"]),
-       suffix=st.sampled_from([".nc"] * 5 + [".txt"]))
+@given(
+    data=netcdf_records(),
+    units=st.sampled_from([None, None, "g", "m s-2"]),
+    suffix=st.sampled_from([".nc"] * 5 + [".txt"]),
+)
 def test_fuzz_netcdf_records(data, units, suffix):
     assume(data is not None)  # a combination netCDF cannot store
     path = write(f"record{suffix}", data)
@@ -341,32 +440,50 @@ def _run_info(argv):
 
 
 GOOD_TEXT = b"# time, acceleration\n" + b"".join(
-    f"{i * 0.01:.2f} {math.sin(i / 3):.5f}\n".encode() for i in range(80))
+    f"{i * 0.01:.2f} {math.sin(i / 3):.5f}\n".encode() for i in range(80)
+)
 
 
 @HEALTH
-@given(source=st.sampled_from(["good_txt"] * 3 + ["name", "zeros", "junk", "missing", "empty", "nul", "folder",
-                               "one_col"]),
-       units=st.sampled_from([None] * 4 + ["g", "cm/s2", "furlong", ""]),
-       dt=st.sampled_from([None] * 5 + ["0.01", "abc", "nan", "-1", "1e-9", "inf"]),
-       damping=st.sampled_from([None] * 3 + [["0.05"], ["1.5"], ["nan"], ["0"], ["x"], ["0.02"] * 11]),
-       plot=st.sampled_from(["ok.png"] * 3 + ["ok.svg", "ok.txt", "dir", "input", "under_file", "",
-                                              "deep/new/ok.png"]))
+@given(
+    source=st.sampled_from(
+        ["good_txt"] * 3 + ["name", "zeros", "junk", "missing", "empty", "nul", "folder", "one_col"]
+    ),
+    units=st.sampled_from([None] * 4 + ["g", "cm/s2", "furlong", ""]),
+    dt=st.sampled_from([None] * 5 + ["0.01", "abc", "nan", "-1", "1e-9", "inf"]),
+    damping=st.sampled_from([None] * 3 + [["0.05"], ["1.5"], ["nan"], ["0"], ["x"], ["0.02"] * 11]),
+    plot=st.sampled_from(
+        ["ok.png"] * 3 + ["ok.svg", "ok.txt", "dir", "input", "under_file", "", "deep/new/ok.png"]
+    ),
+)
 def test_fuzz_record_info_arguments(source, units, dt, damping, plot):
     work = fresh_folder()
-    files = {"good_txt": ("good.txt", GOOD_TEXT), "junk": ("junk.txt", b"\x00\xff garbage\n"),
-             "one_col": ("one.txt", b"0.1\n0.2\n0.3\n"), "zeros": ("zeros.txt", b"0 0\n0.01 0\n0.02 0\n")}
+    files = {
+        "good_txt": ("good.txt", GOOD_TEXT),
+        "junk": ("junk.txt", b"\x00\xff garbage\n"),
+        "one_col": ("one.txt", b"0.1\n0.2\n0.3\n"),
+        "zeros": ("zeros.txt", b"0 0\n0.01 0\n0.02 0\n"),
+    }
     if source in files:
         name, content = files[source]
         (work / name).write_bytes(content)
         record = str(work / name)
     else:
-        record = {"name": "northridge_1994_mul009", "missing": str(work / "nope.txt"), "empty": "",
-                  "nul": "a\x00b", "folder": str(work)}[source]
+        record = {
+            "name": "northridge_1994_mul009",
+            "missing": str(work / "nope.txt"),
+            "empty": "",
+            "nul": "a\x00b",
+            "folder": str(work),
+        }[source]
     (work / "a_file").write_bytes(b"")
     (work / "dir").mkdir()
-    target = {"dir": str(work / "dir"), "input": record, "under_file": str(work / "a_file" / "x.png"),
-              "": ""}.get(plot, str(work / plot))
+    target = {
+        "dir": str(work / "dir"),
+        "input": record,
+        "under_file": str(work / "a_file" / "x.png"),
+        "": "",
+    }.get(plot, str(work / plot))
     argv = [record, "--plot", target]
     if units is not None:
         argv += ["--units", units]

@@ -11,32 +11,48 @@ import copy
 import math
 
 import yaml
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from stonedem.errors import InputError
 from stonedem.engine.scene import apply_override, scene_from_dict
 from stonedem.engine.simulate import preflight
+from stonedem.errors import InputError
 
 BASES = [
     yaml.safe_load(open("tests/data/scenes/rocking_block.yaml")),
-    {"structure": {"kind": "column", "n_drums": 4, "capital": {"height": 0.6, "width": 1.4}}, "friction": 0.5,
-     "excitation": {"kind": "harmonic", "amplitude": 3.0, "frequency": 2.0},
-     "solver": {"duration": 1.0}},
-    {"structure": {"kind": "colonnade", "n_columns": 2, "n_drums": 2, "epistyle_type": "b"},
-     "excitation": {"kind": "one_sine", "amplitude": 4.0, "frequency": 1.5},
-     "contact": {"model": "area", "k_n": 1e9, "c_n": 1e4}, "solver": {"duration": 1.0}},
+    {
+        "structure": {"kind": "column", "n_drums": 4, "capital": {"height": 0.6, "width": 1.4}},
+        "friction": 0.5,
+        "excitation": {"kind": "harmonic", "amplitude": 3.0, "frequency": 2.0},
+        "solver": {"duration": 1.0},
+    },
+    {
+        "structure": {"kind": "colonnade", "n_columns": 2, "n_drums": 2, "epistyle_type": "b"},
+        "excitation": {"kind": "one_sine", "amplitude": 4.0, "frequency": 1.5},
+        "contact": {"model": "area", "k_n": 1e9, "c_n": 1e4},
+        "solver": {"duration": 1.0},
+    },
     {"structure": {"kind": "two_tier_colonnade"}, "solver": {"duration": 0.5}},
-    {"structure": {"kind": "column", "n_drums": 3}, "solver": {"duration": 2.0, "dt_safety": 0.25},
-     "excitation": {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 3.0},
-     "output": {"every": 0.01}},
+    {
+        "structure": {"kind": "column", "n_drums": 3},
+        "solver": {"duration": 2.0, "dt_safety": 0.25},
+        "excitation": {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 3.0},
+        "output": {"every": 0.01},
+    },
 ]
 
 JUNK = st.one_of(
-    st.none(), st.booleans(), st.integers(-10**12, 10**12),
-    st.sampled_from([0, 0.0, -1.0, 1e-300, 1e-30, 1e30, 1e300, math.nan, math.inf, -math.inf, 0.5, 7]),
+    st.none(),
+    st.booleans(),
+    st.integers(-(10**12), 10**12),
+    st.sampled_from(
+        [0, 0.0, -1.0, 1e-300, 1e-30, 1e30, 1e300, math.nan, math.inf, -math.inf, 0.5, 7]
+    ),
     st.floats(allow_nan=True, allow_infinity=True),
-    st.text(max_size=8), st.sampled_from(["auto", "high", "true", "false", "1e9", "abc", "", "harmonic"]),
-    st.lists(st.integers(-3, 3), max_size=3), st.dictionaries(st.text(max_size=4), st.integers(), max_size=2),
+    st.text(max_size=8),
+    st.sampled_from(["auto", "high", "true", "false", "1e9", "abc", "", "harmonic"]),
+    st.lists(st.integers(-3, 3), max_size=3),
+    st.dictionaries(st.text(max_size=4), st.integers(), max_size=2),
 )
 
 
@@ -65,8 +81,16 @@ def mutate(spec, path, action, junk):
         del parent[last]
     elif action == "add" and isinstance(parent, dict):
         parent[f"unknown_{last}"] = junk
-    elif action == "scale" and isinstance(parent[last], (int, float)) and not isinstance(parent[last], bool):
-        parent[last] = parent[last] * junk if isinstance(junk, (int, float)) and not isinstance(junk, bool) else junk
+    elif (
+        action == "scale"
+        and isinstance(parent[last], (int, float))
+        and not isinstance(parent[last], bool)
+    ):
+        parent[last] = (
+            parent[last] * junk
+            if isinstance(junk, (int, float)) and not isinstance(junk, bool)
+            else junk
+        )
     return spec
 
 
@@ -81,7 +105,12 @@ def check(spec):
     return scene
 
 
-@given(st.integers(0, len(BASES) - 1), st.data(), st.sampled_from(["replace", "delete", "add", "scale"]), JUNK)
+@given(
+    st.integers(0, len(BASES) - 1),
+    st.data(),
+    st.sampled_from(["replace", "delete", "add", "scale"]),
+    JUNK,
+)
 def test_fuzz_scene_mutation_gives_input_error_or_scene(base, data, action, junk):
     spec = BASES[base]
     path = data.draw(st.sampled_from(list(paths(spec))))

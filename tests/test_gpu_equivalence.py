@@ -16,7 +16,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location("benchmarks_gpu_equivalence", ROOT / "benchmarks" / "gpu_equivalence.py")
+    spec = importlib.util.spec_from_file_location(
+        "benchmarks_gpu_equivalence", ROOT / "benchmarks" / "gpu_equivalence.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -62,26 +64,44 @@ def test_a_candidate_inside_the_split_cases_is_not_unusual():
 
 def _inputs(tmp_path, gpu, host):
     """An earlier output (CPU verdicts, floors) and a gpu_check.nc with these verdicts."""
-    floors = xr.Dataset({"floor_position": ("scene", [1e-14, 4e-6]), "floor_rotation": ("scene", [2e-14, 5e-6])},
-                        coords={"scene": ["lone_block", "column_1_area_law/pga_9"]})
-    device = {"kind": ["lone_block", "column_1_area_law"], "position_difference": np.array([1e-6, 6e-6]),
-              "rotation_difference": np.array([1e-7, 8e-6])}
+    floors = xr.Dataset(
+        {"floor_position": ("scene", [1e-14, 4e-6]), "floor_rotation": ("scene", [2e-14, 5e-6])},
+        coords={"scene": ["lone_block", "column_1_area_law/pga_9"]},
+    )
+    device = {
+        "kind": ["lone_block", "column_1_area_law"],
+        "position_difference": np.array([1e-6, 6e-6]),
+        "rotation_difference": np.array([1e-7, 8e-6]),
+    }
     verdicts = {"gpu_h100": gpu, "cpu_h100_host": host}
-    earlier = ge.equivalence_dataset(CASES, CPU, np.zeros(CPU.shape), verdicts, device, floors,
-                                     {"source": "test", "machine": "test"})
+    earlier = ge.equivalence_dataset(
+        CASES,
+        CPU,
+        np.zeros(CPU.shape),
+        verdicts,
+        device,
+        floors,
+        {"source": "test", "machine": "test"},
+    )
     write_dataset(earlier, tmp_path / "earlier.nc")
     check = xr.Dataset(
-        {"gpu_collapsed": ("case", gpu, {"units": "1"}), "cpu_collapsed": ("case", host, {"units": "1"}),
-         "position_difference": ("kind", device["position_difference"], {"units": "m"}),
-         "rotation_difference": ("kind", device["rotation_difference"], {"units": "rad"})},
+        {
+            "gpu_collapsed": ("case", gpu, {"units": "1"}),
+            "cpu_collapsed": ("case", host, {"units": "1"}),
+            "position_difference": ("kind", device["position_difference"], {"units": "m"}),
+            "rotation_difference": ("kind", device["rotation_difference"], {"units": "rad"}),
+        },
         coords={"case": [c["id"] for c in CASES], "kind": device["kind"]},
-        attrs={"device": "test GPU", "source": "stonedem (abc)"}).isel(case=[3, 1, 0, 2])  # read back by id
+        attrs={"device": "test GPU", "source": "stonedem (abc)"},
+    ).isel(case=[3, 1, 0, 2])  # read back by id
     write_dataset(check, tmp_path / "gpu_check.nc")
     return tmp_path / "earlier.nc", tmp_path / "gpu_check.nc"
 
 
 def test_reuse_remakes_the_report_without_running(tmp_path, capsys):
-    gpu = np.array([0, 1, 0, 1], dtype=np.int8)  # differs from its host on cases 2 (split) and 3 (split)
+    gpu = np.array(
+        [0, 1, 0, 1], dtype=np.int8
+    )  # differs from its host on cases 2 (split) and 3 (split)
     host = np.array([0, 1, 1, 0], dtype=np.int8)
     earlier, check = _inputs(tmp_path, gpu, host)
     out = tmp_path / "again.nc"
@@ -95,7 +115,9 @@ def test_reuse_remakes_the_report_without_running(tmp_path, capsys):
     assert ds.split.values.tolist() == [0, 0, 1, 1]
     assert ds.attrs["gpu_host_disagreements_on_split"] == 2 and ds.attrs["split_cases"] == 2
     assert float(ds.position_gap_in_floors.sel(scene="lone_block")) == pytest.approx(1e8)
-    assert float(ds.position_gap_in_floors.sel(scene="column_1_area_law/pga_9")) == pytest.approx(1.5)
+    assert float(ds.position_gap_in_floors.sel(scene="column_1_area_law/pga_9")) == pytest.approx(
+        1.5
+    )
     assert float(ds.p_v_smallest[0]) == pytest.approx(0.2)
     for name, var in ds.variables.items():
         if var.dtype.kind in "fiu":
@@ -110,24 +132,43 @@ def refused(argv, field, folder, capsys):
     assert sorted(folder.rglob("*")) == before
 
 
-@pytest.mark.parametrize("argv, field", [
-    (["--members", "1"], "--members"),
-    (["--jobs", "0"], "--jobs"),
-    (["--records", "0"], "--records"),
-    (["--gpu-check", "{tmp}/missing.nc"], "--gpu-check"),
-    (["--out", "{tmp}/out.txt"], "--out"),
-    (["--reuse", "{tmp}/gpu_check.nc"], "--reuse"),  # a file, but not an earlier output
-])
+@pytest.mark.parametrize(
+    "argv, field",
+    [
+        (["--members", "1"], "--members"),
+        (["--jobs", "0"], "--jobs"),
+        (["--records", "0"], "--records"),
+        (["--gpu-check", "{tmp}/missing.nc"], "--gpu-check"),
+        (["--out", "{tmp}/out.txt"], "--out"),
+        (["--reuse", "{tmp}/gpu_check.nc"], "--reuse"),  # a file, but not an earlier output
+    ],
+)
 def test_bad_options_are_refused_before_anything_runs(argv, field, tmp_path, capsys):
     _, check = _inputs(tmp_path, np.zeros(4, np.int8), np.zeros(4, np.int8))
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
     if "--gpu-check" not in argv:
         argv += ["--gpu-check", str(check)]
-    refused(argv + ([] if "--out" in argv else ["--out", str(tmp_path / "new" / "out.nc")]), field, tmp_path, capsys)
+    refused(
+        argv + ([] if "--out" in argv else ["--out", str(tmp_path / "new" / "out.nc")]),
+        field,
+        tmp_path,
+        capsys,
+    )
 
 
 def test_a_device_file_without_the_cases_is_refused(tmp_path, capsys):
     earlier, check = _inputs(tmp_path, np.zeros(4, np.int8), np.zeros(4, np.int8))
     xr.open_dataset(check).load().isel(case=[0, 1]).pipe(write_dataset, tmp_path / "short.nc")
-    refused(["--reuse", str(earlier), "--gpu-check", str(tmp_path / "short.nc"), "--out", str(tmp_path / "o.nc")],
-            "--gpu-check", tmp_path, capsys)
+    refused(
+        [
+            "--reuse",
+            str(earlier),
+            "--gpu-check",
+            str(tmp_path / "short.nc"),
+            "--out",
+            str(tmp_path / "o.nc"),
+        ],
+        "--gpu-check",
+        tmp_path,
+        capsys,
+    )

@@ -31,22 +31,31 @@ def test_records_found_by_name_in_records_folder():
 
 
 def test_vertical_excitation_beside_horizontal():
-    h, v = excitation_pair({"kind": "harmonic", "frequency": 1.0, "amplitude": 0.1,
-                            "vertical": {"kind": "sine_pulse", "accel": 2.0, "frequency": 2.0}})
+    h, v = excitation_pair(
+        {
+            "kind": "harmonic",
+            "frequency": 1.0,
+            "amplitude": 0.1,
+            "vertical": {"kind": "sine_pulse", "accel": 2.0, "frequency": 2.0},
+        }
+    )
     assert h.pga == pytest.approx(0.1 * (2 * np.pi) ** 2) and v.pga == 2.0
 
 
-@pytest.mark.parametrize("content, message", [
-    ("0 0.1\n0.01 nan\n0.02 0.3\n", "NaN or infinite"),
-    ("0 0.1\n0.01 inf\n0.02 0.3\n", "NaN or infinite"),
-    ("0 0.1\n0.02 0.2\n0.01 0.3\n", "time not increasing"),
-    ("0 0.1\n0.01 0.2\n0.03 0.3\n", "non-uniform time step"),
-    ("0 0.1\n0.01 abc\n", "non-numeric"),
-    ("0 0.1 3\n0.01 0.2 4\n", "3 columns"),
-    ("0 0.1\n0.01\n", "expected 2"),
-    ("# nothing\n", "no samples"),
-    ("0.1\n0.2\n0.3\n", "no time step"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("0 0.1\n0.01 nan\n0.02 0.3\n", "NaN or infinite"),
+        ("0 0.1\n0.01 inf\n0.02 0.3\n", "NaN or infinite"),
+        ("0 0.1\n0.02 0.2\n0.01 0.3\n", "time not increasing"),
+        ("0 0.1\n0.01 0.2\n0.03 0.3\n", "non-uniform time step"),
+        ("0 0.1\n0.01 abc\n", "non-numeric"),
+        ("0 0.1 3\n0.01 0.2 4\n", "3 columns"),
+        ("0 0.1\n0.01\n", "expected 2"),
+        ("# nothing\n", "no samples"),
+        ("0.1\n0.2\n0.3\n", "no time step"),
+    ],
+)
 def test_bad_records_give_one_line_naming_the_field(tmp_path, content, message):
     path = tmp_path / "bad.txt"
     path.write_text(content)
@@ -63,20 +72,24 @@ def test_one_column_record_with_dt_header(tmp_path):
     assert t == pytest.approx([0, 0.02, 0.04]) and a == pytest.approx([0, 1.0, 0.5])
 
 
-@pytest.mark.parametrize("spec, field", [
-    ({"kind": "harmonic", "frequency": -1, "amplitude": 0.1}, "excitation.frequency"),
-    ({"kind": "harmonic", "amplitude": 0.1}, "excitation.frequency"),
-    ({"kind": "quake"}, "excitation.kind"),
-    ({"kind": "ramp", "rate": 0.5, "speed": 2}, "excitation.speed"),
-    ({"kind": "record", "file": "no_such_record"}, "excitation.file"),
-    ({"kind": "record", "file": REC, "scale": 2, "pga": 3}, "excitation"),
-])
+@pytest.mark.parametrize(
+    "spec, field",
+    [
+        ({"kind": "harmonic", "frequency": -1, "amplitude": 0.1}, "excitation.frequency"),
+        ({"kind": "harmonic", "amplitude": 0.1}, "excitation.frequency"),
+        ({"kind": "quake"}, "excitation.kind"),
+        ({"kind": "ramp", "rate": 0.5, "speed": 2}, "excitation.speed"),
+        ({"kind": "record", "file": "no_such_record"}, "excitation.file"),
+        ({"kind": "record", "file": REC, "scale": 2, "pga": 3}, "excitation"),
+    ],
+)
 def test_bad_excitation_specs(spec, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         excitation_from_spec(spec)
 
 
 # --- hostile record files (issue 13): one line naming the field, or a sane record ------------
+
 
 def _refused(path, message, field="excitation.file", **spec):
     with pytest.raises(InputError) as err:
@@ -87,30 +100,47 @@ def _refused(path, message, field="excitation.file", **spec):
     return text
 
 
-def _netcdf(path, accel=(0.0, 0.3, -0.2, 0.1), time=None, name="acceleration", dims=("time",),
-            units="m s-2", time_units="s", **encoding):
+def _netcdf(
+    path,
+    accel=(0.0, 0.3, -0.2, 0.1),
+    time=None,
+    name="acceleration",
+    dims=("time",),
+    units="m s-2",
+    time_units="s",
+    **encoding,
+):
     import xarray as xr
 
     accel = np.asarray(accel)
     time = np.arange(len(accel)) * 0.01 if time is None else np.asarray(time)
     attrs = {} if units is None else {"units": units}
-    coords = {"time": ("time", time, {} if time_units is None else {"units": time_units})} if "time" in dims else {}
-    xr.Dataset({name: (dims, accel, attrs)}, coords=coords).to_netcdf(path, encoding={name: encoding})
+    coords = (
+        {"time": ("time", time, {} if time_units is None else {"units": time_units})}
+        if "time" in dims
+        else {}
+    )
+    xr.Dataset({name: (dims, accel, attrs)}, coords=coords).to_netcdf(
+        path, encoding={name: encoding}
+    )
     return path
 
 
-@pytest.mark.parametrize("content, message", [
-    (b"\x00\x01\x02garbage\xff\n", "binary file"),
-    (b"0 0.1\n0.01 0.2\xe9\n", "not UTF-8"),
-    (b"0 0.1\n" + b"9" * 20000 + b"\n", "longer than"),
-    (b"0 0.1\n", "fewer than 2 samples"),
-    (b"dt = 1e-7\n0.1\n0.2\n", "outside [0.0001, 1] s"),
-    (b"dt = 5\n0.1\n0.2\n", "outside [0.0001, 1] s"),
-    (b"dt = abc\n0.1\n0.2\n", "bad dt header"),
-    (b"0 0.1\n0.01 2000\n", "above the 100 g limit"),
-    (b"0 0.1\n0.01 1e308\n", "above the 100 g limit"),
-    (b"# dt = 0.01\n# dt = 0.02\n0.1\n0.2\n", "a second dt header"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (b"\x00\x01\x02garbage\xff\n", "binary file"),
+        (b"0 0.1\n0.01 0.2\xe9\n", "not UTF-8"),
+        (b"0 0.1\n" + b"9" * 20000 + b"\n", "longer than"),
+        (b"0 0.1\n", "fewer than 2 samples"),
+        (b"dt = 1e-7\n0.1\n0.2\n", "outside [0.0001, 1] s"),
+        (b"dt = 5\n0.1\n0.2\n", "outside [0.0001, 1] s"),
+        (b"dt = abc\n0.1\n0.2\n", "bad dt header"),
+        (b"0 0.1\n0.01 2000\n", "above the 100 g limit"),
+        (b"0 0.1\n0.01 1e308\n", "above the 100 g limit"),
+        (b"# dt = 0.01\n# dt = 0.02\n0.1\n0.2\n", "a second dt header"),
+    ],
+)
 def test_hostile_text_records(tmp_path, content, message):
     path = tmp_path / "bad.txt"
     path.write_bytes(content)
@@ -124,23 +154,26 @@ def test_file_names_in_messages_are_one_line(tmp_path):
     assert "two\\nlines\\x1b[31m.txt" in text
 
 
-@pytest.mark.parametrize("make, message", [
-    (lambda p: p.write_bytes(b"this is not netcdf"), "not a readable NetCDF file"),
-    (lambda p: p.write_bytes(b""), "not a readable NetCDF file"),
-    (lambda p: p.write_bytes(_netcdf(p).read_bytes()[:300]), "not a readable NetCDF file"),
-    (lambda p: _netcdf(p, name="accel"), "no variable 'acceleration' (it has: accel, time)"),
-    (lambda p: _netcdf(p, accel=np.zeros((4, 2)), dims=("time", "component")), "dimensions"),
-    (lambda p: _netcdf(p, dims=("t",)), "dimensions"),
-    (lambda p: _netcdf(p, accel=[0.1, np.nan, 0.2]), "NaN or infinite"),
-    (lambda p: _netcdf(p, accel=[0.1, np.inf, 0.2]), "NaN or infinite"),
-    (lambda p: _netcdf(p, time=[0.0, 0.02, 0.01, 0.03]), "time not increasing"),
-    (lambda p: _netcdf(p, time=[0.0, 0.01, 0.03, 0.04]), "non-uniform time step"),
-    (lambda p: _netcdf(p, accel=[0.3]), "fewer than 2 samples"),
-    (lambda p: _netcdf(p, units="furlong/fortnight2"), "unknown acceleration units"),
-    (lambda p: _netcdf(p, time_units="days"), "time units 'days'"),
-    (lambda p: _netcdf(p, time_units="seconds since 2000-01-01"), "time units"),
-    (lambda p: _netcdf(p, accel=np.array([b"a", b"b"])), "not real numbers"),
-])
+@pytest.mark.parametrize(
+    "make, message",
+    [
+        (lambda p: p.write_bytes(b"this is not netcdf"), "not a readable NetCDF file"),
+        (lambda p: p.write_bytes(b""), "not a readable NetCDF file"),
+        (lambda p: p.write_bytes(_netcdf(p).read_bytes()[:300]), "not a readable NetCDF file"),
+        (lambda p: _netcdf(p, name="accel"), "no variable 'acceleration' (it has: accel, time)"),
+        (lambda p: _netcdf(p, accel=np.zeros((4, 2)), dims=("time", "component")), "dimensions"),
+        (lambda p: _netcdf(p, dims=("t",)), "dimensions"),
+        (lambda p: _netcdf(p, accel=[0.1, np.nan, 0.2]), "NaN or infinite"),
+        (lambda p: _netcdf(p, accel=[0.1, np.inf, 0.2]), "NaN or infinite"),
+        (lambda p: _netcdf(p, time=[0.0, 0.02, 0.01, 0.03]), "time not increasing"),
+        (lambda p: _netcdf(p, time=[0.0, 0.01, 0.03, 0.04]), "non-uniform time step"),
+        (lambda p: _netcdf(p, accel=[0.3]), "fewer than 2 samples"),
+        (lambda p: _netcdf(p, units="furlong/fortnight2"), "unknown acceleration units"),
+        (lambda p: _netcdf(p, time_units="days"), "time units 'days'"),
+        (lambda p: _netcdf(p, time_units="seconds since 2000-01-01"), "time units"),
+        (lambda p: _netcdf(p, accel=np.array([b"a", b"b"])), "not real numbers"),
+    ],
+)
 def test_hostile_netcdf_records(tmp_path, make, message):
     path = tmp_path / "bad.nc"
     make(path)
@@ -159,14 +192,18 @@ def test_netcdf_units_are_its_own(tmp_path):
     path = _netcdf(tmp_path / "r.nc", units="m s-2")
     text = _refused(path, "carries its own", field="excitation.units", units="g")
     assert "declares its acceleration in 'm s-2'" in text
-    same = excitation_from_spec({"kind": "record", "file": str(path), "units": "m/s2", "baseline": False})
+    same = excitation_from_spec(
+        {"kind": "record", "file": str(path), "units": "m/s2", "baseline": False}
+    )
     assert same.pga == pytest.approx(0.3)
-    in_g = excitation_from_spec({"kind": "record", "file": str(_netcdf(tmp_path / "g.nc", units="g")),
-                                 "baseline": False})
+    in_g = excitation_from_spec(
+        {"kind": "record", "file": str(_netcdf(tmp_path / "g.nc", units="g")), "baseline": False}
+    )
     assert in_g.pga == pytest.approx(0.3 * 9.80665)
     no_units = _netcdf(tmp_path / "plain.nc", units=None)  # no attribute: units: applies
-    assert excitation_from_spec({"kind": "record", "file": str(no_units), "units": "g",
-                                 "baseline": False}).pga == pytest.approx(0.3 * 9.80665)
+    assert excitation_from_spec(
+        {"kind": "record", "file": str(no_units), "units": "g", "baseline": False}
+    ).pga == pytest.approx(0.3 * 9.80665)
 
 
 def test_a_conflicting_dt_is_refused(tmp_path):
@@ -174,14 +211,22 @@ def test_a_conflicting_dt_is_refused(tmp_path):
     one = tmp_path / "one.txt"
     one.write_text("dt = 0.01\n0.1\n0.2\n0.3\n")
     _refused(one, "declares dt = 0.01 s, dt gives 0.02 s", field="excitation.dt", dt=0.02)
-    assert excitation_from_spec({"kind": "record", "file": str(one), "dt": 0.01}).duration == pytest.approx(0.02)
+    assert excitation_from_spec(
+        {"kind": "record", "file": str(one), "dt": 0.01}
+    ).duration == pytest.approx(0.02)
 
 
-@pytest.mark.parametrize("value, message", [
-    (None, "expected a file name or path"), (["a"], "expected a file name or path"),
-    (True, "expected a file name or path"), ("", "empty record name"), ("a\x00b", "NUL character"),
-    ("x" * 5000, "over 4096 characters"),
-])
+@pytest.mark.parametrize(
+    "value, message",
+    [
+        (None, "expected a file name or path"),
+        (["a"], "expected a file name or path"),
+        (True, "expected a file name or path"),
+        ("", "empty record name"),
+        ("a\x00b", "NUL character"),
+        ("x" * 5000, "over 4096 characters"),
+    ],
+)
 def test_bad_record_names(value, message):
     with pytest.raises(InputError) as err:
         excitation_from_spec({"kind": "record", "file": value})
@@ -192,13 +237,16 @@ def test_a_folder_is_not_a_record(tmp_path):
     _refused(tmp_path, "(a folder)")
 
 
-@pytest.mark.parametrize("spec, field, message", [
-    ({"units": ["g"]}, "excitation.units", "unknown units"),
-    ({"units": "furlong"}, "excitation.units", "unknown units"),
-    ({"pga": 5000.0}, "excitation.pga", "above the 100 g limit"),
-    ({"scale": 1e300}, "excitation.scale", "above the 100 g limit"),
-    ({"dt": 0.02}, "excitation.dt", "has a time step of 0.01 s, dt gives 0.02 s"),
-])
+@pytest.mark.parametrize(
+    "spec, field, message",
+    [
+        ({"units": ["g"]}, "excitation.units", "unknown units"),
+        ({"units": "furlong"}, "excitation.units", "unknown units"),
+        ({"pga": 5000.0}, "excitation.pga", "above the 100 g limit"),
+        ({"scale": 1e300}, "excitation.scale", "above the 100 g limit"),
+        ({"dt": 0.02}, "excitation.dt", "has a time step of 0.01 s, dt gives 0.02 s"),
+    ],
+)
 def test_bad_record_keys(spec, field, message):
     with pytest.raises(InputError) as err:
         excitation_from_spec({"kind": "record", "file": "northridge_1994_mul009", **spec})
@@ -252,13 +300,16 @@ def test_records_resolve_from_the_installed_package_data(tmp_path, monkeypatch):
 
 
 def test_the_package_ships_the_records():
-    import tomllib
     from pathlib import Path
+
+    import tomllib
 
     config = tomllib.loads(Path("pyproject.toml").read_text())["tool"]["setuptools"]
     assert config["package-dir"] == {"": "src", "stonedem._records": "records"}
     assert "*.nc" in config["package-data"]["stonedem._records"]
-    assert Path("src/stonedem/_records/__init__.py").is_file(), "lets package discovery find stonedem._records"
+    assert Path("src/stonedem/_records/__init__.py").is_file(), (
+        "lets package discovery find stonedem._records"
+    )
     assert len(list(Path("records").glob("*.nc"))) >= 4
 
 
@@ -271,13 +322,18 @@ def test_records_that_broke_the_baseline_correction(tmp_path):
     assert np.all(np.isfinite(motion.table_accel)) and np.all(np.isfinite(motion.table_disp))
     # a 9-sample, 30 g record: its correction is 3x its peak; named as the file's, not scale's
     short = tmp_path / "short.txt"
-    short.write_text("0.0 2.0\n0.005 0.0\n0.01 -13.0\n0.015 0.0\n0.02 30.0\n0.025 0\n0.03 0\n0.035 0\n0.04 0\n")
+    short.write_text(
+        "0.0 2.0\n0.005 0.0\n0.01 -13.0\n0.015 0.0\n0.02 30.0\n0.025 0\n0.03 0\n0.035 0\n0.04 0\n"
+    )
     _refused(short, "baseline correction raises the peak to 987.3 m/s2", units="g")
-    assert excitation_from_spec({"kind": "record", "file": str(short), "units": "g",
-                                 "baseline": False}).pga == pytest.approx(30 * 9.80665)
+    assert excitation_from_spec(
+        {"kind": "record", "file": str(short), "units": "g", "baseline": False}
+    ).pga == pytest.approx(30 * 9.80665)
 
 
-def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_gone(tmp_path, monkeypatch):
+def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_gone(
+    tmp_path, monkeypatch
+):
     import shutil
 
     from stonedem.motion import excitation as ground_motion
@@ -286,8 +342,14 @@ def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_g
     monkeypatch.chdir(tmp_path)
     first = ground_motion.resolve_record("quake", "excitation.file", tmp_path)
     looked = []
-    monkeypatch.setattr(ground_motion.Path, "is_file", lambda self: looked.append(self) or self.exists())
-    assert ground_motion.resolve_record("quake", "excitation.file", tmp_path) == first == tmp_path / "quake.nc"
+    monkeypatch.setattr(
+        ground_motion.Path, "is_file", lambda self: looked.append(self) or self.exists()
+    )
+    assert (
+        ground_motion.resolve_record("quake", "excitation.file", tmp_path)
+        == first
+        == tmp_path / "quake.nc"
+    )
     assert looked == [first]  # one check of the path found before, no search
     first.unlink()
     with pytest.raises(InputError, match="record 'quake' not found"):

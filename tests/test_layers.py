@@ -61,8 +61,12 @@ def imported_modules(path: Path) -> set[str]:
             names = [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
             # "from a.b import c" imports the module a.b.c where there is one, else a.b
-            names = [f"{node.module}.{alias.name}" if f"{node.module}.{alias.name}" in MODULES
-                     else node.module for alias in node.names]
+            names = [
+                f"{node.module}.{alias.name}"
+                if f"{node.module}.{alias.name}" in MODULES
+                else node.module
+                for alias in node.names
+            ]
         else:
             continue
         found.update(name for name in names if name.split(".")[0] == "stonedem")
@@ -96,10 +100,14 @@ def test_imports_go_downward_only():
                 continue
             if here == "wall":
                 if there not in WALL_MAY_IMPORT:
-                    wrong.append(f"{module} -> {target} (wall imports only {sorted(WALL_MAY_IMPORT)})")
+                    wrong.append(
+                        f"{module} -> {target} (wall imports only {sorted(WALL_MAY_IMPORT)})"
+                    )
             elif there == "wall":
                 if here not in WALL_IMPORTED_BY:
-                    wrong.append(f"{module} -> {target} (only the public face and the command line import wall)")
+                    wrong.append(
+                        f"{module} -> {target} (only the public face and the command line import wall)"
+                    )
             elif layer_of(there) >= layer_of(here):
                 wrong.append(f"{module} -> {target} ({there} is not below {here})")
     assert not wrong, "\n".join(sorted(wrong))
@@ -153,10 +161,14 @@ def test_a_low_layer_loads_no_engine(package):
     import subprocess
     import sys
 
-    code = (f"import stonedem.{package}, pkgutil, importlib, sys\n"
-            f"for m in pkgutil.walk_packages(stonedem.{package}.__path__, 'stonedem.{package}.'):\n"
-            "    if not m.name.endswith('__main__'): importlib.import_module(m.name)\n"
-            "print(sorted({n.split('.')[1] for n in sys.modules if n.startswith('stonedem.')}))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    code = (
+        f"import stonedem.{package}, pkgutil, importlib, sys\n"
+        f"for m in pkgutil.walk_packages(stonedem.{package}.__path__, 'stonedem.{package}.'):\n"
+        "    if not m.name.endswith('__main__'): importlib.import_module(m.name)\n"
+        "print(sorted({n.split('.')[1] for n in sys.modules if n.startswith('stonedem.')}))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
     loaded = set(ast.literal_eval(out.strip()))
     assert not loaded & {"engine", "study", "validation", "fragility", "figures", "bench"}, loaded

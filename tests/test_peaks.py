@@ -22,17 +22,28 @@ from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import choose_time_step
 
 # a 0.45 g, 2 Hz sine: the columns rock and slide and stand; 0.9 g at 1 Hz: they fall at 1.09 s
-EXCITATIONS = {"stands": {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.45 * 9.81 / (4 * np.pi) ** 2},
-               "falls": {"kind": "harmonic", "frequency": 1.0, "amplitude": 0.9 * 9.81 / (2 * np.pi) ** 2}}
+EXCITATIONS = {
+    "stands": {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.45 * 9.81 / (4 * np.pi) ** 2},
+    "falls": {"kind": "harmonic", "frequency": 1.0, "amplitude": 0.9 * 9.81 / (2 * np.pi) ** 2},
+}
 
 
 def colonnade(excitation, every, dt=None, duration=2.0):
     """Two columns of two 1 m drums under an epistyle: every measure has something to measure."""
-    spec = {"structure": {"kind": "colonnade", "n_columns": 2, "n_drums": 2, "height": 2.0, "width": 0.4,
-                          "clear_distance": 1.0},
-            "friction": 0.5, "excitation": excitation,
-            "solver": {"duration": duration, "skip_quiet": False, "dt": "auto" if dt is None else dt},
-            "output": {"every": every}}
+    spec = {
+        "structure": {
+            "kind": "colonnade",
+            "n_columns": 2,
+            "n_drums": 2,
+            "height": 2.0,
+            "width": 0.4,
+            "clear_distance": 1.0,
+        },
+        "friction": 0.5,
+        "excitation": excitation,
+        "solver": {"duration": duration, "skip_quiet": False, "dt": "auto" if dt is None else dt},
+        "output": {"every": every},
+    }
     return scene_from_dict(spec)
 
 
@@ -43,8 +54,13 @@ def common_step(*everies):
     return finest / np.ceil(finest / dt)
 
 
-MEASURES = ("max_rocking", "max_total_sliding", "max_epistyle_displacement", "rocking_onset_time",
-            "collapse_time")
+MEASURES = (
+    "max_rocking",
+    "max_total_sliding",
+    "max_epistyle_displacement",
+    "rocking_onset_time",
+    "collapse_time",
+)
 
 
 @pytest.mark.parametrize("case", list(EXCITATIONS))
@@ -56,7 +72,9 @@ def test_peaks_do_not_depend_on_the_output_interval(case):
     shared = np.intersect1d(fine.time.values, coarse.time.values)
     assert len(shared) >= 3
     for name in ("x", "y", "theta"):
-        assert np.array_equal(fine[name].sel(time=shared).values, coarse[name].sel(time=shared).values)
+        assert np.array_equal(
+            fine[name].sel(time=shared).values, coarse[name].sel(time=shared).values
+        )
     assert int(fine.collapsed) == int(coarse.collapsed) == (case == "falls")
     # then: its peaks and first times are the same
     for name in MEASURES:
@@ -81,10 +99,14 @@ def test_tracked_peaks_equal_the_sampled_ones_when_every_step_is_sampled():
     ds = run_scene(scene)
     assert len(ds.time) == round(0.6 / dt) + 1
     epi = ds.displacement_relative_to_base.isel(body=measures.epistyle_bodies(scene)).mean("body")
-    sampled = {"max_rocking": float(ds.rocking.max()), "max_total_sliding": float(ds.total_sliding.max()),
-               "max_epistyle_displacement": float(np.abs(epi).max()),
-               "rocking_onset_time": measures.rocking_onset_time(ds.time.values, ds.rocking.values,
-                                                                 float(ds.theta_cr))}
+    sampled = {
+        "max_rocking": float(ds.rocking.max()),
+        "max_total_sliding": float(ds.total_sliding.max()),
+        "max_epistyle_displacement": float(np.abs(epi).max()),
+        "rocking_onset_time": measures.rocking_onset_time(
+            ds.time.values, ds.rocking.values, float(ds.theta_cr)
+        ),
+    }
     for name, value in sampled.items():
         assert float(ds[name]) == pytest.approx(value, rel=1e-12), name
     assert np.allclose(ds.max_abs_theta, np.abs(ds.theta).max("time"), rtol=1e-12, atol=0.0)
@@ -100,4 +122,6 @@ def test_an_automatic_step_does_not_depend_on_the_output_interval():
     coarse = run_scene(dataclasses.replace(scene, output_every=0.25))
     assert fine.attrs["dt"] == coarse.attrs["dt"]
     for name in MEASURES:
-        assert float(fine[name]) == pytest.approx(float(coarse[name]), rel=1e-12, abs=0.0, nan_ok=True), name
+        assert float(fine[name]) == pytest.approx(
+            float(coarse[name]), rel=1e-12, abs=0.0, nan_ok=True
+        ), name

@@ -10,8 +10,13 @@ import numpy as np
 import pytest
 
 from stonedem.errors import InputError
-from stonedem.study.permutation import (NO_COLLAPSE_SHIFT, fit_shift_tolerance, permutation_test, threshold_shift,
-                                        verdict_distance)
+from stonedem.study.permutation import (
+    NO_COLLAPSE_SHIFT,
+    fit_shift_tolerance,
+    permutation_test,
+    threshold_shift,
+    verdict_distance,
+)
 
 TOLERANCE = 0.02
 
@@ -37,7 +42,9 @@ def test_statistics_by_hand():
     # case 0: pN 1/2, pB 0, pbar 1/6; case 1: pN 1, pB 1/2, pbar 2/3
     expected = 0.25 / (1 / 6 * 5 / 6 + 0.01) + 0.25 / (2 / 3 * 1 / 3 + 0.01)
     assert verdict_distance(base, cand) == pytest.approx(expected, rel=1e-12)
-    t_base = np.array([[1.0, 1.1, 1.2, 1.3], [2.0, np.nan, np.nan, np.nan], [np.nan] * 4, [5.0] * 4])
+    t_base = np.array(
+        [[1.0, 1.1, 1.2, 1.3], [2.0, np.nan, np.nan, np.nan], [np.nan] * 4, [5.0] * 4]
+    )
     t_cand = np.array([[1.2, 1.3], [2.0, 2.0], [np.nan, np.nan], [np.nan, 5.0]])
     # system 0: medians of ln T, ln sqrt(1.1 x 1.2) vs ln sqrt(1.2 x 1.3); 1: inf vs ln 2 (no
     # collapse counts NO_COLLAPSE_SHIFT); 2: inf vs inf (0); 3: ln 5 vs (ln 5 + inf) / 2 = inf
@@ -97,7 +104,9 @@ def test_planted_differences_are_rejected():
     null = permutation_test(base_v, base_t, cand_v, cand_t, TOLERANCE, n_permutations=2000)
     assert not null["reject"] and not null["exact"] and null["n_assignments"] == 2000
     # every threshold 5 brackets up (x 1.02^5)
-    shifted = permutation_test(base_v, base_t, cand_v, cand_t * 1.02 ** 5, TOLERANCE, n_permutations=2000)
+    shifted = permutation_test(
+        base_v, base_t, cand_v, cand_t * 1.02**5, TOLERANCE, n_permutations=2000
+    )
     assert shifted["p_t"] <= 0.005 and shifted["reject"]
     assert shifted["s_t"] > null["s_t"] + 18 * 3
     # three cases every baseline run agrees on, flipped in every candidate run
@@ -108,7 +117,9 @@ def test_planted_differences_are_rejected():
     result = permutation_test(base_v, base_t, flipped, cand_t, TOLERANCE, n_permutations=2000)
     assert result["p_v"] <= 0.005 and result["reject"]
     assert set(chosen) <= set(result["unanimous_flips"].tolist())
-    assert set(result["unanimous_flips"].tolist()) - set(chosen) == set(null["unanimous_flips"].tolist())
+    assert set(result["unanimous_flips"].tolist()) - set(chosen) == set(
+        null["unanimous_flips"].tolist()
+    )
 
 
 def test_missing_rows_give_zero_statistics():
@@ -118,7 +129,9 @@ def test_missing_rows_give_zero_statistics():
     no_systems = permutation_test(base_v, np.zeros((0, 6)), cand_v, np.zeros((0, 3)), np.zeros(0))
     assert no_systems["s_t"] == 0.0 and no_systems["p_t"] == 1.0 and no_systems["s_v"] > 0
     no_cases = permutation_test(np.zeros((0, 6)), base_t, np.zeros((0, 3)), cand_t, TOLERANCE)
-    assert no_cases["s_v"] == 0.0 and no_cases["p_v"] == 1.0 and no_cases["unanimous_flips"].size == 0
+    assert (
+        no_cases["s_v"] == 0.0 and no_cases["p_v"] == 1.0 and no_cases["unanimous_flips"].size == 0
+    )
     assert no_cases["s_t"] > 0
     nothing = permutation_test([], [], [], [], TOLERANCE)
     assert nothing["p_v"] == nothing["p_t"] == 1.0 and not nothing["reject"]
@@ -143,18 +156,37 @@ def test_fit_shift_tolerance():
     assert fit_shift_tolerance(400.0) == pytest.approx(0.01)
 
 
-@pytest.mark.parametrize("call, field", [
-    (lambda: verdict_distance(np.zeros((3, 4)), np.zeros((2, 2))), "cand_collapsed"),
-    (lambda: verdict_distance(np.full((3, 4), 2), np.zeros((3, 2))), "base_collapsed"),
-    (lambda: verdict_distance(np.zeros((3, 4)), np.zeros((3, 0))), "members"),
-    (lambda: threshold_shift(np.ones((2, 4)), -np.ones((2, 2)), 0.02), "cand_thresholds"),
-    (lambda: threshold_shift(np.ones((2, 4)), np.ones((2, 2)), [0.02, 0.02, 0.02]), "tolerance"),
-    (lambda: permutation_test(np.zeros((3, 4)), np.ones((2, 5)), np.zeros((3, 2)), np.ones((2, 2)), 0.02),
-     "base_thresholds"),
-    (lambda: permutation_test(np.zeros((3, 4)), np.ones((2, 4)), np.zeros((3, 2)), np.ones((2, 2)), 0.02,
-                              n_permutations=0), "n_permutations"),
-    (lambda: fit_shift_tolerance(0), "n"),
-])
+@pytest.mark.parametrize(
+    "call, field",
+    [
+        (lambda: verdict_distance(np.zeros((3, 4)), np.zeros((2, 2))), "cand_collapsed"),
+        (lambda: verdict_distance(np.full((3, 4), 2), np.zeros((3, 2))), "base_collapsed"),
+        (lambda: verdict_distance(np.zeros((3, 4)), np.zeros((3, 0))), "members"),
+        (lambda: threshold_shift(np.ones((2, 4)), -np.ones((2, 2)), 0.02), "cand_thresholds"),
+        (
+            lambda: threshold_shift(np.ones((2, 4)), np.ones((2, 2)), [0.02, 0.02, 0.02]),
+            "tolerance",
+        ),
+        (
+            lambda: permutation_test(
+                np.zeros((3, 4)), np.ones((2, 5)), np.zeros((3, 2)), np.ones((2, 2)), 0.02
+            ),
+            "base_thresholds",
+        ),
+        (
+            lambda: permutation_test(
+                np.zeros((3, 4)),
+                np.ones((2, 4)),
+                np.zeros((3, 2)),
+                np.ones((2, 2)),
+                0.02,
+                n_permutations=0,
+            ),
+            "n_permutations",
+        ),
+        (lambda: fit_shift_tolerance(0), "n"),
+    ],
+)
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(InputError) as error:
         call()

@@ -46,8 +46,14 @@ stacks = st.tuples(
 
 def stack_spec(n, width, height, top_ratio, mu, c_n, k_n, amplitude, frequency):
     return {
-        "structure": {"kind": "column", "n_drums": n, "height": n * height, "width": width,
-                      "taper": 1.0 / top_ratio, "base_width": max(4.0, 4.0 * width)},
+        "structure": {
+            "kind": "column",
+            "n_drums": n,
+            "height": n * height,
+            "width": width,
+            "taper": 1.0 / top_ratio,
+            "base_width": max(4.0, 4.0 * width),
+        },
         "friction": mu,
         "contact": {"k_n": k_n, "c_n": c_n},
         "excitation": {"kind": "harmonic", "amplitude": amplitude, "frequency": frequency},
@@ -60,9 +66,13 @@ def stack_spec(n, width, height, top_ratio, mu, c_n, k_n, amplitude, frequency):
 def run(params):
     n, width, height, top_ratio, mu, damping, log_k, amplitude, frequency = params
     k_n = 10.0**log_k
-    undamped = scene_from_dict(stack_spec(n, width, height, top_ratio, mu, 0.0, k_n, amplitude, frequency))
+    undamped = scene_from_dict(
+        stack_spec(n, width, height, top_ratio, mu, 0.0, k_n, amplitude, frequency)
+    )
     c_n = damping * critical_damping(undamped)
-    scene = scene_from_dict(stack_spec(n, width, height, top_ratio, mu, c_n, k_n, amplitude, frequency))
+    scene = scene_from_dict(
+        stack_spec(n, width, height, top_ratio, mu, c_n, k_n, amplitude, frequency)
+    )
     return scene, simulate(scene)
 
 

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.motion import records
 from stonedem.errors import InputError
+from stonedem.motion import records
 from stonedem.motion.excitation import excitation_from_spec
 
 AT2_NEW = """PEER NGA STRONG MOTION DATABASE RECORD
@@ -40,14 +40,17 @@ def test_at2_both_header_styles(tmp_path, text):
     assert rec.acceleration[4] == pytest.approx(0.05 * 9.80665, rel=1e-15), "g = 9.80665"
 
 
-@pytest.mark.parametrize("mutate, message", [
-    (lambda t: t.replace("NPTS=    7", "NPTS=    8"), "NPTS = 8 but 7 values"),
-    (lambda t: t.replace("-.2500000E-01", "    "), "NPTS = 7 but 6 values"),
-    (lambda t: t.replace("UNITS OF G", "UNITS OF CM/S/S"), "units of g"),
-    (lambda t: t.replace("NPTS=    7, DT=   .0100 SEC", "SEVEN POINTS"), "no NPTS and DT"),
-    (lambda t: t.replace(".5000000E-01", "abc"), "non-numeric"),
-    (lambda t: "\n".join(t.splitlines()[:3]), "4 header lines"),
-])
+@pytest.mark.parametrize(
+    "mutate, message",
+    [
+        (lambda t: t.replace("NPTS=    7", "NPTS=    8"), "NPTS = 8 but 7 values"),
+        (lambda t: t.replace("-.2500000E-01", "    "), "NPTS = 7 but 6 values"),
+        (lambda t: t.replace("UNITS OF G", "UNITS OF CM/S/S"), "units of g"),
+        (lambda t: t.replace("NPTS=    7, DT=   .0100 SEC", "SEVEN POINTS"), "no NPTS and DT"),
+        (lambda t: t.replace(".5000000E-01", "abc"), "non-numeric"),
+        (lambda t: "\n".join(t.splitlines()[:3]), "4 header lines"),
+    ],
+)
 def test_malformed_at2_gives_one_line(tmp_path, mutate, message):
     path = write(tmp_path, mutate(AT2_NEW))
     with pytest.raises(InputError) as err:
@@ -65,11 +68,13 @@ def test_baseline_correction_removes_a_known_offset():
     t = np.arange(0, 40.0001, 0.01)
     # a ground motion that starts and ends at rest: d = 0.1 sin(3 pi t) exp(-((t - 10) / 4)^2)
     w = 3 * np.pi
-    env = np.exp(-((t - 10) / 4) ** 2)
+    env = np.exp(-(((t - 10) / 4) ** 2))
     denv = -2 * (t - 10) / 16 * env
     ddenv = (-2 / 16 + (2 * (t - 10) / 16) ** 2) * env
     disp_clean = 0.1 * np.sin(w * t) * env
-    clean = 0.1 * (-w * w * np.sin(w * t) * env + 2 * w * np.cos(w * t) * denv + np.sin(w * t) * ddenv)
+    clean = 0.1 * (
+        -w * w * np.sin(w * t) * env + 2 * w * np.cos(w * t) * denv + np.sin(w * t) * ddenv
+    )
     offset = clean + 0.02  # a constant 0.02 m/s2 error: 16 m of drift after 40 s
     _, drift = records.integrate(t, offset)
     corrected = records.baseline_correct(t, offset)
@@ -90,8 +95,11 @@ def harmonic_sdof_peak(t, amplitude, forcing_w, w, z):
     wd = w * np.sqrt(1 - z * z)
     E = -D
     F = (z * w * E - C * forcing_w) / wd
-    u = (C * np.sin(forcing_w * t) + D * np.cos(forcing_w * t)
-         + np.exp(-z * w * t) * (E * np.cos(wd * t) + F * np.sin(wd * t)))
+    u = (
+        C * np.sin(forcing_w * t)
+        + D * np.cos(forcing_w * t)
+        + np.exp(-z * w * t) * (E * np.cos(wd * t) + F * np.sin(wd * t))
+    )
     return np.abs(u).max()
 
 
@@ -103,12 +111,14 @@ def test_spectrum_of_a_harmonic_against_the_closed_form(period, damping):
     psa = records.response_spectrum(t, 3.0 * np.sin(W * t), [period], damping)[0]
     w = 2 * np.pi / period
     ref = w * w * harmonic_sdof_peak(t, 3.0, W, w, damping)
-    assert psa == pytest.approx(ref, rel=2e-3), "exact recurrence vs closed form; the input is sampled"
+    assert psa == pytest.approx(ref, rel=2e-3), (
+        "exact recurrence vs closed form; the input is sampled"
+    )
 
 
 def test_predominant_frequency_of_a_sine_burst():
     t = np.arange(0, 40, 0.01)
-    a = np.sin(2 * np.pi * 2.5 * t) * np.exp(-((t - 20) / 6) ** 2)
+    a = np.sin(2 * np.pi * 2.5 * t) * np.exp(-(((t - 20) / 6) ** 2))
     assert records.predominant_frequency(t, a) == pytest.approx(2.5, rel=0.03)
 
 
@@ -117,7 +127,9 @@ def test_resampling_does_not_alias():
     low = np.sin(2 * np.pi * 2 * t)
     high = 0.5 * np.sin(2 * np.pi * 90 * t)  # above the 50 Hz Nyquist of dt = 0.01
     t2, a2 = records.resample(t, low + high, 0.01)
-    assert np.abs(a2 - np.sin(2 * np.pi * 2 * t2))[200:-200].max() < 0.02, "90 Hz removed, not folded to 10 Hz"
+    assert np.abs(a2 - np.sin(2 * np.pi * 2 * t2))[200:-200].max() < 0.02, (
+        "90 Hz removed, not folded to 10 Hz"
+    )
 
 
 def test_pga_scaling_is_exact():
@@ -126,19 +138,37 @@ def test_pga_scaling_is_exact():
 
 
 def test_committed_records_are_self_describing():
-    for name in ("athens_standin_kocaeli_arc000", "kalamata_standin_izmit_izt270",
-                 "mexico_standin_chichi_tcu102", "northridge_1994_mul009"):
+    for name in (
+        "athens_standin_kocaeli_arc000",
+        "kalamata_standin_izmit_izt270",
+        "mexico_standin_chichi_tcu102",
+        "northridge_1994_mul009",
+    ):
         with xr.open_dataset(f"records/{name}.nc") as ds:
             for var in list(ds.data_vars) + list(ds.coords):
                 assert ds[var].attrs.get("units") and ds[var].attrs.get("long_name"), (name, var)
-            for key in ("event", "station", "component", "source", "licence", "pga", "predominant_frequency"):
+            for key in (
+                "event",
+                "station",
+                "component",
+                "source",
+                "licence",
+                "pga",
+                "predominant_frequency",
+            ):
                 assert key in ds.attrs, (name, key)
             assert abs(float(ds.displacement[-1])) < 1e-6
 
 
 def test_stand_ins_fall_in_the_thesis_frequency_order():
-    f = {n: xr.open_dataset(f"records/{n}.nc").attrs["predominant_frequency"]
-         for n in ("athens_standin_kocaeli_arc000", "kalamata_standin_izmit_izt270", "mexico_standin_chichi_tcu102")}
+    f = {
+        n: xr.open_dataset(f"records/{n}.nc").attrs["predominant_frequency"]
+        for n in (
+            "athens_standin_kocaeli_arc000",
+            "kalamata_standin_izmit_izt270",
+            "mexico_standin_chichi_tcu102",
+        )
+    }
     assert 4.1 <= f["athens_standin_kocaeli_arc000"] <= 8.3
     assert 2.9 <= f["kalamata_standin_izmit_izt270"] <= 3.5
     assert 0.35 <= f["mexico_standin_chichi_tcu102"] <= 0.53
@@ -146,8 +176,20 @@ def test_stand_ins_fall_in_the_thesis_frequency_order():
 
 def test_record_info_command(tmp_path):
     plot = tmp_path / "s.png"
-    proc = subprocess.run([sys.executable, "-m", "stonedem", "record", "info", "northridge_1994_mul009",
-                           "--plot", str(plot)], capture_output=True, text=True)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "stonedem",
+            "record",
+            "info",
+            "northridge_1994_mul009",
+            "--plot",
+            str(plot),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 0, proc.stderr
     assert "PGA                 4.077" in proc.stdout and "predominant" in proc.stdout
     assert plot.stat().st_size > 1000
@@ -155,17 +197,24 @@ def test_record_info_command(tmp_path):
 
 # --- hostile input (issue 13) -----------------------------------------------------------------
 
-@pytest.mark.parametrize("mutate, message", [
-    (lambda t: t.replace(".0100", "1e-"), "no NPTS and DT"),
-    (lambda t: t.replace(".0100", "."), "no NPTS and DT"),
-    (lambda t: t.replace(".0100", "1e999"), "not a positive finite time step"),
-    (lambda t: t.replace(".0100", "0.0000001"), "outside [0.0001, 1] s"),
-    (lambda t: t.replace("NPTS=    7", "NPTS= 99999999999999999999"), "more than 500000 samples"),
-    (lambda t: t.replace("NPTS=    7", "NPTS=    1"), "NPTS = 1"),
-    (lambda t: t.replace(".5000000E-01", "nan"), "NaN or infinite value at sample 4"),
-    (lambda t: t.replace(".5000000E-01", "1.0E+03"), "above the 100 g limit"),
-    (lambda t: t.replace("Test event", "Test\x1b[2J event"), None),
-])
+
+@pytest.mark.parametrize(
+    "mutate, message",
+    [
+        (lambda t: t.replace(".0100", "1e-"), "no NPTS and DT"),
+        (lambda t: t.replace(".0100", "."), "no NPTS and DT"),
+        (lambda t: t.replace(".0100", "1e999"), "not a positive finite time step"),
+        (lambda t: t.replace(".0100", "0.0000001"), "outside [0.0001, 1] s"),
+        (
+            lambda t: t.replace("NPTS=    7", "NPTS= 99999999999999999999"),
+            "more than 500000 samples",
+        ),
+        (lambda t: t.replace("NPTS=    7", "NPTS=    1"), "NPTS = 1"),
+        (lambda t: t.replace(".5000000E-01", "nan"), "NaN or infinite value at sample 4"),
+        (lambda t: t.replace(".5000000E-01", "1.0E+03"), "above the 100 g limit"),
+        (lambda t: t.replace("Test event", "Test\x1b[2J event"), None),
+    ],
+)
 def test_hostile_at2(tmp_path, mutate, message):
     path = write(tmp_path, mutate(AT2_NEW))
     if message is None:  # control characters in the title are escaped, not printed raw
@@ -181,8 +230,9 @@ def test_at2_units_are_its_own(tmp_path):
     with pytest.raises(InputError) as err:
         excitation_from_spec({"kind": "record", "file": str(path), "units": "cm/s2"})
     assert err.value.field == "excitation.units" and "in g" in str(err.value)
-    assert excitation_from_spec({"kind": "record", "file": str(path), "units": "g",
-                                 "baseline": False}).pga == pytest.approx(0.05 * 9.80665)
+    assert excitation_from_spec(
+        {"kind": "record", "file": str(path), "units": "g", "baseline": False}
+    ).pga == pytest.approx(0.05 * 9.80665)
 
 
 def test_at2_not_utf8_or_binary(tmp_path):
@@ -228,22 +278,31 @@ def test_record_info_of_an_all_zero_record(tmp_path):
     path.write_text("".join(f"{i * 0.01:.2f} 0\n" for i in range(100)))
     status, out, err = run_info(path, "--plot", tmp_path / "z.png")
     assert status == 0, err
-    assert "predominant freq.   none (the record is all zeros)" in out and "0 m/s2 (no response)" in out
+    assert (
+        "predominant freq.   none (the record is all zeros)" in out
+        and "0 m/s2 (no response)" in out
+    )
 
 
-@pytest.mark.parametrize("argv, field", [
-    (["northridge_1994_mul009", "--units", "g"], "error: --units: northridge_1994_mul009.nc declares"),
-    (["northridge_1994_mul009", "--units", "furlong"], "error: --units: unknown units"),
-    (["no_such_record", "--damping", "1.5"], "error: --damping: 1.5 is not a damping ratio"),
-    (["no_such_record", "--damping", *["0.05"] * 11], "error: --damping: 11 values"),
-    (["no_such_record", "--dt", "abc"], "error: --dt: expected a number"),
-    (["no_such_record", "--dt", "nan"], "error: --dt"),
-    (["no_such_record", "--dt", "1e-9"], "error: --dt: time step 1e-09 s is outside"),
-    (["no_such_record"], "error: file: record 'no_such_record' not found"),
-    (["northridge_1994_mul009", "--plot", "PLOT/x.txt"], "error: --plot: "),
-    (["northridge_1994_mul009", "--plot", "PLOT"], "error: --plot: "),
-    (["northridge_1994_mul009", "--plot", ""], "error: --plot: empty path"),
-])
+@pytest.mark.parametrize(
+    "argv, field",
+    [
+        (
+            ["northridge_1994_mul009", "--units", "g"],
+            "error: --units: northridge_1994_mul009.nc declares",
+        ),
+        (["northridge_1994_mul009", "--units", "furlong"], "error: --units: unknown units"),
+        (["no_such_record", "--damping", "1.5"], "error: --damping: 1.5 is not a damping ratio"),
+        (["no_such_record", "--damping", *["0.05"] * 11], "error: --damping: 11 values"),
+        (["no_such_record", "--dt", "abc"], "error: --dt: expected a number"),
+        (["no_such_record", "--dt", "nan"], "error: --dt"),
+        (["no_such_record", "--dt", "1e-9"], "error: --dt: time step 1e-09 s is outside"),
+        (["no_such_record"], "error: file: record 'no_such_record' not found"),
+        (["northridge_1994_mul009", "--plot", "PLOT/x.txt"], "error: --plot: "),
+        (["northridge_1994_mul009", "--plot", "PLOT"], "error: --plot: "),
+        (["northridge_1994_mul009", "--plot", ""], "error: --plot: empty path"),
+    ],
+)
 def test_record_info_refuses_before_computing(tmp_path, argv, field):
     argv = [str(tmp_path) if a == "PLOT" else a.replace("PLOT", str(tmp_path)) for a in argv]
     status, out, err = run_info(*argv)

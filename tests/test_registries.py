@@ -22,9 +22,19 @@ from stonedem.kernels import excitation as kx
 from stonedem.motion import excitation
 from stonedem.motion.excitation import EXCITATIONS, BaseMotion, Excitation, record_to_table
 
-BLOCK = {"bodies": [{"name": "base", "box": {"width": 4.0, "height": 0.5, "center": [0.0, -0.25]}, "driven": True},
-                    {"name": "block", "box": {"width": 0.5, "height": 2.0, "center": [0.0, 1.0]}}],
-         "friction": 0.7, "solver": {"duration": 0.5, "stop_on_collapse": False}, "output": {"every": 0.01}}
+BLOCK = {
+    "bodies": [
+        {
+            "name": "base",
+            "box": {"width": 4.0, "height": 0.5, "center": [0.0, -0.25]},
+            "driven": True,
+        },
+        {"name": "block", "box": {"width": 0.5, "height": 2.0, "center": [0.0, 1.0]}},
+    ],
+    "friction": 0.7,
+    "solver": {"duration": 0.5, "stop_on_collapse": False},
+    "output": {"every": 0.01},
+}
 
 
 def _triangle_pulse(spec, field, base_dir):
@@ -33,15 +43,25 @@ def _triangle_pulse(spec, field, base_dir):
     t_p = excitation._num(spec, "duration", field, positive=True)
     time = np.linspace(0.0, t_p, 3)
     table_a, table_v, table_d, h = record_to_table(time, np.array([0.0, a_p, 0.0]))
-    return BaseMotion(kx.KIND_TABLE, np.zeros(4), table_a, table_v, table_d, h,
-                      {"kind": "triangle_pulse", "accel": a_p, "duration": t_p, "pga": abs(a_p)})
+    return BaseMotion(
+        kx.KIND_TABLE,
+        np.zeros(4),
+        table_a,
+        table_v,
+        table_d,
+        h,
+        {"kind": "triangle_pulse", "accel": a_p, "duration": t_p, "pga": abs(a_p)},
+    )
 
 
-TRIANGLE = Excitation({"accel": "m s-2", "duration": "s"}, _triangle_pulse,
-                      lambda d: f"triangle pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
-                      pga=lambda m: float(np.abs(m.table_accel).max()),
-                      duration=lambda m: (len(m.table_accel) - 1) * m.table_dt,
-                      period=lambda m: (len(m.table_accel) - 1) * m.table_dt)
+TRIANGLE = Excitation(
+    {"accel": "m s-2", "duration": "s"},
+    _triangle_pulse,
+    lambda d: f"triangle pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
+    pga=lambda m: float(np.abs(m.table_accel).max()),
+    duration=lambda m: (len(m.table_accel) - 1) * m.table_dt,
+    period=lambda m: (len(m.table_accel) - 1) * m.table_dt,
+)
 
 
 @pytest.fixture
@@ -53,7 +73,11 @@ def test_a_new_excitation_kind_is_one_row(triangle):
     spec = {**BLOCK, "excitation": {"kind": "triangle_pulse", "accel": 2.0, "duration": 0.2}}
     scene = scene_from_dict(json.loads(json.dumps(spec)))
     motion = scene.horizontal
-    assert motion.pga == 2.0 and motion.duration == pytest.approx(0.2) and motion.shortest_period == pytest.approx(0.2)
+    assert (
+        motion.pga == 2.0
+        and motion.duration == pytest.approx(0.2)
+        and motion.shortest_period == pytest.approx(0.2)
+    )
     # the base's velocity after the pulse is the pulse's area, a_p T / 2, exactly (table integrals)
     _, v, a = motion.evaluate([0.1, 0.3])
     assert a[0] == pytest.approx(2.0) and v[1] == pytest.approx(0.2, rel=1e-12) and a[1] == 0.0
@@ -64,24 +88,48 @@ def test_a_new_excitation_kind_is_one_row(triangle):
     assert float(np.abs(ds.theta.sel(body="block")).max()) < 1e-4
     # an unknown key of the new kind is refused with the row's keys
     with pytest.raises(Exception, match="allowed keys: kind, accel, duration"):
-        scene_from_dict({**BLOCK, "excitation": {"kind": "triangle_pulse", "accel": 2.0, "duration": 0.2,
-                                                 "frequency": 1.0}})
+        scene_from_dict(
+            {
+                **BLOCK,
+                "excitation": {
+                    "kind": "triangle_pulse",
+                    "accel": 2.0,
+                    "duration": 0.2,
+                    "frequency": 1.0,
+                },
+            }
+        )
 
 
 def test_the_time_step_resolves_a_new_kind(triangle):
     """The row's period bounds the step (MIN_STEPS_PER_PERIOD steps per period), like every kind's."""
-    spec = {**BLOCK, "contact": {"model": "area", "k_n": 1e6, "c_n": 0.0},
-            "excitation": {"kind": "triangle_pulse", "accel": 1.0, "duration": 1e-3}}
+    spec = {
+        **BLOCK,
+        "contact": {"model": "area", "k_n": 1e6, "c_n": 0.0},
+        "excitation": {"kind": "triangle_pulse", "accel": 1.0, "duration": 1e-3},
+    }
     dt, _ = choose_time_step(scene_from_dict(spec))
     assert dt <= 1e-3 / 20 * (1 + 1e-12)
 
 
 def test_a_new_contact_law_is_one_row(monkeypatch):
     """A point law without the plastic landing and with its own defaults and step safety."""
-    monkeypatch.setitem(LAWS, "soft_point", Law(
-        code=LAWS["point"].code, defaults={"k_n": 1.0e9, "damping": 0.2}, dt_safety=0.5, arm2=0.25,
-        frames=("faces",), frame="faces", describe="toy: point contacts, no landing rule",
-        damping_key="damping", pair_dashpot=LAWS["point"].pair_dashpot, hint="soft_point (a toy)"))
+    monkeypatch.setitem(
+        LAWS,
+        "soft_point",
+        Law(
+            code=LAWS["point"].code,
+            defaults={"k_n": 1.0e9, "damping": 0.2},
+            dt_safety=0.5,
+            arm2=0.25,
+            frames=("faces",),
+            frame="faces",
+            describe="toy: point contacts, no landing rule",
+            damping_key="damping",
+            pair_dashpot=LAWS["point"].pair_dashpot,
+            hint="soft_point (a toy)",
+        ),
+    )
     scene = scene_from_dict({**BLOCK, "contact": {"model": "soft_point"}})
     assert (scene.contact.k_n, scene.contact.damping, scene.contact.impact) == (1e9, 0.2, "none")
     assert scene.dt_safety == 0.5 and scene.spec["contact"]["damping"] == 0.2
@@ -102,21 +150,48 @@ def test_a_new_limit_state_is_one_row(monkeypatch, tmp_path):
     from stonedem.fragility.ida import LIMIT_STATES, LimitState, ida_cube
     from tests.test_ida import COLUMN, _search_file
 
-    monkeypatch.setitem(LIMIT_STATES, "slight_rotation", LimitState(
-        "max_rocking", lambda theta_cr, width: theta_cr / 100.0, "peak mean drum rotation exceeds theta_cr / 100",
-        "rotation theta_cr / 100"))
+    monkeypatch.setitem(
+        LIMIT_STATES,
+        "slight_rotation",
+        LimitState(
+            "max_rocking",
+            lambda theta_cr, width: theta_cr / 100.0,
+            "peak mean drum rotation exceeds theta_cr / 100",
+            "rotation theta_cr / 100",
+        ),
+    )
     paths = []
-    for comp, pga_c in (("FF01a", 4.0), ("FF01b", 5.0), ("FF02a", 8.0), ("FF02b", 6.0), ("FF03a", 7.0)):
+    for comp, pga_c in (
+        ("FF01a", 4.0),
+        ("FF01b", 5.0),
+        ("FF02a", 8.0),
+        ("FF02b", 6.0),
+        ("FF03a", 7.0),
+    ):
         values = np.array([1.0, 2.0, 3.0, 4.0, 6.0, 9.0]) * pga_c / 4.0
         collapsed = values >= pga_c
         rocking = np.where(collapsed, 0.2, 0.001 * values**2)
-        paths.append(_search_file(tmp_path / f"{comp}.nc", "col", comp, values, collapsed, rocking,
-                                  np.zeros(values.size)))
+        paths.append(
+            _search_file(
+                tmp_path / f"{comp}.nc",
+                "col",
+                comp,
+                values,
+                collapsed,
+                rocking,
+                np.zeros(values.size),
+            )
+        )
     cube = ida_cube(paths, {"col": COLUMN}, ["far_field"])
     assert "slight_rotation" in list(cube.limit_state.values)
-    assert cube.attrs["limit_state_slight_rotation"] == "peak mean drum rotation exceeds theta_cr / 100"
+    assert (
+        cube.attrs["limit_state_slight_rotation"]
+        == "peak mean drum rotation exceeds theta_cr / 100"
+    )
     # theta_cr / 100 = 0.002 = 0.001 x^2 at x = sqrt(2), between runs 1 and 2 (x^2 interpolated exactly)
-    at = float(cube.pga_at_limit.sel(structure="col", record="FF01a", limit_state="slight_rotation"))
+    at = float(
+        cube.pga_at_limit.sel(structure="col", record="FF01a", limit_state="slight_rotation")
+    )
     assert at == pytest.approx(math.sqrt(2.0), rel=1e-6)
     fits = fragility_dataset(cube, samples=50)
     assert "slight_rotation" in list(fits.limit_state.values)

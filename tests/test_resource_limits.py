@@ -17,18 +17,26 @@ from stonedem.errors import InputError
 
 
 def column(duration=1.0, every=0.01, **extra):
-    return {"bodies": standalone_column(3, height=3.0, width=0.6), "friction": 0.6,
-            "excitation": {"kind": "harmonic", "amplitude": 0.001, "frequency": 2.0},
-            "solver": {"duration": duration}, "output": {"every": every}, **extra}
+    return {
+        "bodies": standalone_column(3, height=3.0, width=0.6),
+        "friction": 0.6,
+        "excitation": {"kind": "harmonic", "amplitude": 0.001, "frequency": 2.0},
+        "solver": {"duration": duration},
+        "output": {"every": every},
+        **extra,
+    }
 
 
-@pytest.mark.parametrize("field, value, message", [
-    ("name", ["lol"] * 3, "name: expected text, got list"),
-    ("description", {"a": 1}, "description: expected text, got dict"),
-    ("name", "x" * (MAX_TEXT + 1), "name: 1001 characters exceed the limit 1000"),
-    ("description", "y" * 5000, "description: 5000 characters exceed the limit 1000"),
-    ("name", "two\nlines", r"name: contains the control character '\\n'"),
-])
+@pytest.mark.parametrize(
+    "field, value, message",
+    [
+        ("name", ["lol"] * 3, "name: expected text, got list"),
+        ("description", {"a": 1}, "description: expected text, got dict"),
+        ("name", "x" * (MAX_TEXT + 1), "name: 1001 characters exceed the limit 1000"),
+        ("description", "y" * 5000, "description: 5000 characters exceed the limit 1000"),
+        ("name", "two\nlines", r"name: contains the control character '\\n'"),
+    ],
+)
 def test_free_text_is_text_of_bounded_length(field, value, message):
     with pytest.raises(InputError, match=message):
         scene_from_dict(column(**{field: value}))
@@ -49,8 +57,11 @@ def test_the_memory_budget_is_a_share_of_what_the_process_may_take():
 def test_a_run_too_big_for_the_memory_names_output_every_and_a_value_that_fits(monkeypatch):
     monkeypatch.setattr(stonedem.engine.simulate, "memory_budget", lambda: 50e6)
     scene = scene_from_dict(column(duration=3600.0, every=0.001))
-    with pytest.raises(InputError, match=r"^output.every: 3.6e\+06 samples of 4 bodies need about 1.72 GiB, "
-                       r"over the 0.0466 GiB .*raise output.every to 0.037 s or more") as err:
+    with pytest.raises(
+        InputError,
+        match=r"^output.every: 3.6e\+06 samples of 4 bodies need about 1.72 GiB, "
+        r"over the 0.0466 GiB .*raise output.every to 0.037 s or more",
+    ) as err:
         preflight(scene)
     assert "dt_safety" not in str(err.value)
     preflight(dataclasses.replace(scene, output_every=0.037))  # the value named fits
@@ -60,8 +71,11 @@ def test_a_run_too_big_for_the_memory_names_output_every_and_a_value_that_fits(m
 
 def test_an_hour_sampled_every_10_us_is_refused_for_output_every_not_dt_safety():
     scene = scene_from_dict(column(duration=3600.0, every=1e-5))
-    with pytest.raises(InputError, match=r"^output.every: 1e-05 s makes dt = 1e-05 s: 3.6e\+08 steps .*"
-                       r"over the limit 2e\+08; raise output.every to") as err:
+    with pytest.raises(
+        InputError,
+        match=r"^output.every: 1e-05 s makes dt = 1e-05 s: 3.6e\+08 steps .*"
+        r"over the limit 2e\+08; raise output.every to",
+    ) as err:
         preflight(scene)
     assert "dt_safety" not in str(err.value)
     every = float(str(err.value).split("raise output.every to ")[1].split(" s")[0])
@@ -78,9 +92,19 @@ def test_the_quiet_scan_and_fill_in_pieces_are_the_same_run(monkeypatch):
     from stonedem.validation.cases import block_scene
 
     # a block slides under a 0.5 s pulse, then rests on a quiet base: the tail is carried
-    scene = scene_from_dict(block_scene(2.0, 0.5, friction=0.2, k_n=1e8, c_n=math.sqrt(1e8 * 2.0 * 2700.0),
-                                        excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
-                                        duration=4.0, every=0.001, base_width=20.0))
+    scene = scene_from_dict(
+        block_scene(
+            2.0,
+            0.5,
+            friction=0.2,
+            k_n=1e8,
+            c_n=math.sqrt(1e8 * 2.0 * 2700.0),
+            excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
+            duration=4.0,
+            every=0.001,
+            base_width=20.0,
+        )
+    )
     dt, _ = run_time_step(scene)
     whole, phases = simulate(scene), quiet_steps(scene, dt, 4000, 1)
     monkeypatch.setattr(stonedem.engine.quiet, "CHUNK", 37)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import yaml
 
-from stonedem.errors import InputError
 from stonedem.engine.scene import initial_pose, load_scene, scene_from_dict
+from stonedem.errors import InputError
 
 SCENE = "tests/data/scenes/rocking_block.yaml"
 
@@ -30,8 +30,11 @@ def test_example_scene_loads_with_mass_and_inertia_from_geometry():
 
 def test_density_and_depth_give_mass():
     spec = block_scene(depth=0.5)
-    spec["bodies"][1] = {"name": "block", "box": {"width": 0.25, "height": 1.0, "center": [0, 0.5]},
-                         "density": 2600.0}
+    spec["bodies"][1] = {
+        "name": "block",
+        "box": {"width": 0.25, "height": 1.0, "center": [0, 0.5]},
+        "density": 2600.0,
+    }
     scene = scene_from_dict(spec)
     assert scene.bodies[1].mass == pytest.approx(2600.0 * 0.25 * 1.0 * 0.5, rel=1e-12)
 
@@ -58,30 +61,61 @@ def test_interface_friction_overrides_pair():
     assert scene.pair_friction == {("base", "block"): 0.2}
 
 
-@pytest.mark.parametrize("mutate, field", [
-    (lambda s: s.update(bogus=1), "bogus"),
-    (lambda s: s["contact"].update(k_x=1), "contact.k_x"),
-    (lambda s: s["contact"].update(model="point", frame="thesis", k_n=1e10) or s["contact"].pop("c_n", None),
-     "contact.frame"),
-    (lambda s: s["contact"].update(model="area", frame="faces"), "contact.frame"),
-    (lambda s: s["bodies"][1].update(mass=-1.0), "mass"),
-    (lambda s: s["bodies"][1].update(mass=0.0), "mass"),
-    (lambda s: s.update(density=0.0), "density"),
-    (lambda s: s["bodies"][1].pop("box") and s["bodies"][1].update(
-        polygon={"vertices": [[0, 0], [1, 0], [0.2, 0.2], [0, 1]]}), "non-convex"),
-    (lambda s: s["bodies"][1].pop("box") and s["bodies"][1].update(
-        polygon={"vertices": [[0, 0], [1, 1], [1, 0], [0, 1]]}), "self-intersecting"),
-    (lambda s: s["bodies"][1]["box"].update(center=[0.0, 0.4]), "overlap"),
-    (lambda s: s["solver"].update(dt=0.5), "stability limit"),
-    (lambda s: s["solver"].pop("duration"), "solver.duration"),
-    (lambda s: s["bodies"][1]["box"].update(width="wide"), "box.width"),
-    (lambda s: s["bodies"][1].update(tilt={"angle": 0.1, "about": "middle"}), "tilt.about"),
-    # were "mass: 503 kg (inertia 0 kg m2) is outside ..." and, both bodies at x = 1e12, exit 0
-    (lambda s: s["bodies"][1]["box"].update(center=[0.0, 1e300]), "(block).box: a corner lies 1e+300 m"),
-    (lambda s: [b["box"].update(center=[1e12, b["box"]["center"][1]]) for b in s["bodies"]], "past 100000 m"),
-    (lambda s: s["bodies"][1].pop("box") and s["bodies"][1].update(
-        polygon={"vertices": [[0, 0], [1e6, 0], [0, 1]]}), "polygon.vertices: a corner lies 1e+06 m"),
-])
+@pytest.mark.parametrize(
+    "mutate, field",
+    [
+        (lambda s: s.update(bogus=1), "bogus"),
+        (lambda s: s["contact"].update(k_x=1), "contact.k_x"),
+        (
+            lambda s: (
+                s["contact"].update(model="point", frame="thesis", k_n=1e10)
+                or s["contact"].pop("c_n", None)
+            ),
+            "contact.frame",
+        ),
+        (lambda s: s["contact"].update(model="area", frame="faces"), "contact.frame"),
+        (lambda s: s["bodies"][1].update(mass=-1.0), "mass"),
+        (lambda s: s["bodies"][1].update(mass=0.0), "mass"),
+        (lambda s: s.update(density=0.0), "density"),
+        (
+            lambda s: (
+                s["bodies"][1].pop("box")
+                and s["bodies"][1].update(
+                    polygon={"vertices": [[0, 0], [1, 0], [0.2, 0.2], [0, 1]]}
+                )
+            ),
+            "non-convex",
+        ),
+        (
+            lambda s: (
+                s["bodies"][1].pop("box")
+                and s["bodies"][1].update(polygon={"vertices": [[0, 0], [1, 1], [1, 0], [0, 1]]})
+            ),
+            "self-intersecting",
+        ),
+        (lambda s: s["bodies"][1]["box"].update(center=[0.0, 0.4]), "overlap"),
+        (lambda s: s["solver"].update(dt=0.5), "stability limit"),
+        (lambda s: s["solver"].pop("duration"), "solver.duration"),
+        (lambda s: s["bodies"][1]["box"].update(width="wide"), "box.width"),
+        (lambda s: s["bodies"][1].update(tilt={"angle": 0.1, "about": "middle"}), "tilt.about"),
+        # were "mass: 503 kg (inertia 0 kg m2) is outside ..." and, both bodies at x = 1e12, exit 0
+        (
+            lambda s: s["bodies"][1]["box"].update(center=[0.0, 1e300]),
+            "(block).box: a corner lies 1e+300 m",
+        ),
+        (
+            lambda s: [b["box"].update(center=[1e12, b["box"]["center"][1]]) for b in s["bodies"]],
+            "past 100000 m",
+        ),
+        (
+            lambda s: (
+                s["bodies"][1].pop("box")
+                and s["bodies"][1].update(polygon={"vertices": [[0, 0], [1e6, 0], [0, 1]]})
+            ),
+            "polygon.vertices: a corner lies 1e+06 m",
+        ),
+    ],
+)
 def test_bad_input_names_the_field(mutate, field):
     spec = block_scene()
     mutate(spec)
@@ -119,6 +153,8 @@ def test_an_overlap_far_along_a_row_of_bodies_is_found():
 
     spec = drum_wall_scene(30, 2)
     last = spec["bodies"][-1]
-    last["box"]["center"][1] -= 0.01  # the top drum of the last column sinks 1 cm into the one below
+    last["box"]["center"][1] -= (
+        0.01  # the top drum of the last column sinks 1 cm into the one below
+    )
     with pytest.raises(InputError, match="overlap"):
         scene_from_dict(spec)

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.quiet import quiet_steps, quiet_threshold
+from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import standalone_column
 
@@ -15,13 +15,16 @@ from stonedem.engine.structures import standalone_column
 def column_under(record_path, duration, skip, n_drums=1):
     # one heavily damped drum (c_n 0.5 x critical), so the rocking dies out within the run;
     # a lightly damped multi-drum column keeps rocking at ~1e-3 rad for many seconds
-    return scene_from_dict({
-        "bodies": standalone_column(n_drums, height=3.0, width=0.6),
-        "friction": 0.6, "contact": {"k_n": 1e9, "c_n": 1.2e6},
-        "excitation": {"kind": "record", "file": str(record_path), "baseline": False},
-        "solver": {"duration": duration, "stop_on_collapse": False, "skip_quiet": skip},
-        "output": {"every": 0.01},
-    })
+    return scene_from_dict(
+        {
+            "bodies": standalone_column(n_drums, height=3.0, width=0.6),
+            "friction": 0.6,
+            "contact": {"k_n": 1e9, "c_n": 1.2e6},
+            "excitation": {"kind": "record", "file": str(record_path), "baseline": False},
+            "solver": {"duration": duration, "stop_on_collapse": False, "skip_quiet": skip},
+            "output": {"every": 0.01},
+        }
+    )
 
 
 @pytest.fixture()
@@ -37,8 +40,11 @@ def quiet_loud_quiet(tmp_path):
 
 
 def test_threshold_is_half_the_smallest_of_friction_and_slenderness():
-    spec = {"bodies": standalone_column(3, height=3.0, width=0.6), "friction": 0.6,
-            "solver": {"duration": 1.0}}
+    spec = {
+        "bodies": standalone_column(3, height=3.0, width=0.6),
+        "friction": 0.6,
+        "solver": {"duration": 1.0},
+    }
     # narrowest free body 0.6 m over twice the 3 m height = 0.1 < mu = 0.6; halved
     assert quiet_threshold(scene_from_dict(spec)) == pytest.approx(0.05, rel=1e-12)
 
@@ -63,9 +69,17 @@ def test_rest_tail_after_a_pulse_is_carried_and_the_sliding_holds():
     from stonedem.validation.cases import block_scene
 
     def run(skip):
-        spec = block_scene(2.0, 0.5, friction=0.2, k_n=1e8, c_n=0.5 * 2 * math.sqrt(1e8 * 2.0 * 2700.0),
-                           excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
-                           duration=4.0, every=0.01, base_width=20.0)
+        spec = block_scene(
+            2.0,
+            0.5,
+            friction=0.2,
+            k_n=1e8,
+            c_n=0.5 * 2 * math.sqrt(1e8 * 2.0 * 2700.0),
+            excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
+            duration=4.0,
+            every=0.01,
+            base_width=20.0,
+        )
         spec["solver"]["skip_quiet"] = skip
         return simulate(scene_from_dict(spec))
 
@@ -79,11 +93,24 @@ def test_rest_tail_after_a_pulse_is_carried_and_the_sliding_holds():
 
 
 def test_a_tilted_start_is_never_skipped():
-    spec = {"bodies": [{"name": "base", "box": {"width": 4, "height": 0.5, "center": [0, -0.25]}, "driven": True},
-                       {"name": "block", "box": {"width": 0.25, "height": 1.0, "center": [0, 0.5]},
-                        "tilt": {"angle": 0.05, "about": "bottom_right"}}],
-            "friction": 10.0, "contact": {"k_n": 1e9, "c_n": 1e3},
-            "solver": {"duration": 1.0}, "output": {"every": 0.01}}
+    spec = {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 4, "height": 0.5, "center": [0, -0.25]},
+                "driven": True,
+            },
+            {
+                "name": "block",
+                "box": {"width": 0.25, "height": 1.0, "center": [0, 0.5]},
+                "tilt": {"angle": 0.05, "about": "bottom_right"},
+            },
+        ],
+        "friction": 10.0,
+        "contact": {"k_n": 1e9, "c_n": 1e3},
+        "solver": {"duration": 1.0},
+        "output": {"every": 0.01},
+    }
     scene = scene_from_dict(spec)
     assert quiet_steps(scene, 1e-4, 10000, 100)[0] == 0
     r = simulate(scene)
@@ -97,9 +124,17 @@ def test_peaks_count_a_carried_stretch_at_its_entry_state():
     from stonedem.validation.cases import block_scene
 
     def run(skip):
-        spec = block_scene(2.0, 0.5, friction=0.2, k_n=1e8, c_n=0.5 * 2 * math.sqrt(1e8 * 2.0 * 2700.0),
-                           excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
-                           duration=4.0, every=0.01, base_width=20.0)
+        spec = block_scene(
+            2.0,
+            0.5,
+            friction=0.2,
+            k_n=1e8,
+            c_n=0.5 * 2 * math.sqrt(1e8 * 2.0 * 2700.0),
+            excitation={"kind": "rect_pulse", "accel": 0.5 * 9.81, "duration": 0.5},
+            duration=4.0,
+            every=0.01,
+            base_width=20.0,
+        )
         spec["solver"]["skip_quiet"] = skip
         return run_scene(scene_from_dict(spec))
 
@@ -115,11 +150,22 @@ def test_peaks_count_a_carried_stretch_at_its_entry_state():
 
 
 def test_a_body_released_in_the_air_is_not_carried_through_the_quiet_lead(quiet_loud_quiet):
-    spec = {"bodies": [{"name": "base", "box": {"width": 4, "height": 0.5, "center": [0, -0.25]}, "driven": True},
-                       {"name": "block", "box": {"width": 0.6, "height": 1.0, "center": [0, 0.8]}}],
-            "excitation": {"kind": "record", "file": str(quiet_loud_quiet), "baseline": False},
-            "solver": {"duration": 2.0}, "output": {"every": 0.01}}
+    spec = {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 4, "height": 0.5, "center": [0, -0.25]},
+                "driven": True,
+            },
+            {"name": "block", "box": {"width": 0.6, "height": 1.0, "center": [0, 0.8]}},
+        ],
+        "excitation": {"kind": "record", "file": str(quiet_loud_quiet), "baseline": False},
+        "solver": {"duration": 2.0},
+        "output": {"every": 0.01},
+    }
     scene = scene_from_dict(spec)
     assert quiet_steps(scene, 1e-4, 20000, 100)[0] == 0, "it falls first: nothing to skip"
     spec["bodies"][1]["box"]["center"] = [0, 0.5]
-    assert quiet_steps(scene_from_dict(spec), 1e-4, 20000, 100)[0] > 0, "standing on the base: skipped"
+    assert quiet_steps(scene_from_dict(spec), 1e-4, 20000, 100)[0] > 0, (
+        "standing on the base: skipped"
+    )

@@ -10,12 +10,11 @@ import yaml
 from PIL import Image
 
 from stonedem.engine import geometry
-
-from stonedem.figures import snapshots
 from stonedem.engine.run import run_scene
-from stonedem.io.netcdf import write_dataset
-from stonedem.errors import InputError
 from stonedem.engine.scene import posed_vertices, scene_from_dict
+from stonedem.errors import InputError
+from stonedem.figures import snapshots
+from stonedem.io.netcdf import write_dataset
 
 ROCKING_BLOCK = Path(__file__).parent / "data" / "scenes" / "rocking_block.yaml"
 HARMONIC = {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25}
@@ -28,8 +27,14 @@ COLUMN = {  # collapses at about 2.5 s and the run stops there
 }
 COLONNADE = {  # stands through 3 s: 301 samples
     "name": "colonnade",
-    "structure": {"kind": "colonnade", "n_columns": 3, "n_drums": 2, "clear_distance": 2.0,
-                  "epistyle_type": "a", "capital": {"height": 0.6, "width": 1.4}},
+    "structure": {
+        "kind": "colonnade",
+        "n_columns": 3,
+        "n_drums": 2,
+        "clear_distance": 2.0,
+        "epistyle_type": "a",
+        "capital": {"height": 0.6, "width": 1.4},
+    },
     "excitation": HARMONIC,
     "solver": {"duration": 3.0},
     "output": {"every": 0.01},
@@ -187,6 +192,7 @@ def test_cli_bad_input_exits_2_and_writes_nothing(column_case, tmp_path, capsys)
 
 # --- hostile input: refused in one line, exit 2, nothing created (stonedem.cli.main) --------
 
+
 def tree(folder):
     """Every path under folder, so a test sees a stray file or folder anywhere below it."""
     return sorted(str(p.relative_to(folder)) for p in Path(folder).rglob("*"))
@@ -240,7 +246,10 @@ def hostile_cases(column_case, tmp_path_factory):
     save("base_2d", ds.assign(base_displacement=ds.base_displacement.expand_dims(extra=2)))
     save("collapsed_nan", ds.assign(collapsed=np.nan))
     save("x_text", ds.assign(x=ds.x.astype(str)))
-    save("time_flat", ds.assign_coords(time=np.where(np.arange(ds.sizes["time"]) == 5, ds.time[4], ds.time)))
+    save(
+        "time_flat",
+        ds.assign_coords(time=np.where(np.arange(ds.sizes["time"]) == 5, ds.time[4], ds.time)),
+    )
     for var in ("x", "theta", "body_role"):
         save(f"no_{var}", ds.drop_vars(var))
     save("other_bodies", ds.assign_coords(body=[f"b{i}" for i in range(ds.sizes["body"])]))
@@ -252,59 +261,95 @@ def hostile_cases(column_case, tmp_path_factory):
     return made
 
 
-@pytest.mark.parametrize("name, field", [
-    ("scene_list", "attrs.scene: JSON list, not a mapping"),
-    ("scene_yaml", "attrs.scene: not valid JSON"),
-    ("scene_number", "attrs.scene"),
-    ("scene_string", "attrs.scene: JSON str, not a mapping"),
-    ("x_nan", "x: 1 non-finite"),
-    ("theta_inf", "theta: 1 non-finite"),
-    ("y_huge", "y: holds values beyond"),
-    ("extra_dim", "theta: has dimensions"),
-    ("base_2d", "base_displacement: has dimensions"),
-    ("collapsed_nan", "collapsed"),
-    ("x_text", "x: holds"),
-    ("time_flat", "time: is not increasing"),
-    ("no_x", "x: missing"),
-    ("no_theta", "theta: missing"),
-    ("no_body_role", "body_role: missing"),
-    ("other_bodies", "body"),
-    ("text", "not a readable NetCDF"),
-    ("empty", "not a readable NetCDF"),
-    ("png", "not a readable NetCDF"),
-    ("folder", "is a folder"),
-])
+@pytest.mark.parametrize(
+    "name, field",
+    [
+        ("scene_list", "attrs.scene: JSON list, not a mapping"),
+        ("scene_yaml", "attrs.scene: not valid JSON"),
+        ("scene_number", "attrs.scene"),
+        ("scene_string", "attrs.scene: JSON str, not a mapping"),
+        ("x_nan", "x: 1 non-finite"),
+        ("theta_inf", "theta: 1 non-finite"),
+        ("y_huge", "y: holds values beyond"),
+        ("extra_dim", "theta: has dimensions"),
+        ("base_2d", "base_displacement: has dimensions"),
+        ("collapsed_nan", "collapsed"),
+        ("x_text", "x: holds"),
+        ("time_flat", "time: is not increasing"),
+        ("no_x", "x: missing"),
+        ("no_theta", "theta: missing"),
+        ("no_body_role", "body_role: missing"),
+        ("other_bodies", "body"),
+        ("text", "not a readable NetCDF"),
+        ("empty", "not a readable NetCDF"),
+        ("png", "not a readable NetCDF"),
+        ("folder", "is a folder"),
+    ],
+)
 @pytest.mark.parametrize("command", ["snapshots", "animate"])
-def test_hostile_dataset_is_refused_before_drawing(hostile_cases, tmp_path, capsys, name, field, command):
+def test_hostile_dataset_is_refused_before_drawing(
+    hostile_cases, tmp_path, capsys, name, field, command
+):
     out = tmp_path / "new" / ("out.png" if command == "snapshots" else "out.gif")
     refused([command, str(hostile_cases[name]), "-o", str(out)], field, tmp_path, capsys)
     assert not (tmp_path / "new").exists(), "no folder made for a refused picture"
 
 
-@pytest.mark.parametrize("options, field", [
-    (["--fps", "1e-9"], "--fps"), (["--fps", "0"], "--fps"), (["--fps", "-5"], "--fps"),
-    (["--fps", "nan"], "--fps"), (["--fps", "inf"], "--fps"), (["--fps", "1e9"], "--fps"),
-    (["--every", "inf"], "--every"), (["--every", "nan"], "--every"), (["--every", "-1"], "--every"),
-    (["--every", "0"], "--every"), (["--every", "1e300"], "--every"), (["--every", "100"], "--every"),
-    (["--max-frames", "0"], "--max-frames"), (["--max-frames", "1000000000"], "--max-frames"),
-    (["--max-frames", "1.5"], "--max-frames"),
-    (["--title", "a\x1b[31mred"], "--title"), (["--title", "x" * 1000], "--title"),
-])
+@pytest.mark.parametrize(
+    "options, field",
+    [
+        (["--fps", "1e-9"], "--fps"),
+        (["--fps", "0"], "--fps"),
+        (["--fps", "-5"], "--fps"),
+        (["--fps", "nan"], "--fps"),
+        (["--fps", "inf"], "--fps"),
+        (["--fps", "1e9"], "--fps"),
+        (["--every", "inf"], "--every"),
+        (["--every", "nan"], "--every"),
+        (["--every", "-1"], "--every"),
+        (["--every", "0"], "--every"),
+        (["--every", "1e300"], "--every"),
+        (["--every", "100"], "--every"),
+        (["--max-frames", "0"], "--max-frames"),
+        (["--max-frames", "1000000000"], "--max-frames"),
+        (["--max-frames", "1.5"], "--max-frames"),
+        (["--title", "a\x1b[31mred"], "--title"),
+        (["--title", "x" * 1000], "--title"),
+    ],
+)
 def test_animate_options_have_ranges(column_case, tmp_path, capsys, options, field):
     src, _ = column_case
-    refused(["animate", str(src), "-o", str(tmp_path / "a" / "b.gif"), *options], field, tmp_path, capsys)
+    refused(
+        ["animate", str(src), "-o", str(tmp_path / "a" / "b.gif"), *options],
+        field,
+        tmp_path,
+        capsys,
+    )
 
 
-@pytest.mark.parametrize("options, field", [
-    (["-n", "0"], "-n"), (["-n", "-3"], "-n"), (["-n", "1000000"], "-n"),
-    (["-n", str(snapshots.MAX_PANELS + 1)], "-n"), (["-n", "1e6"], "-n"),
-    (["--times", "nan"], "--times"), (["--times", "0", "inf"], "--times"),
-    (["--times", *["0.1"] * (snapshots.MAX_PANELS + 1)], "--times"), (["--times", "-1"], "--times"),
-    (["--title", "two\nlines"], "--title"),
-])
+@pytest.mark.parametrize(
+    "options, field",
+    [
+        (["-n", "0"], "-n"),
+        (["-n", "-3"], "-n"),
+        (["-n", "1000000"], "-n"),
+        (["-n", str(snapshots.MAX_PANELS + 1)], "-n"),
+        (["-n", "1e6"], "-n"),
+        (["--times", "nan"], "--times"),
+        (["--times", "0", "inf"], "--times"),
+        (["--times", *["0.1"] * (snapshots.MAX_PANELS + 1)], "--times"),
+        (["--times", "-1"], "--times"),
+        (["--title", "two\nlines"], "--title"),
+    ],
+)
 def test_snapshot_options_have_ranges(column_case, tmp_path, capsys, options, field):
     src, _ = column_case
-    refused(["snapshots", str(src), "-o", str(tmp_path / "a" / "b.png"), *options], field, tmp_path, capsys)
+    refused(
+        ["snapshots", str(src), "-o", str(tmp_path / "a" / "b.png"), *options],
+        field,
+        tmp_path,
+        capsys,
+    )
 
 
 def test_n_has_a_stated_upper_bound(capsys):
@@ -321,10 +366,19 @@ def test_output_in_an_unwritable_place_is_refused_first(column_case, tmp_path, c
     refused(["animate", str(src), "-o", "/proc/x.gif"], "-o", tmp_path, capsys)
     blocker = tmp_path / "file"
     blocker.write_text("")
-    refused(["snapshots", str(src), "-o", str(blocker / "x.png")], "is a file, not a folder", tmp_path, capsys)
+    refused(
+        ["snapshots", str(src), "-o", str(blocker / "x.png")],
+        "is a file, not a folder",
+        tmp_path,
+        capsys,
+    )
     # a bad option with an output in a folder that does not exist yet: no folder is made
-    refused(["snapshots", str(src), "-o", str(tmp_path / "d" / "e" / "x.png"), "--times", "99"], "--times",
-            tmp_path, capsys)
+    refused(
+        ["snapshots", str(src), "-o", str(tmp_path / "d" / "e" / "x.png"), "--times", "99"],
+        "--times",
+        tmp_path,
+        capsys,
+    )
 
 
 def test_dollar_titles_are_plain_text(column_case, tmp_path, capsys):
@@ -343,7 +397,10 @@ def test_dollar_titles_are_plain_text(column_case, tmp_path, capsys):
     assert "$" in snapshots.default_title(named)
     case = tmp_path / "named.nc"
     named.to_netcdf(case)
-    assert cli_main(["animate", str(case), "-o", str(tmp_path / "named.gif"), "--max-frames", "2"]) == 0
+    assert (
+        cli_main(["animate", str(case), "-o", str(tmp_path / "named.gif"), "--max-frames", "2"])
+        == 0
+    )
     capsys.readouterr()
 
 

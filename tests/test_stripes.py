@@ -9,8 +9,16 @@ import pytest
 from scipy import optimize, stats
 
 from stonedem.errors import InputError
-from stonedem.study.stripes import (BETA_MAX, BETA_MIN, bootstrap_band, missing_stripe_runs, probit_fit, stripes,
-                                    threshold_band, transition_zone)
+from stonedem.study.stripes import (
+    BETA_MAX,
+    BETA_MIN,
+    bootstrap_band,
+    missing_stripe_runs,
+    probit_fit,
+    stripes,
+    threshold_band,
+    transition_zone,
+)
 
 A50, BETA = 9.0, 0.08  # an Athens-like cell: a50 9 m/s2, collapse spread over about +-12 %
 
@@ -34,18 +42,21 @@ def _fisher_sd(levels, n, a50, beta):
     w = n * stats.norm.pdf(eta) ** 2 / (stats.norm.cdf(eta) * stats.norm.sf(eta))
     info = np.array([[w.sum(), (w * x).sum()], [(w * x).sum(), (w * x * x).sum()]])
     cov = np.linalg.inv(info)
-    g_mu = np.array([-1.0 / b1, b0 / b1 ** 2])
-    g_beta = np.array([0.0, -1.0 / b1 ** 2])
+    g_mu = np.array([-1.0 / b1, b0 / b1**2])
+    g_beta = np.array([0.0, -1.0 / b1**2])
     return math.sqrt(g_mu @ cov @ g_mu), math.sqrt(g_beta @ cov @ g_beta)
 
 
 def _scipy_log_likelihood(levels, n, k, start):
     """The same likelihood maximised by Nelder-Mead on (ln a50, ln beta): the fit's check."""
+
     def nll(q):
         z = (np.log(levels) - q[0]) / math.exp(q[1])
         return -np.sum(k * stats.norm.logcdf(z) + (n - k) * stats.norm.logsf(z))
-    res = optimize.minimize(nll, start, method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-12,
-                                                                       "maxiter": 5000})
+
+    res = optimize.minimize(
+        nll, start, method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 5000}
+    )
     return -res.fun
 
 
@@ -85,7 +96,9 @@ def _threshold_members(rng, k=20, n_levels=10):
     """K members each with a threshold of its own, T_j = a50 exp(beta z_j), run at every level:
     a member's runs are wholly correlated (it collapses at every level >= T_j), as the
     chaotic members of a real cell are more than independent draws per run."""
-    levels = np.array([float(f"{v:.4g}") for v in A50 * np.exp(BETA * np.linspace(-2.0, 2.0, n_levels))])
+    levels = np.array(
+        [float(f"{v:.4g}") for v in A50 * np.exp(BETA * np.linspace(-2.0, 2.0, n_levels))]
+    )
     thresholds = A50 * np.exp(BETA * rng.standard_normal(k))
     collapsed = (levels[None, :] >= thresholds[:, None]).astype(np.int8)
     return np.tile(levels, k), np.repeat(np.arange(k), n_levels), collapsed.ravel()
@@ -141,7 +154,9 @@ def test_one_outcome_gives_no_a50(flag, status):
     fit = probit_fit(*stripes(values, members, collapsed))
     assert fit["status"] == status and math.isnan(fit["a50"]) and math.isnan(fit["beta"])
     assert all(math.isnan(v) for v in bootstrap_band(values, members, collapsed, n_boot=50))
-    band = threshold_band(values, members, collapsed, [np.nan, np.nan] if flag == 0 else [1.0, 1.0], n_boot=50)
+    band = threshold_band(
+        values, members, collapsed, [np.nan, np.nan] if flag == 0 else [1.0, 1.0], n_boot=50
+    )
     assert band["status"] == status and math.isnan(band["a50_low"])
     assert probit_fit([], [], [])["status"] == "no runs"
 
@@ -169,7 +184,9 @@ def test_transition_zone():
     members = [0, 1, 2] * 5 + [1]
     collapsed = [0, 0, 0, 1, 0, 0, 1, 1, 1, 1, 0, 1, 1, 1, 1, 1]
     assert transition_zone(values, members, collapsed) == (9.1, 11.0)
-    a_first, a_all = transition_zone(values[:-4], members[:-4], collapsed[:-4])  # ends at 10.1 with a survivor
+    a_first, a_all = transition_zone(
+        values[:-4], members[:-4], collapsed[:-4]
+    )  # ends at 10.1 with a survivor
     assert a_first == 9.1 and math.isnan(a_all)
     a_first, a_all = transition_zone([1.0, 2.0], [0, 0], [0, 0])
     assert math.isnan(a_first) and math.isnan(a_all)
@@ -182,14 +199,34 @@ def test_missing_stripe_runs_on_a_hand_example():
     values = [v for j in runs for v in runs[j]]
     members = [j for j in runs for _ in runs[j]]
     thresholds, survived = [1.6, 2.4, np.nan], [1.4, 2.1, 3.24]
-    expected = [(0, 2.1), (0, 2.4), (0, 3.24), (1, 1.4), (1, 1.6), (2, 1.4), (2, 1.6), (2, 2.1), (2, 2.4)]
+    expected = [
+        (0, 2.1),
+        (0, 2.4),
+        (0, 3.24),
+        (1, 1.4),
+        (1, 1.6),
+        (2, 1.4),
+        (2, 1.6),
+        (2, 2.1),
+        (2, 2.4),
+    ]
     assert missing_stripe_runs(values, members, thresholds, survived) == expected
     # mappings, and explicit member ids, give the same
-    assert missing_stripe_runs(values, members, dict(enumerate(thresholds)), dict(enumerate(survived)),
-                               member_ids=[0, 1, 2]) == expected
+    assert (
+        missing_stripe_runs(
+            values,
+            members,
+            dict(enumerate(thresholds)),
+            dict(enumerate(survived)),
+            member_ids=[0, 1, 2],
+        )
+        == expected
+    )
     # a member that collapsed at its minimum (no survivor) starts the zone at its smallest run
     extra_values, extra_members = values + [0.5], members + [3]
-    missing = missing_stripe_runs(extra_values, extra_members, thresholds + [0.5], survived + [np.nan])
+    missing = missing_stripe_runs(
+        extra_values, extra_members, thresholds + [0.5], survived + [np.nan]
+    )
     assert (0, 0.5) in missing and (3, 1.0) in missing and (3, 3.24) in missing
     assert (0, 1.0) not in missing  # member 0 ran 1.0
     assert missing_stripe_runs([], [], [], []) == []
@@ -209,18 +246,24 @@ def test_threshold_band_summarises_members():
     assert math.isnan(band["threshold_median"]) and band["threshold_min"] == 8.4
 
 
-@pytest.mark.parametrize("call, field", [
-    (lambda: stripes([1.0, 2.0], [0], [0, 1]), "values"),
-    (lambda: stripes([1.0, -2.0], [0, 0], [0, 1]), "values"),
-    (lambda: stripes([1.0, 2.0], [0, 0], [0, 2]), "collapsed"),
-    (lambda: stripes([1.0, 2.0], [0.5, 0], [0, 1]), "members"),
-    (lambda: probit_fit([1.0, 2.0], [2, 2], [1]), "levels"),
-    (lambda: probit_fit([1.0, 2.0], [2, 2], [3, 1]), "n_collapses"),
-    (lambda: missing_stripe_runs([1.0, 2.0], [0, 1], [2.0], [1.0, 1.0]), "thresholds"),
-    (lambda: missing_stripe_runs([1.0, 2.0], [0, 1], [2.0, 2.0], [1.0, 1.0], member_ids=[0]), "members"),
-    (lambda: threshold_band([1.0, 2.0], [0, 1], [0, 1], [2.0]), "thresholds"),
-    (lambda: bootstrap_band([1.0, 2.0], [0, 1], [0, 1], n_boot=0), "n_boot"),
-])
+@pytest.mark.parametrize(
+    "call, field",
+    [
+        (lambda: stripes([1.0, 2.0], [0], [0, 1]), "values"),
+        (lambda: stripes([1.0, -2.0], [0, 0], [0, 1]), "values"),
+        (lambda: stripes([1.0, 2.0], [0, 0], [0, 2]), "collapsed"),
+        (lambda: stripes([1.0, 2.0], [0.5, 0], [0, 1]), "members"),
+        (lambda: probit_fit([1.0, 2.0], [2, 2], [1]), "levels"),
+        (lambda: probit_fit([1.0, 2.0], [2, 2], [3, 1]), "n_collapses"),
+        (lambda: missing_stripe_runs([1.0, 2.0], [0, 1], [2.0], [1.0, 1.0]), "thresholds"),
+        (
+            lambda: missing_stripe_runs([1.0, 2.0], [0, 1], [2.0, 2.0], [1.0, 1.0], member_ids=[0]),
+            "members",
+        ),
+        (lambda: threshold_band([1.0, 2.0], [0, 1], [0, 1], [2.0]), "thresholds"),
+        (lambda: bootstrap_band([1.0, 2.0], [0, 1], [0, 1], n_boot=0), "n_boot"),
+    ],
+)
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(InputError) as error:
         call()

@@ -4,9 +4,14 @@ import numpy as np
 import pytest
 
 from stonedem.engine import geometry
-from stonedem.errors import InputError
 from stonedem.engine.scene import scene_from_dict
-from stonedem.engine.structures import (build_structure, colonnade, standalone_column, two_tier_colonnade)
+from stonedem.engine.structures import (
+    build_structure,
+    colonnade,
+    standalone_column,
+    two_tier_colonnade,
+)
+from stonedem.errors import InputError
 
 
 def verts(body):
@@ -54,10 +59,12 @@ def test_colonnade_spacing_and_epistyle_types():
 
 
 def test_built_scenes_load_without_initial_overlap():
-    for spec in ({"kind": "column", "n_drums": 8},
-                 {"kind": "column", "n_drums": 3, "taper": 1.5, "capital": {"height": 0.6, "width": 1.4}},
-                 {"kind": "colonnade", "n_columns": 5, "n_drums": 3, "epistyle_type": "per_span"},
-                 {"kind": "two_tier_colonnade", "lower": {"n_drums": 2}, "upper": {"n_drums": 1}}):
+    for spec in (
+        {"kind": "column", "n_drums": 8},
+        {"kind": "column", "n_drums": 3, "taper": 1.5, "capital": {"height": 0.6, "width": 1.4}},
+        {"kind": "colonnade", "n_columns": 5, "n_drums": 3, "epistyle_type": "per_span"},
+        {"kind": "two_tier_colonnade", "lower": {"n_drums": 2}, "upper": {"n_drums": 1}},
+    ):
         scene = scene_from_dict({"structure": spec, "solver": {"duration": 0.1}})
         names = scene.body_names
         assert len(set(names)) == len(names)
@@ -72,14 +79,17 @@ def test_two_tier_upper_columns_stand_on_the_lower_epistyle():
     assert len(upper_drums) == 3
 
 
-@pytest.mark.parametrize("spec, field", [
-    ({"kind": "column", "n_drums": 0}, "structure.n_drums"),
-    ({"kind": "column", "n_drums": 2, "taper": -1}, "structure.taper"),
-    ({"kind": "colonnade", "clear_distance": 0}, "structure.clear_distance"),
-    ({"kind": "colonnade", "epistyle_type": "z"}, "structure.epistyle_type"),
-    ({"kind": "colonnade", "wings": 2}, "structure.wings"),
-    ({"kind": "tower"}, "structure.kind"),
-])
+@pytest.mark.parametrize(
+    "spec, field",
+    [
+        ({"kind": "column", "n_drums": 0}, "structure.n_drums"),
+        ({"kind": "column", "n_drums": 2, "taper": -1}, "structure.taper"),
+        ({"kind": "colonnade", "clear_distance": 0}, "structure.clear_distance"),
+        ({"kind": "colonnade", "epistyle_type": "z"}, "structure.epistyle_type"),
+        ({"kind": "colonnade", "wings": 2}, "structure.wings"),
+        ({"kind": "tower"}, "structure.kind"),
+    ],
+)
 def test_bad_parameters_name_the_field(spec, field):
     with pytest.raises(InputError, match=field.replace(".", r"\.")):
         build_structure(spec)

@@ -9,21 +9,44 @@ import xarray as xr
 from stonedem.engine.scene import GEOMETRY_SCALE, initial_pose, posed_vertices, scene_from_dict
 from stonedem.errors import InputError
 from stonedem.study.cube import member_summary
-from stonedem.study.grid import (case_scene, check_config, config_cases, ensemble_settings, load_config, run_case)
-from stonedem.study.members import RELATIVE_STEP, TILT, member_scene, perturbation_rule, scale_factor, stiffness_factor
+from stonedem.study.grid import (
+    case_scene,
+    check_config,
+    config_cases,
+    ensemble_settings,
+    load_config,
+    run_case,
+)
+from stonedem.study.members import (
+    RELATIVE_STEP,
+    TILT,
+    member_scene,
+    perturbation_rule,
+    scale_factor,
+    stiffness_factor,
+)
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
-COLUMN = {"structure": {"kind": "column", "n_drums": 3, "height": 6.0, "width": 1.0},
-          "excitation": {"kind": "harmonic", "pga": 3.0, "frequency": 1.0}, "solver": {"duration": 0.2}}
+COLUMN = {
+    "structure": {"kind": "column", "n_drums": 3, "height": 6.0, "width": 1.0},
+    "excitation": {"kind": "harmonic", "pga": 3.0, "frequency": 1.0},
+    "solver": {"duration": 0.2},
+}
 
 
 @pytest.mark.parametrize("j", [1, 2, 7, 19, 999])
 def test_a_stiffness_member_changes_k_n_by_exactly_j_ulps_and_nothing_else(j):
     scene = scene_from_dict(COLUMN)
     member = member_scene(scene, j)
-    assert member.contact.k_n == scene.contact.k_n * (1.0 - j * RELATIVE_STEP) == scene.contact.k_n * stiffness_factor(j)
+    assert (
+        member.contact.k_n
+        == scene.contact.k_n * (1.0 - j * RELATIVE_STEP)
+        == scene.contact.k_n * stiffness_factor(j)
+    )
     # relative change j 2^-52, to the rounding of the product (k_n = 1e11 is not a power of two)
-    assert (scene.contact.k_n - member.contact.k_n) / scene.contact.k_n == pytest.approx(j * 2.0**-52, rel=0.5 / j + 1e-9)
+    assert (scene.contact.k_n - member.contact.k_n) / scene.contact.k_n == pytest.approx(
+        j * 2.0**-52, rel=0.5 / j + 1e-9
+    )
     assert member.contact.k_n != scene.contact.k_n
     assert dataclasses.replace(member.contact, k_n=scene.contact.k_n) == scene.contact
     for field in dataclasses.fields(scene):
@@ -49,7 +72,9 @@ def test_a_tilt_member_leans_the_whole_structure_by_1e_6_rad_onto_a_base_corner(
     lowest = min(posed_vertices(b)[:, 1].min() for b in free)
     assert lowest >= base_top - 1e-15  # leans onto a corner, never into the base
     top = max(posed_vertices(b)[:, 1].max() for b in free)
-    assert top - 6.0 == pytest.approx(1.0 * TILT, rel=1e-5)  # the far top corner rises by width x angle
+    assert top - 6.0 == pytest.approx(
+        1.0 * TILT, rel=1e-5
+    )  # the far top corner rises by width x angle
 
 
 @pytest.mark.parametrize("j", [1, 3, 19])
@@ -61,13 +86,24 @@ def test_a_geometry_member_scales_every_vertex_by_j_ulps_and_changes_k_n_as_stif
     moved = 0
     for body, old in zip(member.bodies, scene.bodies):
         np.testing.assert_array_equal(body.vertices, old.vertices * scale_factor(j))
-        assert (body.mass, body.inertia, body.driven, body.role) == (old.mass, old.inertia, old.driven, old.role)
+        assert (body.mass, body.inertia, body.driven, body.role) == (
+            old.mass,
+            old.inertia,
+            old.driven,
+            old.role,
+        )
         moved += int(np.count_nonzero(body.vertices != old.vertices))
     assert moved > 0  # the last bits do move: a factor that rounded back to 1 would change nothing
-    np.testing.assert_allclose(np.vstack([b.vertices for b in member.bodies]),
-                               np.vstack([b.vertices for b in scene.bodies]), rtol=25 * RELATIVE_STEP, atol=0)
+    np.testing.assert_allclose(
+        np.vstack([b.vertices for b in member.bodies]),
+        np.vstack([b.vertices for b in scene.bodies]),
+        rtol=25 * RELATIVE_STEP,
+        atol=0,
+    )
     assert member_scene(scene, 0, "geometry") is scene
-    assert "every vertex" in perturbation_rule("geometry") and perturbation_rule("stiffness").endswith("2^-52")
+    assert "every vertex" in perturbation_rule("geometry") and perturbation_rule(
+        "stiffness"
+    ).endswith("2^-52")
 
 
 def test_scenes_built_under_a_geometry_scale_have_every_vertex_scaled_and_only_then():
@@ -79,10 +115,13 @@ def test_scenes_built_under_a_geometry_scale_have_every_vertex_scaled_and_only_t
         GEOMETRY_SCALE.reset(token)
     for body, old in zip(scaled.bodies, plain.bodies):
         np.testing.assert_array_equal(body.vertices, old.vertices * scale_factor(2))
-    assert [b.vertices.tobytes() for b in member_scene(plain, 2, "geometry").bodies] == \
-        [b.vertices.tobytes() for b in scaled.bodies]
+    assert [b.vertices.tobytes() for b in member_scene(plain, 2, "geometry").bodies] == [
+        b.vertices.tobytes() for b in scaled.bodies
+    ]
     again = scene_from_dict(COLUMN)  # the scale is gone once its block ends
-    assert all(np.array_equal(b.vertices, old.vertices) for b, old in zip(again.bodies, plain.bodies))
+    assert all(
+        np.array_equal(b.vertices, old.vertices) for b, old in zip(again.bodies, plain.bodies)
+    )
 
 
 def test_bad_members_are_refused():
@@ -119,19 +158,35 @@ def test_member_zero_of_an_ensemble_runs_bit_for_bit_as_the_case():
     config["studies"] = {"ramp_drums": config["studies"]["ramp_drums"]}
     config["studies"]["ramp_drums"]["grid"] = {"n_drums": [2]}
     config["studies"]["ramp_drums"]["solver"] = {"duration": 1.5}
-    case, member0, member1 = config_cases({**config, "ensemble": None})["ramp_drums"] + config_cases(config)["ramp_drums"]
-    plain, zero, one = run_case(case, "records"), run_case(member0, "records"), run_case(member1, "records")
+    case, member0, member1 = (
+        config_cases({**config, "ensemble": None})["ramp_drums"]
+        + config_cases(config)["ramp_drums"]
+    )
+    plain, zero, one = (
+        run_case(case, "records"),
+        run_case(member0, "records"),
+        run_case(member1, "records"),
+    )
     assert int(zero["member"]) == 0 and zero.attrs["ensemble_perturbation"] == "stiffness"
     for name in plain.data_vars:
         np.testing.assert_array_equal(zero[name].values, plain[name].values, err_msg=name)
-    assert case_scene(member1, "records").contact.k_n == case_scene(case, "records").contact.k_n * stiffness_factor(1)
+    assert case_scene(member1, "records").contact.k_n == case_scene(
+        case, "records"
+    ).contact.k_n * stiffness_factor(1)
     assert not np.array_equal(one["x"].values, plain["x"].values)  # the last bits do move
 
 
-@pytest.mark.parametrize("ensemble,field", [
-    ({"members": 0}, "ensemble.members"), ({"members": "3"}, "ensemble.members"),
-    ({"perturbation": "dt"}, "ensemble.perturbation"), ({"size": 3}, "ensemble"), ([3], "ensemble"),
-    ({"baseline_members": 1}, "ensemble.baseline_members")])
+@pytest.mark.parametrize(
+    "ensemble,field",
+    [
+        ({"members": 0}, "ensemble.members"),
+        ({"members": "3"}, "ensemble.members"),
+        ({"perturbation": "dt"}, "ensemble.perturbation"),
+        ({"size": 3}, "ensemble"),
+        ([3], "ensemble"),
+        ({"baseline_members": 1}, "ensemble.baseline_members"),
+    ],
+)
 def test_a_bad_ensemble_setting_is_refused_by_its_config_path(ensemble, field):
     config = _config()
     config["ensemble"] = ensemble
@@ -153,15 +208,22 @@ def test_member_is_not_a_swept_parameter():
 def test_ensemble_settings_default_to_one_member_and_a_baseline_of_twenty():
     assert ensemble_settings({}) == (1, "stiffness")
     assert ensemble_settings({}, baseline=True) == (20, "stiffness")
-    assert ensemble_settings({"ensemble": {"members": 4, "baseline_members": 8}}, baseline=True) == (8, "stiffness")
+    assert ensemble_settings(
+        {"ensemble": {"members": 4, "baseline_members": 8}}, baseline=True
+    ) == (8, "stiffness")
 
 
 def test_a_cube_of_members_reads_as_collapse_fractions_and_medians():
     collapsed = np.array([[1, 0, 1, 1], [0, 0, 0, 0], [1, 1, 1, 1]], dtype=float)
     rocking = np.array([[0.3, 0.1, 0.2, 0.4], [0.01, 0.02, 0.03, 0.04], [1.0, 1.0, 1.0, 1.0]])
-    cube = xr.Dataset({"collapsed": (("pga", "member"), collapsed), "max_rocking": (("pga", "member"), rocking),
-                       "rocking": (("pga", "member", "time"), np.arange(24.0).reshape(3, 4, 2))},
-                      coords={"pga": [1.0, 2.0, 3.0], "member": [0, 1, 2, 3], "time": [0.0, 0.1]})
+    cube = xr.Dataset(
+        {
+            "collapsed": (("pga", "member"), collapsed),
+            "max_rocking": (("pga", "member"), rocking),
+            "rocking": (("pga", "member", "time"), np.arange(24.0).reshape(3, 4, 2)),
+        },
+        coords={"pga": [1.0, 2.0, 3.0], "member": [0, 1, 2, 3], "time": [0.0, 0.1]},
+    )
     summary = member_summary(cube)
     np.testing.assert_array_equal(summary["collapsed"].values, [0.75, 0.0, 1.0])
     np.testing.assert_allclose(summary["max_rocking"].values, [0.25, 0.025, 1.0])
@@ -172,7 +234,9 @@ def test_a_cube_of_members_reads_as_collapse_fractions_and_medians():
 
 def test_an_ensemble_too_large_for_the_workflow_is_refused_by_its_config_path():
     config = load_config("config/config.yaml")
-    config["ensemble"] = {"members": 999}  # 327 cases x 999: 326 673 runs, a DAG that would never plan
+    config["ensemble"] = {
+        "members": 999
+    }  # 327 cases x 999: 326 673 runs, a DAG that would never plan
     with pytest.raises(InputError, match="MAX_MEMBER_CASES") as error:
         check_config(config, schema=SCHEMA)
     assert error.value.field == "ensemble.members"

@@ -8,8 +8,19 @@ from hypothesis import strategies as st
 
 from stonedem.errors import InputError
 from stonedem.study.grid import SEARCH_PARAMETERS
-from stonedem.study.search import (BRACKETED, COLLAPSE_AT_MINIMUM, FINEST_TOLERANCE, NO_COLLAPSE, ROUNDING, Run,
-                                   SearchSettings, next_value, search, search_together, summary)
+from stonedem.study.search import (
+    BRACKETED,
+    COLLAPSE_AT_MINIMUM,
+    FINEST_TOLERANCE,
+    NO_COLLAPSE,
+    ROUNDING,
+    Run,
+    SearchSettings,
+    next_value,
+    search,
+    search_together,
+    summary,
+)
 
 SETTINGS = SearchSettings()
 
@@ -43,7 +54,10 @@ def test_no_collapse_and_collapse_at_the_minimum_end_the_search():
     runs = search(lambda v, p: False, SETTINGS)
     assert summary(runs, SETTINGS)["status"] == NO_COLLAPSE and runs[-1].value == SETTINGS.maximum
     runs = search(lambda v, p: True, SETTINGS)
-    assert summary(runs, SETTINGS)["status"] == COLLAPSE_AT_MINIMUM and runs[-1].value == SETTINGS.minimum
+    assert (
+        summary(runs, SETTINGS)["status"] == COLLAPSE_AT_MINIMUM
+        and runs[-1].value == SETTINGS.minimum
+    )
 
 
 def test_a_resumed_search_continues_where_it_stopped():
@@ -54,12 +68,22 @@ def test_a_resumed_search_continues_where_it_stopped():
     assert next_value([Run(1.0, False, "hunt")] * SETTINGS.max_runs, SETTINGS) is None
 
 
-@pytest.mark.parametrize("spec, field", [
-    ("pga", "search"), ({"parameter": "n_drums"}, "search.parameter"), ({"start": -1}, "search.start"),
-    ({"factor": 1.01}, "search.factor"), ({"tolerance": 1.5}, "search.tolerance"), ({"fill": 2.5}, "search.fill"),
-    ({"max_runs": 3}, "search.max_runs"), ({"speed": 1}, "search.speed"), ({"start": 100.0}, "search.start"),
-    ({"tolerance": True}, "search.tolerance"), ({"tolerance": 1e-6, "max_runs": 1000}, "search.tolerance"),
-])
+@pytest.mark.parametrize(
+    "spec, field",
+    [
+        ("pga", "search"),
+        ({"parameter": "n_drums"}, "search.parameter"),
+        ({"start": -1}, "search.start"),
+        ({"factor": 1.01}, "search.factor"),
+        ({"tolerance": 1.5}, "search.tolerance"),
+        ({"fill": 2.5}, "search.fill"),
+        ({"max_runs": 3}, "search.max_runs"),
+        ({"speed": 1}, "search.speed"),
+        ({"start": 100.0}, "search.start"),
+        ({"tolerance": True}, "search.tolerance"),
+        ({"tolerance": 1e-6, "max_runs": 1000}, "search.tolerance"),
+    ],
+)
 def test_bad_settings_name_their_field(spec, field):
     with pytest.raises(InputError) as error:
         SearchSettings.from_config(spec, "search", SEARCH_PARAMETERS)
@@ -67,13 +91,23 @@ def test_bad_settings_name_their_field(spec, field):
 
 
 def test_a_tolerance_finer_than_the_rounding_is_refused_naming_the_finest():
-    with pytest.raises(InputError, match=r"search\.tolerance: 1e-06 is finer than the search resolves.*"
-                                         r"give tolerance >= 0\.001"):
-        SearchSettings.from_config({"tolerance": 1e-6, "max_runs": 1000}, "search", SEARCH_PARAMETERS)
-    assert SearchSettings.from_config({"tolerance": 0.001}, "search", SEARCH_PARAMETERS).tolerance == FINEST_TOLERANCE
+    with pytest.raises(
+        InputError,
+        match=r"search\.tolerance: 1e-06 is finer than the search resolves.*"
+        r"give tolerance >= 0\.001",
+    ):
+        SearchSettings.from_config(
+            {"tolerance": 1e-6, "max_runs": 1000}, "search", SEARCH_PARAMETERS
+        )
+    assert (
+        SearchSettings.from_config({"tolerance": 0.001}, "search", SEARCH_PARAMETERS).tolerance
+        == FINEST_TOLERANCE
+    )
 
 
-@pytest.mark.parametrize("threshold", [0.01001, 0.1234567, 1.001, 1.23456789, 9.9995, 10.001, 63.999])
+@pytest.mark.parametrize(
+    "threshold", [0.01001, 0.1234567, 1.001, 1.23456789, 9.9995, 10.001, 63.999]
+)
 def test_the_finest_tolerance_is_reached(threshold):
     settings = SearchSettings(tolerance=FINEST_TOLERANCE, minimum=0.01, max_runs=100)
     result = summary(search(lambda value, phase: value >= threshold, settings), settings)
@@ -110,11 +144,21 @@ def outcome_rule(threshold, windows):
             if low <= value <= low * ratio:
                 return collapse
         return value >= threshold
+
     return collapses
 
 
-@given(st.lists(st.tuples(st.floats(0.1, 80.0), windows), min_size=1, max_size=4), st.sampled_from([1, 3, 8, 32]),
-       st.sampled_from([SETTINGS, SearchSettings(start=4.0, fill=5), SearchSettings(factor=3.0, tolerance=0.05, fill=0)]))
+@given(
+    st.lists(st.tuples(st.floats(0.1, 80.0), windows), min_size=1, max_size=4),
+    st.sampled_from([1, 3, 8, 32]),
+    st.sampled_from(
+        [
+            SETTINGS,
+            SearchSettings(start=4.0, fill=5),
+            SearchSettings(factor=3.0, tolerance=0.05, fill=0),
+        ]
+    ),
+)
 def test_searches_together_make_exactly_the_runs_each_search_makes_alone(systems, width, settings):
     rules = [outcome_rule(threshold, w) for threshold, w in systems]
     asked = []
@@ -134,7 +178,9 @@ def test_searches_together_make_exactly_the_runs_each_search_makes_alone(systems
 
 
 def test_wide_rounds_need_fewer_rounds_than_runs():
-    runs, rounds = search_together(lambda requests: [value >= 12.3 for _, value, _ in requests], [SETTINGS], 16)
+    runs, rounds = search_together(
+        lambda requests: [value >= 12.3 for _, value, _ in requests], [SETTINGS], 16
+    )
     assert runs[0] == search(lambda value, phase: value >= 12.3, SETTINGS)
     assert rounds <= len(runs[0]) / 2  # 3 rounds for 14 runs (measured)
 

@@ -5,13 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.reference import analytic
-
-from stonedem.validation import cases as validation
-
-from stonedem.validation import plots as validation_plots
 from stonedem.engine.scene import scene_from_dict
 from stonedem.io.schema import missing_metadata
+from stonedem.reference import analytic
+from stonedem.validation import cases as validation
+from stonedem.validation import plots as validation_plots
 
 # Each validation runs once per module; the number tests and the figure tests share it.
 
@@ -65,9 +63,13 @@ def test_housner_free_rocking_period_three_geometries(housner):
     result = housner
     err = np.abs(result.dataset.relative_error.values)
     assert err.shape == (3, 9), "three geometries x theta0/alpha = 0.1 ... 0.9"
-    assert err.max() <= 0.01, f"thesis 5.1.1: period vs exact rigid block, worst {err.max():.4f}, tol 1 %"
+    assert err.max() <= 0.01, (
+        f"thesis 5.1.1: period vs exact rigid block, worst {err.max():.4f}, tol 1 %"
+    )
     # Eq. 5.1 is the slender approximation: closest for the slenderest block
-    slender = np.abs(result.dataset.period_eq_5_1 / result.dataset.period_exact - 1).max("ratio").values
+    slender = (
+        np.abs(result.dataset.period_eq_5_1 / result.dataset.period_exact - 1).max("ratio").values
+    )
     assert slender[2] < slender[0]
 
 
@@ -107,41 +109,62 @@ def test_newmark_histories_for_fig_5_8(newmark):
 
 def test_sliding_under_northridge_against_exact_rigid_plastic_block(sliding):
     result = sliding
-    assert result.summary["max_error_over_peak"] <= 0.02, \
+    assert result.summary["max_error_over_peak"] <= 0.02, (
         f"thesis 5.1.4: history error / peak {result.summary['max_error_over_peak']:.4f}, tol 2 %"
+    )
     assert abs(result.summary["peak_error"]) <= 0.02
     # the Bouc-Wen form (Eq. 5.6-5.7) is a smoothed rigid-plastic block: same peak to 5 %
     ds = result.dataset
-    assert float(np.abs(ds.sliding_bouc_wen).max()) == pytest.approx(float(np.abs(ds.sliding_exact).max()), rel=0.05)
+    assert float(np.abs(ds.sliding_bouc_wen).max()) == pytest.approx(
+        float(np.abs(ds.sliding_exact).max()), rel=0.05
+    )
 
 
 def test_rocking_of_monolithic_column_under_northridge(rocking):
     result = rocking
     err = result.summary["peak_error"]
-    assert abs(err) <= 0.05, f"thesis 5.1.5: peak rotation vs rigid rocking equation {err:+.4f}, tol 5 %"
-    assert result.summary["peak_rigid"] < result.dataset.attrs["alpha"], "a case that does not overturn"
+    assert abs(err) <= 0.05, (
+        f"thesis 5.1.5: peak rotation vs rigid rocking equation {err:+.4f}, tol 5 %"
+    )
+    assert result.summary["peak_rigid"] < result.dataset.attrs["alpha"], (
+        "a case that does not overturn"
+    )
     band = (result.summary["rigid_peak_band_low"], result.summary["rigid_peak_band_high"])
-    assert band[0] < -0.3 and band[1] > 0.3, f"the dataset carries the rigid peak's band over scale +-1 %: {band}"
+    assert band[0] < -0.3 and band[1] > 0.3, (
+        f"the dataset carries the rigid peak's band over scale +-1 %: {band}"
+    )
 
 
 def test_a_single_rocking_peak_near_scale_0_6_is_ill_posed():
     """The rigid block's own peak under MUL009 moves by -36 / +34 % when the record scale
     moves by 1 % around 0.6, by -1.3 / +0.8 % around 1.0 (README, Validation): a 5 % check
     of one peak at 0.6 asks more of an engine than the reference itself can give."""
-    spec = validation.block_scene(1.0, 6.0, excitation={"kind": "record", "file": str(validation.RECORD_NORTHRIDGE),
-                                                        "scale": 1.0}, duration=1.0)
+    spec = validation.block_scene(
+        1.0,
+        6.0,
+        excitation={"kind": "record", "file": str(validation.RECORD_NORTHRIDGE), "scale": 1.0},
+        duration=1.0,
+    )
     t, a = validation._engine_record(scene_from_dict(spec).horizontal)
     r = analytic.housner_restitution(1.0, 6.0)
 
     def band(scale):
-        peak = np.nanmax(np.abs(analytic.rigid_rocking_response_compiled(t, scale * a, 1.0, 6.0, r).theta))
+        peak = np.nanmax(
+            np.abs(analytic.rigid_rocking_response_compiled(t, scale * a, 1.0, 6.0, r).theta)
+        )
         low, high = validation.rigid_peak_band(t, scale * a, 1.0, 6.0, r)
         return low / peak - 1.0, high / peak - 1.0
 
     low, high = band(0.6)
-    assert low == pytest.approx(-0.357, abs=0.01) and high == pytest.approx(0.340, abs=0.01), (low, high)
+    assert low == pytest.approx(-0.357, abs=0.01) and high == pytest.approx(0.340, abs=0.01), (
+        low,
+        high,
+    )
     low, high = band(1.0)
-    assert low == pytest.approx(-0.013, abs=0.003) and high == pytest.approx(0.008, abs=0.003), (low, high)
+    assert low == pytest.approx(-0.013, abs=0.003) and high == pytest.approx(0.008, abs=0.003), (
+        low,
+        high,
+    )
 
 
 def test_two_blocks_rotation_histories_and_energy_balance(two):
@@ -149,22 +172,27 @@ def test_two_blocks_rotation_histories_and_energy_balance(two):
     ds = result.dataset
     assert ds.theta_lower.shape[0] == 2 and list(ds.theta0.values) == [0.10, 0.15]
     worst = float(ds.max_abs_balance_error.max())
-    assert worst <= 0.01, f"thesis 5.1.6: energy balance error {worst:.4f} of the initial energy, tol 1 %"
+    assert worst <= 0.01, (
+        f"thesis 5.1.6: energy balance error {worst:.4f} of the initial energy, tol 1 %"
+    )
     # both blocks rock: released at theta0, they pass through upright
     assert (ds.theta_lower.min("time") < 0).all() and (ds.theta_upper.min("time") < 0).all()
 
 
 def test_energy_conserved_without_damping_or_slip(energy):
     result = energy
-    assert result.summary["final_drift"] <= 0.005, \
+    assert result.summary["final_drift"] <= 0.005, (
         f"10 s of rocking, c_n = 0: drift {result.summary['final_drift']:.5f} of the rocking energy, tol 0.5 %"
+    )
 
 
 def test_rigid_plastic_reference_matches_eq_5_5():
     t = np.linspace(0.0, 10.0, 100001)
     a = np.where(t < 1.5, 0.8 * 9.81, 0.0)
     u = analytic.rigid_plastic_sliding(t, a, 0.3).u
-    assert np.abs(u).max() == pytest.approx(analytic.newmark_pulse_max_sliding(0.8 * 9.81, 1.5, 0.3), rel=1e-3)
+    assert np.abs(u).max() == pytest.approx(
+        analytic.newmark_pulse_max_sliding(0.8 * 9.81, 1.5, 0.3), rel=1e-3
+    )
 
 
 def test_rigid_rocking_reference_free_period():
@@ -184,8 +212,12 @@ def test_pena_block_free_rocking_against_rigid_rocking_equation(pena):
     peak_err = np.abs(ds.peak_relative_error.values)
     half_err = np.abs(ds.half_cycle_relative_error.values)
     assert len(peak_err) >= 10 and len(half_err) >= 9, "ten half cycles above theta0 / 5"
-    assert peak_err.max() <= 0.02, f"peaks vs rigid rocking equation: worst {peak_err.max():.4f}, tol 2 %"
-    assert half_err.max() <= 0.02, f"half cycles vs exact period at the peak: worst {half_err.max():.4f}, tol 2 %"
+    assert peak_err.max() <= 0.02, (
+        f"peaks vs rigid rocking equation: worst {peak_err.max():.4f}, tol 2 %"
+    )
+    assert half_err.max() <= 0.02, (
+        f"half cycles vs exact period at the peak: worst {half_err.max():.4f}, tol 2 %"
+    )
     assert pena.passed and pena.error == pytest.approx(max(peak_err.max(), half_err.max()))
     # the engine at the thesis c_n loses energy at each impact, less than Housner's no-bounce bound
     assert 0.85 < ds.attrs["restitution_r"] < 0.95
@@ -219,15 +251,25 @@ def test_every_thesis_figure_is_drawn(results, tmp_path):
     assert set(validation_plots.CAPTIONS) == set(validation_plots.THESIS_FIGURES)
     for name, (which, _) in validation_plots.THESIS_FIGURES.items():
         assert name.startswith("thesis_fig_5_") and which in validation.VALIDATIONS
-        path = validation_plots.draw_thesis_figure(name, results[which].dataset, tmp_path / f"{name}.png")
+        path = validation_plots.draw_thesis_figure(
+            name, results[which].dataset, tmp_path / f"{name}.png"
+        )
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000, name
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(f"{n}.png" for n in validation_plots.THESIS_FIGURES)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        f"{n}.png" for n in validation_plots.THESIS_FIGURES
+    )
 
 
 def test_run_all_writes_dataset_figures_and_summary(tmp_path):
     assert validation.run_all(tmp_path, names=["two_blocks"]) == []
     written = sorted(p.name for p in tmp_path.iterdir())
-    assert written == ["summary.csv", "thesis_fig_5_15.png", "thesis_fig_5_17.png", "two_blocks.nc", "two_blocks.png"]
+    assert written == [
+        "summary.csv",
+        "thesis_fig_5_15.png",
+        "thesis_fig_5_17.png",
+        "two_blocks.nc",
+        "two_blocks.png",
+    ]
     table = validation.summary_table([tmp_path / "two_blocks.nc"]).splitlines()
     assert table[0] == "name,error,tolerance,passed"
     name, error, tol, passed = table[1].split(",")

@@ -5,12 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.reference import analytic
-
-from stonedem.validation import cases as validation
-
-from stonedem.validation import plots as validation_plots
 from stonedem.io.schema import missing_metadata
+from stonedem.reference import analytic
+from stonedem.validation import cases as validation
+from stonedem.validation import plots as validation_plots
 
 BLOCK = (0.5, 2.0)
 MAP_RATIOS = (2.0, 5.0)
@@ -20,9 +18,13 @@ MAP_AMPLITUDES = (1.1, 1.6, 4.0, 20.0)  # each cell away from a mode boundary of
 @pytest.fixture(scope="module")
 def point():
     """The point law (Housner's impact), 0.5 x 2 m, omega_p / p = 2 and 3, and a 2 x 4 map."""
-    return validation.one_sine_overturning(omega_ratios=(2.0, 3.0), blocks=(BLOCK,),
-                                           contact=validation.POINT_CONTACT, map_ratios=MAP_RATIOS,
-                                           map_amplitudes=MAP_AMPLITUDES)
+    return validation.one_sine_overturning(
+        omega_ratios=(2.0, 3.0),
+        blocks=(BLOCK,),
+        contact=validation.POINT_CONTACT,
+        map_ratios=MAP_RATIOS,
+        map_amplitudes=MAP_AMPLITUDES,
+    )
 
 
 def test_point_law_threshold_within_1_percent_of_the_exact_rigid_block(point):
@@ -58,8 +60,9 @@ def test_map_codes_are_the_analytic_modes(point):
         assert ds[name].attrs["flag_meanings"].split() == list(analytic.ONE_SINE_MODES)
         assert list(ds[name].attrs["flag_values"]) == list(range(len(analytic.ONE_SINE_MODES)))
         assert set(np.unique(ds[name])) <= set(range(len(analytic.ONE_SINE_MODES)))
-    spectrum = analytic.rigid_one_sine_spectrum(MAP_RATIOS, *BLOCK, analytic.housner_restitution(*BLOCK),
-                                                MAP_AMPLITUDES)
+    spectrum = analytic.rigid_one_sine_spectrum(
+        MAP_RATIOS, *BLOCK, analytic.housner_restitution(*BLOCK), MAP_AMPLITUDES
+    )
     np.testing.assert_array_equal(ds.map_exact, spectrum.mode)
     # every mode occurs, and away from the boundaries the engine agrees cell by cell
     assert set(np.unique(ds.map_exact)) == {0, 1, 2}
@@ -102,8 +105,13 @@ def test_hunt_and_bisection_find_a_known_step():
 
     for guess in (1.0, 1.237, 1.5, 3.0):  # from below, at, above and far above
         amplitude, mode, _ = validation.engine_min_overturning(overturns, guess, rel_tol=1e-4)
-        assert amplitude == pytest.approx(1.237, rel=1e-4) and amplitude >= 1.237 and mode == "impact"
-    assert validation.engine_min_overturning(lambda a: (False, "none"), 1.2, cap=3.0)[:2] == (math.inf, "none")
+        assert (
+            amplitude == pytest.approx(1.237, rel=1e-4) and amplitude >= 1.237 and mode == "impact"
+        )
+    assert validation.engine_min_overturning(lambda a: (False, "none"), 1.2, cap=3.0)[:2] == (
+        math.inf,
+        "none",
+    )
 
 
 def _overturns_at(factor, block, ratio, contact):
@@ -112,8 +120,13 @@ def _overturns_at(factor, block, ratio, contact):
     exact = analytic.rigid_one_sine_min_overturning(ratio, *block, r)
     rigid = analytic.rigid_one_sine_response(
         factor * exact.amplitude * analytic.G * block[0] / block[1],
-        ratio * analytic.rectangle_rocking_properties(*block).p, *block, r).overturned
-    engine, _ = validation.one_sine_engine_outcome(factor * exact.amplitude, ratio, *block, contact=contact)
+        ratio * analytic.rectangle_rocking_properties(*block).p,
+        *block,
+        r,
+    ).overturned
+    engine, _ = validation.one_sine_engine_outcome(
+        factor * exact.amplitude, ratio, *block, contact=contact
+    )
     return rigid, engine
 
 
@@ -128,19 +141,27 @@ def test_default_point_law_at_omega_ratio_8_is_within_1_percent_of_the_exact_thr
     assert _overturns_at(0.99, block, 8.0, validation.POINT_CONTACT) == (False, False)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the study's k_n = 1e10 N/m2, 0.5 x 2 m at omega_p / p = 8: measured +50.3 %: engine 15.42 "
-    "(overturning without impact), exact 10.26 (after an impact): under a pulse of ~2.5 g the "
-    "compliant pivot leaves the block about 4 % of alpha short of the crest after its impact, so "
-    "it misses the narrow band of overturning after an impact (exact 10.26 - 11.9)"))
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "the study's k_n = 1e10 N/m2, 0.5 x 2 m at omega_p / p = 8: measured +50.3 %: engine 15.42 "
+        "(overturning without impact), exact 10.26 (after an impact): under a pulse of ~2.5 g the "
+        "compliant pivot leaves the block about 4 % of alpha short of the crest after its impact, so "
+        "it misses the narrow band of overturning after an impact (exact 10.26 - 11.9)"
+    ),
+)
 def test_study_stiffness_at_omega_ratio_8_overturns_within_1_percent_above_the_exact_threshold():
     assert _overturns_at(1.01, BLOCK, 8.0, {**validation.POINT_CONTACT, "k_n": 1.0e10})[1]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "area law (k_n = 1e10 N/m2, c_n calibrated to Housner's r), 0.5 x 2 m at omega_p / p = 2: "
-    "measured -6.9 % (engine 1.139, exact 1.223 with the engine's r): the overlap's Winkler "
-    "resultant sits inside the corner, so the block uplifts and overturns early"))
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "area law (k_n = 1e10 N/m2, c_n calibrated to Housner's r), 0.5 x 2 m at omega_p / p = 2: "
+        "measured -6.9 % (engine 1.139, exact 1.223 with the engine's r): the overlap's Winkler "
+        "resultant sits inside the corner, so the block uplifts and overturns early"
+    ),
+)
 def test_area_law_threshold_within_1_percent():
     result = validation.one_sine_overturning(omega_ratios=(2.0,), blocks=(BLOCK,), map_block=None)
     assert abs(float(result.dataset.relative_error[0, 0])) <= 0.01

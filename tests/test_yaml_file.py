@@ -14,7 +14,10 @@ from stonedem.io.yaml_file import read_yaml_mapping
 
 FIX = "give keys"
 HOSTILE = {
-    "latin1.yaml": ("bodies: [caf\xe9]\n".encode("latin-1"), r"not UTF-8 text \(byte 0xe9 at offset 12"),
+    "latin1.yaml": (
+        "bodies: [caf\xe9]\n".encode("latin-1"),
+        r"not UTF-8 text \(byte 0xe9 at offset 12",
+    ),
     "utf16.yaml": ("bodies: []\n".encode("utf-16"), "is UTF-16 text"),
     "binary.yaml": (b"abc\x00\x01\x02", "binary file"),
     "hdf5.nc": (b"\x89HDF\r\n\x1a\n" + b"\x00" * 64, "is a NetCDF-4/HDF5 file, not a scene"),
@@ -24,7 +27,10 @@ HOSTILE = {
     "list.yaml": (b"- 1\n- 2\n", r"is not a YAML mapping \(it holds a list\)"),
     "empty.yaml": (b"# nothing\n", "is empty"),
     "bad.yaml": (b"bodies: [\n  {name: a\n", r"not valid YAML: .*line 3"),
-    "laughs.yaml": (None, r"aliases expand to more than 1000000 values and characters \(line 9, column 15\); write "),
+    "laughs.yaml": (
+        None,
+        r"aliases expand to more than 1000000 values and characters \(line 9, column 15\); write ",
+    ),
     "loop.yaml": (b"bodies: &b [1, *b]\n", r"the alias \*b is inside its own anchor \(a loop\)"),
 }
 
@@ -48,7 +54,9 @@ def test_a_hostile_file_is_one_line_naming_it(tmp_path, name):
     with pytest.raises(InputError, match=message) as err:
         read_yaml_mapping(path, "a scene file", 10_000, FIX)
     assert err.value.field == str(path) and "\n" not in str(err.value)
-    assert time.perf_counter() - start < 2.0  # the depth is refused from the tokens, not by recursion
+    assert (
+        time.perf_counter() - start < 2.0
+    )  # the depth is refused from the tokens, not by recursion
 
 
 def test_size_is_checked_before_reading(tmp_path):
@@ -88,10 +96,17 @@ def test_run_refuses_a_hostile_scene_in_one_line(tmp_path, name):
     scene = tmp_path / name
     scene.write_bytes(data)
     out = tmp_path / "out" / "x.nc"
-    proc = subprocess.run([sys.executable, "-m", "stonedem", "run", str(scene), "-o", str(out)],
-                          capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "stonedem", "run", str(scene), "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
     assert proc.returncode == 2
-    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("error: ") and "Traceback" not in proc.stderr
+    assert (
+        proc.stderr.count("\n") == 1
+        and proc.stderr.startswith("error: ")
+        and "Traceback" not in proc.stderr
+    )
     assert not (tmp_path / "out").exists()
 
 

@@ -12,7 +12,9 @@ RULES = Path(__file__).resolve().parents[1] / "workflow" / "rules"
 
 def catalogue_paths() -> dict:
     """{kind: path pattern} of the catalogue's inputs, as common.smk maps them."""
-    block = re.search(r"^CATALOGUE_PATHS = (\{.*?^\})", (RULES / "common.smk").read_text(), re.M | re.S)
+    block = re.search(
+        r"^CATALOGUE_PATHS = (\{.*?^\})", (RULES / "common.smk").read_text(), re.M | re.S
+    )
     return ast.literal_eval(block.group(1))
 
 
@@ -25,7 +27,9 @@ def rule_outputs() -> list[re.Pattern]:
         text = smk.read_text()
         for _, section in re.findall(r"^( +)output:\n((?:\1 +.*\n|\s*\n)+)", text, re.M):
             patterns += re.findall(r'"((?:results|records)/[^"]*)"', section)
-        path_functions = r'^def \w+_path\(.*\):\n(?:    .*\n)*?    return f"((?:results|records)/[^"]*)"'
+        path_functions = (
+            r'^def \w+_path\(.*\):\n(?:    .*\n)*?    return f"((?:results|records)/[^"]*)"'
+        )
         patterns += re.findall(path_functions, text, re.M)
     return [re.compile("[^/]+".join(map(re.escape, re.split(r"\{[^}]*\}", p)))) for p in patterns]
 

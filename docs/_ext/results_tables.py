@@ -176,12 +176,15 @@ class ResultsTable(SphinxDirective):
         absent = []
         try:
             if path.suffix == ".nc":
-                header, rows, absent = read_netcdf(path, _split(self.options.get("variables")),
-                                                   _split(self.options.get("attrs")))
+                header, rows, absent = read_netcdf(
+                    path, _split(self.options.get("variables")), _split(self.options.get("attrs"))
+                )
             else:
                 header, rows = read_csv(path)
         except Exception as exc:  # a corrupt or half-written file: say so, do not crash the build
-            logger.warning(f"results-table: cannot read {relpath}: {exc}", location=self.get_location())
+            logger.warning(
+                f"results-table: cannot read {relpath}: {exc}", location=self.get_location()
+            )
             return []
         columns, titles = [], []
         for spec in _split(self.options.get("columns")) or header:
@@ -194,15 +197,19 @@ class ResultsTable(SphinxDirective):
             where[key.strip()] = value.strip()
         absent += [c for c in columns + list(where) if c not in header]
         if absent:
-            logger.warning(f"results-table: {relpath} has no {', '.join(sorted(set(absent)))} "
-                           f"(it has: {', '.join(header)})", location=self.get_location())
+            logger.warning(
+                f"results-table: {relpath} has no {', '.join(sorted(set(absent)))} "
+                f"(it has: {', '.join(header)})",
+                location=self.get_location(),
+            )
             return []
         kept = [row for row in rows if _matches(row, where)]
         if not kept:  # e.g. a quick run that made fewer rows than the page selects
             para = nodes.paragraph()
             para += nodes.literal(text=relpath)
-            para += nodes.Text(" has no rows" + (f" where {self.options['where']}" if where else "")
-                               + " yet: run ")
+            para += nodes.Text(
+                " has no rows" + (f" where {self.options['where']}" if where else "") + " yet: run "
+            )
             para += nodes.literal(text=self.options.get("make", DEFAULT_MAKE))
             para += nodes.Text(" to make them.")
             return [nodes.note("", para)]
@@ -232,8 +239,10 @@ class SchemaTable(SphinxDirective):
 
         table = getattr(schema, self.arguments[0], None)
         if not isinstance(table, dict):
-            logger.warning(f"schema-table: stonedem.io.schema has no table {self.arguments[0]}",
-                           location=self.get_location())
+            logger.warning(
+                f"schema-table: stonedem.io.schema has no table {self.arguments[0]}",
+                location=self.get_location(),
+            )
             return []
         rows = [[name, units, long_name] for name, (units, long_name) in table.items()]
         return [build_table(["variable", "units", "long name"], rows, None)]

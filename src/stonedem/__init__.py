@@ -14,11 +14,32 @@ so ``import stonedem`` and ``import stonedem.wall`` do not load the 2D engine::
 from stonedem.version import __version__
 
 # the names of stonedem.api (its __all__), resolved by __getattr__ on first use
-_API = ("InputError", "load_scene", "open_cube", "open_fragility", "open_ida", "open_search",
-        "run_scene", "run_scenes", "run_wall", "write_dataset")
+_API = (
+    "InputError",
+    "load_scene",
+    "open_cube",
+    "open_fragility",
+    "open_ida",
+    "open_search",
+    "run_scene",
+    "run_scenes",
+    "run_wall",
+    "write_dataset",
+)
 
-__all__ = ["InputError", "__version__", "load_scene", "open_cube", "open_fragility", "open_ida",
-           "open_search", "run_scene", "run_scenes", "run_wall", "write_dataset"]
+__all__ = [
+    "InputError",
+    "__version__",
+    "load_scene",
+    "open_cube",
+    "open_fragility",
+    "open_ida",
+    "open_search",
+    "run_scene",
+    "run_scenes",
+    "run_wall",
+    "write_dataset",
+]
 
 
 def __getattr__(name: str):

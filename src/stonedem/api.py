@@ -31,25 +31,58 @@ if TYPE_CHECKING:
 
     from stonedem.engine.scene import Scene
 
-__all__ = ["InputError", "load_scene", "open_cube", "open_fragility", "open_ida", "open_search",
-           "run_scene", "run_scenes", "run_wall", "write_dataset"]
+__all__ = [
+    "InputError",
+    "load_scene",
+    "open_cube",
+    "open_fragility",
+    "open_ida",
+    "open_search",
+    "run_scene",
+    "run_scenes",
+    "run_wall",
+    "write_dataset",
+]
 
 # The kinds of NetCDF file the project writes, told apart by the start of attrs["title"]
 # (each writer sets it): what the file is, who writes it, and the function that opens it.
 FILE_KINDS = {
-    "cube": ("stonedem study cube", "a study cube",
-             "stonedem.study.grid.combine_cases (snakemake: a study's cube)", "open_cube"),
-    "search": ("stonedem threshold search", "a threshold search",
-               "stonedem.study.runner.run_search (snakemake: a search study's system)",
-               "open_search"),
-    "ida": ("stonedem IDA cube", "an IDA cube",
-            "stonedem.fragility.ida.ida_cube (snakemake fragility)", "open_ida"),
-    "fragility": ("stonedem fragility curves", "a fragility fits file",
-                  "stonedem.fragility.fit.fragility_dataset (snakemake fragility)",
-                  "open_fragility"),
-    "scene": ("stonedem rigid-block simulation", "a rigid-block simulation",
-              "stonedem run or stonedem.run_scene", None),
-    "wall": ("stonedem 3D rigid-block wall pushover", "a wall pushover", "stonedem wall or stonedem.run_wall", None),
+    "cube": (
+        "stonedem study cube",
+        "a study cube",
+        "stonedem.study.grid.combine_cases (snakemake: a study's cube)",
+        "open_cube",
+    ),
+    "search": (
+        "stonedem threshold search",
+        "a threshold search",
+        "stonedem.study.runner.run_search (snakemake: a search study's system)",
+        "open_search",
+    ),
+    "ida": (
+        "stonedem IDA cube",
+        "an IDA cube",
+        "stonedem.fragility.ida.ida_cube (snakemake fragility)",
+        "open_ida",
+    ),
+    "fragility": (
+        "stonedem fragility curves",
+        "a fragility fits file",
+        "stonedem.fragility.fit.fragility_dataset (snakemake fragility)",
+        "open_fragility",
+    ),
+    "scene": (
+        "stonedem rigid-block simulation",
+        "a rigid-block simulation",
+        "stonedem run or stonedem.run_scene",
+        None,
+    ),
+    "wall": (
+        "stonedem 3D rigid-block wall pushover",
+        "a wall pushover",
+        "stonedem wall or stonedem.run_wall",
+        None,
+    ),
     "validation": ("stonedem validation", "a validation dataset", "stonedem validate", None),
 }
 
@@ -71,8 +104,10 @@ class FrozenSpec(dict):
     run. A copy (``copy.deepcopy``, ``dict(...)``) is a plain dict to change and load again."""
 
     def _refuse(self, *args, **kwargs):
-        raise TypeError("scene.spec is read-only: it records what runs; change a copy "
-                        "(copy.deepcopy(scene.spec)) and load it with stonedem.load_scene")
+        raise TypeError(
+            "scene.spec is read-only: it records what runs; change a copy "
+            "(copy.deepcopy(scene.spec)) and load it with stonedem.load_scene"
+        )
 
     __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _refuse
 
@@ -107,6 +142,7 @@ def _freeze_spec(scene):
 
 
 # --- the 2D engine --------------------------------------------------------------------------
+
 
 def load_scene(source, base_dir=None, overrides=None) -> Scene:
     """A validated scene from a YAML file or a mapping.
@@ -152,20 +188,30 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
     from stonedem.engine.scene import load_scene as load_scene_file
 
     if overrides is not None and not isinstance(overrides, (str, Mapping, list, tuple)):
-        raise TypeError(f"overrides: expected a list of key=value strings or a mapping, got {type(overrides).__name__}")
+        raise TypeError(
+            f"overrides: expected a list of key=value strings or a mapping, got {type(overrides).__name__}"
+        )
     if base_dir is not None and not _is_path(base_dir):
-        raise TypeError(f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}")
+        raise TypeError(
+            f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}"
+        )
     if base_dir is not None and not Path(base_dir).is_dir():
-        raise InputError("base_dir", f"{one_line(str(base_dir), 200)} is not a folder",
-                         "give the folder the scene's relative file names are in")
+        raise InputError(
+            "base_dir",
+            f"{one_line(str(base_dir), 200)} is not a folder",
+            "give the folder the scene's relative file names are in",
+        )
     if _is_path(source):
         return _freeze_spec(load_scene_file(source, overrides, base_dir))
     if isinstance(source, Mapping):
         spec = _thawed(source)  # a copy, tuples as lists
         apply_overrides(spec, overrides)
         return _freeze_spec(scene_from_dict(spec, base_dir="." if base_dir is None else base_dir))
-    raise InputError("scene", f"expected a scene file path or a mapping, got {type(source).__name__}",
-                     "give the path of a scene YAML file or a dict of its keys")
+    raise InputError(
+        "scene",
+        f"expected a scene file path or a mapping, got {type(source).__name__}",
+        "give the path of a scene YAML file or a dict of its keys",
+    )
 
 
 def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
@@ -215,7 +261,9 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
     return ds
 
 
-def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = None) -> list[xr.Dataset]:
+def run_scenes(
+    scenes_or_sources, device: str = "cpu", threads: int | None = None
+) -> list[xr.Dataset]:
     """Simulate many scenes at once: what :func:`run_scene` gives each, their loops run side by side.
 
     Parameters
@@ -254,23 +302,33 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
         given = [given]  # one scene, not the characters of its path or the keys of its mapping
     else:
         try:  # a 0-d array claims to be iterable and is not
-            given = list(given) if isinstance(given, Iterable) and not isinstance(given, bytes) else None
+            given = (
+                list(given)
+                if isinstance(given, Iterable) and not isinstance(given, bytes)
+                else None
+            )
         except TypeError:
             given = None
         if given is None:
-            raise TypeError(f"scenes: expected a scene, a scene file path, a mapping or a list of them, "
-                            f"got {type(scenes_or_sources).__name__}")
+            raise TypeError(
+                f"scenes: expected a scene, a scene file path, a mapping or a list of them, "
+                f"got {type(scenes_or_sources).__name__}"
+            )
     scenes = []
     for i, s in enumerate(given):
         if not (isinstance(s, Scene) or _is_path(s) or isinstance(s, Mapping)):
-            raise TypeError(f"scenes[{i}]: expected a scene, a scene file path or a mapping, got {type(s).__name__}")
+            raise TypeError(
+                f"scenes[{i}]: expected a scene, a scene file path or a mapping, got {type(s).__name__}"
+            )
         scenes.append(s if isinstance(s, Scene) else load_scene(s))
     if not isinstance(device, str):
         raise TypeError(f"device: expected 'cpu' or 'gpu', got {type(device).__name__}")
     if threads is not None:
         threads = plain_number(threads)
         if isinstance(threads, bool) or not isinstance(threads, int):
-            raise TypeError(f"threads: expected a whole number or None, got {type(threads).__name__}")
+            raise TypeError(
+                f"threads: expected a whole number or None, got {type(threads).__name__}"
+            )
     datasets = simulate_scenes(scenes, device=device, threads=threads)
     for source, ds in zip(given, datasets):
         if _is_path(source):
@@ -279,6 +337,7 @@ def run_scenes(scenes_or_sources, device: str = "cpu", threads: int | None = Non
 
 
 # --- the 3D wall solver ---------------------------------------------------------------------
+
 
 def run_wall(case, limit_analysis: bool = False, progress: bool = False) -> xr.Dataset:
     """The pushover of a 3D rigid-block masonry wall.
@@ -326,18 +385,24 @@ def run_wall(case, limit_analysis: bool = False, progress: bool = False) -> xr.D
     elif isinstance(case, Mapping):
         checked = check_case(_thawed(case))
     else:
-        raise InputError("case", f"expected a wall case file path or a mapping, got {type(case).__name__}",
-                         "give the path of a wall case YAML file (config/walls/) or a dict of its keys")
+        raise InputError(
+            "case",
+            f"expected a wall case file path or a mapping, got {type(case).__name__}",
+            "give the path of a wall case YAML file (config/walls/) or a dict of its keys",
+        )
     return pushover(checked, progress=progress, limit_analysis=limit_analysis)
 
 
 # --- the study's files ----------------------------------------------------------------------
 
+
 def file_kind(ds) -> str | None:
     """Which of the project's files a dataset is (a key of ``FILE_KINDS``), from the start of
     its ``title`` attribute; None for a file the project did not write."""
     title = str(ds.attrs.get("title", ""))
-    return next((kind for kind, (start, *_rest) in FILE_KINDS.items() if title.startswith(start)), None)
+    return next(
+        (kind for kind, (start, *_rest) in FILE_KINDS.items() if title.startswith(start)), None
+    )
 
 
 def _open(path, kind: str):
@@ -346,32 +411,46 @@ def _open(path, kind: str):
 
     _, what, writer, _ = FILE_KINDS[kind]
     if not _is_path(path):
-        raise InputError("path", f"expected a file path, got {type(path).__name__}",
-                         f"give the path of {what} (.nc)")
+        raise InputError(
+            "path",
+            f"expected a file path, got {type(path).__name__}",
+            f"give the path of {what} (.nc)",
+        )
     path = Path(path)
     try:
         path.stat()
     except FileNotFoundError:
-        raise InputError(str(path), "file not found", f"check the path, or write {what} with {writer}") from None
+        raise InputError(
+            str(path), "file not found", f"check the path, or write {what} with {writer}"
+        ) from None
     except (OSError, ValueError) as err:  # a name too long, a symlink loop, a NUL byte
         cause = getattr(err, "strerror", None) or str(err)
-        raise InputError(str(path), f"cannot be read ({cause})", f"give the path of {what} (.nc)") from None
+        raise InputError(
+            str(path), f"cannot be read ({cause})", f"give the path of {what} (.nc)"
+        ) from None
     if not path.is_file():
         raise InputError(str(path), "is not a regular file", f"give the path of {what} (.nc)")
     try:
         with xr.open_dataset(path) as ds:
             ds = ds.load()
     except (OSError, ValueError, RuntimeError):
-        raise InputError(str(path), "not a NetCDF file",
-                         f"give {what} (.nc) written by {writer}") from None
+        raise InputError(
+            str(path), "not a NetCDF file", f"give {what} (.nc) written by {writer}"
+        ) from None
     found = file_kind(ds)
     if found != kind:
         if found is None:
-            raise InputError(str(path), f"is not {what} (title {str(ds.attrs.get('title', ''))[:60]!r})",
-                             f"give {what} written by {writer}")
+            raise InputError(
+                str(path),
+                f"is not {what} (title {str(ds.attrs.get('title', ''))[:60]!r})",
+                f"give {what} written by {writer}",
+            )
         _, found_what, _, opener = FILE_KINDS[found]
-        fix = (f"open it with stonedem.{opener}, or give {what}" if opener else
-               f"give {what} written by {writer}")
+        fix = (
+            f"open it with stonedem.{opener}, or give {what}"
+            if opener
+            else f"give {what} written by {writer}"
+        )
         raise InputError(str(path), f"is {found_what}, not {what}", fix)
     return ds
 

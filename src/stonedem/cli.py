@@ -12,11 +12,10 @@ import argparse
 import sys
 from pathlib import Path
 
-
-from stonedem.version import __version__
-from stonedem.figures import snapshots
 from stonedem.entry import Parser, check_output_path, exit_now, guarded, progress_print
 from stonedem.errors import InputError
+from stonedem.figures import snapshots
+from stonedem.version import __version__
 
 DESCRIPTION = "stonedem: rigid-block simulations of ancient columns, colonnades and masonry walls."
 EPILOG = """examples:
@@ -32,24 +31,45 @@ exit status: 0 done, 1 a validation failed, 2 bad input (one line names the fiel
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = Parser(prog="stonedem", description=DESCRIPTION, epilog=EPILOG,
-                    formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = Parser(
+        prog="stonedem",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--version", action="version", version=f"stonedem {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="command",
-                                title="commands")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="command", title="commands")
 
     run = sub.add_parser("run", help="simulate one scene file and write a NetCDF dataset")
     run.add_argument("scene", type=Path, help="scene YAML file (format: README)")
     run.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file")
-    run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
-                     help="override a scene field, e.g. --set solver.duration=2 (repeatable)")
+    run.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a scene field, e.g. --set solver.duration=2 (repeatable)",
+    )
     run.add_argument("-q", "--quiet", action="store_true", help="no progress line")
 
-    val = sub.add_parser("validate", help="run the thesis 5.1 validations, write datasets and plots")
-    val.add_argument("-o", "--output", type=Path, default=Path("results/validation"),
-                     help="output folder (default results/validation)")
-    val.add_argument("--only", action="append", default=[], metavar="NAME",
-                     help="run only these validations (repeatable); see --list")
+    val = sub.add_parser(
+        "validate", help="run the thesis 5.1 validations, write datasets and plots"
+    )
+    val.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("results/validation"),
+        help="output folder (default results/validation)",
+    )
+    val.add_argument(
+        "--only",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="run only these validations (repeatable); see --list",
+    )
     val.add_argument("--list", action="store_true", help="list the validations and exit")
 
     from stonedem.motion.cli import add_parser as add_record_parser
@@ -115,9 +135,12 @@ def command_run(args) -> int:
     ds = run_scene(scene, progress=not args.quiet)  # refuses absurd requests first (preflight)
     write_dataset(ds, args.output)
     if not args.quiet:
-        progress_print(sys.stderr, f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "
-                       f"dt = {ds.attrs['dt']:.3g} s, {ds.attrs['status']}, "
-                       f"wall {ds.attrs['wall_seconds']:.2f} s")
+        progress_print(
+            sys.stderr,
+            f"wrote {args.output}: {ds.sizes['time']} samples, {ds.sizes['body']} bodies, "
+            f"dt = {ds.attrs['dt']:.3g} s, {ds.attrs['status']}, "
+            f"wall {ds.attrs['wall_seconds']:.2f} s",
+        )
     return 0
 
 
@@ -128,10 +151,15 @@ def command_validate(args) -> int:
         for name, func in validation.VALIDATIONS.items():
             print(f"{name:26s} {func.__doc__.splitlines()[0]}")
         return 0
-    check_output_path(args.output / "x.nc", "-o/--output")  # a file there: "is a file, not a folder"
+    check_output_path(
+        args.output / "x.nc", "-o/--output"
+    )  # a file there: "is a file, not a folder"
     unknown = [n for n in args.only if n not in validation.VALIDATIONS]
     if unknown:
-        raise InputError("--only", f"unknown validation '{unknown[0]}'",
-                         f"choose from {', '.join(validation.VALIDATIONS)}")
+        raise InputError(
+            "--only",
+            f"unknown validation '{unknown[0]}'",
+            f"choose from {', '.join(validation.VALIDATIONS)}",
+        )
     failed = validation.run_all(args.output, names=args.only or None)
     return 1 if failed else 0

@@ -24,6 +24,7 @@ from contextlib import contextmanager
 from typing import Callable
 
 from stonedem.errors import InputError, one_line
+
 # the output-path checks every command makes, re-exported where the commands import them
 from stonedem.io.paths import check_output_path, real_path  # noqa: F401
 
@@ -102,6 +103,7 @@ def interruptible(func):
     def wrapper(*args, **kwargs):
         with deferred_signals():
             return func(*args, **kwargs)
+
     return wrapper
 
 
@@ -148,7 +150,9 @@ def install_signal_handlers() -> Callable[[], None]:
     read_end, write_end = socket.socketpair()
     write_end.setblocking(False)
     previous_fd = signal.set_wakeup_fd(write_end.fileno(), warn_on_full_buffer=False)
-    threading.Thread(target=_watchdog, args=(read_end,), name="stonedem-signal-watchdog", daemon=True).start()
+    threading.Thread(
+        target=_watchdog, args=(read_end,), name="stonedem-signal-watchdog", daemon=True
+    ).start()
 
     def restore():
         signal.set_wakeup_fd(previous_fd)
@@ -233,7 +237,11 @@ def standard_streams() -> None:
     free descriptor 1 or 2 and receive the output meant for the terminal. The exit status
     must report the work, never the logging.
     """
-    for fd, name, mode in ((0, "stdin", os.O_RDONLY), (1, "stdout", os.O_WRONLY), (2, "stderr", os.O_WRONLY)):
+    for fd, name, mode in (
+        (0, "stdin", os.O_RDONLY),
+        (1, "stdout", os.O_WRONLY),
+        (2, "stderr", os.O_WRONLY),
+    ):
         try:
             os.fstat(fd)
             continue

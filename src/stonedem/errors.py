@@ -37,7 +37,9 @@ def one_line(text: str, limit: int = 600) -> str:
     """``text`` as one printable line: control characters escaped (a file name or a key
     from hostile input may hold a newline or an ANSI escape), cut at ``limit`` characters."""
     if not text.isprintable():
-        text = "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
+        text = "".join(
+            c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text
+        )
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
@@ -47,7 +49,11 @@ def plain_number(value):
     bools (``np.True_`` too) included, comes back unchanged for the checker to refuse."""
     import numbers
 
-    if getattr(value, "ndim", None) == 0 and hasattr(value, "item") and not isinstance(value, (int, float)):
+    if (
+        getattr(value, "ndim", None) == 0
+        and hasattr(value, "item")
+        and not isinstance(value, (int, float))
+    ):
         value = value.item()  # numpy scalars and 0-d arrays; np.bool_ gives a bool
     if type(value) in (bool, int, float):
         return value
@@ -69,8 +75,11 @@ def check_text(value, field: str, max_len: int, one_line: bool = True, describe=
         raise InputError(field, f"{len(value)} characters exceed the limit {max_len}", "shorten it")
     bad = next((c for c in value if not c.isprintable() and (one_line or c not in "\n\t")), None)
     if bad is not None:
-        raise InputError(field, f"contains the control character {bad!r}",
-                         "give printable text" + (" on one line" if one_line else ""))
+        raise InputError(
+            field,
+            f"contains the control character {bad!r}",
+            "give printable text" + (" on one line" if one_line else ""),
+        )
     return value
 
 

@@ -24,8 +24,8 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 from stonedem.entry import Parser, check_output_path, guarded
-from stonedem.io.atomic import write_csv, write_text  # noqa: F401 - the scripts' writers
 from stonedem.errors import InputError, one_line
+from stonedem.io.atomic import write_csv, write_text  # noqa: F401 - the scripts' writers
 
 
 def parser(prog: str, doc: str | None = None, **kwargs) -> Parser:
@@ -54,10 +54,21 @@ def run(command: Callable[[], int | None]) -> int:
 
 # --- numbers and choices ------------------------------------------------------------------
 
-def number(value, field: str, *, lo: float | None = None, hi: float | None = None,
-           lo_open: bool = False, whole: bool = False, unit: str = "", example: str | None = None):
+
+def number(
+    value,
+    field: str,
+    *,
+    lo: float | None = None,
+    hi: float | None = None,
+    lo_open: bool = False,
+    whole: bool = False,
+    unit: str = "",
+    example: str | None = None,
+):
     """``value`` if it is a finite number within [lo, hi] ((lo, hi] when lo_open; a whole number
     when whole), else an InputError naming ``field``."""
+
     def refuse(problem: str):
         span = []
         if lo is not None:
@@ -82,8 +93,9 @@ def number(value, field: str, *, lo: float | None = None, hi: float | None = Non
     return int(value) if whole else float(value)
 
 
-def chosen(values: Sequence[str] | None, field: str, allowed: Iterable[str], *,
-           empty_ok: bool = False) -> list[str]:
+def chosen(
+    values: Sequence[str] | None, field: str, allowed: Iterable[str], *, empty_ok: bool = False
+) -> list[str]:
     """``values`` when each is one of ``allowed``, given once, and (unless empty_ok) at least
     one."""
     allowed = list(allowed)
@@ -92,8 +104,9 @@ def chosen(values: Sequence[str] | None, field: str, allowed: Iterable[str], *,
         raise InputError(field, "none given", f"give one or more of {', '.join(allowed)}")
     for value in values:
         if value not in allowed:
-            raise InputError(field, f"unknown {one_line(repr(value), 80)}",
-                             f"choose from {', '.join(allowed)}")
+            raise InputError(
+                field, f"unknown {one_line(repr(value), 80)}", f"choose from {', '.join(allowed)}"
+            )
     for value in values:
         if values.count(value) > 1:
             raise InputError(field, f"{value} given twice", "give each once")
@@ -101,6 +114,7 @@ def chosen(values: Sequence[str] | None, field: str, allowed: Iterable[str], *,
 
 
 # --- files ----------------------------------------------------------------------------------
+
 
 def _shown(path) -> str:
     return one_line(str(path), 200)
@@ -119,16 +133,25 @@ def _kind(path: Path, field: str) -> str:
     except FileNotFoundError:
         return "missing"
     except NotADirectoryError:
-        raise InputError(field, f"{_shown(path)}: a file on the way is used as a folder",
-                         "give a path through folders") from None
+        raise InputError(
+            field,
+            f"{_shown(path)}: a file on the way is used as a folder",
+            "give a path through folders",
+        ) from None
     except OSError as err:
-        raise InputError(field, f"{_shown(path)} cannot be looked at ({err.strerror})",
-                         "give another path") from None
+        raise InputError(
+            field, f"{_shown(path)} cannot be looked at ({err.strerror})", "give another path"
+        ) from None
     return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else "other"
 
 
-def output_file(path: str | Path, field: str, *, suffixes: tuple[str, ...] = (),
-                inputs: Iterable[str | Path] = ()) -> Path:
+def output_file(
+    path: str | Path,
+    field: str,
+    *,
+    suffixes: tuple[str, ...] = (),
+    inputs: Iterable[str | Path] = (),
+) -> Path:
     """An output file path, refused before any computing when it has another suffix (any
     case), is a folder, is one of ``inputs``, or lies where no file can be written
     (:func:`stonedem.entry.check_output_path`); creates nothing. An existing ``.nc`` file is
@@ -137,8 +160,11 @@ def output_file(path: str | Path, field: str, *, suffixes: tuple[str, ...] = (),
     path = Path(path)
     _plain(path, field)
     if suffixes and path.suffix.lower() not in suffixes:
-        raise InputError(field, f"{_shown(path)} does not end in {' or '.join(suffixes)}",
-                         f"give an output path ending in {suffixes[0]}")
+        raise InputError(
+            field,
+            f"{_shown(path)} does not end in {' or '.join(suffixes)}",
+            f"give an output path ending in {suffixes[0]}",
+        )
     path = check_output_path(path, field, inputs=inputs)
     if path.suffix.lower() == ".nc" and _kind(path, field) != "missing":
         _replaceable_netcdf(path, field)
@@ -149,9 +175,11 @@ def _replaceable_netcdf(path: Path, field: str) -> None:
     """Refuse to replace an existing file that is not a readable NetCDF dataset."""
     import xarray as xr
 
-    refusal = InputError(field, f"{_shown(path)} exists and is not a NetCDF dataset",
-                         "give a new path or remove that file; a result replaces only an earlier "
-                         "result")
+    refusal = InputError(
+        field,
+        f"{_shown(path)} exists and is not a NetCDF dataset",
+        "give a new path or remove that file; a result replaces only an earlier result",
+    )
     if not path.is_file():
         raise refusal
     try:
@@ -172,14 +200,17 @@ def output_folder(path: str | Path, field: str, files: Iterable[str]) -> Path:
     for name in files:
         check_output_path(path / name, field)  # names too long, a file on the way, no write access
     if _kind(path, field) not in ("missing", "folder"):
-        raise InputError(field, f"{_shown(path)} is a file, not a folder",
-                         "give a folder for the results")
+        raise InputError(
+            field, f"{_shown(path)} is a file, not a folder", "give a folder for the results"
+        )
     for name in files:
         target = path / name
         if _kind(target, field) == "folder":
-            raise InputError(field,
-                             f"{_shown(target)} is a folder, where the result file {name} goes",
-                             "remove that folder or give another output folder")
+            raise InputError(
+                field,
+                f"{_shown(target)} is a folder, where the result file {name} goes",
+                "remove that folder or give another output folder",
+            )
         if target.suffix.lower() == ".nc" and _kind(target, field) != "missing":
             _replaceable_netcdf(target, field)
     return path
@@ -193,8 +224,9 @@ def input_file(path: str | Path, field: str, what: str = "file") -> Path:
     if kind == "missing":
         raise InputError(field, f"{_shown(path)} not found", f"give the path of a {what}")
     if kind != "file":
-        raise InputError(field, f"{_shown(path)} is not a regular file",
-                         f"give the path of a {what}")
+        raise InputError(
+            field, f"{_shown(path)} is not a regular file", f"give the path of a {what}"
+        )
     if not os.access(path, os.R_OK):
         raise InputError(field, f"{_shown(path)} is not readable", f"give a readable {what}")
     return path
@@ -220,11 +252,13 @@ def read_netcdf(path: str | Path, field: str, what: str, fix: str):
     except (KeyboardInterrupt, MemoryError):
         raise
     except Exception as err:  # noqa: BLE001 - whatever a damaged file makes the backend raise
-        raise InputError(field, f"{shown} cannot be read ({type(err).__name__}: {one_line(str(err), 120)})",
-                         fix) from None
+        raise InputError(
+            field, f"{shown} cannot be read ({type(err).__name__}: {one_line(str(err), 120)})", fix
+        ) from None
 
 
 # --- writing --------------------------------------------------------------------------------
+
 
 def save_figure(fig, path: str | Path, **savefig) -> Path:
     """``fig.savefig`` atomically, the format from the path's suffix."""

@@ -16,7 +16,18 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from stonedem.bench import contact_cost, ensemble, fuzz, gpu_check, kernel, options, restitution, skipping, stability, work_precision
+from stonedem.bench import (
+    contact_cost,
+    ensemble,
+    fuzz,
+    gpu_check,
+    kernel,
+    options,
+    restitution,
+    skipping,
+    stability,
+    work_precision,
+)
 from stonedem.errors import InputError
 from stonedem.kernels.gpu import gpu_available
 
@@ -25,7 +36,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def script(name):
     """A benchmarks/<name>.py module, loaded from its file (it is not a package)."""
-    spec = importlib.util.spec_from_file_location(f"benchmarks_{name}", ROOT / "benchmarks" / f"{name}.py")
+    spec = importlib.util.spec_from_file_location(
+        f"benchmarks_{name}", ROOT / "benchmarks" / f"{name}.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -33,13 +46,31 @@ def script(name):
 
 # on a machine whose GPU can run the loop, gpu_check runs instead of refusing
 NO_GPU_REFUSAL_SKIPPED = gpu_available()[0]
-SCRIPTS = {name: None for name in ("engine_speed", "geometry_band", "study_time", "table_a1_fits", "wall_supports",
-                                   "wall_tables")}
+SCRIPTS = {
+    name: None
+    for name in (
+        "engine_speed",
+        "geometry_band",
+        "study_time",
+        "table_a1_fits",
+        "wall_supports",
+        "wall_tables",
+    )
+}
 
 
 def main_of(name):
-    modules = {"contact_cost": contact_cost, "ensemble": ensemble, "fuzz": fuzz, "gpu_check": gpu_check, "kernel": kernel, "restitution": restitution, "skipping": skipping,
-               "stability": stability, "work_precision": work_precision}
+    modules = {
+        "contact_cost": contact_cost,
+        "ensemble": ensemble,
+        "fuzz": fuzz,
+        "gpu_check": gpu_check,
+        "kernel": kernel,
+        "restitution": restitution,
+        "skipping": skipping,
+        "stability": stability,
+        "work_precision": work_precision,
+    }
     if name in modules:
         return modules[name].main
     if SCRIPTS[name] is None:
@@ -171,9 +202,17 @@ CASES = [
     # stonedem.bench.work_precision
     ("work_precision", ["--repeats", "0", "--out", "{new}", "--figures", "{new}"], "--repeats"),
     ("work_precision", ["--repeats", "-2", "--out", "{new}", "--figures", "{new}"], "--repeats"),
-    ("work_precision", ["--repeats", "100000", "--out", "{new}", "--figures", "{new}"], "--repeats"),
+    (
+        "work_precision",
+        ["--repeats", "100000", "--out", "{new}", "--figures", "{new}"],
+        "--repeats",
+    ),
     ("work_precision", ["--scenes", "a", "a", "--out", "{new}", "--figures", "{new}"], "--scenes"),
-    ("work_precision", ["--contacts", "point", "point", "--out", "{new}", "--figures", "{new}"], "--contacts"),
+    (
+        "work_precision",
+        ["--contacts", "point", "point", "--out", "{new}", "--figures", "{new}"],
+        "--contacts",
+    ),
     ("work_precision", ["--out", "{file}", "--figures", "{new}"], "--out"),
     ("work_precision", ["--out", "{new}", "--figures", "{file}"], "--figures"),
     ("work_precision", ["--out", "{new}", "--figures", "{proc}"], "--figures"),
@@ -182,7 +221,11 @@ CASES = [
     ("geometry_band", ["--work", "{file}", "--out", "{new}/g.nc"], "--work"),
     ("geometry_band", ["--work", "{folder}", "--out", "{new}/g.txt"], "--out"),
     ("geometry_band", ["--work", "{folder}", "--out", "{proc}/g.nc"], "--out"),
-    ("geometry_band", ["--work", "{folder}", "--out", "{new}/g.nc"], "--work"),  # no candidate files there
+    (
+        "geometry_band",
+        ["--work", "{folder}", "--out", "{new}/g.nc"],
+        "--work",
+    ),  # no candidate files there
     # benchmarks/engine_speed.py
     ("engine_speed", ["--out", "{file}"], "--out"),
     ("engine_speed", ["--out", "{under_file}"], "--out"),
@@ -212,7 +255,9 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("name, argv, field", CASES, ids=[f"{c[0]}:{' '.join(c[1][:2])}" for c in CASES])
+@pytest.mark.parametrize(
+    "name, argv, field", CASES, ids=[f"{c[0]}:{' '.join(c[1][:2])}" for c in CASES]
+)
 def test_bad_option_is_refused_before_running(places, tmp_path, capsys, name, argv, field):
     argv = [a.format(**places) for a in argv]
     refused(main_of(name), argv, field, tmp_path, capsys)
@@ -221,19 +266,30 @@ def test_bad_option_is_refused_before_running(places, tmp_path, capsys, name, ar
 
 def test_wall_tables_negative_budget_writes_no_table(tmp_path, capsys):
     """Once, with a negative budget, every case 'ran' in no time and a table of lambda = 0 was written."""
-    line = refused(main_of("wall_tables"), ["--max-seconds", "-1", "--out", str(tmp_path / "walls")],
-                   "--max-seconds", tmp_path, capsys)
+    line = refused(
+        main_of("wall_tables"),
+        ["--max-seconds", "-1", "--out", str(tmp_path / "walls")],
+        "--max-seconds",
+        tmp_path,
+        capsys,
+    )
     assert "> 0" in line
     assert not (tmp_path / "walls").exists()
 
 
 def bench_script(rule, outputs, log, quick=False, config="config/quick.yaml"):
     """Run workflow/scripts/bench.py as Snakemake would, with a stand-in ``snakemake``; its exit status."""
-    sm = SimpleNamespace(rule=rule, output=[str(p) for p in outputs], log=[str(log)],
-                         params=SimpleNamespace(quick=quick, config=config))
+    sm = SimpleNamespace(
+        rule=rule,
+        output=[str(p) for p in outputs],
+        log=[str(log)],
+        params=SimpleNamespace(quick=quick, config=config),
+    )
     stdout, stderr = sys.stdout, sys.stderr
     try:
-        runpy.run_path(str(ROOT / "workflow" / "scripts" / "bench.py"), init_globals={"snakemake": sm})
+        runpy.run_path(
+            str(ROOT / "workflow" / "scripts" / "bench.py"), init_globals={"snakemake": sm}
+        )
         status = 0
     except SystemExit as stop:
         status = stop.code
@@ -243,13 +299,24 @@ def bench_script(rule, outputs, log, quick=False, config="config/quick.yaml"):
     return status
 
 
-@pytest.mark.parametrize("rule, outputs, field", [
-    ("bench_nonsense", ["{new}/x.nc"], "rule"),
-    ("bench_skipping", ["{new}/other_name.nc"], "bench_skipping.output"),
-    ("bench_skipping", ["{file}/skipping.nc"], "--out"),
-    ("bench_stability", ["{new}/stability_map.nc", "{new}/auto_dt_margin.nc", "{file}/map.png"], "--figure"),
-    ("bench_contact_cost", ["{proc}/bench/contact_cost.nc", "{proc}/figures/contact_cost.png"], "--out"),
-])
+@pytest.mark.parametrize(
+    "rule, outputs, field",
+    [
+        ("bench_nonsense", ["{new}/x.nc"], "rule"),
+        ("bench_skipping", ["{new}/other_name.nc"], "bench_skipping.output"),
+        ("bench_skipping", ["{file}/skipping.nc"], "--out"),
+        (
+            "bench_stability",
+            ["{new}/stability_map.nc", "{new}/auto_dt_margin.nc", "{file}/map.png"],
+            "--figure",
+        ),
+        (
+            "bench_contact_cost",
+            ["{proc}/bench/contact_cost.nc", "{proc}/figures/contact_cost.png"],
+            "--out",
+        ),
+    ],
+)
 def test_workflow_script_refuses_before_running(places, tmp_path, rule, outputs, field):
     logs = tmp_path / "logs"
     logs.mkdir()
@@ -293,7 +360,9 @@ def test_an_output_is_never_an_empty_path_or_a_foreign_file(tmp_path, capsys):
     assert foreign.read_text() == "my notes\n"
 
 
-def test_study_time_keeps_the_other_targets_rows_and_times_one_commit_with_parent_none(tmp_path, monkeypatch, capsys):
+def test_study_time_keeps_the_other_targets_rows_and_times_one_commit_with_parent_none(
+    tmp_path, monkeypatch, capsys
+):
     """A fragility run (--parent none: this commit alone) replaces only the fragility rows of
     an earlier run's CSV; the study's rows stay (the clones are stood in for)."""
     main_of("study_time")
@@ -311,7 +380,10 @@ def test_study_time_keeps_the_other_targets_rows_and_times_one_commit_with_paren
     assert module.main(["--parent", "none", "--target", "fragility", "--out", str(out)]) == 0
     rows = list(csv.DictReader(out.open()))
     assert [(r["target"], r["version"], r["wall_seconds"]) for r in rows] == [
-        ("all", "current", "10.0"), ("all", "parent", "20.0"), ("fragility", "current", "40.0")]
+        ("all", "current", "10.0"),
+        ("all", "parent", "20.0"),
+        ("fragility", "current", "40.0"),
+    ]
     assert [target for _, target in calls] == ["all", "all", "fragility", "fragility"]
     assert "fragility: 40 s; wrote" in capsys.readouterr().out
 
@@ -321,14 +393,26 @@ def test_kernel_dataset_says_which_of_the_issue_targets_are_met():
     rows, stages = {}, {}
     for name in kernel.SCENES:
         ns = {"lone_block": 149.0, "column_8": 71.0 * 9}.get(name, 1000.0)
-        one = {"ns_per_step": ns, "contacts": 9.0 if name == "column_8" else 1.0, "python_ns_per_step": 1.0,
-               "steps": 10.0, "dt": 1e-4}
+        one = {
+            "ns_per_step": ns,
+            "contacts": 9.0 if name == "column_8" else 1.0,
+            "python_ns_per_step": 1.0,
+            "steps": 10.0,
+            "dt": 1e-4,
+        }
         rows[name] = {"current": one, "parent": dict(one, ns_per_step=2 * ns), "n_body": 2}
         stages[name] = {k: 1.0 for k in kernel.STAGES}
     ds = kernel.kernel_dataset(rows, stages, "abc", "compared", True)
     met = dict(zip(ds["scene"].values, ds["target_met"].values))
-    assert met["lone_block"] == 1 and met["column_8"] == 0 and met["colonnade_3x3"] == 0 and met["column_30"] == -1
-    assert float(ds["target_ns"].sel(scene="column_8")) == 70.0 and np.isnan(float(ds["target_ns"].sel(scene="column_1")))
+    assert (
+        met["lone_block"] == 1
+        and met["column_8"] == 0
+        and met["colonnade_3x3"] == 0
+        and met["column_30"] == -1
+    )
+    assert float(ds["target_ns"].sel(scene="column_8")) == 70.0 and np.isnan(
+        float(ds["target_ns"].sel(scene="column_1"))
+    )
     assert ds["target_met"].attrs["flag_meanings"] == "no_target missed met"
     from stonedem.io.schema import missing_metadata
 

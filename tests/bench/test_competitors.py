@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.reference import analytic
 from stonedem.bench import canonical as cn
+from stonedem.reference import analytic
 from stonedem.validation.cases import zero_crossings
 
 WIDTH, HEIGHT = 0.25, 1.0
@@ -39,7 +39,9 @@ def rocking(engine):
 def test_free_rocking_shape_and_start(rocking):
     _, tr = rocking
     assert tr.theta.shape == tr.x.shape == (len(tr.time), 1)
-    assert tr.time[0] == 0.0 and tr.theta[0, 0] == pytest.approx(-THETA0, abs=1e-15)  # clockwise release
+    assert tr.time[0] == 0.0 and tr.theta[0, 0] == pytest.approx(
+        -THETA0, abs=1e-15
+    )  # clockwise release
     assert tr.steps == round(tr.time[-1] / DT) and tr.wall_seconds > 0.0
 
 
@@ -65,8 +67,15 @@ def test_pulse_sliding_matches_newmark(engine):
     # reference: Newmark's u_max (Eq. 5.5); tolerance 1 %
     width, height = cn.PULSE_BLOCK
     duration = cn.pulse_run_duration()
-    tr = engine.pulse_sliding(width, height, cn.PULSE_FRICTION, cn.PULSE_ACCEL, cn.PULSE_DURATION,
-                              dt=DT, duration=duration)
+    tr = engine.pulse_sliding(
+        width,
+        height,
+        cn.PULSE_FRICTION,
+        cn.PULSE_ACCEL,
+        cn.PULSE_DURATION,
+        dt=DT,
+        duration=duration,
+    )
     assert np.max(np.abs(tr.x)) == pytest.approx(cn.pulse_reference(), rel=0.01)
     assert tr.steps == round(duration / DT)
     assert tr.x[-1, 0] < 0.0  # a positive base acceleration leaves the block behind
@@ -80,8 +89,17 @@ def sine_record(amplitude, seconds=2.0, freq=2.0, spacing=0.01):
 
 def column(engine, amplitude):
     t, a = sine_record(amplitude)
-    return engine.column_record(8, cn.COLUMN_WIDTH, cn.COLUMN_HEIGHT, cn.COLUMN_FRICTION, t, a,
-                                dt=DT, duration=2.0, sample_every=0.01)
+    return engine.column_record(
+        8,
+        cn.COLUMN_WIDTH,
+        cn.COLUMN_HEIGHT,
+        cn.COLUMN_FRICTION,
+        t,
+        a,
+        dt=DT,
+        duration=2.0,
+        sample_every=0.01,
+    )
 
 
 def test_column_record_shapes_and_finite(engine):

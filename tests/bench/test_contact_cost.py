@@ -8,8 +8,10 @@ import pytest
 from stonedem.bench import contact_cost as cc
 
 
-@pytest.mark.parametrize("n_body, shape", [(1, (1, 1)), (2, (1, 2)), (5, (1, 5)), (20, (2, 10)),
-                                           (50, (5, 10)), (1000, (100, 10))])
+@pytest.mark.parametrize(
+    "n_body, shape",
+    [(1, (1, 1)), (2, (1, 2)), (5, (1, 5)), (20, (2, 10)), (50, (5, 10)), (1000, (100, 10))],
+)
 def test_sizes_reachable(n_body, shape):
     assert cc.drum_wall_size(n_body) == shape
 
@@ -22,7 +24,12 @@ def test_drum_wall_scene_is_valid():
     assert scene.horizontal.kind != 0  # harmonic base motion
     # the point law with its scene defaults unless told otherwise
     law = scene.contact
-    assert (law.model, law.k_n, law.damping, law.impact) == ("point", cc.K_N_POINT, cc.ZETA, "plastic")
+    assert (law.model, law.k_n, law.damping, law.impact) == (
+        "point",
+        cc.K_N_POINT,
+        cc.ZETA,
+        "plastic",
+    )
     area = cc.drum_wall(20, model="area").contact
     assert (area.model, area.k_n, area.c_n) == ("area", cc.K_N_AREA, cc.C_N)
     with pytest.raises(ValueError, match="unknown contact model"):
@@ -52,8 +59,16 @@ def test_broad_phase_cost_counts_all_pairs():
 def test_quick_measure_is_finite_and_positive(model):
     scene = cc.drum_wall(20, model=model)
     row = cc.measure(scene, 0.05, warm_duration=0.005)
-    for key in ("steps", "mean_contacts", "kernel_seconds", "total_seconds",
-                "ns_per_contact_step", "ns_per_body_step", "kernel_per_step", "dt"):
+    for key in (
+        "steps",
+        "mean_contacts",
+        "kernel_seconds",
+        "total_seconds",
+        "ns_per_contact_step",
+        "ns_per_body_step",
+        "kernel_per_step",
+        "dt",
+    ):
         assert math.isfinite(row[key]) and row[key] > 0, key
     assert 0.0 <= row["outside_fraction"] < 1.0
     assert row["kernel_seconds"] <= row["total_seconds"]

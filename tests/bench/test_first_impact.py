@@ -27,8 +27,12 @@ def test_first_impact_time_is_a_quarter_of_the_exact_rigid_period():
     for w, h in cn.ROCKING_BLOCKS:
         quarter = float(analytic.rocking_period_exact(w, h, cn.rocking_theta0(w, h))) / 4.0
         assert cn.first_impact_time(w, h) == pytest.approx(quarter, rel=1e-12)
-        assert cn.first_impact_time(w, h) == pytest.approx(cn.rocking_reference(w, h)[0][0], rel=1e-12)
-        assert cn.first_impact_duration(w, h) == pytest.approx(cn.FIRST_IMPACT_MARGIN * quarter, rel=1e-12)
+        assert cn.first_impact_time(w, h) == pytest.approx(
+            cn.rocking_reference(w, h)[0][0], rel=1e-12
+        )
+        assert cn.first_impact_duration(w, h) == pytest.approx(
+            cn.FIRST_IMPACT_MARGIN * quarter, rel=1e-12
+        )
     # 0.349 s and 0.847 s
     assert [round(cn.first_impact_time(w, h), 3) for w, h in cn.ROCKING_BLOCKS] == [0.349, 0.847]
 
@@ -36,14 +40,22 @@ def test_first_impact_time_is_a_quarter_of_the_exact_rigid_period():
 def test_first_impact_reference_agrees_with_an_impulse_engine_at_a_fine_step():
     # pymunk at dt = 1e-4 s, 1 ms samples: measured 1.9e-4 (0.25 x 1 m) and 7.0e-5 (1 x 6 m)
     for w, h in cn.ROCKING_BLOCKS:
-        traj = pymunk_engine.free_rocking(w, h, cn.rocking_theta0(w, h), 1e-4, cn.first_impact_duration(w, h))
+        traj = pymunk_engine.free_rocking(
+            w, h, cn.rocking_theta0(w, h), 1e-4, cn.first_impact_duration(w, h)
+        )
         assert cn.first_impact_error(traj, w, h) < 3e-4, (w, h)
 
 
 def test_a_run_without_an_impact_is_an_error_of_one():
     w, h = cn.ROCKING_BLOCKS[0]
     t = np.linspace(0.0, 0.3, 301)
-    traj = cn.Trajectory(time=t, theta=-np.full((t.size, 1), 0.1), x=np.zeros((t.size, 1)), wall_seconds=1.0, steps=300)
+    traj = cn.Trajectory(
+        time=t,
+        theta=-np.full((t.size, 1), 0.1),
+        x=np.zeros((t.size, 1)),
+        wall_seconds=1.0,
+        steps=300,
+    )
     assert cn.first_impact_error(traj, w, h) == 1.0
 
 
@@ -76,8 +88,14 @@ def test_first_impact_error_is_against_the_exact_rigid_block(sweep):
     errors = []
     for w, h in cn.ROCKING_BLOCKS:
         contact = ours.rocking_contact("point", w, h, 1e10)
-        traj = ours.free_rocking(w, h, cn.rocking_theta0(w, h), cn.first_impact_duration(w, h),
-                                 contact=contact, dt_ratio=0.5)
+        traj = ours.free_rocking(
+            w,
+            h,
+            cn.rocking_theta0(w, h),
+            cn.first_impact_duration(w, h),
+            contact=contact,
+            dt_ratio=0.5,
+        )
         assert traj.time[-1] == pytest.approx(cn.first_impact_duration(w, h), abs=1e-3)
         s = np.sign(traj.theta[:, 0])
         i = int(np.flatnonzero(s[1:] * s[:-1] < 0)[0])
@@ -95,14 +113,29 @@ def test_speedup_table_has_the_first_impact_scene(sweep):
     # at 3e-3 every engine's quick point counts; at 1e-3 neither competitor's (1.1e-3, 1.5e-3)
     assert np.isfinite(float(table.sel(contact="best", scene="a1", error_level=3e-3)))
     assert math.isnan(float(table.sel(contact="best", scene="a1", error_level=1e-3)))
-    assert sweep.attrs["speedup_a1_error_0.003"] == pytest.approx(float(table.sel(contact="best", scene="a1",
-                                                                                 error_level=3e-3)))
+    assert sweep.attrs["speedup_a1_error_0.003"] == pytest.approx(
+        float(table.sel(contact="best", scene="a1", error_level=3e-3))
+    )
 
 
 def test_quick_command_line_runs_the_first_impact_scene(tmp_path, capsys):
     out, figures = tmp_path / "bench", tmp_path / "figures"
-    assert work_precision.main(["--quick", "--scenes", "a1", "--contacts", "point",
-                                "--out", str(out), "--figures", str(figures)]) == 0
+    assert (
+        work_precision.main(
+            [
+                "--quick",
+                "--scenes",
+                "a1",
+                "--contacts",
+                "point",
+                "--out",
+                str(out),
+                "--figures",
+                str(figures),
+            ]
+        )
+        == 0
+    )
     assert (out / "work_precision.nc").is_file()
     assert (figures / "work_precision_a1.png").is_file()
     assert "(a1)" in capsys.readouterr().out

@@ -8,18 +8,25 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.reference import analytic
 from stonedem.bench import restitution as rs
-from stonedem.io.netcdf import write_dataset
-from stonedem.io.schema import missing_metadata
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import build_structure
+from stonedem.io.netcdf import write_dataset
+from stonedem.io.schema import missing_metadata
+from stonedem.reference import analytic
 from stonedem.study.grid import load_config
 from stonedem.validation.cases import first_impact_restitution, rigid_free_rocking
 
 ROOT = Path(__file__).resolve().parents[2]
-MONOLITH = rs.Column(n_drums=1, height=6.0, width=1.0, density=2000.0, capital=None, friction=0.485,
-                     studies=("test",))
+MONOLITH = rs.Column(
+    n_drums=1,
+    height=6.0,
+    width=1.0,
+    density=2000.0,
+    capital=None,
+    friction=0.485,
+    studies=("test",),
+)
 POINT = {"model": "point", "k_n": 1.0e10, "damping": 0.05, "impact": "plastic"}
 HOUSNER_1x6 = analytic.housner_restitution(1.0, 6.0)  # 0.9206
 
@@ -39,7 +46,8 @@ def test_rigid_column_gives_housner_for_a_rectangle_of_any_drum_count():
         assert rigid.pivot == pytest.approx((0.5, 0.0))
         # the scaled quarter period is the exact rigid one for the rectangle
         assert rs.quarter_period(rigid, 0.08) == pytest.approx(
-            analytic.rocking_period_exact(1.0, 6.0, 0.08) / 4.0, rel=1e-9)
+            analytic.rocking_period_exact(1.0, 6.0, 0.08) / 4.0, rel=1e-9
+        )
     # a capital raises the centroid: more slender, and Housner's impact loses less
     capped = rs.rigid_column(column(1, {"height": 0.6, "width": 1.4}))
     assert capped.alpha < math.atan(1.0 / 6.0)
@@ -53,7 +61,7 @@ def test_impact_loss_recovers_a_known_restitution():
     theta = rigid_free_rocking(time, 1.0, 6.0, r, theta0)
     s = np.sign(theta)
     impacts_so_far = np.concatenate([[0], np.cumsum(s[1:] * s[:-1] < 0)])
-    energy = 1000.0 * r ** impacts_so_far
+    energy = 1000.0 * r**impacts_so_far
     loss = rs.impact_loss(time, theta, energy, rs.rigid_column(column(1)), n_impacts=4)
     assert np.all(np.isfinite(loss.energy_ratio))
     np.testing.assert_allclose(loss.energy_ratio, r, rtol=1e-12)
@@ -70,7 +78,9 @@ def test_point_law_first_impact_matches_housner_on_the_monolith():
     assert theta[0] == pytest.approx(theta0)
     r1 = first_impact_restitution(theta, {"width": 1.0, "height": 6.0})
     assert abs(r1 / HOUSNER_1x6 - 1.0) < 0.01, r1
-    loss = rs.impact_loss(res.time, theta, rs.mechanical_energy(scene, res.energy), rigid, n_impacts=1)
+    loss = rs.impact_loss(
+        res.time, theta, rs.mechanical_energy(scene, res.energy), rigid, n_impacts=1
+    )
     assert abs(loss.rocking_energy_ratio[0] / HOUSNER_1x6 - 1.0) < 0.01, loss.rocking_energy_ratio
     assert abs(loss.energy_ratio[0] / HOUSNER_1x6 - 1.0) < 0.01, loss.energy_ratio
 

@@ -29,7 +29,11 @@ def test_a_perturbation_changes_k_n_by_its_last_bits_and_nothing_else(ramp_case)
         assert scene.contact.k_n == base.contact.k_n * (1.0 - j * 2.0**-52)
         assert 0 < base.contact.k_n - scene.contact.k_n <= 2 * j * math.ulp(base.contact.k_n)
         assert scene.contact.k_t == base.contact.k_t and scene.dt_safety == base.dt_safety
-        assert scene.duration == base.duration and scene.gravity == base.gravity and scene.dt == base.dt
+        assert (
+            scene.duration == base.duration
+            and scene.gravity == base.gravity
+            and scene.dt == base.dt
+        )
         for body, same in zip(scene.bodies, base.bodies, strict=True):
             assert np.array_equal(body.vertices, same.vertices) and body.mass == same.mass
 
@@ -47,19 +51,36 @@ def test_a_perturbed_run_keeps_its_step_and_moves_only_in_the_last_bits(ramp_cas
 
 def _synthetic():
     """Three cases of two studies, two search systems, K = 2, outcomes chosen by hand."""
-    collapsed = np.array([[1, 1, 0],   # a/x: perturbation 2 changes it
-                          [0, 1, 1],   # a/y: both change it
-                          [0, 0, 0]],  # b/z: none
-                         dtype=np.int8)
-    upper = np.array([[10.0, 10.0, 11.0],  # 10 % shift, bracket 2 %: 5 brackets
-                      [4.0, 3.9, 4.0]])    # 2.5 % shift, bracket 4 %
-    lower = np.array([[10.0 / 1.02, 10.0 / 1.02, 11.0 / 1.02], [4.0 / 1.04, 3.9 / 1.04, 4.0 / 1.04]])
+    collapsed = np.array(
+        [
+            [1, 1, 0],  # a/x: perturbation 2 changes it
+            [0, 1, 1],  # a/y: both change it
+            [0, 0, 0],
+        ],  # b/z: none
+        dtype=np.int8,
+    )
+    upper = np.array(
+        [
+            [10.0, 10.0, 11.0],  # 10 % shift, bracket 2 %: 5 brackets
+            [4.0, 3.9, 4.0],
+        ]
+    )  # 2.5 % shift, bracket 4 %
+    lower = np.array(
+        [[10.0 / 1.02, 10.0 / 1.02, 11.0 / 1.02], [4.0 / 1.04, 3.9 / 1.04, 4.0 / 1.04]]
+    )
     ds = xr.Dataset(
-        {"collapsed": (("case", "perturbation"), collapsed),
-         "collapse_value": (("system", "perturbation"), upper, {"units": "m s-2"}),
-         "survived_value": (("system", "perturbation"), lower, {"units": "m s-2"})},
-        coords={"perturbation": [0, 1, 2], "case": ["a/x", "a/y", "b/z"], "case_study": ("case", ["a", "a", "b"]),
-                "system": ["s/1", "s/2"]})
+        {
+            "collapsed": (("case", "perturbation"), collapsed),
+            "collapse_value": (("system", "perturbation"), upper, {"units": "m s-2"}),
+            "survived_value": (("system", "perturbation"), lower, {"units": "m s-2"}),
+        },
+        coords={
+            "perturbation": [0, 1, 2],
+            "case": ["a/x", "a/y", "b/z"],
+            "case_study": ("case", ["a", "a", "b"]),
+            "system": ["s/1", "s/2"],
+        },
+    )
     return rounding.summarize(ds)
 
 
@@ -87,21 +108,40 @@ def test_summarize_measures_threshold_shifts_in_brackets():
 
 def test_the_command_writes_a_self_describing_dataset(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
-    code = rounding.main(["--config", "config/quick.yaml", "--studies", "ramp_drums", "standalone_records",
-                          "--limit", "1", "--perturbations", "1", "--jobs", "1", "--out", str(tmp_path)])
+    code = rounding.main(
+        [
+            "--config",
+            "config/quick.yaml",
+            "--studies",
+            "ramp_drums",
+            "standalone_records",
+            "--limit",
+            "1",
+            "--perturbations",
+            "1",
+            "--jobs",
+            "1",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert code == 0
     with xr.open_dataset(tmp_path / "rounding.nc") as ds:
         assert ds.sizes["perturbation"] == 2 and ds.sizes["case"] == 1 and ds.sizes["system"] == 1
         for name in ds.variables:
             assert "long_name" in ds[name].attrs, name
-            assert "units" in ds[name].attrs or ds[name].dtype.kind in "OSU", name  # CF: no units on text
+            assert "units" in ds[name].attrs or ds[name].dtype.kind in "OSU", (
+                name
+            )  # CF: no units on text
         assert ds.search_status.values[0, 0] == "bracketed"
     assert "largest shift" in capsys.readouterr().out
 
 
 def test_the_command_refuses_a_bad_option_before_running(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(ROOT)
-    code = rounding.main(["--config", "config/quick.yaml", "--perturbations", "0", "--out", str(tmp_path / "new")])
+    code = rounding.main(
+        ["--config", "config/quick.yaml", "--perturbations", "0", "--out", str(tmp_path / "new")]
+    )
     assert code == 2
     assert "--perturbations" in capsys.readouterr().err
     assert not (tmp_path / "new").exists()

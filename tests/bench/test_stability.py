@@ -9,10 +9,10 @@ import yaml
 import stonedem.kernels.step
 from stonedem.bench import stability
 from stonedem.cli import main as cli_main
-from stonedem.errors import InputError
 from stonedem.engine.scene import scene_from_dict
-from stonedem.io.schema import missing_metadata
 from stonedem.engine.simulate import choose_time_step, stability_limit
+from stonedem.errors import InputError
+from stonedem.io.schema import missing_metadata
 from stonedem.validation.cases import block_scene
 
 K_N = (1e8, 1e10)  # [N m-2]: two decades apart, the second the study's stiffness
@@ -21,8 +21,14 @@ RATIOS = (0.25, 0.5, 1.0, 1.5, 2.0, 3.0)  # dt / stability limit
 
 @pytest.fixture(scope="module", params=stability.CONTACT_MODELS)
 def block_map(request):
-    return stability.stability_map(k_n_values=K_N, dt_ratios=RATIOS, scenes=("block",),
-                                   damping_fractions=(0.0,), progress=False, model=request.param)
+    return stability.stability_map(
+        k_n_values=K_N,
+        dt_ratios=RATIOS,
+        scenes=("block",),
+        damping_fractions=(0.0,),
+        progress=False,
+        model=request.param,
+    )
 
 
 def test_block_is_stable_inside_the_limit(block_map):
@@ -64,7 +70,11 @@ def test_map_is_self_describing(block_map):
 
 def test_map_scene_damping_is_zeta_for_the_point_law_and_a_share_of_critical_for_the_area_law():
     point = stability.map_scene("block", 1e9, 0.05, duration=0.1)
-    assert (point.contact.model, point.contact.damping, point.contact.impact) == ("point", 0.05, "plastic")
+    assert (point.contact.model, point.contact.damping, point.contact.impact) == (
+        "point",
+        0.05,
+        "plastic",
+    )
     area = stability.map_scene("block", 1e9, 0.05, duration=0.1, model="area")
     assert area.contact.model == "area"
     assert area.contact.c_n == pytest.approx(0.05 * stability.critical_damping(area))

@@ -10,8 +10,8 @@ import pytest
 from stonedem.bench import canonical as cn
 from stonedem.bench import ours, pymunk_engine
 from stonedem.bench.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
-from stonedem.io.schema import missing_metadata
 from stonedem.engine.scene import scene_from_dict
+from stonedem.io.schema import missing_metadata
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +29,9 @@ def error(ds, engine, scene, contact=None):
 def test_reference_of_free_rocking_agrees_with_an_impulse_engine_at_a_fine_step():
     # pymunk at dt = 1e-4 s: a separate rigid solver; our exact reference must match it to 0.2 %
     w, h = cn.ROCKING_BLOCKS[0]
-    traj = pymunk_engine.free_rocking(w, h, cn.rocking_theta0(w, h), 1e-4, cn.rocking_duration(w, h))
+    traj = pymunk_engine.free_rocking(
+        w, h, cn.rocking_theta0(w, h), 1e-4, cn.rocking_duration(w, h)
+    )
     t_err, p_err = cn.rocking_errors(traj, w, h)
     assert t_err < 2e-3 and p_err < 2e-3
 
@@ -51,7 +53,11 @@ def test_errors_at_the_quick_points(sweep):
     assert error(sweep, "ours", "a", "point_dashpot") < 0.015
     assert error(sweep, "ours", "a", "point") < 0.006
     # the plastic landing needs no calibration and still beats both calibrated dashpots
-    assert error(sweep, "ours", "a", "point") < error(sweep, "ours", "a", "point_dashpot") < error(sweep, "ours", "a", "area")
+    assert (
+        error(sweep, "ours", "a", "point")
+        < error(sweep, "ours", "a", "point_dashpot")
+        < error(sweep, "ours", "a", "area")
+    )
     for variant in ours.VARIANTS:
         assert error(sweep, "ours", "b", variant) < 1e-4, variant
     # pymunk 2.2e-2 and MuJoCo 2.8e-2 on (a) at dt 1 ms; (b) 1e-14 and 1.5e-4
@@ -71,7 +77,9 @@ def test_calibrated_damping_meets_housners_first_impact(sweep):
     zeta = a.rocking_zeta.where(a.contact == "point_dashpot", drop=True).values
     assert np.all((zeta > 0.05) & (zeta <= ours.CALIBRATION_BRACKET[1]))  # measured 0.59, 0.74
     assert np.all(np.isnan(a.rocking_c_n.where(a.contact != "area", drop=True).values))
-    assert np.all(a.rocking_zeta.where(a.contact == "point", drop=True).values == ours.POINT_DAMPING)
+    assert np.all(
+        a.rocking_zeta.where(a.contact == "point", drop=True).values == ours.POINT_DAMPING
+    )
 
 
 def test_speedup_table_compares_at_equal_error(sweep):
@@ -88,14 +96,18 @@ def test_speedup_table_compares_at_equal_error(sweep):
     assert np.isfinite(float(table.sel(contact="best", scene="b", error_level=1e-4)))
     # at 1e-2 on (a) only the point laws reach it, not the area law (2.2e-2)
     assert math.isnan(float(table.sel(contact="area", scene="a", error_level=1e-2)))
-    assert sweep.attrs["speedup_b_error_0.0001"] == pytest.approx(float(table.sel(contact="best", scene="b", error_level=1e-4)))
+    assert sweep.attrs["speedup_b_error_0.0001"] == pytest.approx(
+        float(table.sel(contact="best", scene="b", error_level=1e-4))
+    )
 
 
 @pytest.mark.parametrize("variant", ours.VARIANTS)
 def test_contact_of_every_variant_is_a_valid_scene(variant):
     w, h = cn.PULSE_BLOCK
     law = scene_from_dict(ours.block_scene(w, h, contact=ours.pulse_contact(variant, 1e8))).contact
-    column = scene_from_dict(ours.column_scene_spec(1.0, contact=ours.column_contact(variant, 1e9), pga=1.0)).contact
+    column = scene_from_dict(
+        ours.column_scene_spec(1.0, contact=ours.column_contact(variant, 1e9), pga=1.0)
+    ).contact
     for contact in (law, column):
         assert contact.model == ("area" if variant == "area" else "point")
         if variant == "area":

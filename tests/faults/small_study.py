@@ -27,17 +27,25 @@ ROOT = Path(__file__).resolve().parents[2]
 COPIED = ("Snakefile", "workflow", "config", "profiles", "records")
 STUDIES = {
     # two harmonic cases of a 1-drum column, 0.5 s each: one simulate job, one table
-    "small_column_friction": {"solver": {"duration": 0.5}, "grid": {"friction": [0.68], "frequency": [2.0, 20.0]}},
+    "small_column_friction": {
+        "solver": {"duration": 0.5},
+        "grid": {"friction": [0.68], "frequency": [2.0, 20.0]},
+    },
     # a threshold search of two runs (2 and 8 m/s2, 1 s of the Mexico City stand-in): a search file
-    "standalone_records": {"solver": {"duration": 1.0}, "grid": {"record": ["mexico_standin_chichi_tcu102"],
-                                                                 "n_drums": [1]},
-                           "search": {"start": 2.0, "factor": 4.0, "maximum": 8.0, "tolerance": 0.5, "fill": 0}},
+    "standalone_records": {
+        "solver": {"duration": 1.0},
+        "grid": {"record": ["mexico_standin_chichi_tcu102"], "n_drums": [1]},
+        "search": {"start": 2.0, "factor": 4.0, "maximum": 8.0, "tolerance": 0.5, "fill": 0},
+    },
     # one ramp case of a 1-drum column (thesis Fig. 6.10's table)
     "ramp_drums": {"solver": {"duration": 1.0}, "grid": {"n_drums": [1]}},
 }
 # the study's cubes and tables (common.smk: rules cubes_<k>, tables_<k>)
 CUBES = [f"results/cubes/{study}.nc" for study in STUDIES]
-TABLES = ["results/tables/frequency_response_small_column_friction.csv", "results/tables/thesis_fig_6_10.csv"]
+TABLES = [
+    "results/tables/frequency_response_small_column_friction.csv",
+    "results/tables/thesis_fig_6_10.csv",
+]
 TARGETS = CUBES + TABLES
 RECORD = "records/mexico_standin_chichi_tcu102.nc"
 
@@ -51,7 +59,9 @@ def make_study(directory: Path) -> Path:
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, directory / item)
     config = load_config(ROOT / "config" / "config.yaml")
-    config["studies"] = {name: {**config["studies"][name], **spec} for name, spec in STUDIES.items()}
+    config["studies"] = {
+        name: {**config["studies"][name], **spec} for name, spec in STUDIES.items()
+    }
     config.update(wall_cases=[], run_validation=False)
     config.pop("fragility", None)
     (directory / "config" / "config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
@@ -62,10 +72,18 @@ def snakemake_command(*args, cores: int = 2) -> list[str]:
     return [sys.executable, "-m", "snakemake", f"-j{cores}", *args, *TARGETS]
 
 
-def snakemake(directory: Path, *args, cores: int = 2, timeout: float = 300) -> subprocess.CompletedProcess:
+def snakemake(
+    directory: Path, *args, cores: int = 2, timeout: float = 300
+) -> subprocess.CompletedProcess:
     """One snakemake call on the study's cubes and tables, output captured."""
-    return subprocess.run(snakemake_command(*args, cores=cores), cwd=directory, capture_output=True, text=True,
-                          timeout=timeout, check=False)
+    return subprocess.run(
+        snakemake_command(*args, cores=cores),
+        cwd=directory,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
 
 
 def tail(proc, n: int = 3000) -> str:
@@ -141,8 +159,14 @@ def read_only_works(folder: Path) -> bool:
     """Whether a child started with ``as_plain_owner`` is refused a new file in ``folder``
     (chmod 0o555 already applied)."""
     try:
-        proc = subprocess.run([sys.executable, "-c", f"open({str(folder / 'probe')!r}, 'w')"],
-                              preexec_fn=as_plain_owner, capture_output=True, text=True, timeout=60, check=False)
+        proc = subprocess.run(
+            [sys.executable, "-c", f"open({str(folder / 'probe')!r}, 'w')"],
+            preexec_fn=as_plain_owner,
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+        )
     except (OSError, subprocess.SubprocessError):
         return False
     (folder / "probe").unlink(missing_ok=True)
@@ -156,7 +180,9 @@ def read_only(folder: Path):
     folder.chmod(0o555)
     try:
         if not read_only_works(folder):
-            pytest.skip("cannot make a read-only folder here (root without a way to drop CAP_DAC_OVERRIDE)")
+            pytest.skip(
+                "cannot make a read-only folder here (root without a way to drop CAP_DAC_OVERRIDE)"
+            )
         yield folder
     finally:
         folder.chmod(0o755)
@@ -188,8 +214,9 @@ def same_data(a, b):
     assert set(a.variables) == set(b.variables)
     for name in a.variables:
         x, y = a[name].values, b[name].values
-        assert x.shape == y.shape and (np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc"
-                                       else np.array_equal(x, y)), name
+        assert x.shape == y.shape and (
+            np.array_equal(x, y, equal_nan=True) if x.dtype.kind in "fc" else np.array_equal(x, y)
+        ), name
 
 
 def no_partial_files(directory):

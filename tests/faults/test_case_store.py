@@ -13,10 +13,15 @@ from stonedem.study.runner import CaseStore, run_cases
 from tests.faults.small_study import same_data
 
 # a 1 x 4 m block under a 2 Hz harmonic, two amplitudes (the second overturns)
-BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
-         "excitation": {"kind": "harmonic", "frequency": 2.0}, "solver": {"duration": 1.0},
-         "contact": {"model": "point", "k_n": 1.0e+9}, "output": {"every": 0.01},
-         "grid": {"amplitude": [0.01, 0.4]}}
+BLOCK = {
+    "structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0},
+    "friction": 0.7,
+    "excitation": {"kind": "harmonic", "frequency": 2.0},
+    "solver": {"duration": 1.0},
+    "contact": {"model": "point", "k_n": 1.0e9},
+    "output": {"every": 0.01},
+    "grid": {"amplitude": [0.01, 0.4]},
+}
 
 
 @pytest.fixture

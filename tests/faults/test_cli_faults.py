@@ -39,8 +39,13 @@ def scene_file(folder: Path, **changes) -> Path:
 
 def run(scene, output, *extra, **kwargs):
     kwargs.setdefault("capture_output", True)
-    return subprocess.run(stonedem_command("run", str(scene), "-o", str(output), *SHORT, *extra), text=True,
-                          timeout=300, check=False, **kwargs)
+    return subprocess.run(
+        stonedem_command("run", str(scene), "-o", str(output), *SHORT, *extra),
+        text=True,
+        timeout=300,
+        check=False,
+        **kwargs,
+    )
 
 
 def show(proc):
@@ -80,11 +85,14 @@ def limited(n):
     def preexec():
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (n, n))
+
     return preexec
 
 
 @pytest.mark.parametrize("limit", [4096, 50_000], ids=["4k", "50k"])
-def test_a_full_disk_is_one_line_naming_the_path_and_a_rerun_is_identical(undisturbed, tmp_path, limit):
+def test_a_full_disk_is_one_line_naming_the_path_and_a_rerun_is_identical(
+    undisturbed, tmp_path, limit
+):
     scene, good = undisturbed
     assert good.stat().st_size > limit
     output = tmp_path / "runs" / "out.nc"
@@ -135,8 +143,11 @@ def flip(path):
     path.write_bytes(bytes(data))
 
 
-@pytest.mark.parametrize("corrupt", [truncate, lambda p: truncate(p, 0), garble, flip],
-                         ids=["truncated", "zero-byte", "garbage", "flipped"])
+@pytest.mark.parametrize(
+    "corrupt",
+    [truncate, lambda p: truncate(p, 0), garble, flip],
+    ids=["truncated", "zero-byte", "garbage", "flipped"],
+)
 def test_a_corrupted_record_is_one_line_naming_the_file(tmp_path, corrupt):
     record = tmp_path / "records" / "my record.nc"
     record.parent.mkdir()
@@ -155,6 +166,7 @@ def closing(*fds):
     def preexec():
         for fd in fds:
             os.close(fd)
+
     return preexec
 
 
@@ -190,7 +202,9 @@ def test_a_complete_run_exits_0_whatever_its_streams(undisturbed, tmp_path, name
     proc = finish(run(scene, tmp_path / "out.nc", **kwargs), kwargs)
     assert proc.returncode == 0, show(proc)
     assert_same_dataset(tmp_path / "out.nc", good, "out.nc")
-    assert [p.name for p in tmp_path.iterdir()] == ["out.nc"], "a stray file: output meant for a closed stream?"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.nc"], (
+        "a stray file: output meant for a closed stream?"
+    )
 
 
 @pytest.mark.parametrize("name", list(STREAMS))
@@ -201,5 +215,7 @@ def test_bad_input_exits_2_whatever_its_streams(tmp_path, name):
     assert proc.returncode == 2, show(proc)
     assert "Traceback" not in proc.stdout + proc.stderr, show(proc)
     if name == "stdout-closed":  # stderr still open: the one line is there
-        assert proc.stderr.startswith("error: friction") and len(proc.stderr.splitlines()) == 1, show(proc)
+        assert proc.stderr.startswith("error: friction") and len(proc.stderr.splitlines()) == 1, (
+            show(proc)
+        )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.yaml"]

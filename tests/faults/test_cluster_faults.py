@@ -27,7 +27,9 @@ def bare_path(folder: Path) -> str:
     """A PATH with this Python and a shell, and no SLURM even where the machine has one."""
     folder.mkdir(exist_ok=True)
     for tool in ("sh", "bash", "env", "which", "uname", "cat", "rm", "sleep"):
-        found = subprocess.run(["sh", "-c", f"command -v {tool}"], capture_output=True, text=True).stdout.strip()
+        found = subprocess.run(
+            ["sh", "-c", f"command -v {tool}"], capture_output=True, text=True
+        ).stdout.strip()
         if found and not (folder / tool).exists():
             (folder / tool).symlink_to(found)
     return f"{Path(sys.executable).parent}{os.pathsep}{folder}"
@@ -35,9 +37,15 @@ def bare_path(folder: Path) -> str:
 
 def run(study, args, path, timeout=120, **env):
     start = time.monotonic()
-    proc = subprocess.run([sys.executable, "-m", "snakemake", *PROFILE, *args, *TARGETS], cwd=study,
-                          env={**os.environ, "PATH": path, **env}, capture_output=True, text=True, timeout=timeout,
-                          check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "snakemake", *PROFILE, *args, *TARGETS],
+        cwd=study,
+        env={**os.environ, "PATH": path, **env},
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        check=False,
+    )
     return proc, time.monotonic() - start
 
 
@@ -46,8 +54,12 @@ def test_the_slurm_profile_without_slurm_refuses_in_one_line(study, tmp_path):
     proc, seconds = run(study, [], path)
     assert proc.returncode == 2, tail(proc)
     last = proc.stderr.strip().splitlines()[-1]
-    assert last.startswith("Cannot use SLURM here: sbatch, squeue, sacct, sinfo, scontrol not found on PATH"), tail(proc)
-    assert "Submitted" not in proc.stdout + proc.stderr and not (study / "results" / "cubes").exists()
+    assert last.startswith(
+        "Cannot use SLURM here: sbatch, squeue, sacct, sinfo, scontrol not found on PATH"
+    ), tail(proc)
+    assert (
+        "Submitted" not in proc.stdout + proc.stderr and not (study / "results" / "cubes").exists()
+    )
     assert seconds < 60
     # a dry run needs no cluster: it plans and ends
     proc, seconds = run(study, ["-n"], path)
@@ -57,7 +69,7 @@ def test_the_slurm_profile_without_slurm_refuses_in_one_line(study, tmp_path):
 STUB = {
     "sinfo": 'echo "local*"',
     "scontrol": 'case "$*" in "show config") printf "AccountingStorageType   = accounting_storage/none\\n'
-                'MinJobAge               = 600 sec\\nMaxArraySize            = 1001\\n";; esac',
+    'MinJobAge               = 600 sec\\nMaxArraySize            = 1001\\n";; esac',
     "sacct": 'echo "sacct: error: Slurm accounting storage is disabled" >&2; exit 1',
     "sbatch": 'n=$(cat "$0.n" 2>/dev/null || echo 100); echo $((n + 1)) > "$0.n"; echo $((n + 1))',
     # answers the pre-flight's probe (no --states), then stops answering the executor's queries
@@ -78,11 +90,18 @@ def fake_slurm(folder: Path, then: str) -> None:
 def test_a_slurm_that_stops_answering_ends_the_run(study, tmp_path, stop):
     fake_slurm(tmp_path / "slurm", STOPS[stop])
     path = f"{tmp_path / 'slurm'}{os.pathsep}{bare_path(tmp_path / 'bin')}"
-    proc, seconds = run(study, ["--slurm-init-seconds-before-status-checks", "1"], path,
-                        STONEDEM_SLURM_QUERY_SECONDS="2", STONEDEM_SLURM_SILENT_SECONDS="4")
+    proc, seconds = run(
+        study,
+        ["--slurm-init-seconds-before-status-checks", "1"],
+        path,
+        STONEDEM_SLURM_QUERY_SECONDS="2",
+        STONEDEM_SLURM_SILENT_SECONDS="4",
+    )
     out = proc.stdout + proc.stderr
     assert proc.returncode == 1, tail(proc)
     assert "has been submitted with SLURM jobid 101" in out, tail(proc)
-    assert "SLURM stopped answering: `squeue` has not reported the jobs' states for" in out, tail(proc)
+    assert "SLURM stopped answering: `squeue` has not reported the jobs' states for" in out, tail(
+        proc
+    )
     assert ("no answer within 2 s" if stop == "hangs" else "No such file") in out, tail(proc)
     assert seconds < 90, seconds

@@ -13,16 +13,24 @@ import pytest
 from tests.faults.small_study import truncate
 
 # the smallest cached kernel: the area and centroid of the unit square
-CALL = ("import numpy as np; from stonedem.kernels.overlap import polygon_area_centroid as f; "
-        "print(f(np.array([0.0, 1.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0, 1.0]), 4))")
+CALL = (
+    "import numpy as np; from stonedem.kernels.overlap import polygon_area_centroid as f; "
+    "print(f(np.array([0.0, 1.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0, 1.0]), 4))"
+)
 ANSWER = "(1.0, 0.5, 0.5)"
 
 
 def call_kernel(home):
     env = {**os.environ, "XDG_CACHE_HOME": str(home)}
     env.pop("NUMBA_CACHE_DIR", None)
-    return subprocess.run([sys.executable, "-c", CALL], env=env, capture_output=True, text=True, timeout=300,
-                          check=False)
+    return subprocess.run(
+        [sys.executable, "-c", CALL],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -46,10 +54,14 @@ def test_a_damaged_cache_file_is_moved_aside_and_the_kernel_compiled_again(cache
     proc = call_kernel(cache)
     assert proc.returncode == 0 and proc.stdout.strip() == ANSWER, proc.stderr[-2000:]
     lines = proc.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"warning: compiled-kernel cache file {damaged} is damaged ("), lines
+    assert len(lines) == 1 and lines[0].startswith(
+        f"warning: compiled-kernel cache file {damaged} is damaged ("
+    ), lines
     assert lines[0].endswith(f"moved to {damaged.name}.damaged, compiling the kernel again"), lines
     assert (damaged.parent / f"{damaged.name}.damaged").is_file()
     # Numba wrote the entry afresh: the next run loads it without a word
     assert damaged.stat().st_size > 0
     again = call_kernel(cache)
-    assert again.returncode == 0 and again.stdout.strip() == ANSWER and again.stderr == "", again.stderr[-2000:]
+    assert again.returncode == 0 and again.stdout.strip() == ANSWER and again.stderr == "", (
+        again.stderr[-2000:]
+    )

@@ -18,10 +18,15 @@ from stonedem.study.runner import CaseStore, run_cases, source_fingerprint
 from tests.faults.small_study import as_plain_owner, read_only, same_data
 
 # a 1 x 4 m block under a 2 Hz harmonic for 0.5 s: one cheap case
-BLOCK = {"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
-         "excitation": {"kind": "harmonic", "frequency": 2.0}, "solver": {"duration": 0.5},
-         "contact": {"model": "point", "k_n": 1.0e+9}, "output": {"every": 0.01},
-         "grid": {"amplitude": [0.2]}}
+BLOCK = {
+    "structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0},
+    "friction": 0.7,
+    "excitation": {"kind": "harmonic", "frequency": 2.0},
+    "solver": {"duration": 0.5},
+    "contact": {"model": "point", "k_n": 1.0e9},
+    "output": {"every": 0.01},
+    "grid": {"amplitude": [0.2]},
+}
 
 
 @pytest.fixture
@@ -38,10 +43,10 @@ def damaged(tmp_path):
     return cases, output, store, entry, good
 
 
-
-
 def store_snapshot(store):
-    return sorted((p.relative_to(store.directory), p.stat().st_size) for p in store.directory.rglob("*"))
+    return sorted(
+        (p.relative_to(store.directory), p.stat().st_size) for p in store.directory.rglob("*")
+    )
 
 
 def refuse_writes_under(monkeypatch, folder):
@@ -57,6 +62,7 @@ def refuse_writes_under(monkeypatch, folder):
             if inside(*args[:n_paths]):
                 raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(args[0]))
             return real(*args, **kwargs)
+
         return call
 
     real_open = builtins.open
@@ -83,8 +89,10 @@ def test_a_read_only_store_skips_a_damaged_entry_and_simulates_the_case(damaged,
     monkeypatch.undo()
     lines = log.getvalue().splitlines()
     assert not info[0]["restored"] and len(lines) == 2, lines
-    assert lines[0] == (f"warning: case store entry {entry.name} failed its checksum; left in place "
-                        f"(Read-only file system), skipped, simulating the case again")
+    assert lines[0] == (
+        f"warning: case store entry {entry.name} failed its checksum; left in place "
+        f"(Read-only file system), skipped, simulating the case again"
+    )
     assert store_snapshot(store) == before and not (store.directory / "corrupt").exists()
     same_data(combine_cases([output]), combine_cases([good]))
 
@@ -110,11 +118,19 @@ def test_a_chmod_read_only_store_in_a_child_process(damaged):
         sys.exit(0 if not info[0]["restored"] else 3)
     """)
     with read_only(store.directory):
-        proc = subprocess.run([sys.executable, "-c", script], preexec_fn=as_plain_owner, capture_output=True,
-                              text=True, timeout=120, check=False)
+        proc = subprocess.run(
+            [sys.executable, "-c", script],
+            preexec_fn=as_plain_owner,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
     assert proc.returncode == 0, proc.stderr[-2000:]
     warning = [line for line in proc.stderr.splitlines() if line.startswith("warning:")]
-    assert warning == [f"warning: case store entry {entry.name} failed its checksum; left in place "
-                       f"(Permission denied), skipped, simulating the case again"], proc.stderr[-2000:]
+    assert warning == [
+        f"warning: case store entry {entry.name} failed its checksum; left in place "
+        f"(Permission denied), skipped, simulating the case again"
+    ], proc.stderr[-2000:]
     assert store_snapshot(store) == before
     same_data(combine_cases([output]), combine_cases([good]))

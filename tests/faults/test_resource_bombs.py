@@ -27,7 +27,9 @@ def one_line(proc, prefix: str):
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert lines[-1].startswith(prefix) and LAUGHS in lines[-1], proc.stderr
-    assert sum(LAUGHS in line for line in lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    assert sum(LAUGHS in line for line in lines) == 1 and "Traceback" not in proc.stderr, (
+        proc.stderr
+    )
 
 
 @pytest.fixture()
@@ -42,8 +44,13 @@ def bomb_scene(tmp_path):
 def test_run_refuses_a_bomb_scene_in_one_line(tmp_path, bomb_scene):
     out = tmp_path / "out.nc"
     start = time.perf_counter()
-    proc = subprocess.run(stonedem_command("run", str(bomb_scene), "-o", str(out)), capture_output=True,
-                          text=True, timeout=60, check=False)
+    proc = subprocess.run(
+        stonedem_command("run", str(bomb_scene), "-o", str(out)),
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
     assert time.perf_counter() - start < 20.0  # the interpreter's start; the check is 10 ms
     one_line(proc, f"error: {bomb_scene}: its {LAUGHS}")
     assert not out.exists()
@@ -63,8 +70,13 @@ def test_wall_refuses_a_bomb_case_in_one_line(tmp_path):
     text = (ROOT / "config/walls/free_standing.yaml").read_text()
     case.write_text(text + "description:\n" + laughs("  "))
     out = tmp_path / "wall.nc"
-    proc = subprocess.run(stonedem_command("wall", str(case), "-o", str(out), "-q"), capture_output=True,
-                          text=True, timeout=60, check=False)
+    proc = subprocess.run(
+        stonedem_command("wall", str(case), "-o", str(out), "-q"),
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
     one_line(proc, f"error: {case}: its {LAUGHS}")
     assert not out.exists()
 
@@ -73,7 +85,13 @@ def test_snakemake_refuses_a_bomb_config_in_one_line(tmp_path):
     config = tmp_path / "bomb.yaml"
     config.write_text("studies:\n  bomb:\n    description:\n" + laughs("      "))
     start = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "snakemake", "-n", "--configfile", str(config)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=120, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "snakemake", "-n", "--configfile", str(config)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert time.perf_counter() - start < 60.0  # measured 3.6 s, all of it Snakemake's start
     one_line(proc, f"Bad config: {config}: its {LAUGHS}")

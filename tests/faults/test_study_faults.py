@@ -20,9 +20,21 @@ import subprocess
 
 import pytest
 
-from tests.faults.small_study import (RECORD, ROOT, as_plain_owner, assert_same_results, copy_study, make_study,
-                                      read_only, reference, result_files, snakemake, snakemake_command, tail,
-                                      truncate)
+from tests.faults.small_study import (
+    RECORD,
+    ROOT,
+    as_plain_owner,
+    assert_same_results,
+    copy_study,
+    make_study,
+    read_only,
+    reference,
+    result_files,
+    snakemake,
+    snakemake_command,
+    tail,
+    truncate,
+)
 
 SEARCH = "results/searches/standalone_records/rec-mexico_standin_chichi_tcu102_drums-1.nc"
 CASE = "results/cases/small_column_friction/mu-0.68_f-2.nc"
@@ -35,7 +47,11 @@ def ref(tmp_path_factory):
 
 def job_logs(directory):
     logs = directory / "results" / "logs"
-    return {p: p.read_text(errors="replace") for p in sorted(logs.rglob("*.log"))} if logs.is_dir() else {}
+    return (
+        {p: p.read_text(errors="replace") for p in sorted(logs.rglob("*.log"))}
+        if logs.is_dir()
+        else {}
+    )
 
 
 def assert_clear_failure(proc, directory, *names):
@@ -44,20 +60,33 @@ def assert_clear_failure(proc, directory, *names):
     no Python traceback on the output nor in any job's log."""
     out = proc.stdout + proc.stderr
     assert proc.returncode != 0, tail(proc)
-    lines = [line.strip() for line in out.splitlines() if line.strip().startswith(("error: ", "Bad config: "))]
-    assert any(all(name in line for name in names) for line in lines), \
+    lines = [
+        line.strip()
+        for line in out.splitlines()
+        if line.strip().startswith(("error: ", "Bad config: "))
+    ]
+    assert any(all(name in line for name in names) for line in lines), (
         f"no one-line error naming {names} on snakemake's output:\n{tail(proc)}"
+    )
     assert "Traceback" not in out, tail(proc)
     for path, text in job_logs(directory).items():
-        assert "Traceback" not in text, f"a traceback in {path.relative_to(directory)}:\n{text[-2500:]}"
+        assert "Traceback" not in text, (
+            f"a traceback in {path.relative_to(directory)}:\n{text[-2500:]}"
+        )
 
 
 # --- 1. a truncated or zero-byte cube, search or case file ------------------------------------
 
 
-@pytest.mark.parametrize("target, size", [("results/cubes/ramp_drums.nc", None), (SEARCH, 0),
-                                          pytest.param(CASE, None, marks=pytest.mark.slow)],
-                         ids=["truncated-cube", "zero-byte-search", "truncated-case"])
+@pytest.mark.parametrize(
+    "target, size",
+    [
+        ("results/cubes/ramp_drums.nc", None),
+        (SEARCH, 0),
+        pytest.param(CASE, None, marks=pytest.mark.slow),
+    ],
+    ids=["truncated-cube", "zero-byte-search", "truncated-case"],
+)
 def test_a_truncated_result_is_remade_by_the_next_call(ref, tmp_path, target, size):
     study = copy_study(ref, tmp_path / "study")
     truncate(study / target, size)
@@ -79,12 +108,20 @@ def limited(n):
     def preexec():
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (n, n))
+
     return preexec
 
 
 def run_limited(study, n=LIMIT):
-    return subprocess.run(snakemake_command(), cwd=study, capture_output=True, text=True, timeout=300,
-                          preexec_fn=limited(n), check=False)
+    return subprocess.run(
+        snakemake_command(),
+        cwd=study,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        preexec_fn=limited(n),
+        check=False,
+    )
 
 
 def test_a_full_disk_fails_the_jobs_in_one_line_and_a_rerun_is_identical(ref, tmp_path):
@@ -103,8 +140,10 @@ def test_a_full_disk_fails_the_jobs_in_one_line_and_a_rerun_is_identical(ref, tm
 def test_a_full_disk_does_not_condemn_good_store_entries(ref, tmp_path):
     study = copy_study(ref, tmp_path / "study")
     # the job's cases and its cube gone (a missing case alone is not remade: its cube is up to date)
-    for path in [*(study / "results/cases/small_column_friction").glob("*.nc"),
-                 study / "results/cubes/small_column_friction.nc"]:
+    for path in [
+        *(study / "results/cases/small_column_friction").glob("*.nc"),
+        study / "results/cubes/small_column_friction.nc",
+    ]:
         path.unlink()
     proc = run_limited(study)
     assert_clear_failure(proc, study, CASE, "cannot write")
@@ -129,14 +168,23 @@ def test_a_read_only_results_folder_fails_clearly_and_a_rerun_is_identical(ref, 
     results = study / "results"
     results.mkdir()
     with read_only(results):
-        proc = subprocess.run(snakemake_command(), cwd=study, capture_output=True, text=True, timeout=300,
-                              preexec_fn=as_plain_owner, check=False)
+        proc = subprocess.run(
+            snakemake_command(),
+            cwd=study,
+            capture_output=True,
+            text=True,
+            timeout=300,
+            preexec_fn=as_plain_owner,
+            check=False,
+        )
     # Snakemake's own words (it makes the output folders) or the workflow's: one line naming
     # the folder and the cause, a non-zero exit, no traceback
     out = proc.stdout + proc.stderr
     assert proc.returncode != 0 and "Traceback" not in out, tail(proc)
-    assert any("results" in line and ("Permission denied" in line or "not writable" in line)
-               for line in out.splitlines()), tail(proc)
+    assert any(
+        "results" in line and ("Permission denied" in line or "not writable" in line)
+        for line in out.splitlines()
+    ), tail(proc)
     assert not result_files(study)
     proc = snakemake(study)
     assert proc.returncode == 0, tail(proc)
@@ -159,7 +207,9 @@ def garble(path):
 
 
 @pytest.mark.parametrize("corrupt", [truncate, garble], ids=["truncated", "garbage"])
-def test_a_corrupted_record_is_named_in_one_line_and_a_restored_one_reruns_identical(ref, tmp_path, corrupt):
+def test_a_corrupted_record_is_named_in_one_line_and_a_restored_one_reruns_identical(
+    ref, tmp_path, corrupt
+):
     study = copy_study(ref, tmp_path / "study")
     corrupt(study / RECORD)
     proc = snakemake(study)
@@ -168,4 +218,3 @@ def test_a_corrupted_record_is_named_in_one_line_and_a_restored_one_reruns_ident
     proc = snakemake(study)
     assert proc.returncode == 0, tail(proc)
     assert_same_results(study, ref)
-

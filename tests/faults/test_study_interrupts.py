@@ -15,8 +15,16 @@ import time
 
 import pytest
 
-from tests.faults.small_study import (assert_same_results, descendants, make_study, no_partial_files, reference,
-                                      snakemake, snakemake_command, tail)
+from tests.faults.small_study import (
+    assert_same_results,
+    descendants,
+    make_study,
+    no_partial_files,
+    reference,
+    snakemake,
+    snakemake_command,
+    tail,
+)
 
 
 @pytest.fixture(scope="module")
@@ -35,8 +43,13 @@ def locks(study):
 def kill_run_after(study, seconds):
     """Start the study and SIGKILL its process group (and every process below it) ``seconds``
     after it has locked the folder, that is while its jobs run (building the DAG takes ~3 s)."""
-    run = subprocess.Popen(snakemake_command(), cwd=study, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                           start_new_session=True)
+    run = subprocess.Popen(
+        snakemake_command(),
+        cwd=study,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and run.poll() is None and not locks(study):
         time.sleep(0.02)
@@ -76,7 +89,9 @@ def test_three_sigkills_at_random_points_then_unlock_and_rerun_is_identical(ref,
     # the same command at once: it runs, or it refuses in words that say what to do
     proc = snakemake(study)
     if proc.returncode != 0:
-        assert "--unlock" in proc.stdout + proc.stderr and "Traceback" not in proc.stdout + proc.stderr, tail(proc)
+        assert (
+            "--unlock" in proc.stdout + proc.stderr and "Traceback" not in proc.stdout + proc.stderr
+        ), tail(proc)
         assert snakemake(study, "--unlock").returncode == 0
         proc = snakemake(study)
     assert proc.returncode == 0, tail(proc)
@@ -89,10 +104,21 @@ def test_three_sigkills_at_random_points_then_unlock_and_rerun_is_identical(ref,
 @pytest.mark.slow
 def test_two_snakemake_calls_at_once_one_refuses_or_both_succeed(ref, tmp_path):
     study = make_study(tmp_path / "study")
-    runs = [subprocess.Popen(snakemake_command(), cwd=study, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True) for _ in range(2)]
+    runs = [
+        subprocess.Popen(
+            snakemake_command(),
+            cwd=study,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for _ in range(2)
+    ]
     outs = [run.communicate(timeout=300) for run in runs]
-    done = [subprocess.CompletedProcess(run.args, run.returncode, out, err) for run, (out, err) in zip(runs, outs)]
+    done = [
+        subprocess.CompletedProcess(run.args, run.returncode, out, err)
+        for run, (out, err) in zip(runs, outs)
+    ]
     codes = sorted(proc.returncode for proc in done)
     assert codes[0] == 0, "\n".join(tail(proc) for proc in done)
     for proc in done:
@@ -102,5 +128,7 @@ def test_two_snakemake_calls_at_once_one_refuses_or_both_succeed(ref, tmp_path):
             assert "Traceback" not in out, tail(proc)
     # the refused call left no lock behind, and the study is complete and identical
     again = snakemake(study)
-    assert again.returncode == 0 and "Nothing to be done" in again.stdout + again.stderr, tail(again)
+    assert again.returncode == 0 and "Nothing to be done" in again.stdout + again.stderr, tail(
+        again
+    )
     assert_same_results(study, ref)

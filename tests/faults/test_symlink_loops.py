@@ -41,14 +41,18 @@ def arena(tmp_path, monkeypatch):
         (tmp_path / name).symlink_to(name)
     shutil.copy(ROOT / "tests/data/scenes/rocking_block.yaml", tmp_path / "scene.yaml")
     shutil.copy(ROOT / "config/walls/free_standing.yaml", tmp_path / "wall.yaml")
-    (tmp_path / "case.nc").write_bytes(b"CDF\x01" + bytes(60))   # never read: the output is refused first
+    (tmp_path / "case.nc").write_bytes(
+        b"CDF\x01" + bytes(60)
+    )  # never read: the output is refused first
     monkeypatch.chdir(tmp_path)
     return tmp_path
 
 
 def _fill(argv, arena):
     names = {name: str(arena / name) for name in LOOPS}
-    names.update(scene=str(arena / "scene.yaml"), wall=str(arena / "wall.yaml"), case=str(arena / "case.nc"))
+    names.update(
+        scene=str(arena / "scene.yaml"), wall=str(arena / "wall.yaml"), case=str(arena / "case.nc")
+    )
     filled = []
     for arg in argv:
         for name, path in names.items():
@@ -62,11 +66,15 @@ def _one_line(capsys, status, argument):
     lines = err.strip().splitlines()
     assert status == 2, (status, err)
     assert len(lines) == 1 and lines[0].startswith("error: "), err
-    assert argument in lines[0] and ("symbolic link" in lines[0] or "symlink loop" in lines[0]), lines[0]
+    assert argument in lines[0] and ("symbolic link" in lines[0] or "symlink loop" in lines[0]), (
+        lines[0]
+    )
     assert "Traceback" not in out + err
 
 
-@pytest.mark.parametrize("argv, argument", CASES, ids=lambda c: " ".join(c) if isinstance(c, list) else None)
+@pytest.mark.parametrize(
+    "argv, argument", CASES, ids=lambda c: " ".join(c) if isinstance(c, list) else None
+)
 def test_a_symlink_loop_on_a_command_path_is_one_line(arena, capsys, argv, argument):
     before = sorted(p.name for p in arena.iterdir())
     _one_line(capsys, stonedem_main(_fill(argv, arena)), argument)

@@ -14,8 +14,14 @@ def test_rate_derivatives_match_finite_differences():
     for v, z in ((0.3, 0.2), (-0.4, 0.97), (0.05, -0.999), (-0.2, -0.5)):
         rate, d_v, d_z = bouc_wen_rate(v, z, U_Y, 0.5, 0.5, 50.0)
         h = 1e-7
-        fd_v = (bouc_wen_rate(v + h, z, U_Y, 0.5, 0.5, 50.0)[0] - bouc_wen_rate(v - h, z, U_Y, 0.5, 0.5, 50.0)[0]) / (2 * h)
-        fd_z = (bouc_wen_rate(v, z + h, U_Y, 0.5, 0.5, 50.0)[0] - bouc_wen_rate(v, z - h, U_Y, 0.5, 0.5, 50.0)[0]) / (2 * h)
+        fd_v = (
+            bouc_wen_rate(v + h, z, U_Y, 0.5, 0.5, 50.0)[0]
+            - bouc_wen_rate(v - h, z, U_Y, 0.5, 0.5, 50.0)[0]
+        ) / (2 * h)
+        fd_z = (
+            bouc_wen_rate(v, z + h, U_Y, 0.5, 0.5, 50.0)[0]
+            - bouc_wen_rate(v, z - h, U_Y, 0.5, 0.5, 50.0)[0]
+        ) / (2 * h)
         assert d_v == pytest.approx(fd_v, rel=1e-6), (v, z)
         assert d_z == pytest.approx(fd_z, rel=1e-5, abs=1e-3 * abs(rate) + 1.0), (v, z)
     # thesis Eq. 5.7 with gamma = beta = 1/2: z' = u'/u_y while unloading (u' z < 0)
@@ -43,10 +49,12 @@ def test_stick_phase_is_the_linear_oscillator():
     # z = -0.1 (1 - cos(w t)), u = u_y z, w = sqrt(mu g / u_y)
     w = math.sqrt(MU * G / U_Y)
     t = np.linspace(0.0, 4.0 * 2.0 * math.pi / w, 41)
-    failures, u, _v = _run(t, np.full_like(t, 0.1 * MU * G), 50)   # 500 steps per period
+    failures, u, _v = _run(t, np.full_like(t, 0.1 * MU * G), 50)  # 500 steps per period
     exact = -0.1 * U_Y * (1.0 - np.cos(w * t))
     assert failures == 0
-    assert np.abs(u - exact).max() < 0.02 * 0.2 * U_Y, f"worst {np.abs(u - exact).max()} m, tol 2 % of 0.2 u_y"
+    assert np.abs(u - exact).max() < 0.02 * 0.2 * U_Y, (
+        f"worst {np.abs(u - exact).max()} m, tol 2 % of 0.2 u_y"
+    )
 
 
 def test_sliding_under_constant_acceleration_is_rigid_plastic():
@@ -61,4 +69,5 @@ def test_sliding_under_constant_acceleration_is_rigid_plastic():
     t_star = math.sqrt(2.0 * U_Y / a_g)
     offset = v[1:] + MU * G * t[1:]
     assert np.all(offset < 0.0) and np.all(-offset < MU * G * t_star), (
-        f"extra speed {offset} m/s within mu g t* = {MU * G * t_star:.2e}")
+        f"extra speed {offset} m/s within mu g t* = {MU * G * t_star:.2e}"
+    )

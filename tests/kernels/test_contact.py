@@ -5,8 +5,8 @@ import pytest
 
 from stonedem.engine import geometry
 from stonedem.kernels import step
-from stonedem.kernels.contact import winkler_integral
 from stonedem.kernels.contact import area_contact_forces as contact_forces
+from stonedem.kernels.contact import winkler_integral
 from tests.kernels.bundles import law_bundles
 
 
@@ -18,15 +18,28 @@ def two_boxes(depth, shift_x=0.0):
     return verts, np.array([0, 4, 8]), np.array([[0.0, -0.25], [shift_x, 0.5 - depth]])
 
 
-def call(depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_t=0.0, ft=0.0, dt=1e-4):
+def call(
+    depth, vel_block=(0.0, 0.0, 0.0), mu=0.5, k_n=1e8, c_n=0.0, k_t=1e8, c_t=0.0, ft=0.0, dt=1e-4
+):
     verts, start, centres = two_boxes(depth)
     pair_ft = np.zeros((2, 2))
     pair_ft[0, 1] = ft
-    law = step.Law(kind=step.CONTACT_AREA, k_n=k_n, damping=c_n, impact=False, k_t=k_t, c_t=c_t, frame_rule=0)
+    law = step.Law(
+        kind=step.CONTACT_AREA, k_n=k_n, damping=c_n, impact=False, k_t=k_t, c_t=c_t, frame_rule=0
+    )
     # masses do not enter the area law
-    model, state, work = law_bundles(verts, start, centres, law, mass=[1.0, 1.0], inertia=[1.0, 1.0],
-                                     driven=[True, False], vel=[(0.0, 0.0, 0.0), vel_block], mu=mu,
-                                     pair_ft=pair_ft)
+    model, state, work = law_bundles(
+        verts,
+        start,
+        centres,
+        law,
+        mass=[1.0, 1.0],
+        inertia=[1.0, 1.0],
+        driven=[True, False],
+        vel=[(0.0, 0.0, 0.0), vel_block],
+        mu=mu,
+        pair_ft=pair_ft,
+    )
     n = contact_forces(model, state, work, 1, dt, True)
     return n[0], work.force_x, work.force_y, work.torque, state.pair_ft, state.pair_memory
 
@@ -66,9 +79,20 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
     verts = np.vstack([base, block])
     start = np.array([0, 4, 8])
     centres = np.array([[0.0, -0.25], block.mean(axis=0)])
-    law = step.Law(kind=step.CONTACT_AREA, k_n=1e8, damping=1e4, impact=False, k_t=1e8, c_t=1e3, frame_rule=0)
-    model, state, work = law_bundles(verts, start, centres, law, mass=[1.0, 1.0], inertia=[1.0, 1.0],
-                                     driven=[True, False], vel=[(0.0, 0.0, 0.0), (0.3, -0.2, 0.5)], mu=0.4)
+    law = step.Law(
+        kind=step.CONTACT_AREA, k_n=1e8, damping=1e4, impact=False, k_t=1e8, c_t=1e3, frame_rule=0
+    )
+    model, state, work = law_bundles(
+        verts,
+        start,
+        centres,
+        law,
+        mass=[1.0, 1.0],
+        inertia=[1.0, 1.0],
+        driven=[True, False],
+        vel=[(0.0, 0.0, 0.0), (0.3, -0.2, 0.5)],
+        mu=0.4,
+    )
     n = contact_forces(model, state, work, 1, 1e-4, False)
     fx, fy, tq = work.force_x, work.force_y, work.torque
     assert n[0] == 1 and tq[1] != 0.0
@@ -86,7 +110,9 @@ def test_winkler_integral_of_a_triangle_and_a_sliver():
     # depth rising linearly from 0 to D over L: int d^2 ds = D^2 L / 3
     x = np.array([0.0, 2.0, 2.0])
     y = np.array([0.0, 0.0, 0.3])
-    assert winkler_integral(x, y, 3, 1.0, 0.0, 0.0, 1.0) == pytest.approx(0.3**2 * 2.0 / 3.0, rel=1e-12)
+    assert winkler_integral(x, y, 3, 1.0, 0.0, 0.0, 1.0) == pytest.approx(
+        0.3**2 * 2.0 / 3.0, rel=1e-12
+    )
     x = np.array([0.0, 1.0, 1.0, 0.0])
     y = np.array([0.0, 0.0, 1e-4, 1e-4])
     assert winkler_integral(x, y, 4, 1.0, 0.0, 0.0, 1.0) == pytest.approx(1e-8, rel=1e-9)

@@ -15,12 +15,15 @@ def motion(kind, params, t, table=NO_TABLE):
     return np.array(kx.base_motion(t, kind, np.asarray(params, float), *table))
 
 
-@pytest.mark.parametrize("kind, params", [
-    (kx.KIND_HARMONIC, [0.25, 2 * np.pi * 0.5, 0, 0]),
-    (kx.KIND_RECT_PULSE, [7.848, 1.5, 0, 0]),
-    (kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0]),
-    (kx.KIND_RAMP, [0.5, 0, 0, 0]),
-])
+@pytest.mark.parametrize(
+    "kind, params",
+    [
+        (kx.KIND_HARMONIC, [0.25, 2 * np.pi * 0.5, 0, 0]),
+        (kx.KIND_RECT_PULSE, [7.848, 1.5, 0, 0]),
+        (kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0]),
+        (kx.KIND_RAMP, [0.5, 0, 0, 0]),
+    ],
+)
 def test_velocity_and_acceleration_are_derivatives(kind, params):
     for t in (0.1, 0.37, 0.9, 1.2, 2.3):
         d0, v0, a0 = motion(kind, params, t)
@@ -31,13 +34,17 @@ def test_velocity_and_acceleration_are_derivatives(kind, params):
 
 
 def test_pulses_are_continuous_at_their_end_and_rest_before_zero():
-    for kind, params, end in [(kx.KIND_RECT_PULSE, [7.848, 1.5, 0, 0], 1.5),
-                              (kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0], 0.5)]:
+    for kind, params, end in [
+        (kx.KIND_RECT_PULSE, [7.848, 1.5, 0, 0], 1.5),
+        (kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0], 0.5),
+    ]:
         before = motion(kind, params, end - 1e-12)
         after = motion(kind, params, end + 1e-12)
         assert before[:2] == pytest.approx(after[:2], abs=1e-9), "d and v continuous"
         assert list(motion(kind, params, -0.1)) == [0.0, 0.0, 0.0]
-    assert motion(kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0], 0.7)[1] == pytest.approx(0.0, abs=1e-12)
+    assert motion(kx.KIND_SINE_PULSE, [3.0, 2 * np.pi * 2.0, 0.5, 0], 0.7)[1] == pytest.approx(
+        0.0, abs=1e-12
+    )
 
 
 def test_table_integrates_piecewise_linear_acceleration_exactly():

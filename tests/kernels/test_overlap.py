@@ -6,14 +6,22 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from stonedem.engine import geometry
-from stonedem.kernels.overlap import (FRAME_BOUNDARY, FRAME_THESIS, MAX_OVERLAP_VERTICES, clip_convex_polygons, contact_frame, polygon_area_centroid)
+from stonedem.kernels.overlap import (
+    FRAME_BOUNDARY,
+    FRAME_THESIS,
+    MAX_OVERLAP_VERTICES,
+    clip_convex_polygons,
+    contact_frame,
+    polygon_area_centroid,
+)
 from tests import naive
 
 
 def overlap(a, b):
     s = np.zeros((4, MAX_OVERLAP_VERTICES))
-    n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
-                             s[0], s[1], s[2], s[3])
+    n = clip_convex_polygons(
+        a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(), s[0], s[1], s[2], s[3]
+    )
     if n == 0:
         return 0.0, None, s, 0
     area, cx, cy = polygon_area_centroid(s[0], s[1], n)
@@ -21,9 +29,20 @@ def overlap(a, b):
 
 
 def frame(s, n, a, b, rule):
-    return contact_frame(s[0], s[1], n, a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(),
-                         b[:, 1].copy(), a[:, 0].mean(), a[:, 1].mean(), b[:, 0].mean(),
-                         b[:, 1].mean(), rule)
+    return contact_frame(
+        s[0],
+        s[1],
+        n,
+        a[:, 0].copy(),
+        a[:, 1].copy(),
+        b[:, 0].copy(),
+        b[:, 1].copy(),
+        a[:, 0].mean(),
+        a[:, 1].mean(),
+        b[:, 0].mean(),
+        b[:, 1].mean(),
+        rule,
+    )
 
 
 def test_box_on_box_overlap_is_the_sliver():
@@ -33,7 +52,9 @@ def test_box_on_box_overlap_is_the_sliver():
     assert area == pytest.approx(0.25 * 1e-4, rel=1e-9), "sliver 0.25 m x 0.1 mm"
     assert c == pytest.approx([0.3, -0.5e-4], abs=1e-12)
     nx, ny, tx, ty, chord = frame(s, n, base, block, FRAME_BOUNDARY)
-    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-14), "boundary rule: exactly the face normal"
+    assert (nx, ny) == pytest.approx((0.0, 1.0), abs=1e-14), (
+        "boundary rule: exactly the face normal"
+    )
     assert chord == pytest.approx(0.25, rel=1e-9)
     assert (tx, ty) == pytest.approx((ny, -nx))
     # thesis 3.7: longest diagonal of the 0.25 x 1e-4 sliver, tilted by 1e-4 / 0.25
@@ -69,7 +90,10 @@ def test_separated_polygons_have_no_overlap():
 
 convex = st.builds(
     lambda w, h, x, y, ang: geometry.box_vertices(w, h, (x, y), ang),
-    st.floats(0.1, 2.0), st.floats(0.1, 2.0), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0),
+    st.floats(0.1, 2.0),
+    st.floats(0.1, 2.0),
+    st.floats(-1.0, 1.0),
+    st.floats(-1.0, 1.0),
     st.floats(-3.2, 3.2),
 )
 
@@ -93,5 +117,6 @@ def test_area_against_grid_sampling(shift):
     a = geometry.box_vertices(1.0, 0.6, (0.0, 0.0), 0.3)
     b = geometry.box_vertices(0.8, 0.8, (0.4 + shift, 0.2), -0.5)
     area = overlap(a, b)[0]
-    assert area == pytest.approx(naive.overlap_area_by_sampling(a, b), rel=2e-2, abs=1e-3), \
+    assert area == pytest.approx(naive.overlap_area_by_sampling(a, b), rel=2e-2, abs=1e-3), (
         "grid sampling with 400 x 400 points, 2 %"
+    )

@@ -5,7 +5,11 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid
+from stonedem.kernels.overlap import (
+    MAX_OVERLAP_VERTICES,
+    clip_convex_polygons,
+    polygon_area_centroid,
+)
 from stonedem.kernels.penetration import deepest_overlap
 
 # a base slab, a block resting on it and a second block beside that one (vertices about centroids)
@@ -48,10 +52,19 @@ def test_skipping_by_boxes_finds_what_clipping_all_finds(seed):
     start, local_x, local_y, areas = packed()
     n_sample = int(rng.integers(1, 60))
     # resting with a small random overlap, rocking a little, the neighbour sometimes pressed in
-    x = np.column_stack([np.zeros(n_sample), rng.normal(0.0, 0.05, n_sample), 0.5 + rng.normal(0.0, 0.05, n_sample)])
-    y = np.column_stack([np.zeros(n_sample), 0.85 - rng.uniform(0.0, 0.02, n_sample),
-                         0.65 - rng.uniform(0.0, 0.02, n_sample)])
-    theta = np.column_stack([np.zeros(n_sample), rng.normal(0.0, 0.02, n_sample), rng.normal(0.0, 0.02, n_sample)])
+    x = np.column_stack(
+        [np.zeros(n_sample), rng.normal(0.0, 0.05, n_sample), 0.5 + rng.normal(0.0, 0.05, n_sample)]
+    )
+    y = np.column_stack(
+        [
+            np.zeros(n_sample),
+            0.85 - rng.uniform(0.0, 0.02, n_sample),
+            0.65 - rng.uniform(0.0, 0.02, n_sample),
+        ]
+    )
+    theta = np.column_stack(
+        [np.zeros(n_sample), rng.normal(0.0, 0.02, n_sample), rng.normal(0.0, 0.02, n_sample)]
+    )
     found = deepest_overlap(start, local_x, local_y, areas, x, y, theta)
     expected = every_sample_clipped(start, local_x, local_y, areas, x, y, theta)
     assert found[0] == expected[0] and found[1:] == expected[1:]

@@ -13,53 +13,115 @@ G = 9.81
 
 def test_accumulated_energy_columns_are_the_accumulator_slots():
     assert (step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL, step.ENERGY_BASE_WORK) == tuple(
-        step.ENERGY_ACCUMULATED + slot for slot in (E_DAMPING, E_TANGENTIAL, E_BASE_WORK))
-    columns = [step.ENERGY_KINETIC, step.ENERGY_POTENTIAL, step.ENERGY_ELASTIC,
-               step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL, step.ENERGY_BASE_WORK]
+        step.ENERGY_ACCUMULATED + slot for slot in (E_DAMPING, E_TANGENTIAL, E_BASE_WORK)
+    )
+    columns = [
+        step.ENERGY_KINETIC,
+        step.ENERGY_POTENTIAL,
+        step.ENERGY_ELASTIC,
+        step.ENERGY_DAMPING,
+        step.ENERGY_TANGENTIAL,
+        step.ENERGY_BASE_WORK,
+    ]
     assert sorted(columns) == list(range(step.N_ENERGY))
     assert step.N_ENERGY == step.ENERGY_ACCUMULATED + N_ENERGY_ACC
 
 
 def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
     """One free 1 x 1 m box of 1 kg in flight, nothing to touch: (model, settings, state, samples)."""
-    still = step.Excitation(kind=KIND_NONE, params=np.zeros(4), table_accel=np.zeros(1),
-                            table_vel=np.zeros(1), table_disp=np.zeros(1), table_dt=1.0)
-    model = step.Model(
-        vert_start=np.array([0, 4]), local_x=np.array([-0.5, 0.5, 0.5, -0.5]),
-        local_y=np.array([-0.5, -0.5, 0.5, 0.5]), body_mass=np.ones(1), body_inertia=np.full(1, 1 / 6),
-        body_driven=np.zeros(1, dtype=np.bool_), body_radius=np.full(1, np.sqrt(0.5)),
-        ref_x=np.zeros(1), ref_y=np.zeros(1), ref_theta=np.zeros(1), pair_mu=np.full((1, 1), 0.5),
-        body_group=np.zeros(1, dtype=np.int64), group_theta_cr=np.full(1, np.pi / 4),
-        fall_depth=np.full(1, 1e9), margin=0.1, sweep_axis=1, gravity=G,
-        law=step.Law(kind=step.CONTACT_AREA, k_n=1e8, damping=0.0, impact=False, k_t=1e6, c_t=0.0,
-                     frame_rule=FRAME_BOUNDARY),
-        horizontal=still, vertical=still,
-        watch=step.Watch(rocking=np.ones(1), n_rocking=1.0, onset_rocking=np.pi / 4 / 30,
-                         support=np.full(1, -1), slide_x=np.zeros(1), slide_y=np.zeros(1),
-                         slide_support_x=np.zeros(1), slide_support_y=np.zeros(1), slide_offset=np.zeros(1),
-                         epistyle=np.zeros(1), n_epistyle=0.0, x0=np.zeros(1)),
+    still = step.Excitation(
+        kind=KIND_NONE,
+        params=np.zeros(4),
+        table_accel=np.zeros(1),
+        table_vel=np.zeros(1),
+        table_disp=np.zeros(1),
+        table_dt=1.0,
     )
-    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=False,
-                             rest_speed=1e-3, rest_samples=1)
+    model = step.Model(
+        vert_start=np.array([0, 4]),
+        local_x=np.array([-0.5, 0.5, 0.5, -0.5]),
+        local_y=np.array([-0.5, -0.5, 0.5, 0.5]),
+        body_mass=np.ones(1),
+        body_inertia=np.full(1, 1 / 6),
+        body_driven=np.zeros(1, dtype=np.bool_),
+        body_radius=np.full(1, np.sqrt(0.5)),
+        ref_x=np.zeros(1),
+        ref_y=np.zeros(1),
+        ref_theta=np.zeros(1),
+        pair_mu=np.full((1, 1), 0.5),
+        body_group=np.zeros(1, dtype=np.int64),
+        group_theta_cr=np.full(1, np.pi / 4),
+        fall_depth=np.full(1, 1e9),
+        margin=0.1,
+        sweep_axis=1,
+        gravity=G,
+        law=step.Law(
+            kind=step.CONTACT_AREA,
+            k_n=1e8,
+            damping=0.0,
+            impact=False,
+            k_t=1e6,
+            c_t=0.0,
+            frame_rule=FRAME_BOUNDARY,
+        ),
+        horizontal=still,
+        vertical=still,
+        watch=step.Watch(
+            rocking=np.ones(1),
+            n_rocking=1.0,
+            onset_rocking=np.pi / 4 / 30,
+            support=np.full(1, -1),
+            slide_x=np.zeros(1),
+            slide_y=np.zeros(1),
+            slide_support_x=np.zeros(1),
+            slide_support_y=np.zeros(1),
+            slide_offset=np.zeros(1),
+            epistyle=np.zeros(1),
+            n_epistyle=0.0,
+            x0=np.zeros(1),
+        ),
+    )
+    settings = step.Settings(
+        dt=dt,
+        n_steps=n_steps,
+        out_every=out_every,
+        stop_on_collapse=False,
+        rest_speed=1e-3,
+        rest_samples=1,
+    )
     state = step.State(
-        body_x=np.zeros(1), body_y=np.zeros(1), body_theta=np.zeros(1),
-        body_vx=np.array([v0[0]]), body_vy=np.array([v0[1]]), body_omega=np.array([v0[2]]),
-        pair_ft=np.zeros((1, 1)), pair_memory=np.zeros((1, 1, N_MEMORY)), energy_acc=np.zeros(N_ENERGY_ACC),
-        rest_count=np.zeros(1, dtype=np.int64), peaks=np.zeros(step.N_PEAK), peak_theta=np.zeros(1),
+        body_x=np.zeros(1),
+        body_y=np.zeros(1),
+        body_theta=np.zeros(1),
+        body_vx=np.array([v0[0]]),
+        body_vy=np.array([v0[1]]),
+        body_omega=np.array([v0[2]]),
+        pair_ft=np.zeros((1, 1)),
+        pair_memory=np.zeros((1, 1, N_MEMORY)),
+        energy_acc=np.zeros(N_ENERGY_ACC),
+        rest_count=np.zeros(1, dtype=np.int64),
+        peaks=np.zeros(step.N_PEAK),
+        peak_theta=np.zeros(1),
         events=np.full(step.N_EVENT, -1, dtype=np.int64),
     )
     n_out = n_steps // out_every + 2
-    samples = step.Samples(step=np.zeros(n_out, dtype=np.int64), x=np.zeros((n_out, 1)),
-                           y=np.zeros((n_out, 1)), theta=np.zeros((n_out, 1)),
-                           energy=np.zeros((n_out, step.N_ENERGY)), n_contact=np.zeros(n_out, dtype=np.int64))
+    samples = step.Samples(
+        step=np.zeros(n_out, dtype=np.int64),
+        x=np.zeros((n_out, 1)),
+        y=np.zeros((n_out, 1)),
+        theta=np.zeros((n_out, 1)),
+        energy=np.zeros((n_out, step.N_ENERGY)),
+        n_contact=np.zeros(n_out, dtype=np.int64),
+    )
     return model, settings, state, samples
 
 
 def test_run_flies_a_free_box_exactly_and_samples_every_out_every_steps():
     n_steps, dt = 1000, 1e-3
     model, settings, state, samples = box_bundles(n_steps, dt)
-    status, n_sample, collapse_sample = step.run(model, settings, state, samples, 0, n_steps + 1, 0,
-                                                 n_steps + 1, 0, -1)
+    status, n_sample, collapse_sample = step.run(
+        model, settings, state, samples, 0, n_steps + 1, 0, n_steps + 1, 0, -1
+    )
     assert (status, n_sample, collapse_sample) == (step.STATUS_OK, 101, -1)
     t = samples.step[:n_sample] * dt
     assert np.array_equal(samples.step[:n_sample], np.arange(0, n_steps + 1, 10))
@@ -71,7 +133,7 @@ def test_run_flies_a_free_box_exactly_and_samples_every_out_every_steps():
     e = samples.energy[:n_sample]
     total = e[:, step.ENERGY_KINETIC] + e[:, step.ENERGY_POTENTIAL]
     assert np.allclose(total, total[0], rtol=1e-12, atol=1e-9)
-    assert not e[:, step.ENERGY_ELASTIC:].any() and not samples.n_contact[:n_sample].any()
+    assert not e[:, step.ENERGY_ELASTIC :].any() and not samples.n_contact[:n_sample].any()
 
 
 def test_run_split_into_calls_equals_one_call():
@@ -81,8 +143,9 @@ def test_run_split_into_calls_equals_one_call():
     parts = box_bundles(n_steps, dt)
     n_sample, collapse_sample = 0, -1
     for start, stop in ((0, 333), (333, 700), (700, n_steps + 1)):
-        _, n_sample, collapse_sample = step.run(*parts, start, stop, 0, n_steps + 1,
-                                                n_sample, collapse_sample)
+        _, n_sample, collapse_sample = step.run(
+            *parts, start, stop, 0, n_steps + 1, n_sample, collapse_sample
+        )
     for a, b in zip(whole[2] + whole[3], parts[2] + parts[3]):
         assert np.array_equal(a, b)
 
@@ -91,9 +154,15 @@ def test_run_stops_when_the_box_comes_to_rest_and_on_nan():
     model, settings, state, samples = box_bundles(100, 1e-3, v0=(0.0, 0.0, 0.0))
     # weightless and still: at rest at the first sample
     model = model._replace(gravity=0.0)
-    assert step.run(model, settings, state, samples, 0, 101, 0, 0, 0, -1)[:2] == (step.STATUS_AT_REST, 1)
+    assert step.run(model, settings, state, samples, 0, 101, 0, 0, 0, -1)[:2] == (
+        step.STATUS_AT_REST,
+        1,
+    )
     model, settings, state, samples = box_bundles(100, 1e-3, v0=(0.0, 0.0, np.nan))
-    assert step.run(model, settings, state, samples, 0, 101, 0, 101, 0, -1)[:2] == (step.STATUS_NONFINITE, 1)
+    assert step.run(model, settings, state, samples, 0, 101, 0, 101, 0, -1)[:2] == (
+        step.STATUS_NONFINITE,
+        1,
+    )
 
 
 def test_collapsed_by_mean_rotation_of_a_group_or_by_a_fall():
@@ -144,7 +213,9 @@ def test_peaks_and_first_events_are_kept_at_every_step_not_at_the_samples():
     # onset at theta_cr / 30 = pi / 120: 0.5 t > 0.02618 first at step 53, between samples
     assert state.events[step.EVENT_ONSET] == 53
     assert state.events[step.EVENT_COLLAPSE] == -1, "0.23 rad < theta_cr = pi / 4"
-    assert state.peaks[step.PEAK_SLIDING] == 0.0 and state.peaks[step.PEAK_EPISTYLE] == 0.0, "nothing to measure"
+    assert state.peaks[step.PEAK_SLIDING] == 0.0 and state.peaks[step.PEAK_EPISTYLE] == 0.0, (
+        "nothing to measure"
+    )
 
 
 def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
@@ -152,15 +223,35 @@ def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
     model, settings, state, samples = box_bundles(n_steps, dt)
     # theta_cr 0.0333 rad: 0.5 t passes it first at step 67
     model = model._replace(group_theta_cr=np.full(1, 0.0333))
-    status, n_sample, collapse_sample = step.run(model, settings._replace(stop_on_collapse=True), state, samples,
-                                                 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+    status, n_sample, collapse_sample = step.run(
+        model,
+        settings._replace(stop_on_collapse=True),
+        state,
+        samples,
+        0,
+        n_steps + 1,
+        0,
+        n_steps + 1,
+        0,
+        -1,
+    )
     assert status == step.STATUS_COLLAPSED and state.events[step.EVENT_COLLAPSE] == 67
     assert collapse_sample == n_sample - 1 == 7 and samples.step[collapse_sample] == 67
     assert samples.theta[collapse_sample, 0] == pytest.approx(0.5 * 0.067, rel=1e-12)
     # not stopping: the collapse step is kept, and the first sample after it is flagged
     model2, settings2, state2, samples2 = box_bundles(n_steps, dt)
-    status, n_sample, collapse_sample = step.run(model2._replace(group_theta_cr=np.full(1, 0.0333)), settings2,
-                                                 state2, samples2, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+    status, n_sample, collapse_sample = step.run(
+        model2._replace(group_theta_cr=np.full(1, 0.0333)),
+        settings2,
+        state2,
+        samples2,
+        0,
+        n_steps + 1,
+        0,
+        n_steps + 1,
+        0,
+        -1,
+    )
     assert status == step.STATUS_OK and n_sample == 101
     assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70
 
@@ -173,13 +264,27 @@ def block_run_bundles(tilt, duration):
     from stonedem.engine.simulate import run_time_step
     from stonedem.validation.cases import block_scene
 
-    scene = scene_from_dict(block_scene(0.4, 1.6, contact={"model": "point", "k_n": 1e10}, tilt=tilt,
-                                        duration=duration, every=0.01))
+    scene = scene_from_dict(
+        block_scene(
+            0.4,
+            1.6,
+            contact={"model": "point", "k_n": 1e10},
+            tilt=tilt,
+            duration=duration,
+            every=0.01,
+        )
+    )
     dt, _ = run_time_step(scene)
     arrays = pack_scene(scene)
     n_steps = int(np.ceil(scene.duration / dt - 1e-9))
-    settings = step.Settings(dt=dt, n_steps=n_steps, out_every=max(1, round(0.01 / dt)), stop_on_collapse=False,
-                             rest_speed=1e-3, rest_samples=10**6)
+    settings = step.Settings(
+        dt=dt,
+        n_steps=n_steps,
+        out_every=max(1, round(0.01 / dt)),
+        stop_on_collapse=False,
+        rest_speed=1e-3,
+        rest_samples=10**6,
+    )
     return arrays, kernel_model(scene, arrays), settings, n_steps
 
 
@@ -193,15 +298,37 @@ def test_run_steps_goes_on_with_a_larger_bundle_when_the_pairs_do_not_fit():
     for capacities in ((None,), (0, 1)):
         state, samples = initial_state(arrays), empty_samples(n_steps + 2, 2)
         if capacities == (None,):
-            result = step.run(model, settings, state, samples, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+            result = step.run(
+                model, settings, state, samples, 0, n_steps + 1, 0, n_steps + 1, 0, -1
+            )
         else:
-            status, n_sample, collapse, n = step.run_steps(model, settings, state, samples,
-                                                           step.allocate_work(model, 1)._replace(
-                                                               pair_a=np.zeros(0, dtype=np.int64)),
-                                                           0, n_steps + 1, 0, n_steps + 1, 0, -1)
+            status, n_sample, collapse, n = step.run_steps(
+                model,
+                settings,
+                state,
+                samples,
+                step.allocate_work(model, 1)._replace(pair_a=np.zeros(0, dtype=np.int64)),
+                0,
+                n_steps + 1,
+                0,
+                n_steps + 1,
+                0,
+                -1,
+            )
             assert (status, n_sample, n) == (step.STATUS_PAIRS_FULL, 0, 0)
-            result = step.run_steps(model, settings, state, samples, step.allocate_work(model, 1), n,
-                                    n_steps + 1, 0, n_steps + 1, n_sample, collapse)[:3]
+            result = step.run_steps(
+                model,
+                settings,
+                state,
+                samples,
+                step.allocate_work(model, 1),
+                n,
+                n_steps + 1,
+                0,
+                n_steps + 1,
+                n_sample,
+                collapse,
+            )[:3]
         runs.append((result, state, samples))
     (first, state_1, samples_1), (second, state_2, samples_2) = runs
     assert first == second and first[0] == step.STATUS_OK
@@ -224,12 +351,19 @@ def test_the_kept_contact_faces_change_no_run_by_a_bit():
         if not faces:
             work = work._replace(face_cache=np.zeros((0, N_FACE_CACHE)))
         state, samples = initial_state(arrays), empty_samples(n_steps + 2, 2)
-        result = step.run_steps(model, settings, state, samples, work, 0, n_steps + 1, 0, n_steps + 1, 0, -1)
+        result = step.run_steps(
+            model, settings, state, samples, work, 0, n_steps + 1, 0, n_steps + 1, 0, -1
+        )
         runs.append((result, state, samples, work))
     (kept, state_1, samples_1, work_1), (none, state_2, samples_2, _) = runs
     assert kept == none and kept[0] == step.STATUS_OK
     assert abs(state_1.body_theta[1]) > 1.4  # it lies on its side,
-    assert not np.array_equal(work_1.sweep_y, initial_state(arrays).body_y)  # its pair was listed again
-    assert work_1.face_cache[0, FACE_A] >= 0 and work_1.face_cache[0, FACE_B] in (1.0, 3.0)  # a side face kept
+    assert not np.array_equal(
+        work_1.sweep_y, initial_state(arrays).body_y
+    )  # its pair was listed again
+    assert work_1.face_cache[0, FACE_A] >= 0 and work_1.face_cache[0, FACE_B] in (
+        1.0,
+        3.0,
+    )  # a side face kept
     for a, b in zip(state_1 + samples_1, state_2 + samples_2):
         assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f")

@@ -17,7 +17,9 @@ load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
 
 
 def wall(*args):
-    return subprocess.run([sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True)
+    return subprocess.run(
+        [sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True
+    )
 
 
 @pytest.fixture(scope="module")
@@ -36,13 +38,20 @@ def test_issue_case_runs_and_is_self_describing(issue_case):
     assert ds["lambda"].dims == ("step",) and ds.damage.dims == ("step", "interface")
     assert float(ds.lambda_max) == pytest.approx(float(ds["lambda"].max()))
     assert ds.displacement_at_limit.dims == ("block", "dof")
-    assert '"mu": 0.7' in ds.attrs["case"] and "solver_tolerance" in ds.attrs and "stonedem" in ds.attrs["source"]
+    assert (
+        '"mu": 0.7' in ds.attrs["case"]
+        and "solver_tolerance" in ds.attrs
+        and "stonedem" in ds.attrs["source"]
+    )
 
 
-@pytest.mark.xfail(strict=True, reason="measured lambda_max 0.283 vs manuscript DEM 0.175 (+61 %): "
-                                       "the issue's file pins the column at the block centres (at: centre, "
-                                       "the default); config/walls/orduna_case1.yaml holds points on the "
-                                       "panel edge as the manuscript does and gives 0.177")
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured lambda_max 0.283 vs manuscript DEM 0.175 (+61 %): "
+    "the issue's file pins the column at the block centres (at: centre, "
+    "the default); config/walls/orduna_case1.yaml holds points on the "
+    "panel edge as the manuscript does and gives 0.177",
+)
 def test_issue_case_is_table1_case1(issue_case):
     lam = float(issue_case.lambda_max)
     assert lam == pytest.approx(0.175, rel=0.10), f"Table 1 case 1: {lam:.4f} vs 0.175 (10 %)"
@@ -57,16 +66,22 @@ def test_limit_analysis_proves_the_plateau(issue_case):
     assert ds.attrs["limit_analysis_verdict"].startswith("plateau proven")
 
 
-@pytest.mark.parametrize("edit, field", [
-    (("blocks_per_course: 3", "blocks_per_course: 3, colour: red"), "panel.colour"),
-    (("a: 0.081", "a: -0.081"), "panel.block.a"),
-    (("kind: dry, ", ""), "joints.kind"),
-    (("edge: left", "edge: middle"), "restraints[1].edge"),
-    (("blocks_per_course: 3", "blocks_per_course: 3.3"), "panel.blocks_per_course"),   # does not tile
-    (("k_n: 2.4e9", "k_n: -2.4e9"), "joints.k_n"),
-    (("mu: 0.7", "mu: 0"), "joints.mu"),
-    (("{edge: base, fix: all}, ", ""), "restraints"),   # a mechanism at lambda = 0
-])
+@pytest.mark.parametrize(
+    "edit, field",
+    [
+        (("blocks_per_course: 3", "blocks_per_course: 3, colour: red"), "panel.colour"),
+        (("a: 0.081", "a: -0.081"), "panel.block.a"),
+        (("kind: dry, ", ""), "joints.kind"),
+        (("edge: left", "edge: middle"), "restraints[1].edge"),
+        (
+            ("blocks_per_course: 3", "blocks_per_course: 3.3"),
+            "panel.blocks_per_course",
+        ),  # does not tile
+        (("k_n: 2.4e9", "k_n: -2.4e9"), "joints.k_n"),
+        (("mu: 0.7", "mu: 0"), "joints.mu"),
+        (("{edge: base, fix: all}, ", ""), "restraints"),  # a mechanism at lambda = 0
+    ],
+)
 def test_bad_input_one_line_exit_2_no_output(tmp_path, edit, field):
     (tmp_path / "bad.yaml").write_text(CASE.replace(*edit))
     out = tmp_path / "bad.nc"

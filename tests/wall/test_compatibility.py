@@ -15,8 +15,12 @@ def test_general_form_equals_eq_a2_a3_for_regular_interfaces():
         if np.allclose(mid, panel.centroid[k]):
             dy = panel.centre[j] - panel.centre[i]
             H = interface_matrix(dy[0], dy[1])
-            np.testing.assert_allclose(np.hstack([Hi[k], Hj[k]]), H, atol=1e-15,
-                                       err_msg=f"interface {k}: H vs manuscript Eq. A2-A3")
+            np.testing.assert_allclose(
+                np.hstack([Hi[k], Hj[k]]),
+                H,
+                atol=1e-15,
+                err_msg=f"interface {k}: H vs manuscript Eq. A2-A3",
+            )
 
 
 def test_rigid_body_motion_gives_no_relative_displacement():
@@ -25,4 +29,6 @@ def test_rigid_body_motion_gives_no_relative_displacement():
     rng = np.random.default_rng(1)
     u, w = rng.normal(size=3), rng.normal(size=3)
     q = np.concatenate([np.concatenate([u + np.cross(w, c), w]) for c in panel.centre])
-    assert np.abs(H @ q).max() < 1e-12, "a rigid motion of the whole panel must not strain interfaces"
+    assert np.abs(H @ q).max() < 1e-12, (
+        "a rigid motion of the whole panel must not strain interfaces"
+    )

@@ -4,7 +4,13 @@ continuity, idempotence and the closest-point property of the shear-torsion retu
 import numpy as np
 import pytest
 
-from stonedem.wall.constitutive import (ELASTIC, JointStrength, project_shear_torsion, return_map, smooth_plus)
+from stonedem.wall.constitutive import (
+    ELASTIC,
+    JointStrength,
+    project_shear_torsion,
+    return_map,
+    smooth_plus,
+)
 from stonedem.wall.interface import torsion_constant
 from stonedem.wall.panel import build_panel
 from stonedem.wall.stiffness import local_stiffness, sections
@@ -18,15 +24,20 @@ def setup(kind="dry", n_eps=0.0, blocks=3, courses=3):
     ni = p.n_interfaces
     k = local_stiffness(sec, 2.4e9, 1.0e9)
     sig_t = 0.0 if kind == "dry" else 2e4
-    strength = JointStrength(np.full(ni, 0.7), np.full(ni, sig_t), np.full(ni, 0.7 * sig_t),
-                             np.full(ni, 1.43), n_eps=n_eps)
+    strength = JointStrength(
+        np.full(ni, 0.7),
+        np.full(ni, sig_t),
+        np.full(ni, 0.7 * sig_t),
+        np.full(ni, 1.43),
+        n_eps=n_eps,
+    )
     return sec, k, strength, ni
 
 
 def random_d(rng, k, sec, n, scale=1.0):
     """Relative displacements around the scale of a 100 N normal force (compression mostly)."""
     ni = len(sec.area)
-    u = 100.0 / k[:, 2]                     # normal displacement of 100 N
+    u = 100.0 / k[:, 2]  # normal displacement of 100 N
     d = rng.normal(size=(n, ni, 6))
     d[..., 2] = -np.abs(d[..., 2]) * (rng.random((n, ni)) < 0.9) + d[..., 2] * 0.1
     d[..., :2] *= (0.7 * 100.0 / k[:, 0] * scale)[:, None]
@@ -44,15 +55,18 @@ def domain_value(f, sec, strength):
     reserve = np.maximum(f_t - N, 0.0)
     bend = np.abs(f[:, 3:5]) - reserve[:, None] * sec.lever
     f_su = np.maximum(strength.cohesion * sec.area - strength.mu * N, 0.0)
-    e = np.where(reserve[:, None] > 0, np.abs(f[:, 3:5]) / np.where(reserve > 0, reserve, 1)[:, None], 0)
+    e = np.where(
+        reserve[:, None] > 0, np.abs(f[:, 3:5]) / np.where(reserve > 0, reserve, 1)[:, None], 0
+    )
     no_t = f_t <= 0
     w = np.where(no_t, np.clip(sec.width - 2 * e[:, 1], 0, None), sec.width)
     s = np.where(no_t, np.clip(sec.depth - 2 * e[:, 0], 0, None), sec.depth)
     m3u = torsion_constant(w, s) * f_su
     r = np.hypot(f[:, 0], f[:, 1])
     with np.errstate(divide="ignore", invalid="ignore"):
-        g = np.where(r > 0, (r / f_su) ** 2, 0) + np.where(np.abs(f[:, 5]) > 0,
-                                                          (np.abs(f[:, 5]) / m3u) ** strength.alpha, 0)
+        g = np.where(r > 0, (r / f_su) ** 2, 0) + np.where(
+            np.abs(f[:, 5]) > 0, (np.abs(f[:, 5]) / m3u) ** strength.alpha, 0
+        )
     return N - f_t, bend, g
 
 
@@ -74,7 +88,7 @@ def test_elastic_trial_inside_is_returned_unchanged():
     rng = np.random.default_rng(RNG_SEED + 1)
     sec, k, strength, ni = setup()
     for d in random_d(rng, k, sec, 20, scale=0.05):
-        d[:, 2] = -np.abs(d[:, 2]) - 50.0 / k[:, 2]   # well compressed
+        d[:, 2] = -np.abs(d[:, 2]) - 50.0 / k[:, 2]  # well compressed
         rm = return_map(d, np.zeros((ni, 6)), np.zeros(ni, bool), k, sec, strength)
         _, bend, g = domain_value(k * d, sec, strength)
         inside = (bend.max(axis=1) < 0) & (g < 1)
@@ -97,7 +111,9 @@ def test_return_map_is_continuous(n_eps):
             h = rng.normal(size=d.shape) * 1e-9 * np.abs(d).max(axis=0)
             f1 = return_map(d + h, zero_p, no_c, k, sec, strength).forces
             # bound: elastic response to the perturbation, times a generous factor
-            worst = max(worst, np.max(np.abs(f1 - f0).sum(axis=1) / (np.abs(k * h).sum(axis=1) + 1e-300)))
+            worst = max(
+                worst, np.max(np.abs(f1 - f0).sum(axis=1) / (np.abs(k * h).sum(axis=1) + 1e-300))
+            )
     assert worst < 50, f"force change / elastic change of a 1e-9 perturbation: {worst:.3g}"
 
 
@@ -107,13 +123,15 @@ def test_rocking_joint_keeps_its_friction_under_a_tiny_twist():
     sec, k, strength, ni = setup()
     d = np.zeros((ni, 6))
     d[:, 2] = -100.0 / k[:, 2]
-    d[:, 3] = 10 * 100.0 * sec.lever[:, 0] / k[:, 3]   # rocking out of plane: at the cap
-    d[:, 0] = 0.3 * 70.0 / k[:, 0]                       # 30 % of the friction strength
+    d[:, 3] = 10 * 100.0 * sec.lever[:, 0] / k[:, 3]  # rocking out of plane: at the cap
+    d[:, 0] = 0.3 * 70.0 / k[:, 0]  # 30 % of the friction strength
     zero_p, no_c = np.zeros((ni, 6)), np.zeros(ni, bool)
     f0 = return_map(d, zero_p, no_c, k, sec, strength).forces
     d[:, 5] = 1e-12
     f1 = return_map(d, zero_p, no_c, k, sec, strength).forces
-    np.testing.assert_allclose(f1[:, 0], f0[:, 0], rtol=1e-6, err_msg="shear lost under a tiny twist")
+    np.testing.assert_allclose(
+        f1[:, 0], f0[:, 0], rtol=1e-6, err_msg="shear lost under a tiny twist"
+    )
     assert np.allclose(f0[:, 0], 0.3 * 70.0)
 
 
@@ -141,12 +159,14 @@ def test_idempotent_and_path_independent_within_a_step():
     zero_p, no_c = np.zeros((ni, 6)), np.zeros(ni, bool)
     for d in random_d(rng, k, sec, 10, scale=3.0):
         rm = return_map(d, zero_p, no_c, k, sec, strength)
-        for it in random_d(rng, k, sec, 3, scale=5.0):     # other iterates of the same step
+        for it in random_d(rng, k, sec, 3, scale=5.0):  # other iterates of the same step
             return_map(it, zero_p, no_c, k, sec, strength)
         again = return_map(d, zero_p, no_c, k, sec, strength)
         np.testing.assert_array_equal(again.forces, rm.forces)
         fed = return_map(d, rm.plastic, rm.cracked, k, sec, strength)
-        np.testing.assert_allclose(fed.forces, rm.forces, rtol=1e-9, atol=1e-9 * np.abs(rm.forces).max())
+        np.testing.assert_allclose(
+            fed.forces, rm.forces, rtol=1e-9, atol=1e-9 * np.abs(rm.forces).max()
+        )
 
 
 def test_shear_torsion_return_is_the_closest_point():

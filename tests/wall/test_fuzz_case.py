@@ -40,8 +40,9 @@ def outcome(spec, expect):
         assert err.field and err.problem and err.fix, message
         if expect[0] == "refuse":
             # the field itself, or an item of it (reference.p_experiment[0])
-            assert err.field == expect[1] or err.field.startswith(expect[1] + "["), \
+            assert err.field == expect[1] or err.field.startswith(expect[1] + "["), (
                 f"expected an error on {expect[1]}, got: {message}"
+            )
         else:
             assert FIELD.fullmatch(err.field), message
         return "refused"
@@ -61,7 +62,15 @@ def _value(spec, path):
 
 
 def assert_sane(ci):
-    for name in ("a", "b", "s", "blocks_per_course", "unit_weight", "joint_thickness", "lintel_strength"):
+    for name in (
+        "a",
+        "b",
+        "s",
+        "blocks_per_course",
+        "unit_weight",
+        "joint_thickness",
+        "lintel_strength",
+    ):
         v = getattr(ci, name)
         assert type(v) is float and math.isfinite(v) and v >= 0, (name, v)
     assert min(ci.a, ci.b, ci.s, ci.unit_weight) > 0
@@ -70,7 +79,12 @@ def assert_sane(ci):
     assert type(ci.first_course_offset) is bool and type(ci.extra_live) is bool
     for key, v in ci.joint.items():
         assert type(v) is float and math.isfinite(v) and v >= 0, (key, v)
-    assert ci.joint["mu"] > 0 and ci.joint["k_n"] > 0 and ci.joint["k_t"] > 0 and ci.joint["alpha"] >= 1
+    assert (
+        ci.joint["mu"] > 0
+        and ci.joint["k_n"] > 0
+        and ci.joint["k_t"] > 0
+        and ci.joint["alpha"] >= 1
+    )
     for jp in ci.support_joint.values():
         assert all(type(v) is float and math.isfinite(v) for v in jp.values())
     for count, force, _edge in ci.extras:
@@ -80,12 +94,15 @@ def assert_sane(ci):
     s = ci.settings
     assert s.max_steps >= 1 and s.max_iterations >= 2 and s.tolerance > 0 and s.growth >= 1
     assert s.residual_stiffness > 0 and s.min_load_step > 0
-    assert ci.control_block is None or (type(ci.control_block) is int and 0 <= ci.control_block < ci.size.n_blocks)
+    assert ci.control_block is None or (
+        type(ci.control_block) is int and 0 <= ci.control_block < ci.size.n_blocks
+    )
     assert 1 <= ci.size.n_blocks <= MAX_BLOCKS and ci.size.memory_bytes <= MAX_MEMORY_BYTES
     assert M.is_finite_tree(ci.spec.get("reference", {}))
 
 
 # --- fuzzing the validator (no building, no pushover) -----------------------------------------
+
 
 @given(M.bad_value_case())
 def test_fuzz_wrong_type_or_out_of_range_value_is_refused_naming_its_field(example):
@@ -98,7 +115,11 @@ def test_fuzz_unknown_key_is_refused_naming_it(example):
     try:
         check_case(spec)
     except InputError as err:
-        assert err.field == expect[1] and err.problem == "unknown key" and err.fix.startswith("use one of: ")
+        assert (
+            err.field == expect[1]
+            and err.problem == "unknown key"
+            and err.fix.startswith("use one of: ")
+        )
     else:
         raise AssertionError(f"unknown key {expect[1]} accepted")
 
@@ -124,7 +145,11 @@ def test_fuzz_wall_size_is_held_to_the_limits_before_building(example):
     try:
         check_case(example[0])
     except InputError as err:
-        assert err.field in ("panel", "solver.max_steps", "solver.control_block") or err.field.startswith("panel."), str(err)
+        assert err.field in (
+            "panel",
+            "solver.max_steps",
+            "solver.control_block",
+        ) or err.field.startswith("panel."), str(err)
         if "n_blocks" in err.problem:
             assert f"exceeds the limit {MAX_BLOCKS}" in err.problem
     assert time.perf_counter() - t0 < 0.5, "validation estimates the size, it builds nothing"
@@ -132,29 +157,33 @@ def test_fuzz_wall_size_is_held_to_the_limits_before_building(example):
 
 # --- the issue's findings, one by one ---------------------------------------------------------
 
+
 def base():
     return yaml.safe_load((M.CASES / "s32.yaml").read_text())
 
 
-@pytest.mark.parametrize("path, value, problem", [
-    ("panel.first_course_offset", "false", "expected true or false"),       # was True
-    ("load.extra_in_live_load", "false", "expected true or false"),
-    ("load.extra_vertical[0].count", 0.5, "not a whole number"),           # was 0
-    ("solver.max_steps", 0, "out of range"),                               # was lambda_max 0, exit 0
-    ("solver.secant", 0.5, "not 0 or 1"),
-    ("panel.courses", 13.5, "not a whole number"),
-    ("joints.mu", "0.7x", "expected a number"),
-    ("joints.k_n", float("nan"), "not finite"),
-    ("panel.unit_weight", 10**400, "out of range"),
-    ("panel", 3, "expected a mapping"),
-    ("restraints", {"edge": "base"}, "expected a list"),
-    ("load.extra_vertical", 11, "expected a list"),
-    ("solver", [], "expected a mapping"),
-    ("solver.tolerance", 0, "out of range"),
-    ("solver.residual_stiffness", 0, "out of range"),
-    ("solver.tolerance", 1e-30, "out of range"),          # was "restraints: leave a mechanism"
-    ("solver.first_step", 1e-300, "below 1e-12 m"),       # was lambda_max 4e-270, exit 0
-])
+@pytest.mark.parametrize(
+    "path, value, problem",
+    [
+        ("panel.first_course_offset", "false", "expected true or false"),  # was True
+        ("load.extra_in_live_load", "false", "expected true or false"),
+        ("load.extra_vertical[0].count", 0.5, "not a whole number"),  # was 0
+        ("solver.max_steps", 0, "out of range"),  # was lambda_max 0, exit 0
+        ("solver.secant", 0.5, "not 0 or 1"),
+        ("panel.courses", 13.5, "not a whole number"),
+        ("joints.mu", "0.7x", "expected a number"),
+        ("joints.k_n", float("nan"), "not finite"),
+        ("panel.unit_weight", 10**400, "out of range"),
+        ("panel", 3, "expected a mapping"),
+        ("restraints", {"edge": "base"}, "expected a list"),
+        ("load.extra_vertical", 11, "expected a list"),
+        ("solver", [], "expected a mapping"),
+        ("solver.tolerance", 0, "out of range"),
+        ("solver.residual_stiffness", 0, "out of range"),
+        ("solver.tolerance", 1e-30, "out of range"),  # was "restraints: leave a mechanism"
+        ("solver.first_step", 1e-300, "below 1e-12 m"),  # was lambda_max 4e-270, exit 0
+    ],
+)
 def test_issue_findings_are_refused(path, value, problem):
     spec = base()
     M._set(spec, path, value)
@@ -167,7 +196,9 @@ def test_a_wall_of_100000_courses_is_refused_at_once_with_the_limit():
     spec = base()
     spec["panel"]["courses"] = 100_000
     t0 = time.perf_counter()
-    with pytest.raises(InputError, match=rf"^panel: n_blocks 1\.45e\+06 exceeds the limit {MAX_BLOCKS} "):
+    with pytest.raises(
+        InputError, match=rf"^panel: n_blocks 1\.45e\+06 exceeds the limit {MAX_BLOCKS} "
+    ):
         check_case(spec)
     assert time.perf_counter() - t0 < 0.1
 
@@ -175,24 +206,30 @@ def test_a_wall_of_100000_courses_is_refused_at_once_with_the_limit():
 def test_every_manuscript_case_is_valid_and_well_inside_the_limits():
     for path in sorted(M.CASES.glob("*.yaml")):
         ci = check_case(read_case(path))
-        assert ci.size.n_blocks <= MAX_BLOCKS / 10 and ci.size.memory_bytes <= MAX_MEMORY_BYTES / 10, path.name
+        assert (
+            ci.size.n_blocks <= MAX_BLOCKS / 10 and ci.size.memory_bytes <= MAX_MEMORY_BYTES / 10
+        ), path.name
         assert ci.size.factor_seconds < 0.1, path.name
 
 
-@pytest.mark.parametrize("content, problem", [
-    (b"\xff\xfe\x00p\x00a", "UTF-16"),
-    (b"", "is empty"),
-    (b"# only a comment\n", "is empty"),
-    (b"panel: [1, 2\n", "not valid YAML"),
-    (b"\tpanel: 1\n", "not valid YAML"),
-    (b"- panel\n- joints\n", "is not a YAML mapping"),
-    (b"just text", "is not a YAML mapping"),
-    (b"panel: 1\npanel: 2\n", "the key 'panel' is given twice"),
-    (b"a: !!python/object:os.system {}\n", "not valid YAML"),
-    (b"a: \x07\n", "not valid YAML"),
-    (b"[" * 5000 + b"]" * 5000, "not valid YAML"),
-    (b"#" * (wall_case.MAX_CASE_BYTES + 1), "exceed the limit"),
-], ids=lambda v: v[:20] if isinstance(v, bytes) else v)
+@pytest.mark.parametrize(
+    "content, problem",
+    [
+        (b"\xff\xfe\x00p\x00a", "UTF-16"),
+        (b"", "is empty"),
+        (b"# only a comment\n", "is empty"),
+        (b"panel: [1, 2\n", "not valid YAML"),
+        (b"\tpanel: 1\n", "not valid YAML"),
+        (b"- panel\n- joints\n", "is not a YAML mapping"),
+        (b"just text", "is not a YAML mapping"),
+        (b"panel: 1\npanel: 2\n", "the key 'panel' is given twice"),
+        (b"a: !!python/object:os.system {}\n", "not valid YAML"),
+        (b"a: \x07\n", "not valid YAML"),
+        (b"[" * 5000 + b"]" * 5000, "not valid YAML"),
+        (b"#" * (wall_case.MAX_CASE_BYTES + 1), "exceed the limit"),
+    ],
+    ids=lambda v: v[:20] if isinstance(v, bytes) else v,
+)
 def test_bad_case_file_is_one_line_naming_the_file(tmp_path, content, problem):
     path = tmp_path / "case.yaml"
     path.write_bytes(content)
@@ -204,7 +241,7 @@ def test_bad_case_file_is_one_line_naming_the_file(tmp_path, content, problem):
 
 def test_yaml_alias_bomb_is_refused_without_expanding_it(tmp_path):
     lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
-    lines += [f"a{k}: &a{k} [{', '.join([f'*a{k - 1}'] * 10)}]" for k in range(1, 9)]   # 1e9 leaves
+    lines += [f"a{k}: &a{k} [{', '.join([f'*a{k - 1}'] * 10)}]" for k in range(1, 9)]  # 1e9 leaves
     for where in ("panel: *a8", "description: *a8", "reference: {p_experiment: *a8}"):
         path = tmp_path / "bomb.yaml"
         path.write_text("\n".join(lines) + "\n" + where + "\n")
@@ -223,6 +260,7 @@ def test_missing_or_directory_case_file(tmp_path):
 
 # --- honest status ------------------------------------------------------------------------
 
+
 def test_a_path_cut_short_says_it_reached_no_limit():
     from stonedem.wall.case import case_from_dict
     from stonedem.wall.dataset import wall_dataset
@@ -235,17 +273,18 @@ def test_a_path_cut_short_says_it_reached_no_limit():
     assert ds.attrs["limit_reached"] == "no"
     assert ds.attrs["status"].startswith("stopped: max_steps; no limit load reached")
     assert "solver.max_steps" in ds.lambda_max.attrs["comment"]
-    spec["solver"] = {"max_displacement": 1e-5}   # stopped on the elastic branch
+    spec["solver"] = {"max_displacement": 1e-5}  # stopped on the elastic branch
     case = case_from_dict(spec)
     ds = wall_dataset(case, pushover(case.model, case.settings))
     assert ds.attrs["limit_reached"] == "no" and "still rose" in ds.attrs["status"]
-    spec.pop("solver")                           # the full run: plateau
+    spec.pop("solver")  # the full run: plateau
     case = case_from_dict(spec)
     ds = wall_dataset(case, pushover(case.model, case.settings))
     assert ds.attrs["limit_reached"] == "yes" and "no limit" not in ds.attrs["status"]
 
 
 # --- command line -------------------------------------------------------------------------
+
 
 def test_progress_log_is_quiet_on_short_runs_and_periodic_on_long_ones():
     import io
@@ -261,12 +300,16 @@ def test_progress_log_is_quiet_on_short_runs_and_periodic_on_long_ones():
     log(120, 0.31, 2.1e-3)
     log(121, 0.31, float("nan"), "no convergence in 25 iterations")
     lines = out.getvalue().splitlines()
-    assert re.fullmatch(r"pushover: step 120, lambda 0\.31, u 0\.0021 m, \d+\.\d s", lines[0]), lines
+    assert re.fullmatch(r"pushover: step 120, lambda 0\.31, u 0\.0021 m, \d+\.\d s", lines[0]), (
+        lines
+    )
     assert "step 121" in lines[1] and "no convergence" in lines[1]
 
 
 def wall(*args, **kw):
-    return subprocess.run([sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True, **kw)
+    return subprocess.run(
+        [sys.executable, "-m", "stonedem.wall", *args], capture_output=True, text=True, **kw
+    )
 
 
 @pytest.fixture
@@ -284,12 +327,15 @@ def in_process(capsys):
             for s, h in handlers.items():
                 signal.signal(s, h)
         return status, capsys.readouterr().err.splitlines()
+
     return run
 
 
 def hostile_files(folder):
     good = (M.CASES / "free_standing.yaml").read_text()
-    (folder / "bool.yaml").write_text(good.replace("unit_weight: 20000.0", "unit_weight: 20000.0\n  first_course_offset: 'false'"))
+    (folder / "bool.yaml").write_text(
+        good.replace("unit_weight: 20000.0", "unit_weight: 20000.0\n  first_course_offset: 'false'")
+    )
     (folder / "huge.yaml").write_text(good.replace("courses: 13", "courses: 100000"))
     (folder / "steps.yaml").write_text(good + "solver: {max_steps: 0}\n")
     (folder / "latin1.yaml").write_bytes(good.encode() + "# m\xe9lange\n".encode("latin-1"))
@@ -300,8 +346,14 @@ def hostile_files(folder):
 
 HOSTILE_RUNS = [
     (["bool.yaml", "-o", "out.nc"], "error: panel.first_course_offset: expected true or false"),
-    (["huge.yaml", "-o", "out.nc"], f"error: panel: n_blocks 3.5e+05 exceeds the limit {MAX_BLOCKS} "),
-    (["steps.yaml", "-o", "out.nc"], "error: solver.max_steps: 0 is out of range; give an integer >= 1"),
+    (
+        ["huge.yaml", "-o", "out.nc"],
+        f"error: panel: n_blocks 3.5e+05 exceeds the limit {MAX_BLOCKS} ",
+    ),
+    (
+        ["steps.yaml", "-o", "out.nc"],
+        "error: solver.max_steps: 0 is out of range; give an integer >= 1",
+    ),
     (["latin1.yaml", "-o", "out.nc"], "error: latin1.yaml: is not UTF-8 text"),
     (["missing.yaml", "-o", "out.nc"], "error: missing.yaml: a wall case file not found"),
     ([".", "-o", "out.nc"], "error: .: is a folder"),
@@ -312,11 +364,15 @@ HOSTILE_RUNS = [
 ]
 
 
-def test_cli_in_process_refuses_hostile_input_in_one_line_with_exit_2_and_no_file(tmp_path, monkeypatch, in_process):
+def test_cli_in_process_refuses_hostile_input_in_one_line_with_exit_2_and_no_file(
+    tmp_path, monkeypatch, in_process
+):
     hostile_files(tmp_path)
     (tmp_path / "sub" / "x.nc").mkdir()
     monkeypatch.chdir(tmp_path)
-    for args, start in HOSTILE_RUNS + [(["case.nc", "-o", "sub/x.nc"], "error: -o/--output: sub/x.nc is a directory")]:
+    for args, start in HOSTILE_RUNS + [
+        (["case.nc", "-o", "sub/x.nc"], "error: -o/--output: sub/x.nc is a directory")
+    ]:
         before = sorted(str(p) for p in tmp_path.rglob("*"))
         status, err = in_process(*args)
         assert status == 2 and len(err) == 1 and err[0].startswith(start), (args, err)
@@ -329,15 +385,30 @@ def test_cli_subprocess_refuses_hostile_input_in_one_line_with_exit_2_and_no_fil
         before = sorted(str(p) for p in tmp_path.rglob("*"))
         proc = wall(*args, cwd=tmp_path)
         lines = proc.stderr.splitlines()
-        assert proc.returncode == 2 and len(lines) == 1 and lines[0].startswith(start), (args, proc.stderr)
-        assert proc.stdout == "" and sorted(str(p) for p in tmp_path.rglob("*")) == before, "nothing written"
+        assert proc.returncode == 2 and len(lines) == 1 and lines[0].startswith(start), (
+            args,
+            proc.stderr,
+        )
+        assert proc.stdout == "" and sorted(str(p) for p in tmp_path.rglob("*")) == before, (
+            "nothing written"
+        )
 
 
 def test_cli_short_run_prints_only_its_summary(tmp_path, in_process):
     status, err = in_process(str(M.CASES / "free_standing.yaml"), "-o", str(tmp_path / "fs.nc"))
-    assert status == 0 and len(err) == 1 and err[0].startswith(f"wrote {tmp_path / 'fs.nc'}: lambda_max"), err
-    assert "(stopped: plateau" in err[0] and (tmp_path / "fs.nc").is_file() and not list(tmp_path.glob(".*"))
-    status, err = in_process(str(M.CASES / "free_standing.yaml"), "-o", str(tmp_path / "fs.nc"), "-q")
+    assert (
+        status == 0
+        and len(err) == 1
+        and err[0].startswith(f"wrote {tmp_path / 'fs.nc'}: lambda_max")
+    ), err
+    assert (
+        "(stopped: plateau" in err[0]
+        and (tmp_path / "fs.nc").is_file()
+        and not list(tmp_path.glob(".*"))
+    )
+    status, err = in_process(
+        str(M.CASES / "free_standing.yaml"), "-o", str(tmp_path / "fs.nc"), "-q"
+    )
     assert status == 0 and err == []
 
 
@@ -360,7 +431,11 @@ def test_signal_during_pushover_exits_at_once_and_leaves_no_file(tmp_path, signu
     # stderr is a pipe, not a terminal: the progress log must still come
     code, elapsed, seen = interrupt_after_line(
         [sys.executable, "-m", "stonedem.wall", "long.yaml", "-o", out.name],
-        lambda line: line.startswith("pushover: step"), signum, 60, cwd=tmp_path)
+        lambda line: line.startswith("pushover: step"),
+        signum,
+        60,
+        cwd=tmp_path,
+    )
     assert re.fullmatch(r"pushover: step \d+, lambda \S+, u \S+ m, \d+\.\d s\n", seen[-1]), seen
     assert code == status and elapsed < 1.0, (code, elapsed)
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["long.yaml"]

@@ -32,24 +32,34 @@ CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
 
 # a 1.0 m x 0.8 m panel: 5 blocks of 0.2 x 0.1 x 0.1 m per course, 8 courses (course k, from 1 at
 # the base, spans y = 0.1 (k - 1) to 0.1 k)
-WINDOW = {"x": [0.35, 0.65], "y": [0.3, 0.5]}        # courses 4-5, in the middle
+WINDOW = {"x": [0.35, 0.65], "y": [0.3, 0.5]}  # courses 4-5, in the middle
 FIRST_COURSE = {"x": [0.0, 1.0], "y": [0.0, 0.1]}
 ALL_BUT_TOP = {"x": [0.0, 1.0], "y": [0.0, 0.7]}
-BAND = {"x": [0.0, 1.0], "y": [0.3, 0.5]}            # courses 4-5, the whole length
-LEFT_NOTCH = {"x": [0.0, 0.3], "y": [0.3, 0.5]}      # courses 4-5, reaching the left edge
+BAND = {"x": [0.0, 1.0], "y": [0.3, 0.5]}  # courses 4-5, the whole length
+LEFT_NOTCH = {"x": [0.0, 0.3], "y": [0.3, 0.5]}  # courses 4-5, reaching the left edge
 BASE = {"edge": "base", "fix": "all"}
-SIDES = [BASE, {"edge": "left", "fix": "all", "dead_load": True},
-         {"edge": "right", "fix": "all", "dead_load": True}]
+SIDES = [
+    BASE,
+    {"edge": "left", "fix": "all", "dead_load": True},
+    {"edge": "right", "fix": "all", "dead_load": True},
+]
 
 
 def wall(openings=(), restraints=(BASE,), kind="mortar"):
     joints = {"kind": "dry", "mu": 0.7, "k_n": 1e9, "k_t": 1e9}
     if kind == "mortar":
         joints.update(kind="mortar", tensile_strength=1e5)
-    spec = {"panel": {"block": {"a": 0.1, "b": 0.2, "s": 0.1}, "blocks_per_course": 5, "courses": 8,
-                      "unit_weight": 20000.0},
-            "joints": joints, "restraints": [dict(r) for r in restraints],
-            "load": {"kind": "proportional", "direction": "out_of_plane"}}
+    spec = {
+        "panel": {
+            "block": {"a": 0.1, "b": 0.2, "s": 0.1},
+            "blocks_per_course": 5,
+            "courses": 8,
+            "unit_weight": 20000.0,
+        },
+        "joints": joints,
+        "restraints": [dict(r) for r in restraints],
+        "load": {"kind": "proportional", "direction": "out_of_plane"},
+    }
     if openings:
         spec["panel"]["openings"] = [dict(o) for o in openings]
     return spec
@@ -64,23 +74,26 @@ def refused(spec) -> InputError:
 
 # --- refused ------------------------------------------------------------------------------
 
+
 @pytest.mark.parametrize("kind", ["mortar", "dry"])
 def test_opening_removing_the_first_course_is_refused_naming_it(kind):
     """Was: base support joints under course 2, lambda_max 1.163 (mortar), exit 0."""
     err = refused(wall([FIRST_COURSE], kind=kind))
     assert err.field == "panel.openings[0]"
-    assert err.problem.startswith("every block (39, courses 2-8 of 8) has no load path to a support: "
-                                  "the opening removes every block of course 1 of 8"), err.problem
+    assert err.problem.startswith(
+        "every block (39, courses 2-8 of 8) has no load path to a support: "
+        "the opening removes every block of course 1 of 8"
+    ), err.problem
     assert "base edge" in err.problem and "shrink or move the opening" in err.fix
 
 
 def test_the_opening_that_cuts_blocks_off_is_the_one_named():
-    err = refused(wall([WINDOW, BAND]))       # the window is harmless; the band cuts courses 6-8 off
+    err = refused(wall([WINDOW, BAND]))  # the window is harmless; the band cuts courses 6-8 off
     assert err.field == "panel.openings[1]"
     assert "17 of the 33 blocks (courses 6-8 of 8) have no load path" in err.problem
     assert "removes every block of courses 4-5 of 8" in err.problem
     halves = [{"x": [0.0, 0.5], "y": [0.3, 0.5]}, {"x": [0.45, 1.0], "y": [0.3, 0.5]}]
-    err = refused(wall(halves))                # only the two together cut courses 6-8 off
+    err = refused(wall(halves))  # only the two together cut courses 6-8 off
     assert err.field == "panel.openings[0]" and "with panel.openings[1], the opening" in err.problem
 
 
@@ -88,8 +101,10 @@ def test_opening_over_all_but_the_top_course_on_a_base_support_is_refused():
     """Was: the top course slid on the base joint at lambda = mu = 0.700 (dry), exit 0."""
     err = refused(wall([ALL_BUT_TOP], kind="dry"))
     assert err.field == "panel.openings[0]"
-    assert err.problem.startswith("every block (6, course 8 of 8) has no load path to a support: "
-                                  "the opening removes every block of courses 1-7 of 8")
+    assert err.problem.startswith(
+        "every block (6, course 8 of 8) has no load path to a support: "
+        "the opening removes every block of courses 1-7 of 8"
+    )
 
 
 def test_opening_over_all_but_the_top_course_hangs_on_a_top_support_joint():
@@ -102,7 +117,7 @@ def test_opening_over_all_but_the_top_course_hangs_on_a_top_support_joint():
     assert p.n_blocks == 6 and set(p.edge[support]) == {"top"} and support.sum() == 6
     assert np.allclose(p.centroid[support, 1], p.height)
     r = pushover(case.model, case.settings)
-    assert r.lambda_max > 1.0 and r.status.startswith("stopped: plateau")   # held in tension, not mu
+    assert r.lambda_max > 1.0 and r.status.startswith("stopped: plateau")  # held in tension, not mu
 
 
 def test_edge_supports_whose_blocks_are_removed_are_gone():
@@ -110,7 +125,12 @@ def test_edge_supports_whose_blocks_are_removed_are_gone():
     left edge; the blocks next to it used to be pinned in its place."""
     err = refused(wall([{"x": [0.0, 0.5], "y": [0.0, 0.8]}], [{"edge": "left", "fix": "all"}]))
     assert err.field == "panel.openings[0]" and "left edge" in err.problem
-    err = refused(wall([FIRST_COURSE], [{"edge": "base", "fix": "translations", "support": "block", "at": "edge"}]))
+    err = refused(
+        wall(
+            [FIRST_COURSE],
+            [{"edge": "base", "fix": "translations", "support": "block", "at": "edge"}],
+        )
+    )
     assert err.field == "panel.openings[0]" and "base line" in err.problem
 
 
@@ -122,12 +142,18 @@ def test_openings_removing_every_block_are_refused():
 
 def test_cli_refuses_a_hovering_wall_in_one_line_with_exit_2_and_no_file(tmp_path):
     (tmp_path / "case.yaml").write_text(yaml.safe_dump(wall([WINDOW, FIRST_COURSE])))
-    proc = subprocess.run([sys.executable, "-m", "stonedem", "wall", "case.yaml", "-o", "out.nc"],
-                          capture_output=True, text=True, cwd=tmp_path, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "stonedem", "wall", "case.yaml", "-o", "out.nc"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        check=False,
+    )
     lines = proc.stderr.splitlines()
     assert proc.returncode == 2 and len(lines) == 1, proc.stderr
-    assert lines[0].startswith("error: panel.openings[1]: every block (36, courses 2-8 of 8) has no "
-                               "load path to a support"), lines[0]
+    assert lines[0].startswith(
+        "error: panel.openings[1]: every block (36, courses 2-8 of 8) has no load path to a support"
+    ), lines[0]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["case.yaml"], "no output file"
 
 
@@ -148,18 +174,23 @@ def test_window_in_the_middle_gives_one_limit_load_on_any_machine(ulps):
     limit analysis on those caps: 0.2289, +2 %), and 0.2558 on an AVX2 machine."""
     case = case_from_dict(wall([WINDOW], SIDES, kind="dry"))
     assert case.model.panel.n_blocks == 41
-    case.model.k_local = case.model.k_local * (1.0 + ulps * 2.0 ** -52)
+    case.model.k_local = case.model.k_local * (1.0 + ulps * 2.0**-52)
     r = pushover(case.model, case.settings)
     assert r.limit_reached, r.limit_note
     assert r.status.startswith(("stopped: plateau", "stopped: peak proven")), r.status
-    assert r.lambda_max == pytest.approx(WINDOW_LIMIT, rel=WINDOW_SPREAD), (r.lambda_max, r.plateau_checks)
+    assert r.lambda_max == pytest.approx(WINDOW_LIMIT, rel=WINDOW_SPREAD), (
+        r.lambda_max,
+        r.plateau_checks,
+    )
 
 
 def test_supports_on_a_notch_at_the_left_edge_act_only_on_the_edge():
     """A notch reaching the left edge: the left support joints and the left pins stay on the
     blocks at x = 0; the courses of the notch get none (they used to get one at the first
     block left, a support inside the wall)."""
-    joint = case_from_dict(wall([LEFT_NOTCH], [BASE, {"edge": "left", "fix": "all", "support": "joint"}]))
+    joint = case_from_dict(
+        wall([LEFT_NOTCH], [BASE, {"edge": "left", "fix": "all", "support": "joint"}])
+    )
     p = joint.model.panel
     left = (p.kind == KIND_SUPPORT) & (p.edge == "left")
     assert left.sum() == 6 and np.allclose(p.centroid[left, 0], 0.0)
@@ -182,6 +213,7 @@ def test_every_case_file_has_its_supports_on_the_same_blocks_as_before(path):
 
 
 # --- property: no refused wall is accepted, no wall with load paths is refused ----------------
+
 
 def _reaches_support(model) -> np.ndarray:
     """Breadth-first search from the supports over the joints (an independent statement)."""
@@ -211,19 +243,30 @@ def _reaches_support(model) -> np.ndarray:
 def _box(draw, extent, cells):
     lo = draw(st.integers(0, cells - 1))
     hi = draw(st.integers(lo + 1, cells))
-    return [round(lo * extent / cells - 0.01, 3) if lo else 0.0, round(hi * extent / cells + 0.01, 3)]
+    return [
+        round(lo * extent / cells - 0.01, 3) if lo else 0.0,
+        round(hi * extent / cells + 0.01, 3),
+    ]
 
 
 @st.composite
 def holed_walls(draw):
     n = draw(st.integers(1, 3))
     openings = [{"x": _box(draw, 1.0, 10), "y": _box(draw, 0.8, 8)} for _ in range(n)]
-    restraints = draw(st.sampled_from([
-        [BASE], SIDES, [BASE, {"edge": "top", "fix": "all", "support": "joint"}],
-        [{"edge": "left", "fix": "all"}, {"edge": "right", "fix": "all"}],
-        [{"edge": "base", "fix": "translations", "support": "block", "at": "edge"},
-         {"edge": "top", "fix": "out_of_plane", "at": "edge"}],
-    ]))
+    restraints = draw(
+        st.sampled_from(
+            [
+                [BASE],
+                SIDES,
+                [BASE, {"edge": "top", "fix": "all", "support": "joint"}],
+                [{"edge": "left", "fix": "all"}, {"edge": "right", "fix": "all"}],
+                [
+                    {"edge": "base", "fix": "translations", "support": "block", "at": "edge"},
+                    {"edge": "top", "fix": "out_of_plane", "at": "edge"},
+                ],
+            ]
+        )
+    )
     return wall(openings, restraints)
 
 
@@ -232,12 +275,16 @@ def test_random_openings_are_refused_exactly_when_blocks_reach_no_support(spec):
     try:
         model = case_from_dict(spec).model
     except InputError as err:
-        assert err.field.startswith("panel.openings") or err.field in ("panel", "restraints"), str(err)
+        assert err.field.startswith("panel.openings") or err.field in ("panel", "restraints"), str(
+            err
+        )
         if "no load path" in err.problem:
             assert err.field.startswith("panel.openings["), str(err)
-            with mock.patch("stonedem.wall.case.check_load_paths"):   # the same model, unchecked
+            with mock.patch("stonedem.wall.case.check_load_paths"):  # the same model, unchecked
                 unchecked = case_from_dict(spec).model
-            assert not _reaches_support(unchecked).all(), f"refused, yet every block is supported: {err}"
+            assert not _reaches_support(unchecked).all(), (
+                f"refused, yet every block is supported: {err}"
+            )
         return
     assert _reaches_support(model).all(), "a block with no load path was accepted"
     p = model.panel

@@ -18,5 +18,7 @@ def test_running_bond_3_by_13():
 
 def test_openings_remove_blocks():
     full = build_panel(0.081, 0.21, 0.07, 6, 10)
-    holed = build_panel(0.081, 0.21, 0.07, 6, 10, openings=[{"x": (0.42, 0.84), "y": (0.243, 0.567)}])
+    holed = build_panel(
+        0.081, 0.21, 0.07, 6, 10, openings=[{"x": (0.42, 0.84), "y": (0.243, 0.567)}]
+    )
     assert full.n_blocks - holed.n_blocks == 8, "4 courses x 2 blocks removed"

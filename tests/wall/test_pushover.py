@@ -7,24 +7,34 @@ from stonedem.wall.pushover import pushover
 
 
 def wall(mu=0.7, blocks=2, courses=8):
-    return {"panel": {"block": {"a": 0.081, "b": 0.210, "s": 0.070}, "blocks_per_course": blocks,
-                      "courses": courses, "unit_weight": 20000.0},
-            "joints": {"kind": "dry", "mu": mu, "k_n": 2.4e9, "k_t": 1.0e9},
-            "restraints": [{"edge": "base", "fix": "all"}],
-            "load": {"kind": "proportional", "direction": "out_of_plane"}}
+    return {
+        "panel": {
+            "block": {"a": 0.081, "b": 0.210, "s": 0.070},
+            "blocks_per_course": blocks,
+            "courses": courses,
+            "unit_weight": 20000.0,
+        },
+        "joints": {"kind": "dry", "mu": mu, "k_n": 2.4e9, "k_t": 1.0e9},
+        "restraints": [{"edge": "base", "fix": "all"}],
+        "load": {"kind": "proportional", "direction": "out_of_plane"},
+    }
 
 
 def test_free_standing_wall_overturns_at_s_over_H():
     case = case_from_dict(wall())
     r = pushover(case.model, case.settings)
     s_over_h = 0.070 / (8 * 0.081)
-    assert r.lambda_max == pytest.approx(s_over_h, rel=0.02), f"lambda_max {r.lambda_max:.4f} vs s/H {s_over_h:.4f} (2 %)"
+    assert r.lambda_max == pytest.approx(s_over_h, rel=0.02), (
+        f"lambda_max {r.lambda_max:.4f} vs s/H {s_over_h:.4f} (2 %)"
+    )
 
 
 def test_free_standing_wall_slides_at_mu():
     case = case_from_dict(wall(mu=0.05))
     r = pushover(case.model, case.settings)
-    assert r.lambda_max == pytest.approx(0.05, rel=0.02), f"lambda_max {r.lambda_max:.4f} vs mu = 0.05 (2 %)"
+    assert r.lambda_max == pytest.approx(0.05, rel=0.02), (
+        f"lambda_max {r.lambda_max:.4f} vs mu = 0.05 (2 %)"
+    )
 
 
 def test_mortar_joint_is_perfectly_plastic_in_tension():
@@ -41,16 +51,20 @@ def test_mortar_joint_is_perfectly_plastic_in_tension():
     ni = p.n_interfaces
     k = local_stiffness(sec, 2.5e10, 1.05e11)
     sig_t = 0.35e6
-    strength = JointStrength(np.full(ni, 0.57), np.full(ni, sig_t), np.full(ni, 0.57 * sig_t), np.full(ni, 1.5))
+    strength = JointStrength(
+        np.full(ni, 0.57), np.full(ni, sig_t), np.full(ni, 0.57 * sig_t), np.full(ni, 1.5)
+    )
     d = np.zeros((ni, 6))
-    d[:, 2] = 10 * sig_t / 2.5e10      # ten times the elastic limit in tension
+    d[:, 2] = 10 * sig_t / 2.5e10  # ten times the elastic limit in tension
     d[:, 3] = 1e-3
     rm = return_map(d, np.zeros((ni, 6)), np.zeros(ni, bool), k, sec, strength)
     assert np.all(rm.state == DETACHED)
     assert np.allclose(rm.forces[:, 2], sig_t * sec.area), "normal force capped at f_t = sigma_t S"
     assert np.allclose(rm.forces[:, [0, 1, 3, 4, 5]], 0.0), "the other caps vanish at f_n = f_t"
     assert not rm.cracked.any(), "elastic-perfectly plastic: strength kept"
-    brittle = JointStrength(strength.mu, strength.tensile_strength, strength.cohesion, strength.alpha, True)
+    brittle = JointStrength(
+        strength.mu, strength.tensile_strength, strength.cohesion, strength.alpha, True
+    )
     assert return_map(d, np.zeros((ni, 6)), np.zeros(ni, bool), k, sec, brittle).cracked.all()
 
 
@@ -61,9 +75,10 @@ def test_manuscript_secant_scheme_overturns_free_standing_wall():
     case.settings.secant = 1.0
     r = pushover(case.model, case.settings)
     s_over_h = 0.070 / (8 * 0.081)
-    assert r.lambda_max == pytest.approx(s_over_h, rel=0.02), f"lambda_max {r.lambda_max:.4f} vs s/H {s_over_h:.4f} (2 %)"
+    assert r.lambda_max == pytest.approx(s_over_h, rel=0.02), (
+        f"lambda_max {r.lambda_max:.4f} vs s/H {s_over_h:.4f} (2 %)"
+    )
     assert r.status.startswith("limit load")
-
 
 
 @pytest.mark.parametrize("name", ["s23", "s34"])
@@ -79,7 +94,9 @@ def test_walls_with_openings_carry_their_self_weight(name):
 
     from stonedem.wall.pushover import ConvergenceError, SolverSettings, _apply_dead_load
 
-    spec = yaml.safe_load((Path(__file__).parents[2] / "config" / "walls" / f"{name}.yaml").read_text())
+    spec = yaml.safe_load(
+        (Path(__file__).parents[2] / "config" / "walls" / f"{name}.yaml").read_text()
+    )
     case = case_from_dict(spec)
     m = case.model
     ref = np.linalg.norm(m.dead_load) + np.linalg.norm(m.live_load)
@@ -119,7 +136,7 @@ def _banded(n, lower, upper, seed=3):
     rng = np.random.default_rng(seed)
     offsets = list(range(-lower, upper + 1))
     diagonals = [rng.uniform(-1.0, 1.0, n - abs(k)) for k in offsets]
-    diagonals[lower] += 4.0 * (lower + upper)   # the main diagonal, diagonally dominant
+    diagonals[lower] += 4.0 * (lower + upper)  # the main diagonal, diagonally dominant
     return sp.diags(diagonals, offsets, format="csr")
 
 
@@ -134,7 +151,7 @@ def test_banded_lu_solves_as_superlu():
     assert isinstance(lu, BandLU) and (lu.lower, lu.upper) == (12, 7)
     b = np.linspace(-1.0, 2.0, 300)
     np.testing.assert_allclose(lu.solve(b), spla.splu(K.tocsc()).solve(b), rtol=1e-12, atol=1e-14)
-    assert not isinstance(_factor(_banded(40, 12, 7)), BandLU)   # band wider than n / 4: SuperLU
+    assert not isinstance(_factor(_banded(40, 12, 7)), BandLU)  # band wider than n / 4: SuperLU
 
 
 def test_singular_banded_matrix_is_a_convergence_error():
@@ -166,5 +183,7 @@ def test_dry_wall_pushed_in_plane_ends_in_seconds_without_a_library_warning():
     # below the whole wall rocking on its toe (lambda = L / H = 0.6 / 1.3), above the first joints' rocking
     assert 0.25 < r.lambda_max < 0.6 / 1.3, r.lambda_max
     assert r.plateau_checks, "the end of the path was checked against the limit analysis"
-    assert r.limit_reached == r.status.startswith(("stopped: plateau", "stopped: peak proven")), r.status
+    assert r.limit_reached == r.status.startswith(("stopped: plateau", "stopped: peak proven")), (
+        r.status
+    )
     assert r.limit_reached or r.limit_note.startswith("no limit load reached: "), r.limit_note

@@ -38,8 +38,11 @@ def test_a_line_holds_every_point_of_its_chords_and_lets_blocks_turn_about_it(ed
     T = reduction_matrix(panel, np.zeros(6 * panel.n_blocks, dtype=bool), [line])
     chords = line.chords(panel)
     # every course (or every block of the edge course) is crossed once
-    assert len(chords) == (panel.course.max() + 1 if edge in ("left", "right")
-                           else np.sum(panel.course == (0 if edge == "base" else panel.course.max())))
+    assert len(chords) == (
+        panel.course.max() + 1
+        if edge in ("left", "right")
+        else np.sum(panel.course == (0 if edge == "base" else panel.course.max()))
+    )
     q = T @ RNG.standard_normal(T.shape[1])
     for blk, a, b in chords:
         for t in (0.0, 0.3, 1.0):
@@ -49,8 +52,8 @@ def test_a_line_holds_every_point_of_its_chords_and_lets_blocks_turn_about_it(ed
     blk, a, b = chords[0]
     axis = (b - a) / np.linalg.norm(b - a)
     turn = np.zeros(6 * panel.n_blocks)
-    turn[6 * blk + 3:6 * blk + 6] = axis
-    turn[6 * blk:6 * blk + 3] = np.cross(axis, panel.centre[blk] - a)   # rotation about the line
+    turn[6 * blk + 3 : 6 * blk + 6] = axis
+    turn[6 * blk : 6 * blk + 3] = np.cross(axis, panel.centre[blk] - a)  # rotation about the line
     v = np.linalg.lstsq(T.toarray(), turn, rcond=None)[0]
     assert np.allclose(T @ v, turn, atol=1e-12)
 
@@ -62,7 +65,10 @@ def test_the_left_edge_line_passes_the_panel_edge_not_the_block_centres():
         assert panel.centre[blk, 0] - panel.size[blk, 0] / 2 == pytest.approx(0.0)
     offset = LineRestraint("left", (2,), distance=0.15)
     for blk, _a, _b in offset.chords(panel):
-        lo, hi = panel.centre[blk, 0] - panel.size[blk, 0] / 2, panel.centre[blk, 0] + panel.size[blk, 0] / 2
+        lo, hi = (
+            panel.centre[blk, 0] - panel.size[blk, 0] / 2,
+            panel.centre[blk, 0] + panel.size[blk, 0] / 2,
+        )
         assert lo <= 0.15 < hi
 
 
@@ -75,16 +81,22 @@ def test_points_hold_only_the_middle_of_each_chord():
     q = T @ RNG.standard_normal(T.shape[1])
     blk, a, b = chords[0]
     assert abs(_point_w(panel, q, blk, 0.5 * (a + b))[2]) < 1e-12
-    assert abs(_point_w(panel, q, blk, a)[2]) > 1e-6   # the block may turn about its pin
+    assert abs(_point_w(panel, q, blk, a)[2]) > 1e-6  # the block may turn about its pin
 
 
 def _strip(top):
     """A dry strip one block wide, 10 courses of 0.1 x 0.2 x 0.1 m on a support joint."""
-    return {"panel": {"block": {"a": 0.1, "b": 0.2, "s": 0.1}, "blocks_per_course": 1, "courses": 10,
-                      "unit_weight": 20000.0},
-            "joints": {"kind": "dry", "mu": 0.7, "k_n": 1e9, "k_t": 1e9},
-            "restraints": [{"edge": "base", "fix": "all"}] + ([top] if top else []),
-            "load": {"kind": "proportional", "direction": "out_of_plane"}}
+    return {
+        "panel": {
+            "block": {"a": 0.1, "b": 0.2, "s": 0.1},
+            "blocks_per_course": 1,
+            "courses": 10,
+            "unit_weight": 20000.0,
+        },
+        "joints": {"kind": "dry", "mu": 0.7, "k_n": 1e9, "k_t": 1e9},
+        "restraints": [{"edge": "base", "fix": "all"}] + ([top] if top else []),
+        "load": {"kind": "proportional", "direction": "out_of_plane"},
+    }
 
 
 def test_a_strip_held_at_the_top_line_collapses_at_the_hinge_below_its_top_course():
@@ -100,17 +112,42 @@ def test_a_strip_held_at_the_top_line_collapses_at_the_hinge_below_its_top_cours
     assert r.lambda_max == pytest.approx(2 * 0.1 / 0.9, rel=0.01)
 
 
-@pytest.mark.parametrize("restraint, field, problem", [
-    ({"edge": "left", "fix": "all", "at": "edge"}, "restraints[1].fix", "not rotations"),
-    ({"edge": "left", "fix": "out_of_plane", "hold": "points"}, "restraints[1].hold", "only for a restraint line"),
-    ({"edge": "left", "fix": "out_of_plane", "offset": 0.1}, "restraints[1].offset", "only for at: offset"),
-    ({"edge": "left", "fix": "out_of_plane", "at": "offset"}, "restraints[1].offset", "missing"),
-    ({"edge": "left", "fix": "out_of_plane", "at": "offset", "offset": 5.0}, "restraints[1].offset",
-     "out of range"),
-    ({"edge": "left", "fix": "out_of_plane", "at": "middle"}, "restraints[1].at", "unknown value"),
-    ({"edge": "left", "fix": "out_of_plane", "at": "edge", "hold": "some"}, "restraints[1].hold",
-     "unknown value"),
-])
+@pytest.mark.parametrize(
+    "restraint, field, problem",
+    [
+        ({"edge": "left", "fix": "all", "at": "edge"}, "restraints[1].fix", "not rotations"),
+        (
+            {"edge": "left", "fix": "out_of_plane", "hold": "points"},
+            "restraints[1].hold",
+            "only for a restraint line",
+        ),
+        (
+            {"edge": "left", "fix": "out_of_plane", "offset": 0.1},
+            "restraints[1].offset",
+            "only for at: offset",
+        ),
+        (
+            {"edge": "left", "fix": "out_of_plane", "at": "offset"},
+            "restraints[1].offset",
+            "missing",
+        ),
+        (
+            {"edge": "left", "fix": "out_of_plane", "at": "offset", "offset": 5.0},
+            "restraints[1].offset",
+            "out of range",
+        ),
+        (
+            {"edge": "left", "fix": "out_of_plane", "at": "middle"},
+            "restraints[1].at",
+            "unknown value",
+        ),
+        (
+            {"edge": "left", "fix": "out_of_plane", "at": "edge", "hold": "some"},
+            "restraints[1].hold",
+            "unknown value",
+        ),
+    ],
+)
 def test_bad_restraint_lines_are_refused_naming_the_field(restraint, field, problem):
     spec = _strip(None)
     spec["restraints"].append(restraint)

@@ -27,4 +27,6 @@ def test_panel_stiffness_sparse_symmetric_with_six_rigid_modes():
     assert sp.issparse(K) and K.nnz < 0.2 * K.shape[0] ** 2
     assert abs(K - K.T).max() < 1e-6 * abs(K).max()
     eig = np.linalg.eigvalsh(K.toarray())
-    assert (np.abs(eig) < 1e-6 * eig.max()).sum() == 6, "an unsupported panel has 6 rigid-body modes"
+    assert (np.abs(eig) < 1e-6 * eig.max()).sum() == 6, (
+        "an unsupported panel has 6 rigid-body modes"
+    )

@@ -15,9 +15,21 @@ from stonedem.wall.pushover import pushover
 from stonedem.wall.validation import LIMIT_TOLERANCE
 
 CASES = Path(__file__).resolve().parents[2] / "config" / "walls"
-WITHIN = ["orduna_case1", "s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s32", "s23", "s34",
-          "chee_liang_2_3", "chee_liang_14_15"]
-MISSES = {   # measured on this machine; reasons in README "Masonry walls"
+WITHIN = [
+    "orduna_case1",
+    "s11",
+    "s12",
+    "s13",
+    "s15",
+    "s6",
+    "s1_s2_s3",
+    "s32",
+    "s23",
+    "s34",
+    "chee_liang_2_3",
+    "chee_liang_14_15",
+]
+MISSES = {  # measured on this machine; reasons in README "Masonry walls"
     "orduna_case2": "0.191 vs 0.215 (-11 %; Orduna & Lourenco's limit analysis 0.193)",
     "s5": "0.297 vs 0.350 (-15 %)",
     "chee_liang_8_12": "19.7 vs 25.0 kPa (-21 %)",
@@ -27,7 +39,7 @@ MISSES = {   # measured on this machine; reasons in README "Masonry walls"
 }
 
 
-PUSHOVERS = {}   # name -> (case, result): the oracle test reuses the table test's pushover
+PUSHOVERS = {}  # name -> (case, result): the oracle test reuses the table test's pushover
 
 
 def _pushover(name):
@@ -37,16 +49,22 @@ def _pushover(name):
     return PUSHOVERS[name]
 
 
-@pytest.mark.parametrize("name", WITHIN + [
-    pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=f"measured {why}"))
-    for name, why in MISSES.items()])
+@pytest.mark.parametrize(
+    "name",
+    WITHIN
+    + [
+        pytest.param(name, marks=pytest.mark.xfail(strict=True, reason=f"measured {why}"))
+        for name, why in MISSES.items()
+    ],
+)
 def test_limit_load_within_10_percent_of_manuscript_dem(name):
     case, r = _pushover(name)
     ref = case.spec["reference"]
     expected = ref.get("lambda_dem", ref.get("p_dem"))
     assert r.residual.max() < case.settings.accept_tolerance
-    assert r.lambda_max == pytest.approx(expected, rel=LIMIT_TOLERANCE), \
+    assert r.lambda_max == pytest.approx(expected, rel=LIMIT_TOLERANCE), (
         f"{name}: lambda_max {r.lambda_max:.4g} vs manuscript DEM {expected:.4g} ({LIMIT_TOLERANCE:.0%})"
+    )
 
 
 def test_every_table_case_is_tested():
@@ -63,5 +81,6 @@ def test_plateau_is_the_collapse_load_of_the_model(name):
     case, r = _pushover(name)
     la = limit_multiplier(case.model, caps_at=r.interface_forces_at_max, lambda_tolerance=3e-3)
     assert la.converged, la.status
-    assert r.lambda_max == pytest.approx(la.lambda_limit, rel=ORACLE_TOLERANCE), \
+    assert r.lambda_max == pytest.approx(la.lambda_limit, rel=ORACLE_TOLERANCE), (
         f"{name}: pushover {r.lambda_max:.5g} vs limit analysis {la.lambda_limit:.5g} ({la.status})"
+    )

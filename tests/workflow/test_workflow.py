@@ -5,12 +5,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def snakemake(*args, cwd=ROOT):
-    return subprocess.run([sys.executable, "-m", "snakemake", *args], cwd=cwd, capture_output=True, text=True)
+    return subprocess.run(
+        [sys.executable, "-m", "snakemake", *args], cwd=cwd, capture_output=True, text=True
+    )
 
 
 def test_lint_is_clean():
@@ -38,7 +39,8 @@ def test_bad_config_is_refused(tmp_path):
         (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
     (tmp_path / "config").mkdir()
     (tmp_path / "config" / "config.yaml").write_text(
-        "records:\n  x: {set: farfield, id: 0, component: c}\n")
+        "records:\n  x: {set: farfield, id: 0, component: c}\n"
+    )
     proc = snakemake("-n", cwd=tmp_path)
     assert proc.returncode != 0
     assert "Bad config: records.x." in proc.stderr, proc.stdout + proc.stderr
@@ -57,8 +59,12 @@ def _small_workflow(tmp_path, mutate=None):
     for item in ("Snakefile", "workflow", "records", "config", "profiles"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp_path / item)
-    config = load_config(ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml")
-    config["studies"] = {k: config["studies"][k] for k in ("standalone_records", "harmonic_drums", "ramp_drums")}
+    config = load_config(
+        ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml"
+    )
+    config["studies"] = {
+        k: config["studies"][k] for k in ("standalone_records", "harmonic_drums", "ramp_drums")
+    }
     config.update(wall_cases=[], run_validation=False)
     if mutate:
         mutate(config)
@@ -81,25 +87,37 @@ def test_dry_run_refuses_bad_grid_values_by_their_config_path(tmp_path):
         config["studies"]["standalone_records"]["grid"]["pga"] = [2.0, -2.0]
 
     proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
-    assert "must be > 0, got -2.0" in _assert_refused(proc, "studies.standalone_records.grid.pga[1]")
-    (tmp_path / "config" / "bad.yaml").write_text("studies: {ramp_drums: {grid: {n_drums: [high]}}}\n")
+    assert "must be > 0, got -2.0" in _assert_refused(
+        proc, "studies.standalone_records.grid.pga[1]"
+    )
+    (tmp_path / "config" / "bad.yaml").write_text(
+        "studies: {ramp_drums: {grid: {n_drums: [high]}}}\n"
+    )
     proc = snakemake("-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
     _assert_refused(proc, "studies.ramp_drums.grid.n_drums[0]")
 
 
 def test_dry_run_refuses_unknown_records(tmp_path):
     def mutate(config):
-        config["studies"]["standalone_records"]["grid"]["record"] = ["mexico_standin_chichi_tcu102", "nope"]
+        config["studies"]["standalone_records"]["grid"]["record"] = [
+            "mexico_standin_chichi_tcu102",
+            "nope",
+        ]
 
     proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
-    assert "unknown record 'nope'" in _assert_refused(proc, "studies.standalone_records.grid.record[1]")
+    assert "unknown record 'nope'" in _assert_refused(
+        proc, "studies.standalone_records.grid.record[1]"
+    )
 
 
 def test_dry_run_refuses_a_study_without_a_structure_and_a_negative_stiffness(tmp_path):
-    proc = snakemake("-n", cwd=_small_workflow(tmp_path, lambda c: c["studies"]["ramp_drums"].pop("structure")))
+    proc = snakemake(
+        "-n", cwd=_small_workflow(tmp_path, lambda c: c["studies"]["ramp_drums"].pop("structure"))
+    )
     _assert_refused(proc, "studies.ramp_drums.structure")
     (tmp_path / "config" / "bad.yaml").write_text(
-        "studies: {ramp_drums: {structure: {kind: column, width: 1.0}}}\ndefaults: {contact: {k_n: -1.0e+9}}\n")
+        "studies: {ramp_drums: {structure: {kind: column, width: 1.0}}}\ndefaults: {contact: {k_n: -1.0e+9}}\n"
+    )
     proc = snakemake("-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
     _assert_refused(proc, "defaults.contact.k_n")
 
@@ -110,9 +128,12 @@ def test_dry_run_refuses_a_search_tolerance_finer_than_the_rounding(tmp_path):
         config["studies"]["standalone_records"]["search"]["tolerance"] = 1.0e-6
 
     proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
-    assert "give tolerance >= 0.001" in _assert_refused(proc, "studies.standalone_records.search.tolerance")
+    assert "give tolerance >= 0.001" in _assert_refused(
+        proc, "studies.standalone_records.search.tolerance"
+    )
     (tmp_path / "config" / "bad.yaml").write_text(
-        "studies: {standalone_records: {search: {tolerance: 0.02}}}\nfragility: {search: {tolerance: 5.0e-4}}\n")
+        "studies: {standalone_records: {search: {tolerance: 0.02}}}\nfragility: {search: {tolerance: 5.0e-4}}\n"
+    )
     proc = snakemake("fragility", "-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
     # the schema checks fragility: before its cases, naming the same floor
     assert "minimum of 0.001" in _assert_refused(proc, "fragility.search.tolerance")
@@ -121,16 +142,23 @@ def test_dry_run_refuses_a_search_tolerance_finer_than_the_rounding(tmp_path):
 def test_dry_run_builds_the_dag_after_grid_keys_are_added_and_reordered(tmp_path):
     """A grid key added to a study (harmonic_drums had only n_drums) is part of its case ids;
     the snapshot figures of that study name the configured case files (thesis Fig. 6.7-6.8)."""
+
     def mutate(config):
         config["studies"]["harmonic_drums"]["grid"] = {"friction": [0.48], "n_drums": [2, 4]}
         grid = config["studies"]["standalone_records"]["grid"]
-        config["studies"]["standalone_records"]["grid"] = {"friction": [0.4, 0.485],
-                                                           "record": grid["record"], "n_drums": grid["n_drums"]}
+        config["studies"]["standalone_records"]["grid"] = {
+            "friction": [0.4, 0.485],
+            "record": grid["record"],
+            "n_drums": grid["n_drums"],
+        }
 
     proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
-    for path in ("results/cases/harmonic_drums/mu-0.48_drums-4.nc", "results/figures/thesis_fig_6_7.png",
-                 "results/searches/standalone_records/mu-0.4_rec-mexico_standin_chichi_tcu102_drums-1.nc"):
+    for path in (
+        "results/cases/harmonic_drums/mu-0.48_drums-4.nc",
+        "results/figures/thesis_fig_6_7.png",
+        "results/searches/standalone_records/mu-0.4_rec-mexico_standin_chichi_tcu102_drums-1.nc",
+    ):
         assert path in proc.stdout, path
 
 
@@ -150,7 +178,10 @@ def _expected_figures():
 
     config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     update_config(config, yaml.safe_load((ROOT / "tests" / "workflow" / "config.yaml").read_text()))
-    studies = {n: {c.id: c for c in case_table(n, s, config["defaults"])} for n, s in config["studies"].items()}
+    studies = {
+        n: {c.id: c for c in case_table(n, s, config["defaults"])}
+        for n, s in config["studies"].items()
+    }
     return sorted(f"{name}.png" for name in figure_table(studies, config))
 
 
@@ -162,13 +193,20 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
 
     with xr.open_dataset(tmp_path / "results/cubes/colonnade_records.nc") as cube:
         # a threshold search: its runs on a run dimension, the searched pga a coordinate
-        assert cube["pga"].dims == ("record", "n_drums", "run") and cube["epistyle_displacement"].dims[-1] == "time"
-        assert int(cube["n_runs"].sum()) == cube.sizes["run"] == 2 and str(cube["search_status"].values.flat[0])
+        assert (
+            cube["pga"].dims == ("record", "n_drums", "run")
+            and cube["epistyle_displacement"].dims[-1] == "time"
+        )
+        assert int(cube["n_runs"].sum()) == cube.sizes["run"] == 2 and str(
+            cube["search_status"].values.flat[0]
+        )
     # a search writes one file (search_runs: summary), no case file per run
     assert not (tmp_path / "results/cases/colonnade_records").exists()
-    assert (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
+    assert (
+        (tmp_path / "results/tables/table_7_1.csv").read_text().startswith("system,n_drums,record")
+    )
     figures = sorted(p.name for p in (tmp_path / "results/figures").glob("*.png"))
-    walls = ["manuscript_fig_21.png", "manuscript_fig_22.png"]   # the tiny config's one wall case
+    walls = ["manuscript_fig_21.png", "manuscript_fig_22.png"]  # the tiny config's one wall case
     expected = sorted(_expected_figures() + walls)
     assert len(expected) >= 25 and figures == expected, set(expected) ^ set(figures)
     wall_table = (tmp_path / "results/tables/manuscript_table_3.csv").read_text().splitlines()
@@ -183,7 +221,9 @@ def test_tiny_study_runs_end_to_end_with_figures_tables_and_report(tmp_path):
         names = archive.namelist()
         pngs = [n for n in names if n.endswith(".png")]
         assert len(pngs) >= len(expected), f"report holds {len(pngs)} of {len(expected)} figures"
-        text = "".join(archive.read(n).decode("utf-8", "ignore") for n in names if n.endswith((".html", ".js")))
+        text = "".join(
+            archive.read(n).decode("utf-8", "ignore") for n in names if n.endswith((".html", ".js"))
+        )
         assert "Regenerates thesis Fig. 6.10" in text, "the report carries the figure captions"
 
 
@@ -196,51 +236,81 @@ def test_slurm_profile_dry_run():
     from stonedem.kernels import sources_key
 
     # --forceall: the whole plan, whatever results/ of this checkout already holds (its compile markers)
-    proc = snakemake("-n", "--forceall", "--profile", "config/profiles/slurm", "--configfile",
-                     "tests/workflow/config.yaml")
+    proc = snakemake(
+        "-n",
+        "--forceall",
+        "--profile",
+        "config/profiles/slurm",
+        "--configfile",
+        "tests/workflow/config.yaml",
+    )
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "dry-run" in proc.stdout + proc.stderr
     assert "search_ida_" not in proc.stdout  # the IDA is planned only when asked for
     # the engine compiled once, a job per time loop, before the jobs that run it (workflow/rules/compile.smk)
     blocks = re.findall(r"^( *)rule (\w+):\n((?:\1    .*\n)+)", proc.stdout, re.M)
-    markers = [f"results/compiled/{sources_key()}/{loop}.txt" for loop in ("contact_graph", "general")]
-    assert sorted(re.search(r"output: (.*)", text).group(1) for _, name, text in blocks
-                  if name == "compile_kernels") == markers
-    engine = [(name, text.split("output:")[0]) for _, name, text in blocks
-              if name.startswith(("simulate_", "search_", "stripes_", "validate_"))]
+    markers = [
+        f"results/compiled/{sources_key()}/{loop}.txt" for loop in ("contact_graph", "general")
+    ]
+    assert (
+        sorted(
+            re.search(r"output: (.*)", text).group(1)
+            for _, name, text in blocks
+            if name == "compile_kernels"
+        )
+        == markers
+    )
+    engine = [
+        (name, text.split("output:")[0])
+        for _, name, text in blocks
+        if name.startswith(("simulate_", "search_", "stripes_", "validate_"))
+    ]
     assert len(engine) >= 20 and all(m in inputs for _, inputs in engine for m in markers), engine
 
 
 def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
     # the full IDA's plan: 428 searches packed by fragility.job_seconds into tens of jobs
     from stonedem.fragility.ida import fragility_config
-    from stonedem.study.jobs import plan_jobs
     from stonedem.study.grid import config_cases, load_config
+    from stonedem.study.jobs import plan_jobs
 
     studies = config_cases(fragility_config(load_config(ROOT / "config" / "config.yaml")))
     assert sum(len(cases) for cases in studies.values()) == 428
     jobs = plan_jobs(studies, ROOT / "records", search_seconds=300.0)
     assert 40 <= len(jobs) <= 150 and all(job.is_search for job in jobs), len(jobs)
     # the quick profile on the cluster profile: one structure, four records, nothing else
-    proc = snakemake("fragility", "-n", "--profile", "config/profiles/slurm", "--configfile", "config/quick.yaml")
+    proc = snakemake(
+        "fragility", "-n", "--profile", "config/profiles/slurm", "--configfile", "config/quick.yaml"
+    )
     out = proc.stdout + proc.stderr
     assert proc.returncode == 0, out[-2000:]
-    assert "search_ida_column_1_drum_0" in out and "search_ida_colonnade" not in out and "simulate_" not in out
+    assert (
+        "search_ida_column_1_drum_0" in out
+        and "search_ida_colonnade" not in out
+        and "simulate_" not in out
+    )
 
 
 def test_an_ensemble_study_gives_collapse_fractions_and_member_zero_is_todays_run(tmp_path):
     """ensemble: {members: 2} (issue 44): every case twice, the cube's verdicts on a member
     dimension beside their fraction, Table 7.1 with a50; member 0 as the study without members."""
+
     def mutate(config):
         from stonedem.study.grid import load_config
 
-        tiny = load_config(ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml")["studies"]
-        config["studies"] = {k: tiny[k] for k in ("standalone_records", "colonnade_records", "harmonic_frequency")}
+        tiny = load_config(
+            ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml"
+        )["studies"]
+        config["studies"] = {
+            k: tiny[k] for k in ("standalone_records", "colonnade_records", "harmonic_frequency")
+        }
         config["studies"]["harmonic_frequency"]["grid"]["frequency"] = [20.0]
 
     root = _small_workflow(tmp_path, mutate)
     case = "A-0.25_f-20_mu-0.48"
-    proc = snakemake("-j2", f"results/cases/harmonic_frequency/{case}.nc", cwd=root)  # the plain case alone
+    proc = snakemake(
+        "-j2", f"results/cases/harmonic_frequency/{case}.nc", cwd=root
+    )  # the plain case alone
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     import numpy as np
     import xarray as xr
@@ -267,7 +337,10 @@ def test_an_ensemble_study_gives_collapse_fractions_and_member_zero_is_todays_ru
     for path in sorted((root / "results/stripes").glob("*/*.nc")):
         with xr.open_dataset(path) as fills:
             system = path.stem
-            searches = [xr.open_dataset(root / f"results/searches/{path.parent.name}/{system}_m-{j}.nc") for j in (0, 1)]
+            searches = [
+                xr.open_dataset(root / f"results/searches/{path.parent.name}/{system}_m-{j}.nc")
+                for j in (0, 1)
+            ]
             ran = [set(np.asarray(s[s.attrs["search_parameter"]].values, float)) for s in searches]
             low = min(float(s.survived_below_threshold) for s in searches)
             high = max(float(s.collapse_threshold) for s in searches)

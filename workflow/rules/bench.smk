@@ -9,7 +9,10 @@ import stonedem.bench.work_precision
 BENCH_QUICK = config.get("bench_profile", "full") == "quick"
 BENCH_OUTPUTS = {
     "bench_work_precision": ["results/bench/work_precision.nc"]
-    + [f"results/figures/work_precision_{scene}.png" for scene in stonedem.bench.work_precision.SCENES],
+    + [
+        f"results/figures/work_precision_{scene}.png"
+        for scene in stonedem.bench.work_precision.SCENES
+    ],
     "bench_contact_cost": ["results/bench/contact_cost.nc", "results/figures/contact_cost.png"],
     "bench_stability": [
         "results/bench/stability_map.nc",
@@ -32,12 +35,12 @@ BENCH_OUTPUTS = {
 rule bench_work_precision:
     output:
         BENCH_OUTPUTS["bench_work_precision"],
-    params:
-        quick=BENCH_QUICK,
     log:
         "results/logs/bench/work_precision.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick=BENCH_QUICK,
     script:
         "../scripts/bench.py"
 
@@ -45,12 +48,12 @@ rule bench_work_precision:
 rule bench_contact_cost:
     output:
         BENCH_OUTPUTS["bench_contact_cost"],
-    params:
-        quick=BENCH_QUICK,
     log:
         "results/logs/bench/contact_cost.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick=BENCH_QUICK,
     script:
         "../scripts/bench.py"
 
@@ -58,12 +61,12 @@ rule bench_contact_cost:
 rule bench_stability:
     output:
         BENCH_OUTPUTS["bench_stability"],
-    params:
-        quick=BENCH_QUICK,
     log:
         "results/logs/bench/stability.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick=BENCH_QUICK,
     script:
         "../scripts/bench.py"
 
@@ -73,14 +76,14 @@ rule bench_skipping:
         expand("records/{name}.nc", name=RECORD_NAMES),
     output:
         BENCH_OUTPUTS["bench_skipping"],
-    params:
-        quick=BENCH_QUICK,
-        # the quick study's record and ramp cases (33; the quick profile takes 4 of them)
-        config="config/quick.yaml",
     log:
         "results/logs/bench/skipping.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick=BENCH_QUICK,
+        # the quick study's record and ramp cases (33; the quick profile takes 4 of them)
+        config="config/quick.yaml",
     script:
         "../scripts/bench.py"
 
@@ -92,12 +95,12 @@ rule bench_restitution:
         "config/config.yaml",
     output:
         BENCH_OUTPUTS["bench_restitution"],
-    params:
-        quick="--quick" if BENCH_QUICK else "",
     log:
         "results/logs/bench/restitution.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick="--quick" if BENCH_QUICK else "",
     shell:
         "NUMBA_NUM_THREADS=1 python -m stonedem.bench.restitution {params.quick} --config {input} "
         "--out {output} > {log} 2>&1"
@@ -107,12 +110,12 @@ rule bench_restitution:
 rule bench_fuzz:
     output:
         BENCH_OUTPUTS["bench_fuzz"],
-    params:
-        quick="--quick" if BENCH_QUICK else "",
     log:
         "results/logs/bench/fuzz.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick="--quick" if BENCH_QUICK else "",
     shell:
         "python -m stonedem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
 
@@ -127,14 +130,18 @@ rule bench_kernel:
         dataset=BENCH_OUTPUTS["bench_kernel"][0],
         table=BENCH_OUTPUTS["bench_kernel"][1],
         figure=BENCH_OUTPUTS["bench_kernel"][2],
-    params:
-        quick="--quick" if BENCH_QUICK else "",
-        # no --parent: HEAD~1 where the checkout has it, else a warning and no comparison
-        parent=f"--parent {shlex.quote(str(config['bench_parent']))}" if config.get("bench_parent") else "",
     log:
         "results/logs/bench/kernel.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick="--quick" if BENCH_QUICK else "",
+        # no --parent: HEAD~1 where the checkout has it, else a warning and no comparison
+        parent=(
+            f"--parent {shlex.quote(str(config['bench_parent']))}"
+            if config.get("bench_parent")
+            else ""
+        ),
     shell:
         "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} {params.parent} "
         "--out $(dirname {output.dataset}) --figure {output.figure} > {log} 2>&1"
@@ -148,12 +155,12 @@ rule bench_gpu:
     output:
         dataset=BENCH_OUTPUTS["bench_gpu"][0],
         figure=BENCH_OUTPUTS["bench_gpu"][1],
-    params:
-        quick="--quick" if BENCH_QUICK else "",
     log:
         "results/logs/bench/ensemble.log",
     conda:
         "../envs/stonedem.yaml"
+    params:
+        quick="--quick" if BENCH_QUICK else "",
     shell:
         "python -m stonedem.bench.ensemble {params.quick} --out $(dirname {output.dataset}) "
         "--figure {output.figure} > {log} 2>&1"
@@ -168,17 +175,17 @@ rule bench_rounding:
         expand("records/{name}.nc", name=RECORD_NAMES),
     output:
         BENCH_OUTPUTS["bench_rounding"],
+    log:
+        "results/logs/bench/rounding.log",
+    conda:
+        "../envs/stonedem.yaml"
+    threads: 2
     params:
         args=(
             "--config config/quick.yaml --studies ramp_drums standalone_records --perturbations 1"
             if BENCH_QUICK
             else "--config config/config.yaml --perturbations 7"
         ),
-    threads: 2
-    log:
-        "results/logs/bench/rounding.log",
-    conda:
-        "../envs/stonedem.yaml"
     shell:
         "python -m stonedem.bench.rounding {params.args} --jobs {threads} "
         "--out $(dirname {output}) > {log} 2>&1"

@@ -23,9 +23,13 @@ EXTRACT_RECORDS = config_flag("extract_records", False)
 # Checked once, by the main process (not again in each cluster job, which re-reads this file).
 if getattr(workflow, "is_main_process", True):
     try:
-        stonedem.study.grid.check_config(config, records_dir="records", extract_records=EXTRACT_RECORDS,
-                               schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml",
-                               files=workflow.configfiles)
+        stonedem.study.grid.check_config(
+            config,
+            records_dir="records",
+            extract_records=EXTRACT_RECORDS,
+            schema=Path(workflow.current_basedir) / "../schemas/config.schema.yaml",
+            files=workflow.configfiles,
+        )
     except InputError as error:
         # one line, the last one printed, and stonedem's exit code for bad input (stonedem.entry); a
         # WorkflowError would add Snakemake's header and a traceback line after it
@@ -54,7 +58,8 @@ import stonedem.study.stripe_fill
 import stonedem.study.grid
 
 STUDIES = {
-    name: {case.id: case for case in cases} for name, cases in stonedem.study.grid.config_cases(config).items()
+    name: {case.id: case for case in cases}
+    for name, cases in stonedem.study.grid.config_cases(config).items()
 }
 # the catalogue's tables and figures (stonedem.figures) whose inputs are in the configured studies
 # (a reduced profile makes fewer): results/tables/<table>.csv, results/figures/<figure>.png
@@ -104,8 +109,12 @@ if config.get("fragility") is not None and fragility_requested():
         if getattr(workflow, "is_main_process", True):
             tables = stonedem.fragility.ida.check_fragility(config)
         else:
-            tables = stonedem.study.grid.config_cases(stonedem.fragility.ida.fragility_config(config))
-        FRAGILITY_STUDIES = {name: {case.id: case for case in cases} for name, cases in tables.items()}
+            tables = stonedem.study.grid.config_cases(
+                stonedem.fragility.ida.fragility_config(config)
+            )
+        FRAGILITY_STUDIES = {
+            name: {case.id: case for case in cases} for name, cases in tables.items()
+        }
     except InputError as error:
         print(f"Bad config: {error}", file=sys.stderr)
         sys.exit(2)
@@ -114,7 +123,11 @@ FRAGILITY_JOBS = stonedem.study.jobs.plan_jobs(
     search_seconds=(
         math.inf
         if GPU_SEARCHES
-        else float(config.get("fragility", {}).get("job_seconds", stonedem.fragility.ida.DEFAULT_JOB_SECONDS))
+        else float(
+            config.get("fragility", {}).get(
+                "job_seconds", stonedem.fragility.ida.DEFAULT_JOB_SECONDS
+            )
+        )
     ),
 )
 JOB_PRIORITY = stonedem.study.jobs.job_priority(JOBS + FRAGILITY_JOBS)
@@ -139,8 +152,10 @@ def search_path(system):
 
 # an ensemble study's stripe fills (stonedem.study.stripe_fill): one job per search system as
 # configured, after its members' searches; {study: {system id: its member systems}}
-STRIPE_GROUPS = {study: stonedem.study.stripe_fill.member_groups(list(STUDIES[study].values()))
-                 for study in SEARCH_STUDIES}
+STRIPE_GROUPS = {
+    study: stonedem.study.stripe_fill.member_groups(list(STUDIES[study].values()))
+    for study in SEARCH_STUDIES
+}
 
 
 def stripe_path(study, base):
@@ -190,7 +205,6 @@ def job_records(job):
     return sorted({path for case in job.cases for path in case_records(case)})
 
 
-
 # the file of each kind of catalogue input (stonedem.figures.Cube, Case, Table, Record)
 CATALOGUE_PATHS = {
     "Cube": "results/cubes/{study}.nc",
@@ -226,8 +240,11 @@ def caption_file(name, text):
 
 
 def figure_caption_file(name):
-    return caption_file(name, f"{FIGURES[name].caption}\n\nWhere the thesis reports an ordering, "
-                              "the line under the plot says whether it holds on our cube.\n")
+    return caption_file(
+        name,
+        f"{FIGURES[name].caption}\n\nWhere the thesis reports an ordering, "
+        "the line under the plot says whether it holds on our cube.\n",
+    )
 
 
 def study_description(study):
@@ -238,8 +255,14 @@ def study_description(study):
 WALL_TABLES = {
     "1": ["orduna_case1", "orduna_case2"],
     "2": ["s11", "s12", "s13", "s15", "s6", "s1_s2_s3", "s5", "s32", "s23", "s34"],
-    "3": ["chee_liang_2_3", "chee_liang_8_12", "chee_liang_14_15", "chee_liang_4_5",
-          "chee_liang_9_13", "chee_liang_10_11"],
+    "3": [
+        "chee_liang_2_3",
+        "chee_liang_8_12",
+        "chee_liang_14_15",
+        "chee_liang_4_5",
+        "chee_liang_9_13",
+        "chee_liang_10_11",
+    ],
 }
 WALL_CASES = [c for cases in WALL_TABLES.values() for c in cases] + ["free_standing"]
 # manuscript figure -> cases drawn (damage maps; 22 is the pushover curves)
@@ -279,11 +302,17 @@ def wall_figure_kind(number):
 
 
 def wall_figure_caption_file(number):
-    kind = "Pushover curves" if wall_figure_kind(number) == "pushover" else "Damage maps at the limit load"
+    kind = (
+        "Pushover curves"
+        if wall_figure_kind(number) == "pushover"
+        else "Damage maps at the limit load"
+    )
     cases = ", ".join(selected(WALL_FIGURES[number]))
-    return caption_file(f"manuscript_fig_{number}",
-                        f"Regenerates manuscript Fig. {number}: {kind.lower()} of {cases} "
-                        "(interfaces: elastic, shear, flexural, shear and flexural, detached).\n")
+    return caption_file(
+        f"manuscript_fig_{number}",
+        f"Regenerates manuscript Fig. {number}: {kind.lower()} of {cases} "
+        "(interfaces: elastic, shear, flexural, shear and flexural, detached).\n",
+    )
 
 
 # on a SLURM cluster, a profile that could not see its jobs finish ends the run in one line

@@ -11,7 +11,10 @@ import stonedem.engine.run
 import stonedem.kernels
 
 COMPILED_LOOPS = list(stonedem.engine.run.STUDY_LOOPS)
-COMPILED = [ancient(f"results/compiled/{stonedem.kernels.sources_key()}/{loop}.txt") for loop in COMPILED_LOOPS]
+COMPILED = [
+    ancient(f"results/compiled/{stonedem.kernels.sources_key()}/{loop}.txt")
+    for loop in COMPILED_LOOPS
+]
 
 
 rule compile_kernels:
@@ -20,7 +23,7 @@ rule compile_kernels:
     log:
         "results/logs/compile_kernels/{loop}.log",
     benchmark:
-        "results/logs/benchmarks/compile_kernels/{loop}.tsv",
+        "results/logs/benchmarks/compile_kernels/{loop}.tsv"
     wildcard_constraints:
         loop="|".join(COMPILED_LOOPS),
     # before everything else: the loops compile side by side while no job waits on a core; on a

@@ -8,7 +8,9 @@
 import os
 
 # K and the perturbation as the config check read them (stonedem.study.grid.ensemble_settings)
-ENSEMBLE_MEMBERS, ENSEMBLE_PERTURBATION = stonedem.study.grid.ensemble_settings(config, baseline=True)
+ENSEMBLE_MEMBERS, ENSEMBLE_PERTURBATION = stonedem.study.grid.ensemble_settings(
+    config, baseline=True
+)
 ENSEMBLE_CONFIG = os.path.relpath(
     workflow.overwrite_configfiles[-1] if workflow.overwrite_configfiles else "config/config.yaml"
 )
@@ -20,19 +22,19 @@ rule ensemble:
         COMPILED,
     output:
         "results/ensemble/ensemble.nc",
+    log:
+        "results/logs/ensemble/ensemble.log",
+    conda:
+        "../envs/stonedem.yaml"
+    # Snakemake runs it on at most the cores it is given (-j2: 2); workflow.cores would make
+    # `snakemake --report` and other runs without --cores refuse the whole workflow
+    threads: 16
     params:
         # the last --configfile (a profile such as config/quick.yaml), which the command merges
         # over config.yaml of its folder as snakemake merged it over the configfile: directive
         config=ENSEMBLE_CONFIG,
         members=ENSEMBLE_MEMBERS,
         perturbation=ENSEMBLE_PERTURBATION,
-    # Snakemake runs it on at most the cores it is given (-j2: 2); workflow.cores would make
-    # `snakemake --report` and other runs without --cores refuse the whole workflow
-    threads: 16
-    log:
-        "results/logs/ensemble/ensemble.log",
-    conda:
-        "../envs/stonedem.yaml"
     shell:
         "python -m stonedem.study.ensemble --config {params.config:q} --members {params.members} "
         "--perturbation {params.perturbation} --jobs {threads} --checks full --out {output:q} > {log:q} 2>&1"

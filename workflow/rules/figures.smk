@@ -16,14 +16,15 @@ for k, batch in enumerate(FIGURE_BATCHES):
                 )
                 for name in batch
             ],
-        params:
-            figures={name: figure_inputs(name) for name in batch},
         log:
             f"results/logs/figures/figures_{k}.log",
         benchmark:
-            f"results/logs/benchmarks/figures/figures_{k}.tsv",
-        group: REDUCTION_GROUP
+            f"results/logs/benchmarks/figures/figures_{k}.tsv"
+        group:
+            REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"
+        params:
+            figures={name: figure_inputs(name) for name in batch},
         script:
             "../scripts/plot_figures.py"

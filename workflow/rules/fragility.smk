@@ -4,15 +4,23 @@
 # `snakemake fragility -j2`; not part of `all`.
 FRAGILITY = config.get("fragility") or {}
 if not FRAGILITY and fragility_requested():
-    print("Bad config: fragility: missing; add a fragility: section with structures (see config/config.yaml)",
-          file=sys.stderr)
+    print(
+        "Bad config: fragility: missing; add a fragility: section with structures (see config/config.yaml)",
+        file=sys.stderr,
+    )
     sys.exit(2)
-FRAGILITY_STRUCTURES = [name[len(stonedem.fragility.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES]
+FRAGILITY_STRUCTURES = [
+    name[len(stonedem.fragility.ida.STUDY_PREFIX) :] for name in FRAGILITY_STUDIES
+]
 # the searched structures' config entries (drum width, kind: the cube and the checks read them)
 FRAGILITY_SPECS = {name: FRAGILITY["structures"][name] for name in FRAGILITY_STRUCTURES}
-FRAGILITY_SEARCHES = [search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()]
+FRAGILITY_SEARCHES = [
+    search_path(s) for cases in FRAGILITY_STUDIES.values() for s in cases.values()
+]
 # the single block set against rigid one-sine theory (stonedem.fragility.checks.pulse_check)
-PULSE_STRUCTURE = FRAGILITY.get("pulse_check") if FRAGILITY.get("pulse_check") in FRAGILITY_STRUCTURES else None
+PULSE_STRUCTURE = (
+    FRAGILITY.get("pulse_check") if FRAGILITY.get("pulse_check") in FRAGILITY_STRUCTURES else None
+)
 PULSE_FILE = ["results/fragility/pulse_check.nc"] if PULSE_STRUCTURE else []
 FRAGILITY_OUTPUTS = (
     [
@@ -37,16 +45,17 @@ rule ida_cube:
         FRAGILITY_SEARCHES,
     output:
         "results/fragility/ida.nc",
-    params:
-        structures=FRAGILITY_SPECS,
-        suites=FRAGILITY.get("suites"),
     log:
         "results/logs/fragility/ida_cube.log",
     benchmark:
-        "results/logs/benchmarks/fragility/ida_cube.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/fragility/ida_cube.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
+    params:
+        structures=FRAGILITY_SPECS,
+        suites=FRAGILITY.get("suites"),
     script:
         "../scripts/ida_cube.py"
 
@@ -59,17 +68,18 @@ rule fragility_fits:
         table="results/tables/fragility.csv",
         checks="results/tables/fragility_checks.csv",
         pulse=PULSE_FILE,
+    log:
+        "results/logs/fragility/fragility_fits.log",
+    benchmark:
+        "results/logs/benchmarks/fragility/fragility_fits.tsv"
+    group:
+        REDUCTION_GROUP
+    conda:
+        "../envs/stonedem.yaml"
     params:
         bootstrap=FRAGILITY.get("bootstrap", 1000),
         structures=FRAGILITY_SPECS,
         pulse_structure=PULSE_STRUCTURE,
-    log:
-        "results/logs/fragility/fragility_fits.log",
-    benchmark:
-        "results/logs/benchmarks/fragility/fragility_fits.tsv",
-    group: REDUCTION_GROUP
-    conda:
-        "../envs/stonedem.yaml"
     script:
         "../scripts/fragility_fits.py"
 
@@ -95,14 +105,15 @@ rule fragility_figures:
             category="Fragility (IDA over the FEMA P695 suites)",
             labels={"figure": "collapse medians and the pulse check"},
         ),
-    params:
-        structures=FRAGILITY_STRUCTURES,
     log:
         "results/logs/fragility/fragility_figures.log",
     benchmark:
-        "results/logs/benchmarks/fragility/fragility_figures.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/fragility/fragility_figures.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
+    params:
+        structures=FRAGILITY_STRUCTURES,
     script:
         "../scripts/fragility_figures.py"

@@ -8,10 +8,10 @@ if EXTRACT_RECORDS:
     rule extract_suite:
         output:
             "records/suites/{suite}.nc",
-        wildcard_constraints:
-            suite="far_field|near_field_pulse|near_field_no_pulse",
         log:
             "results/logs/records/suite_{suite}.log",
+        wildcard_constraints:
+            suite="far_field|near_field_pulse|near_field_no_pulse",
         conda:
             "../envs/stonedem.yaml"
         script:
@@ -20,11 +20,11 @@ if EXTRACT_RECORDS:
     rule extract_record:
         output:
             "records/{name}.nc",
-        params:
-            record=record_params,
         log:
             "results/logs/records/{name}.log",
         conda:
             "../envs/stonedem.yaml"
+        params:
+            record=record_params,
         script:
             "../scripts/extract_record.py"

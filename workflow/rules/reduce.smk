@@ -8,14 +8,15 @@ for k, batch in enumerate(TABLE_BATCHES):
             sorted({path for name in batch for path in table_inputs(name)}),
         output:
             [f"results/tables/{name}.csv" for name in batch],
-        params:
-            tables={name: table_inputs(name) for name in batch},
         log:
             f"results/logs/tables/tables_{k}.log",
         benchmark:
-            f"results/logs/benchmarks/tables/tables_{k}.tsv",
-        group: REDUCTION_GROUP
+            f"results/logs/benchmarks/tables/tables_{k}.tsv"
+        group:
+            REDUCTION_GROUP
         conda:
             "../envs/stonedem.yaml"
+        params:
+            tables={name: table_inputs(name) for name in batch},
         script:
             "../scripts/write_tables.py"

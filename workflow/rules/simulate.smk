@@ -14,18 +14,19 @@ for job in JOBS:
             COMPILED,
         output:
             [case_path(case) for case in job.cases],
-        params:
-            cases=[case.as_dict() for case in job.cases],
         log:
             f"results/logs/jobs/{job.name}.log",
         benchmark:
-            f"results/logs/benchmarks/jobs/{job.name}.tsv",
-        resources:
-            runtime=job_runtime(job),
+            f"results/logs/benchmarks/jobs/{job.name}.tsv"
         priority: JOB_PRIORITY[job.name]
-        group: SIMULATION_GROUP
+        group:
+            SIMULATION_GROUP
         conda:
             "../envs/stonedem.yaml"
+        resources:
+            runtime=job_runtime(job),
+        params:
+            cases=[case.as_dict() for case in job.cases],
         script:
             "../scripts/simulate_cases.py"
 
@@ -44,22 +45,27 @@ for job in JOBS + FRAGILITY_JOBS:
             job_records(job),
             COMPILED,
         output:
-            runs=[directory(f"results/cases/{job.study}/{system.id}") for system in job.cases] if FULL_SEARCH_RUNS else [],
+            runs=(
+                [directory(f"results/cases/{job.study}/{system.id}") for system in job.cases]
+                if FULL_SEARCH_RUNS
+                else []
+            ),
             search=[search_path(system) for system in job.cases],
+        log:
+            f"results/logs/jobs/{job.name}.log",
+        benchmark:
+            f"results/logs/benchmarks/jobs/{job.name}.tsv"
+        priority: JOB_PRIORITY[job.name]
+        group:
+            SIMULATION_GROUP
+        conda:
+            "../envs/stonedem.yaml"
+        resources:
+            runtime=job_runtime(job),
         params:
             systems=[system.as_dict() for system in job.cases],
             # switching search_runs reruns the search (its run files come or go)
             search_runs=config["search_runs"],
-        log:
-            f"results/logs/jobs/{job.name}.log",
-        benchmark:
-            f"results/logs/benchmarks/jobs/{job.name}.tsv",
-        resources:
-            runtime=job_runtime(job),
-        priority: JOB_PRIORITY[job.name]
-        group: SIMULATION_GROUP
-        conda:
-            "../envs/stonedem.yaml"
         script:
             "../scripts/search_threshold.py"
 
@@ -80,15 +86,16 @@ for study, groups in STRIPE_GROUPS.items():
             output:
                 runs=directory(f"results/stripes/{study}/{base}") if FULL_SEARCH_RUNS else [],
                 stripes=stripe_path(study, base),
-            params:
-                systems=[system.as_dict() for system in members],
-                search_runs=config["search_runs"],
             log:
                 f"results/logs/stripes/{study}/{base}.log",
             benchmark:
-                f"results/logs/benchmarks/stripes/{study}/{base}.tsv",
-            group: SIMULATION_GROUP
+                f"results/logs/benchmarks/stripes/{study}/{base}.tsv"
+            group:
+                SIMULATION_GROUP
             conda:
                 "../envs/stonedem.yaml"
+            params:
+                systems=[system.as_dict() for system in members],
+                search_runs=config["search_runs"],
             script:
                 "../scripts/fill_stripes.py"

@@ -10,7 +10,8 @@ import stonedem.validation.plots
 VALIDATION_NAMES = list(stonedem.validation.cases.VALIDATIONS)
 VALIDATION_FIGURES = list(stonedem.validation.plots.THESIS_FIGURES)
 VALIDATION_TARGETS = (
-    [f"results/figures/{fig}.png" for fig in VALIDATION_FIGURES] + ["results/tables/validation_summary.csv"]
+    [f"results/figures/{fig}.png" for fig in VALIDATION_FIGURES]
+    + ["results/tables/validation_summary.csv"]
     if RUN_VALIDATION
     else []
 )
@@ -24,7 +25,8 @@ VALIDATION_RECORDS = {
 }
 # the validation dataset each thesis figure is drawn from
 VALIDATION_FIGURE_INPUT = {
-    fig: f"results/validation/{name}.nc" for fig, (name, _) in stonedem.validation.plots.THESIS_FIGURES.items()
+    fig: f"results/validation/{name}.nc"
+    for fig, (name, _) in stonedem.validation.plots.THESIS_FIGURES.items()
 }
 VALIDATION_CAPTIONS = {
     fig: f"{stonedem.validation.plots.CAPTIONS[fig]}\n\nThe title's second line gives the validation's verdict "
@@ -48,16 +50,17 @@ for k, batch in enumerate(VALIDATION_BATCHES):
             compiled=COMPILED,
         output:
             [f"results/validation/{name}.nc" for name in batch],
-        params:
-            records={name: VALIDATION_RECORDS.get(name, {}).get("record") for name in batch},
         log:
             f"results/logs/validation/validate_{k}.log",
         benchmark:
-            f"results/logs/benchmarks/validation/validate_{k}.tsv",
+            f"results/logs/benchmarks/validation/validate_{k}.tsv"
         priority: UNPACKED_PRIORITY
-        group: SIMULATION_GROUP
+        group:
+            SIMULATION_GROUP
         conda:
             "../envs/stonedem.yaml"
+        params:
+            records={name: VALIDATION_RECORDS.get(name, {}).get("record") for name in batch},
         script:
             "../scripts/validate_one.py"
 
@@ -77,15 +80,16 @@ rule validation_figures:
             )
             for fig in VALIDATION_FIGURES
         ],
-    params:
-        figures=VALIDATION_FIGURE_INPUT,
     log:
         "results/logs/validation/figures.log",
     benchmark:
-        "results/logs/benchmarks/validation/figures.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/validation/figures.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
+    params:
+        figures=VALIDATION_FIGURE_INPUT,
     script:
         "../scripts/validate_one.py"
 
@@ -98,8 +102,9 @@ rule validation_summary:
     log:
         "results/logs/validation/validation_summary.log",
     benchmark:
-        "results/logs/benchmarks/validation/validation_summary.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/validation/validation_summary.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:

@@ -22,13 +22,14 @@ for k, batch in enumerate(dealt(WALL_SELECTED, WALL_JOBS)):
         log:
             f"results/logs/walls/walls_{k}.log",
         benchmark:
-            f"results/logs/benchmarks/walls/walls_{k}.tsv",
+            f"results/logs/benchmarks/walls/walls_{k}.tsv"
         priority: UNPACKED_PRIORITY
-        params:
-            limit_analysis=config.get("wall_limit_analysis", True),
-        group: SIMULATION_GROUP
+        group:
+            SIMULATION_GROUP
         conda:
             "../envs/stonedem.yaml"
+        params:
+            limit_analysis=config.get("wall_limit_analysis", True),
         script:
             "../scripts/wall_case.py"
 
@@ -41,8 +42,9 @@ rule wall_table:
     log:
         "results/logs/walls/table_{wall_table}.log",
     benchmark:
-        "results/logs/benchmarks/walls/table_{wall_table}.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/walls/table_{wall_table}.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -55,8 +57,9 @@ rule wall_table_a1:
     log:
         "results/logs/walls/table_a1.log",
     benchmark:
-        "results/logs/benchmarks/walls/table_a1.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/walls/table_a1.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
     script:
@@ -66,7 +69,13 @@ rule wall_table_a1:
 # every manuscript figure in one job: each is a second of drawing after 1.7 s of start-up
 rule wall_figures:
     input:
-        sorted({f"results/walls/{c}.nc" for n in WALL_FIGURES_SELECTED for c in selected(WALL_FIGURES[n])}),
+        sorted(
+            {
+                f"results/walls/{c}.nc"
+                for n in WALL_FIGURES_SELECTED
+                for c in selected(WALL_FIGURES[n])
+            }
+        ),
     output:
         [
             report(
@@ -77,17 +86,21 @@ rule wall_figures:
             )
             for n in WALL_FIGURES_SELECTED
         ],
-    params:
-        figures={
-            n: {"inputs": [f"results/walls/{c}.nc" for c in selected(WALL_FIGURES[n])], "kind": wall_figure_kind(n)}
-            for n in WALL_FIGURES_SELECTED
-        },
     log:
         "results/logs/walls/figures.log",
     benchmark:
-        "results/logs/benchmarks/walls/figures.tsv",
-    group: REDUCTION_GROUP
+        "results/logs/benchmarks/walls/figures.tsv"
+    group:
+        REDUCTION_GROUP
     conda:
         "../envs/stonedem.yaml"
+    params:
+        figures={
+            n: {
+                "inputs": [f"results/walls/{c}.nc" for c in selected(WALL_FIGURES[n])],
+                "kind": wall_figure_kind(n),
+            }
+            for n in WALL_FIGURES_SELECTED
+        },
     script:
         "../scripts/wall_figure.py"

@@ -20,8 +20,9 @@ def bench_work_precision():
     from stonedem.bench import work_precision
 
     out, figures = d(sm.output[0]), d(sm.output[1])
-    expected = [os.path.join(out, "work_precision.nc")] + [os.path.join(figures, f"work_precision_{s}.png")
-                                                           for s in work_precision.SCENES]
+    expected = [os.path.join(out, "work_precision.nc")] + [
+        os.path.join(figures, f"work_precision_{s}.png") for s in work_precision.SCENES
+    ]
     return expected, lambda: work_precision.main(quick + ["--out", out, "--figures", figures])
 
 
@@ -29,7 +30,10 @@ def bench_contact_cost():
     from stonedem.bench import contact_cost
 
     root = d(d(sm.output[0]))
-    expected = [os.path.join(root, "bench", "contact_cost.nc"), os.path.join(root, "figures", "contact_cost.png")]
+    expected = [
+        os.path.join(root, "bench", "contact_cost.nc"),
+        os.path.join(root, "figures", "contact_cost.png"),
+    ]
     return expected, lambda: contact_cost.main(quick + ["--out", root])
 
 
@@ -37,7 +41,11 @@ def bench_stability():
     from stonedem.bench import stability
 
     out = d(sm.output[0])
-    expected = [os.path.join(out, "stability_map.nc"), os.path.join(out, "auto_dt_margin.nc"), sm.output[2]]
+    expected = [
+        os.path.join(out, "stability_map.nc"),
+        os.path.join(out, "auto_dt_margin.nc"),
+        sm.output[2],
+    ]
     return expected, lambda: stability.main(quick + ["--out", out, "--figure", sm.output[2]])
 
 
@@ -47,11 +55,17 @@ def bench_skipping():
     out = d(sm.output[0])
     limit = ["--limit", "4"] if sm.params.quick else []
     expected = [os.path.join(out, "skipping.nc")]
-    return expected, lambda: skipping.main(["--config", str(sm.params.config), "--out", out] + limit)
+    return expected, lambda: skipping.main(
+        ["--config", str(sm.params.config), "--out", out] + limit
+    )
 
 
-RULES = {"bench_work_precision": bench_work_precision, "bench_contact_cost": bench_contact_cost,
-         "bench_stability": bench_stability, "bench_skipping": bench_skipping}
+RULES = {
+    "bench_work_precision": bench_work_precision,
+    "bench_contact_cost": bench_contact_cost,
+    "bench_stability": bench_stability,
+    "bench_skipping": bench_skipping,
+}
 
 
 def refuse(field, problem, fix):
@@ -67,8 +81,11 @@ def main() -> int:
     expected, run = RULES[sm.rule]()
     given = [os.path.normpath(str(p)) for p in sm.output]
     if sorted(os.path.normpath(p) for p in expected) != sorted(given):
-        refuse(f"{sm.rule}.output", f"{', '.join(given)} are not the files the module writes "
-               f"({', '.join(expected)})", "list those outputs in workflow/rules/bench.smk")
+        refuse(
+            f"{sm.rule}.output",
+            f"{', '.join(given)} are not the files the module writes ({', '.join(expected)})",
+            "list those outputs in workflow/rules/bench.smk",
+        )
     return run()
 
 

@@ -2,7 +2,6 @@
 fills) -> their cubes (stonedem.study.grid.combine_cases, stonedem.study.cube.combine_searches)."""
 
 from stonedem.entry import workflow_log
-
 from stonedem.io.netcdf import write_dataset
 from stonedem.study.cube import combine_searches
 from stonedem.study.grid import combine_cases
@@ -11,7 +10,9 @@ from stonedem.study.stripe_fill import stripe_pieces
 workflow_log(snakemake.log[0])
 for (_study, spec), output in zip(snakemake.params.studies.items(), snakemake.output):
     if spec["search"]:
-        stripes = stripe_pieces(spec["stripes"]) if spec["stripes"] else None  # None: one member, no fills
+        stripes = (
+            stripe_pieces(spec["stripes"]) if spec["stripes"] else None
+        )  # None: one member, no fills
         cube = combine_searches(list(spec["inputs"]), spec["description"], stripes)
     else:
         cube = combine_cases(list(spec["inputs"]), spec["description"])

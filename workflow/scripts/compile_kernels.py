@@ -13,7 +13,9 @@ log = workflow_log(snakemake.log[0])
 start = time.perf_counter()
 loop = snakemake.wildcards.loop
 seconds = warm_compile([loop])[loop]
-text = (f"{loop}: {seconds:.1f} s compile, {time.perf_counter() - start:.1f} s in all; "
-        f"cache {numba.config.CACHE_DIR}\n")
+text = (
+    f"{loop}: {seconds:.1f} s compile, {time.perf_counter() - start:.1f} s in all; "
+    f"cache {numba.config.CACHE_DIR}\n"
+)
 print(text, end="", file=log)
 write_text(snakemake.output[0], text)

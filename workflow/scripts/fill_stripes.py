@@ -2,7 +2,6 @@
 (stonedem.study.stripe_fill.fill_stripes)."""
 
 from stonedem.entry import workflow_log
-
 from stonedem.study.grid import Case
 from stonedem.study.runner import CaseStore
 from stonedem.study.stripe_fill import fill_stripes

@@ -1,10 +1,7 @@
 """Snakemake script: fragility curves per structure and the medians / pulse figure
 (stonedem.figures.fragility)."""
 
-
 from stonedem.entry import workflow_log
-
-
 from stonedem.figures.fragility import fragility_curves_figure, medians_figure
 from stonedem.io.netcdf import open_result
 

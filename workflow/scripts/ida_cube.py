@@ -3,12 +3,14 @@
 import sys
 
 from stonedem.entry import workflow_log
-
-from stonedem.io.netcdf import write_dataset
 from stonedem.fragility.ida import ida_cube
+from stonedem.io.netcdf import write_dataset
 
 workflow_log(snakemake.log[0])
 cube = ida_cube(list(snakemake.input), snakemake.params.structures, snakemake.params.suites)
 write_dataset(cube, snakemake.output[0])
-print(f"{cube.sizes['structure']} structures x {cube.sizes['record']} records, "
-      f"{cube.attrs['n_simulations']} simulations", file=sys.stderr)
+print(
+    f"{cube.sizes['structure']} structures x {cube.sizes['record']} records, "
+    f"{cube.attrs['n_simulations']} simulations",
+    file=sys.stderr,
+)

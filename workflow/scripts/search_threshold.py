@@ -7,7 +7,6 @@ GPU (run_searches), or on every CPU core when no GPU can run them, saying why in
 import sys
 
 from stonedem.entry import workflow_log
-
 from stonedem.study.grid import Case
 from stonedem.study.runner import CaseStore, choose_device, run_search, run_searches
 

@@ -13,11 +13,10 @@ whose exit status reflects the verdicts.
 import sys
 from pathlib import Path
 
-from stonedem.validation import cases as validation
-
-from stonedem.validation import plots as validation_plots
 from stonedem.entry import logged_seconds, workflow_log
 from stonedem.io.atomic import write_text
+from stonedem.validation import cases as validation
+from stonedem.validation import plots as validation_plots
 
 sm = snakemake
 workflow_log(sm.log[0])
@@ -31,8 +30,10 @@ def validate_batch():
             result = validation.VALIDATIONS[name](**({"record": record} if record else {}))
             validation.write_result(result, output)
         verdict = "ok" if result.passed else "FAILED"
-        print(f"{name}: {verdict}: " + ", ".join(f"{k} = {v:.4g}" for k, v in result.summary.items()),
-              file=sys.stderr)
+        print(
+            f"{name}: {verdict}: " + ", ".join(f"{k} = {v:.4g}" for k, v in result.summary.items()),
+            file=sys.stderr,
+        )
 
 
 def validation_figures():

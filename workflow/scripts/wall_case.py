@@ -4,7 +4,6 @@
 import sys
 
 from stonedem.entry import logged_seconds, workflow_log
-
 from stonedem.wall.dataset import run_case_file
 
 workflow_log(snakemake.log[0])

@@ -1,8 +1,6 @@
 """Snakemake script: a batch of catalogue tables' input cubes -> their CSVs (stonedem.figures.tables)."""
 
-
 from stonedem.entry import workflow_log
-
 from stonedem.figures import tables
 
 workflow_log(snakemake.log[0])

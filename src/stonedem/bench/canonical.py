@@ -76,6 +76,7 @@ class Trajectory:
 
 # --- (a) free rocking ---------------------------------------------------------------------
 
+
 def rocking_theta0(width, height):
     """Initial tilt theta0 = ROCKING_RATIO x alpha [rad]."""
     return ROCKING_RATIO * math.atan2(width, height)
@@ -122,7 +123,7 @@ def rocking_measures(time, theta, n_impacts=N_IMPACTS):
         j = lo + int(np.argmax(np.abs(theta[lo:hi])))
         if j == len(theta) - 1:
             continue  # the run ended before this half cycle's peak
-        peaks[k] = _parabola_peak(np.abs(theta[max(j - 1, 0): j + 2]))
+        peaks[k] = _parabola_peak(np.abs(theta[max(j - 1, 0) : j + 2]))
     return times, peaks
 
 
@@ -180,9 +181,12 @@ def first_impact_error(traj: Trajectory, width, height):
 
 # --- (b) pulse sliding ----------------------------------------------------------------------
 
+
 def pulse_reference():
     """Newmark's maximum sliding u_max [m] of the pulse scene (thesis Eq. 5.5)."""
-    return float(analytic.newmark_pulse_max_sliding(PULSE_ACCEL, PULSE_DURATION, PULSE_FRICTION, g=G))
+    return float(
+        analytic.newmark_pulse_max_sliding(PULSE_ACCEL, PULSE_DURATION, PULSE_FRICTION, g=G)
+    )
 
 
 def pulse_run_duration(margin=0.3):
@@ -197,6 +201,7 @@ def pulse_error(traj: Trajectory):
 
 # --- (c) column under a record --------------------------------------------------------------
 
+
 def history_errors(traj: Trajectory, reference: Trajectory):
     """(rotation error, sliding error) of a run against a finer run of the same engine [1].
 
@@ -205,16 +210,20 @@ def history_errors(traj: Trajectory, reference: Trajectory):
     interpolated linearly). Sliding is each drum's horizontal displacement relative to the
     drum below (the base for the first), so rocking and sliding are told apart.
     """
+
     def on_grid(values):
-        return np.column_stack([np.interp(reference.time, traj.time, values[:, k])
-                                for k in range(values.shape[1])])
+        return np.column_stack(
+            [np.interp(reference.time, traj.time, values[:, k]) for k in range(values.shape[1])]
+        )
 
     def relative_sliding(x):
         return np.diff(np.column_stack([np.zeros(len(x)), x]), axis=1)
 
     errs = []
-    for run, ref in ((on_grid(traj.theta), reference.theta),
-                     (relative_sliding(on_grid(traj.x)), relative_sliding(reference.x))):
+    for run, ref in (
+        (on_grid(traj.theta), reference.theta),
+        (relative_sliding(on_grid(traj.x)), relative_sliding(reference.x)),
+    ):
         scale = np.nanmax(np.abs(ref))
         errs.append(float(np.nanmax(np.abs(run - ref)) / scale) if scale > 0 else float("nan"))
     return errs[0], errs[1]
@@ -222,8 +231,9 @@ def history_errors(traj: Trajectory, reference: Trajectory):
 
 def column_record():
     """(time [s], base acceleration [m s-2]) of the record that drives scene (c), as stored."""
-    import xarray as xr
     from pathlib import Path
+
+    import xarray as xr
 
     path = Path(__file__).resolve().parents[3] / "records" / f"{COLUMN_RECORD}.nc"
     with xr.open_dataset(path) as rec:

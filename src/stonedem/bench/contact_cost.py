@@ -58,9 +58,13 @@ FREQUENCY = 2.0  # [Hz] of the harmonic base motion
 # the laws timed (rows of stonedem.engine.laws.LAWS; numba is imported only where a scene is
 # built, so the registry is read there)
 CONTACT_MODELS = ("point", "area")
-MODEL = "point"  # contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
+MODEL = (
+    "point"  # contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
+)
 # point law: the study's; the plastic landing keeps every resting contact closed
-K_N_POINT = 1.0e10  # normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
+K_N_POINT = (
+    1.0e10  # normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
+)
 ZETA = 0.05  # damping ratio of each contact point [1]
 # area law: stiffness per unit overlap area [N m-2] and a dashpot [N s m-1] of ~0.2 of
 # critical for a drum, so the drums settle without bouncing off each other at the start
@@ -85,13 +89,26 @@ def drum_wall_size(n_body: int, max_drums: int = MAX_DRUMS) -> tuple[int, int]:
     return n_body // n_drums, n_drums
 
 
-def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WIDTH,
-                    column_height: float = COLUMN_HEIGHT, gap: float = GAP, preload: float = PRELOAD,
-                    width_spread: float = WIDTH_SPREAD, model: str = MODEL, k_n: float | None = None,
-                    damping: float = ZETA, c_n: float = C_N,
-                    frequency: float = FREQUENCY, pga: float = PGA, friction: float = FRICTION,
-                    duration: float = 0.1, every: float | None = None,
-                    stop_on_collapse: bool = False) -> dict:
+def drum_wall_scene(
+    n_columns: int,
+    n_drums: int,
+    *,
+    drum_width: float = DRUM_WIDTH,
+    column_height: float = COLUMN_HEIGHT,
+    gap: float = GAP,
+    preload: float = PRELOAD,
+    width_spread: float = WIDTH_SPREAD,
+    model: str = MODEL,
+    k_n: float | None = None,
+    damping: float = ZETA,
+    c_n: float = C_N,
+    frequency: float = FREQUENCY,
+    pga: float = PGA,
+    friction: float = FRICTION,
+    duration: float = 0.1,
+    every: float | None = None,
+    stop_on_collapse: bool = False,
+) -> dict:
     """Scene dict (for :func:`stonedem.engine.scene.scene_from_dict`) of a wall of drum columns on a driven base.
 
     n_columns columns of n_drums drums each (drum_width x column_height / n_drums [m]) stand
@@ -110,23 +127,39 @@ def drum_wall_scene(n_columns: int, n_drums: int, *, drum_width: float = DRUM_WI
     from stonedem.engine.laws import LAWS
 
     k_n = K_N[model] if k_n is None else float(k_n)
-    contact = LAWS[model].mapping(model, k_n, damping if LAWS[model].damping_key == "damping" else c_n,
-                                  **({"impact": "plastic"} if "impact" in LAWS[model].defaults else {}))
+    contact = LAWS[model].mapping(
+        model,
+        k_n,
+        damping if LAWS[model].damping_key == "damping" else c_n,
+        **({"impact": "plastic"} if "impact" in LAWS[model].defaults else {}),
+    )
     drum_height = column_height / n_drums
     pitch = drum_width + gap
     span = n_columns * pitch - gap
-    bodies = [{"name": "base", "driven": True, "role": "base",
-               "box": {"width": span + 4.0 * column_height, "height": 0.5,
-                       "center": [0.0, -0.25]}}]
+    bodies = [
+        {
+            "name": "base",
+            "driven": True,
+            "role": "base",
+            "box": {"width": span + 4.0 * column_height, "height": 0.5, "center": [0.0, -0.25]},
+        }
+    ]
     x0 = -0.5 * span + 0.5 * drum_width
     for c in range(n_columns):
         width = drum_width * (1.0 - width_spread * ((3 * c) % 5) / 4.0)
         for d in range(n_drums):
-            bodies.append({
-                "name": f"c{c}_d{d}", "role": "drum" if n_drums > 1 else "block", "column": c,
-                "box": {"width": width, "height": drum_height,
-                        "center": [x0 + c * pitch, (d + 0.5) * drum_height - (d + 1) * preload]},
-            })
+            bodies.append(
+                {
+                    "name": f"c{c}_d{d}",
+                    "role": "drum" if n_drums > 1 else "block",
+                    "column": c,
+                    "box": {
+                        "width": width,
+                        "height": drum_height,
+                        "center": [x0 + c * pitch, (d + 0.5) * drum_height - (d + 1) * preload],
+                    },
+                }
+            )
     return {
         "name": f"drum_wall_{n_columns}x{n_drums}",
         "bodies": bodies,
@@ -146,6 +179,7 @@ def drum_wall(n_body: int, **kwargs):
 
 
 # ---------------------------------------------------------------- broad phase micro-benchmarks
+
 
 def _compiled():
     """The njit micro-benchmark kernels (compiled lazily, on first use)."""
@@ -186,8 +220,9 @@ def _compiled():
         n_pair = 0
         for r in range(n_rep):
             lo_x[r % n_body] += 0.0 * r
-            pa, pb = find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y,
-                                          margin, sweep_axis)
+            pa, pb = find_candidate_pairs(
+                n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis
+            )
             n_pair = pa.shape[0]
         return n_pair
 
@@ -200,8 +235,8 @@ _KERNELS = None
 
 def rest_bounds(scene):
     """(arrays, lo_x, lo_y, hi_x, hi_y) of the bodies at t = 0 (packed scene, AABBs [m])."""
-    from stonedem.engine.scene import posed_vertices
     from stonedem.engine.pack import pack_scene
+    from stonedem.engine.scene import posed_vertices
 
     arrays = pack_scene(scene)
     posed = [posed_vertices(b) for b in scene.bodies]
@@ -215,8 +250,9 @@ def candidate_pairs_at_rest(scene) -> int:
     from stonedem.kernels.broad_phase import find_candidate_pairs
 
     a, lo_x, lo_y, hi_x, hi_y = rest_bounds(scene)
-    pa, _ = find_candidate_pairs(len(scene.bodies), a.body_driven, lo_x, lo_y, hi_x, hi_y,
-                                 a.margin, a.sweep_axis)
+    pa, _ = find_candidate_pairs(
+        len(scene.bodies), a.body_driven, lo_x, lo_y, hi_x, hi_y, a.margin, a.sweep_axis
+    )
     return int(pa.shape[0])
 
 
@@ -243,16 +279,25 @@ def broad_phase_cost(scene, min_seconds: float = 0.2) -> dict:
     a, lo_x, lo_y, hi_x, hi_y = rest_bounds(scene)
     n = len(scene.bodies)
     drv = a.body_driven
-    t_sweep, _ = _time_reps(lambda r: repeat_sweep(r, n, drv, lo_x, lo_y, hi_x, hi_y,
-                                                    a.margin, a.sweep_axis), min_seconds)
-    t_all, _ = _time_reps(lambda r: repeat_all_pairs(r, n, drv, lo_x, lo_y, hi_x, hi_y), min_seconds)
+    t_sweep, _ = _time_reps(
+        lambda r: repeat_sweep(r, n, drv, lo_x, lo_y, hi_x, hi_y, a.margin, a.sweep_axis),
+        min_seconds,
+    )
+    t_all, _ = _time_reps(
+        lambda r: repeat_all_pairs(r, n, drv, lo_x, lo_y, hi_x, hi_y), min_seconds
+    )
     tested, hits = all_pairs_aabb(n, drv, lo_x, lo_y, hi_x, hi_y)
-    return {"sweep_seconds": t_sweep, "sweep_pairs": candidate_pairs_at_rest(scene),
-            "all_pairs_seconds": t_all, "all_pairs_tested": int(tested),
-            "all_pairs_overlapping": int(hits)}
+    return {
+        "sweep_seconds": t_sweep,
+        "sweep_pairs": candidate_pairs_at_rest(scene),
+        "all_pairs_seconds": t_all,
+        "all_pairs_tested": int(tested),
+        "all_pairs_overlapping": int(hits),
+    }
 
 
 # ---------------------------------------------------------------- engine timing
+
 
 def _peak_rss_mb() -> float:
     """Peak resident set size of this process so far [MB] (Linux reports kB, macOS bytes)."""
@@ -282,8 +327,14 @@ def warm_up(model: str = MODEL) -> None:
     simulate(with_duration(drum_wall(1, model=model), 1e-3, 2))
 
 
-def measure(scene, duration: float | None = None, *, target_seconds: float = TARGET_SECONDS,
-            warm_duration: float = WARM_DURATION, max_repeats: int = 200) -> dict:
+def measure(
+    scene,
+    duration: float | None = None,
+    *,
+    target_seconds: float = TARGET_SECONDS,
+    warm_duration: float = WARM_DURATION,
+    max_repeats: int = 200,
+) -> dict:
     """Time one scene: a short warm run, then timed runs of ``duration`` simulated seconds.
 
     duration: simulated time [s] of each timed run (default DURATION, the same for every
@@ -300,9 +351,9 @@ def measure(scene, duration: float | None = None, *, target_seconds: float = TAR
     total, ns_per_contact_step, ns_per_body_step, kernel_per_step [s], status, the largest
     rotation, and memory (engine per-pair arrays, peak RSS of the process).
     """
-    from stonedem.kernels.contact import N_MEMORY
-    from stonedem.engine.simulate import choose_time_step, simulate
     from stonedem.engine.pack import pack_scene
+    from stonedem.engine.simulate import choose_time_step, simulate
+    from stonedem.kernels.contact import N_MEMORY
 
     duration = DURATION if duration is None else float(duration)
     n_body = len(scene.bodies)
@@ -338,12 +389,17 @@ def measure(scene, duration: float | None = None, *, target_seconds: float = TAR
     return {
         "n_body_total": n_body,
         "n_free": int(free.sum()),
-        "dt": float(result.dt), "duration": duration, "steps": steps, "repeats": repeats,
+        "dt": float(result.dt),
+        "duration": duration,
+        "steps": steps,
+        "repeats": repeats,
         "status": int(result.status),
         "mean_contacts": contacts,
         "min_contacts": float(np.min(n_contact)),
         "max_contacts": float(np.max(n_contact)),
-        "kernel_seconds": kernel, "total_seconds": total, "setup_seconds": float(setup),
+        "kernel_seconds": kernel,
+        "total_seconds": total,
+        "setup_seconds": float(setup),
         "outside_fraction": 1.0 - kernel / total,
         "kernel_per_step": kernel / steps,
         "ns_per_contact_step": 1e9 * kernel / (steps * max(contacts, 1e-12)),
@@ -368,8 +424,12 @@ def linear_fit(x, y, relative: bool = False) -> dict:
     resid = y - (a + b * x)
     ss_tot = float(np.sum((y - y.mean()) ** 2))
     r2 = 1.0 - float(np.sum(resid**2)) / ss_tot if ss_tot > 0 else float("nan")
-    return {"intercept": float(a), "slope": float(b), "r2": r2,
-            "max_relative_residual": float(np.max(np.abs(resid / y)))}
+    return {
+        "intercept": float(a),
+        "slope": float(b),
+        "r2": r2,
+        "max_relative_residual": float(np.max(np.abs(resid / y))),
+    }
 
 
 # ---------------------------------------------------------------- the benchmark
@@ -389,26 +449,44 @@ VARIABLES = {
     "max_contacts": ("1", "most contacts in a sample"),
     "kernel_seconds": ("s", "wall time of the compiled loop (RunResult.wall_seconds), one core"),
     "total_seconds": ("s", "wall time of the whole simulate call, including set-up"),
-    "build_seconds": ("s", "wall time of scene_from_dict (validation incl. the initial-overlap check), not in total"),
+    "build_seconds": (
+        "s",
+        "wall time of scene_from_dict (validation incl. the initial-overlap check), not in total",
+    ),
     "setup_seconds": ("s", "wall time of choose_time_step + pack_scene (Python set-up)"),
-    "outside_fraction": ("1", "fraction of the simulate call spent outside the compiled loop, 1 - kernel / total"),
+    "outside_fraction": (
+        "1",
+        "fraction of the simulate call spent outside the compiled loop, 1 - kernel / total",
+    ),
     "kernel_per_step": ("s", "kernel wall time per step"),
     "ns_per_contact_step": ("ns", "kernel time per contact per step"),
     "ns_per_body_step": ("ns", "kernel time per body per step"),
     "fit_per_step": ("s", "fitted kernel time per step, intercept + slope x mean contacts"),
     "max_abs_theta": ("rad", "largest absolute rotation of a free body in the timed run"),
-    "pair_array_mb": ("1048576 byte", "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x (N_MEMORY + 2) x 8 bytes"),
+    "pair_array_mb": (
+        "1048576 byte",
+        "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x (N_MEMORY + 2) x 8 bytes",
+    ),
     "peak_rss_mb": ("1048576 byte", "peak resident memory of the process after the run"),
     "sweep_pairs": ("1", "candidate pairs from sort-and-sweep at rest"),
-    "all_pairs_tested": ("1", "pairs an all-pairs broad phase sends to the AABB test, n(n-1)/2 less driven-driven"),
+    "all_pairs_tested": (
+        "1",
+        "pairs an all-pairs broad phase sends to the AABB test, n(n-1)/2 less driven-driven",
+    ),
     "all_pairs_overlapping": ("1", "pairs whose bare AABBs overlap at rest"),
     "sweep_seconds": ("s", "sort-and-sweep broad phase (find_candidate_pairs) per call"),
     "all_pairs_seconds": ("s", "all pairs through the narrow phase's AABB rejection per call"),
 }
 
 
-def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: float = TARGET_SECONDS,
-                  broad_min_seconds: float = 0.2, progress: bool = True, model: str = MODEL):
+def run_benchmark(
+    sizes=SIZES,
+    duration: float | None = None,
+    target_seconds: float = TARGET_SECONDS,
+    broad_min_seconds: float = 0.2,
+    progress: bool = True,
+    model: str = MODEL,
+):
     """Measure every size with the ``model`` contact law; returns an xarray Dataset on dim n_body (free bodies)."""
     import xarray as xr
 
@@ -428,10 +506,12 @@ def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: fl
         row.update(measure(scene, duration, target_seconds=target_seconds))
         row.update(broad_phase_cost(scene, broad_min_seconds))
         rows.append(row)
-        log(f"  n_body {n:5d} ({n_columns} x {n_drums}): build {build:6.2f} s, {row['repeats']} x {row['steps'] // row['repeats']} steps, "
+        log(
+            f"  n_body {n:5d} ({n_columns} x {n_drums}): build {build:6.2f} s, {row['repeats']} x {row['steps'] // row['repeats']} steps, "
             f"{row['mean_contacts']:.0f} contacts, kernel {row['kernel_seconds']:.2f} s of "
             f"{row['total_seconds']:.2f} s, {row['ns_per_contact_step']:.0f} ns/contact/step  "
-            f"[{time.perf_counter() - start:.0f} s]")
+            f"[{time.perf_counter() - start:.0f} s]"
+        )
     xs = [r["mean_contacts"] for r in rows]
     ys = [r["kernel_per_step"] for r in rows]
     fit = linear_fit(xs, ys, relative=True)
@@ -441,72 +521,117 @@ def run_benchmark(sizes=SIZES, duration: float | None = None, target_seconds: fl
     sweep_fit = linear_fit([r["n_body_total"] for r in rows], [r["sweep_seconds"] for r in rows])
     ns_contact = np.array([r["ns_per_contact_step"] for r in rows])
     big = np.array(sizes) >= 10
-    data = {k: ("n_body", np.array([r[k] for r in rows]), {"units": u, "long_name": ln})
-            for k, (u, ln) in VARIABLES.items()}
+    data = {
+        k: ("n_body", np.array([r[k] for r in rows]), {"units": u, "long_name": ln})
+        for k, (u, ln) in VARIABLES.items()
+    }
     params = {
         "drum_width": (DRUM_WIDTH, "m", "drum width"),
-        "column_height": (COLUMN_HEIGHT, "m", "column height (drum height = column height / drums)"),
+        "column_height": (
+            COLUMN_HEIGHT,
+            "m",
+            "column height (drum height = column height / drums)",
+        ),
         "gap": (GAP, "m", "gap between neighbouring columns (widest columns)"),
         "width_spread": (WIDTH_SPREAD, "1", "largest fractional narrowing of a column"),
-        **({"k_n": (K_N_POINT, "N m-2", "normal contact stiffness per unit contact length (point law)"),
-            "zeta": (ZETA, "1", "damping ratio of each contact point (point law)")} if model == "point" else
-           {"k_n": (K_N_AREA, "N m-2", "normal contact stiffness per unit overlap area (area law)"),
-            "c_n": (C_N, "N s m-1", "normal contact dashpot (area law)")}),
+        **(
+            {
+                "k_n": (
+                    K_N_POINT,
+                    "N m-2",
+                    "normal contact stiffness per unit contact length (point law)",
+                ),
+                "zeta": (ZETA, "1", "damping ratio of each contact point (point law)"),
+            }
+            if model == "point"
+            else {
+                "k_n": (
+                    K_N_AREA,
+                    "N m-2",
+                    "normal contact stiffness per unit overlap area (area law)",
+                ),
+                "c_n": (C_N, "N s m-1", "normal contact dashpot (area law)"),
+            }
+        ),
         "friction": (FRICTION, "1", "friction coefficient"),
         "frequency": (FREQUENCY, "Hz", "frequency of the harmonic base motion"),
         "pga": (PGA, "m s-2", "peak base acceleration"),
     }
     coords = {"n_body": ("n_body", np.array(sizes), {"units": "1", "long_name": "free bodies"})}
     coords.update({k: ((), v, {"units": u, "long_name": ln}) for k, (v, u, ln) in params.items()})
-    ds = xr.Dataset(data, coords=coords, attrs={
-        "title": "stonedem cost per contact per step: walls of drums, 1 to 990 bodies",
-        "contact_model": model,
-        "contact_law": ("point contacts at the contact face's end vertices, Housner's plastic landing"
-                        if model == "point" else "overlap area, thesis Eq. 3.4-3.6"),
-        "source": code_version(),
-        "machine": f"{os.cpu_count()} cores, {sys.platform}",
-        "numba_num_threads": os.environ.get("NUMBA_NUM_THREADS", "unset"),
-        "fit": "kernel time per step [s] = intercept + slope x mean contacts (least squares on "
-               "relative residuals, so every size weighs alike)",
-        "fit_max_relative_residual": fit["max_relative_residual"],
-        "plain_fit_intercept_s": plain["intercept"],
-        "plain_fit_slope_ns_per_contact": 1e9 * plain["slope"],
-        "plain_fit_r2": plain["r2"],
-        "fit_intercept_s": fit["intercept"],
-        "fit_slope_s_per_contact": fit["slope"],
-        "fit_slope_ns_per_contact": 1e9 * fit["slope"],
-        "fit_r2": fit["r2"],
-        "sweep_fit_slope_ns_per_body": 1e9 * sweep_fit["slope"],
-        "sweep_fit_r2": sweep_fit["r2"],
-        "ns_per_contact_step_spread_n_ge_10": (float(ns_contact[big].max() / ns_contact[big].min())
-                                               if big.sum() > 1 else float("nan")),
-        "target_kernel_seconds": target_seconds,
-        "description": __doc__.split("\n\n")[0],
-    })
+    ds = xr.Dataset(
+        data,
+        coords=coords,
+        attrs={
+            "title": "stonedem cost per contact per step: walls of drums, 1 to 990 bodies",
+            "contact_model": model,
+            "contact_law": (
+                "point contacts at the contact face's end vertices, Housner's plastic landing"
+                if model == "point"
+                else "overlap area, thesis Eq. 3.4-3.6"
+            ),
+            "source": code_version(),
+            "machine": f"{os.cpu_count()} cores, {sys.platform}",
+            "numba_num_threads": os.environ.get("NUMBA_NUM_THREADS", "unset"),
+            "fit": "kernel time per step [s] = intercept + slope x mean contacts (least squares on "
+            "relative residuals, so every size weighs alike)",
+            "fit_max_relative_residual": fit["max_relative_residual"],
+            "plain_fit_intercept_s": plain["intercept"],
+            "plain_fit_slope_ns_per_contact": 1e9 * plain["slope"],
+            "plain_fit_r2": plain["r2"],
+            "fit_intercept_s": fit["intercept"],
+            "fit_slope_s_per_contact": fit["slope"],
+            "fit_slope_ns_per_contact": 1e9 * fit["slope"],
+            "fit_r2": fit["r2"],
+            "sweep_fit_slope_ns_per_body": 1e9 * sweep_fit["slope"],
+            "sweep_fit_r2": sweep_fit["r2"],
+            "ns_per_contact_step_spread_n_ge_10": (
+                float(ns_contact[big].max() / ns_contact[big].min())
+                if big.sum() > 1
+                else float("nan")
+            ),
+            "target_kernel_seconds": target_seconds,
+            "description": __doc__.split("\n\n")[0],
+        },
+    )
     return ds
 
 
 def print_table(ds, file=sys.stdout) -> None:
-    head = (f"{'bodies':>6} {'cols x drums':>12} {'steps':>7} {'contacts':>8} {'kernel s':>8} "
-            f"{'total s':>8} {'outside':>7} {'ns/c/step':>9} {'ns/b/step':>9} {'pairs':>6} "
-            f"{'sweep us':>9} {'allpairs us':>11} {'pair MiB':>8}")
+    head = (
+        f"{'bodies':>6} {'cols x drums':>12} {'steps':>7} {'contacts':>8} {'kernel s':>8} "
+        f"{'total s':>8} {'outside':>7} {'ns/c/step':>9} {'ns/b/step':>9} {'pairs':>6} "
+        f"{'sweep us':>9} {'allpairs us':>11} {'pair MiB':>8}"
+    )
     print(head, file=file)
     for i, n in enumerate(ds.n_body.values):
         v = {k: ds[k].values[i] for k in ds.data_vars}
-        print(f"{n:6d} {int(v['n_columns']):5d} x {int(v['n_drums']):4d} {int(v['steps']):7d} "
-              f"{v['mean_contacts']:8.1f} {v['kernel_seconds']:8.3f} {v['total_seconds']:8.3f} "
-              f"{100 * v['outside_fraction']:6.1f}% {v['ns_per_contact_step']:9.1f} "
-              f"{v['ns_per_body_step']:9.1f} {int(v['sweep_pairs']):6d} {1e6 * v['sweep_seconds']:9.2f} "
-              f"{1e6 * v['all_pairs_seconds']:11.2f} {v['pair_array_mb']:8.1f}", file=file)
+        print(
+            f"{n:6d} {int(v['n_columns']):5d} x {int(v['n_drums']):4d} {int(v['steps']):7d} "
+            f"{v['mean_contacts']:8.1f} {v['kernel_seconds']:8.3f} {v['total_seconds']:8.3f} "
+            f"{100 * v['outside_fraction']:6.1f}% {v['ns_per_contact_step']:9.1f} "
+            f"{v['ns_per_body_step']:9.1f} {int(v['sweep_pairs']):6d} {1e6 * v['sweep_seconds']:9.2f} "
+            f"{1e6 * v['all_pairs_seconds']:11.2f} {v['pair_array_mb']:8.1f}",
+            file=file,
+        )
     a = ds.attrs
-    print(f"fit (relative residuals): kernel per step = {1e9 * a['fit_intercept_s']:.0f} ns + "
-          f"{a['fit_slope_ns_per_contact']:.1f} ns x contacts  (R^2 = {a['fit_r2']:.4f}, worst point "
-          f"{100 * a['fit_max_relative_residual']:.0f} % off)", file=file)
-    print(f"fit (absolute residuals): {1e9 * a['plain_fit_intercept_s']:.0f} ns + "
-          f"{a['plain_fit_slope_ns_per_contact']:.1f} ns x contacts  (R^2 = {a['plain_fit_r2']:.4f})", file=file)
-    print(f"contact law: {a.get('contact_model', 'area')}; "
-          f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = {a['sweep_fit_r2']:.4f}); "
-          f"{a['machine']}, NUMBA_NUM_THREADS={a['numba_num_threads']}, {a['source']}", file=file)
+    print(
+        f"fit (relative residuals): kernel per step = {1e9 * a['fit_intercept_s']:.0f} ns + "
+        f"{a['fit_slope_ns_per_contact']:.1f} ns x contacts  (R^2 = {a['fit_r2']:.4f}, worst point "
+        f"{100 * a['fit_max_relative_residual']:.0f} % off)",
+        file=file,
+    )
+    print(
+        f"fit (absolute residuals): {1e9 * a['plain_fit_intercept_s']:.0f} ns + "
+        f"{a['plain_fit_slope_ns_per_contact']:.1f} ns x contacts  (R^2 = {a['plain_fit_r2']:.4f})",
+        file=file,
+    )
+    print(
+        f"contact law: {a.get('contact_model', 'area')}; "
+        f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = {a['sweep_fit_r2']:.4f}); "
+        f"{a['machine']}, NUMBA_NUM_THREADS={a['numba_num_threads']}, {a['source']}",
+        file=file,
+    )
 
 
 def plot(ds, path: Path) -> Path:
@@ -524,9 +649,13 @@ def plot(ds, path: Path) -> Path:
     ax.loglog(c, per_step, "o", label="measured")
     cc = np.geomspace(max(c.min(), 1e-3), c.max(), 100)
     line = ds.attrs["fit_intercept_s"] + ds.attrs["fit_slope_s_per_contact"] * cc
-    ax.loglog(cc[line > 0], line[line > 0], "-",
-              label=f"a + b x contacts, b = {ds.attrs['fit_slope_ns_per_contact']:.0f} ns, "
-                    f"R$^2$ = {ds.attrs['fit_r2']:.4f}")
+    ax.loglog(
+        cc[line > 0],
+        line[line > 0],
+        "-",
+        label=f"a + b x contacts, b = {ds.attrs['fit_slope_ns_per_contact']:.0f} ns, "
+        f"R$^2$ = {ds.attrs['fit_r2']:.4f}",
+    )
     ax.set_xlabel("mean contacts")
     ax.set_ylabel("kernel time per step [s]")
     ax.set_title("cost grows linearly with contacts")
@@ -549,8 +678,11 @@ def plot(ds, path: Path) -> Path:
     ax.set_ylabel("broad phase per call [s]")
     ax.set_title("broad phase: all pairs vs sweep")
     ax.legend(fontsize=8)
-    fig.suptitle(f"{ds.attrs['source']}, {ds.attrs['machine']}, "
-                 f"NUMBA_NUM_THREADS={ds.attrs['numba_num_threads']}", fontsize=8)
+    fig.suptitle(
+        f"{ds.attrs['source']}, {ds.attrs['machine']}, "
+        f"NUMBA_NUM_THREADS={ds.attrs['numba_num_threads']}",
+        fontsize=8,
+    )
     fig.tight_layout()
     write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     plt.close(fig)
@@ -566,18 +698,36 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.contact_cost", __doc__)
-    parser.add_argument("--quick", action="store_true", help="sizes 1, 10, 100 and a tiny duration (CI)")
-    parser.add_argument("--sizes", type=int, nargs="+",
-                        help=f"free bodies per scene, 1 to 999, each once, at most {MAX_SIZES} sizes "
-                             "(default 1 ... 990)")
-    parser.add_argument("--duration", type=float,
-                        help=f"simulated seconds per timed run, > 0 and <= {DURATION_RANGE[1]:g} (default {DURATION})")
-    parser.add_argument("--target", type=float, help=f"kernel wall seconds aimed at per size, "
-                        f"repeating short runs, > 0 and <= {TARGET_RANGE[1]:g} (default {TARGET_SECONDS})")
-    parser.add_argument("--model", choices=CONTACT_MODELS, default=MODEL,
-                        help=f"contact law (default {MODEL})")
-    parser.add_argument("--out", type=options.path_arg, default=ROOT / "results",
-                        help="results folder: writes OUT/bench/contact_cost.nc and OUT/figures/contact_cost.png")
+    parser.add_argument(
+        "--quick", action="store_true", help="sizes 1, 10, 100 and a tiny duration (CI)"
+    )
+    parser.add_argument(
+        "--sizes",
+        type=int,
+        nargs="+",
+        help=f"free bodies per scene, 1 to 999, each once, at most {MAX_SIZES} sizes "
+        "(default 1 ... 990)",
+    )
+    parser.add_argument(
+        "--duration",
+        type=float,
+        help=f"simulated seconds per timed run, > 0 and <= {DURATION_RANGE[1]:g} (default {DURATION})",
+    )
+    parser.add_argument(
+        "--target",
+        type=float,
+        help=f"kernel wall seconds aimed at per size, "
+        f"repeating short runs, > 0 and <= {TARGET_RANGE[1]:g} (default {TARGET_SECONDS})",
+    )
+    parser.add_argument(
+        "--model", choices=CONTACT_MODELS, default=MODEL, help=f"contact law (default {MODEL})"
+    )
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=ROOT / "results",
+        help="results folder: writes OUT/bench/contact_cost.nc and OUT/figures/contact_cost.png",
+    )
     return parser
 
 
@@ -590,16 +740,53 @@ def check_args(args):
         if not 1 <= len(args.sizes) <= MAX_SIZES:
             raise InputError("--sizes", f"{len(args.sizes)} sizes", f"give 1 to {MAX_SIZES} sizes")
         for n in args.sizes:
-            options.number(n, "--sizes", lo=1, hi=MAX_BODIES - 1, whole=True, unit="free bodies (the base is one more)")
+            options.number(
+                n,
+                "--sizes",
+                lo=1,
+                hi=MAX_BODIES - 1,
+                whole=True,
+                unit="free bodies (the base is one more)",
+            )
         if len(set(args.sizes)) != len(args.sizes):
             raise InputError("--sizes", "a size is given twice", "give each size once")
     sizes = tuple(args.sizes or (QUICK_SIZES if args.quick else SIZES))
-    duration = (0.05 if args.quick else DURATION) if args.duration is None else options.number(
-        args.duration, "--duration", lo=DURATION_RANGE[0], lo_open=True, hi=DURATION_RANGE[1], unit="s", example="1")
-    target = (0.05 if args.quick else TARGET_SECONDS) if args.target is None else options.number(
-        args.target, "--target", lo=TARGET_RANGE[0], lo_open=True, hi=TARGET_RANGE[1], unit="s", example="1")
-    out = options.output_folder(args.out, "--out", files=("bench/contact_cost.nc", "figures/contact_cost.png"))
-    return sizes, duration, target, out / "bench" / "contact_cost.nc", out / "figures" / "contact_cost.png"
+    duration = (
+        (0.05 if args.quick else DURATION)
+        if args.duration is None
+        else options.number(
+            args.duration,
+            "--duration",
+            lo=DURATION_RANGE[0],
+            lo_open=True,
+            hi=DURATION_RANGE[1],
+            unit="s",
+            example="1",
+        )
+    )
+    target = (
+        (0.05 if args.quick else TARGET_SECONDS)
+        if args.target is None
+        else options.number(
+            args.target,
+            "--target",
+            lo=TARGET_RANGE[0],
+            lo_open=True,
+            hi=TARGET_RANGE[1],
+            unit="s",
+            example="1",
+        )
+    )
+    out = options.output_folder(
+        args.out, "--out", files=("bench/contact_cost.nc", "figures/contact_cost.png")
+    )
+    return (
+        sizes,
+        duration,
+        target,
+        out / "bench" / "contact_cost.nc",
+        out / "figures" / "contact_cost.png",
+    )
 
 
 def main(argv=None) -> int:
@@ -610,8 +797,13 @@ def main(argv=None) -> int:
 
     def command():
         sizes, duration, target, nc_path, png_path = check_args(args)
-        ds = run_benchmark(sizes, duration=duration, target_seconds=target,
-                           broad_min_seconds=0.02 if args.quick else 0.2, model=args.model)
+        ds = run_benchmark(
+            sizes,
+            duration=duration,
+            target_seconds=target,
+            broad_min_seconds=0.02 if args.quick else 0.2,
+            model=args.model,
+        )
         from stonedem.io.netcdf import write_dataset
 
         nc = write_dataset(ds, nc_path)

@@ -45,7 +45,9 @@ def member_scenes(scene: str, n: int, duration: float) -> list:
     return out
 
 
-def time_ensemble(scene: str, n: int, duration: float, device: str, threads: int | None, repeats: int):
+def time_ensemble(
+    scene: str, n: int, duration: float, device: str, threads: int | None, repeats: int
+):
     """(best wall seconds of a run_ensemble call, member-steps it integrated)."""
     from stonedem.engine.ensemble import run_ensemble
 
@@ -67,8 +69,10 @@ def backends() -> tuple[dict[str, tuple[str, int | None, str]], str]:
     from stonedem.kernels.gpu import gpu_available
 
     n = numba.config.NUMBA_NUM_THREADS
-    out = {"cpu_1_thread": ("cpu", 1, f"{platform.processor() or platform.machine()}, 1 thread"),
-           "cpu_all_threads": ("cpu", n, f"{platform.processor() or platform.machine()}, {n} threads")}
+    out = {
+        "cpu_1_thread": ("cpu", 1, f"{platform.processor() or platform.machine()}, 1 thread"),
+        "cpu_all_threads": ("cpu", n, f"{platform.processor() or platform.machine()}, {n} threads"),
+    }
     usable, why = gpu_available()
     if usable and not numba.config.ENABLE_CUDASIM:  # the simulator's timings mean nothing
         out["gpu"] = ("gpu", None, why)
@@ -90,8 +94,9 @@ def gpu_layout(threads_per_block: int, member_fastest: bool):
         gpu.THREADS_PER_BLOCK, gpu.MEMBER_FASTEST = saved
 
 
-def ensemble_dataset(table: dict, members: list[int], described: dict, scene: str, duration: float,
-                     quick: bool) -> xr.Dataset:
+def ensemble_dataset(
+    table: dict, members: list[int], described: dict, scene: str, duration: float, quick: bool
+) -> xr.Dataset:
     from stonedem.io.netcdf import code_version
     from stonedem.study.runner import library_versions
 
@@ -104,20 +109,53 @@ def ensemble_dataset(table: dict, members: list[int], described: dict, scene: st
                 wall[i, j], steps[i, j] = table[name, n]
     ds = xr.Dataset(
         {
-            "wall": (("backend", "members"), wall, {"units": "s", "long_name": "wall time of one run_ensemble call, best of the repeats"}),
-            "member_steps": (("backend", "members"), steps, {"units": "1", "long_name": "time steps integrated, summed over the members"}),
-            "throughput": (("backend", "members"), steps / wall, {"units": "s-1", "long_name": "member-steps per second"}),
-            "ns_per_member_step": (("backend", "members"), 1e9 * wall / steps, {"units": "ns", "long_name": "wall time per member-step"}),
+            "wall": (
+                ("backend", "members"),
+                wall,
+                {
+                    "units": "s",
+                    "long_name": "wall time of one run_ensemble call, best of the repeats",
+                },
+            ),
+            "member_steps": (
+                ("backend", "members"),
+                steps,
+                {"units": "1", "long_name": "time steps integrated, summed over the members"},
+            ),
+            "throughput": (
+                ("backend", "members"),
+                steps / wall,
+                {"units": "s-1", "long_name": "member-steps per second"},
+            ),
+            "ns_per_member_step": (
+                ("backend", "members"),
+                1e9 * wall / steps,
+                {"units": "ns", "long_name": "wall time per member-step"},
+            ),
         },
         coords={
             "backend": ("backend", names, {"long_name": "where the members ran"}),
-            "members": ("members", np.array(members, dtype=np.int64), {"units": "1", "long_name": "members run in one call"}),
-            "description": ("backend", [described[name] for name in names], {"long_name": "the device, in words"}),
+            "members": (
+                "members",
+                np.array(members, dtype=np.int64),
+                {"units": "1", "long_name": "members run in one call"},
+            ),
+            "description": (
+                "backend",
+                [described[name] for name in names],
+                {"long_name": "the device, in words"},
+            ),
         },
-        attrs={"title": "stonedem ensemble throughput (issue 33)", "scene": scene, "duration_s": duration,
-               "pga_span_m_s2": f"{PGA_SPAN[0]:g} ... {PGA_SPAN[1]:g}", "profile": "quick" if quick else "full",
-               "machine": f"{os.cpu_count()} cores, {platform.platform()}", "source": code_version(),
-               **library_versions()},
+        attrs={
+            "title": "stonedem ensemble throughput (issue 33)",
+            "scene": scene,
+            "duration_s": duration,
+            "pga_span_m_s2": f"{PGA_SPAN[0]:g} ... {PGA_SPAN[1]:g}",
+            "profile": "quick" if quick else "full",
+            "machine": f"{os.cpu_count()} cores, {platform.platform()}",
+            "source": code_version(),
+            **library_versions(),
+        },
     )
     return ds
 
@@ -134,7 +172,12 @@ def figure(ds: xr.Dataset, path: Path) -> None:
     for name in ds["backend"].values:
         values = ds["throughput"].sel(backend=name)
         ok = np.isfinite(values.values)
-        ax.plot(ds["members"].values[ok], values.values[ok], "o-", label=str(ds["description"].sel(backend=name).values))
+        ax.plot(
+            ds["members"].values[ok],
+            values.values[ok],
+            "o-",
+            label=str(ds["description"].sel(backend=name).values),
+        )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("members run in one call")
@@ -151,22 +194,51 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.ensemble", __doc__)
-    parser.add_argument("--quick", action="store_true", help=f"members {' '.join(map(str, QUICK_MEMBERS))}, "
-                        f"{QUICK_DURATION:g} s each (CI)")
-    parser.add_argument("--scene", default="column_8", help="a scene of stonedem.bench.kernel.SCENES (default column_8)")
-    parser.add_argument("--members", type=int, nargs="+", default=None,
-                        help=f"member counts (default {' '.join(map(str, MEMBERS))}; on a GPU also "
-                             f"{' '.join(map(str, GPU_MEMBERS))})")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help=f"members {' '.join(map(str, QUICK_MEMBERS))}, {QUICK_DURATION:g} s each (CI)",
+    )
+    parser.add_argument(
+        "--scene",
+        default="column_8",
+        help="a scene of stonedem.bench.kernel.SCENES (default column_8)",
+    )
+    parser.add_argument(
+        "--members",
+        type=int,
+        nargs="+",
+        default=None,
+        help=f"member counts (default {' '.join(map(str, MEMBERS))}; on a GPU also "
+        f"{' '.join(map(str, GPU_MEMBERS))})",
+    )
     parser.add_argument("--repeats", type=int, default=2, help="timed calls per point; best kept")
-    parser.add_argument("--backend", nargs="+", default=None,
-                        help="backends to time: cpu_1_thread, cpu_all_threads, gpu (default: all this machine has)")
-    parser.add_argument("--threads-per-block", type=int, default=None,
-                        help="GPU threads (members) per block (default: stonedem.kernels.gpu.THREADS_PER_BLOCK)")
-    parser.add_argument("--member-fastest", action="store_true",
-                        help="on the GPU, lay the stacked arrays out member index fastest (coalesced loads)")
-    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of ensemble.nc")
-    parser.add_argument("--figure", type=options.path_arg, default=None,
-                        help="the figure (default: <out>/../figures/ensemble_throughput.png)")
+    parser.add_argument(
+        "--backend",
+        nargs="+",
+        default=None,
+        help="backends to time: cpu_1_thread, cpu_all_threads, gpu (default: all this machine has)",
+    )
+    parser.add_argument(
+        "--threads-per-block",
+        type=int,
+        default=None,
+        help="GPU threads (members) per block (default: stonedem.kernels.gpu.THREADS_PER_BLOCK)",
+    )
+    parser.add_argument(
+        "--member-fastest",
+        action="store_true",
+        help="on the GPU, lay the stacked arrays out member index fastest (coalesced loads)",
+    )
+    parser.add_argument(
+        "--out", type=options.path_arg, default=Path("results/bench"), help="folder of ensemble.nc"
+    )
+    parser.add_argument(
+        "--figure",
+        type=options.path_arg,
+        default=None,
+        help="the figure (default: <out>/../figures/ensemble_throughput.png)",
+    )
     return parser
 
 
@@ -184,20 +256,39 @@ def main(argv=None) -> int:
         scene = options.chosen([args.scene], "--scene", SCENES)[0]
         repeats = options.number(args.repeats, "--repeats", lo=1, hi=20, whole=True, example="2")
         members = args.members or list(QUICK_MEMBERS if args.quick else MEMBERS)
-        members = sorted({options.number(n, "--members", lo=1, hi=MAX_MEMBERS, whole=True, example="8")
-                          for n in members})
+        members = sorted(
+            {
+                options.number(n, "--members", lo=1, hi=MAX_MEMBERS, whole=True, example="8")
+                for n in members
+            }
+        )
         path = options.output_folder(args.out, "--out", files=("ensemble.nc",)) / "ensemble.nc"
-        figure_path = options.output_file(args.figure or args.out.parent / "figures" / "ensemble_throughput.png",
-                                          "--figure", suffixes=(".png",))
+        figure_path = options.output_file(
+            args.figure or args.out.parent / "figures" / "ensemble_throughput.png",
+            "--figure",
+            suffixes=(".png",),
+        )
         duration = QUICK_DURATION if args.quick else DURATION
         available, no_gpu = backends()
         if args.backend and "gpu" in args.backend and no_gpu:
-            raise InputError("--backend", f"gpu: none to time here ({no_gpu})", "leave gpu out, or run on a GPU")
+            raise InputError(
+                "--backend", f"gpu: none to time here ({no_gpu})", "leave gpu out, or run on a GPU"
+            )
         chosen = options.chosen(args.backend or list(available), "--backend", available)
         from stonedem.kernels import gpu
 
-        block = gpu.THREADS_PER_BLOCK if args.threads_per_block is None else options.number(
-            args.threads_per_block, "--threads-per-block", lo=1, hi=1024, whole=True, example="64")
+        block = (
+            gpu.THREADS_PER_BLOCK
+            if args.threads_per_block is None
+            else options.number(
+                args.threads_per_block,
+                "--threads-per-block",
+                lo=1,
+                hi=1024,
+                whole=True,
+                example="64",
+            )
+        )
         fastest = gpu.MEMBER_FASTEST or args.member_fastest
         if no_gpu and not args.backend:
             print(f"note: no GPU timed ({no_gpu})", file=sys.stderr)
@@ -207,17 +298,26 @@ def main(argv=None) -> int:
             for name in chosen:
                 device, threads, what = available[name]
                 if device == "gpu":
-                    what = f"{what}, {block} members per block" + (", member index fastest" if fastest else "")
+                    what = f"{what}, {block} members per block" + (
+                        ", member index fastest" if fastest else ""
+                    )
                 described[name] = what
-                counts = members + ([n for n in GPU_MEMBERS if n > max(members)]
-                                    if device == "gpu" and not args.members and not args.quick else [])
+                counts = members + (
+                    [n for n in GPU_MEMBERS if n > max(members)]
+                    if device == "gpu" and not args.members and not args.quick
+                    else []
+                )
                 # compiles; two members, as one member's arrays may be typed with another layout
                 time_ensemble(scene, 2, 0.05, device, threads, 1)
                 for n in counts:
                     table[name, n] = time_ensemble(scene, n, duration, device, threads, repeats)
                     wall, steps = table[name, n]
-                    print(f"  {name:16s} {n:6d} members  {steps / wall:10.3e} member-steps/s  "
-                          f"{1e9 * wall / steps:8.1f} ns each", file=sys.stderr, flush=True)
+                    print(
+                        f"  {name:16s} {n:6d} members  {steps / wall:10.3e} member-steps/s  "
+                        f"{1e9 * wall / steps:8.1f} ns each",
+                        file=sys.stderr,
+                        flush=True,
+                    )
         all_members = sorted({n for _, n in table})
         ds = ensemble_dataset(table, all_members, described, scene, duration, args.quick)
         write_dataset(ds, path)

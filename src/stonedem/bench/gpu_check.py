@@ -48,7 +48,9 @@ def short_horizon(duration: float) -> dict[str, tuple[float, float, int]]:
             if c.x.shape != g.x.shape:  # a member stopped at another sample: no agreement
                 position = rotation = np.inf
                 continue
-            position = max(position, float(np.max(np.abs(c.x - g.x))), float(np.max(np.abs(c.y - g.y))))
+            position = max(
+                position, float(np.max(np.abs(c.x - g.x))), float(np.max(np.abs(c.y - g.y)))
+            )
             rotation = max(rotation, float(np.max(np.abs(c.theta - g.theta))))
         out[kind] = (position, rotation, len(scenes))
     return out
@@ -76,12 +78,15 @@ def full_records(cases) -> dict:
         datasets = run_cases_together(cases, RECORDS, device=device)
         out[f"{device}_wall"] = time.perf_counter() - start
         out[f"{device}_collapsed"] = np.array([float(ds["collapsed"]) > 0 for ds in datasets])
-        out[f"{device}_rocking"] = np.array([float(ds["max_rocking"]) if "max_rocking" in ds else np.nan
-                                             for ds in datasets])
+        out[f"{device}_rocking"] = np.array(
+            [float(ds["max_rocking"]) if "max_rocking" in ds else np.nan for ds in datasets]
+        )
     return out
 
 
-def check_dataset(short: dict, study: str, cases, full: dict, device: str, quick: bool) -> xr.Dataset:
+def check_dataset(
+    short: dict, study: str, cases, full: dict, device: str, quick: bool
+) -> xr.Dataset:
     from stonedem.io.netcdf import code_version
     from stonedem.study.runner import library_versions
 
@@ -92,23 +97,88 @@ def check_dataset(short: dict, study: str, cases, full: dict, device: str, quick
     short_ok = all(max(p, r) <= SHORT_TOLERANCE for p, r, _ in short.values())
     return xr.Dataset(
         {
-            "position_difference": ("kind", [short[k][0] for k in kinds], {"units": "m", "long_name": "largest |GPU - CPU| of a centroid coordinate over the short horizon"}),
-            "rotation_difference": ("kind", [short[k][1] for k in kinds], {"units": "rad", "long_name": "largest |GPU - CPU| of a rotation over the short horizon"}),
-            "short_members": ("kind", np.array([short[k][2] for k in kinds], dtype=np.int64), {"units": "1", "long_name": "members run"}),
-            "gpu_collapsed": ("case", full["gpu_collapsed"].astype(np.int8), {"units": "1", "long_name": "collapsed on the GPU (1) or not (0)"}),
-            "cpu_collapsed": ("case", full["cpu_collapsed"].astype(np.int8), {"units": "1", "long_name": "collapsed on the CPU (1) or not (0)"}),
-            "rocking_ratio": ("case", ratio, {"units": "1", "long_name": "peak mean rotation, GPU over CPU"}),
-            "verdict_agreement": ((), share, {"units": "1", "long_name": "share of full-record members with the same collapse verdict"}),
-            "gpu_wall": ((), full["gpu_wall"], {"units": "s", "long_name": "wall time of the full-record members on the GPU, compile included"}),
-            "cpu_wall": ((), full["cpu_wall"], {"units": "s", "long_name": "wall time of the full-record members on the CPU ensemble"}),
+            "position_difference": (
+                "kind",
+                [short[k][0] for k in kinds],
+                {
+                    "units": "m",
+                    "long_name": "largest |GPU - CPU| of a centroid coordinate over the short horizon",
+                },
+            ),
+            "rotation_difference": (
+                "kind",
+                [short[k][1] for k in kinds],
+                {
+                    "units": "rad",
+                    "long_name": "largest |GPU - CPU| of a rotation over the short horizon",
+                },
+            ),
+            "short_members": (
+                "kind",
+                np.array([short[k][2] for k in kinds], dtype=np.int64),
+                {"units": "1", "long_name": "members run"},
+            ),
+            "gpu_collapsed": (
+                "case",
+                full["gpu_collapsed"].astype(np.int8),
+                {"units": "1", "long_name": "collapsed on the GPU (1) or not (0)"},
+            ),
+            "cpu_collapsed": (
+                "case",
+                full["cpu_collapsed"].astype(np.int8),
+                {"units": "1", "long_name": "collapsed on the CPU (1) or not (0)"},
+            ),
+            "rocking_ratio": (
+                "case",
+                ratio,
+                {"units": "1", "long_name": "peak mean rotation, GPU over CPU"},
+            ),
+            "verdict_agreement": (
+                (),
+                share,
+                {
+                    "units": "1",
+                    "long_name": "share of full-record members with the same collapse verdict",
+                },
+            ),
+            "gpu_wall": (
+                (),
+                full["gpu_wall"],
+                {
+                    "units": "s",
+                    "long_name": "wall time of the full-record members on the GPU, compile included",
+                },
+            ),
+            "cpu_wall": (
+                (),
+                full["cpu_wall"],
+                {
+                    "units": "s",
+                    "long_name": "wall time of the full-record members on the CPU ensemble",
+                },
+            ),
         },
-        coords={"kind": ("kind", kinds, {"long_name": "scene kind of the short-horizon members"}),
-                "case": ("case", [c.id for c in cases], {"long_name": "full-record case (record and PGA)"})},
-        attrs={"title": "stonedem GPU checks (issue 33)", "device": device, "study": study,
-               "short_tolerance": SHORT_TOLERANCE, "short_duration_s": SHORT_DURATION,
-               "verdict_target": VERDICT_TARGET, "short_horizon_met": int(short_ok),
-               "verdicts_met": int(share >= VERDICT_TARGET), "profile": "quick" if quick else "full",
-               "source": code_version(), **library_versions()},
+        coords={
+            "kind": ("kind", kinds, {"long_name": "scene kind of the short-horizon members"}),
+            "case": (
+                "case",
+                [c.id for c in cases],
+                {"long_name": "full-record case (record and PGA)"},
+            ),
+        },
+        attrs={
+            "title": "stonedem GPU checks (issue 33)",
+            "device": device,
+            "study": study,
+            "short_tolerance": SHORT_TOLERANCE,
+            "short_duration_s": SHORT_DURATION,
+            "verdict_target": VERDICT_TARGET,
+            "short_horizon_met": int(short_ok),
+            "verdicts_met": int(share >= VERDICT_TARGET),
+            "profile": "quick" if quick else "full",
+            "source": code_version(),
+            **library_versions(),
+        },
     )
 
 
@@ -116,11 +186,23 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.gpu_check", __doc__)
-    parser.add_argument("--quick", action="store_true", help="2 records x 2 PGAs, 0.1 s short horizon (simulator tests)")
-    parser.add_argument("--records", type=int, default=0, help="records of the structure to run, 0 for all")
-    parser.add_argument("--config", type=options.path_arg, default=Path("config/config.yaml"),
-                        help="the config whose fragility: section gives the structure and records")
-    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"), help="folder of gpu_check.nc")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="2 records x 2 PGAs, 0.1 s short horizon (simulator tests)",
+    )
+    parser.add_argument(
+        "--records", type=int, default=0, help="records of the structure to run, 0 for all"
+    )
+    parser.add_argument(
+        "--config",
+        type=options.path_arg,
+        default=Path("config/config.yaml"),
+        help="the config whose fragility: section gives the structure and records",
+    )
+    parser.add_argument(
+        "--out", type=options.path_arg, default=Path("results/bench"), help="folder of gpu_check.nc"
+    )
     return parser
 
 
@@ -134,30 +216,45 @@ def main(argv=None) -> int:
         from stonedem.io.netcdf import write_dataset
         from stonedem.kernels.gpu import gpu_available
 
-        n_records = options.number(args.records, "--records", lo=0, hi=10_000, whole=True, example="100")
+        n_records = options.number(
+            args.records, "--records", lo=0, hi=10_000, whole=True, example="100"
+        )
         options.input_file(args.config, "--config", "YAML config file")
         path = options.output_folder(args.out, "--out", files=("gpu_check.nc",)) / "gpu_check.nc"
         if not RECORDS.is_dir():
             raise InputError("records", f"no folder {RECORDS} here", "run from the repository root")
         usable, device = gpu_available()
         if not usable:
-            raise InputError("device", device, "run this on a machine with an NVIDIA GPU and pip install -e '.[gpu]'")
+            raise InputError(
+                "device",
+                device,
+                "run this on a machine with an NVIDIA GPU and pip install -e '.[gpu]'",
+            )
         print(f"device: {device}", flush=True)
         quick = args.quick
         start = time.perf_counter()
         short = short_horizon(0.1 if quick else SHORT_DURATION)
         for kind, (p, r, n) in short.items():
-            print(f"short horizon {kind}: {n} members, |dx| <= {p:.3g} m, |dtheta| <= {r:.3g} rad "
-                  f"({'ok' if max(p, r) <= SHORT_TOLERANCE else 'MISSED'}, tolerance {SHORT_TOLERANCE:g})", flush=True)
-        study, cases = full_record_cases(2 if quick and not n_records else n_records or None,
-                                         QUICK_PGAS if quick else PGAS, args.config)
+            print(
+                f"short horizon {kind}: {n} members, |dx| <= {p:.3g} m, |dtheta| <= {r:.3g} rad "
+                f"({'ok' if max(p, r) <= SHORT_TOLERANCE else 'MISSED'}, tolerance {SHORT_TOLERANCE:g})",
+                flush=True,
+            )
+        study, cases = full_record_cases(
+            2 if quick and not n_records else n_records or None,
+            QUICK_PGAS if quick else PGAS,
+            args.config,
+        )
         full = full_records(cases)
         ds = check_dataset(short, study, cases, full, device, quick)
         write_dataset(ds, path)
         share = float(ds["verdict_agreement"])
-        print(f"full records ({study}, {len(cases)} members): same verdict on {share:.1%} "
-              f"({'ok' if share >= VERDICT_TARGET else 'MISSED'}, target {VERDICT_TARGET:.0%}); "
-              f"GPU {full['gpu_wall']:.1f} s, CPU ensemble {full['cpu_wall']:.1f} s", flush=True)
+        print(
+            f"full records ({study}, {len(cases)} members): same verdict on {share:.1%} "
+            f"({'ok' if share >= VERDICT_TARGET else 'MISSED'}, target {VERDICT_TARGET:.0%}); "
+            f"GPU {full['gpu_wall']:.1f} s, CPU ensemble {full['cpu_wall']:.1f} s",
+            flush=True,
+        )
         print(f"wrote {path} in {time.perf_counter() - start:.0f} s")
         return 0 if ds.attrs["short_horizon_met"] and ds.attrs["verdicts_met"] else 1
 

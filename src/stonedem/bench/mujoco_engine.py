@@ -62,7 +62,7 @@ import time as _time
 import mujoco
 import numpy as np
 
-from stonedem.bench.canonical import DENSITY, DEPTH, G, ROCKING_FRICTION, Trajectory
+from stonedem.bench.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
 
 SOLIMP = "0.99 0.999 0.0001 0.5 2"
 FRICTION_TIMECONST = 0.02  # [s] solreffriction: MuJoCo's default time constant, see above
@@ -99,10 +99,10 @@ def _model(blocks, mu, dt, solref_time):
           solref="{tc!r} 1" solreffriction="{FRICTION_TIMECONST!r} 1"/>
   </default>
   <worldbody>
-    <geom name="ground" type="plane" size="0 0 1"/>{''.join(bodies)}
+    <geom name="ground" type="plane" size="0 0 1"/>{"".join(bodies)}
   </worldbody>
   <contact>
-    {' '.join(pairs)}
+    {" ".join(pairs)}
   </contact>
 </mujoco>"""
     return mujoco.MjModel.from_xml_string(xml)
@@ -154,7 +154,9 @@ def _run(model, data, duration, sample_every, base_accel=()):
     return Trajectory(time=samples * dt, theta=theta, x=x, wall_seconds=wall, steps=n_total)
 
 
-def free_rocking(width, height, theta0, dt, duration, sample_every=1e-3, solref_time=None) -> Trajectory:
+def free_rocking(
+    width, height, theta0, dt, duration, sample_every=1e-3, solref_time=None
+) -> Trajectory:
     """Free rocking of one block released at rest, turned clockwise by theta0 about its
     bottom-right corner (which stays on the ground); theta starts at -theta0."""
     b, h = width / 2.0, height / 2.0
@@ -166,8 +168,9 @@ def free_rocking(width, height, theta0, dt, duration, sample_every=1e-3, solref_
     return _run(model, data, duration, sample_every)
 
 
-def pulse_sliding(width, height, mu, accel, pulse_duration, dt, duration, sample_every=1e-3,
-                  solref_time=None) -> Trajectory:
+def pulse_sliding(
+    width, height, mu, accel, pulse_duration, dt, duration, sample_every=1e-3, solref_time=None
+) -> Trajectory:
     """A block on the ground under a rectangular base-acceleration pulse `accel` for
     0 <= t < pulse_duration; x is the sliding relative to the base."""
     model = _model([(width, height, height / 2.0)], mu, dt, solref_time)
@@ -176,8 +179,18 @@ def pulse_sliding(width, height, mu, accel, pulse_duration, dt, duration, sample
     return _run(model, data, duration, sample_every, [(0.0, accel), (pulse_duration, 0.0)])
 
 
-def column_record(n_drums, width, height, mu, record_time, record_accel, dt, duration,
-                  sample_every=1e-3, solref_time=None) -> Trajectory:
+def column_record(
+    n_drums,
+    width,
+    height,
+    mu,
+    record_time,
+    record_accel,
+    dt,
+    duration,
+    sample_every=1e-3,
+    solref_time=None,
+) -> Trajectory:
     """n_drums equal drums stacked on the ground under the base acceleration record,
     held constant between record samples (0 from its last sample on); bodies bottom to top."""
     hd = height / n_drums

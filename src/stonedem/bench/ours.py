@@ -32,13 +32,13 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from stonedem.reference import analytic
 from stonedem.bench import canonical as cn
 from stonedem.bench.canonical import Trajectory
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate, stability_limit
 from stonedem.engine.structures import standalone_column
+from stonedem.reference import analytic
 from stonedem.validation.cases import block_scene
 
 VARIANTS = ("area", "point_dashpot", "point")
@@ -64,35 +64,70 @@ def _run(spec, dt, dt_ratio, n_free_from=1):
     d_base, _, _ = scene.horizontal.evaluate(res.time)
     free = slice(n_free_from, None)
     x = res.x[:, free] - res.x[0, free] - d_base[:, None]
-    traj = Trajectory(time=res.time, theta=res.theta[:, free], x=x,
-                      wall_seconds=res.wall_seconds, steps=res.steps_run, status=int(res.status))
+    traj = Trajectory(
+        time=res.time,
+        theta=res.theta[:, free],
+        x=x,
+        wall_seconds=res.wall_seconds,
+        steps=res.steps_run,
+        status=int(res.status),
+    )
     return traj, scene, res
 
 
-def free_rocking(width, height, theta0, duration, *, contact, dt=None, dt_ratio=None,
-                 sample_every=1e-3):
+def free_rocking(
+    width, height, theta0, duration, *, contact, dt=None, dt_ratio=None, sample_every=1e-3
+):
     """Free rocking of a block (density DENSITY) on a driven base from tilt theta0 [rad]."""
-    spec = block_scene(width, height, density=cn.DENSITY, friction=cn.ROCKING_FRICTION,
-                       tilt=theta0, contact=contact, duration=duration, every=sample_every)
+    spec = block_scene(
+        width,
+        height,
+        density=cn.DENSITY,
+        friction=cn.ROCKING_FRICTION,
+        tilt=theta0,
+        contact=contact,
+        duration=duration,
+        every=sample_every,
+    )
     return _run(spec, dt, dt_ratio)[0]
 
 
-def pulse_sliding(width, height, mu, accel, pulse_duration, duration, *, contact, dt=None,
-                  dt_ratio=None, sample_every=1e-3):
+def pulse_sliding(
+    width,
+    height,
+    mu,
+    accel,
+    pulse_duration,
+    duration,
+    *,
+    contact,
+    dt=None,
+    dt_ratio=None,
+    sample_every=1e-3,
+):
     """A block under a rectangular base-acceleration pulse; x is the sliding relative to the base."""
-    spec = block_scene(width, height, density=cn.DENSITY, friction=mu, contact=contact,
-                       excitation={"kind": "rect_pulse", "accel": accel, "duration": pulse_duration},
-                       duration=duration, every=sample_every,
-                       base_width=2.0 * accel * pulse_duration * duration + 20.0)
+    spec = block_scene(
+        width,
+        height,
+        density=cn.DENSITY,
+        friction=mu,
+        contact=contact,
+        excitation={"kind": "rect_pulse", "accel": accel, "duration": pulse_duration},
+        duration=duration,
+        every=sample_every,
+        base_width=2.0 * accel * pulse_duration * duration + 20.0,
+    )
     return _run(spec, dt, dt_ratio)[0]
 
 
 def column_scene_spec(duration, *, contact, pga, n_drums=cn.COLUMN_DRUMS, sample_every=1e-2):
     """Scene dict of scene (c): the 8-drum column on a driven base under the record at ``pga``."""
-    bodies = standalone_column(n_drums, height=cn.COLUMN_HEIGHT, width=cn.COLUMN_WIDTH,
-                               density=cn.DENSITY)
+    bodies = standalone_column(
+        n_drums, height=cn.COLUMN_HEIGHT, width=cn.COLUMN_WIDTH, density=cn.DENSITY
+    )
     return {
-        "bodies": bodies, "friction": cn.COLUMN_FRICTION,
+        "bodies": bodies,
+        "friction": cn.COLUMN_FRICTION,
         "contact": dict(contact),
         "excitation": {"kind": "record", "file": cn.COLUMN_RECORD, "pga": pga},
         "solver": {"duration": duration, "dt": "auto", "stop_on_collapse": False},
@@ -102,13 +137,17 @@ def column_scene_spec(duration, *, contact, pga, n_drums=cn.COLUMN_DRUMS, sample
 
 def column_record(duration, *, contact, pga, dt=None, dt_ratio=None, sample_every=1e-2):
     """Scene (c) in our engine; also returns the (time, acceleration) table it applied."""
-    traj, scene, _ = _run(column_scene_spec(duration, contact=contact, pga=pga,
-                                            sample_every=sample_every), dt, dt_ratio)
+    traj, scene, _ = _run(
+        column_scene_spec(duration, contact=contact, pga=pga, sample_every=sample_every),
+        dt,
+        dt_ratio,
+    )
     h = scene.horizontal
     return traj, (np.arange(len(h.table_accel)) * h.table_dt, np.asarray(h.table_accel))
 
 
 # --- contact laws of the variants ----------------------------------------------------------
+
 
 def law_contact(model, k_n, damping, impact="plastic"):
     """``contact:`` mapping of one law: model area (damping = c_n [N s m-1]) or point
@@ -116,7 +155,12 @@ def law_contact(model, k_n, damping, impact="plastic"):
     if model not in LAWS:
         raise ValueError(f"unknown contact model {model!r}; use {' or '.join(LAWS)}")
     row = LAWS[model]
-    return row.mapping(model, float(k_n), float(damping), **({"impact": impact} if "impact" in row.defaults else {}))
+    return row.mapping(
+        model,
+        float(k_n),
+        float(damping),
+        **({"impact": impact} if "impact" in row.defaults else {}),
+    )
 
 
 def _check_variant(variant):
@@ -131,7 +175,9 @@ def rocking_contact(variant, width, height, k_n):
     if variant == "point":
         return law_contact("point", k_n, POINT_DAMPING, "plastic")
     model = "area" if variant == "area" else "point"
-    return law_contact(model, k_n, calibrate_rocking_damping(width, height, k_n, model=model), "none")
+    return law_contact(
+        model, k_n, calibrate_rocking_damping(width, height, k_n, model=model), "none"
+    )
 
 
 def pulse_contact(variant, k_n):
@@ -149,7 +195,9 @@ def column_contact(variant, k_n):
     _check_variant(variant)
     if variant == "area":
         drum_mass = cn.DENSITY * cn.COLUMN_WIDTH * cn.COLUMN_HEIGHT / cn.COLUMN_DRUMS * cn.DEPTH
-        return law_contact("area", k_n, COLUMN_DAMPING * critical_damping(k_n, cn.COLUMN_WIDTH, drum_mass))
+        return law_contact(
+            "area", k_n, COLUMN_DAMPING * critical_damping(k_n, cn.COLUMN_WIDTH, drum_mass)
+        )
     return law_contact("point", k_n, POINT_DAMPING, "plastic" if variant == "point" else "none")
 
 
@@ -215,8 +263,15 @@ def rocking_calibration(width, height, k_n, dt_ratio=0.1, model="area"):
     def restitution(log_d):
         if log_d not in reached:
             contact = law_contact(model, k_n, math.exp(log_d), "none")
-            traj = free_rocking(width, height, theta0, duration, contact=contact,
-                                dt_ratio=dt_ratio, sample_every=2e-4)
+            traj = free_rocking(
+                width,
+                height,
+                theta0,
+                duration,
+                contact=contact,
+                dt_ratio=dt_ratio,
+                sample_every=2e-4,
+            )
             r = first_impact_restitution(traj, width, height)
             reached[log_d] = r if np.isfinite(r) else 0.0
         return reached[log_d]
@@ -243,8 +298,10 @@ def rocking_calibration(width, height, k_n, dt_ratio=0.1, model="area"):
     if low.fun < 0.0:
         return result(brentq(miss, left, low.x, xtol=1e-4))
     log_d = low.x if low.fun < miss(grid[best]) else grid[best]
-    warnings.warn(f"point law at k_n = {k_n:g} N/m2 on a {width} x {height} m block: no zeta in "
-                  f"{CALIBRATION_BRACKET} loses Housner's share at the first impact; zeta = "
-                  f"{math.exp(log_d):.3g} comes closest, r = {restitution(log_d):.5f} against {target:.5f}",
-                  stacklevel=2)
+    warnings.warn(
+        f"point law at k_n = {k_n:g} N/m2 on a {width} x {height} m block: no zeta in "
+        f"{CALIBRATION_BRACKET} loses Housner's share at the first impact; zeta = "
+        f"{math.exp(log_d):.3g} comes closest, r = {restitution(log_d):.5f} against {target:.5f}",
+        stacklevel=2,
+    )
     return result(log_d)

@@ -49,7 +49,7 @@ import time
 import numpy as np
 import pymunk
 
-from stonedem.bench.canonical import DENSITY, DEPTH, G, ROCKING_FRICTION, Trajectory
+from stonedem.bench.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
 
 COLLISION_SLOP = 1e-4  # [m] allowed overlap (pymunk default 0.1); see module docstring
 ITERATIONS = 20  # solver passes per step (pymunk default 10); see module docstring
@@ -62,8 +62,15 @@ def _space(friction):
     space.iterations = ITERATIONS
     space.collision_slop = COLLISION_SLOP
     # ground: a static box whose top face is y = 0
-    ground = pymunk.Poly(space.static_body, [(-GROUND_HALF_WIDTH, -1.0), (GROUND_HALF_WIDTH, -1.0),
-                                             (GROUND_HALF_WIDTH, 0.0), (-GROUND_HALF_WIDTH, 0.0)])
+    ground = pymunk.Poly(
+        space.static_body,
+        [
+            (-GROUND_HALF_WIDTH, -1.0),
+            (GROUND_HALF_WIDTH, -1.0),
+            (GROUND_HALF_WIDTH, 0.0),
+            (-GROUND_HALF_WIDTH, 0.0),
+        ],
+    )
     ground.friction = math.sqrt(friction)  # pair friction is the product: sqrt * sqrt = mu
     ground.elasticity = 0.0
     space.add(ground)
@@ -106,8 +113,9 @@ def _run(space, bodies, dt, duration, sample_every, gravity_x=None):
             space.gravity = (gx, -G)
         step(dt)
     wall = time.perf_counter() - start
-    return Trajectory(time=np.arange(n_samples) * every * dt, theta=theta, x=x,
-                      wall_seconds=wall, steps=n_steps)
+    return Trajectory(
+        time=np.arange(n_samples) * every * dt, theta=theta, x=x, wall_seconds=wall, steps=n_steps
+    )
 
 
 def free_rocking(width, height, theta0, dt, duration, sample_every=1e-3) -> Trajectory:
@@ -121,8 +129,9 @@ def free_rocking(width, height, theta0, dt, duration, sample_every=1e-3) -> Traj
     return _run(space, [body], dt, duration, sample_every)
 
 
-def pulse_sliding(width, height, mu, accel, pulse_duration, dt, duration,
-                  sample_every=1e-3) -> Trajectory:
+def pulse_sliding(
+    width, height, mu, accel, pulse_duration, dt, duration, sample_every=1e-3
+) -> Trajectory:
     """Sliding under a rectangular base-acceleration pulse a_g = accel for t < pulse_duration."""
     space = _space(mu)
     body = _block(space, width, height, mu, (0.0, height / 2))
@@ -132,8 +141,9 @@ def pulse_sliding(width, height, mu, accel, pulse_duration, dt, duration,
     return _run(space, [body], dt, duration, sample_every, gravity_x)
 
 
-def column_record(n_drums, width, height, mu, record_time, record_accel, dt, duration,
-                  sample_every=1e-3) -> Trajectory:
+def column_record(
+    n_drums, width, height, mu, record_time, record_accel, dt, duration, sample_every=1e-3
+) -> Trajectory:
     """A column of n_drums equal drums under a base-acceleration record (linear interpolation)."""
     space = _space(mu)
     h = height / n_drums

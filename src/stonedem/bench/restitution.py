@@ -65,17 +65,18 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.reference import analytic
 from stonedem.bench.canonical import rocking_measures
 from stonedem.bench.ours import critical_damping
-from stonedem.errors import InputError
-from stonedem.io.netcdf import code_version, write_dataset
-from stonedem.kernels import step
+from stonedem.engine.laws import DEFAULT_LAW
+from stonedem.engine.laws import LAWS as CONTACT_LAWS
 from stonedem.engine.measures import rocking_bodies
-from stonedem.engine.laws import DEFAULT_LAW, LAWS as CONTACT_LAWS
 from stonedem.engine.scene import Scene, scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import build_structure
+from stonedem.errors import InputError
+from stonedem.io.netcdf import code_version, write_dataset
+from stonedem.kernels import step
+from stonedem.reference import analytic
 from stonedem.study.grid import config_cases
 from stonedem.validation.cases import calibrate_restitution
 
@@ -114,8 +115,13 @@ class Column:
         return drums + (" + capital" if self.capital else "")
 
     def structure(self) -> dict:
-        spec = {"kind": "column", "n_drums": self.n_drums, "height": self.height, "width": self.width,
-                "density": self.density}
+        spec = {
+            "kind": "column",
+            "n_drums": self.n_drums,
+            "height": self.height,
+            "width": self.width,
+            "density": self.density,
+        }
         if self.capital:
             spec["capital"] = {"height": self.capital[0], "width": self.capital[1]}
         return spec
@@ -154,11 +160,17 @@ def study_columns(config: dict) -> list[Column]:
             if s.get("kind") != "column" or float(s.get("taper", 1.0)) != 1.0:
                 continue
             cap = s.get("capital")
-            key = (int(s.get("n_drums", 1)), float(s.get("height", 6.0)), float(s.get("width", 1.0)),
-                   float(s.get("density", 2000.0)),
-                   (float(cap.get("height", 0.6)), float(cap.get("width", 1.4))) if cap else None)
+            key = (
+                int(s.get("n_drums", 1)),
+                float(s.get("height", 6.0)),
+                float(s.get("width", 1.0)),
+                float(s.get("density", 2000.0)),
+                (float(cap.get("height", 0.6)), float(cap.get("width", 1.4))) if cap else None,
+            )
             # the study's own friction, not a swept value of one case (harmonic_frequency sweeps 0.3-0.7)
-            mu = float(studies[name].get("friction", (config.get("defaults") or {}).get("friction", 0.5)))
+            mu = float(
+                studies[name].get("friction", (config.get("defaults") or {}).get("friction", 0.5))
+            )
             friction, names = columns.get(key, (mu, ()))
             columns[key] = (friction, names if name in names else names + (name,))
     out = [Column(*key, friction=f, studies=names) for key, (f, names) in columns.items()]
@@ -174,6 +186,7 @@ def quick_columns(columns: list[Column]) -> list[Column]:
 
 
 # --- the column as one rigid body ----------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class RigidColumn:
@@ -208,10 +221,16 @@ def rigid_column(bodies: list[dict], gravity: float = analytic.G) -> RigidColumn
     inertia = sum(b.inertia + b.mass * float(np.sum((b.centroid - pivot) ** 2)) for b in free)
     b, h = float(pivot[0] - centroid[0]), float(centroid[1] - pivot[1])
     radius = math.hypot(b, h)
-    return RigidColumn(mass=mass, b=b, h=h, inertia_corner=inertia, alpha=math.atan2(b, h),
-                       p=math.sqrt(mass * gravity * radius / inertia),
-                       housner=(1.0 - 2.0 * mass * b * b / inertia) ** 2,
-                       pivot=(float(pivot[0]), float(pivot[1])))
+    return RigidColumn(
+        mass=mass,
+        b=b,
+        h=h,
+        inertia_corner=inertia,
+        alpha=math.atan2(b, h),
+        p=math.sqrt(mass * gravity * radius / inertia),
+        housner=(1.0 - 2.0 * mass * b * b / inertia) ** 2,
+        pivot=(float(pivot[0]), float(pivot[1])),
+    )
 
 
 def quarter_period(rigid: RigidColumn, theta0: float) -> float:
@@ -224,8 +243,10 @@ def quarter_period(rigid: RigidColumn, theta0: float) -> float:
 
 # --- one run ---------------------------------------------------------------------------------
 
-def rocking_scene(column: Column, contact: dict, n_impacts: int = N_IMPACTS,
-                  sample_every: float = SAMPLE_EVERY) -> tuple[Scene, RigidColumn, float]:
+
+def rocking_scene(
+    column: Column, contact: dict, n_impacts: int = N_IMPACTS, sample_every: float = SAMPLE_EVERY
+) -> tuple[Scene, RigidColumn, float]:
     """(scene, rigid constants, theta0) of the column released from theta0 on its right corner.
 
     The run lasts 2 n_impacts + 2 rigid quarter periods at theta0. A lossless column needs
@@ -237,12 +258,22 @@ def rocking_scene(column: Column, contact: dict, n_impacts: int = N_IMPACTS,
     theta0 = THETA0_RATIO * rigid.alpha
     for body in bodies:
         if not body.get("driven"):
-            body["tilt"] = {"angle": -theta0, "about": list(rigid.pivot)}  # clockwise: leaning right
-    spec = {"name": f"free rocking, {column.label}", "bodies": bodies, "friction": column.friction,
-            "contact": dict(contact), "excitation": {"kind": "none"},
-            "solver": {"duration": (2 * n_impacts + 2) * quarter_period(rigid, theta0),
-                       "stop_on_collapse": False},
-            "output": {"every": sample_every}}
+            body["tilt"] = {
+                "angle": -theta0,
+                "about": list(rigid.pivot),
+            }  # clockwise: leaning right
+    spec = {
+        "name": f"free rocking, {column.label}",
+        "bodies": bodies,
+        "friction": column.friction,
+        "contact": dict(contact),
+        "excitation": {"kind": "none"},
+        "solver": {
+            "duration": (2 * n_impacts + 2) * quarter_period(rigid, theta0),
+            "stop_on_collapse": False,
+        },
+        "output": {"every": sample_every},
+    }
     return scene_from_dict(spec), rigid, theta0
 
 
@@ -264,13 +295,25 @@ class ImpactLoss:
 def mechanical_energy(scene: Scene, energy: np.ndarray) -> np.ndarray:
     """Kinetic + potential + elastic energy above the column at rest (untilted, no overlap) [J]."""
     rest = scene.gravity * sum(b.mass * b.centroid[1] for b in scene.bodies if not b.driven)
-    return (energy[:, step.ENERGY_KINETIC] + energy[:, step.ENERGY_POTENTIAL] - rest
-            + energy[:, step.ENERGY_ELASTIC])
+    return (
+        energy[:, step.ENERGY_KINETIC]
+        + energy[:, step.ENERGY_POTENTIAL]
+        - rest
+        + energy[:, step.ENERGY_ELASTIC]
+    )
 
 
-def impact_loss(time, theta, total, rigid: RigidColumn, n_impacts: int = N_IMPACTS,
-                min_fraction: float = MIN_FRACTION, wall_seconds=math.nan, dt=math.nan,
-                dt_limit=math.nan) -> ImpactLoss:
+def impact_loss(
+    time,
+    theta,
+    total,
+    rigid: RigidColumn,
+    n_impacts: int = N_IMPACTS,
+    min_fraction: float = MIN_FRACTION,
+    wall_seconds=math.nan,
+    dt=math.nan,
+    dt_limit=math.nan,
+) -> ImpactLoss:
     """Energy ratios of the first ``n_impacts`` impacts from a rotation history (see the module doc).
 
     theta: the mean drum rotation, positive leaning right [rad]; total: the mechanical
@@ -295,26 +338,47 @@ def impact_loss(time, theta, total, rigid: RigidColumn, n_impacts: int = N_IMPAC
     if len(stopped):
         first = stopped[0]  # the half cycle after impact `first` is chatter or missing
         peaks[first:] = np.nan
-        times[first - 1:] = np.nan
+        times[first - 1 :] = np.nan
         before[first:] = np.nan
     rocking = analytic.restitution_from_peaks_exact(2.0 * rigid.b, 2.0 * rigid.h, peaks)
-    return ImpactLoss(impact_time=times, peaks=peaks, rocking_energy_ratio=rocking,
-                      energy_before=before[:-1], energy_next=before[1:], energy_ratio=before[1:] / before[:-1],
-                      wall_seconds=wall_seconds, dt=dt, dt_limit=dt_limit)
+    return ImpactLoss(
+        impact_time=times,
+        peaks=peaks,
+        rocking_energy_ratio=rocking,
+        energy_before=before[:-1],
+        energy_next=before[1:],
+        energy_ratio=before[1:] / before[:-1],
+        wall_seconds=wall_seconds,
+        dt=dt,
+        dt_limit=dt_limit,
+    )
 
 
-def free_rocking_loss(column: Column, contact: dict, n_impacts: int = N_IMPACTS) -> tuple[ImpactLoss, RigidColumn]:
+def free_rocking_loss(
+    column: Column, contact: dict, n_impacts: int = N_IMPACTS
+) -> tuple[ImpactLoss, RigidColumn]:
     """Run the column's free rocking with ``contact`` and measure its first impacts."""
     scene, rigid, _ = rocking_scene(column, contact, n_impacts)
     res = simulate(scene)
     drums = rocking_bodies(scene)
-    theta = -res.theta[:, drums].mean(axis=1)  # the engine turns counter-clockwise: leaning right < 0
-    loss = impact_loss(res.time, theta, mechanical_energy(scene, res.energy), rigid, n_impacts,
-                       wall_seconds=res.wall_seconds, dt=res.dt, dt_limit=res.dt_limit)
+    theta = -res.theta[:, drums].mean(
+        axis=1
+    )  # the engine turns counter-clockwise: leaning right < 0
+    loss = impact_loss(
+        res.time,
+        theta,
+        mechanical_energy(scene, res.energy),
+        rigid,
+        n_impacts,
+        wall_seconds=res.wall_seconds,
+        dt=res.dt,
+        dt_limit=res.dt_limit,
+    )
     return loss, rigid
 
 
 # --- the laws -----------------------------------------------------------------------------------
+
 
 def housner_c_n(column: Column, k_n: float, n_impacts: int = N_IMPACTS) -> float:
     """c_n [N s m-1] of the area law at k_n that gives the monolith ``column`` Housner's ratio
@@ -331,7 +395,9 @@ def law_contacts(config: dict, monolith: Column, laws=LAWS, n_impacts: int = N_I
     """{law: contact mapping} of the named laws (:data:`LAWS`)."""
     study = study_contact(config)
     if study["model"] != "point":
-        raise ValueError(f"the study's contact is {study['model']!r}; this benchmark runs it as the point law")
+        raise ValueError(
+            f"the study's contact is {study['model']!r}; this benchmark runs it as the point law"
+        )
     contacts = {}
     for law in laws:
         if law == "area_study":
@@ -341,7 +407,10 @@ def law_contacts(config: dict, monolith: Column, laws=LAWS, n_impacts: int = N_I
         elif law == "point":
             contacts[law] = {**CONTACT_LAWS["point"].defaults, **study}
         elif law == "area_housner":
-            contacts[law] = {**AREA_STUDY, "c_n": housner_c_n(monolith, AREA_STUDY["k_n"], n_impacts)}
+            contacts[law] = {
+                **AREA_STUDY,
+                "c_n": housner_c_n(monolith, AREA_STUDY["k_n"], n_impacts),
+            }
         else:
             raise ValueError(f"unknown law {law!r}; use one of {', '.join(LAWS)}")
     return contacts
@@ -349,12 +418,14 @@ def law_contacts(config: dict, monolith: Column, laws=LAWS, n_impacts: int = N_I
 
 # --- the table ----------------------------------------------------------------------------------
 
+
 def _attrs(units, long_name):
     return {"units": units, "long_name": long_name}
 
 
-def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_IMPACTS,
-                      progress: bool = True) -> xr.Dataset:
+def restitution_table(
+    columns: list[Column], contacts: dict, n_impacts: int = N_IMPACTS, progress: bool = True
+) -> xr.Dataset:
     """Dataset of the energy ratio per impact of every column under every contact law."""
     start = wallclock.perf_counter()
     laws = list(contacts)
@@ -372,9 +443,13 @@ def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_
             peaks[i, j] = loss.peaks
             wall[i, j], dt[i, j], dt_limit[i, j] = loss.wall_seconds, loss.dt, loss.dt_limit
             if progress:
-                print(f"  {column.label:20s} {law:14s} energy ratio "
-                      + " ".join(f"{v:.4f}" for v in loss.energy_ratio)
-                      + f"  ({loss.wall_seconds:.2f} s)", file=sys.stderr, flush=True)
+                print(
+                    f"  {column.label:20s} {law:14s} energy ratio "
+                    + " ".join(f"{v:.4f}" for v in loss.energy_ratio)
+                    + f"  ({loss.wall_seconds:.2f} s)",
+                    file=sys.stderr,
+                    flush=True,
+                )
     monolith = next((c for c in columns if c.n_drums == 1 and not c.capital), columns[0])
     ref_mass = monolith.density * monolith.width * monolith.height
     critical = critical_damping(contacts[laws[0]]["k_n"], monolith.width, ref_mass)
@@ -382,72 +457,189 @@ def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_
     def law_value(law, key):
         return float(contacts[law].get(key, math.nan))
 
-    c_n = np.array([law_value(law, "c_n") if contacts[law]["model"] == "area" else math.nan for law in laws])
+    c_n = np.array(
+        [law_value(law, "c_n") if contacts[law]["model"] == "area" else math.nan for law in laws]
+    )
     k_n = np.array([law_value(law, "k_n") for law in laws])
     crit = np.array([critical_damping(k, monolith.width, ref_mass) for k in k_n])
     with warnings.catch_warnings(), np.errstate(invalid="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)  # a run with no impact: NaN mean
-        mean = {f: np.exp(np.nanmean(np.log(per_impact[f]), axis=-1))
-                for f in ("energy_ratio", "rocking_energy_ratio")}
+        mean = {
+            f: np.exp(np.nanmean(np.log(per_impact[f]), axis=-1))
+            for f in ("energy_ratio", "rocking_energy_ratio")
+        }
     housner = np.array([rigid[j].housner for j in range(len(columns))])
     pi = ("law", "structure", "impact")
     ls = ("law", "structure")
     ds = xr.Dataset(
-        {"energy_ratio": (pi, per_impact["energy_ratio"], _attrs(
-            "1", "total mechanical energy (kinetic + potential + elastic, above rest) just before the next "
-                 "impact / just before this one")),
-         "rocking_energy_ratio": (pi, per_impact["rocking_energy_ratio"], _attrs(
-             "1", "rocking energy after / before the impact from successive peaks of the mean drum rotation, "
-                  "exact rigid relation with the column's alpha (Housner's ratio, thesis Eq. 5.2)")),
-         "energy_before_impact": (pi, per_impact["energy_before"], _attrs(
-             "J", "total mechanical energy above rest just before the impact (halfway in time from the "
-                  "previous peak), per metre of depth")),
-         "energy_before_next_impact": (pi, per_impact["energy_next"], _attrs(
-             "J", "total mechanical energy above rest just before the next impact, per metre of depth")),
-         "impact_time": (pi, per_impact["impact_time"], _attrs(
-             "s", "time of the impact: sign change of the mean drum rotation")),
-         "peak_rotation": (("law", "structure", "peak"), peaks, _attrs(
-             "rad", "peak |mean drum rotation| of the half cycle (0: release)")),
-         "mean_energy_ratio": (ls, mean["energy_ratio"], _attrs(
-             "1", "geometric mean over the impacts of energy_ratio")),
-         "mean_rocking_energy_ratio": (ls, mean["rocking_energy_ratio"], _attrs(
-             "1", "geometric mean over the impacts of rocking_energy_ratio")),
-         "housner_energy_ratio": ("structure", housner, _attrs(
-             "1", "Housner's energy ratio of the column as one rigid body, (1 - 2 M b^2 / I_O)^2")),
-         "wall_seconds": (ls, wall, _attrs("s", "wall time of the compiled loop, one run")),
-         "dt": (ls, dt, _attrs("s", "time step (automatic: dt_safety x stability limit)")),
-         "dt_limit": (ls, dt_limit, _attrs("s", "stability limit of the run (stonedem.engine.simulate.stability_limit)"))},
+        {
+            "energy_ratio": (
+                pi,
+                per_impact["energy_ratio"],
+                _attrs(
+                    "1",
+                    "total mechanical energy (kinetic + potential + elastic, above rest) just before the next "
+                    "impact / just before this one",
+                ),
+            ),
+            "rocking_energy_ratio": (
+                pi,
+                per_impact["rocking_energy_ratio"],
+                _attrs(
+                    "1",
+                    "rocking energy after / before the impact from successive peaks of the mean drum rotation, "
+                    "exact rigid relation with the column's alpha (Housner's ratio, thesis Eq. 5.2)",
+                ),
+            ),
+            "energy_before_impact": (
+                pi,
+                per_impact["energy_before"],
+                _attrs(
+                    "J",
+                    "total mechanical energy above rest just before the impact (halfway in time from the "
+                    "previous peak), per metre of depth",
+                ),
+            ),
+            "energy_before_next_impact": (
+                pi,
+                per_impact["energy_next"],
+                _attrs(
+                    "J",
+                    "total mechanical energy above rest just before the next impact, per metre of depth",
+                ),
+            ),
+            "impact_time": (
+                pi,
+                per_impact["impact_time"],
+                _attrs("s", "time of the impact: sign change of the mean drum rotation"),
+            ),
+            "peak_rotation": (
+                ("law", "structure", "peak"),
+                peaks,
+                _attrs("rad", "peak |mean drum rotation| of the half cycle (0: release)"),
+            ),
+            "mean_energy_ratio": (
+                ls,
+                mean["energy_ratio"],
+                _attrs("1", "geometric mean over the impacts of energy_ratio"),
+            ),
+            "mean_rocking_energy_ratio": (
+                ls,
+                mean["rocking_energy_ratio"],
+                _attrs("1", "geometric mean over the impacts of rocking_energy_ratio"),
+            ),
+            "housner_energy_ratio": (
+                "structure",
+                housner,
+                _attrs(
+                    "1",
+                    "Housner's energy ratio of the column as one rigid body, (1 - 2 M b^2 / I_O)^2",
+                ),
+            ),
+            "wall_seconds": (ls, wall, _attrs("s", "wall time of the compiled loop, one run")),
+            "dt": (ls, dt, _attrs("s", "time step (automatic: dt_safety x stability limit)")),
+            "dt_limit": (
+                ls,
+                dt_limit,
+                _attrs(
+                    "s", "stability limit of the run (stonedem.engine.simulate.stability_limit)"
+                ),
+            ),
+        },
         coords={
             "law": ("law", laws, _attrs("1", "contact law (stonedem.bench.restitution.LAWS)")),
-            "contact_model": ("law", [contacts[law]["model"] for law in laws], _attrs("1", "contact.model")),
-            "k_n": ("law", k_n, _attrs("N m-2", "normal contact stiffness contact.k_n (area: per unit overlap "
-                                               "area; point: per unit contact length)")),
-            "c_n": ("law", c_n, _attrs("N s m-1", "normal dashpot contact.c_n of the area law (c_t = c_n; NaN: "
-                                                  "point law)")),
-            "c_n_over_critical": ("law", c_n / crit, _attrs(
-                "1", "c_n / 2 sqrt(k_n width m) of the monolith on its base (NaN: point law)")),
-            "zeta": ("law", [law_value(law, "damping") if contacts[law]["model"] == "point" else math.nan
-                             for law in laws], _attrs("1", "damping ratio of each contact point, point law (NaN: area law)")),
-            "plastic_impact": ("law", np.array([int(contacts[law].get("impact") == "plastic") for law in laws],
-                                               dtype=np.int8),
-                               _attrs("1", "1: a landing point stops plastically (point law, impact: plastic)")),
+            "contact_model": (
+                "law",
+                [contacts[law]["model"] for law in laws],
+                _attrs("1", "contact.model"),
+            ),
+            "k_n": (
+                "law",
+                k_n,
+                _attrs(
+                    "N m-2",
+                    "normal contact stiffness contact.k_n (area: per unit overlap "
+                    "area; point: per unit contact length)",
+                ),
+            ),
+            "c_n": (
+                "law",
+                c_n,
+                _attrs(
+                    "N s m-1",
+                    "normal dashpot contact.c_n of the area law (c_t = c_n; NaN: point law)",
+                ),
+            ),
+            "c_n_over_critical": (
+                "law",
+                c_n / crit,
+                _attrs(
+                    "1", "c_n / 2 sqrt(k_n width m) of the monolith on its base (NaN: point law)"
+                ),
+            ),
+            "zeta": (
+                "law",
+                [
+                    law_value(law, "damping") if contacts[law]["model"] == "point" else math.nan
+                    for law in laws
+                ],
+                _attrs("1", "damping ratio of each contact point, point law (NaN: area law)"),
+            ),
+            "plastic_impact": (
+                "law",
+                np.array(
+                    [int(contacts[law].get("impact") == "plastic") for law in laws], dtype=np.int8
+                ),
+                _attrs("1", "1: a landing point stops plastically (point law, impact: plastic)"),
+            ),
             "structure": ("structure", [c.label for c in columns], _attrs("1", "column")),
-            "n_drums": ("structure", np.array([c.n_drums for c in columns], dtype=np.int32),
-                        _attrs("1", "number of drums of the shaft")),
+            "n_drums": (
+                "structure",
+                np.array([c.n_drums for c in columns], dtype=np.int32),
+                _attrs("1", "number of drums of the shaft"),
+            ),
             "height": ("structure", [c.height for c in columns], _attrs("m", "shaft height")),
             "width": ("structure", [c.width for c in columns], _attrs("m", "shaft width")),
-            "capital_height": ("structure", [c.capital[0] if c.capital else 0.0 for c in columns],
-                               _attrs("m", "capital height (0: no capital)")),
-            "capital_width": ("structure", [c.capital[1] if c.capital else 0.0 for c in columns],
-                              _attrs("m", "capital width (0: no capital)")),
-            "friction": ("structure", [c.friction for c in columns], _attrs("1", "friction coefficient mu of the study")),
-            "alpha": ("structure", [rigid[j].alpha for j in range(len(columns))],
-                      _attrs("rad", "slenderness atan(b / h_G) of the column as one rigid body")),
-            "theta0": ("structure", [THETA0_RATIO * rigid[j].alpha for j in range(len(columns))],
-                       _attrs("rad", "initial tilt (released from rest)")),
-            "mass": ("structure", [rigid[j].mass for j in range(len(columns))], _attrs("kg", "column mass per metre of depth")),
-            "impact": ("impact", np.arange(1, n_impacts + 1), _attrs("1", "impact number on the base joint")),
-            "peak": ("peak", np.arange(n_impacts + 1), _attrs("1", "half cycle (0: release, n: after impact n)")),
+            "capital_height": (
+                "structure",
+                [c.capital[0] if c.capital else 0.0 for c in columns],
+                _attrs("m", "capital height (0: no capital)"),
+            ),
+            "capital_width": (
+                "structure",
+                [c.capital[1] if c.capital else 0.0 for c in columns],
+                _attrs("m", "capital width (0: no capital)"),
+            ),
+            "friction": (
+                "structure",
+                [c.friction for c in columns],
+                _attrs("1", "friction coefficient mu of the study"),
+            ),
+            "alpha": (
+                "structure",
+                [rigid[j].alpha for j in range(len(columns))],
+                _attrs("rad", "slenderness atan(b / h_G) of the column as one rigid body"),
+            ),
+            "theta0": (
+                "structure",
+                [THETA0_RATIO * rigid[j].alpha for j in range(len(columns))],
+                _attrs("rad", "initial tilt (released from rest)"),
+            ),
+            "mass": (
+                "structure",
+                [rigid[j].mass for j in range(len(columns))],
+                _attrs("kg", "column mass per metre of depth"),
+            ),
+            "impact": (
+                "impact",
+                np.arange(1, n_impacts + 1),
+                _attrs("1", "impact number on the base joint"),
+            ),
+            "peak": (
+                "peak",
+                np.arange(n_impacts + 1),
+                _attrs("1", "half cycle (0: release, n: after impact n)"),
+            ),
         },
         attrs={
             "title": "impact loss: energy ratio per impact of the study's columns in free rocking",
@@ -455,15 +647,24 @@ def restitution_table(columns: list[Column], contacts: dict, n_impacts: int = N_
             "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} stonedem.bench.restitution",
             "platform": f"python {platform.python_version()}, {os.cpu_count()} cores, {sys.platform}",
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
-            "n_impacts": n_impacts, "theta0_over_alpha": THETA0_RATIO, "min_fraction": MIN_FRACTION,
-            "output_interval": SAMPLE_EVERY, "output_interval_units": "s",
+            "n_impacts": n_impacts,
+            "theta0_over_alpha": THETA0_RATIO,
+            "min_fraction": MIN_FRACTION,
+            "output_interval": SAMPLE_EVERY,
+            "output_interval_units": "s",
             "dt_mode": "auto",
-            "dt_safety": ", ".join(f"{law} {row.dt_safety:g}" for law, row in CONTACT_LAWS.items()) + " (the engine's auto, per law)",
+            "dt_safety": ", ".join(f"{law} {row.dt_safety:g}" for law, row in CONTACT_LAWS.items())
+            + " (the engine's auto, per law)",
             "integrator": "central difference (leapfrog form)",
-            "excitation": "none (free rocking on a fixed base)", "depth": 1.0, "gravity": analytic.G,
-            "housner_energy_ratio_monolith": analytic.housner_restitution(monolith.width, monolith.height),
+            "excitation": "none (free rocking on a fixed base)",
+            "depth": 1.0,
+            "gravity": analytic.G,
+            "housner_energy_ratio_monolith": analytic.housner_restitution(
+                monolith.width, monolith.height
+            ),
             "monolith": f"{monolith.width:g} x {monolith.height:g} m, density {monolith.density:g} kg m-3",
-            "critical_damping_monolith": critical, "critical_damping_monolith_units": "N s m-1",
+            "critical_damping_monolith": critical,
+            "critical_damping_monolith_units": "N s m-1",
             "total_wall_seconds": wallclock.perf_counter() - start,
             **{f"law_{law}": LAW_TITLES.get(law, law) for law in laws},
             "studies": "; ".join(f"{c.label}: {', '.join(c.studies)}" for c in columns),
@@ -476,21 +677,29 @@ def table(ds: xr.Dataset) -> str:
     """Readable table: per column and law, Housner's ratio, the rocking and the total energy ratios."""
     n = ds.sizes["impact"]
     width = 7 * n
-    lines = [f"{'':33s} {'':7s}  {'rocking energy ratio':^{width}s}  {'total energy ratio':^{width}s}",
-             f"{'column':18s} {'law':14s} {'Housner':>7s}  "
-             + "".join(f"{k:>7d}" for k in ds.impact.values) + "  "
-             + "".join(f"{k:>7d}" for k in ds.impact.values)]
+    lines = [
+        f"{'':33s} {'':7s}  {'rocking energy ratio':^{width}s}  {'total energy ratio':^{width}s}",
+        f"{'column':18s} {'law':14s} {'Housner':>7s}  "
+        + "".join(f"{k:>7d}" for k in ds.impact.values)
+        + "  "
+        + "".join(f"{k:>7d}" for k in ds.impact.values),
+    ]
     for s in ds.structure.values:
         for law in ds.law.values:
             sub = ds.sel(structure=s, law=law)
-            lines.append(f"{s:18s} {law:14s} {float(sub.housner_energy_ratio):7.4f}  "
-                         + "".join(f"{v:7.4f}" for v in sub.rocking_energy_ratio.values) + "  "
-                         + "".join(f"{v:7.4f}" for v in sub.energy_ratio.values))
+            lines.append(
+                f"{s:18s} {law:14s} {float(sub.housner_energy_ratio):7.4f}  "
+                + "".join(f"{v:7.4f}" for v in sub.rocking_energy_ratio.values)
+                + "  "
+                + "".join(f"{v:7.4f}" for v in sub.energy_ratio.values)
+            )
     notes = []
     for law in ds.law.values:
         if ds.contact_model.sel(law=law) == "area":
-            notes.append(f"{law}: c_n = {float(ds.c_n.sel(law=law)):.4g} N s/m = "
-                         f"{float(ds.c_n_over_critical.sel(law=law)):.3g} x critical")
+            notes.append(
+                f"{law}: c_n = {float(ds.c_n.sel(law=law)):.4g} N s/m = "
+                f"{float(ds.c_n_over_critical.sel(law=law)):.3g} x critical"
+            )
     return "\n".join(lines + (["(" + "; ".join(notes) + ")"] if notes else []))
 
 
@@ -498,13 +707,27 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.restitution", __doc__)
-    parser.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "bench"),
-                        help="directory (writes restitution.nc) or a .nc path")
-    parser.add_argument("--config", type=options.path_arg, nargs="+", default=[ROOT / "config" / "config.yaml"],
-                        help="config file(s), merged in order like snakemake --configfile")
-    parser.add_argument("--quick", action="store_true",
-                        help="the monolith and the 2-drum column only, no capitals (CI)")
-    parser.add_argument("--laws", nargs="+", default=list(LAWS), choices=LAWS, help="contact laws, each once")
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=str(ROOT / "results" / "bench"),
+        help="directory (writes restitution.nc) or a .nc path",
+    )
+    parser.add_argument(
+        "--config",
+        type=options.path_arg,
+        nargs="+",
+        default=[ROOT / "config" / "config.yaml"],
+        help="config file(s), merged in order like snakemake --configfile",
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="the monolith and the 2-drum column only, no capitals (CI)",
+    )
+    parser.add_argument(
+        "--laws", nargs="+", default=list(LAWS), choices=LAWS, help="contact laws, each once"
+    )
     return parser
 
 
@@ -522,25 +745,37 @@ def check_args(args):
         options.input_file(config_path, "--config", "YAML config file")
     config = options.workflow_config(args.config)
     if not isinstance(config.get("studies"), dict) or not config["studies"]:
-        raise InputError("--config", "no studies: mapping in the config",
-                         "give the workflow's config file(s), e.g. config/config.yaml")
+        raise InputError(
+            "--config",
+            "no studies: mapping in the config",
+            "give the workflow's config file(s), e.g. config/config.yaml",
+        )
     model = study_contact(config)["model"]
     if model != "point":
-        raise InputError("--config", f"the study's contact (defaults.contact.model) is {model!r}",
-                         "this benchmark runs the study's contact as the point law; give a config whose model is point")
+        raise InputError(
+            "--config",
+            f"the study's contact (defaults.contact.model) is {model!r}",
+            "this benchmark runs the study's contact as the point law; give a config whose model is point",
+        )
     try:
         columns = study_columns(config)
     except (AttributeError, KeyError, TypeError, ValueError) as err:
         if isinstance(err, InputError):
             raise
-        raise InputError("--config", f"the studies cannot be read ({type(err).__name__}: {err})",
-                         "give the workflow's config file(s), e.g. config/config.yaml") from None
+        raise InputError(
+            "--config",
+            f"the studies cannot be read ({type(err).__name__}: {err})",
+            "give the workflow's config file(s), e.g. config/config.yaml",
+        ) from None
     if args.quick:
         columns = quick_columns(columns)
     monolith = next((c for c in columns if c.n_drums == 1 and not c.capital), None)
     if monolith is None:
-        raise InputError("--config", "no study runs a 1-drum column without capital (the monolith)",
-                         "give the workflow's config file(s), e.g. config/config.yaml")
+        raise InputError(
+            "--config",
+            "no study runs a 1-drum column without capital (the monolith)",
+            "give the workflow's config file(s), e.g. config/config.yaml",
+        )
     return path, config, columns, monolith
 
 

@@ -61,9 +61,13 @@ def threshold_result(result: dict) -> dict:
     """A member's search (:func:`stonedem.study.ensemble.member_search`) as this benchmark
     keeps it: its runs as a collapse map, "value:X" (collapsed) or "value:." in value order."""
     runs = sorted(result["runs"], key=lambda run: run[0])
-    return {**{key: result[key] for key in ("lower", "upper", "n_runs", "status")},
-            "collapse_map": " ".join(f"{value:.4g}:{'X' if collapsed else '.'}" for value, collapsed, _ in runs),
-            "dt": result["dt"]}
+    return {
+        **{key: result[key] for key in ("lower", "upper", "n_runs", "status")},
+        "collapse_map": " ".join(
+            f"{value:.4g}:{'X' if collapsed else '.'}" for value, collapsed, _ in runs
+        ),
+        "dt": result["dt"],
+    }
 
 
 def run_all(cases, systems, n_perturbations: int, jobs: int, log=sys.stderr):
@@ -72,9 +76,18 @@ def run_all(cases, systems, n_perturbations: int, jobs: int, log=sys.stderr):
     stripe fills: the searches first, they are the longest tasks)."""
     from stonedem.study.ensemble import run_members
 
-    results = run_members(cases, systems, range(n_perturbations + 1), jobs, log=log, stripes=False,
-                          label="perturbation")
-    return results.verdicts, [[threshold_result(result) for result in row] for row in results.searches]
+    results = run_members(
+        cases,
+        systems,
+        range(n_perturbations + 1),
+        jobs,
+        log=log,
+        stripes=False,
+        label="perturbation",
+    )
+    return results.verdicts, [
+        [threshold_result(result) for result in row] for row in results.searches
+    ]
 
 
 def rounding_dataset(cases, systems, verdicts, thresholds, n_perturbations: int) -> xr.Dataset:
@@ -85,51 +98,114 @@ def rounding_dataset(cases, systems, verdicts, thresholds, n_perturbations: int)
 
     perturbation = np.arange(n_perturbations + 1)
     coords = {
-        "perturbation": ("perturbation", perturbation,
-                         {"units": "1", "long_name": "j: contact stiffness k_n times 1 - j 2^-52 (0: as configured)"}),
-        "stiffness_factor": ("perturbation", np.array([stiffness_factor(j) for j in perturbation]),
-                             {"units": "1", "long_name": "factor on the contact stiffness k_n"}),
+        "perturbation": (
+            "perturbation",
+            perturbation,
+            {
+                "units": "1",
+                "long_name": "j: contact stiffness k_n times 1 - j 2^-52 (0: as configured)",
+            },
+        ),
+        "stiffness_factor": (
+            "perturbation",
+            np.array([stiffness_factor(j) for j in perturbation]),
+            {"units": "1", "long_name": "factor on the contact stiffness k_n"},
+        ),
     }
     data = {}
     if cases:
+
         def table(key, dtype=float):
             return np.array([[v[key] for v in row] for row in verdicts], dtype=dtype)
 
-        coords["case"] = ("case", [f"{c.study}/{c.id}" for c in cases], {"units": "1", "long_name": "study/case"})
-        coords["case_study"] = ("case", [c.study for c in cases], {"units": "1", "long_name": "study of the case"})
-        data["collapsed"] = (("case", "perturbation"), table("collapsed", np.int8),
-                             {"units": "1", "long_name": "collapse verdict (1: collapsed)"})
-        data["max_rocking"] = (("case", "perturbation"), table("max_rocking"),
-                               {"units": "rad", "long_name": "peak mean rotation of the rocking bodies"})
-        data["case_dt"] = (("case", "perturbation"), table("dt"), {"units": "s", "long_name": "time step of the run"})
+        coords["case"] = (
+            "case",
+            [f"{c.study}/{c.id}" for c in cases],
+            {"units": "1", "long_name": "study/case"},
+        )
+        coords["case_study"] = (
+            "case",
+            [c.study for c in cases],
+            {"units": "1", "long_name": "study of the case"},
+        )
+        data["collapsed"] = (
+            ("case", "perturbation"),
+            table("collapsed", np.int8),
+            {"units": "1", "long_name": "collapse verdict (1: collapsed)"},
+        )
+        data["max_rocking"] = (
+            ("case", "perturbation"),
+            table("max_rocking"),
+            {"units": "rad", "long_name": "peak mean rotation of the rocking bodies"},
+        )
+        data["case_dt"] = (
+            ("case", "perturbation"),
+            table("dt"),
+            {"units": "s", "long_name": "time step of the run"},
+        )
     if systems:
+
         def grid(key, dtype=float):
             return np.array([[t[key] for t in row] for row in thresholds], dtype=dtype)
 
         measures = [s.search.parameter for s in systems]
         unit = PARAMETERS[measures[0]][1] if len(set(measures)) == 1 else "see search_parameter"
-        coords["system"] = ("system", [f"{s.study}/{s.id}" for s in systems],
-                            {"units": "1", "long_name": "study/system of a threshold search"})
-        coords["search_parameter"] = ("system", measures, {"units": "1", "long_name": "intensity measure searched"})
-        coords["search_tolerance"] = ("system", np.array([s.search.tolerance for s in systems]),
-                                      {"units": "1", "long_name": "bracket the search aims for"})
-        data["collapse_value"] = (("system", "perturbation"), grid("upper"),
-                                  {"units": unit, "long_name": "smallest value run that collapsed (the threshold)"})
-        data["survived_value"] = (("system", "perturbation"), grid("lower"),
-                                  {"units": unit, "long_name": "largest value below it that survived"})
-        data["search_status"] = (("system", "perturbation"), grid("status", object),
-                                 {"units": "1", "long_name": "how the search ended"})
-        data["n_runs"] = (("system", "perturbation"), grid("n_runs", np.int32), {"units": "1", "long_name": "runs"})
-        data["collapse_map"] = (("system", "perturbation"), grid("collapse_map", object),
-                                {"units": "1", "long_name": "every run, value:X collapsed, value:. survived"})
-        data["search_dt"] = (("system", "perturbation"), grid("dt"),
-                             {"units": "s", "long_name": "time step of the search's first run"})
-    ds = xr.Dataset(data, coords=coords, attrs={
-        "title": "rounding sensitivity: the study's verdicts and thresholds with k_n changed in its last bits",
-        "source": code_version(), "machine": f"{os.cpu_count()} cores, {sys.platform}",
-        "perturbation": "contact stiffness k_n times 1 - j 2^-52, j = 1..K",
-        "n_perturbations": int(n_perturbations),
-    })
+        coords["system"] = (
+            "system",
+            [f"{s.study}/{s.id}" for s in systems],
+            {"units": "1", "long_name": "study/system of a threshold search"},
+        )
+        coords["search_parameter"] = (
+            "system",
+            measures,
+            {"units": "1", "long_name": "intensity measure searched"},
+        )
+        coords["search_tolerance"] = (
+            "system",
+            np.array([s.search.tolerance for s in systems]),
+            {"units": "1", "long_name": "bracket the search aims for"},
+        )
+        data["collapse_value"] = (
+            ("system", "perturbation"),
+            grid("upper"),
+            {"units": unit, "long_name": "smallest value run that collapsed (the threshold)"},
+        )
+        data["survived_value"] = (
+            ("system", "perturbation"),
+            grid("lower"),
+            {"units": unit, "long_name": "largest value below it that survived"},
+        )
+        data["search_status"] = (
+            ("system", "perturbation"),
+            grid("status", object),
+            {"units": "1", "long_name": "how the search ended"},
+        )
+        data["n_runs"] = (
+            ("system", "perturbation"),
+            grid("n_runs", np.int32),
+            {"units": "1", "long_name": "runs"},
+        )
+        data["collapse_map"] = (
+            ("system", "perturbation"),
+            grid("collapse_map", object),
+            {"units": "1", "long_name": "every run, value:X collapsed, value:. survived"},
+        )
+        data["search_dt"] = (
+            ("system", "perturbation"),
+            grid("dt"),
+            {"units": "s", "long_name": "time step of the search's first run"},
+        )
+    ds = xr.Dataset(
+        data,
+        coords=coords,
+        attrs={
+            "title": "rounding sensitivity: the study's verdicts and thresholds with k_n changed in its last bits",
+            "source": code_version(),
+            "machine": f"{os.cpu_count()} cores, {sys.platform}",
+            "perturbation": "contact stiffness k_n times 1 - j 2^-52, j = 1..K",
+            "n_perturbations": int(n_perturbations),
+        },
+    )
     return summarize(ds)
 
 
@@ -140,20 +216,44 @@ def summarize(ds: xr.Dataset) -> xr.Dataset:
     ds = ds.copy()
     first = ds.perturbation.values[0]
     if "case" in ds.dims:
-        changed = ds.collapsed.sel(perturbation=ds.perturbation[1:]) != ds.collapsed.sel(perturbation=first)
-        ds["verdict_flips"] = changed.sum("perturbation").astype(np.int32).assign_attrs(
-            units="1", long_name="perturbations whose verdict differs from perturbation 0")
+        changed = ds.collapsed.sel(perturbation=ds.perturbation[1:]) != ds.collapsed.sel(
+            perturbation=first
+        )
+        ds["verdict_flips"] = (
+            changed.sum("perturbation")
+            .astype(np.int32)
+            .assign_attrs(
+                units="1", long_name="perturbations whose verdict differs from perturbation 0"
+            )
+        )
         studies = list(dict.fromkeys(str(s) for s in ds.case_study.values))
-        in_study = xr.DataArray(np.array([[str(s) == name for s in ds.case_study.values] for name in studies]),
-                                dims=("study", "case"))
-        ds = ds.assign_coords(study=("study", studies, {"units": "1", "long_name": "study of the config"}))
-        ds["study_cases"] = in_study.sum("case").astype(np.int32).assign_attrs(units="1", long_name="cases")
-        ds["study_verdicts_changed"] = (in_study & changed).sum("case").max("perturbation").astype(np.int32).assign_attrs(
-            units="1", long_name="most verdicts one perturbation changed")
-        ds["study_cases_changed"] = (in_study & (ds.verdict_flips > 0)).sum("case").astype(np.int32).assign_attrs(
-            units="1", long_name="cases whose verdict any perturbation changed")
+        in_study = xr.DataArray(
+            np.array([[str(s) == name for s in ds.case_study.values] for name in studies]),
+            dims=("study", "case"),
+        )
+        ds = ds.assign_coords(
+            study=("study", studies, {"units": "1", "long_name": "study of the config"})
+        )
+        ds["study_cases"] = (
+            in_study.sum("case").astype(np.int32).assign_attrs(units="1", long_name="cases")
+        )
+        ds["study_verdicts_changed"] = (
+            (in_study & changed)
+            .sum("case")
+            .max("perturbation")
+            .astype(np.int32)
+            .assign_attrs(units="1", long_name="most verdicts one perturbation changed")
+        )
+        ds["study_cases_changed"] = (
+            (in_study & (ds.verdict_flips > 0))
+            .sum("case")
+            .astype(np.int32)
+            .assign_attrs(units="1", long_name="cases whose verdict any perturbation changed")
+        )
         ds.attrs["n_cases"] = int(ds.sizes["case"])
-        ds.attrs["verdicts_changed_per_perturbation"] = np.array(changed.sum("case").values, dtype=np.int32)
+        ds.attrs["verdicts_changed_per_perturbation"] = np.array(
+            changed.sum("case").values, dtype=np.int32
+        )
         ds.attrs["cases_with_any_change"] = int((ds.verdict_flips > 0).sum())
     if "system" in ds.dims:
         upper = ds.collapse_value
@@ -161,17 +261,27 @@ def summarize(ds: xr.Dataset) -> xr.Dataset:
         base = upper.sel(perturbation=first)
         shift = abs(upper.sel(perturbation=ds.perturbation[1:]) / base - 1.0).max("perturbation")
         width = base / ds.survived_value.sel(perturbation=first) - 1.0
-        ds["threshold"] = base.assign_attrs(units=unit, long_name="threshold as configured (perturbation 0)")
+        ds["threshold"] = base.assign_attrs(
+            units=unit, long_name="threshold as configured (perturbation 0)"
+        )
         ds["threshold_min"] = upper.min("perturbation").assign_attrs(
-            units=unit, long_name="smallest threshold over the perturbations")
+            units=unit, long_name="smallest threshold over the perturbations"
+        )
         ds["threshold_max"] = upper.max("perturbation").assign_attrs(
-            units=unit, long_name="largest threshold over the perturbations")
-        ds["threshold_spread"] = (upper.max("perturbation") / upper.min("perturbation") - 1.0).assign_attrs(
-            units="1", long_name="largest / smallest threshold - 1")
+            units=unit, long_name="largest threshold over the perturbations"
+        )
+        ds["threshold_spread"] = (
+            upper.max("perturbation") / upper.min("perturbation") - 1.0
+        ).assign_attrs(units="1", long_name="largest / smallest threshold - 1")
         ds["threshold_shift"] = shift.assign_attrs(
-            units="1", long_name="largest |threshold / configured threshold - 1| of a perturbation")
-        ds["bracket_width"] = width.assign_attrs(units="1", long_name="search bracket as configured: collapse / survived - 1")
-        ds["shift_in_brackets"] = (shift / width).assign_attrs(units="1", long_name="threshold_shift / bracket_width")
+            units="1", long_name="largest |threshold / configured threshold - 1| of a perturbation"
+        )
+        ds["bracket_width"] = width.assign_attrs(
+            units="1", long_name="search bracket as configured: collapse / survived - 1"
+        )
+        ds["shift_in_brackets"] = (shift / width).assign_attrs(
+            units="1", long_name="threshold_shift / bracket_width"
+        )
         ds.attrs["n_systems"] = int(ds.sizes["system"])
         ds.attrs["systems_shifted_past_bracket"] = int((ds.shift_in_brackets > 1.0).sum())
         ds.attrs["largest_threshold_shift"] = float(ds.threshold_shift.max())
@@ -183,15 +293,19 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     lines = []
     if "study" in ds.dims:
         for k, study in enumerate(ds.study.values):
-            lines.append(f"{study}: {int(ds.study_cases[k])} cases, {int(ds.study_cases_changed[k])} with a verdict "
-                         f"changed (at most {int(ds.study_verdicts_changed[k])} by one perturbation)")
+            lines.append(
+                f"{study}: {int(ds.study_cases[k])} cases, {int(ds.study_cases_changed[k])} with a verdict "
+                f"changed (at most {int(ds.study_verdicts_changed[k])} by one perturbation)"
+            )
         per = [int(v) for v in np.atleast_1d(ds.attrs["verdicts_changed_per_perturbation"])]
         lines.append(f"verdicts changed per perturbation: {per} of {ds.attrs['n_cases']}")
     if "system" in ds.dims:
         for k, name in enumerate(ds.system.values):
             values = ", ".join(f"{v:.4g}" for v in ds.collapse_value.values[k])
-            lines.append(f"{name}: thresholds {values}; largest shift {100 * float(ds.threshold_shift[k]):.1f} % = "
-                         f"{float(ds.shift_in_brackets[k]):.2f} brackets")
+            lines.append(
+                f"{name}: thresholds {values}; largest shift {100 * float(ds.threshold_shift[k]):.1f} % = "
+                f"{float(ds.shift_in_brackets[k]):.2f} brackets"
+            )
     return lines
 
 
@@ -200,14 +314,30 @@ def build_parser():
 
     parser = options.parser("python -m stonedem.bench.rounding", __doc__)
     options.add_study_arguments(parser)
-    parser.add_argument("--perturbations", type=int, default=3,
-                        help=f"K, perturbations besides the configured run, 1 to {MAX_PERTURBATIONS} (default 3)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)")
-    parser.add_argument("--limit", type=int, default=0,
-                        help=f"at most this many grid cases and this many search systems, 0 to {MAX_LIMIT} (0: all)")
-    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"),
-                        help=f"output folder (writes {OUTPUT})")
+    parser.add_argument(
+        "--perturbations",
+        type=int,
+        default=3,
+        help=f"K, perturbations besides the configured run, 1 to {MAX_PERTURBATIONS} (default 3)",
+    )
+    parser.add_argument(
+        "--jobs",
+        type=int,
+        default=os.cpu_count() or 1,
+        help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)",
+    )
+    parser.add_argument(
+        "--limit",
+        type=int,
+        default=0,
+        help=f"at most this many grid cases and this many search systems, 0 to {MAX_LIMIT} (0: all)",
+    )
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=Path("results/bench"),
+        help=f"output folder (writes {OUTPUT})",
+    )
     return parser
 
 
@@ -216,8 +346,9 @@ def check_args(args):
     found), or an InputError before anything runs."""
     from stonedem.bench import options
 
-    n_perturbations = options.number(args.perturbations, "--perturbations", lo=1, hi=MAX_PERTURBATIONS,
-                                     whole=True, example="3")
+    n_perturbations = options.number(
+        args.perturbations, "--perturbations", lo=1, hi=MAX_PERTURBATIONS, whole=True, example="3"
+    )
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
     limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
     path = options.output_folder(args.out, "--out", files=(OUTPUT,)) / OUTPUT
@@ -238,8 +369,12 @@ def main(argv=None) -> int:
         code_version()  # the commit as the run starts (asked once a process): a checkout may move during it
         cases, systems, n_perturbations, jobs, path = check_args(args)
         start = time.perf_counter()
-        print(f"{len(cases)} cases and {len(systems)} threshold searches, each as configured and with "
-              f"{n_perturbations} perturbation(s) of k_n in its last bits, on {jobs} process(es)", file=sys.stderr, flush=True)
+        print(
+            f"{len(cases)} cases and {len(systems)} threshold searches, each as configured and with "
+            f"{n_perturbations} perturbation(s) of k_n in its last bits, on {jobs} process(es)",
+            file=sys.stderr,
+            flush=True,
+        )
         verdicts, thresholds = run_all(cases, systems, n_perturbations, jobs)
         ds = rounding_dataset(cases, systems, verdicts, thresholds, n_perturbations)
         ds.attrs["wall_seconds"] = time.perf_counter() - start

@@ -34,12 +34,12 @@ import numpy as np
 import xarray as xr
 
 from stonedem.bench.ours import critical_damping as critical_damping_of
-from stonedem.io.netcdf import code_version, write_dataset
-from stonedem.kernels import step
-from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene, box_pairs, scene_from_dict
 from stonedem.engine.simulate import RunResult, choose_time_step, simulate, stability_limit
+from stonedem.io.netcdf import code_version, write_dataset
+from stonedem.kernels import step
+from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons
 from stonedem.validation.cases import block_scene
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -56,6 +56,7 @@ SAMPLE_EVERY = 1e-3  # [s] between samples (energy and overlap are checked on sa
 # dt <= limit stays below 6.1e-3 (error ~ dt^2: ~1e-4 at 0.25 x limit); runs that go
 # unstable jump to 2e-2 ... 9.
 from stonedem.engine.simulate import ENERGY_FLOOR, ENERGY_TOLERANCE, energy_drift  # noqa: E402  (shared with every run)
+
 HARMONIC = {"kind": "harmonic", "frequency": 2.0, "amplitude": 0.1}  # PGA 15.8 m s-2
 
 
@@ -67,26 +68,46 @@ def contact_spec(model: str, k_n: float, damping: float = 0.0) -> dict:
     raise ValueError(f"unknown contact model {model!r}; use one of {CONTACT_MODELS}")
 
 
-def scene_spec(kind: str, k_n: float, damping: float = 0.0, duration: float = DURATION,
-               model: str = "point") -> dict:
+def scene_spec(
+    kind: str, k_n: float, damping: float = 0.0, duration: float = DURATION, model: str = "point"
+) -> dict:
     """Scene mapping of one map scene kind (block, column, colonnade); damping as in :func:`contact_spec`."""
     contact = contact_spec(model, k_n, damping)
     solver = {"duration": duration, "stop_on_collapse": False}
     if kind == "block":
         # free rocking of a 0.25 x 1 m block released at half its slenderness angle
-        spec = block_scene(0.25, 1.0, tilt=0.5 * math.atan(0.25 / 1.0), contact=contact,
-                           duration=duration, every=SAMPLE_EVERY)
+        spec = block_scene(
+            0.25,
+            1.0,
+            tilt=0.5 * math.atan(0.25 / 1.0),
+            contact=contact,
+            duration=duration,
+            every=SAMPLE_EVERY,
+        )
         spec["solver"]["stop_on_collapse"] = False
         return spec
     if kind == "column":
         structure = {"kind": "column", "n_drums": 8, "height": 6.0, "width": 1.0}
     elif kind == "colonnade":
-        structure = {"kind": "colonnade", "n_columns": 3, "n_drums": 2, "height": 6.0, "width": 1.0,
-                     "clear_distance": 2.0, "epistyle_type": "a"}
+        structure = {
+            "kind": "colonnade",
+            "n_columns": 3,
+            "n_drums": 2,
+            "height": 6.0,
+            "width": 1.0,
+            "clear_distance": 2.0,
+            "epistyle_type": "a",
+        }
     else:
         raise ValueError(f"unknown scene kind {kind!r}; use one of {SCENE_KINDS}")
-    return {"structure": structure, "friction": 0.5, "contact": contact, "excitation": dict(HARMONIC),
-            "solver": solver, "output": {"every": SAMPLE_EVERY}}
+    return {
+        "structure": structure,
+        "friction": 0.5,
+        "contact": contact,
+        "excitation": dict(HARMONIC),
+        "solver": solver,
+        "output": {"every": SAMPLE_EVERY},
+    }
 
 
 def critical_damping(scene: Scene) -> float:
@@ -96,14 +117,17 @@ def critical_damping(scene: Scene) -> float:
     return critical_damping_of(scene.contact.k_n, float(np.ptp(body.vertices[:, 0])), body.mass)
 
 
-def map_scene(kind: str, k_n: float, damping: float, duration: float = DURATION,
-              model: str = "point") -> Scene:
+def map_scene(
+    kind: str, k_n: float, damping: float, duration: float = DURATION, model: str = "point"
+) -> Scene:
     """Scene of the map: point law with zeta = ``damping``, or area law with c_n (and c_t) at
     ``damping`` x critical."""
     if model == "point":
         return scene_from_dict(scene_spec(kind, k_n, damping, duration, model))
     undamped = scene_from_dict(scene_spec(kind, k_n, 0.0, duration, model))
-    return scene_from_dict(scene_spec(kind, k_n, damping * critical_damping(undamped), duration, model))
+    return scene_from_dict(
+        scene_spec(kind, k_n, damping * critical_damping(undamped), duration, model)
+    )
 
 
 def damping_long_name(model: str) -> str:
@@ -117,7 +141,9 @@ def run_at_ratio(scene: Scene, ratio: float, sample_every: float = SAMPLE_EVERY)
     """Simulate ``scene`` at dt = ratio x stability limit, past the limit too (see module doc)."""
     dt = ratio * stability_limit(scene)
     every = max(1, round(sample_every / dt)) * dt
-    probe = dataclasses.replace(scene, dt=None, dt_safety=ratio, output_every=every, stop_on_collapse=False)
+    probe = dataclasses.replace(
+        scene, dt=None, dt_safety=ratio, output_every=every, stop_on_collapse=False
+    )
     return simulate(probe)
 
 
@@ -151,8 +177,16 @@ def overlap_depths(scene: Scene, result: RunResult) -> np.ndarray:
         lo = np.array([[w[0].min(), w[1].min()] for w in world])
         hi = np.array([[w[0].max(), w[1].max()] for w in world])
         for i, j in box_pairs(lo, hi, 0.0):
-            k = clip_convex_polygons(world[i][0], world[i][1], world[j][0], world[j][1],
-                                     scratch[0], scratch[1], scratch[2], scratch[3])
+            k = clip_convex_polygons(
+                world[i][0],
+                world[i][1],
+                world[j][0],
+                world[j][1],
+                scratch[0],
+                scratch[1],
+                scratch[2],
+                scratch[3],
+            )
             if k >= 3:
                 depth[s] = max(depth[s], min_width(scratch[0, :k].copy(), scratch[1, :k].copy()))
     return depth
@@ -163,25 +197,50 @@ def assess(scene: Scene, result: RunResult, tolerance: float = ENERGY_TOLERANCE)
     finite = result.status != step.STATUS_NONFINITE and np.all(np.isfinite(result.energy))
     energy = energy_drift(result)
     depths = overlap_depths(scene, result)
-    return {"stable": bool(finite and energy["energy_error"] < tolerance), "finite": bool(finite), **energy,
-            "max_overlap_depth": float(np.nanmax(depths)) if np.isfinite(depths).any() else math.nan,
-            "dt": result.dt, "dt_limit": result.dt_limit, "wall_seconds": result.wall_seconds}
+    return {
+        "stable": bool(finite and energy["energy_error"] < tolerance),
+        "finite": bool(finite),
+        **energy,
+        "max_overlap_depth": float(np.nanmax(depths)) if np.isfinite(depths).any() else math.nan,
+        "dt": result.dt,
+        "dt_limit": result.dt_limit,
+        "wall_seconds": result.wall_seconds,
+    }
 
 
 VARIABLES = {  # name: (units, long name)
     "stable": ("1", "run stable: finite and |energy balance drift| < energy_tolerance (1 = yes)"),
     "finite": ("1", "every sampled pose and energy finite (1 = yes)"),
-    "energy_error": ("1", "max |energy balance drift| / (max kinetic + max |potential change| + max |base work|)"),
-    "energy_created": ("1", "max energy balance drift (positive = energy created), same scale as energy_error"),
-    "energy_error_total": ("1", "max |energy balance drift| / initial kinetic + potential energy (datum: base top)"),
-    "max_overlap_depth": ("m", "deepest overlap between two bodies over the samples (overlap polygon's smallest width)"),
+    "energy_error": (
+        "1",
+        "max |energy balance drift| / (max kinetic + max |potential change| + max |base work|)",
+    ),
+    "energy_created": (
+        "1",
+        "max energy balance drift (positive = energy created), same scale as energy_error",
+    ),
+    "energy_error_total": (
+        "1",
+        "max |energy balance drift| / initial kinetic + potential energy (datum: base top)",
+    ),
+    "max_overlap_depth": (
+        "m",
+        "deepest overlap between two bodies over the samples (overlap polygon's smallest width)",
+    ),
     "dt": ("s", "time step of the run"),
     "wall_seconds": ("s", "wall time of the stepping"),
 }
 
 
-def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS, duration=DURATION,
-                  damping_fractions=DAMPING_FRACTIONS, progress: bool = True, model: str = "point") -> xr.Dataset:
+def stability_map(
+    k_n_values=K_N_VALUES,
+    dt_ratios=DT_RATIOS,
+    scenes=SCENE_KINDS,
+    duration=DURATION,
+    damping_fractions=DAMPING_FRACTIONS,
+    progress: bool = True,
+    model: str = "point",
+) -> xr.Dataset:
     """Stability of short runs over k_n x dt/limit x damping x scene kind (see module doc)."""
     shape = (len(k_n_values), len(dt_ratios), len(damping_fractions), len(scenes))
     data = {name: np.full(shape, np.nan) for name in VARIABLES}
@@ -193,19 +252,25 @@ def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS
             for s, kind in enumerate(scenes):
                 scene = map_scene(kind, k_n, frac, duration, model)
                 limit[i, d, s] = stability_limit(scene)
-                law_damping[i, d, s] = scene.contact.c_n if model == "area" else scene.contact.damping
+                law_damping[i, d, s] = (
+                    scene.contact.c_n if model == "area" else scene.contact.damping
+                )
                 for r, ratio in enumerate(dt_ratios):
                     m = assess(scene, run_at_ratio(scene, ratio))
                     for name in VARIABLES:
                         data[name][i, r, d, s] = float(m[name])
                     done += 1
                     if progress:
-                        print(f"\r  stability map {done}/{total}  {model} {kind} k_n {k_n:.0e} damping {frac:g} "
-                              f"dt {ratio:g} x limit: {'stable' if m['stable'] else 'UNSTABLE'} "
-                              f"(err {m['energy_error']:.1e})   wall {wallclock.perf_counter() - start:6.1f} s",
-                              end="", file=sys.stderr)
+                        print(
+                            f"\r  stability map {done}/{total}  {model} {kind} k_n {k_n:.0e} damping {frac:g} "
+                            f"dt {ratio:g} x limit: {'stable' if m['stable'] else 'UNSTABLE'} "
+                            f"(err {m['energy_error']:.1e})   wall {wallclock.perf_counter() - start:6.1f} s",
+                            end="",
+                            file=sys.stderr,
+                        )
     if progress:
         print(file=sys.stderr)
+
     def var(dims, values, units, long_name):
         return (dims, values, {"units": units, "long_name": long_name})
 
@@ -214,29 +279,57 @@ def stability_map(k_n_values=K_N_VALUES, dt_ratios=DT_RATIOS, scenes=SCENE_KINDS
     ds = xr.Dataset(
         {name: var(dims, data[name], *meta) for name, meta in VARIABLES.items()},
         coords={
-            "k_n": var("k_n", np.array(k_n_values, float), "N m-2",
-                       "normal contact stiffness per unit " + ("contact length (point law)" if model == "point"
-                                                                else "overlap area (area law)")),
-            "dt_ratio": var("dt_ratio", np.array(dt_ratios, float), "1",
-                            "time step / stability limit (stonedem.engine.simulate.stability_limit)"),
-            "damping": var("damping", np.array(damping_fractions, float), "1", damping_long_name(model)),
-            "scene": var("scene", list(scenes), "1",
-                         "scene kind: block 0.25 x 1 m free rocking from 0.5 atan(b/h); column of "
-                         "8 drums 6 x 1 m; colonnade of 3 columns of 2 drums + epistyle (both harmonic)"),
+            "k_n": var(
+                "k_n",
+                np.array(k_n_values, float),
+                "N m-2",
+                "normal contact stiffness per unit "
+                + ("contact length (point law)" if model == "point" else "overlap area (area law)"),
+            ),
+            "dt_ratio": var(
+                "dt_ratio",
+                np.array(dt_ratios, float),
+                "1",
+                "time step / stability limit (stonedem.engine.simulate.stability_limit)",
+            ),
+            "damping": var(
+                "damping", np.array(damping_fractions, float), "1", damping_long_name(model)
+            ),
+            "scene": var(
+                "scene",
+                list(scenes),
+                "1",
+                "scene kind: block 0.25 x 1 m free rocking from 0.5 atan(b/h); column of "
+                "8 drums 6 x 1 m; colonnade of 3 columns of 2 drums + epistyle (both harmonic)",
+            ),
         },
-        attrs={"source": code_version(), "contact_model": model,
-               "contact_impact": "plastic (Housner's landing)" if model == "point" else "none",
-               "energy_tolerance": ENERGY_TOLERANCE, "energy_floor": ENERGY_FLOOR,
-               "duration": duration, "sample_every": SAMPLE_EVERY, "harmonic": str(HARMONIC),
-               "description": "short runs at dt = dt_ratio x stability limit; stable = finite and "
-                              "energy_error < energy_tolerance (stonedem.bench.stability.energy_drift)"},
+        attrs={
+            "source": code_version(),
+            "contact_model": model,
+            "contact_impact": "plastic (Housner's landing)" if model == "point" else "none",
+            "energy_tolerance": ENERGY_TOLERANCE,
+            "energy_floor": ENERGY_FLOOR,
+            "duration": duration,
+            "sample_every": SAMPLE_EVERY,
+            "harmonic": str(HARMONIC),
+            "description": "short runs at dt = dt_ratio x stability limit; stable = finite and "
+            "energy_error < energy_tolerance (stonedem.bench.stability.energy_drift)",
+        },
     )
-    ds["dt_limit"] = var(per_scene, limit, "s", "stability limit (stonedem.engine.simulate.stability_limit)")
+    ds["dt_limit"] = var(
+        per_scene, limit, "s", "stability limit (stonedem.engine.simulate.stability_limit)"
+    )
     if model == "point":
-        ds["zeta"] = var(per_scene, law_damping, "1", "damping ratio of each contact point (contact.damping)")
+        ds["zeta"] = var(
+            per_scene, law_damping, "1", "damping ratio of each contact point (contact.damping)"
+        )
     else:
-        ds["c_n"] = var(per_scene, law_damping, "N s m-1", "normal (and tangential) contact dashpot")
-    ds["auto_dt_ratio"] = var((), 0.25, "1", "automatic dt / stability limit (solver.dt_safety default)")
+        ds["c_n"] = var(
+            per_scene, law_damping, "N s m-1", "normal (and tangential) contact dashpot"
+        )
+    ds["auto_dt_ratio"] = var(
+        (), 0.25, "1", "automatic dt / stability limit (solver.dt_safety default)"
+    )
     for name in ("stable", "finite"):
         ds[name] = ds[name].astype(np.int8)
     return ds
@@ -256,7 +349,9 @@ def study_scenes(config_path=ROOT / "config" / "config.yaml", duration: float = 
     return scenes
 
 
-def critical_ratio(scene: Scene, lo: float = 0.25, hi: float = 4.0, n_bisect: int = 6) -> tuple[float, int]:
+def critical_ratio(
+    scene: Scene, lo: float = 0.25, hi: float = 4.0, n_bisect: int = 6
+) -> tuple[float, int]:
     """(smallest dt/limit found unstable, runs) by bisection on log(ratio) between lo and hi.
 
     hi doubles (up to 16) until a run there is unstable. Returns lo if the run at lo is
@@ -285,8 +380,10 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
     """Automatic dt, stability limit and measured critical dt of one scene per study."""
     scenes = study_scenes() if scenes is None else scenes
     names = list(scenes)
-    rows = {k: np.full(len(names), np.nan)
-            for k in ("dt_auto", "dt_limit", "dt_critical", "margin", "k_n", "c_n", "zeta")}
+    rows = {
+        k: np.full(len(names), np.nan)
+        for k in ("dt_auto", "dt_limit", "dt_critical", "margin", "k_n", "c_n", "zeta")
+    }
     for i, name in enumerate(names):
         scene = scenes[name]
         dt, limit = choose_time_step(scene)
@@ -296,25 +393,54 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
         rows["margin"][i] = ratio * limit / dt
         law = scene.contact
         rows["k_n"][i] = law.k_n
-        rows["c_n" if law.model == "area" else "zeta"][i] = law.c_n if law.model == "area" else law.damping
+        rows["c_n" if law.model == "area" else "zeta"][i] = (
+            law.c_n if law.model == "area" else law.damping
+        )
         if progress:
-            print(f"  auto dt {i + 1}/{len(names)} {name}: auto {dt:.3g} s, limit {limit:.3g} s, "
-                  f"critical {ratio * limit:.3g} s ({runs} runs)", file=sys.stderr)
-    meta = {"dt_auto": ("s", "automatic time step (stonedem.engine.simulate.choose_time_step)"),
-            "dt_limit": ("s", "stability limit (stonedem.engine.simulate.stability_limit)"),
-            "dt_critical": ("s", "smallest measured dt whose short run is unstable (bisection on dt / limit)"),
-            "margin": ("1", "dt_critical / dt_auto"),
-            "k_n": ("N m-2", "normal contact stiffness"),
-            "c_n": ("N s m-1", "normal contact dashpot (area law; NaN: point law)"),
-            "zeta": ("1", "damping ratio of each contact point (point law; NaN: area law)")}
+            print(
+                f"  auto dt {i + 1}/{len(names)} {name}: auto {dt:.3g} s, limit {limit:.3g} s, "
+                f"critical {ratio * limit:.3g} s ({runs} runs)",
+                file=sys.stderr,
+            )
+    meta = {
+        "dt_auto": ("s", "automatic time step (stonedem.engine.simulate.choose_time_step)"),
+        "dt_limit": ("s", "stability limit (stonedem.engine.simulate.stability_limit)"),
+        "dt_critical": (
+            "s",
+            "smallest measured dt whose short run is unstable (bisection on dt / limit)",
+        ),
+        "margin": ("1", "dt_critical / dt_auto"),
+        "k_n": ("N m-2", "normal contact stiffness"),
+        "c_n": ("N s m-1", "normal contact dashpot (area law; NaN: point law)"),
+        "zeta": ("1", "damping ratio of each contact point (point law; NaN: area law)"),
+    }
     models = [scenes[name].contact.model for name in names]
     return xr.Dataset(
-        {**{k: ("study", v, {"units": meta[k][0], "long_name": meta[k][1]}) for k, v in rows.items()},
-         "contact_model": ("study", models, {"units": "1", "long_name": "contact law of the study (point or area)"})},
-        coords={"study": ("study", names, {"units": "1", "long_name": "study of config/config.yaml (its first case)"})},
-        attrs={"source": code_version(), "energy_tolerance": ENERGY_TOLERANCE, "duration": DURATION,
-               "description": "unstable = non-finite or energy_error >= energy_tolerance in a short "
-                              "run (stonedem.bench.stability.energy_drift)"},
+        {
+            **{
+                k: ("study", v, {"units": meta[k][0], "long_name": meta[k][1]})
+                for k, v in rows.items()
+            },
+            "contact_model": (
+                "study",
+                models,
+                {"units": "1", "long_name": "contact law of the study (point or area)"},
+            ),
+        },
+        coords={
+            "study": (
+                "study",
+                names,
+                {"units": "1", "long_name": "study of config/config.yaml (its first case)"},
+            )
+        },
+        attrs={
+            "source": code_version(),
+            "energy_tolerance": ENERGY_TOLERANCE,
+            "duration": DURATION,
+            "description": "unstable = non-finite or energy_error >= energy_tolerance in a short "
+            "run (stonedem.bench.stability.energy_drift)",
+        },
     )
 
 
@@ -326,7 +452,9 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
     import matplotlib.pyplot as plt
 
     scenes = list(ds.scene.values)
-    fig, axes = plt.subplots(1, len(scenes), figsize=(4.2 * len(scenes), 3.8), sharey=True, squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(scenes), figsize=(4.2 * len(scenes), 3.8), sharey=True, squeeze=False
+    )
     n_d = ds.sizes["damping"]
     for ax, scene in zip(axes[0], scenes):
         for d, frac in enumerate(ds.damping.values):
@@ -336,9 +464,23 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
             ok = sub.stable.values.astype(bool)
             color = f"C{d}"
             what = "zeta" if ds.attrs.get("contact_model", "area") == "point" else "c / crit"
-            ax.scatter(kn[ok], ratio[ok], marker="o", facecolors="none", edgecolors=color, s=22,
-                       label=f"stable, {what} = {frac:g}")
-            ax.scatter(kn[~ok], ratio[~ok], marker="x", color=color, s=22, label=f"unstable, {what} = {frac:g}")
+            ax.scatter(
+                kn[ok],
+                ratio[ok],
+                marker="o",
+                facecolors="none",
+                edgecolors=color,
+                s=22,
+                label=f"stable, {what} = {frac:g}",
+            )
+            ax.scatter(
+                kn[~ok],
+                ratio[~ok],
+                marker="x",
+                color=color,
+                s=22,
+                label=f"unstable, {what} = {frac:g}",
+            )
         ax.axhline(float(ds.auto_dt_ratio), color="k", ls="--", lw=1, label="automatic dt")
         ax.axhline(1.0, color="0.5", ls=":", lw=1, label="stability limit")
         ax.set_xscale("log")
@@ -357,8 +499,10 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
 
 def table(ds: xr.Dataset) -> str:
     """Readable table: per scene, damping and k_n, the first unstable ratio and the worst stable error."""
-    lines = [f"{'scene':10s} {'damping':>7s} {'k_n':>8s} {'limit [s]':>10s} {'unstable from':>13s} "
-             f"{'max err (stable)':>16s} {'max overlap [m]':>15s}"]
+    lines = [
+        f"{'scene':10s} {'damping':>7s} {'k_n':>8s} {'limit [s]':>10s} {'unstable from':>13s} "
+        f"{'max err (stable)':>16s} {'max overlap [m]':>15s}"
+    ]
     for scene in ds.scene.values:
         for frac in ds.damping.values:
             for k_n in ds.k_n.values:
@@ -368,8 +512,10 @@ def table(ds: xr.Dataset) -> str:
                 first = f"{bad.min():g} x" if len(bad) else "-"
                 err = np.nanmax(sub.energy_error.values[good]) if good.any() else np.nan
                 ov = np.nanmax(sub.max_overlap_depth.values[good]) if good.any() else np.nan
-                lines.append(f"{scene:10s} {frac:7g} {k_n:8.0e} {float(sub.dt_limit):10.3g} {first:>13s} "
-                             f"{err:16.2e} {ov:15.2e}")
+                lines.append(
+                    f"{scene:10s} {frac:7g} {k_n:8.0e} {float(sub.dt_limit):10.3g} {first:>13s} "
+                    f"{err:16.2e} {ov:15.2e}"
+                )
     return "\n".join(lines)
 
 
@@ -380,18 +526,37 @@ def build_parser():
     from stonedem.bench import options
 
     parser = options.parser("python -m stonedem.bench.stability", __doc__)
-    parser.add_argument("--out", type=options.path_arg, default=str(ROOT / "results" / "bench"),
-                        help="output folder (writes stability_map.nc and auto_dt_margin.nc)")
-    parser.add_argument("--figure", type=options.path_arg, default=str(ROOT / "results" / "figures" / "stability_map.png"),
-                        help="output figure (.png)")
-    parser.add_argument("--duration", type=float, default=DURATION,
-                        help=f"simulated seconds of each run of the map, > 0 and <= {DURATION_RANGE[1]:g} "
-                             f"(default {DURATION}; --quick: 0.2)")
-    parser.add_argument("--quick", action="store_true",
-                        help="two stiffnesses, three step ratios, no damping sweep, three studies (CI)")
-    parser.add_argument("--model", choices=CONTACT_MODELS, default="point",
-                        help="contact law of the map (default: point; the "
-                             "auto-dt margins use each study's own law)")
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=str(ROOT / "results" / "bench"),
+        help="output folder (writes stability_map.nc and auto_dt_margin.nc)",
+    )
+    parser.add_argument(
+        "--figure",
+        type=options.path_arg,
+        default=str(ROOT / "results" / "figures" / "stability_map.png"),
+        help="output figure (.png)",
+    )
+    parser.add_argument(
+        "--duration",
+        type=float,
+        default=DURATION,
+        help=f"simulated seconds of each run of the map, > 0 and <= {DURATION_RANGE[1]:g} "
+        f"(default {DURATION}; --quick: 0.2)",
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="two stiffnesses, three step ratios, no damping sweep, three studies (CI)",
+    )
+    parser.add_argument(
+        "--model",
+        choices=CONTACT_MODELS,
+        default="point",
+        help="contact law of the map (default: point; the "
+        "auto-dt margins use each study's own law)",
+    )
     return parser
 
 
@@ -399,8 +564,15 @@ def check_args(args):
     """(duration [s], folder, figure path, the studies' scenes), or an InputError before anything runs."""
     from stonedem.bench import options
 
-    duration = options.number(args.duration, "--duration", lo=DURATION_RANGE[0], lo_open=True,
-                              hi=DURATION_RANGE[1], unit="s", example="0.5")
+    duration = options.number(
+        args.duration,
+        "--duration",
+        lo=DURATION_RANGE[0],
+        lo_open=True,
+        hi=DURATION_RANGE[1],
+        unit="s",
+        example="0.5",
+    )
     out = options.output_folder(args.out, "--out", files=("stability_map.nc", "auto_dt_margin.nc"))
     figure = options.output_file(args.figure, "--figure", suffixes=(".png",))
     # the studies' scenes of the auto-dt margins, built now: a bad config or a missing record
@@ -418,8 +590,13 @@ def main(argv=None) -> int:
     def command():
         duration, out, figure, scenes = check_args(args)
         if args.quick:
-            ds = stability_map(k_n_values=(1e8, 1e10), dt_ratios=(0.25, 1.0, 2.0), damping_fractions=(0.05,),
-                               duration=0.2, model=args.model)
+            ds = stability_map(
+                k_n_values=(1e8, 1e10),
+                dt_ratios=(0.25, 1.0, 2.0),
+                damping_fractions=(0.05,),
+                duration=0.2,
+                model=args.model,
+            )
         else:
             ds = stability_map(duration=duration, model=args.model)
         write_dataset(ds, out / "stability_map.nc")
@@ -427,11 +604,15 @@ def main(argv=None) -> int:
         plot_stability_map(ds, figure)
         margin = auto_dt_margin(scenes)
         write_dataset(margin, out / "auto_dt_margin.nc")
-        print(f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} {'margin':>7s}")
+        print(
+            f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} {'margin':>7s}"
+        )
         for i, name in enumerate(margin.study.values):
             r = margin.isel(study=i)
-            print(f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} {float(r.dt_critical):12.3g} "
-                  f"{float(r.margin):7.2f}")
+            print(
+                f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} {float(r.dt_critical):12.3g} "
+                f"{float(r.margin):7.2f}"
+            )
         return 0
 
     return options.run(command)

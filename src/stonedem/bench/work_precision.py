@@ -51,17 +51,19 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.reference import analytic
 from stonedem.bench import canonical as cn
 from stonedem.bench import ours
+from stonedem.reference import analytic
 
 SCENES = ("a", "a1", "b", "c")
 ROCKING_SCENES = ("a", "a1")  # free rocking: the same blocks, contacts and sweeps
-SCENE_TITLES = {"a": "free rocking from theta0 = 0.5 alpha (0.25 x 1 m and 1 x 6 m blocks)",
-                "a1": "free rocking to the first impact (scene a's blocks and tilt, run to 1.2 x the exact "
-                      "first impact time)",
-                "b": "Newmark pulse sliding (a_p = 0.5 g, T_p = 0.5 s, mu = 0.2)",
-                "c": "8-drum 6 x 1 m column under a record (PGA 16 m/s2, 10 s)"}
+SCENE_TITLES = {
+    "a": "free rocking from theta0 = 0.5 alpha (0.25 x 1 m and 1 x 6 m blocks)",
+    "a1": "free rocking to the first impact (scene a's blocks and tilt, run to 1.2 x the exact "
+    "first impact time)",
+    "b": "Newmark pulse sliding (a_p = 0.5 g, T_p = 0.5 s, mu = 0.2)",
+    "c": "8-drum 6 x 1 m column under a record (PGA 16 m/s2, 10 s)",
+}
 ERROR_LEVELS = (1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
 COLUMN_PGA = 16.0  # [m s-2]: the column rocks and slides but stands
 REPEATS = {"full": 3, "quick": 1}  # identical runs per timed point; the least wall time counts
@@ -70,21 +72,40 @@ NO_VARIANT = "-"  # the contact coordinate of the other engines' runs
 
 # ours: every contact variant x k_n [N m-2] x dt / stability limit, per scene
 FULL = {
-    "ours": {"a": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10, 1e11), "dt_ratio": (1.0, 0.5, 0.25, 0.1)},
-             "a1": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10, 1e11), "dt_ratio": (1.0, 0.5, 0.25, 0.1)},
-             "b": {"contact": ours.VARIANTS, "k_n": (1e6, 1e7, 1e8, 1e9), "dt_ratio": (0.9, 0.5, 0.25)},
-             "c": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10), "dt_ratio": (1.0, 0.5, 0.25)}},
-    "pymunk": {"a": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "a1": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
-               "b": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4), "c": (3e-3, 1e-3, 3e-4)},
-    "mujoco": {"a": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5), "a1": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
-               "b": (3e-3, 1e-3, 3e-4, 1e-4),
-               "c": (3e-3, 1e-3, 3e-4)},
+    "ours": {
+        "a": {
+            "contact": ours.VARIANTS,
+            "k_n": (1e8, 1e9, 1e10, 1e11),
+            "dt_ratio": (1.0, 0.5, 0.25, 0.1),
+        },
+        "a1": {
+            "contact": ours.VARIANTS,
+            "k_n": (1e8, 1e9, 1e10, 1e11),
+            "dt_ratio": (1.0, 0.5, 0.25, 0.1),
+        },
+        "b": {"contact": ours.VARIANTS, "k_n": (1e6, 1e7, 1e8, 1e9), "dt_ratio": (0.9, 0.5, 0.25)},
+        "c": {"contact": ours.VARIANTS, "k_n": (1e8, 1e9, 1e10), "dt_ratio": (1.0, 0.5, 0.25)},
+    },
+    "pymunk": {
+        "a": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+        "a1": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+        "b": (1e-2, 3e-3, 1e-3, 3e-4, 1e-4),
+        "c": (3e-3, 1e-3, 3e-4),
+    },
+    "mujoco": {
+        "a": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+        "a1": (3e-3, 1e-3, 3e-4, 1e-4, 3e-5),
+        "b": (3e-3, 1e-3, 3e-4, 1e-4),
+        "c": (3e-3, 1e-3, 3e-4),
+    },
 }
 QUICK = {
-    "ours": {"a": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
-             "a1": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
-             "b": {"contact": ours.VARIANTS, "k_n": (1e8,), "dt_ratio": (0.5,)},
-             "c": {"contact": ("area", "point"), "k_n": (1e9,), "dt_ratio": (1.0,)}},
+    "ours": {
+        "a": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
+        "a1": {"contact": ours.VARIANTS, "k_n": (1e10,), "dt_ratio": (0.5,)},
+        "b": {"contact": ours.VARIANTS, "k_n": (1e8,), "dt_ratio": (0.5,)},
+        "c": {"contact": ("area", "point"), "k_n": (1e9,), "dt_ratio": (1.0,)},
+    },
     "pymunk": {"a": (1e-3,), "a1": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
     "mujoco": {"a": (1e-3,), "a1": (1e-3,), "b": (1e-3,), "c": (3e-3,)},
 }
@@ -101,14 +122,42 @@ def competitor(name):
     return module
 
 
-def _row(engine, scene, k_n, dt, dt_ratio, wall, sim, steps, contact=NO_VARIANT, status=0,
-         c_n=math.nan, zeta=math.nan, rocking_c_n=None, rocking_zeta=None, rocking_restitution=None,
-         **errors):
+def _row(
+    engine,
+    scene,
+    k_n,
+    dt,
+    dt_ratio,
+    wall,
+    sim,
+    steps,
+    contact=NO_VARIANT,
+    status=0,
+    c_n=math.nan,
+    zeta=math.nan,
+    rocking_c_n=None,
+    rocking_zeta=None,
+    rocking_restitution=None,
+    **errors,
+):
     none = [math.nan] * len(cn.ROCKING_BLOCKS)
-    return {"engine": engine, "scene": scene, "contact": contact, "k_n": k_n, "dt": dt, "dt_ratio": dt_ratio,
-            "wall_per_sim_second": wall / sim, "steps": steps, "status": status, "c_n": c_n, "zeta": zeta,
-            "rocking_c_n": rocking_c_n or none, "rocking_zeta": rocking_zeta or none,
-            "rocking_restitution": rocking_restitution or none, **errors}
+    return {
+        "engine": engine,
+        "scene": scene,
+        "contact": contact,
+        "k_n": k_n,
+        "dt": dt,
+        "dt_ratio": dt_ratio,
+        "wall_per_sim_second": wall / sim,
+        "steps": steps,
+        "status": status,
+        "c_n": c_n,
+        "zeta": zeta,
+        "rocking_c_n": rocking_c_n or none,
+        "rocking_zeta": rocking_zeta or none,
+        "rocking_restitution": rocking_restitution or none,
+        **errors,
+    }
 
 
 def timed(run, repeats=1):
@@ -143,8 +192,20 @@ def rocking_runs(run_block, repeats=1, scene="a"):
         wall, sim, steps = wall + traj.wall_seconds, sim + duration, steps + traj.steps
         status = max(status, traj.status)
     if scene == "a1":
-        return {"error": t_err, "error_impact_time": t_err, "error_peak": math.nan}, wall, sim, steps, status
-    return dict(error=max(t_err, p_err), error_impact_time=t_err, error_peak=p_err), wall, sim, steps, status
+        return (
+            {"error": t_err, "error_impact_time": t_err, "error_peak": math.nan},
+            wall,
+            sim,
+            steps,
+            status,
+        )
+    return (
+        dict(error=max(t_err, p_err), error_impact_time=t_err, error_peak=p_err),
+        wall,
+        sim,
+        steps,
+        status,
+    )
 
 
 def ours_points(scene, grid, column_duration, repeats=1):
@@ -165,8 +226,11 @@ def ours_point(scene, variant, k_n, ratio, column_duration, repeats=1):
 
         def run_block(w, h, theta0, duration):
             contact = ours.rocking_contact(variant, w, h, k_n)
-            reached = (math.nan if variant == "point" else
-                       ours.rocking_calibration(w, h, k_n, model=contact["model"])[1])
+            reached = (
+                math.nan
+                if variant == "point"
+                else ours.rocking_calibration(w, h, k_n, model=contact["model"])[1]
+            )
             laws[w, h] = (*ours.contact_damping(contact), reached)
             traj = ours.free_rocking(w, h, theta0, duration, contact=contact, dt_ratio=ratio)
             dts[w, h] = duration / max(traj.steps, 1)
@@ -175,29 +239,86 @@ def ours_point(scene, variant, k_n, ratio, column_duration, repeats=1):
         errors, wall, sim, steps, status = rocking_runs(run_block, repeats, scene)
         laws = [laws[block] for block in cn.ROCKING_BLOCKS]
         dts = list(dts.values())
-        return _row("ours", scene, k_n, min(dts), ratio, wall, sim, steps, contact=variant, status=status,
-                    rocking_c_n=[c for c, _, _ in laws], rocking_zeta=[z for _, z, _ in laws],
-                    rocking_restitution=[r for _, _, r in laws], **errors)
+        return _row(
+            "ours",
+            scene,
+            k_n,
+            min(dts),
+            ratio,
+            wall,
+            sim,
+            steps,
+            contact=variant,
+            status=status,
+            rocking_c_n=[c for c, _, _ in laws],
+            rocking_zeta=[z for _, z, _ in laws],
+            rocking_restitution=[r for _, _, r in laws],
+            **errors,
+        )
     if scene == "b":
         w, h = cn.PULSE_BLOCK
         sim = cn.pulse_run_duration()
         contact = ours.pulse_contact(variant, k_n)
-        traj = timed(lambda: ours.pulse_sliding(w, h, cn.PULSE_FRICTION, cn.PULSE_ACCEL, cn.PULSE_DURATION, sim,
-                                                contact=contact, dt_ratio=ratio, sample_every=1e-3), repeats)
+        traj = timed(
+            lambda: ours.pulse_sliding(
+                w,
+                h,
+                cn.PULSE_FRICTION,
+                cn.PULSE_ACCEL,
+                cn.PULSE_DURATION,
+                sim,
+                contact=contact,
+                dt_ratio=ratio,
+                sample_every=1e-3,
+            ),
+            repeats,
+        )
         c_n, zeta = ours.contact_damping(contact)
-        return _row("ours", scene, k_n, sim / max(traj.steps, 1), ratio, traj.wall_seconds, sim, traj.steps,
-                    contact=variant, status=traj.status, c_n=c_n, zeta=zeta, error=cn.pulse_error(traj))
+        return _row(
+            "ours",
+            scene,
+            k_n,
+            sim / max(traj.steps, 1),
+            ratio,
+            traj.wall_seconds,
+            sim,
+            traj.steps,
+            contact=variant,
+            status=traj.status,
+            c_n=c_n,
+            zeta=zeta,
+            error=cn.pulse_error(traj),
+        )
     contact = ours.column_contact(variant, k_n)
-    run = timed(lambda: ours.column_record(column_duration, contact=contact, pga=COLUMN_PGA, dt_ratio=ratio)[0],
-                repeats)
+    run = timed(
+        lambda: ours.column_record(
+            column_duration, contact=contact, pga=COLUMN_PGA, dt_ratio=ratio
+        )[0],
+        repeats,
+    )
     dt = column_duration / max(run.steps, 1)
-    ref, _ = ours.column_record(column_duration, contact=contact, pga=COLUMN_PGA,
-                                dt=dt / cn.COLUMN_REFERENCE_REFINEMENT)
+    ref, _ = ours.column_record(
+        column_duration, contact=contact, pga=COLUMN_PGA, dt=dt / cn.COLUMN_REFERENCE_REFINEMENT
+    )
     e_rot, e_slide = cn.history_errors(run, ref)
     c_n, zeta = ours.contact_damping(contact)
-    return _row("ours", scene, k_n, dt, ratio, run.wall_seconds, column_duration, run.steps,
-                contact=variant, status=max(run.status, ref.status), c_n=c_n, zeta=zeta,
-                error=max(e_rot, e_slide), error_rotation=e_rot, error_sliding=e_slide)
+    return _row(
+        "ours",
+        scene,
+        k_n,
+        dt,
+        ratio,
+        run.wall_seconds,
+        column_duration,
+        run.steps,
+        contact=variant,
+        status=max(run.status, ref.status),
+        c_n=c_n,
+        zeta=zeta,
+        error=max(e_rot, e_slide),
+        error_rotation=e_rot,
+        error_sliding=e_slide,
+    )
 
 
 def competitor_points(engine, scene, dts, column_duration, record, repeats=1):
@@ -207,24 +328,69 @@ def competitor_points(engine, scene, dts, column_duration, record, repeats=1):
     for dt in dts:
         if scene in ROCKING_SCENES:
             errors, wall, sim, steps, _ = rocking_runs(
-                lambda w, h, theta0, duration, dt=dt: module.free_rocking(w, h, theta0, dt, duration), repeats, scene)
+                lambda w, h, theta0, duration, dt=dt: module.free_rocking(
+                    w, h, theta0, dt, duration
+                ),
+                repeats,
+                scene,
+            )
             rows.append(_row(engine, scene, math.nan, dt, math.nan, wall, sim, steps, **errors))
         elif scene == "b":
             w, h = cn.PULSE_BLOCK
             sim = cn.pulse_run_duration()
-            traj = timed(functools.partial(module.pulse_sliding, w, h, cn.PULSE_FRICTION, cn.PULSE_ACCEL,
-                                           cn.PULSE_DURATION, dt, sim), repeats)
-            rows.append(_row(engine, scene, math.nan, dt, math.nan, traj.wall_seconds, sim, traj.steps,
-                             error=cn.pulse_error(traj)))
+            traj = timed(
+                functools.partial(
+                    module.pulse_sliding,
+                    w,
+                    h,
+                    cn.PULSE_FRICTION,
+                    cn.PULSE_ACCEL,
+                    cn.PULSE_DURATION,
+                    dt,
+                    sim,
+                ),
+                repeats,
+            )
+            rows.append(
+                _row(
+                    engine,
+                    scene,
+                    math.nan,
+                    dt,
+                    math.nan,
+                    traj.wall_seconds,
+                    sim,
+                    traj.steps,
+                    error=cn.pulse_error(traj),
+                )
+            )
         else:
             args = (cn.COLUMN_DRUMS, cn.COLUMN_WIDTH, cn.COLUMN_HEIGHT, cn.COLUMN_FRICTION, *record)
-            run = timed(functools.partial(module.column_record, *args, dt, column_duration, sample_every=1e-2), repeats)
-            ref = module.column_record(*args, dt / cn.COLUMN_REFERENCE_REFINEMENT, column_duration,
-                                       sample_every=1e-2)
+            run = timed(
+                functools.partial(
+                    module.column_record, *args, dt, column_duration, sample_every=1e-2
+                ),
+                repeats,
+            )
+            ref = module.column_record(
+                *args, dt / cn.COLUMN_REFERENCE_REFINEMENT, column_duration, sample_every=1e-2
+            )
             e_rot, e_slide = cn.history_errors(run, ref)
-            rows.append(_row(engine, scene, math.nan, dt, math.nan, run.wall_seconds, column_duration,
-                             run.steps, error=max(e_rot, e_slide), error_rotation=e_rot,
-                             error_sliding=e_slide))
+            rows.append(
+                _row(
+                    engine,
+                    scene,
+                    math.nan,
+                    dt,
+                    math.nan,
+                    run.wall_seconds,
+                    column_duration,
+                    run.steps,
+                    error=max(e_rot, e_slide),
+                    error_rotation=e_rot,
+                    error_sliding=e_slide,
+                )
+            )
         _progress(rows[-1])
     return rows
 
@@ -233,22 +399,34 @@ def _progress(row):
     k_n = "" if math.isnan(row["k_n"]) else f"k_n {row['k_n']:.0e} x {row['dt_ratio']:<4g} "
     name = row["engine"] if row["contact"] == NO_VARIANT else f"{row['engine']} {row['contact']}"
     status = "" if row["status"] == 0 else f"  status {row['status']}"
-    print(f"  ({row['scene']}) {name:19s} {k_n:17s}dt {row['dt']:.2e} s  "
-          f"{1e3 * row['wall_per_sim_second']:9.3f} ms per sim s  error {row['error']:.2e}{status}",
-          file=sys.stderr, flush=True)
+    print(
+        f"  ({row['scene']}) {name:19s} {k_n:17s}dt {row['dt']:.2e} s  "
+        f"{1e3 * row['wall_per_sim_second']:9.3f} ms per sim s  error {row['error']:.2e}{status}",
+        file=sys.stderr,
+        flush=True,
+    )
 
 
 def warm_up():
     """Compile our loop and load the other engines before anything is timed."""
     for variant in ours.VARIANTS:
-        ours.pulse_sliding(*cn.PULSE_BLOCK, cn.PULSE_FRICTION, cn.PULSE_ACCEL, 0.01, 0.02,
-                           contact=ours.pulse_contact(variant, 1e8))
+        ours.pulse_sliding(
+            *cn.PULSE_BLOCK,
+            cn.PULSE_FRICTION,
+            cn.PULSE_ACCEL,
+            0.01,
+            0.02,
+            contact=ours.pulse_contact(variant, 1e8),
+        )
     for engine in ("pymunk", "mujoco"):
-        competitor(engine).pulse_sliding(*cn.PULSE_BLOCK, cn.PULSE_FRICTION, cn.PULSE_ACCEL, 0.01, 1e-3, 0.02)
+        competitor(engine).pulse_sliding(
+            *cn.PULSE_BLOCK, cn.PULSE_FRICTION, cn.PULSE_ACCEL, 0.01, 1e-3, 0.02
+        )
 
 
-def run_sweep(sweep=FULL, scenes=SCENES, column_duration=cn.COLUMN_DURATION, contacts=None,
-              repeats=1) -> xr.Dataset:
+def run_sweep(
+    sweep=FULL, scenes=SCENES, column_duration=cn.COLUMN_DURATION, contacts=None, repeats=1
+) -> xr.Dataset:
     """Every engine on every scene; returns the dataset of :func:`sweep_dataset`.
 
     contacts: our contact variants to run (default: each scene's grid["contact"]);
@@ -256,7 +434,9 @@ def run_sweep(sweep=FULL, scenes=SCENES, column_duration=cn.COLUMN_DURATION, con
     """
     warm_up()
     # scene (c) gives every engine the record exactly as ours applies it
-    _, record = ours.column_record(0.01, contact=ours.column_contact("point", 1e9), pga=COLUMN_PGA, dt=1e-4)
+    _, record = ours.column_record(
+        0.01, contact=ours.column_contact("point", 1e9), pga=COLUMN_PGA, dt=1e-4
+    )
     rows = []
     for scene in scenes:
         print(f"scene ({scene}): {SCENE_TITLES[scene]}", file=sys.stderr)
@@ -265,7 +445,9 @@ def run_sweep(sweep=FULL, scenes=SCENES, column_duration=cn.COLUMN_DURATION, con
             grid["contact"] = tuple(v for v in grid["contact"] if v in contacts)
         rows += ours_points(scene, grid, column_duration, repeats)
         for engine in ("pymunk", "mujoco"):
-            rows += competitor_points(engine, scene, sweep[engine][scene], column_duration, record, repeats)
+            rows += competitor_points(
+                engine, scene, sweep[engine][scene], column_duration, record, repeats
+            )
     ds = sweep_dataset(rows, column_duration)
     ds.attrs["timing_repeats"] = repeats
     ds.attrs["timing"] = f"least wall time of {repeats} identical run(s) per point"
@@ -275,23 +457,44 @@ def run_sweep(sweep=FULL, scenes=SCENES, column_duration=cn.COLUMN_DURATION, con
 VARIABLES = {
     "wall_per_sim_second": ("1", "wall time of the stepping per simulated second, one thread"),
     "steps": ("1", "time steps taken"),
-    "status": ("1", "worst run status of our engine (0 ok, 2 non-finite; stonedem.kernels.step), 0 for the others"),
+    "status": (
+        "1",
+        "worst run status of our engine (0 ok, 2 non-finite; stonedem.kernels.step), 0 for the others",
+    ),
     "error": ("1", "benchmark error of the run (see the scene's error attrs)"),
-    "error_impact_time": ("1", "(a) worst relative error of the first three impact times; (a1) of the first impact time"),
+    "error_impact_time": (
+        "1",
+        "(a) worst relative error of the first three impact times; (a1) of the first impact time",
+    ),
     "error_peak": ("1", "(a) worst relative error of the peak angles after them (NaN for a1)"),
     "error_rotation": ("1", "(c) max |rotation - reference| / max |reference rotation|"),
     "error_sliding": ("1", "(c) max |joint sliding - reference| / max |reference sliding|"),
-    "c_n": ("N s m-1", "(b), (c) normal dashpot of our area law (NaN: point law, scene a or another engine)"),
-    "zeta": ("1", "(b), (c) damping of each contact point of our point law, fraction of critical "
-                  "(NaN: area law, scene a or another engine)"),
+    "c_n": (
+        "N s m-1",
+        "(b), (c) normal dashpot of our area law (NaN: point law, scene a or another engine)",
+    ),
+    "zeta": (
+        "1",
+        "(b), (c) damping of each contact point of our point law, fraction of critical "
+        "(NaN: area law, scene a or another engine)",
+    ),
 }
 BLOCK_VARIABLES = {
-    "rocking_c_n": ("N s m-1", "(a), (a1) normal dashpot of our area law per rocking block, calibrated to "
-                               "Housner's first impact (NaN: point law or another engine)"),
-    "rocking_zeta": ("1", "(a), (a1) damping of each contact point of our point law per rocking block, fraction "
-                          "of critical (calibrated for point_dashpot; NaN: area law or another engine)"),
-    "rocking_restitution": ("1", "(a), (a1) first-impact energy ratio the calibrated damping gives at 0.1 x the "
-                                 "stability limit (target: housner_restitution; NaN: point or another engine)"),
+    "rocking_c_n": (
+        "N s m-1",
+        "(a), (a1) normal dashpot of our area law per rocking block, calibrated to "
+        "Housner's first impact (NaN: point law or another engine)",
+    ),
+    "rocking_zeta": (
+        "1",
+        "(a), (a1) damping of each contact point of our point law per rocking block, fraction "
+        "of critical (calibrated for point_dashpot; NaN: area law or another engine)",
+    ),
+    "rocking_restitution": (
+        "1",
+        "(a), (a1) first-impact energy ratio the calibrated damping gives at 0.1 x the "
+        "stability limit (target: housner_restitution; NaN: point or another engine)",
+    ),
 }
 
 
@@ -305,60 +508,111 @@ def sweep_dataset(rows, column_duration) -> xr.Dataset:
         values = np.array([float(r.get(key, math.nan)) for r in rows])
         data[key] = ("run", values, {"units": units, "long_name": long_name})
     for key, (units, long_name) in BLOCK_VARIABLES.items():
-        values = np.array([[float(v) for v in r[key]] for r in rows]).reshape(n, len(cn.ROCKING_BLOCKS))
+        values = np.array([[float(v) for v in r[key]] for r in rows]).reshape(
+            n, len(cn.ROCKING_BLOCKS)
+        )
         data[key] = (("run", "block"), values, {"units": units, "long_name": long_name})
     coords = {
         "run": ("run", np.arange(n), {"units": "1", "long_name": "run number"}),
-        "engine": ("run", [r["engine"] for r in rows], {"units": "1", "long_name": "engine (ours, pymunk, mujoco)"}),
-        "contact": ("run", [r["contact"] for r in rows], {
-            "units": "1", "long_name": f"contact variant of ours ({', '.join(ours.VARIANTS)}; "
-                                       f"'{NO_VARIANT}' for the other engines)"}),
-        "scene": ("run", [r["scene"] for r in rows], {"units": "1", "long_name": "canonical scene a, a1, b or c"}),
-        "k_n": ("run", np.array([r["k_n"] for r in rows]), {
-            "units": "N m-2", "long_name": "normal contact stiffness (ours only): per unit overlap area "
-                                          "(area law) or per unit contact length (point law)"}),
+        "engine": (
+            "run",
+            [r["engine"] for r in rows],
+            {"units": "1", "long_name": "engine (ours, pymunk, mujoco)"},
+        ),
+        "contact": (
+            "run",
+            [r["contact"] for r in rows],
+            {
+                "units": "1",
+                "long_name": f"contact variant of ours ({', '.join(ours.VARIANTS)}; "
+                f"'{NO_VARIANT}' for the other engines)",
+            },
+        ),
+        "scene": (
+            "run",
+            [r["scene"] for r in rows],
+            {"units": "1", "long_name": "canonical scene a, a1, b or c"},
+        ),
+        "k_n": (
+            "run",
+            np.array([r["k_n"] for r in rows]),
+            {
+                "units": "N m-2",
+                "long_name": "normal contact stiffness (ours only): per unit overlap area "
+                "(area law) or per unit contact length (point law)",
+            },
+        ),
         "dt": ("run", np.array([r["dt"] for r in rows]), {"units": "s", "long_name": "time step"}),
-        "dt_ratio": ("run", np.array([r["dt_ratio"] for r in rows]), {"units": "1", "long_name": "dt / stability limit (ours only)"}),
-        "block": ("block", np.arange(len(cn.ROCKING_BLOCKS)), {"units": "1", "long_name": "rocking block of scenes (a), (a1)"}),
-        "block_width": ("block", np.array([w for w, _ in cn.ROCKING_BLOCKS]), {"units": "m", "long_name": "width of the rocking block"}),
-        "block_height": ("block", np.array([h for _, h in cn.ROCKING_BLOCKS]), {"units": "m", "long_name": "height of the rocking block"}),
-        "housner_restitution": ("block", np.array([analytic.housner_restitution(w, h) for w, h in cn.ROCKING_BLOCKS]),
-                                {"units": "1", "long_name": "Housner's energy ratio of an impact of the rocking block"}),
+        "dt_ratio": (
+            "run",
+            np.array([r["dt_ratio"] for r in rows]),
+            {"units": "1", "long_name": "dt / stability limit (ours only)"},
+        ),
+        "block": (
+            "block",
+            np.arange(len(cn.ROCKING_BLOCKS)),
+            {"units": "1", "long_name": "rocking block of scenes (a), (a1)"},
+        ),
+        "block_width": (
+            "block",
+            np.array([w for w, _ in cn.ROCKING_BLOCKS]),
+            {"units": "m", "long_name": "width of the rocking block"},
+        ),
+        "block_height": (
+            "block",
+            np.array([h for _, h in cn.ROCKING_BLOCKS]),
+            {"units": "m", "long_name": "height of the rocking block"},
+        ),
+        "housner_restitution": (
+            "block",
+            np.array([analytic.housner_restitution(w, h) for w, h in cn.ROCKING_BLOCKS]),
+            {"units": "1", "long_name": "Housner's energy ratio of an impact of the rocking block"},
+        ),
     }
     import mujoco
     import pymunk
 
-    ds = xr.Dataset(data, coords=coords, attrs={
-        "title": "work-precision benchmark: wall time per simulated second against error",
-        "source": code_version(), "pymunk_version": pymunk.version, "mujoco_version": mujoco.__version__,
-        "machine": f"{os.cpu_count()} cores, {sys.platform}",
-        "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
-        **{f"scene_{s}": SCENE_TITLES[s] for s in SCENES},
-        "scene_a1_stop": f"each block runs {cn.FIRST_IMPACT_MARGIN:g} x its exact first impact time, sampled "
-                         f"every 1 ms; the impact: the first sign change of theta, as in (a)",
-        "scene_c_duration": column_duration, "scene_c_pga": COLUMN_PGA,
-        "scene_c_reference": f"same engine at dt / {cn.COLUMN_REFERENCE_REFINEMENT}",
-        **{f"contact_{v}": ours.VARIANT_TITLES[v] for v in ours.VARIANTS},
-        "ours_rocking_damping": "area: c_n, point_dashpot: zeta, calibrated per block and k_n to Housner's "
-                                "first-impact energy ratio at 0.1 x the stability limit "
-                                "(stonedem.bench.ours.calibrate_rocking_damping); point: zeta = 0.05",
-        "ours_pulse_damping": f"area: c_n = {ours.PULSE_DAMPING} x critical; point_dashpot, point: zeta = {ours.POINT_DAMPING}",
-        "ours_column_damping": f"area: c_n = {ours.COLUMN_DAMPING} x critical of one drum; point_dashpot, point: "
-                               f"zeta = {ours.POINT_DAMPING}",
-        "speedup": "speedup_[<variant>_]<scene>_error_<level>: best competitor's wall time / ours at error <= level, "
-                   "for the best of our variants (no variant in the name) or one variant; NaN: one side never reaches it",
-    })
+    ds = xr.Dataset(
+        data,
+        coords=coords,
+        attrs={
+            "title": "work-precision benchmark: wall time per simulated second against error",
+            "source": code_version(),
+            "pymunk_version": pymunk.version,
+            "mujoco_version": mujoco.__version__,
+            "machine": f"{os.cpu_count()} cores, {sys.platform}",
+            "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
+            **{f"scene_{s}": SCENE_TITLES[s] for s in SCENES},
+            "scene_a1_stop": f"each block runs {cn.FIRST_IMPACT_MARGIN:g} x its exact first impact time, sampled "
+            f"every 1 ms; the impact: the first sign change of theta, as in (a)",
+            "scene_c_duration": column_duration,
+            "scene_c_pga": COLUMN_PGA,
+            "scene_c_reference": f"same engine at dt / {cn.COLUMN_REFERENCE_REFINEMENT}",
+            **{f"contact_{v}": ours.VARIANT_TITLES[v] for v in ours.VARIANTS},
+            "ours_rocking_damping": "area: c_n, point_dashpot: zeta, calibrated per block and k_n to Housner's "
+            "first-impact energy ratio at 0.1 x the stability limit "
+            "(stonedem.bench.ours.calibrate_rocking_damping); point: zeta = 0.05",
+            "ours_pulse_damping": f"area: c_n = {ours.PULSE_DAMPING} x critical; point_dashpot, point: zeta = {ours.POINT_DAMPING}",
+            "ours_column_damping": f"area: c_n = {ours.COLUMN_DAMPING} x critical of one drum; point_dashpot, point: "
+            f"zeta = {ours.POINT_DAMPING}",
+            "speedup": "speedup_[<variant>_]<scene>_error_<level>: best competitor's wall time / ours at error <= level, "
+            "for the best of our variants (no variant in the name) or one variant; NaN: one side never reaches it",
+        },
+    )
     table = speedup_table(ds)
     for contact in table.contact.values:
         prefix = "speedup" if contact == "best" else f"speedup_{contact}"
         for scene in table.scene.values:
             for level in table.error_level.values:
-                ds.attrs[f"{prefix}_{scene}_error_{level:g}"] = float(table.sel(contact=contact, scene=scene,
-                                                                               error_level=level))
+                ds.attrs[f"{prefix}_{scene}_error_{level:g}"] = float(
+                    table.sel(contact=contact, scene=scene, error_level=level)
+                )
     return ds
 
 
-def fastest_at(ds: xr.Dataset, engine: str, scene: str, level: float, contact: str | None = None) -> float:
+def fastest_at(
+    ds: xr.Dataset, engine: str, scene: str, level: float, contact: str | None = None
+) -> float:
     """Least wall time per simulated second of an engine's runs with error <= level (NaN if none);
     contact: only our runs of that variant (None: any)."""
     sel = (ds.engine == engine) & (ds.scene == scene) & (ds.error <= level)
@@ -384,9 +638,15 @@ def fastest_table(ds: xr.Dataset) -> xr.DataArray:
         for j, scene in enumerate(scenes):
             for k, level in enumerate(ERROR_LEVELS):
                 table[i, j, k] = fastest_at(ds, engine, scene, level, contact)
-    return xr.DataArray(table, dims=("entry", "scene", "error_level"),
-                        coords={"entry": rows, "scene": scenes, "error_level": list(ERROR_LEVELS)},
-                        attrs={"units": "s", "long_name": "least wall time per simulated second at equal or better error"})
+    return xr.DataArray(
+        table,
+        dims=("entry", "scene", "error_level"),
+        coords={"entry": rows, "scene": scenes, "error_level": list(ERROR_LEVELS)},
+        attrs={
+            "units": "s",
+            "long_name": "least wall time per simulated second at equal or better error",
+        },
+    )
 
 
 def speedup_table(ds: xr.Dataset) -> xr.DataArray:
@@ -396,10 +656,19 @@ def speedup_table(ds: xr.Dataset) -> xr.DataArray:
     theirs = fastest.sel(entry=["pymunk", "mujoco"]).min("entry", skipna=True)
     contacts = _ours_contacts(ds)
     table = theirs.values[None, :, :] / fastest.sel(entry=[f"ours_{c}" for c in contacts]).values
-    return xr.DataArray(table, dims=("contact", "scene", "error_level"),
-                        coords={"contact": contacts, "scene": list(fastest.scene.values),
-                                "error_level": list(ERROR_LEVELS)},
-                        attrs={"units": "1", "long_name": "best competitor's wall time / ours at equal or better error"})
+    return xr.DataArray(
+        table,
+        dims=("contact", "scene", "error_level"),
+        coords={
+            "contact": contacts,
+            "scene": list(fastest.scene.values),
+            "error_level": list(ERROR_LEVELS),
+        },
+        attrs={
+            "units": "1",
+            "long_name": "best competitor's wall time / ours at equal or better error",
+        },
+    )
 
 
 VARIANT_STYLES = {"area": ("o", "-"), "point_dashpot": ("D", "-."), "point": ("v", ":")}
@@ -420,9 +689,14 @@ def plot_work_precision(ds: xr.Dataset, scene: str, path: Path) -> Path:
         e = sub.where(sub.engine == engine, drop=True)
         if e.run.size:
             order = np.argsort(e.dt.values)
-            ax.plot(e.error.values[order], e.wall_per_sim_second.values[order], marker=marker, ls="--",
-                    color="k" if engine == "pymunk" else "0.5",
-                    label=f"{engine} (dt {e.dt.min().item():.0e}-{e.dt.max().item():.0e} s)")
+            ax.plot(
+                e.error.values[order],
+                e.wall_per_sim_second.values[order],
+                marker=marker,
+                ls="--",
+                color="k" if engine == "pymunk" else "0.5",
+                label=f"{engine} (dt {e.dt.min().item():.0e}-{e.dt.max().item():.0e} s)",
+            )
     o = sub.where(sub.engine == "ours", drop=True)
     k_values = np.unique(o.k_n.values) if o.run.size else []
     for variant in ours.VARIANTS:
@@ -432,9 +706,15 @@ def plot_work_precision(ds: xr.Dataset, scene: str, path: Path) -> Path:
             if not e.run.size:
                 continue
             order = np.argsort(e.dt_ratio.values)
-            ax.plot(e.error.values[order], e.wall_per_sim_second.values[order], marker=marker, ls=ls,
-                    color=f"C{c}", label=f"ours {variant}, k_n {k_n:.0e} "
-                                         f"(dt {e.dt_ratio.min().item():g}-{e.dt_ratio.max().item():g} x limit)")
+            ax.plot(
+                e.error.values[order],
+                e.wall_per_sim_second.values[order],
+                marker=marker,
+                ls=ls,
+                color=f"C{c}",
+                label=f"ours {variant}, k_n {k_n:.0e} "
+                f"(dt {e.dt_ratio.min().item():g}-{e.dt_ratio.max().item():g} x limit)",
+            )
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("error [1]")
@@ -452,19 +732,29 @@ def summary_text(ds: xr.Dataset) -> str:
     """The speed-up table (best of our variants and each) and the fastest wall times, as text."""
     table = speedup_table(ds)
     fastest = fastest_table(ds)
-    head = "scene  ours            " + "  ".join(f"err<={level:<7g}" for level in table.error_level.values)
+    head = "scene  ours            " + "  ".join(
+        f"err<={level:<7g}" for level in table.error_level.values
+    )
     lines = ["best competitor's wall time / ours at equal or better error:", head]
     for scene in table.scene.values:
         for contact in table.contact.values:
-            cells = [f"{v:11.2f}" if np.isfinite(v) else f"{'-':>11s}"
-                     for v in table.sel(scene=scene, contact=contact).values]
+            cells = [
+                f"{v:11.2f}" if np.isfinite(v) else f"{'-':>11s}"
+                for v in table.sel(scene=scene, contact=contact).values
+            ]
             lines.append(f"{'(' + scene + ')':7s}{contact:15s} " + " ".join(cells))
-    lines += ["", "least wall time per simulated second [ms] at equal or better error:",
-              "scene  engine              " + "  ".join(f"err<={level:<7g}" for level in fastest.error_level.values)]
+    lines += [
+        "",
+        "least wall time per simulated second [ms] at equal or better error:",
+        "scene  engine              "
+        + "  ".join(f"err<={level:<7g}" for level in fastest.error_level.values),
+    ]
     for scene in fastest.scene.values:
         for entry in fastest.entry.values:
-            cells = [f"{1e3 * v:11.3f}" if np.isfinite(v) else f"{'-':>11s}"
-                     for v in fastest.sel(scene=scene, entry=entry).values]
+            cells = [
+                f"{1e3 * v:11.3f}" if np.isfinite(v) else f"{'-':>11s}"
+                for v in fastest.sel(scene=scene, entry=entry).values
+            ]
             lines.append(f"{'(' + scene + ')':7s}{entry:19s} " + " ".join(cells))
     lines += ["", "best error reached (wall time per simulated second of that run):"]
     for scene in fastest.scene.values:
@@ -478,10 +768,15 @@ def summary_text(ds: xr.Dataset) -> str:
                 continue
             i = int(np.nanargmin(runs.error.values))
             r = runs.isel(run=i)
-            where = (f"k_n {float(r.k_n):.0e}, dt {float(r.dt_ratio):g} x limit = {float(r.dt):.2e} s"
-                     if engine == "ours" else f"dt {float(r.dt):.0e} s")
-            lines.append(f"{'(' + scene + ')':7s}{entry:19s} {float(r.error):.3e}  at {where}, "
-                         f"{1e3 * float(r.wall_per_sim_second):.3f} ms")
+            where = (
+                f"k_n {float(r.k_n):.0e}, dt {float(r.dt_ratio):g} x limit = {float(r.dt):.2e} s"
+                if engine == "ours"
+                else f"dt {float(r.dt):.0e} s"
+            )
+            lines.append(
+                f"{'(' + scene + ')':7s}{entry:19s} {float(r.error):.3e}  at {where}, "
+                f"{1e3 * float(r.wall_per_sim_second):.3f} ms"
+            )
     return "\n".join(lines)
 
 
@@ -493,17 +788,39 @@ def build_parser():
 
     parser = options.parser("python -m stonedem.bench.work_precision", __doc__)
     parser.add_argument("--quick", action="store_true", help="a few points per engine (CI)")
-    parser.add_argument("--scenes", nargs="+", choices=SCENES, default=list(SCENES),
-                        help="scenes to run, each once (default: all)")
-    parser.add_argument("--contacts", nargs="+", choices=ours.VARIANTS, default=None,
-                        help="our contact variants to run, each once (default: every variant of the grid)")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help=f"identical runs per timed point, least wall time counts, 1 to {MAX_REPEATS} "
-                             f"(default {REPEATS['full']}, --quick {REPEATS['quick']})")
-    parser.add_argument("--out", type=options.path_arg, default=Path("results/bench"),
-                        help="output folder (writes work_precision.nc)")
-    parser.add_argument("--figures", type=options.path_arg, default=Path("results/figures"),
-                        help="figure folder (writes work_precision_<scene>.png)")
+    parser.add_argument(
+        "--scenes",
+        nargs="+",
+        choices=SCENES,
+        default=list(SCENES),
+        help="scenes to run, each once (default: all)",
+    )
+    parser.add_argument(
+        "--contacts",
+        nargs="+",
+        choices=ours.VARIANTS,
+        default=None,
+        help="our contact variants to run, each once (default: every variant of the grid)",
+    )
+    parser.add_argument(
+        "--repeats",
+        type=int,
+        default=None,
+        help=f"identical runs per timed point, least wall time counts, 1 to {MAX_REPEATS} "
+        f"(default {REPEATS['full']}, --quick {REPEATS['quick']})",
+    )
+    parser.add_argument(
+        "--out",
+        type=options.path_arg,
+        default=Path("results/bench"),
+        help="output folder (writes work_precision.nc)",
+    )
+    parser.add_argument(
+        "--figures",
+        type=options.path_arg,
+        default=Path("results/figures"),
+        help="figure folder (writes work_precision_<scene>.png)",
+    )
     return parser
 
 
@@ -514,15 +831,35 @@ def check_args(args):
     from stonedem.engine.scene import scene_from_dict
 
     scenes = options.chosen(args.scenes, "--scenes", SCENES)
-    contacts = None if args.contacts is None else options.chosen(args.contacts, "--contacts", ours.VARIANTS)
-    repeats = REPEATS["quick" if args.quick else "full"] if args.repeats is None else options.number(
-        args.repeats, "--repeats", lo=1, hi=MAX_REPEATS, whole=True, example="3")
-    nc = options.output_folder(args.out, "--out", files=("work_precision.nc",)) / "work_precision.nc"
-    figures = options.output_folder(args.figures, "--figures",
-                                    files=[f"work_precision_{scene}.png" for scene in scenes])
+    contacts = (
+        None
+        if args.contacts is None
+        else options.chosen(args.contacts, "--contacts", ours.VARIANTS)
+    )
+    repeats = (
+        REPEATS["quick" if args.quick else "full"]
+        if args.repeats is None
+        else options.number(
+            args.repeats, "--repeats", lo=1, hi=MAX_REPEATS, whole=True, example="3"
+        )
+    )
+    nc = (
+        options.output_folder(args.out, "--out", files=("work_precision.nc",)) / "work_precision.nc"
+    )
+    figures = options.output_folder(
+        args.figures, "--figures", files=[f"work_precision_{scene}.png" for scene in scenes]
+    )
     # the record every sweep applies (scene (c) and its table for the other engines)
-    scene_from_dict(ours.column_scene_spec(0.01, contact=ours.column_contact("point", 1e9), pga=COLUMN_PGA))
-    return scenes, contacts, repeats, nc, {scene: figures / f"work_precision_{scene}.png" for scene in scenes}
+    scene_from_dict(
+        ours.column_scene_spec(0.01, contact=ours.column_contact("point", 1e9), pga=COLUMN_PGA)
+    )
+    return (
+        scenes,
+        contacts,
+        repeats,
+        nc,
+        {scene: figures / f"work_precision_{scene}.png" for scene in scenes},
+    )
 
 
 def main(argv=None) -> int:
@@ -537,7 +874,9 @@ def main(argv=None) -> int:
         scenes, contacts, repeats, nc, figures = check_args(args)
         start = time.perf_counter()
         profile = "quick" if args.quick else "full"
-        ds = run_sweep(QUICK if args.quick else FULL, scenes=tuple(scenes), contacts=contacts, repeats=repeats)
+        ds = run_sweep(
+            QUICK if args.quick else FULL, scenes=tuple(scenes), contacts=contacts, repeats=repeats
+        )
         ds.attrs["profile"] = profile
         ds.attrs["scenes_run"] = " ".join(scenes)
         write_dataset(ds, nc)

@@ -26,34 +26,58 @@ import numpy as np
 from numba import typed
 
 from stonedem.engine.scene import Scene
-from stonedem.engine.simulate import (FIRST_CHUNK_STEPS, Plan, RunResult, after_settle, compile_for, finish_run,
-                                      main_phase, next_chunk, plan_run, settle_phase)
+from stonedem.engine.simulate import (
+    FIRST_CHUNK_STEPS,
+    Plan,
+    RunResult,
+    after_settle,
+    compile_for,
+    finish_run,
+    main_phase,
+    next_chunk,
+    plan_run,
+    settle_phase,
+)
 from stonedem.entry import check_interrupt, deferred_signals
 from stonedem.errors import InputError
 from stonedem.kernels import step
 from stonedem.kernels.ensemble import run_members
 
-
 DEVICES = ("cpu", "gpu")
 
 
-def run_ensemble(scenes: list[Scene], threads: int | None = None, device: str = "cpu") -> list[RunResult]:
+def run_ensemble(
+    scenes: list[Scene], threads: int | None = None, device: str = "cpu"
+) -> list[RunResult]:
     """Every scene's run, as :func:`stonedem.engine.simulate.simulate` gives it, with the
     compiled loops of all of them run side by side on ``threads`` threads (default: all
     Numba has, NUMBA_NUM_THREADS), or on the GPU (``device="gpu"``, one thread per member;
     a RuntimeError says why when none can run it)."""
     if device not in DEVICES:
-        raise InputError("device", f"expected one of {', '.join(DEVICES)}, got {device!r}", "give device='cpu' or 'gpu'")
+        raise InputError(
+            "device",
+            f"expected one of {', '.join(DEVICES)}, got {device!r}",
+            "give device='cpu' or 'gpu'",
+        )
     available = numba.config.NUMBA_NUM_THREADS
-    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, (int, np.integer))
-                                or not 1 <= threads <= available):
-        raise InputError("threads", f"expected a whole number 1 ... {available}, got {threads!r}",
-                         f"give e.g. threads={available}, or leave it out")
+    if threads is not None and (
+        isinstance(threads, bool)
+        or not isinstance(threads, (int, np.integer))
+        or not 1 <= threads <= available
+    ):
+        raise InputError(
+            "threads",
+            f"expected a whole number 1 ... {available}, got {threads!r}",
+            f"give e.g. threads={available}, or leave it out",
+        )
     scenes = list(scenes)
     for i, scene in enumerate(scenes):
         if not isinstance(scene, Scene):
-            raise InputError(f"scenes[{i}]", f"expected a Scene, got {type(scene).__name__}",
-                             "build each member with stonedem.engine.scene.scene_from_dict")
+            raise InputError(
+                f"scenes[{i}]",
+                f"expected a Scene, got {type(scene).__name__}",
+                "build each member with stonedem.engine.scene.scene_from_dict",
+            )
     plans = [plan_run(scene) for scene in scenes]
     if not plans:
         return []
@@ -90,10 +114,15 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
     :meth:`stonedem.engine.simulate.CompiledLoop.run`; its wall time is its share of each
     chunk's (the chunk's wall time over the members it ran), and the compile of the members'
     loop (or its load from the cache) before the first chunk is each member's compile time."""
-    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
+    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(
+        plans, phases
+    )
     if not members:
         return statuses_of(plans, members, status)
-    bundles = [typed.List([getattr(loop, name) for loop in loops]) for name in ("model", "settings", "state")]
+    bundles = [
+        typed.List([getattr(loop, name) for loop in loops])
+        for name in ("model", "settings", "state")
+    ]
     samples = typed.List([loop.cursor.samples for loop in loops])
     size, compiled = FIRST_CHUNK_STEPS, False
     with deferred_signals():  # a signal is raised between chunks, never inside the kernel
@@ -102,7 +131,18 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
             if which.size == 0:
                 break
             stop = np.minimum(at + size, end)
-            args = (which, *bundles, samples, at, stop, first, rest_from, n_sample, collapse, status)
+            args = (
+                which,
+                *bundles,
+                samples,
+                at,
+                stop,
+                first,
+                rest_from,
+                n_sample,
+                collapse,
+                status,
+            )
             if not compiled:  # before the first timed chunk; each member waited for it
                 seconds = compile_for(run_members, args)
                 for loop in loops:
@@ -115,7 +155,9 @@ def run_phase(plans: list[Plan], phases: list) -> list[int | None]:
             for k in which:
                 cursor = loops[k].cursor
                 cursor.n_sample, cursor.collapse = int(n_sample[k]), int(collapse[k])
-                cursor.ran(at[k], stop[k], status[k], loops[k].settings.n_steps, elapsed / which.size)
+                cursor.ran(
+                    at[k], stop[k], status[k], loops[k].settings.n_steps, elapsed / which.size
+                )
                 at[k] = stop[k]
             size = next_chunk(size, elapsed)
             check_interrupt()
@@ -130,7 +172,9 @@ def phase_members(plans: list[Plan], phases: list):
     loops = [plans[m].loop for m in members]
     for loop in loops:
         loop.state.rest_count[0] = 0
-    at, end, first, rest_from = np.array([phases[m] for m in members], dtype=np.int64).reshape(-1, 4).T.copy()
+    at, end, first, rest_from = (
+        np.array([phases[m] for m in members], dtype=np.int64).reshape(-1, 4).T.copy()
+    )
     n_sample = np.array([loop.cursor.n_sample for loop in loops], dtype=np.int64)
     collapse = np.array([loop.cursor.collapse for loop in loops], dtype=np.int64)
     status = np.full(len(members), step.STATUS_OK, dtype=np.int64)
@@ -160,25 +204,40 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
     from stonedem.kernels import gpu
     from stonedem.kernels.members import copy_back, stack
 
-    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(plans, phases)
+    members, loops, at, end, first, rest_from, n_sample, collapse, status = phase_members(
+        plans, phases
+    )
     if not members:
         return statuses_of(plans, members, status)
     kernel = gpu.member_kernel()
     capacity = max(pair_capacity(loop.model) for loop in loops)
-    bundles = [(loop.model, loop.settings, loop.state, loop.cursor.samples, step.allocate_work(loop.model, capacity))
-               for loop in loops]
+    bundles = [
+        (
+            loop.model,
+            loop.settings,
+            loop.state,
+            loop.cursor.samples,
+            step.allocate_work(loop.model, capacity),
+        )
+        for loop in loops
+    ]
     try:
         leaves, lengths = stack(bundles, member_fastest=gpu.MEMBER_FASTEST)
     except ValueError as exc:
-        raise InputError("scenes", f"on the GPU the members must share one structure: {exc}",
-                         "run each structure's members in their own call, or use device='cpu'") from None
+        raise InputError(
+            "scenes",
+            f"on the GPU the members must share one structure: {exc}",
+            "run each structure's members in their own call, or use device='cpu'",
+        ) from None
     on_device = tuple(cuda.to_device(leaf) for leaf in leaves)
     device_lengths = cuda.to_device(lengths)
     n = len(members)
     first, rest_from = cuda.to_device(first), cuda.to_device(rest_from)
     threads = min(gpu.THREADS_PER_BLOCK, n)
     blocks = (n + threads - 1) // threads
-    last: dict[int, tuple] = {}  # the chunk that stopped each member, booked once its samples are back
+    last: dict[
+        int, tuple
+    ] = {}  # the chunk that stopped each member, booked once its samples are back
     size = FIRST_CHUNK_STEPS
     with deferred_signals():  # a signal is raised between launches, never inside one
         while True:
@@ -189,8 +248,18 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
             resume = stop.copy()
             arrays = [cuda.to_device(a) for a in (at, stop, n_sample, collapse, status, resume)]
             started = wallclock.perf_counter()
-            kernel[blocks, threads](on_device, device_lengths, arrays[0], arrays[1], first, rest_from,
-                                    arrays[2], arrays[3], arrays[4], arrays[5])
+            kernel[blocks, threads](
+                on_device,
+                device_lengths,
+                arrays[0],
+                arrays[1],
+                first,
+                rest_from,
+                arrays[2],
+                arrays[3],
+                arrays[4],
+                arrays[5],
+            )
             cuda.synchronize()
             elapsed = wallclock.perf_counter() - started
             n_sample, collapse, status, resume = (a.copy_to_host() for a in arrays[2:])
@@ -209,7 +278,13 @@ def run_phase_gpu(plans: list[Plan], phases: list) -> list[int | None]:
                 cursor = loops[k].cursor
                 cursor.n_sample, cursor.collapse = int(n_sample[k]), int(collapse[k])
                 stopped_at = resume[k] if full[k] else stop[k]
-                booking = (at[k], stopped_at, status[k], loops[k].settings.n_steps, elapsed / ran.size)
+                booking = (
+                    at[k],
+                    stopped_at,
+                    status[k],
+                    loops[k].settings.n_steps,
+                    elapsed / ran.size,
+                )
                 if status[k] == step.STATUS_OK:
                     cursor.ran(*booking)
                 else:  # Cursor.ran reads the last sample's step, which is still on the device

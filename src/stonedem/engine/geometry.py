@@ -25,8 +25,9 @@ def centroid(vertices: np.ndarray) -> np.ndarray:
     x, y = vertices[:, 0], vertices[:, 1]
     cross = x * following(y) - following(x) * y
     area6 = 3.0 * np.sum(cross)
-    return np.array([np.sum((x + following(x)) * cross) / area6,
-                     np.sum((y + following(y)) * cross) / area6])
+    return np.array(
+        [np.sum((x + following(x)) * cross) / area6, np.sum((y + following(y)) * cross) / area6]
+    )
 
 
 def polar_moment_about_centroid(vertices: np.ndarray) -> float:

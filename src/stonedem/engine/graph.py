@@ -15,9 +15,9 @@ import numpy as np
 
 from stonedem.engine.pack import SceneArrays
 from stonedem.kernels.broad_phase import body_bounds, find_candidate_pairs
+from stonedem.kernels.contact_graph import BROKEN_FACES, BROKEN_PAIR, BROKEN_TURN, Graph
 from stonedem.kernels.integrate import update_world_vertices
 from stonedem.kernels.point_contact import world_edges
-from stonedem.kernels.contact_graph import BROKEN_FACES, BROKEN_PAIR, BROKEN_TURN, Graph
 
 # a contact's faces count as each other's most opposed up to this share of the smallest
 # angle between a face's normal and the other normals of its body (1 would be the tie)
@@ -45,35 +45,59 @@ def contact_graph(arrays: SceneArrays) -> Graph:
     # the world vertices, bounds and edges of t = 0 by the loop's own kernels
     n_body, n_vert, start = len(arrays.body_mass), len(arrays.local_x), arrays.vert_start
     world_x, world_y, edge_len, edge_nx, edge_ny = (np.zeros(n_vert) for _ in range(5))
-    update_world_vertices(n_body, start, arrays.local_x, arrays.local_y, arrays.init_x, arrays.init_y,
-                          arrays.init_theta, world_x, world_y, np.empty(n_body), np.empty(n_body))
+    update_world_vertices(
+        n_body,
+        start,
+        arrays.local_x,
+        arrays.local_y,
+        arrays.init_x,
+        arrays.init_y,
+        arrays.init_theta,
+        world_x,
+        world_y,
+        np.empty(n_body),
+        np.empty(n_body),
+    )
     lo_x, lo_y, hi_x, hi_y = (np.empty(n_body) for _ in range(4))
     body_bounds(n_body, start, world_x, world_y, lo_x, lo_y, hi_x, hi_y)
     world_edges(n_body, start, world_x, world_y, edge_len, edge_nx, edge_ny)
     spans = [slice(start[b], start[b + 1]) for b in range(n_body)]
     vertices = [np.column_stack([world_x[span], world_y[span]]) for span in spans]
     normals = [np.column_stack([edge_nx[span], edge_ny[span]]) for span in spans]
-    pair_a, pair_b = find_candidate_pairs(n_body, arrays.body_driven, lo_x, lo_y, hi_x, hi_y, arrays.margin,
-                                          arrays.sweep_axis)
+    pair_a, pair_b = find_candidate_pairs(
+        n_body, arrays.body_driven, lo_x, lo_y, hi_x, hi_y, arrays.margin, arrays.sweep_axis
+    )
     faces_a, faces_b, rest, limit = [], [], [], []
     index = np.full((n_body, n_body), -1, dtype=np.int64)
     for g, (a, b) in enumerate(zip(pair_a, pair_b)):
         normals_a, normals_b = normals[a], normals[b]
         # a's edge along whose normal b lies farthest out (least overlap, or a gap)
-        separation = [np.min((vertices[b] - vertices[a][k]) @ normals_a[k]) if np.any(normals_a[k] != 0.0)
-                      else -np.inf for k in range(len(normals_a))]
+        separation = [
+            np.min((vertices[b] - vertices[a][k]) @ normals_a[k])
+            if np.any(normals_a[k] != 0.0)
+            else -np.inf
+            for k in range(len(normals_a))
+        ]
         ka = int(np.argmax(separation))
         kb = facing_edge(normals_b, -normals_a[ka])
         inward = -normals_a[ka]
-        angle = math.atan2(inward[0] * normals_b[kb][1] - inward[1] * normals_b[kb][0], inward @ normals_b[kb])
+        angle = math.atan2(
+            inward[0] * normals_b[kb][1] - inward[1] * normals_b[kb][0], inward @ normals_b[kb]
+        )
         faces_a.append(ka)
         faces_b.append(kb)
         rest.append(angle - (arrays.init_theta[b] - arrays.init_theta[a]))
         limit.append(TURN_SHARE * min(turn_room(normals_a, ka), turn_room(normals_b, kb)))
         index[a, b] = g
-    return Graph(pair_a=np.asarray(pair_a, dtype=np.int64), pair_b=np.asarray(pair_b, dtype=np.int64),
-                 face_a=np.asarray(faces_a, dtype=np.int64), face_b=np.asarray(faces_b, dtype=np.int64),
-                 turn_rest=np.asarray(rest, dtype=float), turn_limit=np.asarray(limit, dtype=float), index=index)
+    return Graph(
+        pair_a=np.asarray(pair_a, dtype=np.int64),
+        pair_b=np.asarray(pair_b, dtype=np.int64),
+        face_a=np.asarray(faces_a, dtype=np.int64),
+        face_b=np.asarray(faces_b, dtype=np.int64),
+        turn_rest=np.asarray(rest, dtype=float),
+        turn_limit=np.asarray(limit, dtype=float),
+        index=index,
+    )
 
 
 def why_broken(broken: int, which: int, graph: Graph, names: list[str]) -> str:

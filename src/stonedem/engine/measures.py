@@ -98,8 +98,9 @@ def sliding_frames(scene: Scene, support: list[int], x0, y0, theta0) -> SlidingF
         frames.support_x[i], frames.support_y[i] = _local(point, x0[s], y0[s], theta0[s])
     for i, s in enumerate(support):
         if s >= 0:
-            frames.offset[i] = _separation(frames, i, s, x0[[i]], y0[[i]], theta0[[i]],
-                                           x0[[s]], y0[[s]], theta0[[s]])[0]
+            frames.offset[i] = _separation(
+                frames, i, s, x0[[i]], y0[[i]], theta0[[i]], x0[[s]], y0[[s]], theta0[[s]]
+            )[0]
     return frames
 
 
@@ -131,7 +132,9 @@ def rocking_bodies(scene: Scene) -> np.ndarray:
     drums = [i for i, b in enumerate(scene.bodies) if b.role == "drum"]
     if drums:
         return np.array(drums)
-    return np.array([i for i, b in enumerate(scene.bodies) if not b.driven and b.role != "epistyle"])
+    return np.array(
+        [i for i, b in enumerate(scene.bodies) if not b.driven and b.role != "epistyle"]
+    )
 
 
 def rocking_theta_cr(scene: Scene, body_group: np.ndarray, group_theta_cr: np.ndarray) -> float:
@@ -145,7 +148,9 @@ def epistyle_bodies(scene: Scene) -> list[int]:
     return [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
 
 
-ONSET_FRACTION = 1.0 / 30.0  # rocking onset: mean rotation above this share of theta_cr (thesis 6.3.1)
+ONSET_FRACTION = (
+    1.0 / 30.0
+)  # rocking onset: mean rotation above this share of theta_cr (thesis 6.3.1)
 
 
 def rocking_onset_time(time, rocking, theta_cr) -> float:

@@ -13,17 +13,21 @@ from __future__ import annotations
 import os
 import resource
 
-DOUBLES_PER_SAMPLE = 32   # per output sample: energies, time, base motion, measures (measured 20)
-DOUBLES_PER_BODY = 8      # per sample and body: samples, relative motion, sliding (measured 5.8)
-CONTACT_DOUBLES = 24      # per pair of bodies: friction force and contact memory
-MEMORY_SHARE = 0.5        # of the available memory: numba, xarray and the OS need the rest
-MAX_RUN_BYTES = 16 * 2**30  # above this a run is refused on any machine (the same answer everywhere)
+DOUBLES_PER_SAMPLE = 32  # per output sample: energies, time, base motion, measures (measured 20)
+DOUBLES_PER_BODY = 8  # per sample and body: samples, relative motion, sliding (measured 5.8)
+CONTACT_DOUBLES = 24  # per pair of bodies: friction force and contact memory
+MEMORY_SHARE = 0.5  # of the available memory: numba, xarray and the OS need the rest
+MAX_RUN_BYTES = (
+    16 * 2**30
+)  # above this a run is refused on any machine (the same answer everywhere)
 
 
 def run_bytes(n_samples: float, n_bodies: int) -> float:
     """Bytes a run of ``n_samples`` output samples of ``n_bodies`` bodies needs at its peak."""
-    return 8.0 * (n_samples * (DOUBLES_PER_SAMPLE + DOUBLES_PER_BODY * n_bodies)
-                  + CONTACT_DOUBLES * n_bodies * n_bodies)
+    return 8.0 * (
+        n_samples * (DOUBLES_PER_SAMPLE + DOUBLES_PER_BODY * n_bodies)
+        + CONTACT_DOUBLES * n_bodies * n_bodies
+    )
 
 
 def _read_int(path: str) -> int | None:

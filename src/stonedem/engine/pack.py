@@ -20,7 +20,6 @@ from stonedem.errors import InputError
 from stonedem.kernels import step
 from stonedem.kernels.overlap import FRAME_BOUNDARY, FRAME_THESIS
 
-
 # "faces": the point law's own frame (stonedem.kernels.point_contact), which ignores frame_rule
 FRAME_RULES = {"boundary": FRAME_BOUNDARY, "thesis": FRAME_THESIS, "faces": FRAME_BOUNDARY}
 
@@ -110,13 +109,26 @@ def pack_scene(scene: Scene) -> SceneArrays:
     extent = np.ptp(np.vstack([b.vertices for b in bodies if not b.driven]), axis=0)
     free_sizes = np.array([np.ptp(b.vertices, axis=0).min() for b in bodies if not b.driven])
     return SceneArrays(
-        vert_start=vert_start, local_x=np.concatenate(local_x), local_y=np.concatenate(local_y),
-        body_mass=mass, body_inertia=inertia, body_driven=driven, body_radius=radius,
-        ref_x=ref[:, 0].copy(), ref_y=ref[:, 1].copy(), ref_theta=ref[:, 2].copy(),
-        pair_mu=np.ascontiguousarray(pair_mu), body_group=body_group,
-        group_theta_cr=group_theta_cr, fall_depth=fall_depth,
-        init_x=init[:, 0].copy(), init_y=init[:, 1].copy(), init_theta=init[:, 2].copy(),
-        init_vx=init[:, 3].copy(), init_vy=init[:, 4].copy(), init_omega=init[:, 5].copy(),
+        vert_start=vert_start,
+        local_x=np.concatenate(local_x),
+        local_y=np.concatenate(local_y),
+        body_mass=mass,
+        body_inertia=inertia,
+        body_driven=driven,
+        body_radius=radius,
+        ref_x=ref[:, 0].copy(),
+        ref_y=ref[:, 1].copy(),
+        ref_theta=ref[:, 2].copy(),
+        pair_mu=np.ascontiguousarray(pair_mu),
+        body_group=body_group,
+        group_theta_cr=group_theta_cr,
+        fall_depth=fall_depth,
+        init_x=init[:, 0].copy(),
+        init_y=init[:, 1].copy(),
+        init_theta=init[:, 2].copy(),
+        init_vx=init[:, 3].copy(),
+        init_vy=init[:, 4].copy(),
+        init_omega=init[:, 5].copy(),
         sweep_axis=int(extent[1] >= extent[0]),
         margin=0.1 * float(free_sizes.min()),
     )
@@ -151,10 +163,13 @@ def _landing_drops(scene: Scene) -> np.ndarray:
     if scene.gravity == 0.0:
         return drops
     if not driven.any():
-        raise InputError("bodies", "no body is driven, so nothing holds the others up: every body would fall "
-                         "freely (a free fall, not a collapse)",
-                         "add the ground under them as a driven body (driven: true, role: base), or build a "
-                         "structure: (its base is driven)")
+        raise InputError(
+            "bodies",
+            "no body is driven, so nothing holds the others up: every body would fall "
+            "freely (a free fall, not a collapse)",
+            "add the ground under them as a driven body (driven: true, role: base), or build a "
+            "structure: (its base is driven)",
+        )
     posed = [posed_vertices(b) for b in scene.bodies]
     lo = np.array([p.min(axis=0) for p in posed])
     hi = np.array([p.max(axis=0) for p in posed])
@@ -174,21 +189,30 @@ def _landing_drops(scene: Scene) -> np.ndarray:
         for j in sorted(np.flatnonzero(under), key=lambda j: lo[i, 1] - hi[j, 1] + drops[j]):
             if lo[i, 1] - hi[j, 1] + drops[j] >= best:
                 break
-            gap = _vertical_gap(posed[i], posed[j], max(lo[i, 0], lo[j, 0]), min(hi[i, 0], hi[j, 0]))
+            gap = _vertical_gap(
+                posed[i], posed[j], max(lo[i, 0], lo[j, 0]), min(hi[i, 0], hi[j, 0])
+            )
             if gap > -min(touch[i], touch[j]):  # else j reaches above body i's bottom: beside it
                 best = min(best, max(gap, 0.0) + drops[j])
         if math.isinf(best):  # the base may sway under it
             if reach is None:
                 grid = np.arange(0.0, scene.duration + 1e-3, 1e-3)
                 reach = float(np.abs(scene.horizontal.evaluate(grid)[0]).max())
-            near = driven & (lo[:, 0] - reach < hi[i, 0] - share) & (hi[:, 0] + reach > lo[i, 0] + share) & (
-                hi[:, 1] <= lo[i, 1] + touch[i])
+            near = (
+                driven
+                & (lo[:, 0] - reach < hi[i, 0] - share)
+                & (hi[:, 0] + reach > lo[i, 0] + share)
+                & (hi[:, 1] <= lo[i, 1] + touch[i])
+            )
             if near.any():
                 best = max(float(lo[i, 1] - hi[near, 1].max()), 0.0)
         if math.isinf(best) and scene.bodies[i].velocity is None:
-            raise InputError(f"bodies[{i}] ({scene.bodies[i].name})", "nothing under it leads down to a driven "
-                             "body: it would fall freely (a free fall, not a collapse)",
-                             "place it above the base, or on a body that rests on it")
+            raise InputError(
+                f"bodies[{i}] ({scene.bodies[i].name})",
+                "nothing under it leads down to a driven "
+                "body: it would fall freely (a free fall, not a collapse)",
+                "place it above the base, or on a body that rests on it",
+            )
         drops[i] = best
     return drops
 
@@ -221,21 +245,44 @@ def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
     law = scene.contact
 
     def excitation(motion):
-        return step.Excitation(kind=int(motion.kind), params=motion.params, table_accel=motion.table_accel,
-                               table_vel=motion.table_vel, table_disp=motion.table_disp,
-                               table_dt=float(motion.table_dt))
+        return step.Excitation(
+            kind=int(motion.kind),
+            params=motion.params,
+            table_accel=motion.table_accel,
+            table_vel=motion.table_vel,
+            table_disp=motion.table_disp,
+            table_dt=float(motion.table_dt),
+        )
 
     return step.Model(
-        vert_start=arrays.vert_start, local_x=arrays.local_x, local_y=arrays.local_y,
-        body_mass=arrays.body_mass, body_inertia=arrays.body_inertia, body_driven=arrays.body_driven,
-        body_radius=arrays.body_radius, ref_x=arrays.ref_x, ref_y=arrays.ref_y, ref_theta=arrays.ref_theta,
-        pair_mu=arrays.pair_mu, body_group=arrays.body_group, group_theta_cr=arrays.group_theta_cr,
-        fall_depth=arrays.fall_depth, margin=arrays.margin, sweep_axis=arrays.sweep_axis,
+        vert_start=arrays.vert_start,
+        local_x=arrays.local_x,
+        local_y=arrays.local_y,
+        body_mass=arrays.body_mass,
+        body_inertia=arrays.body_inertia,
+        body_driven=arrays.body_driven,
+        body_radius=arrays.body_radius,
+        ref_x=arrays.ref_x,
+        ref_y=arrays.ref_y,
+        ref_theta=arrays.ref_theta,
+        pair_mu=arrays.pair_mu,
+        body_group=arrays.body_group,
+        group_theta_cr=arrays.group_theta_cr,
+        fall_depth=arrays.fall_depth,
+        margin=arrays.margin,
+        sweep_axis=arrays.sweep_axis,
         gravity=scene.gravity,
-        law=step.Law(kind=LAWS[law.model].code, k_n=law.k_n, damping=LAWS[law.model].kernel_damping(law),
-                     impact=law.impact == "plastic", k_t=law.k_t, c_t=law.c_t,
-                     frame_rule=FRAME_RULES[law.frame]),
-        horizontal=excitation(scene.horizontal), vertical=excitation(scene.vertical),
+        law=step.Law(
+            kind=LAWS[law.model].code,
+            k_n=law.k_n,
+            damping=LAWS[law.model].kernel_damping(law),
+            impact=law.impact == "plastic",
+            k_t=law.k_t,
+            c_t=law.c_t,
+            frame_rule=FRAME_RULES[law.frame],
+        ),
+        horizontal=excitation(scene.horizontal),
+        vertical=excitation(scene.vertical),
         watch=watch_arrays(scene, arrays),
     )
 
@@ -246,9 +293,11 @@ def initial_poses(scene: Scene, arrays: SceneArrays) -> tuple[np.ndarray, np.nda
     d_h, _, _ = scene.horizontal.evaluate(np.array([0.0]))
     d_v, _, _ = scene.vertical.evaluate(np.array([0.0]))
     driven = arrays.body_driven
-    return (np.where(driven, arrays.ref_x + d_h[0], arrays.init_x),
-            np.where(driven, arrays.ref_y + d_v[0], arrays.init_y),
-            np.where(driven, arrays.ref_theta, arrays.init_theta))
+    return (
+        np.where(driven, arrays.ref_x + d_h[0], arrays.init_x),
+        np.where(driven, arrays.ref_y + d_v[0], arrays.init_y),
+        np.where(driven, arrays.ref_theta, arrays.init_theta),
+    )
 
 
 def watch_arrays(scene: Scene, arrays: SceneArrays) -> step.Watch:
@@ -257,15 +306,27 @@ def watch_arrays(scene: Scene, arrays: SceneArrays) -> step.Watch:
     n = len(scene.bodies)
     rocking = np.zeros(n)
     rocking[measures.rocking_bodies(scene).astype(np.int64)] = 1.0
-    theta_cr = measures.rocking_theta_cr(scene, arrays.body_group, arrays.group_theta_cr) if rocking.any() else np.inf
+    theta_cr = (
+        measures.rocking_theta_cr(scene, arrays.body_group, arrays.group_theta_cr)
+        if rocking.any()
+        else np.inf
+    )
     support = np.array(measures.supports(scene), dtype=np.int64)
     x0, y0, theta0 = initial_poses(scene, arrays)
     frames = measures.sliding_frames(scene, list(support), x0, y0, theta0)
     epistyle = np.zeros(n)
     epistyle[measures.epistyle_bodies(scene)] = 1.0
     return step.Watch(
-        rocking=rocking, n_rocking=float(rocking.sum()), onset_rocking=theta_cr * measures.ONSET_FRACTION,
-        support=support, slide_x=frames.body_x, slide_y=frames.body_y,
-        slide_support_x=frames.support_x, slide_support_y=frames.support_y, slide_offset=frames.offset,
-        epistyle=epistyle, n_epistyle=float(epistyle.sum()), x0=x0,
+        rocking=rocking,
+        n_rocking=float(rocking.sum()),
+        onset_rocking=theta_cr * measures.ONSET_FRACTION,
+        support=support,
+        slide_x=frames.body_x,
+        slide_y=frames.body_y,
+        slide_support_x=frames.support_x,
+        slide_support_y=frames.support_y,
+        slide_offset=frames.offset,
+        epistyle=epistyle,
+        n_epistyle=float(epistyle.sum()),
+        x0=x0,
     )

@@ -23,8 +23,9 @@ from stonedem.engine.scene import Scene, posed_vertices
 from stonedem.entry import check_interrupt
 from stonedem.kernels import step
 
-
-QUIET_MARGIN = 0.5  # the base counts as quiet below half the smallest acceleration that could move a body
+QUIET_MARGIN = (
+    0.5  # the base counts as quiet below half the smallest acceleration that could move a body
+)
 REST_SPEED = 1e-3  # [m s-1] a body slower than this relative to the base is at rest
 REST_SECONDS = 0.5  # [s] ... for this long in a row, with the base quiet for good: the run ends
 # times evaluated at once by the quiet scan and the carried fill: their memory stays a few
@@ -71,7 +72,9 @@ def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[
         grid = np.arange(start, min(start + CHUNK, n_grid)) * spacing
         _, _, a_h = h.evaluate(grid)
         _, _, a_v = v.evaluate(grid)
-        loud = (np.abs(a_h) >= ratio * (scene.gravity - np.abs(a_v))) | (np.abs(a_v) >= 0.5 * scene.gravity)
+        loud = (np.abs(a_h) >= ratio * (scene.gravity - np.abs(a_v))) | (
+            np.abs(a_v) >= 0.5 * scene.gravity
+        )
         if loud.any():
             if first_loud is None:
                 first_loud = grid[np.argmax(loud)]
@@ -79,8 +82,10 @@ def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[
     if first_loud is None:
         first_loud, last_loud = 0.0, 0.0  # nothing to skip but the settled rest at the end
     # released in the air, a body falls first (stonedem.engine.pack.landing_drops)
-    at_rest = all(b.driven or (b.tilt_angle == 0.0 and b.velocity is None) for b in scene.bodies) and not (
-        landing_drops(scene) > 0.0).any()
+    at_rest = (
+        all(b.driven or (b.tilt_angle == 0.0 and b.velocity is None) for b in scene.bodies)
+        and not (landing_drops(scene) > 0.0).any()
+    )
     n_first = 0
     if at_rest:
         n_first = max(0, int((first_loud - spacing) / dt)) // out_every * out_every
@@ -89,8 +94,9 @@ def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[
     return n_first, n_rest
 
 
-def rigid_motion(scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_from, theta_from,
-                 energy_from=None):
+def rigid_motion(
+    scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_from, theta_from, energy_from=None
+):
     """(x, y, theta (n_time, n_body), energy (n_time, N_ENERGY)) of the scene carried by the base.
 
     From the poses at t_from [s], free bodies translate with the base displacement and keep
@@ -105,8 +111,12 @@ def rigid_motion(scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_fro
     d_h0, _, _ = h.evaluate(np.array([t_from]))
     d_v0, _, _ = v.evaluate(np.array([t_from]))
     free = ~arrays.body_driven
-    x = np.where(free, x_from[None, :] + (d_h - d_h0[0])[:, None], arrays.ref_x[None, :] + d_h[:, None])
-    y = np.where(free, y_from[None, :] + (d_v - d_v0[0])[:, None], arrays.ref_y[None, :] + d_v[:, None])
+    x = np.where(
+        free, x_from[None, :] + (d_h - d_h0[0])[:, None], arrays.ref_x[None, :] + d_h[:, None]
+    )
+    y = np.where(
+        free, y_from[None, :] + (d_v - d_v0[0])[:, None], arrays.ref_y[None, :] + d_v[:, None]
+    )
     theta = np.where(free, theta_from[None, :], arrays.ref_theta[None, :])
     mass = np.where(free, arrays.body_mass, 0.0)
     energy = np.zeros((len(times), step.N_ENERGY))
@@ -115,14 +125,26 @@ def rigid_motion(scene: Scene, arrays: SceneArrays, times, t_from, x_from, y_fro
     if energy_from is not None:
         for col in (step.ENERGY_ELASTIC, step.ENERGY_DAMPING, step.ENERGY_TANGENTIAL):
             energy[:, col] = energy_from[col]
-        gained = (energy[:, step.ENERGY_KINETIC] + energy[:, step.ENERGY_POTENTIAL]
-                  - energy_from[step.ENERGY_KINETIC] - energy_from[step.ENERGY_POTENTIAL])
+        gained = (
+            energy[:, step.ENERGY_KINETIC]
+            + energy[:, step.ENERGY_POTENTIAL]
+            - energy_from[step.ENERGY_KINETIC]
+            - energy_from[step.ENERGY_POTENTIAL]
+        )
         energy[:, step.ENERGY_BASE_WORK] = energy_from[step.ENERGY_BASE_WORK] + gained
     return x, y, theta, energy
 
 
-def carry(scene: Scene, arrays: SceneArrays, samples: "step.Samples", n_sample: int, n_to: int,
-          dt: float, out_every: int, including: bool = False) -> tuple[int, int]:
+def carry(
+    scene: Scene,
+    arrays: SceneArrays,
+    samples: "step.Samples",
+    n_sample: int,
+    n_to: int,
+    dt: float,
+    out_every: int,
+    including: bool = False,
+) -> tuple[int, int]:
     """Fill the samples after sample ``n_sample - 1`` every ``out_every`` steps up to step
     ``n_to`` (``including`` it), carried by the base; returns (samples now, last step run)."""
     k = n_sample - 1
@@ -132,28 +154,52 @@ def carry(scene: Scene, arrays: SceneArrays, samples: "step.Samples", n_sample: 
         steps = np.append(steps, np.int64(n_to))
     for start in range(0, len(steps), CHUNK):  # rows are independent: the same values in pieces
         check_interrupt()
-        part = steps[start:start + CHUNK]
+        part = steps[start : start + CHUNK]
         fill = slice(k + 1 + start, k + 1 + start + len(part))
         samples.step[fill] = part
-        filled = rigid_motion(scene, arrays, part * dt, last * dt, samples.x[k], samples.y[k],
-                              samples.theta[k], samples.energy[k])
+        filled = rigid_motion(
+            scene,
+            arrays,
+            part * dt,
+            last * dt,
+            samples.x[k],
+            samples.y[k],
+            samples.theta[k],
+            samples.energy[k],
+        )
         samples.x[fill], samples.y[fill], samples.theta[fill], samples.energy[fill] = filled
         samples.n_contact[fill] = samples.n_contact[k]
     return n_sample + len(steps), last
 
 
-def settled_state(scene: Scene, arrays: SceneArrays, samples: "step.Samples", k: int, last: int,
-                  state: "step.State", n_first: int, dt: float) -> None:
+def settled_state(
+    scene: Scene,
+    arrays: SceneArrays,
+    samples: "step.Samples",
+    k: int,
+    last: int,
+    state: "step.State",
+    n_first: int,
+    dt: float,
+) -> None:
     """Move the state settled at step ``last`` (sample k) to step ``n_first``, shifted with the
     base and moving with it; the contacts' memory (in their own frames) and the dissipated
     energy are kept."""
     free = ~arrays.body_driven
-    x, y, th, energy = rigid_motion(scene, arrays, np.array([n_first * dt]), last * dt,
-                                    samples.x[k], samples.y[k], samples.theta[k], samples.energy[k])
+    x, y, th, energy = rigid_motion(
+        scene,
+        arrays,
+        np.array([n_first * dt]),
+        last * dt,
+        samples.x[k],
+        samples.y[k],
+        samples.theta[k],
+        samples.energy[k],
+    )
     state.body_x[free], state.body_y[free] = x[0, free], y[0, free]
     state.body_theta[free] = th[0, free]
     _, v_h, _ = scene.horizontal.evaluate(np.array([n_first * dt]))
     _, v_v, _ = scene.vertical.evaluate(np.array([n_first * dt]))
     state.body_vx[free], state.body_vy[free], state.body_omega[free] = v_h[0], v_v[0], 0.0
     # the accumulators are the accumulated energy columns (step.ENERGY_ACCUMULATED on)
-    state.energy_acc[:] = energy[0, step.ENERGY_ACCUMULATED:]
+    state.energy_acc[:] = energy[0, step.ENERGY_ACCUMULATED :]

@@ -22,15 +22,21 @@ import numpy as np
 import xarray as xr
 
 from stonedem.engine import measures
-from stonedem.errors import InputError
-from stonedem.entry import check_interrupt
-from stonedem.kernels import step
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene
+from stonedem.engine.simulate import (
+    ENERGY_TOLERANCE,
+    PENETRATION_LIMIT,
+    RunResult,
+    preflight,
+    run_checks,
+    simulate,
+)
+from stonedem.entry import check_interrupt
+from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, schema_variables
 from stonedem.io.provenance import bounded_json
-from stonedem.engine.simulate import (ENERGY_TOLERANCE, PENETRATION_LIMIT, RunResult, preflight, run_checks, simulate)
-
+from stonedem.kernels import step
 
 # times an automatic step is halved for a run that diverges or drifts past the energy tolerance
 ENERGY_RETRIES = 2
@@ -45,7 +51,9 @@ def _fits(scene: Scene) -> bool:
     return True
 
 
-def run_scenes(scenes: list[Scene], device: str = "cpu", threads: int | None = None) -> list[xr.Dataset]:
+def run_scenes(
+    scenes: list[Scene], device: str = "cpu", threads: int | None = None
+) -> list[xr.Dataset]:
     """:func:`run_scene` of each scene, their first attempts run side by side
     (:func:`stonedem.engine.ensemble.run_ensemble` on ``device``); a retry at a halved step
     runs alone on the CPU. Each dataset's attrs say the device of its first attempt."""
@@ -108,20 +116,28 @@ def checked_run(scene: Scene, progress: bool = False, first: RunResult | None = 
         halved = dataclasses.replace(scene, dt_safety=0.5 * scene.dt_safety)
         if scene.dt is not None or not retry_worthy or retry == ENERGY_RETRIES or not _fits(halved):
             break
-        what = "diverged (NaN)" if diverged else f"energy balance drifted {100 * checks['energy_error']:.3g} %"
+        what = (
+            "diverged (NaN)"
+            if diverged
+            else f"energy balance drifted {100 * checks['energy_error']:.3g} %"
+        )
         scene = halved
         print(f"note: {what}; repeating at dt_safety {scene.dt_safety:g}", file=sys.stderr)
     if diverged:
         t = result.time[-1] if len(result.time) else 0.0
-        raise InputError("solver.dt", f"the simulation diverged (NaN) near t = {t:.4g} s",
-                         f"reduce dt below {result.dt:.3g} s or soften contact.k_n")
+        raise InputError(
+            "solver.dt",
+            f"the simulation diverged (NaN) near t = {t:.4g} s",
+            f"reduce dt below {result.dt:.3g} s or soften contact.k_n",
+        )
     for line in checks["warnings"]:
         print(f"warning: {line}", file=sys.stderr)
     return CheckedRun(scene, result, checks, retry, compiled)
 
 
-def response_measures(scene: Scene, result: RunResult, checks: dict,
-                      histories: bool = True) -> dict[str, tuple[tuple, np.ndarray]]:
+def response_measures(
+    scene: Scene, result: RunResult, checks: dict, histories: bool = True
+) -> dict[str, tuple[tuple, np.ndarray]]:
     """The response of a run as {name: (dims, values)}: the histories a study cube keeps
     (rocking, sliding, epistyle, base motion) and the measures (peaks, collapse, theta_cr;
     a penetrated run is never reported as a collapse). What :func:`scene_dataset` and a
@@ -133,9 +149,13 @@ def response_measures(scene: Scene, result: RunResult, checks: dict,
     # the residual sliding needs only the last sample's (measured from the first's frames);
     # each sample's sliding is a row of its own
     rows = slice(None) if histories else [0, -1]
-    sliding = measures.relative_sliding(scene, result.x[rows], result.y[rows], result.theta[rows], support)
+    sliding = measures.relative_sliding(
+        scene, result.x[rows], result.y[rows], result.theta[rows], support
+    )
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
-    theta_cr = measures.rocking_theta_cr(scene, result.arrays.body_group, result.arrays.group_theta_cr)
+    theta_cr = measures.rocking_theta_cr(
+        scene, result.arrays.body_group, result.arrays.group_theta_cr
+    )
     epistyles = measures.epistyle_bodies(scene)
     collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
     t = ("time",)
@@ -149,7 +169,10 @@ def response_measures(scene: Scene, result: RunResult, checks: dict,
         "rocking_onset_time": ((), result.rocking_onset_time),
         "collapsed": ((), np.int8(collapsed)),
         "collapse_time": ((), result.collapse_time if collapsed else float("nan")),
-        "max_epistyle_displacement": ((), result.max_epistyle_displacement if epistyles else float("nan")),
+        "max_epistyle_displacement": (
+            (),
+            result.max_epistyle_displacement if epistyles else float("nan"),
+        ),
     }
     if not histories:
         return response
@@ -158,9 +181,14 @@ def response_measures(scene: Scene, result: RunResult, checks: dict,
     rel = result.x - result.x[0] - d_h[:, None]
     epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
     return {
-        "base_displacement": (t, d_h), "base_velocity": (t, v_h), "base_acceleration": (t, a_h),
-        "displacement_relative_to_base": (("time", "body"), rel), "sliding": (("time", "body"), sliding),
-        "total_sliding": (t, total_sliding), "rocking": (t, rocking), "epistyle_displacement": (t, epi),
+        "base_displacement": (t, d_h),
+        "base_velocity": (t, v_h),
+        "base_acceleration": (t, a_h),
+        "displacement_relative_to_base": (("time", "body"), rel),
+        "sliding": (("time", "body"), sliding),
+        "total_sliding": (t, total_sliding),
+        "rocking": (t, rocking),
+        "epistyle_displacement": (t, epi),
         **response,
     }
 
@@ -187,50 +215,65 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     response = response_measures(scene, result, checks)
 
     tb = ("time", "body")
-    data_vars = schema_variables({
-        "x": (tb, result.x), "y": (tb, result.y),
-        "theta": (tb, result.theta),
-        "base_vertical_displacement": (("time",), d_v),
-        "energy_kinetic": (("time",), kinetic),
-        "energy_potential": (("time",), potential),
-        "energy_elastic": (("time",), elastic),
-        "energy_dissipated": (("time",), diss_n + diss_t),
-        "energy_dissipated_normal": (("time",), diss_n),
-        "energy_dissipated_tangential": (("time",), diss_t),
-        "energy_base_work": (("time",), base_work),
-        "energy_balance_error": (("time",), balance),
-        "n_contact": (("time",), result.n_contact.astype(np.int32)),
-        **response,
-    })
-    coords = schema_variables({
-        "time": (("time",), time),
-        "body": (("body",), np.array(names, dtype=object)),
-        "body_role": (("body",), np.array([b.role for b in scene.bodies], dtype=object)),
-        "body_column": (("body",), np.array([b.column for b in scene.bodies], dtype=np.int32)),
-        "body_mass": (("body",), np.array([b.mass for b in scene.bodies])),
-        "body_inertia": (("body",), np.array([b.inertia for b in scene.bodies])),
-        "body_support": (("body",), np.array(measures.supports(scene), dtype=np.int32)),
-    })
+    data_vars = schema_variables(
+        {
+            "x": (tb, result.x),
+            "y": (tb, result.y),
+            "theta": (tb, result.theta),
+            "base_vertical_displacement": (("time",), d_v),
+            "energy_kinetic": (("time",), kinetic),
+            "energy_potential": (("time",), potential),
+            "energy_elastic": (("time",), elastic),
+            "energy_dissipated": (("time",), diss_n + diss_t),
+            "energy_dissipated_normal": (("time",), diss_n),
+            "energy_dissipated_tangential": (("time",), diss_t),
+            "energy_base_work": (("time",), base_work),
+            "energy_balance_error": (("time",), balance),
+            "n_contact": (("time",), result.n_contact.astype(np.int32)),
+            **response,
+        }
+    )
+    coords = schema_variables(
+        {
+            "time": (("time",), time),
+            "body": (("body",), np.array(names, dtype=object)),
+            "body_role": (("body",), np.array([b.role for b in scene.bodies], dtype=object)),
+            "body_column": (("body",), np.array([b.column for b in scene.bodies], dtype=np.int32)),
+            "body_mass": (("body",), np.array([b.mass for b in scene.bodies])),
+            "body_inertia": (("body",), np.array([b.inertia for b in scene.bodies])),
+            "body_support": (("body",), np.array(measures.supports(scene), dtype=np.int32)),
+        }
+    )
     attrs = {
         "title": f"stonedem rigid-block simulation: {scene.spec.get('name', 'scene')}",
         "source": code_version(),
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by stonedem.engine.simulate",
         "platform": f"python {platform.python_version()}, numba {numba.__version__}",
         "scene": bounded_json(scene.spec, "scene", check=check_interrupt),
-        "excitation": bounded_json(scene.horizontal.description, "excitation", check=check_interrupt),
-        "excitation_vertical": bounded_json(scene.vertical.description, "excitation.vertical", check=check_interrupt),
-        "dt": result.dt, "dt_units": "s",
+        "excitation": bounded_json(
+            scene.horizontal.description, "excitation", check=check_interrupt
+        ),
+        "excitation_vertical": bounded_json(
+            scene.vertical.description, "excitation.vertical", check=check_interrupt
+        ),
+        "dt": result.dt,
+        "dt_units": "s",
         "dt_stability_limit": result.dt_limit,
         "dt_safety": scene.dt_safety if scene.dt is None else result.dt / result.dt_limit,
         "dt_mode": "auto" if scene.dt is None else "given",
         "output_interval": result.out_every * result.dt,
         **contact_attrs(scene),
-        "gravity": scene.gravity, "depth": scene.depth,
-        "duration": scene.duration, "n_steps": result.n_steps, "steps_run": result.steps_run,
+        "gravity": scene.gravity,
+        "depth": scene.depth,
+        "duration": scene.duration,
+        "n_steps": result.n_steps,
+        "steps_run": result.steps_run,
         "stop_on_collapse": int(scene.stop_on_collapse),
         "skip_quiet": int(scene.skip_quiet),
-        "quiet_lead_skipped": result.quiet_lead, "quiet_lead_skipped_units": "s",
-        "at_rest_from": result.rest_time, "at_rest_from_units": "s",
+        "quiet_lead_skipped": result.quiet_lead,
+        "quiet_lead_skipped_units": "s",
+        "at_rest_from": result.rest_time,
+        "at_rest_from_units": "s",
         "status": checks["status"],
         "energy_error": checks["energy_error"],
         "energy_error_definition": "max |energy balance drift| / energy the run moves (stonedem.engine.simulate.energy_drift)",
@@ -239,15 +282,17 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
         "penetration_limit": float(PENETRATION_LIMIT),
         "wall_seconds": result.wall_seconds,
-        "compile_seconds": result.compile_seconds, "compile_seconds_units": "s",
+        "compile_seconds": result.compile_seconds,
+        "compile_seconds_units": "s",
         "compile_seconds_definition": "wall time to compile the time loop or load it from Numba's cache before its "
-                                      "first step, not in wall_seconds (the stepping)",
+        "first step, not in wall_seconds (the stepping)",
         "kernel": result.kernel,
         "kernel_definition": "the compiled loop the run started on: contact_graph (the scene's face contacts, "
-                             "stonedem.kernels.contact_graph) or general (broad phase and separating axes)",
-        "general_from": result.handover_time, "general_from_units": "s",
+        "stonedem.kernels.contact_graph) or general (broad phase and separating axes)",
+        "general_from": result.handover_time,
+        "general_from_units": "s",
         "general_from_definition": "time from which the general loop went on where the contact graph stopped "
-                                   "holding, NaN: never",
+        "holding, NaN: never",
         "general_because": result.handover_reason,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
     }
@@ -260,11 +305,17 @@ def contact_attrs(scene: Scene) -> dict:
     return {
         "contact_model": law.model,
         "contact_law": LAWS[law.model].describe,
-        "k_n": law.k_n, "k_n_units": "N m-2", "c_n": law.c_n, "c_n_units": "N s m-1",
-        "contact_damping": law.damping, "contact_damping_units": "1",
+        "k_n": law.k_n,
+        "k_n_units": "N m-2",
+        "c_n": law.c_n,
+        "c_n_units": "N s m-1",
+        "contact_damping": law.damping,
+        "contact_damping_units": "1",
         "contact_impact": law.impact if "impact" in LAWS[law.model].defaults else "none",
-        "k_t": law.k_t, "k_t_units": "N m-1",
-        "c_t": law.c_t, "c_t_units": "N s m-1",
+        "k_t": law.k_t,
+        "k_t_units": "N m-1",
+        "c_t": law.c_t,
+        "c_t_units": "N s m-1",
         "friction": scene.friction,
         "contact_frame": law.frame,
     }
@@ -277,12 +328,20 @@ def contact_attrs(scene: Scene) -> dict:
 # (stonedem.kernels.step.run_area); general_point is the general loop with the point law alone
 # (run_point), where a point-law run goes on when its graph stops holding.
 WARM_SCENES = {
-    loop: {"name": f"warm_compile_{loop}", "structure": {"kind": "column", "n_drums": 2, "height": 2.0, "width": 0.5},
-           "contact": contact, "friction": 0.5, "excitation": {"kind": "harmonic", "amplitude": 0.01, "frequency": 1.0},
-           "solver": {"duration": 0.01, "kernel": kernel}, "output": {"every": 0.005}}
-    for loop, contact, kernel in (("contact_graph", {"model": "point", "k_n": 1.0e10}, "auto"),
-                                  ("general", {"model": "area", "k_n": 1.0e9, "c_n": 5.0}, "auto"),
-                                  ("general_point", {"model": "point", "k_n": 1.0e10}, "general"))
+    loop: {
+        "name": f"warm_compile_{loop}",
+        "structure": {"kind": "column", "n_drums": 2, "height": 2.0, "width": 0.5},
+        "contact": contact,
+        "friction": 0.5,
+        "excitation": {"kind": "harmonic", "amplitude": 0.01, "frequency": 1.0},
+        "solver": {"duration": 0.01, "kernel": kernel},
+        "output": {"every": 0.005},
+    }
+    for loop, contact, kernel in (
+        ("contact_graph", {"model": "point", "k_n": 1.0e10}, "auto"),
+        ("general", {"model": "area", "k_n": 1.0e9, "c_n": 5.0}, "auto"),
+        ("general_point", {"model": "point", "k_n": 1.0e10}, "general"),
+    )
 }
 # the loops the workflow compiles before its jobs fan out (workflow/rules/compile.smk): what the
 # study's runs start on. None of them hands over to general_point; one that does compiles it there.
@@ -300,5 +359,7 @@ def warm_compile(loops=None) -> dict[str, float]:
     (general, general_point) on 2 cores with an empty cache, 0.02 s each from a full one."""
     from stonedem.engine.scene import scene_from_dict
 
-    return {loop: float(run_scene(scene_from_dict(WARM_SCENES[loop])).attrs["compile_seconds"])
-            for loop in (WARM_SCENES if loops is None else loops)}
+    return {
+        loop: float(run_scene(scene_from_dict(WARM_SCENES[loop])).attrs["compile_seconds"])
+        for loop in (WARM_SCENES if loops is None else loops)
+    }

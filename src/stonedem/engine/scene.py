@@ -26,8 +26,8 @@ from stonedem.engine import geometry
 from stonedem.engine.laws import DEFAULT_LAW, LAWS
 from stonedem.errors import InputError, check_number, check_text, plain_number
 from stonedem.io.yaml_file import parse_yaml_text, read_yaml_mapping
-from stonedem.units import GRAVITY
 from stonedem.motion.excitation import BaseMotion, excitation_pair
+from stonedem.units import GRAVITY
 
 TOP_KEYS = {
     "name": "scene name",
@@ -44,12 +44,30 @@ TOP_KEYS = {
     "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet, kernel}",
     "output": "{every}",
 }
-BODY_KEYS = ("name", "box", "polygon", "mass", "density", "driven", "tilt", "velocity",
-             "friction", "role", "column", "tier")
+BODY_KEYS = (
+    "name",
+    "box",
+    "polygon",
+    "mass",
+    "density",
+    "driven",
+    "tilt",
+    "velocity",
+    "friction",
+    "role",
+    "column",
+    "tier",
+)
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
-SOLVER_DEFAULTS = {"duration": None, "dt": "auto", "dt_safety": "auto", "stop_on_collapse": True,
-                   "skip_quiet": True, "kernel": "auto"}
+SOLVER_DEFAULTS = {
+    "duration": None,
+    "dt": "auto",
+    "dt_safety": "auto",
+    "stop_on_collapse": True,
+    "skip_quiet": True,
+    "kernel": "auto",
+}
 # auto: a point-law scene runs on its contact graph while that holds (stonedem.kernels.contact_graph),
 # then on the general loop; general: the general loop from the start
 KERNELS = ("auto", "general")
@@ -100,7 +118,9 @@ class ContactLaw:
     k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
     frame: str = "boundary"  # contact frame rule, area law: boundary | thesis (stonedem.kernels.overlap); point law: faces
-    model: str = "area"  # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
+    model: str = (
+        "area"  # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
+    )
     damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
     impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
 
@@ -141,14 +161,15 @@ def load_scene(path: str | Path, overrides=None, base_dir: str | Path | None = N
     return scene_from_dict(spec, base_dir=path.parent if base_dir is None else base_dir)
 
 
-MAX_SCENE_BYTES = 4_000_000   # ~40 000 bodies; the thesis' two-tier colonnade takes 3 kB
+MAX_SCENE_BYTES = 4_000_000  # ~40 000 bodies; the thesis' two-tier colonnade takes 3 kB
 
 
 def read_scene_file(path: str | Path) -> dict:
     """The scene mapping of a YAML file, or an InputError naming the file and the fix
     (:func:`stonedem.io.yaml_file.read_yaml_mapping`: kind, size, encoding, nesting)."""
-    return read_yaml_mapping(path, "a scene file", MAX_SCENE_BYTES,
-                             "start with keys such as bodies:, contact:, solver:")
+    return read_yaml_mapping(
+        path, "a scene file", MAX_SCENE_BYTES, "start with keys such as bodies:, contact:, solver:"
+    )
 
 
 def apply_overrides(spec: dict, overrides) -> None:
@@ -160,14 +181,26 @@ def apply_overrides(spec: dict, overrides) -> None:
     if isinstance(overrides, Mapping):
         for key, value in overrides.items():
             if not isinstance(key, str) or not key.strip():
-                raise InputError("overrides", f"key {key!r} is not a dotted field name",
-                                 "write e.g. {'solver.duration': 2.0}")
+                raise InputError(
+                    "overrides",
+                    f"key {key!r} is not a dotted field name",
+                    "write e.g. {'solver.duration': 2.0}",
+                )
             set_field(spec, key, value, "overrides")
         return
-    items = None if isinstance(overrides, (str, bytes)) else list(overrides) if isinstance(overrides, Iterable) else None
+    items = (
+        None
+        if isinstance(overrides, (str, bytes))
+        else list(overrides)
+        if isinstance(overrides, Iterable)
+        else None
+    )
     if items is None or not all(isinstance(item, str) for item in items):
-        raise InputError("overrides", f"expected a list of key=value strings or a mapping, got {overrides!r}",
-                         "write e.g. ['solver.duration=2'] or {'solver.duration': 2.0}")
+        raise InputError(
+            "overrides",
+            f"expected a list of key=value strings or a mapping, got {overrides!r}",
+            "write e.g. ['solver.duration=2'] or {'solver.duration': 2.0}",
+        )
     for item in items:
         apply_override(spec, item)
 
@@ -175,13 +208,18 @@ def apply_overrides(spec: dict, overrides) -> None:
 def apply_override(spec: dict, item: str) -> None:
     """Set a dotted key from ``key=value`` (value parsed as YAML): ``solver.duration=2``."""
     if "=" not in item:
-        raise InputError("--set", f"'{item}' is not key=value", "write e.g. --set solver.duration=2")
+        raise InputError(
+            "--set", f"'{item}' is not key=value", "write e.g. --set solver.duration=2"
+        )
     key, _, text = item.partition("=")
     try:
         value = parse_yaml_text(text, "")
     except InputError as err:
-        raise InputError(f"--set {key.strip()!r}", f"value is {err.problem}",
-                         "quote text values, e.g. --set name='my scene'") from None
+        raise InputError(
+            f"--set {key.strip()!r}",
+            f"value is {err.problem}",
+            "quote text values, e.g. --set name='my scene'",
+        ) from None
     set_field(spec, key, value)
 
 
@@ -219,12 +257,18 @@ def check_keys(mapping, allowed, where: str) -> None:
     """``mapping`` is a mapping whose keys are all in ``allowed``, or an InputError naming
     ``where`` (or ``where.key``)."""
     if not isinstance(mapping, dict):
-        raise InputError(where, f"expected a mapping, got {type(mapping).__name__}",
-                         f"allowed keys: {', '.join(allowed)}")
+        raise InputError(
+            where,
+            f"expected a mapping, got {type(mapping).__name__}",
+            f"allowed keys: {', '.join(allowed)}",
+        )
     for key in mapping:
         if key not in allowed:
-            raise InputError(f"{where}.{key}" if where else str(key), "unknown key",
-                             f"allowed keys: {', '.join(allowed)}")
+            raise InputError(
+                f"{where}.{key}" if where else str(key),
+                "unknown key",
+                f"allowed keys: {', '.join(allowed)}",
+            )
 
 
 def _mapping(spec: dict, key: str, fix: str) -> dict:
@@ -244,7 +288,9 @@ def _is_auto(value) -> bool:
 def _integer(value, field: str, minimum: int) -> int:
     value = plain_number(value)
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise InputError(field, f"expected an integer >= {minimum}, got {value!r}", f"give e.g. {minimum}")
+        raise InputError(
+            field, f"expected an integer >= {minimum}, got {value!r}", f"give e.g. {minimum}"
+        )
     return int(value)
 
 
@@ -263,40 +309,68 @@ def _contact_law(contact_spec: dict) -> ContactLaw:
     # for the thesis' law before the point law became the default keeps its meaning)
     model = contact_spec.get("model", "area" if "c_n" in contact_spec else DEFAULT_LAW)
     if not isinstance(model, str) or model not in LAWS:
-        raise InputError("contact.model", f"unknown contact model {model!r}",
-                         "use " + " or ".join(row.hint for row in LAWS.values()))
+        raise InputError(
+            "contact.model",
+            f"unknown contact model {model!r}",
+            "use " + " or ".join(row.hint for row in LAWS.values()),
+        )
     row = LAWS[model]
     for key in LAW_KEYS:
         if key in contact_spec and key not in row.defaults:
             other = next(name for name, r in LAWS.items() if key in r.defaults)
-            raise InputError(f"contact.{key}", f"not used by the {model} model",
-                             f"drop it, or set contact.model: {other}")
+            raise InputError(
+                f"contact.{key}",
+                f"not used by the {model} model",
+                f"drop it, or set contact.model: {other}",
+            )
     k_n = check_number(contact_spec.get("k_n", row.defaults["k_n"]), "contact.k_n", positive=True)
-    c_n = check_number(contact_spec.get("c_n", row.defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True)
-    damping = check_number(contact_spec.get("damping", row.defaults.get("damping", 0.0)),
-                           "contact.damping", nonnegative=True)
+    c_n = check_number(
+        contact_spec.get("c_n", row.defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True
+    )
+    damping = check_number(
+        contact_spec.get("damping", row.defaults.get("damping", 0.0)),
+        "contact.damping",
+        nonnegative=True,
+    )
     # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
     k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
     c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
     frame = contact_spec.get("frame", row.frames[0])
     if not isinstance(frame, str) or frame not in row.frames:
         if row.frame is not None:
-            raise InputError("contact.frame", f"the {model} model's frame is its own ({row.frame})",
-                             "drop contact.frame, or set contact.model: "
-                             + " or ".join(name for name, r in LAWS.items() if r.frame is None))
-        raise InputError("contact.frame", f"unknown frame rule '{frame}'", f"use {' or '.join(row.frames)}")
+            raise InputError(
+                "contact.frame",
+                f"the {model} model's frame is its own ({row.frame})",
+                "drop contact.frame, or set contact.model: "
+                + " or ".join(name for name, r in LAWS.items() if r.frame is None),
+            )
+        raise InputError(
+            "contact.frame", f"unknown frame rule '{frame}'", f"use {' or '.join(row.frames)}"
+        )
     frame = row.frame or frame
     impact = contact_spec.get("impact", row.defaults.get("impact", "none"))
     if not isinstance(impact, str) or impact not in IMPACT_RULES:
-        raise InputError("contact.impact", f"unknown impact rule {impact!r}",
-                         "use plastic (a landing point stops, Housner) or none (dashpots only)")
-    for key, value in (("k_n", k_n), ("c_n", c_n), ("damping", damping), ("k_t", k_t), ("c_t", c_t)):
+        raise InputError(
+            "contact.impact",
+            f"unknown impact rule {impact!r}",
+            "use plastic (a landing point stops, Housner) or none (dashpots only)",
+        )
+    for key, value in (
+        ("k_n", k_n),
+        ("c_n", c_n),
+        ("damping", damping),
+        ("k_t", k_t),
+        ("c_t", c_t),
+    ):
         if value > CONTACT_LIMITS[key]:
-            raise InputError(f"contact.{key}", f"{value:.3g} is above the limit {CONTACT_LIMITS[key]:g}",
-                             "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)")
-    return ContactLaw(k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model, damping=damping,
-                      impact=impact)
-
+            raise InputError(
+                f"contact.{key}",
+                f"{value:.3g} is above the limit {CONTACT_LIMITS[key]:g}",
+                "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)",
+            )
+    return ContactLaw(
+        k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model, damping=damping, impact=impact
+    )
 
 
 # Every coordinate of the scenes scene_from_dict builds, times this (1.0: as given). The
@@ -309,8 +383,12 @@ GEOMETRY_SCALE = contextvars.ContextVar("stonedem_geometry_scale", default=1.0)
 def scaled_bodies(bodies, factor: float) -> tuple:
     """Every body with its vertices (and tilt pivot) times ``factor`` about the origin; mass
     and inertia kept (a factor 1 + j 2^-52 moves them by ~1e-16 relative, nothing physical)."""
-    return tuple(dataclasses.replace(b, vertices=b.vertices * factor, tilt_pivot=np.asarray(b.tilt_pivot) * factor)
-                 for b in bodies)
+    return tuple(
+        dataclasses.replace(
+            b, vertices=b.vertices * factor, tilt_pivot=np.asarray(b.tilt_pivot) * factor
+        )
+        for b in bodies
+    )
 
 
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
@@ -327,8 +405,11 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
 
     body_specs = spec.get("bodies") or []
     if not isinstance(body_specs, list):
-        raise InputError("bodies", f"expected a list of bodies, got {type(body_specs).__name__}",
-                         "write bodies: [{name: block, box: {width: 1, height: 2}}, ...]")
+        raise InputError(
+            "bodies",
+            f"expected a list of bodies, got {type(body_specs).__name__}",
+            "write bodies: [{name: block, box: {width: 1, height: 2}}, ...]",
+        )
     if "structure" in spec:
         from stonedem.engine.structures import build_structure
 
@@ -336,15 +417,20 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if not body_specs:
         raise InputError("bodies", "the scene has no bodies", "list bodies: or give a structure:")
     if len(body_specs) > MAX_BODIES:
-        raise InputError("bodies", f"{len(body_specs)} bodies exceed the limit {MAX_BODIES}",
-                         "split the scene; contact memory grows as the square of the body count")
+        raise InputError(
+            "bodies",
+            f"{len(body_specs)} bodies exceed the limit {MAX_BODIES}",
+            "split the scene; contact memory grows as the square of the body count",
+        )
     bodies = tuple(_body(b, i, density, depth) for i, b in enumerate(body_specs))
     if GEOMETRY_SCALE.get() != 1.0:
         bodies = scaled_bodies(bodies, GEOMETRY_SCALE.get())
     names = [b.name for b in bodies]
     for i, name in enumerate(names):
         if names.index(name) != i:
-            raise InputError(f"bodies[{i}].name", f"duplicate body name '{name}'", "make names unique")
+            raise InputError(
+                f"bodies[{i}].name", f"duplicate body name '{name}'", "make names unique"
+            )
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
@@ -354,8 +440,11 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     pair_friction = {}
     interface_friction = spec.get("interface_friction") or []
     if not isinstance(interface_friction, list):
-        raise InputError("interface_friction", f"expected a list, got {type(interface_friction).__name__}",
-                         "write interface_friction: [{bodies: [a, b], mu: 0.6}]")
+        raise InputError(
+            "interface_friction",
+            f"expected a list, got {type(interface_friction).__name__}",
+            "write interface_friction: [{bodies: [a, b], mu: 0.6}]",
+        )
     for i, item in enumerate(interface_friction):
         where = f"interface_friction[{i}]"
         check_keys(item, ("bodies", "mu"), where)
@@ -364,9 +453,14 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
             raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
         for name in pair:
             if not isinstance(name, str) or name not in names:
-                raise InputError(f"{where}.bodies", f"no body named '{name}'",
-                                 f"known bodies: {', '.join(names)}")
-        pair_friction[tuple(sorted(pair))] = check_number(item.get("mu"), f"{where}.mu", nonnegative=True)
+                raise InputError(
+                    f"{where}.bodies",
+                    f"no body named '{name}'",
+                    f"known bodies: {', '.join(names)}",
+                )
+        pair_friction[tuple(sorted(pair))] = check_number(
+            item.get("mu"), f"{where}.mu", nonnegative=True
+        )
 
     solver = {**SOLVER_DEFAULTS, **_mapping(spec, "solver", "write solver: {duration: 10}")}
     check_keys(solver, SOLVER_DEFAULTS, "solver")
@@ -374,43 +468,81 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("solver.duration", "missing", "give the simulated time in s")
     duration = check_number(solver["duration"], "solver.duration", positive=True)
     dt = None if _is_auto(solver["dt"]) else check_number(solver["dt"], "solver.dt", positive=True)
-    dt_safety = LAWS[model].dt_safety if _is_auto(solver["dt_safety"]) else check_number(
-        solver["dt_safety"], "solver.dt_safety", positive=True)
+    dt_safety = (
+        LAWS[model].dt_safety
+        if _is_auto(solver["dt_safety"])
+        else check_number(solver["dt_safety"], "solver.dt_safety", positive=True)
+    )
     if dt_safety > 1.0:
-        raise InputError("solver.dt_safety", f"{dt_safety} > 1 exceeds the stability limit",
-                         "use a fraction of the limit, e.g. 0.25")
+        raise InputError(
+            "solver.dt_safety",
+            f"{dt_safety} > 1 exceeds the stability limit",
+            "use a fraction of the limit, e.g. 0.25",
+        )
     for key in ("stop_on_collapse", "skip_quiet"):
         if not isinstance(solver[key], bool):
             raise InputError(f"solver.{key}", "expected true or false", "write true or false")
     if solver["kernel"] not in KERNELS:
-        raise InputError("solver.kernel", f"unknown kernel {solver['kernel']!r}",
-                         f"use one of {', '.join(KERNELS)} (auto: the contact graph where it holds)")
+        raise InputError(
+            "solver.kernel",
+            f"unknown kernel {solver['kernel']!r}",
+            f"use one of {', '.join(KERNELS)} (auto: the contact graph where it holds)",
+        )
     output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
     check_keys(output, OUTPUT_DEFAULTS, "output")
     every = check_number(output["every"], "output.every", positive=True)
 
     horizontal, vertical = base_motions(spec, base_dir)
 
-    spec.update(depth=depth, density=density, gravity=gravity, friction=friction,
-                contact={"model": model, "k_n": contact.k_n,
-                         **{key: getattr(contact, key) for key in LAWS[model].own_keys},
-                         "k_t": contact.k_t, "c_t": contact.c_t, "frame": contact.frame},
-                solver=solver, output=output)
-    scene = Scene(bodies=bodies, contact=contact, friction=friction, pair_friction=pair_friction,
-                  gravity=gravity, depth=depth, horizontal=horizontal, vertical=vertical,
-                  duration=duration, dt=dt, dt_safety=dt_safety,
-                  stop_on_collapse=solver["stop_on_collapse"], skip_quiet=solver["skip_quiet"],
-                  output_every=every, spec=spec, kernel=solver["kernel"])
+    spec.update(
+        depth=depth,
+        density=density,
+        gravity=gravity,
+        friction=friction,
+        contact={
+            "model": model,
+            "k_n": contact.k_n,
+            **{key: getattr(contact, key) for key in LAWS[model].own_keys},
+            "k_t": contact.k_t,
+            "c_t": contact.c_t,
+            "frame": contact.frame,
+        },
+        solver=solver,
+        output=output,
+    )
+    scene = Scene(
+        bodies=bodies,
+        contact=contact,
+        friction=friction,
+        pair_friction=pair_friction,
+        gravity=gravity,
+        depth=depth,
+        horizontal=horizontal,
+        vertical=vertical,
+        duration=duration,
+        dt=dt,
+        dt_safety=dt_safety,
+        stop_on_collapse=solver["stop_on_collapse"],
+        skip_quiet=solver["skip_quiet"],
+        output_every=every,
+        spec=spec,
+        kernel=solver["kernel"],
+    )
     check_initial_overlaps(scene)
     return scene
 
 
 def base_motions(spec: dict, base_dir: Path | str) -> tuple[BaseMotion, BaseMotion]:
     """The (horizontal, vertical) base motion of a scene mapping's ``excitation``, checked."""
-    excitation = _mapping(spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}")
+    excitation = _mapping(
+        spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}"
+    )
     if not isinstance(excitation.get("kind", "none"), str):
-        raise InputError("excitation.kind", f"expected a name, got {excitation['kind']!r}",
-                         "use e.g. harmonic, one_sine, ramp, record or none")
+        raise InputError(
+            "excitation.kind",
+            f"expected a name, got {excitation['kind']!r}",
+            "use e.g. harmonic, one_sine, ramp, record or none",
+        )
     return excitation_pair(excitation or {"kind": "none"}, Path(base_dir))
 
 
@@ -432,8 +564,11 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
     check_keys(spec, BODY_KEYS, where)
     name = spec.get("name", f"body{index}")
     if not isinstance(name, str) or not name or not name.isprintable() or len(name) > 200:
-        raise InputError(f"{where}.name", f"expected a short printable name, got {name!r:.60}",
-                         "give a short text name")
+        raise InputError(
+            f"{where}.name",
+            f"expected a short printable name, got {name!r:.60}",
+            "give a short text name",
+        )
     where = f"bodies[{index}] ({name})"
     if ("box" in spec) == ("polygon" in spec):
         raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
@@ -453,36 +588,53 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         check_keys(poly, ("vertices",), f"{where}.polygon")
         raw = poly.get("vertices")
         if not isinstance(raw, list) or len(raw) < 3:
-            raise InputError(f"{where}.polygon.vertices", "need at least 3 [x, y] vertices",
-                             "list the corners in order")
+            raise InputError(
+                f"{where}.polygon.vertices",
+                "need at least 3 [x, y] vertices",
+                "list the corners in order",
+            )
         try:
             vertices = np.array([[float(v[0]), float(v[1])] for v in raw])
             if any(len(v) != 2 for v in raw):
                 raise ValueError
         except (TypeError, ValueError, IndexError):
-            raise InputError(f"{where}.polygon.vertices", "every vertex must be [x, y]",
-                             "list numbers in pairs") from None
+            raise InputError(
+                f"{where}.polygon.vertices", "every vertex must be [x, y]", "list numbers in pairs"
+            ) from None
         if not np.all(np.isfinite(vertices)):
-            raise InputError(f"{where}.polygon.vertices", "non-finite coordinate", "give finite numbers")
+            raise InputError(
+                f"{where}.polygon.vertices", "non-finite coordinate", "give finite numbers"
+            )
         if len(vertices) > MAX_BODY_VERTICES:
-            raise InputError(f"{where}.polygon.vertices", f"{len(vertices)} vertices",
-                             f"use at most {MAX_BODY_VERTICES}")
+            raise InputError(
+                f"{where}.polygon.vertices",
+                f"{len(vertices)} vertices",
+                f"use at most {MAX_BODY_VERTICES}",
+            )
         if not geometry.is_simple(vertices):
-            raise InputError(f"{where}.polygon", "self-intersecting polygon",
-                             "order the vertices around the boundary")
+            raise InputError(
+                f"{where}.polygon",
+                "self-intersecting polygon",
+                "order the vertices around the boundary",
+            )
         if geometry.signed_area(vertices) < 0.0:
             vertices = vertices[::-1].copy()
         if abs(geometry.signed_area(vertices)) <= 1e-14:
             raise InputError(f"{where}.polygon", "zero area", "give a polygon with area")
         if not geometry.is_convex(vertices):
-            raise InputError(f"{where}.polygon", "non-convex polygon",
-                             "split it into convex bodies")
+            raise InputError(
+                f"{where}.polygon", "non-convex polygon", "split it into convex bodies"
+            )
 
     reach = float(np.max(np.abs(vertices)))
-    if not reach <= MAX_COORDINATE:  # a width of 1e300 gave "mass: 503 kg (inertia nan) is outside ..."
-        raise InputError(f"{where}.{'box' if 'box' in spec else 'polygon.vertices'}",
-                         f"a corner lies {reach:.3g} m from the origin, past {MAX_COORDINATE:g} m",
-                         "place the bodies near the origin, in metres")
+    if (
+        not reach <= MAX_COORDINATE
+    ):  # a width of 1e300 gave "mass: 503 kg (inertia nan) is outside ..."
+        raise InputError(
+            f"{where}.{'box' if 'box' in spec else 'polygon.vertices'}",
+            f"a corner lies {reach:.3g} m from the origin, past {MAX_COORDINATE:g} m",
+            "place the bodies near the origin, in metres",
+        )
 
     area = geometry.signed_area(vertices) * depth  # volume [m3]
     polar = geometry.polar_moment_about_centroid(vertices) * depth
@@ -494,15 +646,20 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         mass = check_number(spec.get("density", density), f"{where}.density", positive=True) * area
     inertia = mass * polar / area if area > 0.0 else 0.0  # uniform distribution over the polygon
     if not (MIN_MASS <= mass <= MAX_MASS and inertia > 0.0 and np.isfinite(inertia)):
-        raise InputError(f"{where}.mass", f"{mass:.3g} kg (inertia {inertia:.3g} kg m2) is outside "
-                         f"{MIN_MASS:g}..{MAX_MASS:g} kg", "check mass, density, depth and the body's size (SI units)")
+        raise InputError(
+            f"{where}.mass",
+            f"{mass:.3g} kg (inertia {inertia:.3g} kg m2) is outside {MIN_MASS:g}..{MAX_MASS:g} kg",
+            "check mass, density, depth and the body's size (SI units)",
+        )
 
     driven = spec.get("driven", False)
     if not isinstance(driven, bool):
         raise InputError(f"{where}.driven", "expected true or false", "write true or false")
     role = spec.get("role", "base" if driven else "block")
     if not isinstance(role, str) or role not in ROLES:
-        raise InputError(f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}")
+        raise InputError(
+            f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}"
+        )
     column = _integer(spec.get("column", -1), f"{where}.column", -1)
     tier = _integer(spec.get("tier", 0), f"{where}.tier", 0)
     mu = spec.get("friction")
@@ -513,18 +670,32 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         tilt = spec["tilt"]
         check_keys(tilt, ("angle", "about"), f"{where}.tilt")
         angle = check_number(tilt.get("angle"), f"{where}.tilt.angle")
-        tilt_angle, tilt_pivot = _tilt(vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about")
+        tilt_angle, tilt_pivot = _tilt(
+            vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about"
+        )
         if driven:
             raise InputError(f"{where}.tilt", "a driven body cannot be tilted", "remove tilt:")
     velocity = spec.get("velocity")
     if velocity is not None:
         if not isinstance(velocity, (list, tuple)) or len(velocity) != 3:
-            raise InputError(f"{where}.velocity", "expected [vx, vy, omega]",
-                             "give [m/s, m/s, rad/s]")
+            raise InputError(
+                f"{where}.velocity", "expected [vx, vy, omega]", "give [m/s, m/s, rad/s]"
+            )
         velocity = tuple(check_number(v, f"{where}.velocity") for v in velocity)
-    return Body(name=name, vertices=vertices, mass=mass, inertia=inertia, driven=driven,
-                role=role, column=column, tier=tier, friction=mu, tilt_angle=tilt_angle,
-                tilt_pivot=tilt_pivot, velocity=velocity)
+    return Body(
+        name=name,
+        vertices=vertices,
+        mass=mass,
+        inertia=inertia,
+        driven=driven,
+        role=role,
+        column=column,
+        tier=tier,
+        friction=mu,
+        tilt_angle=tilt_angle,
+        tilt_pivot=tilt_pivot,
+        velocity=velocity,
+    )
 
 
 def _tilt(vertices: np.ndarray, angle: float, about, where: str):
@@ -537,8 +708,9 @@ def _tilt(vertices: np.ndarray, angle: float, about, where: str):
     if isinstance(about, (list, tuple)) and len(about) == 2:
         return angle, np.array([check_number(about[0], where), check_number(about[1], where)])
     if about not in TILT_PIVOTS:
-        raise InputError(where, f"unknown pivot '{about}'",
-                         f"use one of {', '.join(TILT_PIVOTS)} or [x, y]")
+        raise InputError(
+            where, f"unknown pivot '{about}'", f"use one of {', '.join(TILT_PIVOTS)} or [x, y]"
+        )
     if about == "centroid":
         return angle, geometry.centroid(vertices)
     # the outermost vertex among the lowest ones
@@ -573,15 +745,26 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> list[tuple[int, 
 
     n = len(lo)
     axis = int(np.ptp(hi[:, 1]) + np.ptp(lo[:, 1]) >= np.ptp(hi[:, 0]) + np.ptp(lo[:, 0]))
-    pa, pb = find_candidate_pairs(n, np.zeros(n, dtype=np.bool_), np.ascontiguousarray(lo[:, 0]),
-                                  np.ascontiguousarray(lo[:, 1]), np.ascontiguousarray(hi[:, 0]),
-                                  np.ascontiguousarray(hi[:, 1]), float(margin), axis)
+    pa, pb = find_candidate_pairs(
+        n,
+        np.zeros(n, dtype=np.bool_),
+        np.ascontiguousarray(lo[:, 0]),
+        np.ascontiguousarray(lo[:, 1]),
+        np.ascontiguousarray(hi[:, 0]),
+        np.ascontiguousarray(hi[:, 1]),
+        float(margin),
+        axis,
+    )
     return list(zip(pa.tolist(), pb.tolist()))
 
 
 def check_initial_overlaps(scene: Scene) -> None:
     """Refuse bodies that overlap at t = 0 by more than a touching tolerance."""
-    from stonedem.kernels.overlap import (MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid)
+    from stonedem.kernels.overlap import (
+        MAX_OVERLAP_VERTICES,
+        clip_convex_polygons,
+        polygon_area_centroid,
+    )
 
     posed = [posed_vertices(b) for b in scene.bodies]
     lo = np.array([p.min(axis=0) for p in posed])
@@ -589,14 +772,24 @@ def check_initial_overlaps(scene: Scene) -> None:
     scratch = np.zeros((4, MAX_OVERLAP_VERTICES))
     for i, j in box_pairs(lo, hi, 0.0):
         a, b = posed[i], posed[j]
-        n = clip_convex_polygons(a[:, 0].copy(), a[:, 1].copy(), b[:, 0].copy(), b[:, 1].copy(),
-                                 scratch[0], scratch[1], scratch[2], scratch[3])
+        n = clip_convex_polygons(
+            a[:, 0].copy(),
+            a[:, 1].copy(),
+            b[:, 0].copy(),
+            b[:, 1].copy(),
+            scratch[0],
+            scratch[1],
+            scratch[2],
+            scratch[3],
+        )
         if n < 3:
             continue
         area = polygon_area_centroid(scratch[0], scratch[1], n)[0]
         smaller = min(geometry.signed_area(a), geometry.signed_area(b))
         if area > INITIAL_OVERLAP_TOLERANCE * smaller:
             bi, bj = scene.bodies[i].name, scene.bodies[j].name
-            raise InputError(f"bodies ({bi}, {bj})",
-                             f"overlap by {area:.3g} m2 at t = 0",
-                             "place bodies so they touch without overlapping")
+            raise InputError(
+                f"bodies ({bi}, {bj})",
+                f"overlap by {area:.3g} m2 at t = 0",
+                "place bodies so they touch without overlapping",
+            )

@@ -10,36 +10,29 @@ nothing here imports it or xarray.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import threading
 import time as wallclock
-import dataclasses
 from dataclasses import dataclass
 
 import numba
-from numba._dispatcher import compute_fingerprint
 import numpy as np
+from numba._dispatcher import compute_fingerprint
 
 from stonedem.engine import geometry
+from stonedem.engine.graph import contact_graph as scene_graph
+from stonedem.engine.graph import why_broken
+from stonedem.engine.laws import LAWS
+from stonedem.engine.memory import memory_budget, run_bytes
+from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
+from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
+from stonedem.engine.scene import Scene, box_pairs, posed_vertices
 from stonedem.entry import check_interrupt, deferred_signals, progress_print
 from stonedem.errors import InputError
 from stonedem.kernels import contact_graph, step
 from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
-from stonedem.engine.laws import LAWS
-from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
-from stonedem.engine.graph import contact_graph as scene_graph, why_broken
-from stonedem.engine.memory import memory_budget, run_bytes
-from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
-from stonedem.engine.scene import Scene, box_pairs, posed_vertices
-
-
-
-
-
-
-
-
 
 
 class BodiesMemo:
@@ -123,14 +116,6 @@ kept_stability_limit = BodiesMemo(stability_limit)
 body_graph = BodiesMemo(lambda scene, arrays: scene_graph(arrays))
 
 
-
-
-
-
-
-
-
-
 def run_time_step(scene: Scene) -> tuple[float, float]:
     """(dt, stability limit) [s] of a run: :func:`choose_time_step`, sampled (:func:`sampled_step`)."""
     dt, limit = choose_time_step(scene)
@@ -150,7 +135,9 @@ def sampled_step(scene: Scene, dt: float) -> float:
     if scene.dt is None:
         every = scene.output_every
         ticks = round(every / STEP_CLOCK)
-        base = STEP_CLOCK if ticks >= 1 and abs(ticks * STEP_CLOCK - every) <= 1e-9 * every else every
+        base = (
+            STEP_CLOCK if ticks >= 1 and abs(ticks * STEP_CLOCK - every) <= 1e-9 * every else every
+        )
         return base / max(1, math.ceil(base / dt - 1e-9))
     return dt
 
@@ -161,12 +148,18 @@ def choose_time_step(scene: Scene) -> tuple[float, float]:
     its shortest period: a record sampled at 400 Hz asks for dt <= 0.25 ms)."""
     limit = kept_stability_limit(scene)
     if scene.dt is None:
-        resolve = min(m.shortest_period for m in (scene.horizontal, scene.vertical)) / MIN_STEPS_PER_PERIOD
+        resolve = (
+            min(m.shortest_period for m in (scene.horizontal, scene.vertical))
+            / MIN_STEPS_PER_PERIOD
+        )
         return min(scene.dt_safety * limit, resolve), limit
     if scene.dt > limit:
-        raise InputError("solver.dt", f"{scene.dt:.3g} s exceeds the stability limit {limit:.3g} s "
-                         "(2/omega of the stiffest contact on the lightest body)",
-                         f"use dt <= {limit:.3g} s or dt: auto")
+        raise InputError(
+            "solver.dt",
+            f"{scene.dt:.3g} s exceeds the stability limit {limit:.3g} s "
+            "(2/omega of the stiffest contact on the lightest body)",
+            f"use dt <= {limit:.3g} s or dt: auto",
+        )
     return scene.dt, limit
 
 
@@ -210,8 +203,11 @@ class Progress:
                 self.noticed = True
                 # measured on 2 cores: ~29 s for the general loop (one contact law), 22 s for the
                 # contact-graph loop; a cache load 0.05 s
-                self.stream = progress_print(self.stream, "  compiling the time loop (first run after install or an "
-                                             "edit: 20-35 s; cached after that)")
+                self.stream = progress_print(
+                    self.stream,
+                    "  compiling the time loop (first run after install or an "
+                    "edit: 20-35 s; cached after that)",
+                )
 
     def compiled(self, seconds: float):
         """The compile ended after ``seconds``: one line saying so when its notice was printed."""
@@ -220,7 +216,9 @@ class Progress:
             if self.notice is not None:
                 self.notice.cancel()
             if self.noticed:
-                self.stream = progress_print(self.stream, f"  compiled the time loop in {seconds:.1f} s")
+                self.stream = progress_print(
+                    self.stream, f"  compiled the time loop in {seconds:.1f} s"
+                )
 
     def __call__(self, t, t_end, wall):
         # a log gets its first line after 1 s (the run has started), then every LOG_SECONDS
@@ -253,7 +251,11 @@ def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
     # typing them (numba.typeof) takes ~1 ms a run, a fifth of what a search's run may cost in Python
     try:
         key = (id(dispatcher), tuple((type(arg), compute_fingerprint(arg)) for arg in args))
-    except (NotImplementedError, ValueError, TypeError):  # a value Numba cannot fingerprint: typed below
+    except (
+        NotImplementedError,
+        ValueError,
+        TypeError,
+    ):  # a value Numba cannot fingerprint: typed below
         key = None
     if key is not None and key in _READY:
         return 0.0
@@ -299,17 +301,25 @@ class RunResult:
     steps_run: int  # steps integrated (the quiet lead and tail are not)
     wall_seconds: float  # the compiled loop's stepping, its compile not included
     arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
-    quiet_lead: float = 0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
-    rest_time: float = math.nan  # [s] at rest on a quiet base from here on (not integrated), NaN if never
+    quiet_lead: float = (
+        0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
+    )
+    rest_time: float = (
+        math.nan
+    )  # [s] at rest on a quiet base from here on (not integrated), NaN if never
     # running maxima over every step run (stonedem.kernels.step.track; a stretch the base
     # carries at rest adds nothing to them), slots step.PEAK_*, and each body's max |theta|
     peaks: np.ndarray = None  # (N_PEAK,)
     peak_theta: np.ndarray = None  # (n_body,) [rad]
     onset_step: int = -1  # first step at which rocking exceeds theta_cr / 30, -1: never
     collapse_step: int = -1  # first step at which the structure collapsed, -1: never
-    compile_seconds: float = 0.0  # [s] compiling the loop or loading it from the cache, before its first step
+    compile_seconds: float = (
+        0.0  # [s] compiling the loop or loading it from the cache, before its first step
+    )
     kernel: str = "general"  # the compiled loop it started on: contact_graph or general
-    handover_time: float = math.nan  # [s] from which the general loop took over from the graph's, NaN: never
+    handover_time: float = (
+        math.nan
+    )  # [s] from which the general loop took over from the graph's, NaN: never
     handover_reason: str = ""  # why (stonedem.engine.graph.why_broken)
 
     @property
@@ -357,7 +367,11 @@ class Cursor:
         self.wall += wall
         # steps integrated: up to the sample that stopped the run, else the chunk's end
         # (step n_steps is sampled, not integrated)
-        end = int(self.samples.step[self.n_sample - 1]) if status != step.STATUS_OK else min(int(stop), n_steps)
+        end = (
+            int(self.samples.step[self.n_sample - 1])
+            if status != step.STATUS_OK
+            else min(int(stop), n_steps)
+        )
         self.steps += end - int(start)
 
 
@@ -377,10 +391,14 @@ class CompiledLoop:
     state: step.State
     cursor: Cursor
     reporter: Progress | None
-    loaded: list = dataclasses.field(default_factory=list)  # the compiled loops ready for this run's bundles
+    loaded: list = dataclasses.field(
+        default_factory=list
+    )  # the compiled loops ready for this run's bundles
     # the scene's contact graph while it holds (stonedem.kernels.contact_graph), None: the general loop
     graph: contact_graph.Graph | None = None
-    handover_step: int = -1  # the step from which the general loop took over from the graph's, -1: none
+    handover_step: int = (
+        -1
+    )  # the step from which the general loop took over from the graph's, -1: none
     started_on: str = ""  # the loop of the first call: contact_graph or general ("": not called)
     broken: tuple = ()  # why the graph stopped holding: (contact_graph.BROKEN_*, pair or contact)
 
@@ -392,14 +410,31 @@ class CompiledLoop:
             self.started_on = "general" if self.graph is None else "contact_graph"
         bundles = (self.model, self.settings, self.state, cursor.samples)
         if self.graph is not None:
-            args = (*bundles, self.graph, int(n), int(stop), step_first, rest_from, cursor.n_sample, cursor.collapse)
+            args = (
+                *bundles,
+                self.graph,
+                int(n),
+                int(stop),
+                step_first,
+                rest_from,
+                cursor.n_sample,
+                cursor.collapse,
+            )
             self.compiled(contact_graph.run, args)
             status, cursor.n_sample, cursor.collapse, n, broken, which = contact_graph.run(*args)
             if status != contact_graph.STATUS_GENERAL:
                 return status
             self.broken = (int(broken), int(which), self.graph)
             self.graph, self.handover_step = None, int(n)
-        args = (*bundles, int(n), int(stop), step_first, rest_from, cursor.n_sample, cursor.collapse)
+        args = (
+            *bundles,
+            int(n),
+            int(stop),
+            step_first,
+            rest_from,
+            cursor.n_sample,
+            cursor.collapse,
+        )
         # the general loop with the scene's law alone: the other law's code is never compiled
         loop = step.run_point if self.model.law.kind == step.CONTACT_POINT else step.run_area
         self.compiled(loop, args)
@@ -446,19 +481,30 @@ def initial_state(arrays: SceneArrays) -> step.State:
     """The kernel's state at t = 0: the packed initial poses and velocities, no contact memory."""
     n_body = len(arrays.body_mass)
     return step.State(
-        body_x=arrays.init_x.copy(), body_y=arrays.init_y.copy(), body_theta=arrays.init_theta.copy(),
-        body_vx=arrays.init_vx.copy(), body_vy=arrays.init_vy.copy(), body_omega=arrays.init_omega.copy(),
-        pair_ft=np.zeros((n_body, n_body)), pair_memory=np.zeros((n_body, n_body, N_MEMORY)),
-        energy_acc=np.zeros(N_ENERGY_ACC), rest_count=np.zeros(1, dtype=np.int64),
-        peaks=np.zeros(step.N_PEAK), peak_theta=np.zeros(n_body), events=np.full(step.N_EVENT, -1, dtype=np.int64),
+        body_x=arrays.init_x.copy(),
+        body_y=arrays.init_y.copy(),
+        body_theta=arrays.init_theta.copy(),
+        body_vx=arrays.init_vx.copy(),
+        body_vy=arrays.init_vy.copy(),
+        body_omega=arrays.init_omega.copy(),
+        pair_ft=np.zeros((n_body, n_body)),
+        pair_memory=np.zeros((n_body, n_body, N_MEMORY)),
+        energy_acc=np.zeros(N_ENERGY_ACC),
+        rest_count=np.zeros(1, dtype=np.int64),
+        peaks=np.zeros(step.N_PEAK),
+        peak_theta=np.zeros(n_body),
+        events=np.full(step.N_EVENT, -1, dtype=np.int64),
     )
 
 
 def empty_samples(n_out: int, n_body: int) -> step.Samples:
     return step.Samples(
-        step=np.zeros(n_out, dtype=np.int64), x=np.full((n_out, n_body), np.nan),
-        y=np.full((n_out, n_body), np.nan), theta=np.full((n_out, n_body), np.nan),
-        energy=np.full((n_out, step.N_ENERGY), np.nan), n_contact=np.zeros(n_out, dtype=np.int64),
+        step=np.zeros(n_out, dtype=np.int64),
+        x=np.full((n_out, n_body), np.nan),
+        y=np.full((n_out, n_body), np.nan),
+        theta=np.full((n_out, n_body), np.nan),
+        energy=np.full((n_out, step.N_ENERGY), np.nan),
+        n_contact=np.zeros(n_out, dtype=np.int64),
     )
 
 
@@ -493,12 +539,22 @@ def plan_run(scene: Scene, progress: bool = False) -> Plan:
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
     out_every = max(1, int(round(scene.output_every / dt)))
     settings = step.Settings(
-        dt=dt, n_steps=n_steps, out_every=out_every, stop_on_collapse=scene.stop_on_collapse,
-        rest_speed=REST_SPEED, rest_samples=max(1, int(math.ceil(REST_SECONDS / (out_every * dt)))),
+        dt=dt,
+        n_steps=n_steps,
+        out_every=out_every,
+        stop_on_collapse=scene.stop_on_collapse,
+        rest_speed=REST_SPEED,
+        rest_samples=max(1, int(math.ceil(REST_SECONDS / (out_every * dt)))),
     )
     cursor = Cursor(empty_samples(n_steps // out_every + 2, len(scene.bodies)))
-    loop = CompiledLoop(kernel_model(scene, arrays), settings, initial_state(arrays), cursor,
-                        Progress() if progress else None, graph=body_graph(scene, arrays) if uses_graph(scene) else None)
+    loop = CompiledLoop(
+        kernel_model(scene, arrays),
+        settings,
+        initial_state(arrays),
+        cursor,
+        Progress() if progress else None,
+        graph=body_graph(scene, arrays) if uses_graph(scene) else None,
+    )
     n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
     return Plan(scene, arrays, loop, dt, limit, n_first, n_rest)
 
@@ -516,10 +572,23 @@ def after_settle(plan: Plan, status: int) -> None:
     settings = plan.loop.settings
     if status == step.STATUS_AT_REST:
         settled = cursor.n_sample - 1  # the last integrated sample
-        cursor.n_sample, last = carry(plan.scene, plan.arrays, cursor.samples, cursor.n_sample, plan.n_first,
-                                      plan.dt, settings.out_every)
-        settled_state(plan.scene, plan.arrays, cursor.samples, settled, last, state, plan.n_first, plan.dt)
-        plan.n_start, plan.step_first, plan.quiet_lead = plan.n_first, plan.n_first, (plan.n_first - last) * plan.dt
+        cursor.n_sample, last = carry(
+            plan.scene,
+            plan.arrays,
+            cursor.samples,
+            cursor.n_sample,
+            plan.n_first,
+            plan.dt,
+            settings.out_every,
+        )
+        settled_state(
+            plan.scene, plan.arrays, cursor.samples, settled, last, state, plan.n_first, plan.dt
+        )
+        plan.n_start, plan.step_first, plan.quiet_lead = (
+            plan.n_first,
+            plan.n_first,
+            (plan.n_first - last) * plan.dt,
+        )
     elif status == step.STATUS_OK:
         plan.n_start = plan.n_first
     else:
@@ -530,7 +599,12 @@ def main_phase(plan: Plan) -> tuple[int, int, int, int] | None:
     """(start, stop, first, rest_from) of the run on from the settled state, or None if it ended."""
     if plan.status != step.STATUS_OK:
         return None
-    return plan.n_start, plan.loop.settings.n_steps + 1, plan.step_first, max(plan.n_rest, plan.n_start)
+    return (
+        plan.n_start,
+        plan.loop.settings.n_steps + 1,
+        plan.step_first,
+        max(plan.n_rest, plan.n_start),
+    )
 
 
 def finish_run(plan: Plan) -> RunResult:
@@ -539,21 +613,47 @@ def finish_run(plan: Plan) -> RunResult:
     dt, n_steps, status = plan.dt, settings.n_steps, plan.status
     rest_time = math.nan
     if status == step.STATUS_AT_REST:  # the quiet tail; the kernel samples the last step too
-        cursor.n_sample, last = carry(plan.scene, plan.arrays, cursor.samples, cursor.n_sample, n_steps, dt,
-                                      settings.out_every, including=True)
+        cursor.n_sample, last = carry(
+            plan.scene,
+            plan.arrays,
+            cursor.samples,
+            cursor.n_sample,
+            n_steps,
+            dt,
+            settings.out_every,
+            including=True,
+        )
         rest_time, status = last * dt, step.STATUS_OK
     n, samples = cursor.n_sample, cursor.samples
     return RunResult(
-        time=samples.step[:n] * dt, x=samples.x[:n], y=samples.y[:n], theta=samples.theta[:n],
-        energy=samples.energy[:n], n_contact=samples.n_contact[:n], status=int(status),
-        collapse_sample=int(cursor.collapse), dt=dt, dt_limit=plan.limit, out_every=settings.out_every,
-        n_steps=n_steps, steps_run=int(cursor.steps), wall_seconds=cursor.wall, compile_seconds=cursor.compile,
+        time=samples.step[:n] * dt,
+        x=samples.x[:n],
+        y=samples.y[:n],
+        theta=samples.theta[:n],
+        energy=samples.energy[:n],
+        n_contact=samples.n_contact[:n],
+        status=int(status),
+        collapse_sample=int(cursor.collapse),
+        dt=dt,
+        dt_limit=plan.limit,
+        out_every=settings.out_every,
+        n_steps=n_steps,
+        steps_run=int(cursor.steps),
+        wall_seconds=cursor.wall,
+        compile_seconds=cursor.compile,
         quiet_lead=plan.quiet_lead,
-        rest_time=rest_time, arrays=plan.arrays, peaks=state.peaks.copy(), peak_theta=state.peak_theta.copy(),
-        onset_step=int(state.events[step.EVENT_ONSET]), collapse_step=int(state.events[step.EVENT_COLLAPSE]),
-        kernel=plan.loop.started_on or "general",  # the ensemble runner's members run the general loop
+        rest_time=rest_time,
+        arrays=plan.arrays,
+        peaks=state.peaks.copy(),
+        peak_theta=state.peak_theta.copy(),
+        onset_step=int(state.events[step.EVENT_ONSET]),
+        collapse_step=int(state.events[step.EVENT_COLLAPSE]),
+        kernel=plan.loop.started_on
+        or "general",  # the ensemble runner's members run the general loop
         handover_time=plan.loop.handover_step * dt if plan.loop.handover_step >= 0 else math.nan,
-        handover_reason=why_broken(*plan.loop.broken, plan.scene.body_names) if plan.loop.broken else "",
+        handover_reason=why_broken(*plan.loop.broken, plan.scene.body_names)
+        if plan.loop.broken
+        else "",
     )
 
 
@@ -607,17 +707,29 @@ def energy_drift(result: RunResult) -> dict:
     e = result.energy
     kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
     work = e[:, step.ENERGY_BASE_WORK]
-    balance = (kinetic + potential + e[:, step.ENERGY_ELASTIC] + e[:, step.ENERGY_DAMPING]
-               + e[:, step.ENERGY_TANGENTIAL] - work)
+    balance = (
+        kinetic
+        + potential
+        + e[:, step.ENERGY_ELASTIC]
+        + e[:, step.ENERGY_DAMPING]
+        + e[:, step.ENERGY_TANGENTIAL]
+        - work
+    )
     if len(balance) == 0 or not np.all(np.isfinite(balance)):
-        return {"energy_error": math.nan, "energy_created": math.nan, "energy_error_total": math.nan}
+        return {
+            "energy_error": math.nan,
+            "energy_created": math.nan,
+            "energy_error_total": math.nan,
+        }
     total = abs(kinetic[0]) + abs(potential[0])
     moved = kinetic.max() + np.abs(potential - potential[0]).max() + np.abs(work).max()
     moved = max(moved, ENERGY_FLOOR * total)
     drift = balance - balance[0]
-    return {"energy_error": float(np.abs(drift).max() / moved), "energy_created": float(drift.max() / moved),
-            "energy_error_total": float(np.abs(drift).max() / total)}
-
+    return {
+        "energy_error": float(np.abs(drift).max() / moved),
+        "energy_created": float(drift.max() / moved),
+        "energy_error_total": float(np.abs(drift).max() / total),
+    }
 
 
 def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str]:
@@ -626,9 +738,15 @@ def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str
 
     arrays = result.arrays
     areas = np.array([geometry.signed_area(b.vertices) for b in scene.bodies])
-    share, s, a, b = deepest_overlap(arrays.vert_start, arrays.local_x, arrays.local_y, areas,
-                                     np.ascontiguousarray(result.x), np.ascontiguousarray(result.y),
-                                     np.ascontiguousarray(result.theta))
+    share, s, a, b = deepest_overlap(
+        arrays.vert_start,
+        arrays.local_x,
+        arrays.local_y,
+        areas,
+        np.ascontiguousarray(result.x),
+        np.ascontiguousarray(result.y),
+        np.ascontiguousarray(result.theta),
+    )
     if s < 0:
         return 0.0, math.nan, "", ""
     names = scene.body_names
@@ -644,14 +762,24 @@ def run_checks(scene: Scene, result: RunResult) -> dict:
     warnings = []
     if share > PENETRATION_LIMIT:
         status = "penetrated"
-        warnings.append(f"bodies {a} and {b} overlap by {100 * share:.3g} % of the smaller one's area at "
-                        f"t = {when:.4g} s (limit {100 * PENETRATION_LIMIT:g} %): the contact is too soft for "
-                        "the load or a body is a sliver; raise contact.k_n or thicken the body")
+        warnings.append(
+            f"bodies {a} and {b} overlap by {100 * share:.3g} % of the smaller one's area at "
+            f"t = {when:.4g} s (limit {100 * PENETRATION_LIMIT:g} %): the contact is too soft for "
+            "the load or a body is a sliver; raise contact.k_n or thicken the body"
+        )
     elif energy["energy_error"] > ENERGY_TOLERANCE:
         status = "energy balance error"
-        warnings.append(f"the energy balance drifted by {100 * energy['energy_error']:.3g} % of the energy the "
-                        f"run moves (limit {100 * ENERGY_TOLERANCE:g} %); lower solver.dt_safety")
-    return {"status": status, "warnings": warnings, "penetration": share, "penetration_time": when, **energy}
+        warnings.append(
+            f"the energy balance drifted by {100 * energy['energy_error']:.3g} % of the energy the "
+            f"run moves (limit {100 * ENERGY_TOLERANCE:g} %); lower solver.dt_safety"
+        )
+    return {
+        "status": status,
+        "warnings": warnings,
+        "penetration": share,
+        "penetration_time": when,
+        **energy,
+    }
 
 
 # resources a run may ask for; above them it is refused before computing (README "Limits")
@@ -685,7 +813,10 @@ def _every_fix(scene: Scene, chosen: float, budget: float) -> str:
         every = math.ceil(every / scale * (1 - 1e-12)) * scale  # 2 significant digits, up
         trial = dataclasses.replace(scene, output_every=every)
         dt = sampled_step(trial, chosen)
-        if scene.duration / dt <= MAX_STEPS and run_bytes(output_samples(trial, dt), n_body) <= budget:
+        if (
+            scene.duration / dt <= MAX_STEPS
+            and run_bytes(output_samples(trial, dt), n_body) <= budget
+        ):
             return f"raise output.every to {every:.2g} s or more, or shorten the run"
         every *= 1.05
     return "shorten the run or use fewer bodies"
@@ -705,33 +836,53 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
     landing_drops(scene)
     dt, limit = choose_time_step(scene)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
-        raise InputError("contact.k_n", f"the stability limit is {limit:.3g} s",
-                         "check masses and contact stiffness (SI units)")
+        raise InputError(
+            "contact.k_n",
+            f"the stability limit is {limit:.3g} s",
+            "check masses and contact stiffness (SI units)",
+        )
     chosen, dt = dt, sampled_step(scene, dt)  # as simulate()
     if scene.duration > MAX_DURATION:
-        raise InputError("solver.duration", f"{scene.duration:.3g} s is over the limit {MAX_DURATION:g} s",
-                         "simulate at most an hour; split a longer run")
+        raise InputError(
+            "solver.duration",
+            f"{scene.duration:.3g} s is over the limit {MAX_DURATION:g} s",
+            "simulate at most an hour; split a longer run",
+        )
     budget = memory_budget()
     n_steps = scene.duration / dt
     if n_steps > MAX_STEPS:
-        if scene.output_every < chosen and scene.duration / chosen <= MAX_STEPS:  # dt <= output.every
-            raise InputError("output.every", f"{scene.output_every:.3g} s makes dt = {dt:.3g} s: {n_steps:.3g} "
-                             f"steps over {scene.duration:.3g} s, over the limit {MAX_STEPS:.0e}",
-                             _every_fix(scene, chosen, budget))
-        raise InputError("solver.duration", f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "
-                         f"over the limit {MAX_STEPS:.0e}",
-                         f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften contact.k_n")
+        if (
+            scene.output_every < chosen and scene.duration / chosen <= MAX_STEPS
+        ):  # dt <= output.every
+            raise InputError(
+                "output.every",
+                f"{scene.output_every:.3g} s makes dt = {dt:.3g} s: {n_steps:.3g} "
+                f"steps over {scene.duration:.3g} s, over the limit {MAX_STEPS:.0e}",
+                _every_fix(scene, chosen, budget),
+            )
+        raise InputError(
+            "solver.duration",
+            f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "
+            f"over the limit {MAX_STEPS:.0e}",
+            f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften contact.k_n",
+        )
     n_out = output_samples(scene, dt)
     need = run_bytes(n_out, len(scene.bodies))
     if need > budget:
-        raise InputError("output.every", f"{n_out:.3g} samples of {len(scene.bodies)} bodies need about "
-                         f"{need / 2**30:.3g} GiB, over the {budget / 2**30:.3g} GiB a run may take here "
-                         "(stonedem.engine.memory.memory_budget)", _every_fix(scene, chosen, budget))
+        raise InputError(
+            "output.every",
+            f"{n_out:.3g} samples of {len(scene.bodies)} bodies need about "
+            f"{need / 2**30:.3g} GiB, over the {budget / 2**30:.3g} GiB a run may take here "
+            "(stonedem.engine.memory.memory_budget)",
+            _every_fix(scene, chosen, budget),
+        )
     for name, motion in (("excitation", scene.horizontal), ("excitation.vertical", scene.vertical)):
         period = motion.shortest_period
         if period / dt < MIN_STEPS_PER_PERIOD:
             raise InputError(
-                "solver.dt", f"dt = {dt:.3g} s resolves the {name}'s shortest period {period:.3g} s "
+                "solver.dt",
+                f"dt = {dt:.3g} s resolves the {name}'s shortest period {period:.3g} s "
                 f"in {period / dt:.3g} steps, fewer than {MIN_STEPS_PER_PERIOD}",
-                f"use solver.dt <= {period / MIN_STEPS_PER_PERIOD:.3g} s, or a slower excitation")
+                f"use solver.dt <= {period / MIN_STEPS_PER_PERIOD:.3g} s, or a slower excitation",
+            )
     return dt, limit, int(math.ceil(n_steps - 1e-9))

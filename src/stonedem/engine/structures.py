@@ -23,9 +23,17 @@ MAX_COUNT = 1000
 
 def _positive(value, field):
     value = plain_number(value)
-    if (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
-            or not math.isfinite(value)):
-        raise InputError(field, f"must be a positive finite number, got {value!r}", "give a value > 0 in SI units")
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not value > 0
+        or not math.isfinite(value)
+    ):
+        raise InputError(
+            field,
+            f"must be a positive finite number, got {value!r}",
+            "give a value > 0 in SI units",
+        )
     return float(value)
 
 
@@ -33,21 +41,35 @@ def _count(value, field):
     """An integer count 1..MAX_COUNT."""
     value = plain_number(value)
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_COUNT:
-        raise InputError(field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ...")
+        raise InputError(
+            field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ..."
+        )
     return value
 
 
 def _box(name, width, height, cx, y_bottom, density, **extra):
-    return {"name": name, "box": {"width": width, "height": height, "center": [cx, y_bottom + height / 2]},
-            "density": density, **extra}
+    return {
+        "name": name,
+        "box": {"width": width, "height": height, "center": [cx, y_bottom + height / 2]},
+        "density": density,
+        **extra,
+    }
 
 
 def base_body(width, height=0.5, center_x=0.0):
     """The driven base: a width x height box whose top face is at y = 0."""
     width = _positive(width, "structure.base_width")
-    return {"name": "base", "box": {"width": width, "height": _positive(height, "structure.base_height"),
-                                    "center": [center_x, -height / 2]},
-            "density": 2700.0, "driven": True, "role": "base"}
+    return {
+        "name": "base",
+        "box": {
+            "width": width,
+            "height": _positive(height, "structure.base_height"),
+            "center": [center_x, -height / 2],
+        },
+        "density": 2700.0,
+        "driven": True,
+        "role": "base",
+    }
 
 
 def shaft_widths(taper, width):
@@ -59,8 +81,18 @@ def shaft_widths(taper, width):
     return taper * top, top
 
 
-def column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, x=0.0,
-           column_index=0, y0=0.0, prefix=""):
+def column(
+    n_drums,
+    height=6.0,
+    width=1.0,
+    density=2000.0,
+    taper=1.0,
+    capital=None,
+    x=0.0,
+    column_index=0,
+    y0=0.0,
+    prefix="",
+):
     """The drums (and capital) of one column centred at x, standing on y = y0.
 
     height: shaft height, split into n_drums equal drums [m]; width: mean shaft width [m]
@@ -84,20 +116,42 @@ def column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=No
         if taper == 1.0:
             bodies.append(_box(name, width, drum_h, x, yb, density, **extra))
         else:
-            vertices = [[x - wb / 2, yb], [x + wb / 2, yb], [x + wt / 2, yb + drum_h], [x - wt / 2, yb + drum_h]]
-            bodies.append({"name": name, "polygon": {"vertices": vertices}, "density": density, **extra})
+            vertices = [
+                [x - wb / 2, yb],
+                [x + wb / 2, yb],
+                [x + wt / 2, yb + drum_h],
+                [x - wt / 2, yb + drum_h],
+            ]
+            bodies.append(
+                {"name": name, "polygon": {"vertices": vertices}, "density": density, **extra}
+            )
     if capital is not None:
         if not isinstance(capital, dict) or set(capital) - {"height", "width"}:
-            raise InputError("structure.capital", f"expected {{height, width}}, got {capital!r}",
-                             "write capital: {height: 0.6, width: 1.4}")
+            raise InputError(
+                "structure.capital",
+                f"expected {{height, width}}, got {capital!r}",
+                "write capital: {height: 0.6, width: 1.4}",
+            )
         ch = _positive(capital.get("height", 0.6), "structure.capital.height")
         cw = _positive(capital.get("width", 1.4), "structure.capital.width")
-        bodies.append(_box(f"{prefix}c{column_index}_cap", cw, ch, x, y0 + height, density,
-                           role="capital", column=column_index))
+        bodies.append(
+            _box(
+                f"{prefix}c{column_index}_cap",
+                cw,
+                ch,
+                x,
+                y0 + height,
+                density,
+                role="capital",
+                column=column_index,
+            )
+        )
     return bodies
 
 
-def standalone_column(n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, base_width=4.0):
+def standalone_column(
+    n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, base_width=4.0
+):
     """Base + one column (thesis chapter 6)."""
     return [base_body(base_width)] + column(n_drums, height, width, density, taper, capital)
 
@@ -111,12 +165,31 @@ def _vertices(body):
         return body["polygon"]["vertices"]
     w, h = body["box"]["width"], body["box"]["height"]
     cx, cy = body["box"]["center"]
-    return [[cx - w / 2, cy - h / 2], [cx + w / 2, cy - h / 2], [cx + w / 2, cy + h / 2], [cx - w / 2, cy + h / 2]]
+    return [
+        [cx - w / 2, cy - h / 2],
+        [cx + w / 2, cy - h / 2],
+        [cx + w / 2, cy + h / 2],
+        [cx - w / 2, cy + h / 2],
+    ]
 
 
-def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=2.0, epistyle_type="a",
-                  epistyle_height=0.8, epistyle_density=None, density=2000.0, taper=1.0, capital=None,
-                  y0=0.0, prefix="", column_offset=0, spacing=None):
+def colonnade_row(
+    n_columns=3,
+    n_drums=1,
+    height=6.0,
+    width=1.0,
+    clear_distance=2.0,
+    epistyle_type="a",
+    epistyle_height=0.8,
+    epistyle_density=None,
+    density=2000.0,
+    taper=1.0,
+    capital=None,
+    y0=0.0,
+    prefix="",
+    column_offset=0,
+    spacing=None,
+):
     """Columns and epistyles of one row, centred on x = 0, standing on y = y0 (no base).
 
     Columns are spaced by the clear distance between shaft faces at their base plus the
@@ -131,21 +204,32 @@ def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=
     n_columns = _count(n_columns, "structure.n_columns")
     n_drums = _count(n_drums, "structure.n_drums")
     if n_columns * n_drums > MAX_COUNT:
-        raise InputError("structure.n_columns", f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
-                         "use fewer columns or drums")
+        raise InputError(
+            "structure.n_columns",
+            f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
+            "use fewer columns or drums",
+        )
     if not isinstance(epistyle_type, str) or epistyle_type not in EPISTYLE_TYPES:
-        raise InputError("structure.epistyle_type", f"unknown type {epistyle_type!r}",
-                         f"use one of {', '.join(EPISTYLE_TYPES)} (thesis Table 7.2)")
+        raise InputError(
+            "structure.epistyle_type",
+            f"unknown type {epistyle_type!r}",
+            f"use one of {', '.join(EPISTYLE_TYPES)} (thesis Table 7.2)",
+        )
     clear_distance = _positive(clear_distance, "structure.clear_distance")
     epistyle_height = _positive(epistyle_height, "structure.epistyle_height")
-    epistyle_density = _positive(epistyle_density if epistyle_density is not None else density,
-                                 "structure.epistyle_density")
-    bottom, top = shaft_widths(_positive(taper, "structure.taper"), _positive(width, "structure.width"))
+    epistyle_density = _positive(
+        epistyle_density if epistyle_density is not None else density, "structure.epistyle_density"
+    )
+    bottom, top = shaft_widths(
+        _positive(taper, "structure.taper"), _positive(width, "structure.width")
+    )
     spacing = spacing if spacing is not None else bottom + clear_distance
     xs = [(k - (n_columns - 1) / 2.0) * spacing for k in range(n_columns)]
     bodies = []
     for k, x in enumerate(xs):
-        bodies += column(n_drums, height, width, density, taper, capital, x, column_offset + k, y0, prefix)
+        bodies += column(
+            n_drums, height, width, density, taper, capital, x, column_offset + k, y0, prefix
+        )
     top_width = capital["width"] if capital else top
     y_top = y0 + height + (capital["height"] if capital else 0.0)
     outer = (xs[0] - top_width / 2, xs[-1] + top_width / 2)
@@ -165,19 +249,53 @@ def colonnade_row(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=
         spans = [outer]
     for i, (x0, x1) in enumerate(spans):
         if x1 - x0 <= 0:
-            raise InputError("structure.epistyle_type", f"type {epistyle_type} needs more columns",
-                             "use type a or c, or more columns")
-        bodies.append(_box(f"{prefix}e{i}", x1 - x0, epistyle_height, (x0 + x1) / 2, y_top, epistyle_density,
-                           role="epistyle"))
+            raise InputError(
+                "structure.epistyle_type",
+                f"type {epistyle_type} needs more columns",
+                "use type a or c, or more columns",
+            )
+        bodies.append(
+            _box(
+                f"{prefix}e{i}",
+                x1 - x0,
+                epistyle_height,
+                (x0 + x1) / 2,
+                y_top,
+                epistyle_density,
+                role="epistyle",
+            )
+        )
     return bodies
 
 
-def colonnade(n_columns=3, n_drums=1, height=6.0, width=1.0, clear_distance=2.0, epistyle_type="a",
-              epistyle_height=0.8, epistyle_density=None, density=2000.0, taper=1.0, capital=None,
-              base_margin=2.0):
+def colonnade(
+    n_columns=3,
+    n_drums=1,
+    height=6.0,
+    width=1.0,
+    clear_distance=2.0,
+    epistyle_type="a",
+    epistyle_height=0.8,
+    epistyle_density=None,
+    density=2000.0,
+    taper=1.0,
+    capital=None,
+    base_margin=2.0,
+):
     """Base + a row of columns with epistyles (thesis chapter 7)."""
-    row = colonnade_row(n_columns, n_drums, height, width, clear_distance, epistyle_type, epistyle_height,
-                        epistyle_density, density, taper, capital)
+    row = colonnade_row(
+        n_columns,
+        n_drums,
+        height,
+        width,
+        clear_distance,
+        epistyle_type,
+        epistyle_height,
+        epistyle_density,
+        density,
+        taper,
+        capital,
+    )
     xs = [x for b in row for x, _ in _vertices(b)]
     span = max(xs) - min(xs)
     return [base_body(span + 2 * _positive(base_margin, "structure.base_margin"))] + row
@@ -193,58 +311,100 @@ def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
     """
     for name, tier in (("lower", lower), ("upper", upper)):
         if tier is not None and not isinstance(tier, dict):
-            raise InputError(f"structure.{name}", f"expected a mapping, got {type(tier).__name__}",
-                             "write e.g. {n_columns: 3, n_drums: 2}")
+            raise InputError(
+                f"structure.{name}",
+                f"expected a mapping, got {type(tier).__name__}",
+                "write e.g. {n_columns: 3, n_drums: 2}",
+            )
         allowed = list(inspect.signature(colonnade_row).parameters)
         for key in tier or {}:
             if key not in allowed:
-                raise InputError(f"structure.{name}.{key}", "unknown key", f"allowed keys: {', '.join(allowed)}")
+                raise InputError(
+                    f"structure.{name}.{key}", "unknown key", f"allowed keys: {', '.join(allowed)}"
+                )
     lower = {"n_columns": 3, "epistyle_type": "a", **(lower or {})}
-    upper = {"n_columns": lower["n_columns"], "height": 3.0, "width": 0.6, "epistyle_height": 0.4,
-             "epistyle_type": "a", **(upper or {})}
+    upper = {
+        "n_columns": lower["n_columns"],
+        "height": 3.0,
+        "width": 0.6,
+        "epistyle_height": 0.4,
+        "epistyle_type": "a",
+        **(upper or {}),
+    }
     for key in ("y0", "prefix", "column_offset", "spacing"):
         for tier in (lower, upper):
             if key in tier:
                 raise InputError(f"structure.{key}", "set by the builder", "remove it")
     if upper["n_columns"] != lower["n_columns"]:
-        raise InputError("structure.upper.n_columns", "the upper row stands above the lower columns",
-                         "give the same n_columns for both rows")
+        raise InputError(
+            "structure.upper.n_columns",
+            "the upper row stands above the lower columns",
+            "give the same n_columns for both rows",
+        )
     if lower["epistyle_type"] not in ("a", "c"):
-        raise InputError("structure.lower.epistyle_type", "the upper row needs one continuous epistyle",
-                         "use type a or c for the lower row")
+        raise InputError(
+            "structure.lower.epistyle_type",
+            "the upper row needs one continuous epistyle",
+            "use type a or c for the lower row",
+        )
     low = colonnade_row(**lower)
-    low_cols = sorted({b["box"]["center"][0] if "box" in b else _vertices(b)[0][0]
-                       for b in low if b.get("role") == "drum" and b["name"].endswith("_d0")})
+    low_cols = sorted(
+        {
+            b["box"]["center"][0] if "box" in b else _vertices(b)[0][0]
+            for b in low
+            if b.get("role") == "drum" and b["name"].endswith("_d0")
+        }
+    )
     spacing = (low_cols[1] - low_cols[0]) if len(low_cols) > 1 else 1.0
     upper.setdefault("clear_distance", max(spacing - upper.get("width", 0.6), 1e-3))
-    up = colonnade_row(**upper, y0=_top(low), prefix="t1_", column_offset=lower["n_columns"], spacing=spacing)
+    up = colonnade_row(
+        **upper, y0=_top(low), prefix="t1_", column_offset=lower["n_columns"], spacing=spacing
+    )
     for body in up:
         body["tier"] = 1
     xs = [x for b in low + up for x, _ in _vertices(b)]
-    return [base_body(max(xs) - min(xs) + 2 * _positive(base_margin, "structure.base_margin"))] + low + up
+    return (
+        [base_body(max(xs) - min(xs) + 2 * _positive(base_margin, "structure.base_margin"))]
+        + low
+        + up
+    )
 
 
-BUILDERS = {"column": standalone_column, "colonnade": colonnade, "two_tier_colonnade": two_tier_colonnade}
+BUILDERS = {
+    "column": standalone_column,
+    "colonnade": colonnade,
+    "two_tier_colonnade": two_tier_colonnade,
+}
 
 
 def build_structure(spec: dict) -> list[dict]:
     """Bodies of ``{kind: column | colonnade | two_tier_colonnade, ...keyword arguments}``."""
     if not isinstance(spec, dict):
-        raise InputError("structure", f"expected a mapping, got {type(spec).__name__}",
-                         "write structure: {kind: column, n_drums: 4}")
+        raise InputError(
+            "structure",
+            f"expected a mapping, got {type(spec).__name__}",
+            "write structure: {kind: column, n_drums: 4}",
+        )
     if "kind" not in spec:
         raise InputError("structure.kind", "missing", f"use one of {', '.join(BUILDERS)}")
     spec = dict(spec)
     kind = spec.pop("kind")
     if not isinstance(kind, str) or kind not in BUILDERS:
-        raise InputError("structure.kind", f"unknown kind {kind!r}", f"use one of {', '.join(BUILDERS)}")
+        raise InputError(
+            "structure.kind", f"unknown kind {kind!r}", f"use one of {', '.join(BUILDERS)}"
+        )
     builder = BUILDERS[kind]
     allowed = list(inspect.signature(builder).parameters)
     for key in spec:
         if key not in allowed:
-            raise InputError(f"structure.{key}", f"unknown key for {kind}", f"allowed keys: {', '.join(allowed)}")
-    missing = [name for name, par in inspect.signature(builder).parameters.items()
-               if par.default is inspect.Parameter.empty and name not in spec]
+            raise InputError(
+                f"structure.{key}", f"unknown key for {kind}", f"allowed keys: {', '.join(allowed)}"
+            )
+    missing = [
+        name
+        for name, par in inspect.signature(builder).parameters.items()
+        if par.default is inspect.Parameter.empty and name not in spec
+    ]
     if missing:
         raise InputError(f"structure.{missing[0]}", "missing", f"give it, e.g. {missing[0]}: 4")
     return builder(**spec)

@@ -16,16 +16,38 @@ import matplotlib
 
 matplotlib.use("Agg")  # before the chapters import pyplot: files only, no display
 from stonedem.figures import chapter6, chapter7  # noqa: E402
-from stonedem.figures.catalogue import (Case, Cube, Figure, Record, Reduction, Table, available,  # noqa: E402
-                                        input_paths)
+from stonedem.figures.catalogue import (
+    Case,
+    Cube,
+    Figure,
+    Record,
+    Reduction,
+    Table,
+    available,  # noqa: E402
+    input_paths,
+)
 from stonedem.figures.chapter6 import rocking_then_sliding  # noqa: E402
 from stonedem.figures.chapter7 import heavier_epistyle_moves_less, table_7_1_orderings  # noqa: E402
 
 CHAPTERS = (chapter6, chapter7)
 
-__all__ = ["CHAPTERS", "Case", "Cube", "Figure", "Record", "Reduction", "Table", "figure_table", "figures",
-           "heavier_epistyle_moves_less", "input_paths", "reduction_table", "rocking_then_sliding",
-           "table_7_1_orderings", "tables"]
+__all__ = [
+    "CHAPTERS",
+    "Case",
+    "Cube",
+    "Figure",
+    "Record",
+    "Reduction",
+    "Table",
+    "figure_table",
+    "figures",
+    "heavier_epistyle_moves_less",
+    "input_paths",
+    "reduction_table",
+    "rocking_then_sliding",
+    "table_7_1_orderings",
+    "tables",
+]
 
 
 def figures(config: dict | None = None) -> dict[str, Figure]:

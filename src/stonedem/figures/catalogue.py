@@ -17,8 +17,11 @@ from typing import Callable
 def matching_cases(cases: dict, params: dict) -> list:
     """The cases of {id: Case} whose parameters include ``params`` (a value None: any value)."""
     fixed = {k: v for k, v in params.items() if v is not None}
-    return [c for c in cases.values()
-            if set(params) <= set(c.params) and all(c.params[k] == v for k, v in fixed.items())]
+    return [
+        c
+        for c in cases.values()
+        if set(params) <= set(c.params) and all(c.params[k] == v for k, v in fixed.items())
+    ]
 
 
 @dataclass(frozen=True)
@@ -46,7 +49,9 @@ class Case:
 
     def resolve(self, studies: dict, tables) -> Case | None:
         found = matching_cases(studies.get(self.study, {}), self.params)
-        if "member" not in self.params:  # an ensemble's members of the case: member 0, as configured
+        if (
+            "member" not in self.params
+        ):  # an ensemble's members of the case: member 0, as configured
             found = [c for c in found if c.params.get("member", 0) == 0]
         return replace(self, id=found[0].id) if len(found) == 1 else None
 
@@ -96,8 +101,8 @@ class Reduction:
     reduce: Callable  # reduce(*cubes) -> rows (list of dicts)
 
     def write(self, paths: list, path) -> Path:
-        from stonedem.io.netcdf import open_result  # xarray: only when reducing
         from stonedem.io.atomic import write_csv
+        from stonedem.io.netcdf import open_result  # xarray: only when reducing
 
         cubes = []
         for file in paths:

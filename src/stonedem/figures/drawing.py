@@ -13,13 +13,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
-from stonedem.io.atomic import write_atomically
 from stonedem.figures.catalogue import Case, Cube, Figure
+from stonedem.io.atomic import write_atomically
 from stonedem.io.netcdf import open_result
 from stonedem.study.cube import member_summary
 
-THESIS_RECORD = {"athens": "athens_standin_kocaeli_arc000", "kalamata": "kalamata_standin_izmit_izt270",
-                 "mexico": "mexico_standin_chichi_tcu102"}
+THESIS_RECORD = {
+    "athens": "athens_standin_kocaeli_arc000",
+    "kalamata": "kalamata_standin_izmit_izt270",
+    "mexico": "mexico_standin_chichi_tcu102",
+}
 RECORD_LABEL = {v: f"{k.capitalize()} stand-in" for k, v in THESIS_RECORD.items()}
 
 
@@ -54,10 +57,25 @@ def _label(da) -> str:
 def _value_label(name: str, value) -> str:
     if name == "record":
         return RECORD_LABEL.get(str(value), str(value))
-    units = {"n_drums": " drums", "n_columns": " columns", "clear_distance": " m", "epistyle_density": " kg/m3",
-             "taper": "", "frequency": " Hz", "amplitude": " m", "friction": "", "pga": " m/s2",
-             "weak_joint": "", "epistyle_type": ""}
-    prefix = {"taper": "Wb/Wt = ", "friction": "mu = ", "weak_joint": "weak joint ", "epistyle_type": "type "}
+    units = {
+        "n_drums": " drums",
+        "n_columns": " columns",
+        "clear_distance": " m",
+        "epistyle_density": " kg/m3",
+        "taper": "",
+        "frequency": " Hz",
+        "amplitude": " m",
+        "friction": "",
+        "pga": " m/s2",
+        "weak_joint": "",
+        "epistyle_type": "",
+    }
+    prefix = {
+        "taper": "Wb/Wt = ",
+        "friction": "mu = ",
+        "weak_joint": "weak joint ",
+        "epistyle_type": "type ",
+    }
     v = f"{value:g}" if isinstance(value, (float, np.floating)) else str(value)
     return f"{prefix.get(name, '')}{v}{units.get(name, '')}"
 
@@ -69,8 +87,16 @@ def _finish(fig, title: str, verdict: str = "") -> None:
         lines = sum(1 + len(line) // 170 for line in verdict.splitlines())
         strip = (0.16 * lines + 0.05) / fig.get_figheight()
         fig.get_layout_engine().set(rect=(0, strip, 1, 1 - strip))
-        fig.text(0.01, 0.005, verdict, fontsize=7.5, ha="left", va="bottom", wrap=True,
-                 color="darkred" if "does NOT hold" in verdict else "darkgreen")
+        fig.text(
+            0.01,
+            0.005,
+            verdict,
+            fontsize=7.5,
+            ha="left",
+            va="bottom",
+            wrap=True,
+            color="darkred" if "does NOT hold" in verdict else "darkgreen",
+        )
 
 
 def _log_frequency_axis(ax) -> None:
@@ -103,17 +129,22 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
 
     def draw(inputs, path):
         cube = _sel(load_cube(inputs[0]), select, keep=(hue,))
-        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.2, 1]},
-                                       constrained_layout=True)
+        fig, (ax1, ax2) = plt.subplots(
+            1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.2, 1]}, constrained_layout=True
+        )
         values = cube[hue].values
         peaks = []
         for v in values:
             case = cube.sel({hue: v})
             ax1.plot(case["time"], case[variable], lw=0.8, label=_value_label(hue, v))
-            peak = float(case[scalar]) if scalar in case else float(np.nanmax(np.abs(case[variable])))
+            peak = (
+                float(case[scalar]) if scalar in case else float(np.nanmax(np.abs(case[variable])))
+            )
             peaks.append(peak)
             if float(case["collapsed"]) >= 0.5:  # an ensemble's collapse fraction (K = 1: 0 or 1)
-                ax1.axvline(float(case["collapse_time"]), color=ax1.lines[-1].get_color(), ls=":", lw=0.8)
+                ax1.axvline(
+                    float(case["collapse_time"]), color=ax1.lines[-1].get_color(), ls=":", lw=0.8
+                )
         ax1.set_xlabel(_label(cube["time"]))
         ax1.set_ylabel(_label(cube[variable]), fontsize=8)
         ax1.legend(fontsize=7, ncol=2)
@@ -121,10 +152,18 @@ def history_figure(thesis, study, variable, hue, select, title, caption, check=N
         ax2.plot(xs, peaks, "o-")
         fractions = [float(cube.sel({hue: v})["collapsed"]) for v in values]
         collapsed = [f >= 0.5 for f in fractions]
-        ax2.plot(np.asarray(xs)[collapsed], np.asarray(peaks)[collapsed], "rx", ms=10, label=collapsed_label(cube))
+        ax2.plot(
+            np.asarray(xs)[collapsed],
+            np.asarray(peaks)[collapsed],
+            "rx",
+            ms=10,
+            label=collapsed_label(cube),
+        )
         if int(cube.attrs.get("members", 1)) > 1:  # the fraction itself beside each point
             for x, peak, f in zip(xs, peaks, fractions):
-                ax2.annotate(f"{f:.2g}", (x, peak), fontsize=6, textcoords="offset points", xytext=(3, 3))
+                ax2.annotate(
+                    f"{f:.2g}", (x, peak), fontsize=6, textcoords="offset points", xytext=(3, 3)
+                )
         if values.dtype.kind in "OUS":
             ax2.set_xticks(xs, [str(v) for v in values])
         ax2.set_xlabel(_label(cube[hue]))
@@ -157,14 +196,20 @@ def geometry_figure(thesis, study, cases, title, caption):
 
         from stonedem.figures.snapshots import body_polygons, posed_polygons
 
-        fig, axes = plt.subplots(1, len(inputs), figsize=(3.2 * len(inputs), 3.6), constrained_layout=True)
+        fig, axes = plt.subplots(
+            1, len(inputs), figsize=(3.2 * len(inputs), 3.6), constrained_layout=True
+        )
         for ax, file, params in zip(np.atleast_1d(axes), inputs, cases):
             with open_result(file) as ds:
                 local = body_polygons(ds)
                 polys = posed_polygons(local, ds.x[0].values, ds.y[0].values, ds.theta[0].values)
                 roles = [str(r) for r in ds["body_role"].values]
-            colours = ["0.6" if r == "base" else "tan" if r == "epistyle" else "wheat" for r in roles]
-            ax.add_collection(PolyCollection(polys, facecolors=colours, edgecolors="k", linewidths=0.5))
+            colours = [
+                "0.6" if r == "base" else "tan" if r == "epistyle" else "wheat" for r in roles
+            ]
+            ax.add_collection(
+                PolyCollection(polys, facecolors=colours, edgecolors="k", linewidths=0.5)
+            )
             xs = np.concatenate([p[:, 0] for p, r in zip(polys, roles) if r != "base"])
             ys = np.concatenate([p[:, 1] for p in polys])
             ax.set_xlim(xs.min() - 0.5, xs.max() + 0.5)
@@ -177,4 +222,3 @@ def geometry_figure(thesis, study, cases, title, caption):
         return _save(fig, path)
 
     return Figure(thesis, caption, tuple(Case(study, p) for p in cases), draw)
-

@@ -37,8 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
-from stonedem.io.atomic import write_atomically
 from stonedem.errors import InputError, one_line
+from stonedem.io.atomic import write_atomically
 
 ROLE_COLOURS = {
     "base": "#9a9a9a",  # grey ground slab
@@ -73,6 +73,7 @@ MAX_ROTATION = 1.0e6  # [rad]
 
 # --- reading a case -----------------------------------------------------------------------
 
+
 def open_case(path: str | Path):
     """A stonedem case dataset read into memory and checked, or an InputError naming the fix."""
     import xarray as xr
@@ -85,8 +86,11 @@ def open_case(path: str | Path):
     except (KeyboardInterrupt, MemoryError):
         raise
     except Exception:  # noqa: BLE001 - whatever a foreign or damaged file makes the backends raise
-        raise InputError(str(path), "not a readable NetCDF dataset",
-                         "give a case dataset written by stonedem run") from None
+        raise InputError(
+            str(path),
+            "not a readable NetCDF dataset",
+            "give a case dataset written by stonedem run",
+        ) from None
     check_case(ds, str(path))
     return ds
 
@@ -100,14 +104,19 @@ def check_case_path(path: str | Path) -> Path:
     try:
         info = path.stat()
     except FileNotFoundError:
-        raise InputError(field, "case file not found",
-                         "check the path (a .nc file from stonedem run)") from None
+        raise InputError(
+            field, "case file not found", "check the path (a .nc file from stonedem run)"
+        ) from None
     except OSError as err:  # a name too long, a loop of links, a folder without access
-        raise InputError(field, f"cannot be read ({err.strerror})",
-                         "check the path (a .nc file from stonedem run)") from None
+        raise InputError(
+            field,
+            f"cannot be read ({err.strerror})",
+            "check the path (a .nc file from stonedem run)",
+        ) from None
     if stat.S_ISDIR(info.st_mode):
-        raise InputError(field, "is a folder, not a case file",
-                         "give a case dataset (.nc from stonedem run)")
+        raise InputError(
+            field, "is a folder, not a case file", "give a case dataset (.nc from stonedem run)"
+        )
     if not stat.S_ISREG(info.st_mode):
         raise InputError(field, "not a regular file", "give a case dataset (.nc from stonedem run)")
     return path
@@ -122,6 +131,7 @@ def check_case(ds, where: str = "dataset") -> None:
     when present; ``attrs.scene`` a JSON mapping the scene loader accepts, whose bodies are
     the dataset's. Each refusal names the field.
     """
+
     def field(name):
         return f"{where}: {name}"
 
@@ -131,16 +141,17 @@ def check_case(ds, where: str = "dataset") -> None:
         raise InputError(where, "not an xarray Dataset", "give a dataset written by stonedem run")
     for name in REQUIRED_VARIABLES + REQUIRED_COORDS:
         if name not in variables:
-            raise InputError(field(name), "missing, so this is not a stonedem case dataset",
-                             rerun)
+            raise InputError(field(name), "missing, so this is not a stonedem case dataset", rerun)
     shapes = {name: {"time", "body"} for name in REQUIRED_VARIABLES}
     shapes.update({"time": {"time"}, "body": {"body"}, "body_role": {"body"}})
     for name, dims in shapes.items():
         got = tuple(ds[name].dims)
         if set(got) != dims or len(got) != len(dims):
-            raise InputError(field(name),
-                             f"has dimensions {got}, expected {tuple(sorted(dims, reverse=True))}",
-                             rerun)
+            raise InputError(
+                field(name),
+                f"has dimensions {got}, expected {tuple(sorted(dims, reverse=True))}",
+                rerun,
+            )
     n_time, n_body = ds.sizes["time"], ds.sizes["body"]
     if n_time < 1:
         raise InputError(field("time"), "no samples", "re-run the case")
@@ -158,23 +169,32 @@ def check_case(ds, where: str = "dataset") -> None:
         if bad.any():
             i, k = np.argwhere(bad)[0]
             first = f"body {_shown(ds['body'].values[k])} at t = {time[i]:g} s"
-            raise InputError(field(name), f"{int(bad.sum())} non-finite values (the first of "
-                             f"{first}); stonedem never writes one",
-                             "give an undamaged dataset written by stonedem run")
+            raise InputError(
+                field(name),
+                f"{int(bad.sum())} non-finite values (the first of "
+                f"{first}); stonedem never writes one",
+                "give an undamaged dataset written by stonedem run",
+            )
         if np.abs(values).max() > limits[name]:
-            raise InputError(field(name), f"holds values beyond +-{limits[name]:g}",
-                             "give an undamaged dataset written by stonedem run")
+            raise InputError(
+                field(name),
+                f"holds values beyond +-{limits[name]:g}",
+                "give an undamaged dataset written by stonedem run",
+            )
     if "base_displacement" in variables:
         if tuple(ds["base_displacement"].dims) != ("time",):
-            raise InputError(field("base_displacement"),
-                             f"has dimensions {tuple(ds['base_displacement'].dims)}, "
-                             "expected ('time',)", rerun)
+            raise InputError(
+                field("base_displacement"),
+                f"has dimensions {tuple(ds['base_displacement'].dims)}, expected ('time',)",
+                rerun,
+            )
         if not np.all(np.isfinite(_numeric(ds, "base_displacement", where))):
             raise InputError(field("base_displacement"), "holds non-finite values", rerun)
     for name in ("collapsed", "collapse_time"):
         if name in variables and ds[name].ndim != 0:
-            raise InputError(field(name),
-                             f"has dimensions {tuple(ds[name].dims)}, expected a scalar", rerun)
+            raise InputError(
+                field(name), f"has dimensions {tuple(ds[name].dims)}, expected a scalar", rerun
+            )
     if "collapsed" in variables:
         flag = float(_numeric(ds, "collapsed", where))
         if flag not in (0.0, 1.0):
@@ -183,12 +203,17 @@ def check_case(ds, where: str = "dataset") -> None:
         end = float(_numeric(ds, "collapse_time", where))
         slack = 0.5 * (time[1] - time[0]) if n_time > 1 else 0.0
         if math.isfinite(end) and not (time[0] - slack <= end <= time[-1] + slack):
-            raise InputError(field("collapse_time"),
-                             f"{end:g} s is outside the run ({time[0]:g} to {time[-1]:g} s)",
-                             rerun)
+            raise InputError(
+                field("collapse_time"),
+                f"{end:g} s is outside the run ({time[0]:g} to {time[-1]:g} s)",
+                rerun,
+            )
     if "scene" not in ds.attrs:
-        raise InputError(field("attrs.scene"), "missing, so the body outlines cannot be rebuilt",
-                         "re-run the case with stonedem run (it stores the scene)")
+        raise InputError(
+            field("attrs.scene"),
+            "missing, so the body outlines cannot be rebuilt",
+            "re-run the case with stonedem run (it stores the scene)",
+        )
     body_polygons(ds, where)  # the scene loader's verdict on attrs.scene
 
 
@@ -196,8 +221,11 @@ def _numeric(ds, name: str, where: str, dims: tuple[str, ...] | None = None) -> 
     """A variable's values as floats (in ``dims`` order); an InputError if they are not numbers."""
     values = (ds[name].transpose(*dims) if dims else ds[name]).values
     if values.dtype.kind not in "biuf":
-        raise InputError(f"{where}: {name}", f"holds {values.dtype} values, not numbers",
-                         "give a dataset written by stonedem run")
+        raise InputError(
+            f"{where}: {name}",
+            f"holds {values.dtype} values, not numbers",
+            "give a dataset written by stonedem run",
+        )
     return np.asarray(values, dtype=float)
 
 
@@ -223,23 +251,40 @@ def body_polygons(ds, where: str = "dataset") -> list[np.ndarray]:
 
     field = f"{where}: attrs.scene"
     if "scene" not in ds.attrs:
-        raise InputError(field, "the dataset has no scene attribute",
-                         "use a dataset written by stonedem run (it stores the scene as JSON)")
+        raise InputError(
+            field,
+            "the dataset has no scene attribute",
+            "use a dataset written by stonedem run (it stores the scene as JSON)",
+        )
     spec = _scene_spec(ds, where)
     spec["excitation"] = {"kind": "none"}
     try:
         scene = scene_from_dict(spec)
     except InputError as err:
-        raise InputError(f"{field}.{err.field}", err.problem,
-                         "re-run the case with stonedem run") from None
-    except (TypeError, ValueError, KeyError, AttributeError, IndexError, OverflowError,
-            RecursionError) as err:
-        raise InputError(field, f"not a scene the loader accepts ({type(err).__name__})",
-                         "re-run the case with stonedem run") from None
+        raise InputError(
+            f"{field}.{err.field}", err.problem, "re-run the case with stonedem run"
+        ) from None
+    except (
+        TypeError,
+        ValueError,
+        KeyError,
+        AttributeError,
+        IndexError,
+        OverflowError,
+        RecursionError,
+    ) as err:
+        raise InputError(
+            field,
+            f"not a scene the loader accepts ({type(err).__name__})",
+            "re-run the case with stonedem run",
+        ) from None
     names = [str(b) for b in ds["body"].values]
     if scene.body_names != names:
-        raise InputError(f"{where}: body", "the dataset's bodies differ from those of its scene",
-                         "re-run the case with stonedem run")
+        raise InputError(
+            f"{where}: body",
+            "the dataset's bodies differ from those of its scene",
+            "re-run the case with stonedem run",
+        )
     return [body.vertices - body.centroid for body in scene.bodies]
 
 
@@ -248,15 +293,17 @@ def _scene_spec(ds, where: str = "dataset") -> dict:
     field = f"{where}: attrs.scene"
     text = ds.attrs.get("scene")
     if not isinstance(text, (str, bytes)):
-        raise InputError(field, f"a {type(text).__name__}, not JSON text",
-                         "re-run the case with stonedem run")
+        raise InputError(
+            field, f"a {type(text).__name__}, not JSON text", "re-run the case with stonedem run"
+        )
     try:
         spec = json.loads(text)
     except (TypeError, ValueError, RecursionError):
         raise InputError(field, "not valid JSON", "re-run the case with stonedem run") from None
     if not isinstance(spec, dict):
-        raise InputError(field, f"JSON {type(spec).__name__}, not a mapping",
-                         "re-run the case with stonedem run")
+        raise InputError(
+            field, f"JSON {type(spec).__name__}, not a mapping", "re-run the case with stonedem run"
+        )
     return spec
 
 
@@ -277,6 +324,7 @@ def posed_polygons(local, x, y, theta) -> list[np.ndarray]:
 
 def _histories(ds) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """time (T,) [s] and x, y, theta (T, body) as plain arrays in (time, body) order."""
+
     def plain(name):
         return np.asarray(ds[name].transpose("time", "body").values, dtype=float)
 
@@ -298,6 +346,7 @@ def collapse_time(ds) -> float | None:
 
 
 # --- what to draw -------------------------------------------------------------------------
+
 
 def snapshot_samples(ds, times=None, n: int = 6) -> np.ndarray:
     """Sample indices of the strip's panels.
@@ -325,8 +374,11 @@ def _check_times(targets: np.ndarray, time: np.ndarray) -> None:
     slack = 0.5 * (time[1] - time[0]) if len(time) > 1 else 0.0
     for t in targets:
         if not (time[0] - slack <= t <= time[-1] + slack):
-            raise InputError("--times", f"{t:g} s is outside the run",
-                             f"give times from {time[0]:g} to {time[-1]:g} s")
+            raise InputError(
+                "--times",
+                f"{t:g} s is outside the run",
+                f"give times from {time[0]:g} to {time[-1]:g} s",
+            )
 
 
 def _frame_step(every: float, time: np.ndarray) -> int:
@@ -335,8 +387,11 @@ def _frame_step(every: float, time: np.ndarray) -> int:
         return 1
     span = float(time[-1] - time[0])
     if every > span:
-        raise InputError("--every", f"{every:g} s is longer than the run ({span:g} s)",
-                         f"give a time step of at most {span:g} s")
+        raise InputError(
+            "--every",
+            f"{every:g} s is longer than the run ({span:g} s)",
+            f"give a time step of at most {span:g} s",
+        )
     interval = span / (len(time) - 1)  # mean sample interval (stonedem samples evenly)
     return max(1, round(every / interval))
 
@@ -391,15 +446,16 @@ def _history_extent(local, x, y, theta) -> tuple[np.ndarray, np.ndarray]:
     """Lower-left and upper-right corners [m] of every body over every sample."""
     lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
     for i, verts in enumerate(local):
-        c, s = np.cos(theta[:, i:i + 1]), np.sin(theta[:, i:i + 1])
-        wx = x[:, i:i + 1] + c * verts[:, 0] - s * verts[:, 1]
-        wy = y[:, i:i + 1] + s * verts[:, 0] + c * verts[:, 1]
+        c, s = np.cos(theta[:, i : i + 1]), np.sin(theta[:, i : i + 1])
+        wx = x[:, i : i + 1] + c * verts[:, 0] - s * verts[:, 1]
+        wy = y[:, i : i + 1] + s * verts[:, 0] + c * verts[:, 1]
         lo = np.minimum(lo, [np.nanmin(wx), np.nanmin(wy)])
         hi = np.maximum(hi, [np.nanmax(wx), np.nanmax(wy)])
     return lo, hi
 
 
 # --- titles -------------------------------------------------------------------------------
+
 
 def default_title(ds) -> str:
     """'name: structure; excitation[; collapsed at t s]' from the dataset's attributes.
@@ -448,8 +504,9 @@ def structure_label(scene: dict, roles: list[str]) -> str:
     spec = scene.get("structure")
     if not isinstance(spec, dict):
         counts = {role: roles.count(role) for role in dict.fromkeys(roles) if role != "base"}
-        text = ", ".join(f"{k} {one_line(role, 40)}{'s' if k > 1 else ''}" for role,
-                         k in counts.items())
+        text = ", ".join(
+            f"{k} {one_line(role, 40)}{'s' if k > 1 else ''}" for role, k in counts.items()
+        )
         return text + (" on the base" if "base" in roles else "")
     kind = one_line(str(spec.get("kind", "structure")), 40)
     words = [kind.replace("_", " ")]
@@ -476,6 +533,7 @@ def panel_label(time: np.ndarray, base: np.ndarray | None, i: int, collapse: flo
 
 
 # --- drawing ------------------------------------------------------------------------------
+
 
 def _figure(width: float, height: float, layout: str | None = "constrained", dpi: float = 100):
     """A matplotlib Figure on an Agg canvas (no pyplot, so no global backend change)."""
@@ -575,13 +633,21 @@ def _strip(ds, path: Path, times, n: int, title: str | None) -> Path:
             ax.set_title(panel_label(time, base, i, end), fontsize=9, **PLAIN_TEXT)
         axes[0].set_ylabel("y [m]")
         _suptitle(fig, title, fontsize=10)
-        write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png",
-                                                        bbox_inches="tight"))  # trim spare margin
+        write_atomically(
+            path, lambda tmp: fig.savefig(tmp, dpi=110, format="png", bbox_inches="tight")
+        )  # trim spare margin
     return path
 
 
-def animate(ds, path, fps: float = 20, max_frames: int = 300, every: float | None = None,
-            progress: bool | None = None, title: str | None = None) -> Path:
+def animate(
+    ds,
+    path,
+    fps: float = 20,
+    max_frames: int = 300,
+    every: float | None = None,
+    progress: bool | None = None,
+    title: str | None = None,
+) -> Path:
     """Write an animated GIF of the case: one frame per sample, at most max_frames.
 
     every: simulated time between frames [s] (default: as many samples as max_frames
@@ -594,14 +660,22 @@ def animate(ds, path, fps: float = 20, max_frames: int = 300, every: float | Non
     return _animation(_as_case(ds), path, fps, max_frames, every, title, progress)
 
 
-def check_animation_options(fps: float = 20, max_frames: int = 300, every: float | None = None,
-                            title: str | None = None):
+def check_animation_options(
+    fps: float = 20, max_frames: int = 300, every: float | None = None, title: str | None = None
+):
     """(fps, max_frames, every, title) of an animation, checked without the dataset."""
     return check_fps(fps), check_max_frames(max_frames), check_every(every), check_title(title)
 
 
-def _animation(ds, path: Path, fps: float, max_frames: int, every: float | None, title: str | None,
-               progress: bool | None = None) -> Path:
+def _animation(
+    ds,
+    path: Path,
+    fps: float,
+    max_frames: int,
+    every: float | None,
+    title: str | None,
+    progress: bool | None = None,
+) -> Path:
     """The GIF of a checked dataset and checked options."""
     time, x, y, theta = _histories(ds)
     step = None if every is None else _frame_step(every, time)
@@ -616,8 +690,9 @@ def _animation(ds, path: Path, fps: float, max_frames: int, every: float | None,
         width, height = _panel_size(box, FRAME_AREA)
         fig = _figure(width, height + DECORATION_HEIGHT, layout=None, dpi=GIF_DPI)
         ax = fig.subplots()
-        bodies = _draw_bodies(ax, posed_polygons(local, x[0], y[0], theta[0]), body_colours(ds),
-                              box)
+        bodies = _draw_bodies(
+            ax, posed_polygons(local, x[0], y[0], theta[0]), body_colours(ds), box
+        )
         ax.set_ylabel("y [m]")
         label = ax.set_title(panel_label(time, base, 0, end), fontsize=10, **PLAIN_TEXT)
         _suptitle(fig, title, fontsize=8)
@@ -660,11 +735,13 @@ def _gif_writer(fps: float):
 
 # --- options ------------------------------------------------------------------------------
 
+
 def check_panels(n) -> int:
     """``-n``: a whole number from 1 to MAX_PANELS."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_PANELS:
-        raise InputError("-n", f"must be a whole number from 1 to {MAX_PANELS}, got {n!r}",
-                         "give e.g. -n 6")
+        raise InputError(
+            "-n", f"must be a whole number from 1 to {MAX_PANELS}, got {n!r}", "give e.g. -n 6"
+        )
     return int(n)
 
 
@@ -674,39 +751,53 @@ def check_times(times) -> np.ndarray:
     try:
         targets = np.atleast_1d(np.asarray(times, dtype=float))
     except (TypeError, ValueError):
-        raise InputError("--times", f"expected numbers, got {times!r}",
-                         "give times in s, e.g. --times 0 1 2") from None
+        raise InputError(
+            "--times", f"expected numbers, got {times!r}", "give times in s, e.g. --times 0 1 2"
+        ) from None
     if targets.ndim != 1 or targets.size == 0:
         raise InputError("--times", "no times given", "give one or more times in s")
     if targets.size > MAX_PANELS:
-        raise InputError("--times",
-                         f"{targets.size} times, more than the {MAX_PANELS} panels a strip holds",
-                         f"give at most {MAX_PANELS} times")
+        raise InputError(
+            "--times",
+            f"{targets.size} times, more than the {MAX_PANELS} panels a strip holds",
+            f"give at most {MAX_PANELS} times",
+        )
     for t in targets:
         if not math.isfinite(t):
-            raise InputError("--times", f"{t} is not a finite time",
-                             "give times in s inside the run")
+            raise InputError(
+                "--times", f"{t} is not a finite time", "give times in s inside the run"
+            )
     return targets
 
 
 def check_fps(fps) -> float:
     """``--fps``: a finite number in FPS_RANGE."""
     lo, hi = FPS_RANGE
-    if isinstance(fps, bool) or not isinstance(fps, (int, float, np.integer, np.floating)) \
-            or not (math.isfinite(fps) and lo <= fps <= hi):
-        raise InputError("--fps",
-                         f"must be a number from {lo:g} to {hi:g} frames per second, got {fps!r}",
-                         "give e.g. --fps 20")
+    if (
+        isinstance(fps, bool)
+        or not isinstance(fps, (int, float, np.integer, np.floating))
+        or not (math.isfinite(fps) and lo <= fps <= hi)
+    ):
+        raise InputError(
+            "--fps",
+            f"must be a number from {lo:g} to {hi:g} frames per second, got {fps!r}",
+            "give e.g. --fps 20",
+        )
     return float(fps)
 
 
 def check_max_frames(value) -> int:
     """``--max-frames``: a whole number from 1 to MAX_FRAMES."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-            or not 1 <= value <= MAX_FRAMES:
-        raise InputError("--max-frames",
-                         f"must be a whole number from 1 to {MAX_FRAMES}, got {value!r}",
-                         "give e.g. --max-frames 300")
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, np.integer))
+        or not 1 <= value <= MAX_FRAMES
+    ):
+        raise InputError(
+            "--max-frames",
+            f"must be a whole number from 1 to {MAX_FRAMES}, got {value!r}",
+            "give e.g. --max-frames 300",
+        )
     return int(value)
 
 
@@ -715,10 +806,14 @@ def check_every(every) -> float | None:
     dataset)."""
     if every is None:
         return None
-    if isinstance(every, bool) or not isinstance(every, (int, float, np.integer, np.floating)) \
-            or not (math.isfinite(every) and every > 0):
-        raise InputError("--every", f"must be a finite time > 0 s, got {every!r}",
-                         "give e.g. --every 0.05")
+    if (
+        isinstance(every, bool)
+        or not isinstance(every, (int, float, np.integer, np.floating))
+        or not (math.isfinite(every) and every > 0)
+    ):
+        raise InputError(
+            "--every", f"must be a finite time > 0 s, got {every!r}", "give e.g. --every 0.05"
+        )
     return float(every)
 
 
@@ -727,18 +822,26 @@ def check_title(title) -> str | None:
     if title is None:
         return None
     if not isinstance(title, str):
-        raise InputError("--title", f"expected text, got {type(title).__name__}",
-                         "give a title in quotes")
+        raise InputError(
+            "--title", f"expected text, got {type(title).__name__}", "give a title in quotes"
+        )
     if len(title) > MAX_TITLE:
-        raise InputError("--title", f"{len(title)} characters, more than {MAX_TITLE}",
-                         f"give a title of at most {MAX_TITLE} characters")
+        raise InputError(
+            "--title",
+            f"{len(title)} characters, more than {MAX_TITLE}",
+            f"give a title of at most {MAX_TITLE} characters",
+        )
     if not title.isprintable():
-        raise InputError("--title", f"holds control characters: {one_line(title, 80)}",
-                         "give a title of printable characters on one line")
+        raise InputError(
+            "--title",
+            f"holds control characters: {one_line(title, 80)}",
+            "give a title of printable characters on one line",
+        )
     return title
 
 
 # --- files --------------------------------------------------------------------------------
+
 
 def _output_path(path, suffix: str, field: str, case=None) -> Path:
     """The output path, refused before any computing (:func:`stonedem.entry.check_output_path`);
@@ -748,18 +851,24 @@ def _output_path(path, suffix: str, field: str, case=None) -> Path:
     path = Path(path)
     text = str(path)
     if not text.isprintable():
-        raise InputError(field, f"{one_line(text, 200)} contains control characters",
-                         "give a plain file name")
+        raise InputError(
+            field, f"{one_line(text, 200)} contains control characters", "give a plain file name"
+        )
     if path.name.lower() == suffix:  # ".gif" alone: pathlib sees a hidden file, no suffix
-        raise InputError(field, f"'{one_line(text, 200)}' has no name before {suffix}",
-                         f"give a name such as out{suffix}")
+        raise InputError(
+            field,
+            f"'{one_line(text, 200)}' has no name before {suffix}",
+            f"give a name such as out{suffix}",
+        )
     if path.suffix.lower() != suffix:
-        raise InputError(field, f"'{one_line(text, 200)}' does not end in {suffix}",
-                         f"name the output *{suffix}")
+        raise InputError(
+            field, f"'{one_line(text, 200)}' does not end in {suffix}", f"name the output *{suffix}"
+        )
     return check_output_path(path, field, inputs=[case] if case is not None else [])
 
 
 # --- command line -------------------------------------------------------------------------
+
 
 def add_parser(subparsers) -> None:
     """Add ``stonedem snapshots`` and ``stonedem animate`` to a parser's subcommands.
@@ -769,32 +878,71 @@ def add_parser(subparsers) -> None:
     """
     strip = subparsers.add_parser("snapshots", help="draw a case at several times (one PNG strip)")
     strip.add_argument("case", type=Path, help="case dataset (.nc from stonedem run)")
-    strip.add_argument("-o", "--output", type=Path, default=None,
-                       help="output PNG (default: CASE_snapshots.png beside the case)")
-    strip.add_argument("-n", type=int, default=6,
-                       help=f"number of panels, evenly spread, 1 to {MAX_PANELS} (default 6)")
-    strip.add_argument("--times", type=float, nargs="+", default=None, metavar="T",
-                       help=f"draw at these times [s] instead (nearest samples; at most "
-                            f"{MAX_PANELS}, inside the run)")
-    strip.add_argument("--title", default=None,
-                       help=f"figure title, plain text of at most {MAX_TITLE} characters "
-                            "(default: from the dataset)")
+    strip.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        help="output PNG (default: CASE_snapshots.png beside the case)",
+    )
+    strip.add_argument(
+        "-n",
+        type=int,
+        default=6,
+        help=f"number of panels, evenly spread, 1 to {MAX_PANELS} (default 6)",
+    )
+    strip.add_argument(
+        "--times",
+        type=float,
+        nargs="+",
+        default=None,
+        metavar="T",
+        help=f"draw at these times [s] instead (nearest samples; at most "
+        f"{MAX_PANELS}, inside the run)",
+    )
+    strip.add_argument(
+        "--title",
+        default=None,
+        help=f"figure title, plain text of at most {MAX_TITLE} characters "
+        "(default: from the dataset)",
+    )
     strip.set_defaults(handler=command_snapshots)
 
     movie = subparsers.add_parser("animate", help="animate a case (GIF)")
     movie.add_argument("case", type=Path, help="case dataset (.nc from stonedem run)")
-    movie.add_argument("-o", "--output", type=Path, default=None,
-                       help="output GIF (default: CASE.gif beside the case)")
-    movie.add_argument("--fps", type=float, default=20.0,
-                       help=f"frames per second, {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g} (default 20)")
-    movie.add_argument("--max-frames", type=int, default=300,
-                       help=f"at most this many frames, 1 to {MAX_FRAMES} (default 300)")
-    movie.add_argument("--every", type=float, default=None, metavar="DT",
-                       help="simulated time between frames [s], > 0 and at most the run's length "
-                            "(default: spread over --max-frames)")
-    movie.add_argument("--title", default=None,
-                       help=f"figure title, plain text of at most {MAX_TITLE} characters "
-                            "(default: from the dataset)")
+    movie.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        help="output GIF (default: CASE.gif beside the case)",
+    )
+    movie.add_argument(
+        "--fps",
+        type=float,
+        default=20.0,
+        help=f"frames per second, {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g} (default 20)",
+    )
+    movie.add_argument(
+        "--max-frames",
+        type=int,
+        default=300,
+        help=f"at most this many frames, 1 to {MAX_FRAMES} (default 300)",
+    )
+    movie.add_argument(
+        "--every",
+        type=float,
+        default=None,
+        metavar="DT",
+        help="simulated time between frames [s], > 0 and at most the run's length "
+        "(default: spread over --max-frames)",
+    )
+    movie.add_argument(
+        "--title",
+        default=None,
+        help=f"figure title, plain text of at most {MAX_TITLE} characters "
+        "(default: from the dataset)",
+    )
     movie.set_defaults(handler=command_animate)
 
 
@@ -812,8 +960,9 @@ def command_snapshots(args) -> int:
 
 def command_animate(args) -> int:
     """Options, then the output path, then the dataset are checked; then the GIF is drawn."""
-    fps, max_frames, every, title = check_animation_options(args.fps, args.max_frames, args.every,
-                                                            args.title)
+    fps, max_frames, every, title = check_animation_options(
+        args.fps, args.max_frames, args.every, args.title
+    )
     check_case_path(args.case)
     out = args.output or args.case.with_suffix(".gif")
     out = _output_path(out, ".gif", "-o", args.case)

@@ -28,10 +28,10 @@ LOG_NORM_C = np.log(np.sqrt(2 * np.pi))
 
 @dataclass(frozen=True)
 class LognormalFit:
-    median: float        # theta, in the units of the intensities
-    beta: float          # dispersion (standard deviation of ln IM)
-    n: int               # records
-    censored: int        # of which only a lower bound is known
+    median: float  # theta, in the units of the intensities
+    beta: float  # dispersion (standard deviation of ln IM)
+    n: int  # records
+    censored: int  # of which only a lower bound is known
 
     def probability(self, x):
         """P(exceed | IM = x)."""
@@ -44,13 +44,21 @@ def _check(intensities, censored):
     x = np.asarray(intensities, dtype=float).ravel()
     c = np.zeros(x.size, bool) if censored is None else np.asarray(censored, dtype=bool).ravel()
     if c.size != x.size:
-        raise InputError("censored", f"{c.size} flags for {x.size} intensities", "give one flag per record")
+        raise InputError(
+            "censored", f"{c.size} flags for {x.size} intensities", "give one flag per record"
+        )
     if x.size < 2 or not np.all(np.isfinite(x) & (x > 0)):
-        raise InputError("intensities", "need at least two finite positive intensities",
-                         "give the IDA intensity of every record")
+        raise InputError(
+            "intensities",
+            "need at least two finite positive intensities",
+            "give the IDA intensity of every record",
+        )
     if c.all():
-        raise InputError("censored", "every record is censored: no limit state was reached",
-                         "raise the search maximum")
+        raise InputError(
+            "censored",
+            "every record is censored: no limit state was reached",
+            "raise the search maximum",
+        )
     return x, c
 
 
@@ -61,8 +69,11 @@ def fit_lognormal(intensities, censored=None) -> LognormalFit:
     mu, sd = ln[~c].mean(), ln[~c].std()
     if not c.any():
         if sd == 0.0:
-            raise InputError("intensities", "all records give the same intensity: no dispersion",
-                             "give more records")
+            raise InputError(
+                "intensities",
+                "all records give the same intensity: no dispersion",
+                "give more records",
+            )
         return LognormalFit(float(math.exp(mu)), float(sd), x.size, 0)
 
     def nll(p):
@@ -70,11 +81,15 @@ def fit_lognormal(intensities, censored=None) -> LognormalFit:
         b = math.exp(log_b)
         z = (ln - m) / b
         # norm.logpdf(z) is -z**2 / 2 - LOG_NORM_C; norm.logsf(z) is log_ndtr(-z)
-        return -(np.sum((-z[~c] ** 2 / 2.0 - LOG_NORM_C) - math.log(b)) + np.sum(special.log_ndtr(-z[c])))
+        return -(
+            np.sum((-(z[~c] ** 2) / 2.0 - LOG_NORM_C) - math.log(b))
+            + np.sum(special.log_ndtr(-z[c]))
+        )
 
     start = np.array([ln.mean(), math.log(max(ln.std(), 0.05))])
-    res = optimize.minimize(nll, start, method="Nelder-Mead",
-                            options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000})
+    res = optimize.minimize(
+        nll, start, method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000}
+    )
     return LognormalFit(float(math.exp(res.x[0])), float(math.exp(res.x[1])), x.size, int(c.sum()))
 
 
@@ -84,7 +99,9 @@ def bootstrap_band(intensities, censored=None, grid=None, samples=1000, level=0.
     Resamples whose records are all censored, or all equal, are skipped (counted in 'used')."""
     x, c = _check(intensities, censored)
     rng = np.random.default_rng(seed)
-    grid = np.asarray(grid if grid is not None else np.geomspace(x.min() / 2, x.max() * 2, 50), dtype=float)
+    grid = np.asarray(
+        grid if grid is not None else np.geomspace(x.min() / 2, x.max() * 2, 50), dtype=float
+    )
     thetas, betas, curves = [], [], []
     for _ in range(samples):
         k = rng.integers(0, x.size, x.size)
@@ -94,8 +111,13 @@ def bootstrap_band(intensities, censored=None, grid=None, samples=1000, level=0.
             continue
         thetas.append(fit.median), betas.append(fit.beta), curves.append(fit.probability(grid))
     q = [(1 - level) / 2 * 100, (1 + level) / 2 * 100]
-    return {"theta": np.percentile(thetas, q), "beta": np.percentile(betas, q),
-            "probability": np.percentile(np.array(curves), q, axis=0), "grid": grid, "used": len(thetas)}
+    return {
+        "theta": np.percentile(thetas, q),
+        "beta": np.percentile(betas, q),
+        "probability": np.percentile(np.array(curves), q, axis=0),
+        "grid": grid,
+        "used": len(thetas),
+    }
 
 
 def empirical_points(intensities, censored=None):
@@ -103,7 +125,6 @@ def empirical_points(intensities, censored=None):
     x, c = _check(intensities, censored)
     order = np.sort(x[~c])
     return order, np.arange(1, order.size + 1) / x.size
-
 
 
 def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
@@ -118,10 +139,18 @@ def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
     grids = {"pga": np.geomspace(0.1, 100.0, 121), "pgv": np.geomspace(0.01, 10.0, 121)}
     dims = ("structure", "record_set", "limit_state")
     shape = (cube.sizes["structure"], len(sets), cube.sizes["limit_state"])
-    ds = xr.Dataset(coords={"structure": cube.structure, "record_set": np.array(sets, dtype=object),
-                            "limit_state": cube.limit_state, "bound": np.array(["lo", "hi"], dtype=object)})
+    ds = xr.Dataset(
+        coords={
+            "structure": cube.structure,
+            "record_set": np.array(sets, dtype=object),
+            "limit_state": cube.limit_state,
+            "bound": np.array(["lo", "hi"], dtype=object),
+        }
+    )
     ds.coords["record_set"].attrs = {"long_name": "record suite, or all suites together"}
-    ds.coords["bound"].attrs = {"long_name": f"lower and upper end of the bootstrap {level:.0%} band"}
+    ds.coords["bound"].attrs = {
+        "long_name": f"lower and upper end of the bootstrap {level:.0%} band"
+    }
     for measure, (var, units, label) in MEASURES.items():
         median = np.full(shape, math.nan)
         beta = np.full(shape, math.nan)
@@ -133,7 +162,11 @@ def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
         band = np.full(shape + (2, grids[measure].size), math.nan)
         for s in range(shape[0]):
             for r, rset in enumerate(sets):
-                pick = np.ones(cube.sizes["record"], bool) if rset == "all" else (cube.suite.values == rset)
+                pick = (
+                    np.ones(cube.sizes["record"], bool)
+                    if rset == "all"
+                    else (cube.suite.values == rset)
+                )
                 for j in range(shape[2]):
                     c = cube.censored.values[s, pick, j]
                     x = cube[var].values[s, pick, j]
@@ -152,26 +185,63 @@ def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
                     curve[at] = fit.probability(grids[measure])
                     band[at] = boot["probability"]
         grid_dim = f"{measure}_grid"
-        ds.coords[grid_dim] = (grid_dim, grids[measure], {"units": units, "long_name": f"{label} of the curves"})
-        ds[f"median_{measure}"] = (dims, median, {"units": units, "long_name":
-                                   f"median {label} theta of the lognormal fragility (MLE)"})
-        ds[f"median_{measure}_band"] = (dims + ("bound",), median_band, {"units": units, "long_name":
-                                        f"bootstrap {level:.0%} band of the median {label}"})
-        ds[f"beta_{measure}"] = (dims, beta, {"units": "1", "long_name":
-                                 f"lognormal dispersion beta in {label} (standard deviation of ln {label})"})
-        ds[f"beta_{measure}_band"] = (dims + ("bound",), beta_band, {"units": "1", "long_name":
-                                      f"bootstrap {level:.0%} band of beta in {label}"})
-        ds[f"probability_{measure}"] = (dims + (grid_dim,), curve, {"units": "1", "long_name":
-                                        f"P(limit state exceeded | {label}), lognormal MLE"})
-        ds[f"probability_{measure}_band"] = (dims + ("bound", grid_dim), band, {"units": "1", "long_name":
-                                             f"bootstrap {level:.0%} band of P(exceeded | {label})"})
+        ds.coords[grid_dim] = (
+            grid_dim,
+            grids[measure],
+            {"units": units, "long_name": f"{label} of the curves"},
+        )
+        ds[f"median_{measure}"] = (
+            dims,
+            median,
+            {"units": units, "long_name": f"median {label} theta of the lognormal fragility (MLE)"},
+        )
+        ds[f"median_{measure}_band"] = (
+            dims + ("bound",),
+            median_band,
+            {"units": units, "long_name": f"bootstrap {level:.0%} band of the median {label}"},
+        )
+        ds[f"beta_{measure}"] = (
+            dims,
+            beta,
+            {
+                "units": "1",
+                "long_name": f"lognormal dispersion beta in {label} (standard deviation of ln {label})",
+            },
+        )
+        ds[f"beta_{measure}_band"] = (
+            dims + ("bound",),
+            beta_band,
+            {"units": "1", "long_name": f"bootstrap {level:.0%} band of beta in {label}"},
+        )
+        ds[f"probability_{measure}"] = (
+            dims + (grid_dim,),
+            curve,
+            {"units": "1", "long_name": f"P(limit state exceeded | {label}), lognormal MLE"},
+        )
+        ds[f"probability_{measure}_band"] = (
+            dims + ("bound", grid_dim),
+            band,
+            {"units": "1", "long_name": f"bootstrap {level:.0%} band of P(exceeded | {label})"},
+        )
     ds["n_records"] = (dims, n_records, {"units": "1", "long_name": "records fitted"})
-    ds["n_censored"] = (dims, n_censored, {"units": "1", "long_name":
-                        "of which censored (not exceeded up to the search maximum: lower bounds)"})
-    ds.attrs = {"title": "stonedem fragility curves (lognormal MLE over the IDA cube)",
-                "method": "maximum likelihood, right-censored records as lower bounds (stonedem.fragility.fit); "
-                          f"percentile bootstrap over records, {samples} resamples",
-                **{k: v for k, v in cube.attrs.items() if k.startswith("limit_state_") or k.startswith("search_")}}
+    ds["n_censored"] = (
+        dims,
+        n_censored,
+        {
+            "units": "1",
+            "long_name": "of which censored (not exceeded up to the search maximum: lower bounds)",
+        },
+    )
+    ds.attrs = {
+        "title": "stonedem fragility curves (lognormal MLE over the IDA cube)",
+        "method": "maximum likelihood, right-censored records as lower bounds (stonedem.fragility.fit); "
+        f"percentile bootstrap over records, {samples} resamples",
+        **{
+            k: v
+            for k, v in cube.attrs.items()
+            if k.startswith("limit_state_") or k.startswith("search_")
+        },
+    }
     return ds
 
 
@@ -188,9 +258,14 @@ def fragility_table(fits) -> list[dict]:
                 row = {"structure": str(s), "record_set": str(r), "limit_state": str(ls)}
                 for m, units in (("pga", "m_s2"), ("pgv", "m_s")):
                     lo, hi = (float(v) for v in f[f"median_{m}_band"].values)
-                    row.update({f"median_{m}_{units}": round(float(f[f"median_{m}"]), 4),
-                                f"median_{m}_lo": round(lo, 4), f"median_{m}_hi": round(hi, 4),
-                                f"beta_{m}": round(float(f[f"beta_{m}"]), 3)})
+                    row.update(
+                        {
+                            f"median_{m}_{units}": round(float(f[f"median_{m}"]), 4),
+                            f"median_{m}_lo": round(lo, 4),
+                            f"median_{m}_hi": round(hi, 4),
+                            f"beta_{m}": round(float(f[f"beta_{m}"]), 3),
+                        }
+                    )
                     lo, hi = (float(v) for v in f[f"beta_{m}_band"].values)
                     row.update({f"beta_{m}_lo": round(lo, 3), f"beta_{m}_hi": round(hi, 3)})
                 row.update(n_records=int(f.n_records), n_censored=int(f.n_censored))

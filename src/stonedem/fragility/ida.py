@@ -21,21 +21,46 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from stonedem.errors import InputError
-from stonedem.motion.suites import SUITES, load_suite
 from stonedem.engine.scene import check_keys
+from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result
+from stonedem.motion.suites import SUITES, load_suite
 
 STUDY_PREFIX = "ida_"
-FRAGILITY_KEYS = ("description", "structures", "suites", "components", "run_structures", "search",
-                  "job_seconds", "bootstrap", "pulse_check")
-STRUCTURE_KEYS = ("structure", "friction", "contact", "solver", "output", "interface_friction", "suites",
-                  "description")
+FRAGILITY_KEYS = (
+    "description",
+    "structures",
+    "suites",
+    "components",
+    "run_structures",
+    "search",
+    "job_seconds",
+    "bootstrap",
+    "pulse_check",
+)
+STRUCTURE_KEYS = (
+    "structure",
+    "friction",
+    "contact",
+    "solver",
+    "output",
+    "interface_friction",
+    "suites",
+    "description",
+)
 # the search of every (structure, record): the Table 7.1 machinery, a 5 % bracket (the
 # record-to-record dispersion of collapse PGA, beta ~ 0.3-0.6, dwarfs it)
 # the IDA cube and fragility figures read the runs' measures only, so its search files keep no histories
-DEFAULT_SEARCH = {"parameter": "pga", "start": 1.0, "factor": 1.8, "tolerance": 0.05, "maximum": 64.0,
-                  "fill": 1, "max_runs": 20, "histories": False}
+DEFAULT_SEARCH = {
+    "parameter": "pga",
+    "start": 1.0,
+    "factor": 1.8,
+    "tolerance": 0.05,
+    "maximum": 64.0,
+    "fill": 1,
+    "max_runs": 20,
+    "histories": False,
+}
 DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into one job
 
 
@@ -43,8 +68,12 @@ DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into 
 class LimitState:
     """One limit state of the IDA: everything about it in one row of LIMIT_STATES."""
 
-    measure: str  # case measure (stonedem.engine.measures) compared with the threshold; "" for collapse
-    threshold: Callable | None  # (theta_cr [rad], drum width [m]) -> the measure's value at the limit; None: collapse
+    measure: (
+        str  # case measure (stonedem.engine.measures) compared with the threshold; "" for collapse
+    )
+    threshold: (
+        Callable | None
+    )  # (theta_cr [rad], drum width [m]) -> the measure's value at the limit; None: collapse
     long_name: str  # the cube's attrs limit_state_<name>
     label: str  # figure titles
 
@@ -53,14 +82,24 @@ class LimitState:
 # drum displacement for ancient columns), then collapse, the search's own verdict
 LIMIT_STATES: dict[str, LimitState] = {
     # thesis 6.3.1, as stonedem.engine.measures.rocking_onset_time
-    "rocking_onset": LimitState("max_rocking", lambda theta_cr, width: theta_cr / 30.0,
-                                "mean drum rotation first exceeds theta_cr / 30 (uplift)",
-                                "rocking onset (theta_cr / 30)"),
-    "half_critical_rotation": LimitState("max_rocking", lambda theta_cr, width: theta_cr / 2.0,
-                                         "peak mean drum rotation exceeds theta_cr / 2", "rotation theta_cr / 2"),
-    "residual_sliding": LimitState("residual_total_sliding", lambda theta_cr, width: 0.01 * width,
-                                   "residual joint sliding exceeds 1 % of the drum width",
-                                   "residual sliding 1 % of width"),
+    "rocking_onset": LimitState(
+        "max_rocking",
+        lambda theta_cr, width: theta_cr / 30.0,
+        "mean drum rotation first exceeds theta_cr / 30 (uplift)",
+        "rocking onset (theta_cr / 30)",
+    ),
+    "half_critical_rotation": LimitState(
+        "max_rocking",
+        lambda theta_cr, width: theta_cr / 2.0,
+        "peak mean drum rotation exceeds theta_cr / 2",
+        "rotation theta_cr / 2",
+    ),
+    "residual_sliding": LimitState(
+        "residual_total_sliding",
+        lambda theta_cr, width: 0.01 * width,
+        "residual joint sliding exceeds 1 % of the drum width",
+        "residual sliding 1 % of width",
+    ),
     "collapse": LimitState("", None, "collapse (the search's smallest collapsing PGA)", "collapse"),
 }
 
@@ -83,28 +122,44 @@ def fragility_studies(config: dict) -> dict[str, dict]:
     check_keys(spec, FRAGILITY_KEYS, where)
     structures = spec.get("structures")
     if not isinstance(structures, dict) or not structures:
-        raise InputError(f"{where}.structures", "expected a mapping of structures",
-                         "write structures: {column_3_drums: {structure: {kind: column, ...}}}")
+        raise InputError(
+            f"{where}.structures",
+            "expected a mapping of structures",
+            "write structures: {column_3_drums: {structure: {kind: column, ...}}}",
+        )
     suites = _suites(spec.get("suites", list(SUITES)), f"{where}.suites")
     components = spec.get("components")
     chosen = _names(spec.get("run_structures"), f"{where}.run_structures", structures, "structures")
     if spec.get("pulse_check") is not None and spec["pulse_check"] not in structures:
-        raise InputError(f"{where}.pulse_check", f"unknown structure {spec['pulse_check']!r}",
-                         f"name one of {', '.join(structures)}")
+        raise InputError(
+            f"{where}.pulse_check",
+            f"unknown structure {spec['pulse_check']!r}",
+            f"name one of {', '.join(structures)}",
+        )
     for key, low, high in (("job_seconds", 1.0, 86400.0), ("bootstrap", 10, 100000)):
         value = spec.get(key)
-        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
-                                  or not low <= value <= high):
-            raise InputError(f"{where}.{key}", f"expected a number {low:g} ... {high:g}, got {value!r}",
-                             f"give e.g. {key}: {DEFAULT_JOB_SECONDS:g}" if key == "job_seconds" else
-                             f"give e.g. {key}: 1000")
+        if value is not None and (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or not low <= value <= high
+        ):
+            raise InputError(
+                f"{where}.{key}",
+                f"expected a number {low:g} ... {high:g}, got {value!r}",
+                f"give e.g. {key}: {DEFAULT_JOB_SECONDS:g}"
+                if key == "job_seconds"
+                else f"give e.g. {key}: 1000",
+            )
     every = suite_components(list(SUITES))  # {component: suite}, each suite file read once
     if components is not None:
         components = _names(components, f"{where}.components", None, "components")
         for i, name in enumerate(components):
             if name not in every:
-                raise InputError(f"{where}.components[{i}]", f"{name!r} is not a FEMA P695 component",
-                                 "use names of records/suites/, e.g. FF01a, NP01b, NN15a")
+                raise InputError(
+                    f"{where}.components[{i}]",
+                    f"{name!r} is not a FEMA P695 component",
+                    "use names of records/suites/, e.g. FF01a, NP01b, NN15a",
+                )
     search = {**DEFAULT_SEARCH, **_mapping(spec.get("search"), f"{where}.search")}
     studies = {}
     for name in chosen:
@@ -114,11 +169,18 @@ def fragility_studies(config: dict) -> dict[str, dict]:
         own = _suites(body.get("suites", suites), f"{place}.suites")
         names = [n for n in (every if components is None else components) if every[n] in own]
         if not names:
-            raise InputError(f"{where}.components", f"no component of {name}'s suites ({', '.join(own)})",
-                             "name components of the structure's suites, e.g. FF01a")
+            raise InputError(
+                f"{where}.components",
+                f"no component of {name}'s suites ({', '.join(own)})",
+                "name components of the structure's suites, e.g. FF01a",
+            )
         study = {k: copy.deepcopy(v) for k, v in body.items() if k not in ("suites", "description")}
-        study.update(excitation={"kind": "record"}, grid={"component": names}, search=dict(search),
-                     description=body.get("description", f"IDA of {name} over {', '.join(own)}"))
+        study.update(
+            excitation={"kind": "record"},
+            grid={"component": names},
+            search=dict(search),
+            description=body.get("description", f"IDA of {name} over {', '.join(own)}"),
+        )
         studies[f"{STUDY_PREFIX}{name}"] = study
     return studies
 
@@ -127,16 +189,22 @@ def _mapping(value, where):
     if value is None:
         return {}
     if not isinstance(value, dict):
-        raise InputError(where, f"expected a mapping, got {value!r}", "write search: {tolerance: 0.05, ...}")
+        raise InputError(
+            where, f"expected a mapping, got {value!r}", "write search: {tolerance: 0.05, ...}"
+        )
     return value
 
 
 def _suites(value, where):
     if not isinstance(value, list) or not value:
-        raise InputError(where, f"expected a list of suites, got {value!r}", f"use some of {', '.join(SUITES)}")
+        raise InputError(
+            where, f"expected a list of suites, got {value!r}", f"use some of {', '.join(SUITES)}"
+        )
     for i, suite in enumerate(value):
         if suite not in SUITES:
-            raise InputError(f"{where}[{i}]", f"unknown suite {suite!r}", f"use one of {', '.join(SUITES)}")
+            raise InputError(
+                f"{where}[{i}]", f"unknown suite {suite!r}", f"use one of {', '.join(SUITES)}"
+            )
     return list(value)
 
 
@@ -148,7 +216,9 @@ def _names(value, where, known, what):
     if known is not None:
         for i, v in enumerate(value):
             if v not in known:
-                raise InputError(f"{where}[{i}]", f"unknown {what[:-1]} {v!r}", f"use one of {', '.join(known)}")
+                raise InputError(
+                    f"{where}[{i}]", f"unknown {what[:-1]} {v!r}", f"use one of {', '.join(known)}"
+                )
     return list(value)
 
 
@@ -171,11 +241,17 @@ def check_fragility(config: dict, records_dir="records") -> dict:
     except InputError as error:
         field = error.field
         for study in studies:
-            for prefix, where in ((f"studies.{study}.grid.component", "fragility.components"),
-                                  (f"studies.{study}.search", "fragility.search"),
-                                  (f"studies.{study}", f"fragility.structures.{study[len(STUDY_PREFIX):]}")):
-                if field == prefix or field.startswith(prefix + ".") or field.startswith(prefix + "["):
-                    field = where + field[len(prefix):]
+            for prefix, where in (
+                (f"studies.{study}.grid.component", "fragility.components"),
+                (f"studies.{study}.search", "fragility.search"),
+                (f"studies.{study}", f"fragility.structures.{study[len(STUDY_PREFIX) :]}"),
+            ):
+                if (
+                    field == prefix
+                    or field.startswith(prefix + ".")
+                    or field.startswith(prefix + "[")
+                ):
+                    field = where + field[len(prefix) :]
                     break
             else:
                 continue
@@ -204,7 +280,12 @@ def first_exceedance(values, exceeded, response, threshold) -> tuple[float, floa
         return float(x[0]), math.nan, float(x[0]), False
     lo, hi = float(x[i - 1]), float(x[i])
     r_lo, r_hi = r[i - 1], r[i]
-    if np.isfinite(threshold) and np.isfinite(r_lo) and np.isfinite(r_hi) and 0 < r_lo < threshold <= r_hi:
+    if (
+        np.isfinite(threshold)
+        and np.isfinite(r_lo)
+        and np.isfinite(r_hi)
+        and 0 < r_lo < threshold <= r_hi
+    ):
         share = math.log(threshold / r_lo) / math.log(r_hi / r_lo)
         return float(math.exp(math.log(lo) + share * math.log(hi / lo))), lo, hi, False
     return math.sqrt(lo * hi), lo, hi, False
@@ -228,13 +309,31 @@ def record_table(suites) -> xr.Dataset:
             peaks.append(float(np.abs(baseline_correct(np.arange(n) * dt, accel)).max()))
         psv = ds.psa * ds.period / (2 * math.pi)
         table = xr.Dataset(coords={"record": ds.record.values})
-        table["suite"] = ("record", np.array([suite] * ds.sizes["record"], dtype=object), {"long_name": "record suite"})
-        table["record_pga"] = ("record", np.array(peaks), {"units": "m s-2", "long_name": "PGA of the baseline-corrected record"})
-        table["record_pgv"] = ("record", ds.pgv.values, {"units": "m s-1", "long_name": "PGV of the baseline-corrected record"})
-        table["predominant_frequency"] = ("record", ds.predominant_frequency.values,
-                                          {"units": "Hz", "long_name": "predominant frequency of the record"})
-        table["pulse_period"] = ("record", ds.period.values[psv.argmax("period").values],
-                                 {"units": "s", "long_name": "period of the peak of the 5 % pseudo-velocity spectrum"})
+        table["suite"] = (
+            "record",
+            np.array([suite] * ds.sizes["record"], dtype=object),
+            {"long_name": "record suite"},
+        )
+        table["record_pga"] = (
+            "record",
+            np.array(peaks),
+            {"units": "m s-2", "long_name": "PGA of the baseline-corrected record"},
+        )
+        table["record_pgv"] = (
+            "record",
+            ds.pgv.values,
+            {"units": "m s-1", "long_name": "PGV of the baseline-corrected record"},
+        )
+        table["predominant_frequency"] = (
+            "record",
+            ds.predominant_frequency.values,
+            {"units": "Hz", "long_name": "predominant frequency of the record"},
+        )
+        table["pulse_period"] = (
+            "record",
+            ds.period.values[psv.argmax("period").values],
+            {"units": "s", "long_name": "period of the peak of the 5 % pseudo-velocity spectrum"},
+        )
         for name in ("event", "station", "magnitude", "rsn"):
             table[name] = ("record", ds[name].values, dict(ds[name].attrs))
         pieces.append(table)
@@ -259,10 +358,13 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
         with open_result(path) as ds:
             ds = ds.load()
         study = ds.attrs.get("study", "")
-        name = study[len(STUDY_PREFIX):]
+        name = study[len(STUDY_PREFIX) :]
         if name not in structures:
-            raise InputError("fragility.structures", f"{path}: structure {name!r} is not configured",
-                             "rerun snakemake fragility after editing the config")
+            raise InputError(
+                "fragility.structures",
+                f"{path}: structure {name!r} is not configured",
+                "rerun snakemake fragility after editing the config",
+            )
         s, k = order.index(name), names.index(str(ds.component.values))
         ran[s, k] = True
         settings = {key: ds.attrs[key] for key in ds.attrs if key.startswith("search_")}
@@ -288,37 +390,82 @@ def ida_cube(search_paths, structures: dict, suites) -> xr.Dataset:
         n_runs[s, k] = int(ds.n_runs)
         monotonic[s, k] = int(ds.monotonic)
     ratio = (records.record_pgv / records.record_pga).values
-    cube = xr.Dataset(coords={"structure": ("structure", np.array(order, dtype=object),
-                                            {"long_name": "structure (config fragility.structures)"}),
-                              "record": ("record", np.array(names, dtype=object),
-                                         {"long_name": "FEMA P695 component (records/suites/)"}),
-                              "limit_state": ("limit_state", np.array(list(LIMIT_STATES), dtype=object),
-                                              {"long_name": "limit state; see attrs limit_state_<name>"})})
+    cube = xr.Dataset(
+        coords={
+            "structure": (
+                "structure",
+                np.array(order, dtype=object),
+                {"long_name": "structure (config fragility.structures)"},
+            ),
+            "record": (
+                "record",
+                np.array(names, dtype=object),
+                {"long_name": "FEMA P695 component (records/suites/)"},
+            ),
+            "limit_state": (
+                "limit_state",
+                np.array(list(LIMIT_STATES), dtype=object),
+                {"long_name": "limit state; see attrs limit_state_<name>"},
+            ),
+        }
+    )
     cube = cube.assign_coords({v: records[v] for v in records.data_vars})
     mask = ran[:, :, None]
-    attrs = {"pga": ("m s-2", "PGA at which the limit state is first exceeded (censored: a lower bound)"),
-             "lower": ("m s-2", "largest PGA run below it that did not exceed it"),
-             "upper": ("m s-2", "smallest PGA run that exceeded it")}
+    attrs = {
+        "pga": (
+            "m s-2",
+            "PGA at which the limit state is first exceeded (censored: a lower bound)",
+        ),
+        "lower": ("m s-2", "largest PGA run below it that did not exceed it"),
+        "upper": ("m s-2", "smallest PGA run that exceeded it"),
+    }
     for key, var in (("pga", "pga_at_limit"), ("lower", "pga_lower"), ("upper", "pga_upper")):
         units, long_name = attrs[key]
-        cube[var] = (("structure", "record", "limit_state"), np.where(mask, out[key], math.nan),
-                     {"units": units, "long_name": long_name})
-    cube["pgv_at_limit"] = (("structure", "record", "limit_state"), cube.pga_at_limit.values * ratio[None, :, None],
-                            {"units": "m s-1", "long_name": "PGV at which the limit state is first exceeded "
-                             "(the record's PGV/PGA times pga_at_limit)"})
-    cube["censored"] = (("structure", "record", "limit_state"), np.where(mask, censored, -1).astype(np.int8),
-                        {"units": "1", "long_name": "1: not exceeded up to the search maximum (a lower bound); "
-                         "-1: not run"})
-    cube["n_runs"] = (("structure", "record"), np.where(ran, n_runs, 0),
-                      {"units": "1", "long_name": "simulations of the record's search"})
-    cube["monotonic"] = (("structure", "record"), np.where(ran, monotonic, -1).astype(np.int8),
-                         {"units": "1", "long_name": "1: no survivor above the smallest collapse; -1: not run"})
-    cube["theta_cr"] = ("structure", theta, {"units": "rad", "long_name": "critical angle atan(b/h) of the column"})
-    cube.attrs = {"title": "stonedem IDA cube: limit-state intensities per structure and FEMA P695 record",
-                  "method": "hunt-and-fill search in PGA per (structure, record) (stonedem.study.search); "
-                            "lesser limit states interpolated on the runs' IDA curves (stonedem.fragility.ida)",
-                  "n_simulations": int(cube.n_runs.sum()), **settings,
-                  **{f"limit_state_{name}": ls.long_name for name, ls in LIMIT_STATES.items()}}
+        cube[var] = (
+            ("structure", "record", "limit_state"),
+            np.where(mask, out[key], math.nan),
+            {"units": units, "long_name": long_name},
+        )
+    cube["pgv_at_limit"] = (
+        ("structure", "record", "limit_state"),
+        cube.pga_at_limit.values * ratio[None, :, None],
+        {
+            "units": "m s-1",
+            "long_name": "PGV at which the limit state is first exceeded "
+            "(the record's PGV/PGA times pga_at_limit)",
+        },
+    )
+    cube["censored"] = (
+        ("structure", "record", "limit_state"),
+        np.where(mask, censored, -1).astype(np.int8),
+        {
+            "units": "1",
+            "long_name": "1: not exceeded up to the search maximum (a lower bound); -1: not run",
+        },
+    )
+    cube["n_runs"] = (
+        ("structure", "record"),
+        np.where(ran, n_runs, 0),
+        {"units": "1", "long_name": "simulations of the record's search"},
+    )
+    cube["monotonic"] = (
+        ("structure", "record"),
+        np.where(ran, monotonic, -1).astype(np.int8),
+        {"units": "1", "long_name": "1: no survivor above the smallest collapse; -1: not run"},
+    )
+    cube["theta_cr"] = (
+        "structure",
+        theta,
+        {"units": "rad", "long_name": "critical angle atan(b/h) of the column"},
+    )
+    cube.attrs = {
+        "title": "stonedem IDA cube: limit-state intensities per structure and FEMA P695 record",
+        "method": "hunt-and-fill search in PGA per (structure, record) (stonedem.study.search); "
+        "lesser limit states interpolated on the runs' IDA curves (stonedem.fragility.ida)",
+        "n_simulations": int(cube.n_runs.sum()),
+        **settings,
+        **{f"limit_state_{name}": ls.long_name for name, ls in LIMIT_STATES.items()},
+    }
     return cube
 
 

@@ -21,7 +21,6 @@ from typing import Callable, Sequence
 
 from stonedem.errors import InputError
 
-
 # temporary files being written (the signal watchdog of stonedem.entry removes them when it
 # has to end the process itself)
 in_progress: set[str] = set()
@@ -68,9 +67,14 @@ class WriteFailed(InputError):
             cause = err.strerror
         else:
             # netCDF4/HDF5 report a failed write(2) as "NetCDF: HDF error", without the errno
-            cause = f"{type(err).__name__}: {err}; a full disk, a quota or a file-size limit gives this"
-        super().__init__(str(path), f"cannot write the file ({cause}); nothing was written under this name",
-                         "free space, lift the limit or give another path")
+            cause = (
+                f"{type(err).__name__}: {err}; a full disk, a quota or a file-size limit gives this"
+            )
+        super().__init__(
+            str(path),
+            f"cannot write the file ({cause}); nothing was written under this name",
+            "free space, lift the limit or give another path",
+        )
 
 
 def _make_folders(folder: Path) -> list[Path]:
@@ -96,7 +100,9 @@ def write_atomically(path: str | Path, write: Callable[[str], object]) -> Path:
     try:
         created = _make_folders(path.parent)
         # the temporary name keeps the real suffix: matplotlib and Pillow pick the format from it
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent)
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
+        )
         os.close(fd)
         in_progress.add(tmp)
         if threading.current_thread() is threading.main_thread():
@@ -139,11 +145,14 @@ def write_text(path: str | Path, text: str) -> Path:
     return write_atomically(path, write)
 
 
-def write_csv(path: str | Path, rows: list[dict], fieldnames: Sequence[str] | None = None,
-              restval: str = "") -> Path:
+def write_csv(
+    path: str | Path, rows: list[dict], fieldnames: Sequence[str] | None = None, restval: str = ""
+) -> Path:
     """Write rows of dicts as CSV, atomically; fieldnames default to the first row's keys."""
     buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=list(fieldnames or (rows[0] if rows else [])), restval=restval)
+    writer = csv.DictWriter(
+        buffer, fieldnames=list(fieldnames or (rows[0] if rows else [])), restval=restval
+    )
     writer.writeheader()
     writer.writerows(rows)
     return write_text(path, buffer.getvalue())

@@ -20,9 +20,9 @@ from pathlib import Path
 import xarray as xr
 
 from stonedem.errors import InputError, one_line
-from stonedem.version import __version__
 from stonedem.io.atomic import write_atomically
 from stonedem.io.schema import attrs_for, cf_conventions
+from stonedem.version import __version__
 
 
 @functools.lru_cache(maxsize=1)
@@ -31,8 +31,12 @@ def code_version() -> str:
     a job of many cases paid 5 ms a case)."""
     try:
         here = Path(__file__).resolve().parent
-        commit = subprocess.run(["git", "-C", str(here), "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True, timeout=5)
+        commit = subprocess.run(
+            ["git", "-C", str(here), "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+        )
         if commit.returncode == 0:
             return f"stonedem {__version__} ({commit.stdout.strip()})"
     except (OSError, subprocess.SubprocessError):
@@ -50,7 +54,10 @@ def history_line() -> str:
 
 def schema_variables(arrays: dict) -> dict[str, xr.Variable]:
     """name -> (dims, data) as variables with the units and long names of :mod:`stonedem.io.schema`."""
-    return {name: xr.Variable(dims, data, attrs=attrs_for(name)) for name, (dims, data) in arrays.items()}
+    return {
+        name: xr.Variable(dims, data, attrs=attrs_for(name))
+        for name, (dims, data) in arrays.items()
+    }
 
 
 # the first bytes of a NetCDF file: classic, 64-bit offset, CDF-5, NetCDF-4 (HDF5)
@@ -81,13 +88,19 @@ def check_replaceable(path: Path, field: str) -> None:
     if not path.exists():
         return
     if not path.is_file():
-        raise InputError(field, f"{path} is not a regular file", "give the path of a .nc file to write")
+        raise InputError(
+            field, f"{path} is not a regular file", "give the path of a .nc file to write"
+        )
     try:
         with open(path, "rb") as handle:
             head = handle.read(8)
     except OSError as err:
-        raise InputError(field, f"{path} cannot be read ({err.strerror})", "give another path") from None
-    fix = "remove it first or give another path" + (", or pass overwrite=True" if field == "path" else "")
+        raise InputError(
+            field, f"{path} cannot be read ({err.strerror})", "give another path"
+        ) from None
+    fix = "remove it first or give another path" + (
+        ", or pass overwrite=True" if field == "path" else ""
+    )
     if not head.startswith(NETCDF_MAGIC):
         raise InputError(field, f"{path} exists and is not a NetCDF file; it is not replaced", fix)
     try:
@@ -98,7 +111,9 @@ def check_replaceable(path: Path, field: str) -> None:
     except (OSError, RuntimeError, ValueError):
         ours = False
     if not ours:
-        raise InputError(field, f"{path} is a NetCDF file stonedem did not write; it is not replaced", fix)
+        raise InputError(
+            field, f"{path} is a NetCDF file stonedem did not write; it is not replaced", fix
+        )
 
 
 def check_dataset_path(path, field: str = "path", inputs=(), overwrite: bool = False) -> Path:
@@ -107,8 +122,14 @@ def check_dataset_path(path, field: str = "path", inputs=(), overwrite: bool = F
     that cannot be written), then :func:`check_replaceable` unless ``overwrite``."""
     from stonedem.io.paths import check_output_path
 
-    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)) or not isinstance(os.fspath(path), str):
-        raise TypeError(f"{field}: expected a file path (str or os.PathLike), got {type(path).__name__}")
+    if (
+        isinstance(path, bytes)
+        or not isinstance(path, (str, os.PathLike))
+        or not isinstance(os.fspath(path), str)
+    ):
+        raise TypeError(
+            f"{field}: expected a file path (str or os.PathLike), got {type(path).__name__}"
+        )
     path = check_output_path(path, field, inputs=inputs)
     if not overwrite:
         check_replaceable(path, field)
@@ -127,8 +148,11 @@ def _attr_problem(value) -> str | None:
         return None if not isinstance(value, np.complexfloating) else "a complex number"
     if isinstance(value, (list, tuple, np.ndarray)):
         array = np.asarray(value) if not isinstance(value, np.ndarray) else value
-        if array.ndim == 1 and (array.dtype.kind in "iuf" or array.dtype.kind in "US" and array.size) \
-                and array.dtype.str[1:] not in ("f2", "f16"):
+        if (
+            array.ndim == 1
+            and (array.dtype.kind in "iuf" or array.dtype.kind in "US" and array.size)
+            and array.dtype.str[1:] not in ("f2", "f16")
+        ):
             return None
         return "a sequence that is not one flat list of numbers or of text"
     return f"a {type(value).__name__}"
@@ -138,11 +162,16 @@ def _check_attrs(attrs, owner: str) -> None:
     """Refuse an attribute of ``owner`` (``ds`` or ``ds['x']``) that NetCDF cannot hold."""
     for key, value in attrs.items():
         if not isinstance(key, str) or not key:
-            raise InputError(f"{owner}.attrs[{key!r}]", "an attribute name must be non-empty text", "rename it")
+            raise InputError(
+                f"{owner}.attrs[{key!r}]", "an attribute name must be non-empty text", "rename it"
+            )
         problem = _attr_problem(value)
         if problem:
-            raise InputError(f"{owner}.attrs[{key!r}]", f"is {problem}, which NetCDF cannot hold",
-                             "give text, a number or a flat list of numbers")
+            raise InputError(
+                f"{owner}.attrs[{key!r}]",
+                f"is {problem}, which NetCDF cannot hold",
+                "give text, a number or a flat list of numbers",
+            )
 
 
 def check_writable(ds) -> None:
@@ -155,18 +184,25 @@ def check_writable(ds) -> None:
     names = set(ds.variables) | set(ds.dims)
     for name in names:
         if not isinstance(name, str) or not name or "/" in name:
-            raise InputError(f"ds[{name!r}]", "a variable or dimension name must be non-empty text without '/'",
-                             "rename it")
+            raise InputError(
+                f"ds[{name!r}]",
+                "a variable or dimension name must be non-empty text without '/'",
+                "rename it",
+            )
     for name, var in ds.variables.items():
         kind, size = var.dtype.kind, var.dtype.itemsize
         if not (kind in _WRITABLE or kind == "f" and size in (4, 8)):
-            raise InputError(f"ds[{name!r}]", f"has dtype {var.dtype}, which NetCDF cannot hold",
-                             "convert it to float64, an integer type or text")
+            raise InputError(
+                f"ds[{name!r}]",
+                f"has dtype {var.dtype}, which NetCDF cannot hold",
+                "convert it to float64, an integer type or text",
+            )
         _check_attrs(var.attrs, f"ds[{name!r}]")
 
 
-def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None,
-                  overwrite: bool = False) -> Path:
+def write_dataset(
+    ds: xr.Dataset, path: str | Path, encoding: dict | None = None, overwrite: bool = False
+) -> Path:
     """Write a dataset to NetCDF atomically, in the CF-1.10 layout every file of the project has.
 
     The file is written to a temporary file beside ``path`` and renamed over it, so a crash
@@ -204,29 +240,41 @@ def write_dataset(ds: xr.Dataset, path: str | Path, encoding: dict | None = None
     """
     check_writable(ds)
     if encoding is not None and not isinstance(encoding, dict):
-        raise TypeError(f"encoding: expected a dict of variable name -> encoding, got {type(encoding).__name__}")
+        raise TypeError(
+            f"encoding: expected a dict of variable name -> encoding, got {type(encoding).__name__}"
+        )
     if not isinstance(overwrite, bool):
         raise TypeError(f"overwrite: expected True or False, got {type(overwrite).__name__}")
     path = check_dataset_path(path, "path", inputs=dataset_inputs(ds), overwrite=overwrite)
     ds = cf_conventions(ds)
     # CF 2.6.2: newest line first, over what the data went through before
-    ds.attrs["history"] = "\n".join(str(line) for line in (history_line(), ds.attrs.get("history")) if line)
+    ds.attrs["history"] = "\n".join(
+        str(line) for line in (history_line(), ds.attrs.get("history")) if line
+    )
     given = encoding or {}
-    encoding = {name: {"zlib": True, "complevel": 4} for name, v in ds.data_vars.items()
-                if v.dtype.kind == "f" and v.ndim > 0}
+    encoding = {
+        name: {"zlib": True, "complevel": 4}
+        for name, v in ds.data_vars.items()
+        if v.dtype.kind == "f" and v.ndim > 0
+    }
     for name in ds.coords:
         if ds[name].dtype.kind == "f":
             encoding[name] = {"_FillValue": None}
     encoding.update(given)
     try:
-        return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding))
+        return write_atomically(
+            path, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4", encoding=encoding)
+        )
     except InputError:
         raise
     except (TypeError, ValueError, KeyError, AttributeError, OverflowError) as err:
         # what the checks above cannot see (object arrays of mixed types, a bad encoding)
         field = "ds or encoding" if given else "ds"
-        raise InputError(field, f"cannot be written as NetCDF ({type(err).__name__}: {one_line(str(err), 200)})",
-                         "give variables of numbers or text and a valid encoding") from None
+        raise InputError(
+            field,
+            f"cannot be written as NetCDF ({type(err).__name__}: {one_line(str(err), 200)})",
+            "give variables of numbers or text and a valid encoding",
+        ) from None
 
 
 def open_result(path: str | Path) -> xr.Dataset:
@@ -239,7 +287,12 @@ def open_result(path: str | Path) -> xr.Dataset:
             return ds.load()
     except (OSError, ValueError, RuntimeError, KeyError) as err:
         if not path.is_file():
-            raise InputError(str(path), "result file not found", "run snakemake again: it makes the file") from None
+            raise InputError(
+                str(path), "result file not found", "run snakemake again: it makes the file"
+            ) from None
         path.unlink(missing_ok=True)
-        raise InputError(str(path), f"unreadable, removed ({one_line(str(err), 120)})",
-                         "run snakemake again: it makes the file anew") from None
+        raise InputError(
+            str(path),
+            f"unreadable, removed ({one_line(str(err), 120)})",
+            "run snakemake again: it makes the file anew",
+        ) from None

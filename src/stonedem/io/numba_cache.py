@@ -20,8 +20,16 @@ from numba.core import caching
 
 # what unpickling a cut or garbled pickle raises (OSError stays Numba's: a missing file is
 # no entry, a refused one is an error worth seeing)
-DAMAGED = (EOFError, pickle.UnpicklingError, ValueError, TypeError, AttributeError, ImportError, IndexError,
-           KeyError)
+DAMAGED = (
+    EOFError,
+    pickle.UnpicklingError,
+    ValueError,
+    TypeError,
+    AttributeError,
+    ImportError,
+    IndexError,
+    KeyError,
+)
 _WARNED: list[str] = []
 
 
@@ -35,8 +43,12 @@ def _set_aside(path: str, err: BaseException) -> None:
     if not _WARNED:  # one line per process, however many files were hit
         _WARNED.append(path)
         try:
-            print(f"warning: compiled-kernel cache file {path} is damaged ({type(err).__name__}); {what}, "
-                  f"compiling the kernel again", file=sys.stderr, flush=True)
+            print(
+                f"warning: compiled-kernel cache file {path} is damaged ({type(err).__name__}); {what}, "
+                f"compiling the kernel again",
+                file=sys.stderr,
+                flush=True,
+            )
         except (OSError, ValueError):
             pass  # a closed stderr must not end the run
 

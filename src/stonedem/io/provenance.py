@@ -47,6 +47,9 @@ def bounded_json(value, field: str, limit: int = MAX_PROVENANCE_CHARS, check=Non
     """``json.dumps(value, sort_keys=True, default=str)``, or an InputError naming ``field``
     when it would be longer than ``limit`` characters (``check``: as in :func:`json_size_over`)."""
     if json_size_over(value, limit, check):
-        raise InputError(field, f"is over {limit} characters as JSON (stored as provenance in the output)",
-                         "shorten its free text or lists")
+        raise InputError(
+            field,
+            f"is over {limit} characters as JSON (stored as provenance in the output)",
+            "shorten its free text or lists",
+        )
     return json.dumps(value, sort_keys=True, default=str)

@@ -29,19 +29,31 @@ SCENE_VARIABLES = {
     "base_velocity": ("m s-1", "horizontal base velocity"),
     "base_acceleration": ("m s-2", "horizontal base acceleration"),
     "base_vertical_displacement": ("m", "vertical base displacement"),
-    "displacement_relative_to_base": ("m", "horizontal displacement of the body relative to the base"),
+    "displacement_relative_to_base": (
+        "m",
+        "horizontal displacement of the body relative to the base",
+    ),
     "sliding": ("m", "sliding of the body along the face of its support since t = 0"),
     "total_sliding": ("m", "total sliding: sum over bodies of absolute sliding (thesis 6)"),
     "rocking": ("rad", "rocking: mean absolute rotation of the drums (thesis 6)"),
     "epistyle_displacement": ("m", "mean horizontal epistyle displacement relative to the base"),
     "energy_kinetic": ("J", "kinetic energy of the free bodies"),
     "energy_potential": ("J", "gravitational potential energy relative to t = 0"),
-    "energy_elastic": ("J", "elastic energy stored in the contacts (Winkler layer + tangential springs)"),
+    "energy_elastic": (
+        "J",
+        "elastic energy stored in the contacts (Winkler layer + tangential springs)",
+    ),
     "energy_dissipated": ("J", "energy dissipated by dashpots and friction since t = 0"),
     "energy_dissipated_normal": ("J", "energy dissipated by the normal dashpots"),
-    "energy_dissipated_tangential": ("J", "energy dissipated by friction slip and tangential dashpots"),
+    "energy_dissipated_tangential": (
+        "J",
+        "energy dissipated by friction slip and tangential dashpots",
+    ),
     "energy_base_work": ("J", "work done by the driven base on the free bodies since t = 0"),
-    "energy_balance_error": ("J", "kinetic + potential + elastic + dissipated - base work - initial energy"),
+    "energy_balance_error": (
+        "J",
+        "kinetic + potential + elastic + dissipated - base work - initial energy",
+    ),
     "n_contact": ("1", "number of contacts"),
     "max_total_sliding": ("m", "maximum total sliding"),
     "residual_total_sliding": ("m", "total sliding at the end of the run"),
@@ -50,7 +62,10 @@ SCENE_VARIABLES = {
     "theta_cr": ("rad", "critical angle atan(b/h) of the column (thesis Eq. 6.2)"),
     "collapsed": ("1", "1 when the structure collapsed"),
     "collapse_time": ("s", "time of collapse (NaN: no collapse)"),
-    "max_epistyle_displacement": ("m", "maximum absolute epistyle displacement relative to the base (NaN: no epistyle)"),
+    "max_epistyle_displacement": (
+        "m",
+        "maximum absolute epistyle displacement relative to the base (NaN: no epistyle)",
+    ),
     "max_abs_theta": ("rad", "maximum absolute rotation of each body"),
 }
 
@@ -70,23 +85,41 @@ WALL_VARIABLES = {
     "interface_kind": ("1", "0 head joint, 1 bed joint, 2 support joint"),
     "interface_first": ("1", "first block of the interface (-1: fixed support)"),
     "interface_second": ("1", "second block of the interface (-1: fixed support)"),
-    "interface_normal_axis": ("1", "interface normal: 0 along e1 (vertical joint), 1 along e2 (horizontal)"),
+    "interface_normal_axis": (
+        "1",
+        "interface normal: 0 along e1 (vertical joint), 1 along e2 (horizontal)",
+    ),
     "lambda": ("1", "load multiplier (live load / weight, or pressure in Pa for pressure loads)"),
-    "control_displacement": ("m", "out-of-plane displacement of the control DOF since the dead load"),
+    "control_displacement": (
+        "m",
+        "out-of-plane displacement of the control DOF since the dead load",
+    ),
     "iterations": ("1", "residual iterations of the step"),
     "residual": ("1", "final residual norm / reference load norm"),
-    "damage": ("1", "interface state: 0 elastic, 1 shear, 2 flexural, 3 shear and flexural, 4 detached"),
+    "damage": (
+        "1",
+        "interface state: 0 elastic, 1 shear, 2 flexural, 3 shear and flexural, 4 detached",
+    ),
     "lambda_max": ("1", "limit load multiplier (maximum lambda along the path)"),
     "step_at_limit": ("1", "step where lambda_max is reached"),
     "displacement_at_limit": ("m", "block displacements and rotations (rad) at lambda_max"),
     "displacement_final": ("m", "block displacements and rotations (rad) at the last step"),
-    "interface_forces_at_limit": ("N", "interface actions at lambda_max, local order t1 t2 n (N), b1 b2 tor (N m)"),
+    "interface_forces_at_limit": (
+        "N",
+        "interface actions at lambda_max, local order t1 t2 n (N), b1 b2 tor (N m)",
+    ),
     "damage_at_limit": ("1", "interface state at lambda_max (codes as damage)"),
-    "lambda_limit_analysis": ("1", "collapse multiplier by limit analysis (HiGHS LP) with the joint "
-                              "caps on the pushover's actions at lambda_max: >= lambda_max, equal "
-                              "when the plateau is the model's collapse load"),
-    "lambda_limit_analysis_dead_load": ("1", "collapse multiplier by limit analysis (HiGHS LP) with the "
-                                        "joint caps on the dead-load actions (needs no pushover)"),
+    "lambda_limit_analysis": (
+        "1",
+        "collapse multiplier by limit analysis (HiGHS LP) with the joint "
+        "caps on the pushover's actions at lambda_max: >= lambda_max, equal "
+        "when the plateau is the model's collapse load",
+    ),
+    "lambda_limit_analysis_dead_load": (
+        "1",
+        "collapse multiplier by limit analysis (HiGHS LP) with the "
+        "joint caps on the dead-load actions (needs no pushover)",
+    ),
 }
 
 # the two solvers' names are disjoint (tests/test_dataset.py), so one lookup serves both
@@ -95,22 +128,54 @@ VARIABLES = {**SCENE_VARIABLES, **WALL_VARIABLES}
 # what a study cube (stonedem.study.grid.combine_cases) keeps of each case: its scalar measures,
 # its time histories (NaN after a case stopped at collapse or ended), and the case
 # attributes every case agrees on
-CUBE_MEASURES = ("collapsed", "collapse_time", "max_rocking", "max_total_sliding",
-                 "residual_total_sliding", "rocking_onset_time", "max_epistyle_displacement", "theta_cr")
-CUBE_HISTORIES = ("rocking", "total_sliding", "epistyle_displacement", "base_displacement",
-                  "base_acceleration")
-CUBE_SHARED_ATTRS = ("source", "study", "contact_model", "contact_law", "k_n", "c_n", "contact_damping",
-                     "contact_impact", "k_t", "c_t", "friction", "excitation", "contact_frame")
+CUBE_MEASURES = (
+    "collapsed",
+    "collapse_time",
+    "max_rocking",
+    "max_total_sliding",
+    "residual_total_sliding",
+    "rocking_onset_time",
+    "max_epistyle_displacement",
+    "theta_cr",
+)
+CUBE_HISTORIES = (
+    "rocking",
+    "total_sliding",
+    "epistyle_displacement",
+    "base_displacement",
+    "base_acceleration",
+)
+CUBE_SHARED_ATTRS = (
+    "source",
+    "study",
+    "contact_model",
+    "contact_law",
+    "k_n",
+    "c_n",
+    "contact_damping",
+    "contact_impact",
+    "k_t",
+    "c_t",
+    "friction",
+    "excitation",
+    "contact_frame",
+)
 
 
 # a threshold search's variables (stonedem.study.cube): "[u]" the searched parameter's units,
 # "{p}" its long name; "" no units (text, CF)
 SEARCH_VARIABLES = {
     "collapse_threshold": ("[u]", "smallest {p} that collapsed in the search (NaN: none)"),
-    "survived_below_threshold": ("[u]", "largest {p} below the smallest collapse that did not collapse"),
+    "survived_below_threshold": (
+        "[u]",
+        "largest {p} below the smallest collapse that did not collapse",
+    ),
     "bracket_width": ("1", "collapse_threshold / survived_below_threshold - 1"),
     "n_runs": ("1", "simulations the search ran"),
-    "monotonic": ("1", "1 when no run above the smallest collapse survived (collapse monotonic on the runs)"),
+    "monotonic": (
+        "1",
+        "1 when no run above the smallest collapse survived (collapse monotonic on the runs)",
+    ),
     "n_resurrections": ("1", "runs above the smallest collapse that did not collapse"),
     "search_status": ("", "how the search ended (stonedem.study.search)"),
     "search_order": ("1", "order in which the search ran this case, from 0"),
@@ -134,9 +199,12 @@ def _is_text(var) -> bool:
 def missing_metadata(ds: xr.Dataset) -> list[str]:
     """Names of variables or coordinates lacking ``long_name``, or ``units`` on a numeric
     one (CF: text variables carry no units); empty = self-describing."""
-    return [name for name in list(ds.data_vars) + list(ds.coords)
-            if not ds[name].attrs.get("long_name")
-            or (not _is_text(ds[name]) and not ds[name].attrs.get("units"))]
+    return [
+        name
+        for name in list(ds.data_vars) + list(ds.coords)
+        if not ds[name].attrs.get("long_name")
+        or (not _is_text(ds[name]) and not ds[name].attrs.get("units"))
+    ]
 
 
 def cf_conventions(ds: xr.Dataset) -> xr.Dataset:

@@ -17,15 +17,22 @@ import yaml
 
 from stonedem.errors import InputError
 
-MAX_NESTING = 32   # containers inside containers; our files need at most 6
+MAX_NESTING = 32  # containers inside containers; our files need at most 6
 # values + characters that aliases (*name) may repeat in one file; config/config.yaml's
 # anchors repeat ~1 500, a scene of 1000 bodies aliasing one template ~100 000
 MAX_ALIAS_EXPANSION = 1_000_000
 
 # first bytes of files people give by mistake
-_MAGIC = ((b"\x89HDF\r\n\x1a\n", "a NetCDF-4/HDF5 file"), (b"CDF\x01", "a NetCDF file"),
-          (b"CDF\x02", "a NetCDF file"), (b"\x89PNG", "a PNG image"), (b"%PDF", "a PDF file"),
-          (b"PK\x03\x04", "a zip archive"), (b"\x1f\x8b", "a gzip file"), (b"\x7fELF", "a program"))
+_MAGIC = (
+    (b"\x89HDF\r\n\x1a\n", "a NetCDF-4/HDF5 file"),
+    (b"CDF\x01", "a NetCDF file"),
+    (b"CDF\x02", "a NetCDF file"),
+    (b"\x89PNG", "a PNG image"),
+    (b"%PDF", "a PDF file"),
+    (b"PK\x03\x04", "a zip archive"),
+    (b"\x1f\x8b", "a gzip file"),
+    (b"\x7fELF", "a program"),
+)
 
 
 class _StrictLoader(yaml.SafeLoader):
@@ -40,7 +47,8 @@ def _construct_mapping(loader, node, deep=False):
         key = (key_node.tag, key_node.value)
         if key in seen:
             raise yaml.constructor.ConstructorError(
-                None, None, f"the key {key_node.value!r} is given twice", key_node.start_mark)
+                None, None, f"the key {key_node.value!r} is given twice", key_node.start_mark
+            )
         seen.add(key)
     return loader.construct_mapping(node, deep=deep)
 
@@ -70,14 +78,15 @@ def _check_structure(text: str) -> None:
     alias inside its own anchor (a loop, which PyYAML builds) is refused too."""
     opening = (yaml.SequenceStartEvent, yaml.MappingStartEvent)
     closing = (yaml.SequenceEndEvent, yaml.MappingEndEvent)
-    stack = [[None, 0]]   # open containers: [anchor, size so far]
-    sizes: dict = {}      # anchor -> size of its node, once closed
+    stack = [[None, 0]]  # open containers: [anchor, size so far]
+    sizes: dict = {}  # anchor -> size of its node, once closed
     expanded = 0
     for event in yaml.parse(text, Loader=_StrictLoader):
         if isinstance(event, opening):
             if len(stack) > MAX_NESTING:
-                raise yaml.scanner.ScannerError(None, None, f"nested deeper than {MAX_NESTING} levels",
-                                                event.start_mark)
+                raise yaml.scanner.ScannerError(
+                    None, None, f"nested deeper than {MAX_NESTING} levels", event.start_mark
+                )
             stack.append([event.anchor, 1])
             continue
         if isinstance(event, closing):
@@ -87,14 +96,20 @@ def _check_structure(text: str) -> None:
         elif isinstance(event, yaml.AliasEvent):
             if event.anchor not in sizes:
                 if any(anchor == event.anchor for anchor, _ in stack):
-                    raise _Refused(f"the alias *{printable(event.anchor)} is inside its own anchor (a loop)",
-                                   event.start_mark, "repeat a finished part only")
+                    raise _Refused(
+                        f"the alias *{printable(event.anchor)} is inside its own anchor (a loop)",
+                        event.start_mark,
+                        "repeat a finished part only",
+                    )
                 continue  # undefined: the composer names it
             anchor, size = None, sizes[event.anchor]
             expanded += size
             if expanded > MAX_ALIAS_EXPANSION:
-                raise _Refused(f"its aliases expand to more than {MAX_ALIAS_EXPANSION} values and characters",
-                               event.start_mark, "write the values out instead of repeating them through aliases")
+                raise _Refused(
+                    f"its aliases expand to more than {MAX_ALIAS_EXPANSION} values and characters",
+                    event.start_mark,
+                    "write the values out instead of repeating them through aliases",
+                )
         else:
             continue
         if anchor is not None:
@@ -119,16 +134,24 @@ def decode_text(data: bytes, where: str, what: str) -> str:
     """UTF-8 text of ``data`` (a BOM is dropped), or an InputError naming the encoding problem."""
     for magic, kind in _MAGIC:
         if data.startswith(magic):
-            raise InputError(where, f"is {kind}, not {what}", f"give the path of {what} (YAML text)")
+            raise InputError(
+                where, f"is {kind}, not {what}", f"give the path of {what} (YAML text)"
+            )
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise InputError(where, "is UTF-16 text", f"save {what} as UTF-8")
     if b"\x00" in data[:8192]:
-        raise InputError(where, "is a binary file (it holds NUL bytes)", f"give the path of {what} (YAML text)")
+        raise InputError(
+            where, "is a binary file (it holds NUL bytes)", f"give the path of {what} (YAML text)"
+        )
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as err:
-        raise InputError(where, f"is not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start}; "
-                         "Latin-1 or Windows-1252 perhaps)", f"save {what} as UTF-8") from None
+        raise InputError(
+            where,
+            f"is not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start}; "
+            "Latin-1 or Windows-1252 perhaps)",
+            f"save {what} as UTF-8",
+        ) from None
 
 
 def read_bytes_checked(path: str | Path, what: str, max_bytes: int) -> bytes:
@@ -140,19 +163,26 @@ def read_bytes_checked(path: str | Path, what: str, max_bytes: int) -> bytes:
     except FileNotFoundError:
         raise InputError(where, f"{what} not found", "check the path") from None
     except OSError as err:
-        raise InputError(where, f"cannot read {what} ({err.strerror})", "give a readable file") from None
+        raise InputError(
+            where, f"cannot read {what} ({err.strerror})", "give a readable file"
+        ) from None
     if path.is_dir():
         raise InputError(where, f"is a folder, not {what}", f"give the path of {what}")
     if not path.is_file():
         raise InputError(where, "is not a regular file", f"give the path of {what}")
     if info.st_size > max_bytes:
-        raise InputError(where, f"{info.st_size} bytes exceed the limit of {max_bytes} for {what}",
-                         f"give {what}; is this the right file?")
+        raise InputError(
+            where,
+            f"{info.st_size} bytes exceed the limit of {max_bytes} for {what}",
+            f"give {what}; is this the right file?",
+        )
     try:
         with open(path, "rb") as handle:
             return handle.read(max_bytes + 1)[:max_bytes]
     except OSError as err:
-        raise InputError(where, f"cannot read {what} ({err.strerror})", "give a readable file") from None
+        raise InputError(
+            where, f"cannot read {what} ({err.strerror})", "give a readable file"
+        ) from None
 
 
 def parse_yaml_text(text: str, where: str) -> object:
@@ -163,12 +193,16 @@ def parse_yaml_text(text: str, where: str) -> object:
     except _Refused as err:
         raise InputError(where, yaml_problem(err), err.fix) from None
     except yaml.YAMLError as err:
-        raise InputError(where, f"not valid YAML: {yaml_problem(err)}", "fix the YAML syntax") from None
+        raise InputError(
+            where, f"not valid YAML: {yaml_problem(err)}", "fix the YAML syntax"
+        ) from None
     except RecursionError:
         raise InputError(where, "not valid YAML: nested too deeply", "flatten the file") from None
 
 
-def read_yaml_mapping(path: str | Path, what: str, max_bytes: int, fix: str, allow_empty: bool = False) -> dict:
+def read_yaml_mapping(
+    path: str | Path, what: str, max_bytes: int, fix: str, allow_empty: bool = False
+) -> dict:
     """The top-level mapping of a YAML file.
 
     Parameters
@@ -199,7 +233,16 @@ def read_yaml_mapping(path: str | Path, what: str, max_bytes: int, fix: str, all
             return {}
         raise InputError(where, "is empty", fix)
     if not isinstance(spec, dict):
-        kind = {list: "a list", str: "a text", int: "a number", float: "a number", bool: "true/false"}
-        raise InputError(where, f"is not a YAML mapping (it holds {kind.get(type(spec), type(spec).__name__)})",
-                         fix)
+        kind = {
+            list: "a list",
+            str: "a text",
+            int: "a number",
+            float: "a number",
+            bool: "true/false",
+        }
+        raise InputError(
+            where,
+            f"is not a YAML mapping (it holds {kind.get(type(spec), type(spec).__name__)})",
+            fix,
+        )
     return spec

@@ -54,8 +54,21 @@ def sort_by_key(index, key, n):
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def candidate_pairs_into(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis, order,
-                         pair_a, pair_b, pair_key, pair_order):
+def candidate_pairs_into(
+    n_body,
+    body_driven,
+    lo_x,
+    lo_y,
+    hi_x,
+    hi_y,
+    margin,
+    sweep_axis,
+    order,
+    pair_a,
+    pair_b,
+    pair_key,
+    pair_order,
+):
     """Pairs (a < b) whose bounds, inflated by ``margin`` [m], overlap, into pair_a, pair_b;
     returns their number. Driven-driven pairs are skipped.
 
@@ -118,8 +131,21 @@ def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sw
         pb = np.empty(capacity, dtype=np.int64)
         key = np.empty(capacity, dtype=np.int64)
         sort = np.empty(capacity, dtype=np.int64)
-        n_pair = candidate_pairs_into(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis, order,
-                                      pa, pb, key, sort)
+        n_pair = candidate_pairs_into(
+            n_body,
+            body_driven,
+            lo_x,
+            lo_y,
+            hi_x,
+            hi_y,
+            margin,
+            sweep_axis,
+            order,
+            pa,
+            pb,
+            key,
+            sort,
+        )
         if n_pair <= capacity:
             return pa[:n_pair].copy(), pb[:n_pair].copy()
         capacity = n_pair

@@ -176,8 +176,22 @@ def tangential_force(ft_old, mu, f_n, v_t, k_t, c_t, dt, energy_acc):
 
 
 @njit(**INLINE_OPTIONS)
-def push_pair(a, b, body_x, body_y, body_driven, px, py, fx, fy, force_x, force_y, torque,
-              base_force_x, base_force_y):
+def push_pair(
+    a,
+    b,
+    body_x,
+    body_y,
+    body_driven,
+    px,
+    py,
+    fx,
+    fy,
+    force_x,
+    force_y,
+    torque,
+    base_force_x,
+    base_force_y,
+):
     """Force (fx, fy) on b at p and its opposite on a; booked as base force if the other is driven."""
     if body_driven[a]:
         base_force_x[b] += fx
@@ -228,7 +242,7 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
         b = pair_b[p]
         # narrow phase: bounds, overlap polygon, area, frame; written out here (and in the
         # point law) rather than called: as a call it made the step 1.6x slower (8-drum column)
-        if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
+        if lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
@@ -236,8 +250,16 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
         ea = vert_start[a + 1]
         sb = vert_start[b]
         eb = vert_start[b + 1]
-        n_over = clip_convex_polygons(world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-                                      out_x, out_y, scratch[2], scratch[3])
+        n_over = clip_convex_polygons(
+            world_x[sa:ea],
+            world_y[sa:ea],
+            world_x[sb:eb],
+            world_y[sb:eb],
+            out_x,
+            out_y,
+            scratch[2],
+            scratch[3],
+        )
         area = 0.0
         if n_over >= 3:
             area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
@@ -246,8 +268,18 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
         nx, ny, tx, ty, _ = contact_frame(
-            out_x, out_y, n_over, world_x[sa:ea], world_y[sa:ea], world_x[sb:eb], world_y[sb:eb],
-            body_x[a], body_y[a], body_x[b], body_y[b], frame_rule,
+            out_x,
+            out_y,
+            n_over,
+            world_x[sa:ea],
+            world_y[sa:ea],
+            world_x[sb:eb],
+            world_y[sb:eb],
+            body_x[a],
+            body_y[a],
+            body_x[b],
+            body_y[b],
+            frame_rule,
         )
         n_contact += 1
         # the contact chord: the overlap's extent along the tangent, and its midpoint M
@@ -262,10 +294,12 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
         my = cy + 0.5 * (proj_lo + proj_hi) * ty
 
         # relative velocity of b with respect to a at C and at M
-        _, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                   cx, cy, nx, ny, tx, ty)
-        v_nm, _ = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                    mx, my, nx, ny, tx, ty)
+        _, v_t = relative_velocity(
+            body_x, body_y, body_vx, body_vy, body_omega, a, b, cx, cy, nx, ny, tx, ty
+        )
+        v_nm, _ = relative_velocity(
+            body_x, body_y, body_vx, body_vy, body_omega, a, b, mx, my, nx, ny, tx, ty
+        )
         spin = body_omega[b] - body_omega[a]
 
         # thesis Eq. 3.4: elastic k_n A at C; c_n v_N from dashpots spread evenly along the
@@ -277,8 +311,9 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
             scale = f_el / -f_damp
             f_damp *= scale
             m_damp *= scale
-        f_t, ft_el = tangential_force(pair_ft[a, b], pair_mu[a, b], f_el + f_damp, v_t, k_t, c_t,
-                                      dt, energy_acc)
+        f_t, ft_el = tangential_force(
+            pair_ft[a, b], pair_mu[a, b], f_el + f_damp, v_t, k_t, c_t, dt, energy_acc
+        )
         pair_ft[a, b] = ft_el
         mem = pair_memory[a, b]
         mem[MEM_ACTIVE] = 1.0
@@ -308,7 +343,9 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
 
 
 @njit(**INLINE_OPTIONS)
-def contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, body_vx, body_vy, body_omega):
+def contact_power(
+    pair_a, pair_b, n_pair, pair_memory, body_x, body_y, body_vx, body_vy, body_omega
+):
     """(dashpot power, tangential work rate) [W] of this step's contact forces at the given velocities.
 
     Called with the velocities at t_n (the mean of the two half-step velocities), the same
@@ -330,8 +367,21 @@ def contact_power(pair_a, pair_b, n_pair, pair_memory, body_x, body_y, body_vx, 
             if force != 0.0 or f_t != 0.0:
                 dnx = mem[base + 2]
                 dny = mem[base + 3]
-                v_n, v_tk = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                              mem[base], mem[base + 1], dnx, dny, dny, -dnx)
+                v_n, v_tk = relative_velocity(
+                    body_x,
+                    body_y,
+                    body_vx,
+                    body_vy,
+                    body_omega,
+                    a,
+                    b,
+                    mem[base],
+                    mem[base + 1],
+                    dnx,
+                    dny,
+                    dny,
+                    -dnx,
+                )
                 p_damp += force * v_n
                 p_tan += f_t * v_tk
     return p_damp, p_tan

@@ -37,12 +37,31 @@ from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
 from stonedem.kernels.contact import MEM_ACTIVE, release_contact
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import body_world_vertices, cos_sin, drive_bodies
-from stonedem.kernels.point_contact import (FACE_A, FACE_B, FACE_SWITCH_TOLERANCE, N_FACE_CACHE, body_edge, body_edges,
-                                            deepest_face, edge_separation, face_contact_forces, faces_hold,
-                                            keep_faces)
-from stonedem.kernels.step import (EVENT_COLLAPSE, STATUS_OK, allocate_work, clear_forces, collapsed,
-                                   finish_step, first_pair_capacity, needs_resweep, smallest_theta_cr,
-                                   track)
+from stonedem.kernels.point_contact import (
+    FACE_A,
+    FACE_B,
+    FACE_SWITCH_TOLERANCE,
+    N_FACE_CACHE,
+    body_edge,
+    body_edges,
+    deepest_face,
+    edge_separation,
+    face_contact_forces,
+    faces_hold,
+    keep_faces,
+)
+from stonedem.kernels.step import (
+    EVENT_COLLAPSE,
+    STATUS_OK,
+    allocate_work,
+    clear_forces,
+    collapsed,
+    finish_step,
+    first_pair_capacity,
+    needs_resweep,
+    smallest_theta_cr,
+    track,
+)
 
 STATUS_GENERAL = 5  # the graph no longer holds: the general loop goes on from the step returned
 # why it no longer holds (run's fifth value; its sixth names the pair a * n_body + b, or the contact)
@@ -57,16 +76,33 @@ class Graph(NamedTuple):
 
     pair_a: np.ndarray  # bodies of each contact, a < b (n_contact,) int64
     pair_b: np.ndarray
-    face_a: np.ndarray  # a's contact edge k -> k+1, counted from a's first vertex (n_contact,) int64
+    face_a: (
+        np.ndarray
+    )  # a's contact edge k -> k+1, counted from a's first vertex (n_contact,) int64
     face_b: np.ndarray  # b's
-    turn_rest: np.ndarray  # angle from a's inward to b's outward face normal, less theta_b - theta_a [rad]
-    turn_limit: np.ndarray  # the largest |angle| at which the faces are still each other's most opposed [rad]
+    turn_rest: (
+        np.ndarray
+    )  # angle from a's inward to b's outward face normal, less theta_b - theta_a [rad]
+    turn_limit: (
+        np.ndarray
+    )  # the largest |angle| at which the faces are still each other's most opposed [rad]
     index: np.ndarray  # contact of pair (a, b), -1 for none (n_body, n_body) int64
 
 
 @njit(**JIT_OPTIONS)
-def run(model, settings, state, samples, graph, step_start, step_stop, step_first, rest_from_step,
-        n_sample, collapse_sample):
+def run(
+    model,
+    settings,
+    state,
+    samples,
+    graph,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """:func:`stonedem.kernels.step.run` for a scene with a contact graph: the same arguments
     plus ``graph`` (:class:`Graph`); returns (status, n_sample, collapse_sample, the step to
     go on from, why the graph broke, which pair or contact), which with STATUS_GENERAL is the
@@ -81,8 +117,24 @@ def run(model, settings, state, samples, graph, step_start, step_stop, step_firs
     ref_sin = np.empty(n_body)
     for b in range(n_body):
         ref_cos[b], ref_sin[b] = cos_sin(model.ref_theta[b])
-    return run_steps(model, settings, state, samples, graph, work, kept, touching, ref_cos, ref_sin, step_start,
-                     step_stop, step_first, rest_from_step, n_sample, collapse_sample)
+    return run_steps(
+        model,
+        settings,
+        state,
+        samples,
+        graph,
+        work,
+        kept,
+        touching,
+        ref_cos,
+        ref_sin,
+        step_start,
+        step_stop,
+        step_first,
+        rest_from_step,
+        n_sample,
+        collapse_sample,
+    )
 
 
 @njit(**INLINE_OPTIONS)
@@ -91,19 +143,56 @@ def place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v):
     vertices and cos and sin of theta, as :func:`stonedem.kernels.integrate.update_world_vertices`
     computes them but for a driven body's cos and sin, which its fixed angle gives once."""
     n_body = model.body_mass.shape[0]
-    vert_start, local_x, local_y, body_driven = model.vert_start, model.local_x, model.local_y, model.body_driven
+    vert_start, local_x, local_y, body_driven = (
+        model.vert_start,
+        model.local_x,
+        model.local_y,
+        model.body_driven,
+    )
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
-    world_x, world_y, cos_theta, sin_theta = work.world_x, work.world_y, work.cos_theta, work.sin_theta
-    drive_bodies(n_body, body_driven, model.ref_x, model.ref_y, model.ref_theta, d_h, vel_h, d_v, vel_v,
-                 body_x, body_y, body_theta, state.body_vx, state.body_vy, state.body_omega)
+    world_x, world_y, cos_theta, sin_theta = (
+        work.world_x,
+        work.world_y,
+        work.cos_theta,
+        work.sin_theta,
+    )
+    drive_bodies(
+        n_body,
+        body_driven,
+        model.ref_x,
+        model.ref_y,
+        model.ref_theta,
+        d_h,
+        vel_h,
+        d_v,
+        vel_v,
+        body_x,
+        body_y,
+        body_theta,
+        state.body_vx,
+        state.body_vy,
+        state.body_omega,
+    )
     for b in range(n_body):
         if body_driven[b]:
             c = ref_cos[b]
             s = ref_sin[b]
         else:
             c, s = cos_sin(body_theta[b])
-        body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
-                            sin_theta)
+        body_world_vertices(
+            b,
+            c,
+            s,
+            vert_start,
+            local_x,
+            local_y,
+            body_x,
+            body_y,
+            world_x,
+            world_y,
+            cos_theta,
+            sin_theta,
+        )
 
 
 @njit(**INLINE_OPTIONS)
@@ -116,7 +205,12 @@ def graph_holds(model, state, work, graph, kept, touching):
     Work.face_cache's). Writes the face edges' lengths and normals into work.edge_*.
     """
     vert_start = model.vert_start
-    body_x, body_y, body_theta, body_radius = state.body_x, state.body_y, state.body_theta, model.body_radius
+    body_x, body_y, body_theta, body_radius = (
+        state.body_x,
+        state.body_y,
+        state.body_theta,
+        model.body_radius,
+    )
     world_x, world_y = work.world_x, work.world_y
     edge_len, edge_nx, edge_ny = work.edge_len, work.edge_nx, work.edge_ny
     pair_a, pair_b, face_a, face_b = graph.pair_a, graph.pair_b, graph.face_a, graph.face_b
@@ -136,7 +230,9 @@ def graph_holds(model, state, work, graph, kept, touching):
         # the separating axes as the general law finds them: its edges of least overlap,
         # kept while they provably hold, else searched for over every edge of the pair
         sep_b = 0.0
-        if kept[g, FACE_A] >= 0.0 and faces_hold(kept, g, a, b, body_x, body_y, body_theta, body_radius):
+        if kept[g, FACE_A] >= 0.0 and faces_hold(
+            kept, g, a, b, body_x, body_y, body_theta, body_radius
+        ):
             ref_a = int(kept[g, FACE_A])
             ref_b = int(kept[g, FACE_B])
             if ref_a != ka:
@@ -151,12 +247,28 @@ def graph_holds(model, state, work, graph, kept, touching):
             body_edges(sa, na, world_x, world_y, edge_len, edge_nx, edge_ny)
             body_edges(sb, nb, world_x, world_y, edge_len, edge_nx, edge_ny)
             ref_b = kb
-            sep_a, ref_a, next_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
+            sep_a, ref_a, next_a = deepest_face(
+                world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb
+            )
             if sep_a < 0.0:
-                sep_b, ref_b, next_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
+                sep_b, ref_b, next_b = deepest_face(
+                    world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na
+                )
                 if sep_b < 0.0:
-                    keep_faces(kept, g, a, b, ref_a, ref_b, sep_a - next_a, sep_b - next_b,
-                               body_x, body_y, body_theta, body_radius)
+                    keep_faces(
+                        kept,
+                        g,
+                        a,
+                        b,
+                        ref_a,
+                        ref_b,
+                        sep_a - next_a,
+                        sep_b - next_b,
+                        body_x,
+                        body_y,
+                        body_theta,
+                        body_radius,
+                    )
         if sep_a < 0.0 and sep_b < 0.0 and (ref_a != ka or ref_b != kb):
             # the general law's reference face is the shallower of the two (b's only if
             # shallower by FACE_SWITCH_TOLERANCE of the larger body's size); the other face
@@ -201,8 +313,24 @@ def pair_outside(graph, work, n_pair):
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def run_steps(model, settings, state, samples, graph, work, kept, touching, ref_cos, ref_sin, step_start, step_stop,
-              step_first, rest_from_step, n_sample, collapse_sample):
+def run_steps(
+    model,
+    settings,
+    state,
+    samples,
+    graph,
+    work,
+    kept,
+    touching,
+    ref_cos,
+    ref_sin,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """:func:`run` with its bundles; the stages of :func:`stonedem.kernels.step.run_steps`.
     ref_cos, ref_sin: cos and sin of each body's reference angle (a driven body's at every step)."""
     dt = settings.dt
@@ -226,8 +354,12 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, ref_
     for n in range(step_start, min(step_stop, n_steps + 1)):
         t = n * dt
         # 1. driven bodies at the base pose of t_n; world vertices (no bounds: no broad phase to feed)
-        d_h, vel_h, _ = base_motion(t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt)
-        d_v, vel_v, _ = base_motion(t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt)
+        d_h, vel_h, _ = base_motion(
+            t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt
+        )
+        d_v, vel_v, _ = base_motion(
+            t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt
+        )
         place_graph(model, state, work, ref_cos, ref_sin, d_h, vel_h, d_v, vel_v)
 
         suspect = track(model, state, work, n, d_h, d_v, tilt_alarm)
@@ -238,11 +370,31 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, ref_
         # 2. the guard: no pair outside the graph within the margin (the general loop's
         # broad phase, at its steps), every contact on the graph's faces
         if need_sweep or needs_resweep(model, state, work):
-            body_bounds(n_body, model.vert_start, work.world_x, work.world_y, work.lo_x, work.lo_y, work.hi_x,
-                        work.hi_y)
-            n_pair = candidate_pairs_into(n_body, body_driven, work.lo_x, work.lo_y, work.hi_x, work.hi_y,
-                                          model.margin, model.sweep_axis, work.order, work.pair_a, work.pair_b,
-                                          work.pair_key, work.pair_order)
+            body_bounds(
+                n_body,
+                model.vert_start,
+                work.world_x,
+                work.world_y,
+                work.lo_x,
+                work.lo_y,
+                work.hi_x,
+                work.hi_y,
+            )
+            n_pair = candidate_pairs_into(
+                n_body,
+                body_driven,
+                work.lo_x,
+                work.lo_y,
+                work.hi_x,
+                work.hi_y,
+                model.margin,
+                model.sweep_axis,
+                work.order,
+                work.pair_a,
+                work.pair_b,
+                work.pair_key,
+                work.pair_order,
+            )
             outside = pair_outside(graph, work, min(n_pair, work.pair_a.shape[0]))
             if outside >= 0 or n_pair > work.pair_a.shape[0]:
                 return STATUS_GENERAL, n_sample, collapse_sample, n, BROKEN_PAIR, outside
@@ -269,13 +421,32 @@ def run_steps(model, settings, state, samples, graph, work, kept, touching, ref_
                     release_contact(a, b, pair_ft, pair_memory, k_t, state.energy_acc)
                 continue
             n_contact += 1
-            elastic = face_contact_forces(model, state, work, a, b, face_a[g], face_b[g], dt, sample, elastic)
+            elastic = face_contact_forces(
+                model, state, work, a, b, face_a[g], face_b[g], dt, sample, elastic
+            )
 
         # 4.-7. velocities and powers at t_n, a sample, the step to t_{n+1}
-        status, n_sample, collapse_sample, done = finish_step(n, model, settings, state, work, samples, pair_a, pair_b,
-                                                              n_contact_max, n_sample, collapse_sample, n_contact,
-                                                              elastic, stop, sample, step_first, rest_from_step,
-                                                              vel_h, vel_v)
+        status, n_sample, collapse_sample, done = finish_step(
+            n,
+            model,
+            settings,
+            state,
+            work,
+            samples,
+            pair_a,
+            pair_b,
+            n_contact_max,
+            n_sample,
+            collapse_sample,
+            n_contact,
+            elastic,
+            stop,
+            sample,
+            step_first,
+            rest_from_step,
+            vel_h,
+            vel_v,
+        )
         if done:
             break
     return status, n_sample, collapse_sample, step_stop, HELD, -1

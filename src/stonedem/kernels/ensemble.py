@@ -14,13 +14,34 @@ from stonedem.kernels.step import run
 
 
 @njit(parallel=True, **JIT_OPTIONS)
-def run_members(which, models, settings, states, samples, start, stop, first, rest_from, n_sample,
-                collapse_sample, status):
+def run_members(
+    which,
+    models,
+    settings,
+    states,
+    samples,
+    start,
+    stop,
+    first,
+    rest_from,
+    n_sample,
+    collapse_sample,
+    status,
+):
     """Steps start[m]..stop[m]-1 of each member m in ``which`` (typed lists of the members'
     bundles; int64 arrays of their other arguments to :func:`stonedem.kernels.step.run`).
     Writes each one's status, n_sample and collapse_sample in place."""
     for i in prange(which.shape[0]):
         m = which[i]
         status[m], n_sample[m], collapse_sample[m] = run(
-            models[m], settings[m], states[m], samples[m], start[m], stop[m], first[m], rest_from[m],
-            n_sample[m], collapse_sample[m])
+            models[m],
+            settings[m],
+            states[m],
+            samples[m],
+            start[m],
+            stop[m],
+            first[m],
+            rest_from[m],
+            n_sample[m],
+            collapse_sample[m],
+        )

@@ -50,8 +50,11 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
             e = x * x * x * (10.0 - 15.0 * x + 6.0 * x * x)
             de = 30.0 * x * x * (1.0 - x) * (1.0 - x) / t_ramp
             dde = 60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (t_ramp * t_ramp)
-        return (amp * e * sn, amp * (de * sn + e * w * cs),
-                amp * (dde * sn + 2.0 * de * w * cs - e * w * w * sn))
+        return (
+            amp * e * sn,
+            amp * (de * sn + e * w * cs),
+            amp * (dde * sn + 2.0 * de * w * cs - e * w * w * sn),
+        )
     if kind == KIND_RECT_PULSE:
         a_p = params[0]
         t_p = params[1]
@@ -63,8 +66,7 @@ def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
         w = params[1]
         period = params[2]
         if t < period:
-            return (a_p / w * (t - sin(w * t) / w), a_p / w * (1.0 - cos(w * t)),
-                    a_p * sin(w * t))
+            return (a_p / w * (t - sin(w * t) / w), a_p / w * (1.0 - cos(w * t)), a_p * sin(w * t))
         return a_p / w * period, 0.0, 0.0
     if kind == KIND_RAMP:
         rate = params[0]

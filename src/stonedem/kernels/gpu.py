@@ -28,16 +28,31 @@ MEMBER_FASTEST = False
 cuda = None  # numba.cuda, imported on first use; a global, so the simulator can stand in for it
 
 
-@njit(**{**NO_ALLOC_OPTIONS, "cache": False})  # member_bundles is not cacheable (stonedem.kernels.members)
-def run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):
+@njit(
+    **{**NO_ALLOC_OPTIONS, "cache": False}
+)  # member_bundles is not cacheable (stonedem.kernels.members)
+def run_member(
+    leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status, resume
+):
     """Member m's steps start[m]..stop[m]-1, unless its status is no longer STATUS_OK; writes
     its status, n_sample, collapse_sample and the step to go on from (``resume``: where
     STATUS_PAIRS_FULL stopped it) in place."""
     if status[m] != STATUS_OK or start[m] >= stop[m]:
         return
     model, settings, state, samples, work = member_bundles(leaves, lengths, m)
-    s, n, c, go_on = run_steps(model, settings, state, samples, work, start[m], stop[m], first[m], rest_from[m],
-                               n_sample[m], collapse_sample[m])
+    s, n, c, go_on = run_steps(
+        model,
+        settings,
+        state,
+        samples,
+        work,
+        start[m],
+        stop[m],
+        first[m],
+        rest_from[m],
+        n_sample[m],
+        collapse_sample[m],
+    )
     status[m] = s
     n_sample[m] = n
     collapse_sample[m] = c
@@ -64,13 +79,36 @@ def member_kernel():
     from numba import cuda
 
     if numba.config.ENABLE_CUDASIM:
+
         @cuda.jit
-        def run_members_simulated(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample,
-                                  status, resume):
+        def run_members_simulated(
+            leaves,
+            lengths,
+            start,
+            stop,
+            first,
+            rest_from,
+            n_sample,
+            collapse_sample,
+            status,
+            resume,
+        ):
             m = cuda.grid(1)
             if m < start.shape[0]:
-                arrays = [_host_array(a) for a in (lengths, start, stop, first, rest_from, n_sample,
-                                                   collapse_sample, status, resume)]
+                arrays = [
+                    _host_array(a)
+                    for a in (
+                        lengths,
+                        start,
+                        stop,
+                        first,
+                        rest_from,
+                        n_sample,
+                        collapse_sample,
+                        status,
+                        resume,
+                    )
+                ]
                 run_member(tuple(_host_array(a) for a in leaves), arrays[0], m, *arrays[1:])
 
         return run_members_simulated
@@ -79,7 +117,9 @@ def member_kernel():
         np.row_stack = np.vstack
     scalar.register_cuda()
     compile_without_contraction()
-    return cuda.jit(cache=True)(run_members_on_gpu)  # cached under the kernel-source hash (stonedem.kernels)
+    return cuda.jit(cache=True)(
+        run_members_on_gpu
+    )  # cached under the kernel-source hash (stonedem.kernels)
 
 
 def compile_without_contraction() -> None:
@@ -105,11 +145,25 @@ def compile_without_contraction() -> None:
     nvvm.compile_ir = compile_ir
 
 
-def run_members_on_gpu(leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status, resume):
+def run_members_on_gpu(
+    leaves, lengths, start, stop, first, rest_from, n_sample, collapse_sample, status, resume
+):
     """The kernel's source (compiled by :func:`member_kernel`): thread m runs member m."""
     m = cuda.grid(1)
     if m < start.shape[0]:
-        run_member(leaves, lengths, m, start, stop, first, rest_from, n_sample, collapse_sample, status, resume)
+        run_member(
+            leaves,
+            lengths,
+            m,
+            start,
+            stop,
+            first,
+            rest_from,
+            n_sample,
+            collapse_sample,
+            status,
+            resume,
+        )
 
 
 def gpu_available() -> tuple[bool, str]:
@@ -126,7 +180,13 @@ def gpu_available() -> tuple[bool, str]:
         if importlib.util.find_spec("numba_cuda") is None:
             return False, "numba-cuda is not installed (pip install 'stonedem[gpu]')"
         device = cuda.get_current_device()
-        return True, f"{device.name.decode() if isinstance(device.name, bytes) else device.name}, " \
-                     f"compute capability {device.compute_capability[0]}.{device.compute_capability[1]}"
+        return (
+            True,
+            f"{device.name.decode() if isinstance(device.name, bytes) else device.name}, "
+            f"compute capability {device.compute_capability[0]}.{device.compute_capability[1]}",
+        )
     except Exception as exc:  # a broken driver or toolkit: say why, fall back
-        return False, f"CUDA unusable: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}"
+        return (
+            False,
+            f"CUDA unusable: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}",
+        )

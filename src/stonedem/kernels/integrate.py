@@ -26,13 +26,33 @@ def cos_sin(x):
         return cos(x), sin(x)
     z = x * x
     # sin x = x + x^3 (S1 + z (S2 + z (S3 + z (S4 + z (S5 + z S6)))))
-    r = 8.33333333332248946124e-03 + z * (-1.98412698298579493134e-04 + z * (2.75573137070700676789e-06
-        + z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))
+    r = 8.33333333332248946124e-03 + z * (
+        -1.98412698298579493134e-04
+        + z
+        * (
+            2.75573137070700676789e-06
+            + z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)
+        )
+    )
     s = x + z * x * (-1.66666666666666324348e-01 + z * r)
     # cos x = 1 - z/2 + z^2 (C1 + z (C2 + ... + z C6)), with 1 - z/2 summed so that its
     # rounding error is kept (k_cos.c's w = 1 - hz and ((1 - w) - hz))
-    rc = z * (4.16666666666666019037e-02 + z * (-1.38888888888741095749e-03 + z * (2.48015872894767294178e-05
-         + z * (-2.75573143513906633035e-07 + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))))
+    rc = z * (
+        4.16666666666666019037e-02
+        + z
+        * (
+            -1.38888888888741095749e-03
+            + z
+            * (
+                2.48015872894767294178e-05
+                + z
+                * (
+                    -2.75573143513906633035e-07
+                    + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)
+                )
+            )
+        )
+    )
     hz = 0.5 * z
     w = 1.0 - hz
     c = w + (((1.0 - w) - hz) + z * rc)
@@ -40,21 +60,45 @@ def cos_sin(x):
 
 
 @njit(**INLINE_OPTIONS)
-def update_world_vertices(n_body, vert_start, local_x, local_y, body_x, body_y, body_theta,
-                          world_x, world_y, cos_theta, sin_theta):
+def update_world_vertices(
+    n_body,
+    vert_start,
+    local_x,
+    local_y,
+    body_x,
+    body_y,
+    body_theta,
+    world_x,
+    world_y,
+    cos_theta,
+    sin_theta,
+):
     """World coordinates of every vertex from body pose: w = x + R(theta) v_local [m].
 
     cos_theta, sin_theta (n_body,) receive each body's cos and sin of theta (:func:`cos_sin`; the
     time loop reuses them for its measures)."""
     for b in range(n_body):
         c, s = cos_sin(body_theta[b])
-        body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
-                            sin_theta)
+        body_world_vertices(
+            b,
+            c,
+            s,
+            vert_start,
+            local_x,
+            local_y,
+            body_x,
+            body_y,
+            world_x,
+            world_y,
+            cos_theta,
+            sin_theta,
+        )
 
 
 @njit(**INLINE_OPTIONS)
-def body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta,
-                        sin_theta):
+def body_world_vertices(
+    b, c, s, vert_start, local_x, local_y, body_x, body_y, world_x, world_y, cos_theta, sin_theta
+):
     """Body b's world vertices from its position and the cos c and sin s of its angle [m]; c and
     s kept in cos_theta, sin_theta."""
     cos_theta[b] = c
@@ -65,8 +109,23 @@ def body_world_vertices(b, c, s, vert_start, local_x, local_y, body_x, body_y, w
 
 
 @njit(**INLINE_OPTIONS)
-def drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, v_h, d_v, v_v,
-                 body_x, body_y, body_theta, body_vx, body_vy, body_omega):
+def drive_bodies(
+    n_body,
+    body_driven,
+    ref_x,
+    ref_y,
+    ref_theta,
+    d_h,
+    v_h,
+    d_v,
+    v_v,
+    body_x,
+    body_y,
+    body_theta,
+    body_vx,
+    body_vy,
+    body_omega,
+):
     """Set driven bodies to their reference pose shifted by the base displacement (d_h, d_v) [m]."""
     for b in range(n_body):
         if body_driven[b]:
@@ -79,9 +138,24 @@ def drive_bodies(n_body, body_driven, ref_x, ref_y, ref_theta, d_h, v_h, d_v, v_
 
 
 @njit(**INLINE_OPTIONS)
-def central_difference_step(n_body, body_driven, inv_mass, inv_inertia, gravity, kick, dt,
-                            force_x, force_y, torque,
-                            body_x, body_y, body_theta, body_vx, body_vy, body_omega):
+def central_difference_step(
+    n_body,
+    body_driven,
+    inv_mass,
+    inv_inertia,
+    gravity,
+    kick,
+    dt,
+    force_x,
+    force_y,
+    torque,
+    body_x,
+    body_y,
+    body_theta,
+    body_vx,
+    body_vy,
+    body_omega,
+):
     """Advance free bodies one step: kick mid-step velocities by ``kick`` F/m, drift by dt v.
 
     inv_mass, inv_inertia: 1 / mass and 1 / moment of inertia of each body [kg-1], [kg-1 m-2]

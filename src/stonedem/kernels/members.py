@@ -38,7 +38,9 @@ def leaf_kinds(cls) -> list[tuple[str, object]]:
         elif kind is np.ndarray or kind in SCALAR_DTYPES:
             out.append((name, kind))
         else:
-            raise TypeError(f"{cls.__name__}.{name}: a bundle holds arrays, float, int, bool or named tuples")
+            raise TypeError(
+                f"{cls.__name__}.{name}: a bundle holds arrays, float, int, bool or named tuples"
+            )
     return out
 
 
@@ -73,11 +75,16 @@ N_LEAVES = sum(len(leaf_kinds(cls)) for cls in BUNDLES)
 _namespace = {cls.__name__: cls for cls in (*BUNDLES, step.Law, step.Excitation, step.Watch)}
 exec(compile(_member_bundles_source(), f"<{__name__}.member_bundles>", "exec"), _namespace)
 # not cached: Numba caches only functions that live in a source file
-member_bundles = njit(**{**JIT_OPTIONS, "cache": False, "inline": "always"})(_namespace["member_bundles"])
-member_bundles.__doc__ = """(model, settings, state, samples, work) of member m: views into the stacked leaves."""
+member_bundles = njit(**{**JIT_OPTIONS, "cache": False, "inline": "always"})(
+    _namespace["member_bundles"]
+)
+member_bundles.__doc__ = (
+    """(model, settings, state, samples, work) of member m: views into the stacked leaves."""
+)
 
 
 # ---------------------------------------------------------------- plain Python: stack and copy back
+
 
 def leaves_of(bundle) -> list:
     """The leaves of one bundle instance, depth first in field order (as :func:`leaf_kinds`)."""
@@ -120,11 +127,15 @@ def stack(members: list[tuple], member_fastest: bool = False) -> tuple[tuple, np
         arrays = [np.asarray(a) for a in column]
         rest = {a.shape[1:] for a in arrays}
         if len(rest) > 1 or len({a.dtype for a in arrays}) > 1:
-            raise ValueError(f"{name}: members differ in shape {sorted(rest)} or type: they must share one structure")
+            raise ValueError(
+                f"{name}: members differ in shape {sorted(rest)} or type: they must share one structure"
+            )
         lengths[:, k] = [a.shape[0] for a in arrays]
-        out = np.zeros((n, int(lengths[:, k].max()), *arrays[0].shape[1:]), dtype=arrays[0].dtype, order=order)
+        out = np.zeros(
+            (n, int(lengths[:, k].max()), *arrays[0].shape[1:]), dtype=arrays[0].dtype, order=order
+        )
         for m, a in enumerate(arrays):
-            out[m, :a.shape[0]] = a
+            out[m, : a.shape[0]] = a
         leaves.append(out)
     return tuple(leaves), lengths
 
@@ -145,4 +156,4 @@ def copy_back(leaves, lengths, members: list[tuple]) -> None:
     flat = [member_leaves(member) for member in members]
     for k in written_leaves():
         for m, member in enumerate(flat):
-            member[k][...] = leaves[k][m, :lengths[m, k]]
+            member[k][...] = leaves[k][m, : lengths[m, k]]

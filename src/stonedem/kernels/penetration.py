@@ -18,7 +18,11 @@ from numba import njit
 from stonedem.kernels import JIT_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds
 from stonedem.kernels.integrate import update_world_vertices
-from stonedem.kernels.overlap import (MAX_OVERLAP_VERTICES, clip_convex_polygons, polygon_area_centroid)
+from stonedem.kernels.overlap import (
+    MAX_OVERLAP_VERTICES,
+    clip_convex_polygons,
+    polygon_area_centroid,
+)
 from stonedem.kernels.scalar import isfinite
 
 # a sample is clipped unless its boxes' overlap is below the deepest overlap by more than this
@@ -56,20 +60,25 @@ def deepest_overlap(vert_start, local_x, local_y, body_area, x, y, theta):
             finite = finite and isfinite(x[s, b]) and isfinite(y[s, b]) and isfinite(theta[s, b])
         if not finite:
             continue
-        update_world_vertices(n_body, vert_start, local_x, local_y, x[s], y[s], theta[s], wx, wy,
-                              cos_theta, sin_theta)
+        update_world_vertices(
+            n_body, vert_start, local_x, local_y, x[s], y[s], theta[s], wx, wy, cos_theta, sin_theta
+        )
         body_bounds(n_body, vert_start, wx, wy, lo_x, lo_y, hi_x, hi_y)
         for a in range(n_body):
             for b in range(a + 1, n_body):
                 if lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]:
                     continue
                 smaller = min(body_area[a], body_area[b])
-                box = (min(hi_x[a], hi_x[b]) - max(lo_x[a], lo_x[b])) * (min(hi_y[a], hi_y[b]) - max(lo_y[a], lo_y[b]))
+                box = (min(hi_x[a], hi_x[b]) - max(lo_x[a], lo_x[b])) * (
+                    min(hi_y[a], hi_y[b]) - max(lo_y[a], lo_y[b])
+                )
                 if box * (1.0 + BOX_MARGIN) < worst * smaller:
                     continue
                 sa, ea = vert_start[a], vert_start[a + 1]
                 sb, eb = vert_start[b], vert_start[b + 1]
-                n = clip_convex_polygons(wx[sa:ea], wy[sa:ea], wx[sb:eb], wy[sb:eb], out_x, out_y, tmp_x, tmp_y)
+                n = clip_convex_polygons(
+                    wx[sa:ea], wy[sa:ea], wx[sb:eb], wy[sb:eb], out_x, out_y, tmp_x, tmp_y
+                )
                 if n < 3:
                     continue
                 area, _, _ = polygon_area_centroid(out_x, out_y, n)

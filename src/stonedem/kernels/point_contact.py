@@ -44,7 +44,21 @@ import numpy as np
 from numba import njit
 
 from stonedem.kernels import INLINE_OPTIONS, NO_ALLOC_OPTIONS
-from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, END_FT, END_SLOTS, MEM_ACTIVE, MEM_END, MEM_M_DAMP, push_pair, record_point_force, relative_velocity, release_contact, tangential_force)
+from stonedem.kernels.contact import (
+    E_BASE_WORK,
+    E_DAMPING,
+    E_TANGENTIAL,
+    END_FT,
+    END_SLOTS,
+    MEM_ACTIVE,
+    MEM_END,
+    MEM_M_DAMP,
+    push_pair,
+    record_point_force,
+    relative_velocity,
+    release_contact,
+    tangential_force,
+)
 from stonedem.kernels.overlap import clip_convex_polygons, polygon_area_centroid
 from stonedem.kernels.scalar import sqrt
 
@@ -60,7 +74,9 @@ FACE_SWITCH_TOLERANCE = 1e-9
 # two edges a step instead of every edge of both bodies, with the same result bit for bit
 FACE_A = 0  # a's edge of least overlap (counted from its first vertex); -1: nothing kept
 FACE_B = 1  # b's
-GAP_A = 2  # by how much that edge's separation exceeded every other edge of a's, less FACE_SLACK [m]
+GAP_A = (
+    2  # by how much that edge's separation exceeded every other edge of a's, less FACE_SLACK [m]
+)
 GAP_B = 3
 POSE_AX = 4  # the two bodies' poses then [m], [rad]
 POSE_AY = 5
@@ -109,7 +125,15 @@ def world_edges(n_body, vert_start, world_x, world_y, edge_len, edge_nx, edge_ny
     of which looked at both bodies' edges three times.
     """
     for b in range(n_body):
-        body_edges(vert_start[b], vert_start[b + 1] - vert_start[b], world_x, world_y, edge_len, edge_nx, edge_ny)
+        body_edges(
+            vert_start[b],
+            vert_start[b + 1] - vert_start[b],
+            world_x,
+            world_y,
+            edge_len,
+            edge_nx,
+            edge_ny,
+        )
 
 
 @njit(**INLINE_OPTIONS)
@@ -172,18 +196,26 @@ def faces_hold(cache, p, a, b, body_x, body_y, body_theta, body_radius):
     """
     ta = body_theta[a]
     tb = body_theta[b]
-    move = (abs(body_x[a] - cache[p, POSE_AX]) + abs(body_y[a] - cache[p, POSE_AY])
-            + abs(body_x[b] - cache[p, POSE_BX]) + abs(body_y[b] - cache[p, POSE_BY]))
+    move = (
+        abs(body_x[a] - cache[p, POSE_AX])
+        + abs(body_y[a] - cache[p, POSE_AY])
+        + abs(body_x[b] - cache[p, POSE_BX])
+        + abs(body_y[b] - cache[p, POSE_BY])
+    )
     turn_a = abs(ta - cache[p, POSE_AT])
     turn_b = abs(tb - cache[p, POSE_BT])
     reach = cache[p, REACH]
     both = turn_a + turn_b
-    return (2.0 * (move + reach * turn_a + body_radius[b] * both) < cache[p, GAP_A]
-            and 2.0 * (move + reach * turn_b + body_radius[a] * both) < cache[p, GAP_B])
+    return (
+        2.0 * (move + reach * turn_a + body_radius[b] * both) < cache[p, GAP_A]
+        and 2.0 * (move + reach * turn_b + body_radius[a] * both) < cache[p, GAP_B]
+    )
 
 
 @njit(**INLINE_OPTIONS)
-def keep_faces(cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, body_theta, body_radius):
+def keep_faces(
+    cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, body_theta, body_radius
+):
     """Keep pair slot p's faces and gaps (separation less the next one, per body) [m] with
     the poses they hold for, less a rounding allowance; nothing when a gap is not positive
     (the caller empties the slot, FACE_A = -1, before the full test that calls this)."""
@@ -192,7 +224,9 @@ def keep_faces(cache, p, a, b, face_a, face_b, gap_a, gap_b, body_x, body_y, bod
     xb = body_x[b]
     yb = body_y[b]
     reach = abs(xb - xa) + abs(yb - ya)
-    slack = FACE_SLACK * (abs(xa) + abs(ya) + abs(xb) + abs(yb) + reach + body_radius[a] + body_radius[b] + 1.0)
+    slack = FACE_SLACK * (
+        abs(xa) + abs(ya) + abs(xb) + abs(yb) + reach + body_radius[a] + body_radius[b] + 1.0
+    )
     if gap_a - slack <= 0.0 or gap_b - slack <= 0.0:
         return  # the caller left the slot empty
     cache[p, FACE_A] = face_a
@@ -242,13 +276,30 @@ def kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, bo
     """Kinetic energy of body b [J], 0 for a driven body."""
     if body_driven[b]:
         return 0.0
-    return 0.5 * (body_mass[b] * (body_vx[b] ** 2 + body_vy[b] ** 2)
-                  + body_inertia[b] * body_omega[b] ** 2)
+    return 0.5 * (
+        body_mass[b] * (body_vx[b] ** 2 + body_vy[b] ** 2) + body_inertia[b] * body_omega[b] ** 2
+    )
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, body_omega,
-                    body_mass, body_inertia, body_driven, energy_acc):
+def plastic_impulse(
+    a,
+    b,
+    px,
+    py,
+    nx,
+    ny,
+    mu,
+    body_x,
+    body_y,
+    body_vx,
+    body_vy,
+    body_omega,
+    body_mass,
+    body_inertia,
+    body_driven,
+    energy_acc,
+):
     """Housner's impact at a landing point p: stop its relative motion in one impulse.
 
     The impulse j on b (-j on a) at p brings b's velocity relative to a at p to rest
@@ -258,8 +309,18 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
     any contact stiffness. The kinetic energy it removes is booked as normal dissipation,
     the work of a driven body's velocity as base work. Velocities are changed in place.
     """
-    vnx = body_vx[b] - body_omega[b] * (py - body_y[b]) - body_vx[a] + body_omega[a] * (py - body_y[a])
-    vny = body_vy[b] + body_omega[b] * (px - body_x[b]) - body_vy[a] - body_omega[a] * (px - body_x[a])
+    vnx = (
+        body_vx[b]
+        - body_omega[b] * (py - body_y[b])
+        - body_vx[a]
+        + body_omega[a] * (py - body_y[a])
+    )
+    vny = (
+        body_vy[b]
+        + body_omega[b] * (px - body_x[b])
+        - body_vy[a]
+        - body_omega[a] * (px - body_x[a])
+    )
     u_n = vnx * nx + vny * ny
     if u_n >= 0.0:
         return  # separating already
@@ -299,8 +360,9 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
         j_n = -u_n / denom
         jx = j_n * dx
         jy = j_n * dy
-    before = (kinetic_energy(a, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega)
-              + kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega))
+    before = kinetic_energy(
+        a, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega
+    ) + kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega)
     work = 0.0
     for body, sign in ((b, 1.0), (a, -1.0)):
         if body_driven[body]:
@@ -312,8 +374,9 @@ def plastic_impulse(a, b, px, py, nx, ny, mu, body_x, body_y, body_vx, body_vy, 
         body_vx[body] += sign * jx / body_mass[body]
         body_vy[body] += sign * jy / body_mass[body]
         body_omega[body] += sign * (rx * jy - ry * jx) / body_inertia[body]
-    after = (kinetic_energy(a, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega)
-             + kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega))
+    after = kinetic_energy(
+        a, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega
+    ) + kinetic_energy(b, body_mass, body_inertia, body_driven, body_vx, body_vy, body_omega)
     energy_acc[E_BASE_WORK] += work
     energy_acc[E_DAMPING] += before - after + work
 
@@ -328,7 +391,12 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
     calls this directly."""
     law = model.law
     k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
-    vert_start, body_driven, body_mass, body_inertia = model.vert_start, model.body_driven, model.body_mass, model.body_inertia
+    vert_start, body_driven, body_mass, body_inertia = (
+        model.vert_start,
+        model.body_driven,
+        model.body_mass,
+        model.body_inertia,
+    )
     body_x, body_y = state.body_x, state.body_y
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega
     pair_memory, energy_acc = state.pair_memory, state.energy_acc
@@ -385,8 +453,11 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
     stiffness = 0.5 * k_n * max(length, 0.0)
     k_end_t = 0.5 * k_t  # each end's tangential spring and dashpot: half the contact's
     c_end_t = 0.5 * c_t
-    mass = body_mass[a] if body_driven[b] else (
-        body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
+    mass = (
+        body_mass[a]
+        if body_driven[b]
+        else (body_mass[b] if body_driven[a] else min(body_mass[a], body_mass[b]))
+    )
     c_end = 2.0 * damping * sqrt(stiffness * mass)  # each end's dashpot, zeta of critical
     for end in range(2):
         if length <= 0.0:
@@ -426,15 +497,31 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
             offset = 0.0
             if impact and mem[slot] == 0.0:
                 offset = depth
-                plastic_impulse(a, b, px, py, enx, eny, mu, body_x, body_y,
-                                body_vx, body_vy, body_omega, body_mass, body_inertia,
-                                body_driven, energy_acc)
+                plastic_impulse(
+                    a,
+                    b,
+                    px,
+                    py,
+                    enx,
+                    eny,
+                    mu,
+                    body_x,
+                    body_y,
+                    body_vx,
+                    body_vy,
+                    body_omega,
+                    body_mass,
+                    body_inertia,
+                    body_driven,
+                    energy_acc,
+                )
         mem[slot] = 1.0
         mem[slot + 1] = vertex
         mem[slot + 2] = offset
         depth -= offset
-        v_n, v_t = relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b,
-                                     px, py, enx, eny, eny, -enx)
+        v_n, v_t = relative_velocity(
+            body_x, body_y, body_vx, body_vy, body_omega, a, b, px, py, enx, eny, eny, -enx
+        )
         # thesis Eq. 3.4 at the point: spring + dashpot, no tension
         f_el = stiffness * depth
         f_damp = c_end * v_n
@@ -443,27 +530,63 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
         f_end = f_el + f_damp
         # thesis Eq. 3.5-3.6 at the point, with its own spring (UDEC: one shear spring per
         # contact point), so the tangential law stays conservative as the load moves
-        f_t, ft_el = tangential_force(mem[slot + END_FT], mu, f_end, v_t, k_end_t,
-                                      c_end_t, dt, energy_acc)
+        f_t, ft_el = tangential_force(
+            mem[slot + END_FT], mu, f_end, v_t, k_end_t, c_end_t, dt, energy_acc
+        )
         mem[slot + END_FT] = ft_el
         record_point_force(mem, n_end, px, py, enx, eny, f_damp, f_t)
         n_end += 1
         # force on b: f_end n - F_T t with t = n turned clockwise
-        push_pair(a, b, body_x, body_y, body_driven, px, py,
-                  f_end * enx - f_t * eny, f_end * eny + f_t * enx,
-                  force_x, force_y, torque, base_force_x, base_force_y)
+        push_pair(
+            a,
+            b,
+            body_x,
+            body_y,
+            body_driven,
+            px,
+            py,
+            f_end * enx - f_t * eny,
+            f_end * eny + f_t * enx,
+            force_x,
+            force_y,
+            torque,
+            base_force_x,
+            base_force_y,
+        )
         if want_energy:
             stored += 0.5 * stiffness * depth * depth + 0.5 * ft_el * ft_el / k_end_t
     if n_end == 0:
         # both ends clear while the polygons overlap: the area law's k_n A at the
         # centroid, without friction, so nothing tunnels
-        n_over = clip_convex_polygons(world_x[sa:sa + na], world_y[sa:sa + na], world_x[sb:sb + nb],
-                                      world_y[sb:sb + nb], out_x, out_y, scratch[2], scratch[3])
+        n_over = clip_convex_polygons(
+            world_x[sa : sa + na],
+            world_y[sa : sa + na],
+            world_x[sb : sb + nb],
+            world_y[sb : sb + nb],
+            out_x,
+            out_y,
+            scratch[2],
+            scratch[3],
+        )
         if n_over >= 3:
             area, cx, cy = polygon_area_centroid(out_x, out_y, n_over)
             f_fallback = k_n * area
-            push_pair(a, b, body_x, body_y, body_driven, cx, cy, f_fallback * nx, f_fallback * ny,
-                      force_x, force_y, torque, base_force_x, base_force_y)
+            push_pair(
+                a,
+                b,
+                body_x,
+                body_y,
+                body_driven,
+                cx,
+                cy,
+                f_fallback * nx,
+                f_fallback * ny,
+                force_x,
+                force_y,
+                torque,
+                base_force_x,
+                base_force_y,
+            )
     for k in range(n_end, 2):
         record_point_force(mem, k, 0.0, 0.0, nx, ny, 0.0, 0.0)
     mem[MEM_ACTIVE] = 1.0
@@ -508,7 +631,7 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     for p in range(n_pair):
         a = pair_a[p]
         b = pair_b[p]
-        if (lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]):
+        if lo_x[a] > hi_x[b] or lo_x[b] > hi_x[a] or lo_y[a] > hi_y[b] or lo_y[b] > hi_y[a]:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
@@ -520,8 +643,11 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         # edges of least overlap kept from an earlier step while they provably still are
         sep_b = 0.0
         ref_b = 0
-        if keep and face_cache[p, FACE_A] >= 0.0 and faces_hold(face_cache, p, a, b, body_x, body_y, body_theta,
-                                                                body_radius):
+        if (
+            keep
+            and face_cache[p, FACE_A] >= 0.0
+            and faces_hold(face_cache, p, a, b, body_x, body_y, body_theta, body_radius)
+        ):
             ref_a = int(face_cache[p, FACE_A])
             sep_a = edge_separation(world_x, world_y, edge_nx, edge_ny, sa + ref_a, sb, nb)
             if sep_a < 0.0:
@@ -530,24 +656,46 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
         else:
             if keep:
                 face_cache[p, FACE_A] = -1.0
-            sep_a, ref_a, next_a = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb)
+            sep_a, ref_a, next_a = deepest_face(
+                world_x, world_y, edge_len, edge_nx, edge_ny, sa, na, sb, nb
+            )
             if sep_a < 0.0:
-                sep_b, ref_b, next_b = deepest_face(world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na)
+                sep_b, ref_b, next_b = deepest_face(
+                    world_x, world_y, edge_len, edge_nx, edge_ny, sb, nb, sa, na
+                )
                 if keep and sep_b < 0.0:
-                    keep_faces(face_cache, p, a, b, ref_a, ref_b, sep_a - next_a, sep_b - next_b,
-                               body_x, body_y, body_theta, body_radius)
+                    keep_faces(
+                        face_cache,
+                        p,
+                        a,
+                        b,
+                        ref_a,
+                        ref_b,
+                        sep_a - next_a,
+                        sep_b - next_b,
+                        body_x,
+                        body_y,
+                        body_theta,
+                        body_radius,
+                    )
         if sep_a >= 0.0 or sep_b >= 0.0:
             if pair_memory[a, b, MEM_ACTIVE] != 0.0:
                 release_contact(a, b, pair_ft, pair_memory, k_t, energy_acc)
             continue
         n_contact += 1
         # contact faces: the reference face and the other body's edge most opposed to it
-        size = max(max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a]), max(hi_x[b] - lo_x[b], hi_y[b] - lo_y[b]))
+        size = max(
+            max(hi_x[a] - lo_x[a], hi_y[a] - lo_y[a]), max(hi_x[b] - lo_x[b], hi_y[b] - lo_y[b])
+        )
         if sep_b > sep_a + FACE_SWITCH_TOLERANCE * size:
             kb = ref_b
-            ka, _ = contact_face(edge_len, edge_nx, edge_ny, sa, na, -edge_nx[sb + kb], -edge_ny[sb + kb])
+            ka, _ = contact_face(
+                edge_len, edge_nx, edge_ny, sa, na, -edge_nx[sb + kb], -edge_ny[sb + kb]
+            )
         else:
             ka = ref_a
-            kb, _ = contact_face(edge_len, edge_nx, edge_ny, sb, nb, -edge_nx[sa + ka], -edge_ny[sa + ka])
+            kb, _ = contact_face(
+                edge_len, edge_nx, edge_ny, sb, nb, -edge_nx[sa + ka], -edge_ny[sa + ka]
+            )
         stored = face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, stored)
     return n_contact, stored

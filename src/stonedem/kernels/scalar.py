@@ -29,14 +29,20 @@ def isfinite(x):
     return np.isfinite(x)
 
 
-FUNCTIONS = ((sqrt, np.sqrt, math.sqrt), (sin, np.sin, math.sin), (cos, np.cos, math.cos),
-             (isfinite, np.isfinite, math.isfinite))
+FUNCTIONS = (
+    (sqrt, np.sqrt, math.sqrt),
+    (sin, np.sin, math.sin),
+    (cos, np.cos, math.cos),
+    (isfinite, np.isfinite, math.isfinite),
+)
 
 
 def _spelling(function):
     """The overload's typer: whatever the argument's type, the implementation calls ``function``."""
+
     def typer(x):
         return lambda x: function(x)
+
     return typer
 
 

@@ -48,7 +48,14 @@ from numba import njit
 
 from stonedem.kernels import INLINE_OPTIONS, JIT_OPTIONS, NO_ALLOC_OPTIONS
 from stonedem.kernels.broad_phase import body_bounds, candidate_pairs_into
-from stonedem.kernels.contact import (E_BASE_WORK, E_DAMPING, E_TANGENTIAL, N_ENERGY_ACC, area_contact_forces, contact_power)
+from stonedem.kernels.contact import (
+    E_BASE_WORK,
+    E_DAMPING,
+    E_TANGENTIAL,
+    N_ENERGY_ACC,
+    area_contact_forces,
+    contact_power,
+)
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
@@ -59,7 +66,9 @@ STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
 STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
 STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
-STATUS_PAIRS_FULL = 4  # run_steps only: more candidate pairs than Work holds; run grows it and goes on
+STATUS_PAIRS_FULL = (
+    4  # run_steps only: more candidate pairs than Work holds; run grows it and goes on
+)
 
 CONTACT_AREA = 0  # thesis overlap-area law (stonedem.kernels.contact)
 CONTACT_POINT = 1  # point contacts at the face ends (stonedem.kernels.point_contact)
@@ -94,7 +103,9 @@ class Law(NamedTuple):
 
     kind: int  # CONTACT_AREA or CONTACT_POINT
     k_n: float  # normal stiffness: per unit overlap area (area) or contact length (point) [N m-2]
-    damping: float  # normal dashpot: c_n [N s m-1] (area) or a fraction of critical, zeta [1] (point)
+    damping: (
+        float  # normal dashpot: c_n [N s m-1] (area) or a fraction of critical, zeta [1] (point)
+    )
     impact: bool  # point law: a landing end stops plastically (stonedem.kernels.point_contact.plastic_impulse)
     k_t: float  # tangential stiffness [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
@@ -125,7 +136,9 @@ class Watch(NamedTuple):
     slide_support_x: np.ndarray  # the same point in the support's frame at t = 0 (n_body,) [m]
     slide_support_y: np.ndarray
     slide_offset: np.ndarray  # their separation along the support's x axis at t = 0 (n_body,) [m]
-    epistyle: np.ndarray  # 1.0 where the body counts in the epistyle displacement, else 0.0 (n_body,)
+    epistyle: (
+        np.ndarray
+    )  # 1.0 where the body counts in the epistyle displacement, else 0.0 (n_body,)
     n_epistyle: float
     x0: np.ndarray  # centroid x at t = 0 (n_body,) [m]
 
@@ -178,8 +191,12 @@ class State(NamedTuple):
     body_vy: np.ndarray
     body_omega: np.ndarray
     pair_ft: np.ndarray  # elastic tangential force of each pair (n_body, n_body) [N]
-    pair_memory: np.ndarray  # contact memory, slots MEM_* of stonedem.kernels.contact (n_body, n_body, N_MEMORY)
-    energy_acc: np.ndarray  # energy accumulators, slots E_* of stonedem.kernels.contact (N_ENERGY_ACC,) [J]
+    pair_memory: (
+        np.ndarray
+    )  # contact memory, slots MEM_* of stonedem.kernels.contact (n_body, n_body, N_MEMORY)
+    energy_acc: (
+        np.ndarray
+    )  # energy accumulators, slots E_* of stonedem.kernels.contact (N_ENERGY_ACC,) [J]
     rest_count: np.ndarray  # samples at rest in a row so far (1,) int64
     peaks: np.ndarray  # running maxima over the steps run so far, slots PEAK_* (N_PEAK,)
     peak_theta: np.ndarray  # running maximum of each body's |theta| (n_body,) [rad]
@@ -212,7 +229,9 @@ class Work(NamedTuple):
     hi_x: np.ndarray
     hi_y: np.ndarray
     inv_mass: np.ndarray  # 1 / mass and 1 / moment of inertia of each free body, 0 for a driven one
-    inv_inertia: np.ndarray  # (n_body,) [kg-1], [kg-1 m-2] (the integrator multiplies: no division a step)
+    inv_inertia: (
+        np.ndarray
+    )  # (n_body,) [kg-1], [kg-1 m-2] (the integrator multiplies: no division a step)
     force_x: np.ndarray  # contact force and torque on each body (n_body,) [N], [N m]
     force_y: np.ndarray
     torque: np.ndarray
@@ -221,16 +240,24 @@ class Work(NamedTuple):
     vel_x: np.ndarray  # velocities at t_n (n_body,), 0 spin for driven bodies
     vel_y: np.ndarray
     vel_om: np.ndarray
-    power: np.ndarray  # this step's power into each energy accumulator, slots E_* (N_ENERGY_ACC,) [W]
+    power: (
+        np.ndarray
+    )  # this step's power into each energy accumulator, slots E_* (N_ENERGY_ACC,) [W]
     sweep_x: np.ndarray  # poses at the last broad-phase sweep (n_body,)
     sweep_y: np.ndarray
     sweep_theta: np.ndarray
     scratch: np.ndarray  # overlap polygons (4, MAX_OVERLAP_VERTICES)
-    pair_a: np.ndarray  # candidate pairs of the last sweep in their first n_pair entries (capacity,)
+    pair_a: (
+        np.ndarray
+    )  # candidate pairs of the last sweep in their first n_pair entries (capacity,)
     pair_b: np.ndarray
-    pair_key: np.ndarray  # the broad phase's sort buffers (capacity,) (broad_phase.candidate_pairs_into)
+    pair_key: (
+        np.ndarray
+    )  # the broad phase's sort buffers (capacity,) (broad_phase.candidate_pairs_into)
     pair_order: np.ndarray
-    face_cache: np.ndarray  # point law: each pair slot's kept separating axes (capacity, N_FACE_CACHE), columns
+    face_cache: (
+        np.ndarray
+    )  # point law: each pair slot's kept separating axes (capacity, N_FACE_CACHE), columns
     # of stonedem.kernels.point_contact (FACE_A < 0: nothing kept; a sweep forgets them all)
     order: np.ndarray  # bodies sorted along the sweep axis at the last sweep (n_body,)
     group_sum: np.ndarray  # sum of |theta| over each collapse group (n_group,) [rad]
@@ -257,21 +284,40 @@ def allocate_work(model, capacity):
             inv_mass[b] = 1.0 / model.body_mass[b]
             inv_inertia[b] = 1.0 / model.body_inertia[b]
     return Work(
-        world_x=np.empty(n_vert), world_y=np.empty(n_vert),
-        edge_len=np.zeros(n_vert), edge_nx=np.zeros(n_vert), edge_ny=np.zeros(n_vert),
-        cos_theta=np.empty(n_body), sin_theta=np.empty(n_body), inv_mass=inv_mass, inv_inertia=inv_inertia,
-        lo_x=np.empty(n_body), lo_y=np.empty(n_body), hi_x=np.empty(n_body), hi_y=np.empty(n_body),
-        force_x=np.zeros(n_body), force_y=np.zeros(n_body), torque=np.zeros(n_body),
-        base_force_x=np.zeros(n_body), base_force_y=np.zeros(n_body),
-        vel_x=np.zeros(n_body), vel_y=np.zeros(n_body), vel_om=np.zeros(n_body),
+        world_x=np.empty(n_vert),
+        world_y=np.empty(n_vert),
+        edge_len=np.zeros(n_vert),
+        edge_nx=np.zeros(n_vert),
+        edge_ny=np.zeros(n_vert),
+        cos_theta=np.empty(n_body),
+        sin_theta=np.empty(n_body),
+        inv_mass=inv_mass,
+        inv_inertia=inv_inertia,
+        lo_x=np.empty(n_body),
+        lo_y=np.empty(n_body),
+        hi_x=np.empty(n_body),
+        hi_y=np.empty(n_body),
+        force_x=np.zeros(n_body),
+        force_y=np.zeros(n_body),
+        torque=np.zeros(n_body),
+        base_force_x=np.zeros(n_body),
+        base_force_y=np.zeros(n_body),
+        vel_x=np.zeros(n_body),
+        vel_y=np.zeros(n_body),
+        vel_om=np.zeros(n_body),
         power=np.zeros(N_ENERGY_ACC),
-        sweep_x=np.empty(n_body), sweep_y=np.empty(n_body), sweep_theta=np.empty(n_body),
+        sweep_x=np.empty(n_body),
+        sweep_y=np.empty(n_body),
+        sweep_theta=np.empty(n_body),
         scratch=np.zeros((4, MAX_OVERLAP_VERTICES)),
-        pair_a=np.zeros(capacity, dtype=np.int64), pair_b=np.zeros(capacity, dtype=np.int64),
-        pair_key=np.zeros(capacity, dtype=np.int64), pair_order=np.zeros(capacity, dtype=np.int64),
+        pair_a=np.zeros(capacity, dtype=np.int64),
+        pair_b=np.zeros(capacity, dtype=np.int64),
+        pair_key=np.zeros(capacity, dtype=np.int64),
+        pair_order=np.zeros(capacity, dtype=np.int64),
         face_cache=np.full((capacity, N_FACE_CACHE), -1.0),
         order=np.arange(n_body),
-        group_sum=np.zeros(n_group), group_count=np.zeros(n_group),
+        group_sum=np.zeros(n_group),
+        group_count=np.zeros(n_group),
     )
 
 
@@ -282,8 +328,11 @@ def needs_resweep(model, state, work):
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     body_radius = model.body_radius
     for b in range(body_x.shape[0]):
-        moved = (abs(body_x[b] - sweep_x[b]) + abs(body_y[b] - sweep_y[b])
-                 + body_radius[b] * abs(body_theta[b] - sweep_theta[b]))
+        moved = (
+            abs(body_x[b] - sweep_x[b])
+            + abs(body_y[b] - sweep_y[b])
+            + body_radius[b] * abs(body_theta[b] - sweep_theta[b])
+        )
         if moved > 0.5 * model.margin:
             return True
     return False
@@ -294,9 +343,21 @@ def sweep(model, state, work):
     """Candidate pairs from the current bounds into work.pair_a, pair_b; returns their number,
     which exceeds the buffers' length when they are too short. The poses are kept for
     needs_resweep."""
-    n_pair = candidate_pairs_into(model.body_mass.shape[0], model.body_driven, work.lo_x, work.lo_y,
-                                  work.hi_x, work.hi_y, model.margin, model.sweep_axis, work.order,
-                                  work.pair_a, work.pair_b, work.pair_key, work.pair_order)
+    n_pair = candidate_pairs_into(
+        model.body_mass.shape[0],
+        model.body_driven,
+        work.lo_x,
+        work.lo_y,
+        work.hi_x,
+        work.hi_y,
+        model.margin,
+        model.sweep_axis,
+        work.order,
+        work.pair_a,
+        work.pair_b,
+        work.pair_key,
+        work.pair_order,
+    )
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     for p in range(min(n_pair, work.face_cache.shape[0])):  # the slots hold other pairs now
@@ -318,12 +379,42 @@ def place_bodies(model, state, work, t):
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     world_x, world_y = work.world_x, work.world_y
     n_body = body_x.shape[0]
-    d_h, vel_h, _ = base_motion(t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt)
-    d_v, vel_v, _ = base_motion(t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt)
-    drive_bodies(n_body, model.body_driven, model.ref_x, model.ref_y, model.ref_theta, d_h, vel_h, d_v, vel_v,
-                 body_x, body_y, body_theta, state.body_vx, state.body_vy, state.body_omega)
-    update_world_vertices(n_body, vert_start, model.local_x, model.local_y, body_x, body_y, body_theta,
-                          world_x, world_y, work.cos_theta, work.sin_theta)
+    d_h, vel_h, _ = base_motion(
+        t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt
+    )
+    d_v, vel_v, _ = base_motion(
+        t, v.kind, v.params, v.table_accel, v.table_vel, v.table_disp, v.table_dt
+    )
+    drive_bodies(
+        n_body,
+        model.body_driven,
+        model.ref_x,
+        model.ref_y,
+        model.ref_theta,
+        d_h,
+        vel_h,
+        d_v,
+        vel_v,
+        body_x,
+        body_y,
+        body_theta,
+        state.body_vx,
+        state.body_vy,
+        state.body_omega,
+    )
+    update_world_vertices(
+        n_body,
+        vert_start,
+        model.local_x,
+        model.local_y,
+        body_x,
+        body_y,
+        body_theta,
+        world_x,
+        world_y,
+        work.cos_theta,
+        work.sin_theta,
+    )
     body_bounds(n_body, vert_start, world_x, world_y, work.lo_x, work.lo_y, work.hi_x, work.hi_y)
     return d_h, vel_h, d_v, vel_v
 
@@ -438,8 +529,9 @@ def sample_state(n, k, model, state, work, samples, n_contact, elastic, half):
         kinetic += 0.5 * body_mass[b] * (vx * vx + vy * vy)
         kinetic += 0.5 * body_inertia[b] * om * om
         potential += body_mass[b] * model.gravity * body_y[b]
-        if not (isfinite(body_x[b]) and isfinite(body_y[b])
-                and isfinite(body_theta[b]) and isfinite(om)):
+        if not (
+            isfinite(body_x[b]) and isfinite(body_y[b]) and isfinite(body_theta[b]) and isfinite(om)
+        ):
             finite = False
     energy, energy_acc, power = samples.energy, state.energy_acc, work.power
     energy[k, ENERGY_KINETIC] = kinetic
@@ -476,7 +568,11 @@ def collapsed(model, state, work, d_v):
     more than model.fall_depth below its reference; groups are model.body_group (column,
     epistyle, block), with critical mean rotation model.group_theta_cr = atan(b/h).
     """
-    body_driven, body_group, group_theta_cr = model.body_driven, model.body_group, model.group_theta_cr
+    body_driven, body_group, group_theta_cr = (
+        model.body_driven,
+        model.body_group,
+        model.group_theta_cr,
+    )
     ref_y, fall_depth = model.ref_y, model.fall_depth
     body_y, body_theta = state.body_y, state.body_theta
     sums, counts = work.group_sum, work.group_count
@@ -514,8 +610,12 @@ def track(model, state, work, n, d_h, d_v, tilt_alarm):
     """
     watch = model.watch
     rocking, support, epistyle, x0 = watch.rocking, watch.support, watch.epistyle, watch.x0
-    slide_x, slide_y, slide_support_x, slide_support_y = (watch.slide_x, watch.slide_y, watch.slide_support_x,
-                                                          watch.slide_support_y)
+    slide_x, slide_y, slide_support_x, slide_support_y = (
+        watch.slide_x,
+        watch.slide_y,
+        watch.slide_support_x,
+        watch.slide_support_y,
+    )
     slide_offset = watch.slide_offset
     ref_y, fall_depth = model.ref_y, model.fall_depth
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
@@ -541,9 +641,11 @@ def track(model, state, work, n, d_h, d_v, tilt_alarm):
             c_s = cos_theta[s]
             s_s = sin_theta[s]
             dx = (body_x[b] + c_b * slide_x[b] - s_b * slide_y[b]) - (
-                body_x[s] + c_s * slide_support_x[b] - s_s * slide_support_y[b])
+                body_x[s] + c_s * slide_support_x[b] - s_s * slide_support_y[b]
+            )
             dy = (body_y[b] + s_b * slide_x[b] + c_b * slide_y[b]) - (
-                body_y[s] + s_s * slide_support_x[b] + c_s * slide_support_y[b])
+                body_y[s] + s_s * slide_support_x[b] + c_s * slide_support_y[b]
+            )
             slide_sum += abs(dx * c_s + dy * s_s - slide_offset[b])
     if watch.n_rocking > 0.0:
         rock = rock_sum / watch.n_rocking
@@ -561,8 +663,23 @@ def track(model, state, work, n, d_h, d_v, tilt_alarm):
 
 
 @njit(**INLINE_OPTIONS)
-def sample_step(n, model, settings, state, work, samples, n_sample, collapse_sample, n_contact, elastic, half, stop,
-                rest_from_step, vel_h, vel_v):
+def sample_step(
+    n,
+    model,
+    settings,
+    state,
+    work,
+    samples,
+    n_sample,
+    collapse_sample,
+    n_contact,
+    elastic,
+    half,
+    stop,
+    rest_from_step,
+    vel_h,
+    vel_v,
+):
     """Stage 6 of step n: write its sample (:func:`sample_state`); returns (status, n_sample,
     collapse_sample), the status STATUS_OK to go on, else the one that ends the run: non-finite
     values, the collapse that stops it (``stop``), or rest on a quiet base (from rest_from_step
@@ -590,15 +707,48 @@ def integrate_step(model, state, work, kick, dt):
     """Stage 7: book this step's powers over ``kick`` [s] and move the free bodies on
     (:func:`stonedem.kernels.integrate.central_difference_step`)."""
     book_energy(state, work, kick)
-    central_difference_step(model.body_mass.shape[0], model.body_driven, work.inv_mass, work.inv_inertia,
-                            model.gravity, kick, dt, work.force_x, work.force_y, work.torque,
-                            state.body_x, state.body_y, state.body_theta, state.body_vx, state.body_vy,
-                            state.body_omega)
+    central_difference_step(
+        model.body_mass.shape[0],
+        model.body_driven,
+        work.inv_mass,
+        work.inv_inertia,
+        model.gravity,
+        kick,
+        dt,
+        work.force_x,
+        work.force_y,
+        work.torque,
+        state.body_x,
+        state.body_y,
+        state.body_theta,
+        state.body_vx,
+        state.body_vy,
+        state.body_omega,
+    )
 
 
 @njit(**INLINE_OPTIONS)
-def finish_step(n, model, settings, state, work, samples, pair_a, pair_b, n_pair, n_sample, collapse_sample,
-                n_contact, elastic, stop, sample, step_first, rest_from_step, vel_h, vel_v):
+def finish_step(
+    n,
+    model,
+    settings,
+    state,
+    work,
+    samples,
+    pair_a,
+    pair_b,
+    n_pair,
+    n_sample,
+    collapse_sample,
+    n_contact,
+    elastic,
+    stop,
+    sample,
+    step_first,
+    rest_from_step,
+    vel_h,
+    vel_v,
+):
     """Stages 4 to 7 of step n, once its contact forces are in work: the velocities and powers
     at t_n (the contact power over pairs pair_a, pair_b[:n_pair]), its sample if ``sample``
     (:func:`sample_step`), then, unless that ended the run or n is the last step, the step to
@@ -607,15 +757,38 @@ def finish_step(n, model, settings, state, work, samples, pair_a, pair_b, n_pair
     # 4. velocities at t_n; 5. powers at t_n
     half = 0.0 if n == step_first else 0.5 * settings.dt
     velocities_at_step(model, state, work, half)
-    p_damp, p_tan = contact_power(pair_a, pair_b, n_pair, state.pair_memory, state.body_x, state.body_y, work.vel_x,
-                                  work.vel_y, work.vel_om)
+    p_damp, p_tan = contact_power(
+        pair_a,
+        pair_b,
+        n_pair,
+        state.pair_memory,
+        state.body_x,
+        state.body_y,
+        work.vel_x,
+        work.vel_y,
+        work.vel_om,
+    )
     book_power(work, p_damp, p_tan, vel_h, vel_v)
     # 6. a sample, which may end the run; 7. integrate
     status = STATUS_OK
     if sample:
-        status, n_sample, collapse_sample = sample_step(n, model, settings, state, work, samples, n_sample,
-                                                        collapse_sample, n_contact, elastic, half, stop,
-                                                        rest_from_step, vel_h, vel_v)
+        status, n_sample, collapse_sample = sample_step(
+            n,
+            model,
+            settings,
+            state,
+            work,
+            samples,
+            n_sample,
+            collapse_sample,
+            n_contact,
+            elastic,
+            half,
+            stop,
+            rest_from_step,
+            vel_h,
+            vel_v,
+        )
         if status != STATUS_OK:
             return status, n_sample, collapse_sample, True
     if n == settings.n_steps:
@@ -626,8 +799,18 @@ def finish_step(n, model, settings, state, work, samples, pair_a, pair_b, n_pair
 
 
 @njit(**JIT_OPTIONS)
-def run(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-        n_sample, collapse_sample):
+def run(
+    model,
+    settings,
+    state,
+    samples,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
 
     model, settings, state, samples: :class:`Model`, :class:`Settings`, :class:`State`,
@@ -649,48 +832,145 @@ def run(model, settings, state, samples, step_start, step_stop, step_first, rest
     :func:`run_area` compile one law's loop alone (what a single run calls).
     """
     if model.law.kind == CONTACT_POINT:
-        return run_under_law(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-                             n_sample, collapse_sample, True)
-    return run_under_law(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-                         n_sample, collapse_sample, None)
+        return run_under_law(
+            model,
+            settings,
+            state,
+            samples,
+            step_start,
+            step_stop,
+            step_first,
+            rest_from_step,
+            n_sample,
+            collapse_sample,
+            True,
+        )
+    return run_under_law(
+        model,
+        settings,
+        state,
+        samples,
+        step_start,
+        step_stop,
+        step_first,
+        rest_from_step,
+        n_sample,
+        collapse_sample,
+        None,
+    )
 
 
 @njit(**JIT_OPTIONS)
-def run_point(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-              n_sample, collapse_sample):
+def run_point(
+    model,
+    settings,
+    state,
+    samples,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """:func:`run` of a point-law scene, with the point law's code alone."""
-    return run_under_law(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-                         n_sample, collapse_sample, True)
+    return run_under_law(
+        model,
+        settings,
+        state,
+        samples,
+        step_start,
+        step_stop,
+        step_first,
+        rest_from_step,
+        n_sample,
+        collapse_sample,
+        True,
+    )
 
 
 @njit(**JIT_OPTIONS)
-def run_area(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-             n_sample, collapse_sample):
+def run_area(
+    model,
+    settings,
+    state,
+    samples,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """:func:`run` of an overlap-area-law scene, with the area law's code alone (a cold compile
     of the general loop is ~16 s shorter without the point law)."""
-    return run_under_law(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-                         n_sample, collapse_sample, None)
+    return run_under_law(
+        model,
+        settings,
+        state,
+        samples,
+        step_start,
+        step_stop,
+        step_first,
+        rest_from_step,
+        n_sample,
+        collapse_sample,
+        None,
+    )
 
 
 @njit(**{**JIT_OPTIONS, "inline": "always"})
-def run_under_law(model, settings, state, samples, step_start, step_stop, step_first, rest_from_step,
-                  n_sample, collapse_sample, point_law):
+def run_under_law(
+    model,
+    settings,
+    state,
+    samples,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+    point_law,
+):
     """:func:`run` under one law (``point_law``: None or True, :func:`contact_forces`)."""
     capacity = first_pair_capacity(model.body_mass.shape[0])
     n = step_start
     while True:
         work = allocate_work(model, capacity)
         status, n_sample, collapse_sample, n = steps_under_law(
-            model, settings, state, samples, work, n, step_stop, step_first, rest_from_step, n_sample,
-            collapse_sample, point_law)
+            model,
+            settings,
+            state,
+            samples,
+            work,
+            n,
+            step_stop,
+            step_first,
+            rest_from_step,
+            n_sample,
+            collapse_sample,
+            point_law,
+        )
         if status != STATUS_PAIRS_FULL:
             return status, n_sample, collapse_sample
         capacity *= 2
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def run_steps(model, settings, state, samples, work, step_start, step_stop, step_first, rest_from_step,
-              n_sample, collapse_sample):
+def run_steps(
+    model,
+    settings,
+    state,
+    samples,
+    work,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+):
     """:func:`run` with its :class:`Work` bundle; returns (status, n_sample, collapse_sample,
     the step to go on from). STATUS_PAIRS_FULL: the pairs do not fit in work; that step's
     forces are not computed yet and :func:`run` calls again from it with a larger bundle.
@@ -700,13 +980,37 @@ def run_steps(model, settings, state, samples, work, step_start, step_stop, step
     point_law = True
     if model.law.kind != CONTACT_POINT:
         point_law = None
-    return steps_under_law(model, settings, state, samples, work, step_start, step_stop, step_first,
-                           rest_from_step, n_sample, collapse_sample, point_law)
+    return steps_under_law(
+        model,
+        settings,
+        state,
+        samples,
+        work,
+        step_start,
+        step_stop,
+        step_first,
+        rest_from_step,
+        n_sample,
+        collapse_sample,
+        point_law,
+    )
 
 
 @njit(**NO_ALLOC_OPTIONS)
-def steps_under_law(model, settings, state, samples, work, step_start, step_stop, step_first, rest_from_step,
-                    n_sample, collapse_sample, point_law):
+def steps_under_law(
+    model,
+    settings,
+    state,
+    samples,
+    work,
+    step_start,
+    step_stop,
+    step_first,
+    rest_from_step,
+    n_sample,
+    collapse_sample,
+    point_law,
+):
     """:func:`run_steps` under one law (``point_law``: None or True, :func:`contact_forces`)."""
     dt = settings.dt
     n_steps = settings.n_steps
@@ -742,9 +1046,27 @@ def steps_under_law(model, settings, state, samples, work, step_start, step_stop
         n_contact, elastic = contact_forces(model, state, work, n_pair, dt, sample, point_law)
 
         # 4.-7. velocities and powers at t_n, a sample, the step to t_{n+1}
-        status, n_sample, collapse_sample, done = finish_step(n, model, settings, state, work, samples, pair_a, pair_b,
-                                                              n_pair, n_sample, collapse_sample, n_contact, elastic,
-                                                              stop, sample, step_first, rest_from_step, vel_h, vel_v)
+        status, n_sample, collapse_sample, done = finish_step(
+            n,
+            model,
+            settings,
+            state,
+            work,
+            samples,
+            pair_a,
+            pair_b,
+            n_pair,
+            n_sample,
+            collapse_sample,
+            n_contact,
+            elastic,
+            stop,
+            sample,
+            step_first,
+            rest_from_step,
+            vel_h,
+            vel_v,
+        )
         if done:
             break
     return status, n_sample, collapse_sample, step_stop

@@ -19,7 +19,9 @@ import numpy as np
 from stonedem.errors import InputError, check_number
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
-MAX_DAMPINGS = 10  # spectra cost ~20 us per sample and damping (stonedem.motion.records.MAX_RECORD_SAMPLES)
+MAX_DAMPINGS = (
+    10  # spectra cost ~20 us per sample and damping (stonedem.motion.records.MAX_RECORD_SAMPLES)
+)
 DEFAULT_DAMPING = (0.05, 0.10)
 
 
@@ -31,19 +33,33 @@ def add_parser(subparsers) -> None:
     """
     rec = subparsers.add_parser("record", help="ground-motion records")
     rec_sub = rec.add_subparsers(dest="record_command", required=True)
-    info = rec_sub.add_parser("info", help="PGA, duration, dt, predominant frequency; writes a spectrum plot")
+    info = rec_sub.add_parser(
+        "info", help="PGA, duration, dt, predominant frequency; writes a spectrum plot"
+    )
     info.add_argument("file", help="record file (.AT2, text, NetCDF) or a name in records/")
-    info.add_argument("--units", default=None,
-                      help="acceleration units of a text record: m/s2 (default), g, cm/s2 "
-                           "(.AT2 and NetCDF records carry their own)")
-    info.add_argument("--dt", default=None, metavar="DT",
-                      help="time step of a one-column text record [s]")
-    info.add_argument("--plot", default=None, metavar="FILE",
-                      help="spectrum plot to write, .png, .pdf or .svg "
-                           "(default results/records/<name>_spectrum.png)")
-    info.add_argument("--damping", nargs="+", default=None, metavar="RATIO",
-                      help="damping ratios of the response spectra (default 0.05 0.10; "
-                           f"at most {MAX_DAMPINGS})")
+    info.add_argument(
+        "--units",
+        default=None,
+        help="acceleration units of a text record: m/s2 (default), g, cm/s2 "
+        "(.AT2 and NetCDF records carry their own)",
+    )
+    info.add_argument(
+        "--dt", default=None, metavar="DT", help="time step of a one-column text record [s]"
+    )
+    info.add_argument(
+        "--plot",
+        default=None,
+        metavar="FILE",
+        help="spectrum plot to write, .png, .pdf or .svg "
+        "(default results/records/<name>_spectrum.png)",
+    )
+    info.add_argument(
+        "--damping",
+        nargs="+",
+        default=None,
+        metavar="RATIO",
+        help=f"damping ratios of the response spectra (default 0.05 0.10; at most {MAX_DAMPINGS})",
+    )
     info.set_defaults(handler=command_record_info)
 
 
@@ -54,21 +70,28 @@ def check_dampings(values) -> list[float]:
     if not values:
         raise InputError("--damping", "no value given", "give ratios such as 0.05 0.10")
     if len(values) > MAX_DAMPINGS:
-        raise InputError("--damping", f"{len(values)} values, at most {MAX_DAMPINGS}",
-                         "give fewer damping ratios")
+        raise InputError(
+            "--damping",
+            f"{len(values)} values, at most {MAX_DAMPINGS}",
+            "give fewer damping ratios",
+        )
     out = []
     for value in values:
         z = check_number(value, "--damping")
         if not 0 < z < 1:
-            raise InputError("--damping", f"{z:g} is not a damping ratio", "give values between 0 and 1, e.g. 0.05")
+            raise InputError(
+                "--damping",
+                f"{z:g} is not a damping ratio",
+                "give values between 0 and 1, e.g. 0.05",
+            )
         out.append(z)
     return out
 
 
 def command_record_info(args) -> int:
-    from stonedem.motion import records
-    from stonedem.io.atomic import write_atomically
     from stonedem.entry import check_output_path
+    from stonedem.io.atomic import write_atomically
+    from stonedem.motion import records
     from stonedem.motion.excitation import check_units, read_record, resolve_record
 
     # every argument first, before anything is read or computed
@@ -80,10 +103,16 @@ def command_record_info(args) -> int:
     if args.plot is not None and not str(args.plot).strip():
         raise InputError("--plot", "empty path", "give a file name ending in .png")
     path = resolve_record(args.file, "file", Path("."))
-    plot = Path(args.plot) if args.plot is not None else Path("results/records") / f"{path.stem}_spectrum.png"
+    plot = (
+        Path(args.plot)
+        if args.plot is not None
+        else Path("results/records") / f"{path.stem}_spectrum.png"
+    )
     plot = check_output_path(plot, "--plot", inputs=[path], suffixes=PLOT_SUFFIXES)
 
-    time, accel, meta = read_record(path, "file", units=units, dt=dt, units_field="--units", dt_field="--dt")
+    time, accel, meta = read_record(
+        path, "file", units=units, dt=dt, units_field="--units", dt_field="--dt"
+    )
     pga = float(np.abs(accel).max())
     f_p = records.predominant_frequency(time, accel)
     _, disp = records.integrate(time, accel)
@@ -97,19 +126,28 @@ def command_record_info(args) -> int:
     if math.isnan(f_p):
         # an all-zero or constant record is a valid file whose PGA, spectra (zero) and
         # duration are well defined; only the frequency is not: say so instead of a number
-        why = ("the record is all zeros" if pga == 0 else "the record is constant" if records.is_constant(accel)
-               else "no spectral peak in 0.1-25 Hz")
+        why = (
+            "the record is all zeros"
+            if pga == 0
+            else "the record is constant"
+            if records.is_constant(accel)
+            else "no spectral peak in 0.1-25 Hz"
+        )
         print(f"predominant freq.   none ({why})")
     else:
         print(f"predominant freq.   {f_p:.3g} Hz (smoothed Fourier amplitude peak)")
-    print(f"end displacement    {disp[-1]:.4g} m as recorded (baseline correction is applied when simulating)")
+    print(
+        f"end displacement    {disp[-1]:.4g} m as recorded (baseline correction is applied when simulating)"
+    )
     periods = records.SPECTRUM_PERIODS
     spectra = []
     for z in dampings:
         psa = records.response_spectrum(time, accel, periods, z)
         spectra.append(psa)
         if psa.max() > 0:
-            print(f"PSA peak ({100 * z:g} %)     {psa.max():.4g} m/s2 at T = {periods[np.argmax(psa)]:.3g} s")
+            print(
+                f"PSA peak ({100 * z:g} %)     {psa.max():.4g} m/s2 at T = {periods[np.argmax(psa)]:.3g} s"
+            )
         else:
             print(f"PSA peak ({100 * z:g} %)     0 m/s2 (no response)")
 
@@ -131,8 +169,7 @@ def command_record_info(args) -> int:
         ax2.legend()
         predominant = "none" if math.isnan(f_p) else f"{f_p:.3g} Hz"
         title = records.shown(path.name, 80).replace("$", r"\$")  # no mathtext from a file name
-        fig.suptitle(f"{title}: PGA {pga:.3g} m/s2, predominant {predominant}",
-                     fontsize=10)
+        fig.suptitle(f"{title}: PGA {pga:.3g} m/s2, predominant {predominant}", fontsize=10)
         write_atomically(plot, lambda tmp: fig.savefig(tmp, dpi=110))
     finally:
         plt.close(fig)

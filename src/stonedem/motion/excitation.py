@@ -15,21 +15,37 @@ from __future__ import annotations
 
 import math
 import os
+import re
+from array import array
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
-import re
-from array import array
-
 from stonedem.errors import InputError, check_number
 from stonedem.kernels import excitation as kx
-from stonedem.motion.records import (G_STANDARD, MAX_RECORD_PGA, _reason, check_dt, check_pga, check_record_file, check_samples, shown, text_lines)
+from stonedem.motion.records import (
+    G_STANDARD,
+    MAX_RECORD_PGA,
+    _reason,
+    check_dt,
+    check_pga,
+    check_record_file,
+    check_samples,
+    shown,
+    text_lines,
+)
 
-UNIT_FACTORS = {"m/s2": 1.0, "m s-2": 1.0, "m/s^2": 1.0, "g": G_STANDARD, "cm/s2": 0.01,
-                "cm s-2": 0.01, "gal": 0.01}
+UNIT_FACTORS = {
+    "m/s2": 1.0,
+    "m s-2": 1.0,
+    "m/s^2": 1.0,
+    "g": G_STANDARD,
+    "cm/s2": 0.01,
+    "cm s-2": 0.01,
+    "gal": 0.01,
+}
 RECORD_SUFFIXES = (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat")
 TIME_UNITS = ("s", "sec", "second", "seconds")  # accepted units of a NetCDF record's time
 
@@ -38,7 +54,11 @@ def checkout_records_dir() -> Path | None:
     """The top-level ``records/`` of a source checkout this module runs from (editable install)."""
     here = Path(__file__).resolve()
     root = here.parents[3]
-    if here.parents[2].name == "src" and (root / "pyproject.toml").is_file() and (root / "records").is_dir():
+    if (
+        here.parents[2].name == "src"
+        and (root / "pyproject.toml").is_file()
+        and (root / "records").is_dir()
+    ):
         return root / "records"
     return None
 
@@ -74,6 +94,8 @@ def record_folders() -> list[Path]:
 
 _folders = record_folders()
 RECORDS_DIR = _folders[0] if _folders else Path(__file__).resolve().parents[3] / "records"
+
+
 @dataclass(frozen=True)
 class BaseMotion:
     """A base motion as the kernel sees it (:func:`stonedem.kernels.excitation.base_motion`)."""
@@ -92,8 +114,15 @@ class BaseMotion:
         if self.kind == kx.KIND_NONE:  # at rest, as base_motion gives it, without the call
             out = np.zeros((3, t.shape[0]))
             return out[0], out[1], out[2]
-        out = kx.base_motion_many(t, self.kind, self.params, self.table_accel,
-                                  self.table_vel, self.table_disp, self.table_dt)
+        out = kx.base_motion_many(
+            t,
+            self.kind,
+            self.params,
+            self.table_accel,
+            self.table_vel,
+            self.table_disp,
+            self.table_dt,
+        )
         return out[0], out[1], out[2]
 
     @property
@@ -155,8 +184,11 @@ MAX_EXCITATION_FREQUENCY = 1000.0  # [Hz]
 def _frequency(spec: dict, field: str) -> float:
     f = _num(spec, "frequency", field, positive=True)
     if f > MAX_EXCITATION_FREQUENCY:
-        raise InputError(f"{field}.frequency", f"{f:g} Hz is above the limit {MAX_EXCITATION_FREQUENCY:g} Hz",
-                         "give the frequency in Hz")
+        raise InputError(
+            f"{field}.frequency",
+            f"{f:g} Hz is above the limit {MAX_EXCITATION_FREQUENCY:g} Hz",
+            "give the frequency in Hz",
+        )
     return f
 
 
@@ -167,42 +199,81 @@ def _none(spec: dict, field: str, base_dir: Path) -> BaseMotion:
 def _harmonic(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     f = _frequency(spec, field)
     if ("amplitude" in spec) == ("pga" in spec):
-        raise InputError(f"{field}.amplitude", "give exactly one of amplitude [m] and pga [m s-2]",
-                         "write amplitude: 0.25 or pga: 2.15")
+        raise InputError(
+            f"{field}.amplitude",
+            "give exactly one of amplitude [m] and pga [m s-2]",
+            "write amplitude: 0.25 or pga: 2.15",
+        )
     if "pga" in spec:  # thesis 6.1 sweeps frequency at a fixed peak acceleration: A = PGA / w^2
         amp = _num(spec, "pga", field, positive=True) / (2 * math.pi * f) ** 2
     else:
         amp = _num(spec, "amplitude", field)
     cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
     if cycles < 0:
-        raise InputError(f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more")
+        raise InputError(
+            f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more"
+        )
     if not math.isfinite(amp * (2 * math.pi * f) ** 2):
-        raise InputError(f"{field}.amplitude", f"{amp:g} m at {f:g} Hz is not a finite acceleration",
-                         "give an amplitude in m")
+        raise InputError(
+            f"{field}.amplitude",
+            f"{amp:g} m at {f:g} Hz is not a finite acceleration",
+            "give an amplitude in m",
+        )
     params = np.array([amp, 2 * math.pi * f, cycles / f, 0.0])
-    return BaseMotion(kx.KIND_HARMONIC, params, description={
-        "kind": "harmonic", "frequency": f, "frequency_units": "Hz", "amplitude": amp, "amplitude_units": "m",
-        "ramp_cycles": cycles, "pga": amp * (2 * math.pi * f) ** 2})
+    return BaseMotion(
+        kx.KIND_HARMONIC,
+        params,
+        description={
+            "kind": "harmonic",
+            "frequency": f,
+            "frequency_units": "Hz",
+            "amplitude": amp,
+            "amplitude_units": "m",
+            "ramp_cycles": cycles,
+            "pga": amp * (2 * math.pi * f) ** 2,
+        },
+    )
 
 
 def _rect_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     a_p = _num(spec, "accel", field)
     t_p = _num(spec, "duration", field, positive=True)
-    return BaseMotion(kx.KIND_RECT_PULSE, np.array([a_p, t_p, 0.0, 0.0]), description={
-        "kind": "rect_pulse", "accel": a_p, "accel_units": "m s-2", "duration": t_p, "duration_units": "s"})
+    return BaseMotion(
+        kx.KIND_RECT_PULSE,
+        np.array([a_p, t_p, 0.0, 0.0]),
+        description={
+            "kind": "rect_pulse",
+            "accel": a_p,
+            "accel_units": "m s-2",
+            "duration": t_p,
+            "duration_units": "s",
+        },
+    )
 
 
 def _sine_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     a_p = _num(spec, "accel", field)
     f = _frequency(spec, field)
-    return BaseMotion(kx.KIND_SINE_PULSE, np.array([a_p, 2 * math.pi * f, 1.0 / f, 0.0]), description={
-        "kind": "sine_pulse", "accel": a_p, "accel_units": "m s-2", "frequency": f, "frequency_units": "Hz"})
+    return BaseMotion(
+        kx.KIND_SINE_PULSE,
+        np.array([a_p, 2 * math.pi * f, 1.0 / f, 0.0]),
+        description={
+            "kind": "sine_pulse",
+            "accel": a_p,
+            "accel_units": "m s-2",
+            "frequency": f,
+            "frequency_units": "Hz",
+        },
+    )
 
 
 def _ramp(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     rate = _num(spec, "rate", field)
-    return BaseMotion(kx.KIND_RAMP, np.array([rate, 0.0, 0.0, 0.0]),
-                      description={"kind": "ramp", "rate": rate, "rate_units": "m s-3"})
+    return BaseMotion(
+        kx.KIND_RAMP,
+        np.array([rate, 0.0, 0.0, 0.0]),
+        description={"kind": "ramp", "rate": rate, "rate_units": "m s-3"},
+    )
 
 
 def _angular_period(m: BaseMotion) -> float:
@@ -224,23 +295,45 @@ def _table_period(m: BaseMotion) -> float:
 EXCITATIONS: dict[str, Excitation] = {
     "none": Excitation({}, _none, lambda d: "no base motion"),
     "harmonic": Excitation(
-        {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"}, _harmonic,
+        {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"},
+        _harmonic,
         lambda d: f"harmonic {d['frequency']:g} Hz x {d['amplitude']:g} m",
-        pga=lambda m: abs(m.params[0]) * m.params[1] ** 2, period=_angular_period),
+        pga=lambda m: abs(m.params[0]) * m.params[1] ** 2,
+        period=_angular_period,
+    ),
     "rect_pulse": Excitation(
-        {"accel": "m s-2", "duration": "s"}, _rect_pulse,
+        {"accel": "m s-2", "duration": "s"},
+        _rect_pulse,
         lambda d: f"rectangular pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
-        pga=lambda m: abs(m.params[0]), duration=lambda m: float(m.params[1]), period=lambda m: float(m.params[1])),
+        pga=lambda m: abs(m.params[0]),
+        duration=lambda m: float(m.params[1]),
+        period=lambda m: float(m.params[1]),
+    ),
     "sine_pulse": Excitation(
-        {"accel": "m s-2", "frequency": "Hz"}, _sine_pulse,
+        {"accel": "m s-2", "frequency": "Hz"},
+        _sine_pulse,
         lambda d: f"sine pulse {d['accel']:g} m/s2 at {d['frequency']:g} Hz",
-        pga=lambda m: abs(m.params[0]), duration=lambda m: float(m.params[2]), period=_angular_period),
+        pga=lambda m: abs(m.params[0]),
+        duration=lambda m: float(m.params[2]),
+        period=_angular_period,
+    ),
     "ramp": Excitation({"rate": "m s-3"}, _ramp, lambda d: f"ramp {d['rate']:g} m/s2 per s"),
     "record": Excitation(
-        {"file": "", "component": "", "scale": "1", "pga": "m s-2", "units": "", "dt": "s", "baseline": ""},
+        {
+            "file": "",
+            "component": "",
+            "scale": "1",
+            "pga": "m s-2",
+            "units": "",
+            "dt": "s",
+            "baseline": "",
+        },
         lambda spec, field, base_dir: _record_motion(spec, field, Path(base_dir)),
         lambda d: f"record {Path(str(d.get('file', '?'))).stem}",
-        pga=_table_pga, duration=_table_duration, period=_table_period),
+        pga=_table_pga,
+        duration=_table_duration,
+        period=_table_period,
+    ),
 }
 
 
@@ -264,7 +357,9 @@ def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[Base
     return horizontal, excitation_from_spec(vertical, "excitation.vertical", base_dir)
 
 
-def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir: Path = Path(".")) -> BaseMotion:
+def excitation_from_spec(
+    spec: dict | None, field: str = "excitation", base_dir: Path = Path(".")
+) -> BaseMotion:
     """Validate one excitation mapping and build its BaseMotion (its row of EXCITATIONS)."""
     if spec is None:
         spec = {"kind": "none"}
@@ -272,11 +367,17 @@ def excitation_from_spec(spec: dict | None, field: str = "excitation", base_dir:
         raise InputError(field, "expected a mapping", "write {kind: none | harmonic | ...}")
     kind = spec.get("kind")
     if not isinstance(kind, str) or kind not in EXCITATIONS:
-        raise InputError(f"{field}.kind", f"unknown kind {kind!r}", f"use one of {', '.join(EXCITATIONS)}")
+        raise InputError(
+            f"{field}.kind", f"unknown kind {kind!r}", f"use one of {', '.join(EXCITATIONS)}"
+        )
     allowed = ("kind", *EXCITATIONS[kind].keys)
     for key in spec:
         if key not in allowed:
-            raise InputError(f"{field}.{key}", f"unknown key for kind {kind}", f"allowed keys: {', '.join(allowed)}")
+            raise InputError(
+                f"{field}.{key}",
+                f"unknown key for kind {kind}",
+                f"allowed keys: {', '.join(allowed)}",
+            )
     return EXCITATIONS[kind].build(spec, field, Path(base_dir))
 
 
@@ -286,18 +387,26 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
 
         suite = suite_of(spec["component"])
         if suite is None:
-            raise InputError(f"{field}.component", f"{shown(repr(spec['component']))} is not a FEMA P695 "
-                             "component name", f"write e.g. FF07a (prefixes {', '.join(p for _, p in SUITES.values())}"
-                             ", record number, a or b), or give file:")
+            raise InputError(
+                f"{field}.component",
+                f"{shown(repr(spec['component']))} is not a FEMA P695 component name",
+                f"write e.g. FF07a (prefixes {', '.join(p for _, p in SUITES.values())}"
+                ", record number, a or b), or give file:",
+            )
         spec = {**spec, "file": f"suites/{suite}"}
     if "file" not in spec:
-        raise InputError(f"{field}.file", "missing", "give the record file (path or name in records/)")
+        raise InputError(
+            f"{field}.file", "missing", "give the record file (path or name in records/)"
+        )
     if "scale" in spec and "pga" in spec:
         raise InputError(field, "give scale or pga, not both", "remove one of them")
     name = spec["file"]
     if isinstance(name, bool) or not isinstance(name, (str, int, Path)):
-        raise InputError(f"{field}.file", f"expected a file name or path, got {shown(repr(name))}",
-                         "write file: northridge_1994_mul009 or file: path/to/record.AT2")
+        raise InputError(
+            f"{field}.file",
+            f"expected a file name or path, got {shown(repr(name))}",
+            "write file: northridge_1994_mul009 or file: path/to/record.AT2",
+        )
     units = check_units(spec.get("units"), f"{field}.units")
     dt = _num(spec, "dt", field, positive=True, required=False)
     baseline = spec.get("baseline", True)
@@ -305,38 +414,66 @@ def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
         raise InputError(f"{field}.baseline", "expected true or false", "write baseline: true")
     target = _num(spec, "pga", field, positive=True) if "pga" in spec else None
     if target is not None and target > MAX_RECORD_PGA:
-        raise InputError(f"{field}.pga", f"{target:g} m/s2 is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit",
-                         "give a ground acceleration in m/s2")
+        raise InputError(
+            f"{field}.pga",
+            f"{target:g} m/s2 is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit",
+            "give a ground acceleration in m/s2",
+        )
     scale = _num(spec, "scale", field, required=False, default=1.0)
     component = spec.get("component")
     if component is not None:
         if not isinstance(component, str) or not component:
-            raise InputError(f"{field}.component", f"expected a component name, got {shown(repr(component))}",
-                             "write component: FF07a (a record of a suite file, records/suites/)")
+            raise InputError(
+                f"{field}.component",
+                f"expected a component name, got {shown(repr(component))}",
+                "write component: FF07a (a record of a suite file, records/suites/)",
+            )
         if units is not None or dt is not None:
-            raise InputError(f"{field}.component", "a suite component carries its own units and dt",
-                             "drop units and dt")
+            raise InputError(
+                f"{field}.component",
+                "a suite component carries its own units and dt",
+                "drop units and dt",
+            )
     path = resolve_record(str(name), f"{field}.file", base_dir)
     time, accel, meta = _corrected_record(path, field, units, dt, baseline, component)
     pga_raw = float(np.abs(accel).max())
     if target is not None:
         if pga_raw == 0.0:
-            raise InputError(f"{field}.pga", "the record is all zeros" + (" after baseline correction" if baseline else ""),
-                             "use a record with motion")
+            raise InputError(
+                f"{field}.pga",
+                "the record is all zeros" + (" after baseline correction" if baseline else ""),
+                "use a record with motion",
+            )
         scale = target / pga_raw
     accel = accel * scale
     pga = float(np.abs(accel).max())
     if not pga <= MAX_RECORD_PGA:
         limit = f"{MAX_RECORD_PGA / G_STANDARD:g} g limit (stonedem.motion.records.MAX_RECORD_PGA)"
         if "scale" in spec:
-            raise InputError(f"{field}.scale", f"the scaled record's peak {pga:.4g} m/s2 is above the {limit}",
-                             "give a smaller scale")
-        raise InputError(f"{field}.file", f"{shown(path.name)}: baseline correction raises the peak to "
-                         f"{pga:.4g} m/s2, above the {limit}", "give baseline: false, or a longer record")
+            raise InputError(
+                f"{field}.scale",
+                f"the scaled record's peak {pga:.4g} m/s2 is above the {limit}",
+                "give a smaller scale",
+            )
+        raise InputError(
+            f"{field}.file",
+            f"{shown(path.name)}: baseline correction raises the peak to "
+            f"{pga:.4g} m/s2, above the {limit}",
+            "give baseline: false, or a longer record",
+        )
     table_a, table_v, table_d, h = record_to_table(time, accel)
-    description = {"kind": "record", "file": str(path), "scale": scale, "baseline_corrected": int(baseline),
-                   "pga": pga, "pga_units": "m s-2", "record_pga": pga_raw, "record_dt": h,
-                   "record_duration": float(time[-1] - time[0]), **meta}
+    description = {
+        "kind": "record",
+        "file": str(path),
+        "scale": scale,
+        "baseline_corrected": int(baseline),
+        "pga": pga,
+        "pga_units": "m s-2",
+        "record_pga": pga_raw,
+        "record_dt": h,
+        "record_duration": float(time[-1] - time[0]),
+        **meta,
+    }
     return BaseMotion(kx.KIND_TABLE, np.zeros(4), table_a, table_v, table_d, h, description)
 
 
@@ -353,8 +490,14 @@ def _corrected_record(path: Path, field: str, units, dt, baseline: bool, compone
     key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns, units, dt, baseline, component)
     if key not in _RECORD_MEMO:
         if component is None:
-            time, accel, meta = read_record(path, f"{field}.file", units=units, dt=dt,
-                                            units_field=f"{field}.units", dt_field=f"{field}.dt")
+            time, accel, meta = read_record(
+                path,
+                f"{field}.file",
+                units=units,
+                dt=dt,
+                units_field=f"{field}.units",
+                dt_field=f"{field}.dt",
+            )
         else:
             from stonedem.motion.suites import read_component
 
@@ -391,13 +534,20 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     if isinstance(name, Path):
         name = str(name)
     if not isinstance(name, str):
-        raise InputError(field, f"expected a file name or path, got {shown(repr(name))}", "give a record file")
+        raise InputError(
+            field, f"expected a file name or path, got {shown(repr(name))}", "give a record file"
+        )
     if not name.strip():
-        raise InputError(field, "empty record name", "give a path or a record name, e.g. northridge_1994_mul009")
+        raise InputError(
+            field, "empty record name", "give a path or a record name, e.g. northridge_1994_mul009"
+        )
     if "\0" in name or len(name) > MAX_NAME_CHARS:
-        raise InputError(field, f"'{shown(name)}' is not a usable file name"
-                         + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
-                         "give a path or a record name")
+        raise InputError(
+            field,
+            f"'{shown(name)}' is not a usable file name"
+            + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
+            "give a path or a record name",
+        )
     key = (name, str(base_dir), os.getcwd(), checkout_records_dir, packaged_records_dir)
     found = _RESOLVED.get(key)
     if found is not None and found.is_file():  # a search resolves its record once a run
@@ -422,15 +572,25 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
         except (OSError, ValueError):
             continue
     if dangling and not not_files:
-        raise InputError(field, f"{shown(dangling[0])} is a symbolic link that cannot be followed (a loop, or "
-                         "to nothing)", "give the record file itself")
+        raise InputError(
+            field,
+            f"{shown(dangling[0])} is a symbolic link that cannot be followed (a loop, or "
+            "to nothing)",
+            "give the record file itself",
+        )
     if not_files:
-        raise InputError(field, f"{shown(not_files[0])} is not a record file"
-                         + (" (a folder)" if not_files[0].is_dir() else ""), "give a record file")
+        raise InputError(
+            field,
+            f"{shown(not_files[0])} is not a record file"
+            + (" (a folder)" if not_files[0].is_dir() else ""),
+            "give a record file",
+        )
     known = sorted({p.stem for folder in folders for p in folder.glob("*.nc")})
     where = " or ".join(str(f) for f in folders) or "records/ (none installed)"
     listing = f" ({', '.join(known[:8])}{', ...' if len(known) > 8 else ''})" if known else ""
-    raise InputError(field, f"record '{shown(name)}' not found", f"give a path or a name in {where}{listing}")
+    raise InputError(
+        field, f"record '{shown(name)}' not found", f"give a path or a name in {where}{listing}"
+    )
 
 
 def check_units(units, field: str) -> str | None:
@@ -438,12 +598,21 @@ def check_units(units, field: str) -> str | None:
     if units is None:
         return None
     if not isinstance(units, str) or units.strip().lower() not in UNIT_FACTORS:
-        raise InputError(field, f"unknown units {shown(repr(units))}", f"use one of {', '.join(UNIT_FACTORS)}")
+        raise InputError(
+            field, f"unknown units {shown(repr(units))}", f"use one of {', '.join(UNIT_FACTORS)}"
+        )
     return units.strip().lower()
 
 
-def read_record(path: Path, field: str, units: str | None = None, dt: float | None = None, *,
-                units_field: str | None = None, dt_field: str | None = None):
+def read_record(
+    path: Path,
+    field: str,
+    units: str | None = None,
+    dt: float | None = None,
+    *,
+    units_field: str | None = None,
+    dt_field: str | None = None,
+):
     """(time [s] from 0, acceleration [m s-2], metadata) of a NetCDF, .AT2 or text record, checked.
 
     ``units`` and ``dt`` are for records that do not carry them (text); a NetCDF record with
@@ -455,7 +624,10 @@ def read_record(path: Path, field: str, units: str | None = None, dt: float | No
     base = field.rsplit(".", 1)[0] + "." if "." in field else ""
     units_field = units_field or f"{base}units"
     dt_field = dt_field or f"{base}dt"
-    units_label, dt_label = units_field.rsplit(".", 1)[-1], dt_field.rsplit(".", 1)[-1]  # key or --option
+    units_label, dt_label = (
+        units_field.rsplit(".", 1)[-1],
+        dt_field.rsplit(".", 1)[-1],
+    )  # key or --option
     units = check_units(units, units_field)
     if dt is not None:
         dt = check_dt(check_number(dt, dt_field, positive=True), dt_field, "time step")
@@ -467,8 +639,11 @@ def read_record(path: Path, field: str, units: str | None = None, dt: float | No
 
         rec = read_at2(path, field)
         if units is not None and UNIT_FACTORS[units] != G_STANDARD:
-            raise InputError(units_field, f"{name} is a PEER .AT2 record in g, {units_label} gives '{units}'",
-                             "drop the units: an .AT2 record carries its own")
+            raise InputError(
+                units_field,
+                f"{name} is a PEER .AT2 record in g, {units_label} gives '{units}'",
+                "drop the units: an .AT2 record carries its own",
+            )
         time, accel, file_units = rec.time, rec.acceleration, "m/s2"
         meta = {"title": rec.meta.get("title", "")}
     elif suffix == ".nc":
@@ -477,12 +652,18 @@ def read_record(path: Path, field: str, units: str | None = None, dt: float | No
         time, accel, header_dt = _read_text_record(path, field)
         if time is None:
             if dt is not None and header_dt is not None and not _same_step(dt, header_dt):
-                raise InputError(dt_field, f"{name} declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
-                                 "drop one of them")
+                raise InputError(
+                    dt_field,
+                    f"{name} declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
+                    "drop one of them",
+                )
             step = dt if dt is not None else header_dt
             if step is None:
-                raise InputError(field, f"{name} has one column and no time step",
-                                 "add a header line 'dt = 0.01' or the key dt:")
+                raise InputError(
+                    field,
+                    f"{name} has one column and no time step",
+                    "add a header line 'dt = 0.01' or the key dt:",
+                )
             check_dt(step, dt_field if dt is not None else field, f"{name}: dt =")
             time = np.arange(len(accel)) * step
             dt = None  # used
@@ -492,8 +673,11 @@ def read_record(path: Path, field: str, units: str | None = None, dt: float | No
     _check_record(time, accel, field, path)
     file_dt = float((time[-1] - time[0]) / (len(time) - 1))
     if dt is not None and not _same_step(dt, file_dt):
-        raise InputError(dt_field, f"{name} has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
-                         "drop dt: it is only for one-column text records")
+        raise InputError(
+            dt_field,
+            f"{name} has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
+            "drop dt: it is only for one-column text records",
+        )
     if time[0] != 0.0:
         meta["time_shift"] = float(-time[0])
         time = time - time[0]
@@ -511,54 +695,79 @@ def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
     import xarray as xr
 
     name = shown(path.name)
-    check_record_file(path, field, max_bytes=2**62)  # regular file; size is bounded per variable below
+    check_record_file(
+        path, field, max_bytes=2**62
+    )  # regular file; size is bounded per variable below
     fix = "store 'acceleration' [m s-2] on a 'time' coordinate [s] (see records/README.md)"
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False, cache=False)
     except Exception as err:  # netCDF4, h5netcdf and scipy raise many types on junk
-        raise InputError(field, f"{name} is not a readable NetCDF file ({_reason(err)})",
-                         "give a NetCDF record, or a text or .AT2 record with its own suffix") from None
+        raise InputError(
+            field,
+            f"{name} is not a readable NetCDF file ({_reason(err)})",
+            "give a NetCDF record, or a text or .AT2 record with its own suffix",
+        ) from None
     with ds:
         if "acceleration" not in ds.variables:
             have = ", ".join(shown(v, 30) for v in list(ds.variables)[:6]) or "none"
             raise InputError(field, f"{name} has no variable 'acceleration' (it has: {have})", fix)
         var = ds.variables["acceleration"]
         if tuple(var.dims) != ("time",):
-            raise InputError(field, f"{name}: 'acceleration' has dimensions {shown(tuple(var.dims))}, expected (time,)", fix)
+            raise InputError(
+                field,
+                f"{name}: 'acceleration' has dimensions {shown(tuple(var.dims))}, expected (time,)",
+                fix,
+            )
         if "time" not in ds.variables or tuple(ds.variables["time"].dims) != ("time",):
             raise InputError(field, f"{name} has no 'time' coordinate for 'acceleration'", fix)
         tvar = ds.variables["time"]
         check_samples(int(var.size), field, path.name)
         for label, v in (("acceleration", var), ("time", tvar)):
             if v.dtype.kind not in "iuf":
-                raise InputError(field, f"{name}: '{label}' holds {shown(v.dtype)}, not real numbers", fix)
+                raise InputError(
+                    field, f"{name}: '{label}' holds {shown(v.dtype)}, not real numbers", fix
+                )
         file_units = var.attrs.get("units")
         if file_units is not None:
             if not isinstance(file_units, str) or file_units.strip().lower() not in UNIT_FACTORS:
-                raise InputError(field, f"{name}: unknown acceleration units {shown(repr(file_units))}",
-                                 f"use one of {', '.join(UNIT_FACTORS)}")
+                raise InputError(
+                    field,
+                    f"{name}: unknown acceleration units {shown(repr(file_units))}",
+                    f"use one of {', '.join(UNIT_FACTORS)}",
+                )
             file_units = file_units.strip().lower()
             if units is not None and UNIT_FACTORS[units] != UNIT_FACTORS[file_units]:
-                raise InputError(units_field, f"{name} declares its acceleration in '{shown(file_units)}', "
-                                 f"{units_field.rsplit('.', 1)[-1]} gives '{units}'",
-                                 "drop the units: a NetCDF record carries its own")
+                raise InputError(
+                    units_field,
+                    f"{name} declares its acceleration in '{shown(file_units)}', "
+                    f"{units_field.rsplit('.', 1)[-1]} gives '{units}'",
+                    "drop the units: a NetCDF record carries its own",
+                )
         else:
             file_units = units or "m s-2"
         time_units = tvar.attrs.get("units", "s")
         if not isinstance(time_units, str) or time_units.strip().lower() not in TIME_UNITS:
-            raise InputError(field, f"{name}: time units {shown(repr(time_units))}, expected s",
-                             "store time in seconds (units: s)")
+            raise InputError(
+                field,
+                f"{name}: time units {shown(repr(time_units))}, expected s",
+                "store time in seconds (units: s)",
+            )
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 accel = np.asarray(var.values, dtype=float)
                 time = np.asarray(tvar.values, dtype=float)
         except Exception as err:
-            raise InputError(field, f"{name}: cannot read 'acceleration' ({_reason(err)})", fix) from None
-        meta = {k: shown(v, 200) for k, v in ds.attrs.items()
-                if k in ("title", "event", "station", "component", "source")}
+            raise InputError(
+                field, f"{name}: cannot read 'acceleration' ({_reason(err)})", fix
+            ) from None
+        meta = {
+            k: shown(v, 200)
+            for k, v in ds.attrs.items()
+            if k in ("title", "event", "station", "component", "source")
+        }
     return time, accel, file_units, meta
 
 
@@ -577,11 +786,17 @@ def _read_text_record(path: Path, field: str):
             try:
                 value = float(header.group(1).rstrip(",;"))
             except ValueError:
-                raise InputError(field, f"{name} line {number}: bad dt header '{shown(stripped, 40)}'",
-                                 "write dt = 0.01") from None
+                raise InputError(
+                    field,
+                    f"{name} line {number}: bad dt header '{shown(stripped, 40)}'",
+                    "write dt = 0.01",
+                ) from None
             if header_dt is not None and value != header_dt:
-                raise InputError(field, f"{name} line {number}: a second dt header ({value:g} s after "
-                                 f"{header_dt:g} s)", "keep one dt header")
+                raise InputError(
+                    field,
+                    f"{name} line {number}: a second dt header ({value:g} s after {header_dt:g} s)",
+                    "keep one dt header",
+                )
             header_dt = value
             continue
         text = line.split("#", 1)[0].strip()
@@ -591,16 +806,23 @@ def _read_text_record(path: Path, field: str):
         try:
             row = [float(p) for p in parts]
         except ValueError:
-            raise InputError(field, f"{name} line {number}: non-numeric value in '{shown(text, 40)}'",
-                             "give numbers only (comments start with #; a PEER record must end in .AT2)") from None
+            raise InputError(
+                field,
+                f"{name} line {number}: non-numeric value in '{shown(text, 40)}'",
+                "give numbers only (comments start with #; a PEER record must end in .AT2)",
+            ) from None
         if n_cols is None:
             n_cols = len(row)
             if n_cols not in (1, 2):
-                raise InputError(field, f"{name} line {number}: {n_cols} columns",
-                                 "give time and acceleration, or acceleration alone with dt")
+                raise InputError(
+                    field,
+                    f"{name} line {number}: {n_cols} columns",
+                    "give time and acceleration, or acceleration alone with dt",
+                )
         elif len(row) != n_cols:
-            raise InputError(field, f"{name} line {number}: {len(row)} columns, expected {n_cols}",
-                             "fix the row")
+            raise InputError(
+                field, f"{name} line {number}: {len(row)} columns, expected {n_cols}", "fix the row"
+            )
         n_rows += 1
         check_samples(n_rows, field, path.name)
         values.extend(row)
@@ -619,19 +841,29 @@ def _check_record(time, accel, field, path):
     check_samples(len(accel), field, path.name)
     bad = np.flatnonzero(~np.isfinite(accel) | ~np.isfinite(time))
     if len(bad):
-        raise InputError(field, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record")
+        raise InputError(
+            field, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record"
+        )
     with np.errstate(over="ignore", invalid="ignore"):
         steps = np.diff(time)
     if not np.all(np.isfinite(steps)):
-        raise InputError(field, f"{name}: time values too large to take differences", "give time in s from 0")
+        raise InputError(
+            field, f"{name}: time values too large to take differences", "give time in s from 0"
+        )
     if np.any(steps <= 0):
         i = int(np.flatnonzero(steps <= 0)[0])
-        raise InputError(field, f"{name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
-                         "sort the samples and remove duplicates")
+        raise InputError(
+            field,
+            f"{name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
+            "sort the samples and remove duplicates",
+        )
     h = float((time[-1] - time[0]) / (len(time) - 1))
     if np.ptp(steps) > 1e-6 * h:
-        raise InputError(field, f"{name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
-                         "resample to a uniform step first (not done here)")
+        raise InputError(
+            field,
+            f"{name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
+            "resample to a uniform step first (not done here)",
+        )
     check_dt(h, field, f"{name}: time step")
     check_pga(accel, field, path.name)
 

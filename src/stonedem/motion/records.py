@@ -24,7 +24,6 @@ import numpy as np
 from stonedem.errors import InputError
 from stonedem.units import G_STANDARD  # [m s-2], PEER convention for records in g
 
-
 # --- limits on record files (hostile or mistaken input; README "Ground-motion records") ----
 # Spectra cost ~20 us per sample and damping on this machine, the predominant frequency
 # ~25 us per sample: 500 000 samples (e.g. 500 s at 1 kHz, 40x the longest committed
@@ -41,8 +40,10 @@ def shown(text, limit: int = 60) -> str:
     """``text`` fit for a one-line message: control characters escaped, at most ``limit`` chars."""
     text = str(text)
     cut = len(text) > limit
-    out = "".join(ch if ch.isprintable() else ch.encode("unicode_escape", "backslashreplace").decode("ascii")
-                  for ch in text[:limit])
+    out = "".join(
+        ch if ch.isprintable() else ch.encode("unicode_escape", "backslashreplace").decode("ascii")
+        for ch in text[:limit]
+    )
     return out + "..." if cut else out
 
 
@@ -58,14 +59,20 @@ def check_record_file(path: Path, field: str, max_bytes: int | None = None) -> i
     try:
         info = os.stat(path)
     except (OSError, ValueError) as err:
-        raise InputError(field, f"{shown(path.name)}: cannot read ({_reason(err)})",
-                         "give a readable record file") from None
+        raise InputError(
+            field,
+            f"{shown(path.name)}: cannot read ({_reason(err)})",
+            "give a readable record file",
+        ) from None
     if not stat.S_ISREG(info.st_mode):
         raise InputError(field, f"{shown(path.name)} is not a regular file", "give a record file")
     if info.st_size > max_bytes:
-        raise InputError(field, f"{shown(path.name)} is {info.st_size / 2**20:.0f} MB, above the "
-                         f"{max_bytes / 2**20:.0f} MB limit for text records",
-                         f"give at most {MAX_RECORD_SAMPLES} samples (stonedem.motion.records.MAX_RECORD_BYTES)")
+        raise InputError(
+            field,
+            f"{shown(path.name)} is {info.st_size / 2**20:.0f} MB, above the "
+            f"{max_bytes / 2**20:.0f} MB limit for text records",
+            f"give at most {MAX_RECORD_SAMPLES} samples (stonedem.motion.records.MAX_RECORD_BYTES)",
+        )
     return info.st_size
 
 
@@ -87,7 +94,9 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
     try:
         handle = open(path, "rb")
     except OSError as err:
-        raise InputError(field, f"{name}: cannot read ({_reason(err)})", "give a readable record file") from None
+        raise InputError(
+            field, f"{name}: cannot read ({_reason(err)})", "give a readable record file"
+        ) from None
     chunk = MAX_LINE_CHARS * 4 + 2  # bytes: a UTF-8 character takes at most 4
     with handle:
         number = 0
@@ -95,24 +104,34 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
             try:
                 raw = handle.readline(chunk)
             except OSError as err:
-                raise InputError(field, f"{name}: cannot read ({_reason(err)})",
-                                 "give a readable record file") from None
+                raise InputError(
+                    field, f"{name}: cannot read ({_reason(err)})", "give a readable record file"
+                ) from None
             if not raw:
                 return
             number += 1
             if b"\0" in raw:
-                raise InputError(field, f"{name} line {number}: a NUL byte, this is a binary file",
-                                 "give a text record (or a NetCDF one named .nc)")
+                raise InputError(
+                    field,
+                    f"{name} line {number}: a NUL byte, this is a binary file",
+                    "give a text record (or a NetCDF one named .nc)",
+                )
             text = None
             if len(raw) < chunk or raw.endswith(b"\n"):
                 try:
                     text = raw.decode("utf-8")
                 except UnicodeDecodeError as err:
-                    raise InputError(field, f"{name} line {number}: byte {err.start + 1} is not UTF-8 text",
-                                     "save the record as UTF-8 or ASCII text") from None
+                    raise InputError(
+                        field,
+                        f"{name} line {number}: byte {err.start + 1} is not UTF-8 text",
+                        "save the record as UTF-8 or ASCII text",
+                    ) from None
             if text is None or len(text.rstrip("\r\n")) > MAX_LINE_CHARS:
-                raise InputError(field, f"{name} line {number} is longer than {MAX_LINE_CHARS} characters",
-                                 "give one sample (or one .AT2 row) per line, ending in a line feed")
+                raise InputError(
+                    field,
+                    f"{name} line {number} is longer than {MAX_LINE_CHARS} characters",
+                    "give one sample (or one .AT2 row) per line, ending in a line feed",
+                )
             if number == 1 and text.startswith("\ufeff"):
                 text = text[1:]  # a byte order mark
             yield number, text.rstrip("\r\n")
@@ -121,19 +140,27 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
 def check_samples(count: int, field: str, name: str) -> None:
     """An InputError naming ``field`` when a record has more than MAX_RECORD_SAMPLES samples."""
     if count > MAX_RECORD_SAMPLES:
-        raise InputError(field, f"{shown(name)}: more than {MAX_RECORD_SAMPLES} samples "
-                         f"(the limit, stonedem.motion.records.MAX_RECORD_SAMPLES)",
-                         "cut or resample the record to a coarser step first")
+        raise InputError(
+            field,
+            f"{shown(name)}: more than {MAX_RECORD_SAMPLES} samples "
+            f"(the limit, stonedem.motion.records.MAX_RECORD_SAMPLES)",
+            "cut or resample the record to a coarser step first",
+        )
 
 
 def check_dt(dt: float, field: str, what: str) -> float:
     """``dt`` [s] when finite and within [MIN_RECORD_DT, MAX_RECORD_DT], else an InputError."""
     if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-        raise InputError(field, f"{what} {dt!r} s is not a positive finite time step", "give dt > 0 in s")
+        raise InputError(
+            field, f"{what} {dt!r} s is not a positive finite time step", "give dt > 0 in s"
+        )
     if not MIN_RECORD_DT <= dt <= MAX_RECORD_DT:
-        raise InputError(field, f"{what} {dt:g} s is outside [{MIN_RECORD_DT:g}, {MAX_RECORD_DT:g}] s "
-                         "(stonedem.motion.records.MIN_RECORD_DT, MAX_RECORD_DT)",
-                         "give the record's real time step; resample records finer than 10 kHz")
+        raise InputError(
+            field,
+            f"{what} {dt:g} s is outside [{MIN_RECORD_DT:g}, {MAX_RECORD_DT:g}] s "
+            "(stonedem.motion.records.MIN_RECORD_DT, MAX_RECORD_DT)",
+            "give the record's real time step; resample records finer than 10 kHz",
+        )
     return float(dt)
 
 
@@ -161,7 +188,9 @@ class Record:
 # --- reading -----------------------------------------------------------------------------
 
 _NUMBER = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?(?![0-9.eE+-])"
-_NPTS_NEW = re.compile(rf"NPTS\s*=\s*([0-9]+)\s*,?\s*DT\s*=\s*({_NUMBER})", re.IGNORECASE | re.ASCII)
+_NPTS_NEW = re.compile(
+    rf"NPTS\s*=\s*([0-9]+)\s*,?\s*DT\s*=\s*({_NUMBER})", re.IGNORECASE | re.ASCII
+)
 _NPTS_OLD = re.compile(rf"^\s*([0-9]+)\s+({_NUMBER})\s+NPTS\s*,?\s*DT", re.IGNORECASE | re.ASCII)
 
 
@@ -187,13 +216,20 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
             if number == 3:
                 units_line = line.upper()
                 if "UNITS OF G" not in units_line and not re.search(r"\bG\b", units_line):
-                    raise InputError(where, f"{name}: header line 3 does not declare units of g: "
-                                     f"'{shown(line.strip(), 50)}'", "PEER AT2 files hold acceleration in g")
+                    raise InputError(
+                        where,
+                        f"{name}: header line 3 does not declare units of g: "
+                        f"'{shown(line.strip(), 50)}'",
+                        "PEER AT2 files hold acceleration in g",
+                    )
             if number == 4:
                 match = _NPTS_NEW.search(line) or _NPTS_OLD.search(line)
                 if match is None:
-                    raise InputError(where, f"{name}: header line 4 has no NPTS and DT: '{shown(line.strip(), 50)}'",
-                                     "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT'")
+                    raise InputError(
+                        where,
+                        f"{name}: header line 4 has no NPTS and DT: '{shown(line.strip(), 50)}'",
+                        "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT'",
+                    )
                 npts, dt = int(match.group(1)), float(match.group(2))
                 if npts < 2:
                     raise InputError(where, f"{name}: NPTS = {npts}", "need at least 2 points")
@@ -204,39 +240,61 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
             try:
                 value = float(token)
             except ValueError:
-                raise InputError(where, f"{name} line {number}: non-numeric value '{shown(token, 20)}'",
-                                 "the data block holds numbers only") from None
+                raise InputError(
+                    where,
+                    f"{name} line {number}: non-numeric value '{shown(token, 20)}'",
+                    "the data block holds numbers only",
+                ) from None
             if count < npts:
                 values.append(value)
             count += 1
     if len(header) < 4 or count == 0:
-        raise InputError(where, f"{name}: an AT2 file needs 4 header lines and data",
-                         "check the file is a PEER .AT2")
+        raise InputError(
+            where,
+            f"{name}: an AT2 file needs 4 header lines and data",
+            "check the file is a PEER .AT2",
+        )
     if count != npts:
-        raise InputError(where, f"{name}: header declares NPTS = {npts} but {count} values were read",
-                         "the file is truncated or the header is wrong")
+        raise InputError(
+            where,
+            f"{name}: header declares NPTS = {npts} but {count} values were read",
+            "the file is truncated or the header is wrong",
+        )
     with np.errstate(over="ignore"):  # 1e308 g is inf m/s2, refused just below
         accel = np.frombuffer(values, dtype=float) * G_STANDARD
     bad = np.flatnonzero(~np.isfinite(accel))
     if len(bad):
-        raise InputError(where, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record")
+        raise InputError(
+            where, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record"
+        )
     check_pga(accel, where, path.name)
     title = shown(header[1].strip(), 200)
-    return Record(np.arange(npts) * dt, accel,
-                  {"source_file": shown(path.name, 200), "header": shown(" | ".join(x.strip() for x in header[:2]), 400),
-                   "title": title, "units_in_file": "g"})
+    return Record(
+        np.arange(npts) * dt,
+        accel,
+        {
+            "source_file": shown(path.name, 200),
+            "header": shown(" | ".join(x.strip() for x in header[:2]), 400),
+            "title": title,
+            "units_in_file": "g",
+        },
+    )
 
 
 def check_pga(accel, field: str, name: str) -> None:
     """An InputError naming ``field`` when a record's peak exceeds MAX_RECORD_PGA."""
     peak = float(np.abs(accel).max()) if len(accel) else 0.0
     if not peak <= MAX_RECORD_PGA:
-        raise InputError(field, f"{shown(name)}: peak acceleration {peak:.4g} m/s2 ({peak / G_STANDARD:.3g} g) "
-                         f"is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit (stonedem.motion.records.MAX_RECORD_PGA)",
-                         "check the units (units: g, cm/s2, m/s2) or the file's values")
+        raise InputError(
+            field,
+            f"{shown(name)}: peak acceleration {peak:.4g} m/s2 ({peak / G_STANDARD:.3g} g) "
+            f"is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit (stonedem.motion.records.MAX_RECORD_PGA)",
+            "check the units (units: g, cm/s2, m/s2) or the file's values",
+        )
 
 
 # --- processing ----------------------------------------------------------------------------
+
 
 def integrate(time, accel):
     """Velocity [m s-1] and displacement [m] of an acceleration linear between samples (exact).
@@ -245,7 +303,9 @@ def integrate(time, accel):
     """
     h = np.diff(time)
     vel = np.concatenate([[0.0], np.cumsum(0.5 * h * (accel[:-1] + accel[1:]))])
-    disp = np.concatenate([[0.0], np.cumsum(h * vel[:-1] + h * h * (2.0 * accel[:-1] + accel[1:]) / 6.0)])
+    disp = np.concatenate(
+        [[0.0], np.cumsum(h * vel[:-1] + h * h * (2.0 * accel[:-1] + accel[1:]) / 6.0)]
+    )
     return vel, disp
 
 
@@ -370,7 +430,9 @@ def response_spectrum(time, accel, periods, damping: float = 0.05):
     dt = float(time[1] - time[0])
     periods = np.asarray(periods, dtype=float)
     if not (math.isfinite(damping) and 0.0 <= damping < 1.0):
-        raise InputError("damping", f"{damping!r} is not a damping ratio in [0, 1)", "give e.g. 0.05")
+        raise InputError(
+            "damping", f"{damping!r} is not a damping ratio in [0, 1)", "give e.g. 0.05"
+        )
     if not np.all(np.isfinite(periods) & (periods > 0)):
         raise InputError("periods", "periods must be finite and > 0 s", "give positive periods")
     w = 2.0 * np.pi / periods
@@ -384,19 +446,31 @@ def response_spectrum(time, accel, periods, damping: float = 0.05):
     a21 = -w / np.sqrt(1 - z * z) * e * s
     a22 = e * (c - z / np.sqrt(1 - z * z) * s)
     t2 = 2 * z / (w**3 * dt)
-    b11 = e * (((2 * z * z - 1) / (w * w * dt) + z / w) * s / wd + (2 * z / (w**3 * dt) + 1 / (w * w)) * c) - t2
-    b12 = -e * ((2 * z * z - 1) / (w * w * dt) * s / wd + 2 * z / (w**3 * dt) * c) - 1 / (w * w) + t2
-    b21 = (e * (((2 * z * z - 1) / (w * w * dt) + z / w) * (c - z / np.sqrt(1 - z * z) * s)
-                - (2 * z / (w**3 * dt) + 1 / (w * w)) * (wd * s + z * w * c)) + 1 / (w * w * dt))
-    b22 = (-e * ((2 * z * z - 1) / (w * w * dt) * (c - z / np.sqrt(1 - z * z) * s)
-                 - 2 * z / (w**3 * dt) * (wd * s + z * w * c)) - 1 / (w * w * dt))
+    b11 = (
+        e
+        * (
+            ((2 * z * z - 1) / (w * w * dt) + z / w) * s / wd
+            + (2 * z / (w**3 * dt) + 1 / (w * w)) * c
+        )
+        - t2
+    )
+    b12 = (
+        -e * ((2 * z * z - 1) / (w * w * dt) * s / wd + 2 * z / (w**3 * dt) * c) - 1 / (w * w) + t2
+    )
+    b21 = e * (
+        ((2 * z * z - 1) / (w * w * dt) + z / w) * (c - z / np.sqrt(1 - z * z) * s)
+        - (2 * z / (w**3 * dt) + 1 / (w * w)) * (wd * s + z * w * c)
+    ) + 1 / (w * w * dt)
+    b22 = -e * (
+        (2 * z * z - 1) / (w * w * dt) * (c - z / np.sqrt(1 - z * z) * s)
+        - 2 * z / (w**3 * dt) * (wd * s + z * w * c)
+    ) - 1 / (w * w * dt)
     u = np.zeros_like(w)
     v = np.zeros_like(w)
     peak = np.zeros_like(w)
     for i in range(len(a) - 1):
         p0, p1 = -a[i], -a[i + 1]
-        u, v = (a11 * u + a12 * v + b11 * p0 + b12 * p1,
-                a21 * u + a22 * v + b21 * p0 + b22 * p1)
+        u, v = (a11 * u + a12 * v + b11 * p0 + b12 * p1, a21 * u + a22 * v + b21 * p0 + b22 * p1)
         np.maximum(peak, np.abs(u), out=peak)
     return w * w * peak
 
@@ -422,18 +496,34 @@ def record_dataset(record: Record, name: str, attrs: dict | None = None):
         return (dims, data, {"units": units, "long_name": long_name})
 
     return xr.Dataset(
-        {"acceleration": v("time", a, "m s-2", "horizontal ground acceleration, as recorded"),
-         "acceleration_corrected": v("time", corrected, "m s-2", "ground acceleration, baseline corrected"),
-         "velocity": v("time", vel, "m s-1", "ground velocity (baseline corrected)"),
-         "displacement": v("time", disp, "m", "ground displacement (baseline corrected)"),
-         "displacement_uncorrected": v("time", raw_disp, "m", "ground displacement integrated from the record as is"),
-         "psa": v(("damping", "period"), psa, "m s-2", "pseudo-acceleration response spectrum")},
-        coords={"time": v("time", t, "s", "time"),
-                "period": v("period", SPECTRUM_PERIODS, "s", "oscillator period"),
-                "damping": v("damping", np.array(SPECTRUM_DAMPING), "1", "damping ratio")},
-        attrs={"name": name, **(attrs or {}), **record.meta,
-               "pga": record.pga, "pga_units": "m s-2", "dt": record.dt, "duration": record.duration,
-               "predominant_frequency": f_p, "predominant_frequency_units": "Hz",
-               "predominant_frequency_method": "peak of the Konno-Ohmachi (b = 20) smoothed Fourier amplitude, 0.1-25 Hz",
-               "baseline_correction": "polynomial t^2..t^6 fitted to displacement, then a linear end correction over the last 10 %"},
+        {
+            "acceleration": v("time", a, "m s-2", "horizontal ground acceleration, as recorded"),
+            "acceleration_corrected": v(
+                "time", corrected, "m s-2", "ground acceleration, baseline corrected"
+            ),
+            "velocity": v("time", vel, "m s-1", "ground velocity (baseline corrected)"),
+            "displacement": v("time", disp, "m", "ground displacement (baseline corrected)"),
+            "displacement_uncorrected": v(
+                "time", raw_disp, "m", "ground displacement integrated from the record as is"
+            ),
+            "psa": v(("damping", "period"), psa, "m s-2", "pseudo-acceleration response spectrum"),
+        },
+        coords={
+            "time": v("time", t, "s", "time"),
+            "period": v("period", SPECTRUM_PERIODS, "s", "oscillator period"),
+            "damping": v("damping", np.array(SPECTRUM_DAMPING), "1", "damping ratio"),
+        },
+        attrs={
+            "name": name,
+            **(attrs or {}),
+            **record.meta,
+            "pga": record.pga,
+            "pga_units": "m s-2",
+            "dt": record.dt,
+            "duration": record.duration,
+            "predominant_frequency": f_p,
+            "predominant_frequency_units": "Hz",
+            "predominant_frequency_method": "peak of the Konno-Ohmachi (b = 20) smoothed Fourier amplitude, 0.1-25 Hz",
+            "baseline_correction": "polynomial t^2..t^6 fitted to displacement, then a linear end correction over the last 10 %",
+        },
     )

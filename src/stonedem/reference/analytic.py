@@ -32,9 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import quad, solve_ivp
+
 from stonedem.units import GRAVITY as G  # default gravitational acceleration [m s-2]
-
-
 
 # --- geometry ----------------------------------------------------------------------------
 
@@ -64,12 +63,18 @@ def rectangle_rocking_properties(width, height, mass=1.0, g=G) -> RockingPropert
     RockingProperties with alpha [rad], radius R [m], inertia_corner I_O [kg m2], p [rad s-1].
     """
     if not (width > 0.0 and height > 0.0 and mass > 0.0 and g > 0.0):
-        raise ValueError(f"width, height, mass and g must be positive, got {width}, {height}, {mass}, {g}")
+        raise ValueError(
+            f"width, height, mass and g must be positive, got {width}, {height}, {mass}, {g}"
+        )
     b, h = 0.5 * width, 0.5 * height
     radius = math.hypot(b, h)
     inertia = 4.0 / 3.0 * mass * radius**2  # rectangle: I_G = m R^2 / 3, plus m R^2 (parallel axes)
-    return RockingProperties(alpha=math.atan(b / h), radius=radius, inertia_corner=inertia,
-                             p=math.sqrt(mass * g * radius / inertia))
+    return RockingProperties(
+        alpha=math.atan(b / h),
+        radius=radius,
+        inertia_corner=inertia,
+        p=math.sqrt(mass * g * radius / inertia),
+    )
 
 
 # --- 5.1.1 free rocking period -------------------------------------------------------------
@@ -300,7 +305,9 @@ def _series(time, ground_accel, strictly_increasing):
     t = np.asarray(time, dtype=float)
     a = np.asarray(ground_accel, dtype=float)
     if t.ndim != 1 or t.shape != a.shape or len(t) < 2:
-        raise ValueError(f"time and ground_accel must be 1-D of equal length >= 2, got {t.shape}, {a.shape}")
+        raise ValueError(
+            f"time and ground_accel must be 1-D of equal length >= 2, got {t.shape}, {a.shape}"
+        )
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(a))):
         raise ValueError("time and ground_accel must be finite")
     steps = np.diff(t)
@@ -418,7 +425,9 @@ def rigid_plastic_sliding(time, ground_accel, mu, g=G) -> SlidingResponse:
                 if stop is not None:
                     v, direction = 0.0, 0  # stopped; the next pass decides whether it restarts
             else:
-                raise RuntimeError(f"rigid_plastic_sliding: no progress in interval {i} at t = {t[i]}")
+                raise RuntimeError(
+                    f"rigid_plastic_sliding: no progress in interval {i} at t = {t[i]}"
+                )
         u_out[i + 1] = u
         v_out[i + 1] = v
     return SlidingResponse(u_out, v_out)
@@ -441,7 +450,9 @@ class _PiecewiseLinear:
         return a[j] + (a[j + 1] - a[j]) * (x - t[j]) / (t[j + 1] - t[j])
 
 
-def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=G) -> SlidingResponse:
+def bouc_wen_sliding(
+    time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=G
+) -> SlidingResponse:
     """Sliding block with Bouc-Wen hysteretic friction, thesis Eq. 5.6-5.7.
 
     u''(t) + mu g z(t) = -a_g(t) and u_y z' + gamma |u'| |z|^(n-1) z + beta u' |z|^n - u' = 0,
@@ -477,8 +488,16 @@ def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50
         # the Konstantinidis and Makris model is u'' + mu g z = -a_g, implemented here
         return [v, -accel(tt) - mu * g * z, dz]
 
-    sol = solve_ivp(rhs, (t[0], t[-1]), [0.0, 0.0, 0.0], method="LSODA", t_eval=t,
-                    rtol=1e-8, atol=[1e-10, 1e-10, 1e-8], max_step=float(np.min(np.diff(t))))
+    sol = solve_ivp(
+        rhs,
+        (t[0], t[-1]),
+        [0.0, 0.0, 0.0],
+        method="LSODA",
+        t_eval=t,
+        rtol=1e-8,
+        atol=[1e-10, 1e-10, 1e-8],
+        max_step=float(np.min(np.diff(t))),
+    )
     if not sol.success:
         raise RuntimeError(f"bouc_wen_sliding: {sol.message}")
     return SlidingResponse(sol.y[0], sol.y[1])
@@ -487,8 +506,17 @@ def bouc_wen_sliding(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50
 BOUC_WEN_STEPS_PER_PERIOD = 768  # BDF2 steps per elastic period 2 pi sqrt(u_y / (mu g))
 
 
-def bouc_wen_sliding_compiled(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=0.5, n=50, g=G,
-                              steps_per_period=BOUC_WEN_STEPS_PER_PERIOD) -> SlidingResponse:
+def bouc_wen_sliding_compiled(
+    time,
+    ground_accel,
+    mu,
+    u_y=1e-6,
+    gamma=0.5,
+    beta=0.5,
+    n=50,
+    g=G,
+    steps_per_period=BOUC_WEN_STEPS_PER_PERIOD,
+) -> SlidingResponse:
     """:func:`bouc_wen_sliding` by the compiled BDF2 integrator :mod:`stonedem.reference.bouc_wen`.
 
     The step is the elastic period 2 pi sqrt(u_y / (mu g)) over ``steps_per_period`` (5 us
@@ -502,16 +530,21 @@ def bouc_wen_sliding_compiled(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=
     for name, value in (("mu", mu), ("u_y", u_y), ("n", n), ("g", g)):
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
             raise ValueError(f"{name} must be a positive number, got {value!r}")
-    if isinstance(steps_per_period, bool) or not (isinstance(steps_per_period, int) and steps_per_period >= 8):
+    if isinstance(steps_per_period, bool) or not (
+        isinstance(steps_per_period, int) and steps_per_period >= 8
+    ):
         raise ValueError(f"steps_per_period must be a whole number >= 8, got {steps_per_period!r}")
     step = 2.0 * math.pi * math.sqrt(u_y / (mu * g)) / steps_per_period
     substeps = max(1, math.ceil(float(np.max(np.diff(t))) / step))
     u, v = np.empty_like(t), np.empty_like(t)
-    failures = bouc_wen_history(t, a, float(mu), float(g), float(u_y), float(gamma), float(beta), float(n),
-                                substeps, u, v)
+    failures = bouc_wen_history(
+        t, a, float(mu), float(g), float(u_y), float(gamma), float(beta), float(n), substeps, u, v
+    )
     if failures:
-        raise RuntimeError(f"bouc_wen_sliding_compiled: Newton's method did not converge in {failures} "
-                           f"steps; use more steps_per_period")
+        raise RuntimeError(
+            f"bouc_wen_sliding_compiled: Newton's method did not converge in {failures} "
+            f"steps; use more steps_per_period"
+        )
     return SlidingResponse(u, v)
 
 
@@ -522,14 +555,17 @@ def bouc_wen_sliding_compiled(time, ground_accel, mu, u_y=1e-6, gamma=0.5, beta=
 class RockingResponse:
     """Rocking of a rigid block, sampled on the input time grid."""
 
-    theta: np.ndarray  # rotation, > 0 on the right corner leaning to +x [rad]; NaN after overturning
+    theta: (
+        np.ndarray
+    )  # rotation, > 0 on the right corner leaning to +x [rad]; NaN after overturning
     omega: np.ndarray  # angular velocity d theta / dt [rad s-1]; NaN after overturning
     overturned: bool  # |theta| reached pi/2
     impact_times: list = field(default_factory=list)  # instants of theta = 0 crossings [s]
 
 
-def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0, omega0=0.0,
-                           rest_omega=1e-8) -> RockingResponse:
+def rigid_rocking_response(
+    time, ground_accel, width, height, r, g=G, theta0=0.0, omega0=0.0, rest_omega=1e-8
+) -> RockingResponse:
     """Rocking of a rigid block that cannot slide, under horizontal ground acceleration.
 
     Housner / Zhang and Makris rigid rocking equation (thesis 5.1.5), with theta > 0 the
@@ -633,9 +669,18 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0
             continue
         # impact when theta returns to 0 from the current side
         impact.direction = -1.0 if side > 0 else 1.0
-        sol = solve_ivp(rhs, (t_now, t[-1]), state, method="DOP853", args=(side,),
-                        events=(impact, topple), dense_output=True, rtol=1e-10, atol=1e-12,
-                        max_step=max_step)
+        sol = solve_ivp(
+            rhs,
+            (t_now, t[-1]),
+            state,
+            method="DOP853",
+            args=(side,),
+            events=(impact, topple),
+            dense_output=True,
+            rtol=1e-10,
+            atol=1e-12,
+            max_step=max_step,
+        )
         if not sol.success:
             raise RuntimeError(f"rigid_rocking_response: {sol.message}")
         t_end = float(sol.t[-1])
@@ -648,7 +693,9 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0
             break
         if sol.status == 1 and len(sol.t_events[0]):
             impacts.append(t_end)
-            w = float(sol.y_events[0][0][1]) * math.sqrt(r)  # thesis Eq. 5.2: r = (w_after / w_before)^2
+            w = float(sol.y_events[0][0][1]) * math.sqrt(
+                r
+            )  # thesis Eq. 5.2: r = (w_after / w_before)^2
             theta[t == t_end], omega[t == t_end] = 0.0, w
             t_now = t_end
             if abs(w) < rest_omega:
@@ -661,13 +708,16 @@ def rigid_rocking_response(time, ground_accel, width, height, r, g=G, theta0=0.0
     return RockingResponse(theta, omega, overturned, impacts)
 
 
-def rigid_rocking_response_compiled(time, ground_accel, width, height, r, g=G, rest_omega=1e-8,
-                                    substeps=16) -> RockingResponse:
+def rigid_rocking_response_compiled(
+    time, ground_accel, width, height, r, g=G, rest_omega=1e-8, substeps=16
+) -> RockingResponse:
     """:func:`rigid_rocking_response` from rest, by the compiled integrator of
     :mod:`stonedem.reference.rigid_rocking` (classical Runge-Kutta, ``substeps`` steps per sample
     interval, impacts located by bisection): ~100x faster, same answer to ~1e-9 rad on the
     validation records (tests/test_analytic.py holds it to the scipy version)."""
-    from stonedem.reference.rigid_rocking import rocking_history  # compiled: imported only when used
+    from stonedem.reference.rigid_rocking import (
+        rocking_history,
+    )  # compiled: imported only when used
 
     t, a = _series(time, ground_accel, strictly_increasing=True)
     if not 0.0 <= r <= 1.0:
@@ -678,9 +728,22 @@ def rigid_rocking_response_compiled(time, ground_accel, width, height, r, g=G, r
     theta = np.empty_like(t)
     omega = np.empty_like(t)
     impacts = np.empty(100_000)
-    n_impacts, overturned = rocking_history(t, a, blk.alpha, blk.p**2, float(g), float(r),
-                                            float(rest_omega), substeps, theta, omega, impacts)
-    return RockingResponse(theta, omega, bool(overturned), impacts[:min(n_impacts, len(impacts))].tolist())
+    n_impacts, overturned = rocking_history(
+        t,
+        a,
+        blk.alpha,
+        blk.p**2,
+        float(g),
+        float(r),
+        float(rest_omega),
+        substeps,
+        theta,
+        omega,
+        impacts,
+    )
+    return RockingResponse(
+        theta, omega, bool(overturned), impacts[: min(n_impacts, len(impacts))].tolist()
+    )
 
 
 # --- 5.1.5 one-sine pulse: exact overturning spectrum (Zhang and Makris 2001) -------------
@@ -769,7 +832,9 @@ def _one_sine_after_pulse(theta, omega, alpha, p, r, n_impacts, peak) -> OneSine
         free_peak = max(free_peak, alpha - math.acos(min(1.0, math.cos(alpha) + k1)))
     if not topples:
         return OneSineOutcome(False, "none", max(peak, free_peak) / alpha)
-    return OneSineOutcome(True, "impact" if n_impacts or after_impact else "no_impact", 0.5 * math.pi / alpha)
+    return OneSineOutcome(
+        True, "impact" if n_impacts or after_impact else "no_impact", 0.5 * math.pi / alpha
+    )
 
 
 def _check_one_sine_input(a_p, omega_p, r):
@@ -779,8 +844,9 @@ def _check_one_sine_input(a_p, omega_p, r):
         raise ValueError(f"omega_p must be positive and a_p finite, got {omega_p}, {a_p}")
 
 
-def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=True,
-                            rest_omega=None, free_time=None) -> OneSineOutcome:
+def rigid_one_sine_response(
+    a_p, omega_p, width, height, r, g=G, *, early_stop=True, rest_omega=None, free_time=None
+) -> OneSineOutcome:
     """Whether a rigid block overturns under one sine acceleration pulse, exactly.
 
     The rigid rocking equation of :func:`rigid_rocking_response` (same sign convention:
@@ -871,9 +937,17 @@ def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=T
         first_step = None if first_step is None else min(first_step, 0.5 * (t_end - t_now))
         impact.direction = -1.0 if side > 0 else 1.0  # theta returns to 0 from its side
         turn.direction = impact.direction  # theta' changes from outwards to inwards: a peak
-        sol = solve_ivp(rhs, (t_now, t_end), state, method="DOP853", args=(side, pulse),
-                        events=(impact, topple, turn), rtol=1e-10, atol=1e-12,
-                        first_step=first_step)
+        sol = solve_ivp(
+            rhs,
+            (t_now, t_end),
+            state,
+            method="DOP853",
+            args=(side, pulse),
+            events=(impact, topple, turn),
+            rtol=1e-10,
+            atol=1e-12,
+            first_step=first_step,
+        )
         if not sol.success:
             raise RuntimeError(f"rigid_one_sine_response: {sol.message}")
         turns = np.reshape(sol.y_events[2], (-1, 2))[:, 0]  # theta at the peaks of this leg
@@ -889,15 +963,17 @@ def rigid_one_sine_response(a_p, omega_p, width, height, r, g=G, *, early_stop=T
             state = [0.0, w if side else 0.0]
         else:  # end of the pulse or of free_time
             state, t_now = [float(sol.y[0, -1]), float(sol.y[1, -1])], t_end
-    raise RuntimeError(f"rigid_one_sine_response: no end after 100000 legs, a_p {a_p}, "
-                       f"omega_p {omega_p}")
+    raise RuntimeError(
+        f"rigid_one_sine_response: no end after 100000 legs, a_p {a_p}, omega_p {omega_p}"
+    )
 
 
 ONE_SINE_STEPS = 2000  # RK4 steps per pulse of the compiled one-sine response
 
 
-def rigid_one_sine_response_compiled(a_p, omega_p, width, height, r, g=G, *, rest_omega=None,
-                                     steps=ONE_SINE_STEPS) -> OneSineOutcome:
+def rigid_one_sine_response_compiled(
+    a_p, omega_p, width, height, r, g=G, *, rest_omega=None, steps=ONE_SINE_STEPS
+) -> OneSineOutcome:
     """:func:`rigid_one_sine_response` (with early stop) by the compiled integrator
     :func:`stonedem.reference.rigid_rocking.one_sine_pulse`: classical Runge-Kutta on ``steps``
     steps per pulse, events by bisection; the free rocking after the pulse decided by energy
@@ -913,7 +989,8 @@ def rigid_one_sine_response_compiled(a_p, omega_p, width, height, r, g=G, *, res
         return OneSineOutcome(False, "none", 0.0)
     rest_omega = 1e-6 * p if rest_omega is None else rest_omega
     how, theta, omega, _side, n_impacts, peak = one_sine_pulse(
-        float(a_p), float(omega_p), alpha, p * p, float(g), float(r), float(rest_omega), steps)
+        float(a_p), float(omega_p), alpha, p * p, float(g), float(r), float(rest_omega), steps
+    )
     if how == PULSE_OVERTURNED:
         return OneSineOutcome(True, "impact" if n_impacts else "no_impact", 0.5 * math.pi / alpha)
     if how == PULSE_AT_REST:
@@ -928,8 +1005,9 @@ class OverturningThreshold(NamedTuple):
     mode: str  # "impact" or "no_impact" at that amplitude; "none" if not found
 
 
-def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1e-4, step=1.01,
-                                   cap=50.0, compiled=True) -> OverturningThreshold:
+def rigid_one_sine_min_overturning(
+    omega_ratio, width, height, r, g=G, rel_tol=1e-4, step=1.01, cap=50.0, compiled=True
+) -> OverturningThreshold:
     """Smallest one-sine pulse amplitude that overturns a rigid block (Zhang and Makris 2001).
 
     Overturning is not monotonic in the amplitude: above the band of overturning after an
@@ -961,8 +1039,10 @@ def rigid_one_sine_min_overturning(omega_ratio, width, height, r, g=G, rel_tol=1
     (g tan alpha) [-] (inf when nothing up to cap overturns), and the mode there.
     """
     if not (omega_ratio > 0.0 and step > 1.0 and rel_tol > 0.0):
-        raise ValueError(f"omega_ratio, step - 1 and rel_tol must be positive, got "
-                         f"{omega_ratio}, {step}, {rel_tol}")
+        raise ValueError(
+            f"omega_ratio, step - 1 and rel_tol must be positive, got "
+            f"{omega_ratio}, {step}, {rel_tol}"
+        )
     blk = rectangle_rocking_properties(width, height, g=g)
     onset, omega_p = g * math.tan(blk.alpha), omega_ratio * blk.p
 
@@ -999,7 +1079,9 @@ class OneSineSpectrum:
     peak: np.ndarray  # max |theta| / alpha [-], pi / (2 alpha) where overturned; (n, m)
 
 
-def rigid_one_sine_spectrum(omega_ratios, width, height, r, amplitudes, g=G, compiled=True) -> OneSineSpectrum:
+def rigid_one_sine_spectrum(
+    omega_ratios, width, height, r, amplitudes, g=G, compiled=True
+) -> OneSineSpectrum:
     """Overturning map of a rigid block under one-sine pulses, for the overturning spectrum.
 
     Each grid point is one :func:`rigid_one_sine_response` (with early stop), with

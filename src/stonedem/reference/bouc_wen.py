@@ -10,13 +10,12 @@ the 2 x 2 system, then u. The LSODA version stays the reference; tests hold this
 Imported by :mod:`stonedem.reference.analytic` only.
 """
 
-
 from numba import njit
 
 from stonedem.kernels import JIT_OPTIONS
 
 NEWTON_STEPS = 50
-NEWTON_TOLERANCE = 1e-13   # on the z update (dimensionless) and v update / (1 m/s)
+NEWTON_TOLERANCE = 1e-13  # on the z update (dimensionless) and v update / (1 m/s)
 
 
 @njit(**JIT_OPTIONS)
@@ -71,14 +70,16 @@ def bouc_wen_history(time, accel, mu, g, u_y, gamma, beta, n, substeps, u_out, v
         slope = (accel[i + 1] - accel[i]) / (time[i + 1] - time[i])
         for k in range(substeps):
             a_new = accel[i] + slope * (k + 1) * h
-            if first:   # backward Euler: y1 = y0 + h f(y1)
+            if first:  # backward Euler: y1 = y0 + h f(y1)
                 c_u, c_v, c_z, weight = u, v, z, h
-            else:       # BDF2: y_{k+1} = (4 y_k - y_{k-1}) / 3 + 2/3 h f(y_{k+1})
+            else:  # BDF2: y_{k+1} = (4 y_k - y_{k-1}) / 3 + 2/3 h f(y_{k+1})
                 c_u = (4.0 * u - u_prev) / 3.0
                 c_v = (4.0 * v - v_prev) / 3.0
                 c_z = (4.0 * z - z_prev) / 3.0
                 weight = 2.0 * h / 3.0
-            v_new, z_new, ok = implicit_step(c_v, c_z, weight, a_new, v, z, mu_g, u_y, gamma, beta, n)
+            v_new, z_new, ok = implicit_step(
+                c_v, c_z, weight, a_new, v, z, mu_g, u_y, gamma, beta, n
+            )
             if not ok:
                 failures += 1
             u_prev, v_prev, z_prev = u, v, z

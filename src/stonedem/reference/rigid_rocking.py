@@ -48,11 +48,13 @@ def runge_kutta_step(theta, omega, h, a0, a_mid, a1, side, alpha, p2, g):
     k3w = rocking_acceleration(theta + 0.5 * h * k2t, a_mid, side, alpha, p2, g)
     k4t = omega + h * k3w
     k4w = rocking_acceleration(theta + h * k3t, a1, side, alpha, p2, g)
-    return (theta + h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t),
-            omega + h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w))
+    return (
+        theta + h / 6.0 * (k1t + 2.0 * k2t + 2.0 * k3t + k4t),
+        omega + h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w),
+    )
 
 
-LINEAR, SINE = 0, 1   # the input over a step: a_g = q0 + q1 s, or q0 sin(q1 (q2 + s))
+LINEAR, SINE = 0, 1  # the input over a step: a_g = q0 + q1 s, or q0 sin(q1 (q2 + s))
 
 
 @njit(**JIT_OPTIONS)
@@ -61,9 +63,21 @@ def input_step(theta, omega, h, kind, q0, q1, q2, side, alpha, p2, g):
     q0 + q1 s, s from the step's start) or the one-sine pulse (``SINE``: a_g = q0 sin(q1 (q2 +
     s)), q2 the step's start time)."""
     if kind == LINEAR:
-        return runge_kutta_step(theta, omega, h, q0, q0 + q1 * 0.5 * h, q0 + q1 * h, side, alpha, p2, g)
-    return runge_kutta_step(theta, omega, h, q0 * math.sin(q1 * q2), q0 * math.sin(q1 * (q2 + 0.5 * h)),
-                            q0 * math.sin(q1 * (q2 + h)), side, alpha, p2, g)
+        return runge_kutta_step(
+            theta, omega, h, q0, q0 + q1 * 0.5 * h, q0 + q1 * h, side, alpha, p2, g
+        )
+    return runge_kutta_step(
+        theta,
+        omega,
+        h,
+        q0 * math.sin(q1 * q2),
+        q0 * math.sin(q1 * (q2 + 0.5 * h)),
+        q0 * math.sin(q1 * (q2 + h)),
+        side,
+        alpha,
+        p2,
+        g,
+    )
 
 
 @njit(**JIT_OPTIONS)
@@ -138,7 +152,9 @@ def rocking_history(time, accel, alpha, p2, g, r, rest_omega, substeps, theta, o
                     break
                 side, x = new_side, start
                 th, om = 0.0, 0.0
-            while k < substeps and (k + 1) * h_grid <= x:  # after an uplift or an event inside a step
+            while (
+                k < substeps and (k + 1) * h_grid <= x
+            ):  # after an uplift or an event inside a step
                 k += 1
             if x >= length:
                 break
@@ -168,7 +184,7 @@ def rocking_history(time, accel, alpha, p2, g, r, rest_omega, substeps, theta, o
     return n_impacts, False
 
 
-PULSE_ENDED, PULSE_OVERTURNED, PULSE_AT_REST = 0, 1, 2   # how one_sine_pulse ends
+PULSE_ENDED, PULSE_OVERTURNED, PULSE_AT_REST = 0, 1, 2  # how one_sine_pulse ends
 
 
 @njit(**JIT_OPTIONS)
@@ -180,7 +196,10 @@ def sine_uplift_instant(t, a_p, omega_p, onset, period):
     phi1 = math.asin(onset / abs(a_p))
     phase = omega_p * t
     sign_ap = 1.0 if a_p > 0.0 else -1.0
-    for start, end, sign in ((phi1, math.pi - phi1, 1.0), (math.pi + phi1, 2.0 * math.pi - phi1, -1.0)):
+    for start, end, sign in (
+        (phi1, math.pi - phi1, 1.0),
+        (math.pi + phi1, 2.0 * math.pi - phi1, -1.0),
+    ):
         if phase < end:
             side = -1 if sign_ap * sign > 0.0 else 1
             return max(phase, start) / omega_p, side
@@ -231,7 +250,9 @@ def one_sine_pulse(a_p, omega_p, alpha, p2, g, r, rest_omega, steps):
         th1, om1 = input_step(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g)
         if _event_value(th1, side) > 0.0:
             if side * om > 0.0 and side * om1 <= 0.0:  # a turning point inside the step
-                peak = max(peak, turning_point(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g))
+                peak = max(
+                    peak, turning_point(th, om, h, SINE, a_p, omega_p, t, side, alpha, p2, g)
+                )
             peak = max(peak, abs(th1))
             th, om, t = th1, om1, end
             k += 1
@@ -240,7 +261,9 @@ def one_sine_pulse(a_p, omega_p, alpha, p2, g, r, rest_omega, steps):
         if lo > 0.0:  # the way to the event may pass a turning point too
             tl, wl = input_step(th, om, lo, SINE, a_p, omega_p, t, side, alpha, p2, g)
             if side * om > 0.0 and side * wl <= 0.0:
-                peak = max(peak, turning_point(th, om, lo, SINE, a_p, omega_p, t, side, alpha, p2, g))
+                peak = max(
+                    peak, turning_point(th, om, lo, SINE, a_p, omega_p, t, side, alpha, p2, g)
+                )
             peak = max(peak, abs(tl))
         th1, om1 = input_step(th, om, hi, SINE, a_p, omega_p, t, side, alpha, p2, g)
         t += hi

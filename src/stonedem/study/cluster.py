@@ -43,7 +43,9 @@ RETRY_SECONDS = 10  # between failed status queries
 def scontrol_config(run=subprocess.run) -> dict[str, str]:
     """``scontrol show config`` as {key: value}; empty when scontrol cannot answer."""
     try:
-        done = run(["scontrol", "show", "config"], capture_output=True, text=True, timeout=PROBE_SECONDS)
+        done = run(
+            ["scontrol", "show", "config"], capture_output=True, text=True, timeout=PROBE_SECONDS
+        )
     except (OSError, subprocess.SubprocessError):
         return {}
     if done.returncode != 0:
@@ -62,49 +64,69 @@ def min_job_age(config: dict[str, str]) -> int | None:
     return int(words[0]) if words and words[0].isdigit() else None
 
 
-def slurm_settings_problem(status_command: str | None, init_seconds: int | None, config: dict[str, str]) -> str | None:
+def slurm_settings_problem(
+    status_command: str | None, init_seconds: int | None, config: dict[str, str]
+) -> str | None:
     """One line naming the profile setting that would leave the run waiting for ever, or None."""
     if not config:
         return None  # scontrol cannot answer: the executor's own checks apply
     if config.get("AccountingStorageType", "") not in ("", "accounting_storage/none"):
         return None  # sacct has a database to ask
     if status_command != "squeue":
-        return ("this SLURM cluster keeps no accounting (AccountingStorageType=accounting_storage/none), so sacct "
-                "cannot report the jobs and the run would wait for ever; set slurm-status-command: squeue "
-                "in the profile (config/profiles/slurm/config.yaml)")
+        return (
+            "this SLURM cluster keeps no accounting (AccountingStorageType=accounting_storage/none), so sacct "
+            "cannot report the jobs and the run would wait for ever; set slurm-status-command: squeue "
+            "in the profile (config/profiles/slurm/config.yaml)"
+        )
     init = DEFAULT_INIT_SECONDS if init_seconds is None else init_seconds
     age = min_job_age(config)
     if age is None or age < 3 * init:
-        return (f"MinJobAge={age} s on this cluster is under 3 x slurm-init-seconds-before-status-checks "
-                f"({init} s), so the executor would fall back to sacct, which keeps no accounting here, and wait "
-                f"for ever; set slurm-init-seconds-before-status-checks: {max(1, (age or 0) // 3)} or less in the "
-                f"profile, or raise MinJobAge in slurm.conf")
+        return (
+            f"MinJobAge={age} s on this cluster is under 3 x slurm-init-seconds-before-status-checks "
+            f"({init} s), so the executor would fall back to sacct, which keeps no accounting here, and wait "
+            f"for ever; set slurm-init-seconds-before-status-checks: {max(1, (age or 0) // 3)} or less in the "
+            f"profile, or raise MinJobAge in slurm.conf"
+        )
     return None
 
 
-def slurm_tools_problem(status_command: str | None, config: dict[str, str], which=shutil.which,
-                        run=subprocess.run) -> str | None:
+def slurm_tools_problem(
+    status_command: str | None, config: dict[str, str], which=shutil.which, run=subprocess.run
+) -> str | None:
     """One line saying which SLURM command is missing or does not answer here, or None."""
     missing = [tool for tool in TOOLS if which(tool) is None]
     if missing:
-        return (f"{', '.join(missing)} not found on PATH (the SLURM executor runs {', '.join(TOOLS)}; without "
-                f"one it waits for ever for jobs it never sent); run from a SLURM login node, or locally "
-                f"without --profile config/profiles/slurm")
+        return (
+            f"{', '.join(missing)} not found on PATH (the SLURM executor runs {', '.join(TOOLS)}; without "
+            f"one it waits for ever for jobs it never sent); run from a SLURM login node, or locally "
+            f"without --profile config/profiles/slurm"
+        )
     if not config:
-        return (f"scontrol show config did not answer within {PROBE_SECONDS} s: the SLURM controller cannot "
-                f"be reached from here. Check `scontrol ping`, or run locally without --profile config/profiles/slurm")
-    probe = ["squeue", "--noheader", "--format=%i", "--name=stonedem-probe"] if status_command == "squeue" \
+        return (
+            f"scontrol show config did not answer within {PROBE_SECONDS} s: the SLURM controller cannot "
+            f"be reached from here. Check `scontrol ping`, or run locally without --profile config/profiles/slurm"
+        )
+    probe = (
+        ["squeue", "--noheader", "--format=%i", "--name=stonedem-probe"]
+        if status_command == "squeue"
         else ["sacct", "--noheader", "--format=JobIdRaw", "--name=stonedem-probe"]
+    )
     try:
         done = run(probe, capture_output=True, text=True, timeout=PROBE_SECONDS)
-        why = None if done.returncode == 0 else f"exit {done.returncode}: {(done.stderr or '').strip()[:200]}"
+        why = (
+            None
+            if done.returncode == 0
+            else f"exit {done.returncode}: {(done.stderr or '').strip()[:200]}"
+        )
     except subprocess.TimeoutExpired:
         why = f"no answer within {PROBE_SECONDS} s"
     except OSError as err:
         why = err.strerror
     if why:
-        return (f"{probe[0]}, the profile's status command, does not answer ({why}), so the run could not see "
-                f"its jobs finish. Check the SLURM controller, or run locally without --profile config/profiles/slurm")
+        return (
+            f"{probe[0]}, the profile's status command, does not answer ({why}), so the run could not see "
+            f"its jobs finish. Check the SLURM controller, or run locally without --profile config/profiles/slurm"
+        )
     return None
 
 
@@ -129,13 +151,19 @@ def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
         return False
     from snakemake_interface_common.exceptions import WorkflowError
 
-    query_seconds, silent_seconds = _limit("QUERY_SECONDS", QUERY_SECONDS), _limit("SILENT_SECONDS", SILENT_SECONDS)
+    query_seconds, silent_seconds = (
+        _limit("QUERY_SECONDS", QUERY_SECONDS),
+        _limit("SILENT_SECONDS", SILENT_SECONDS),
+    )
 
     async def query_once(command: str):
         """(states, None) or (None, why)."""
         try:
-            process = await asyncio.create_subprocess_exec(*shlex.split(command), stdout=asyncio.subprocess.PIPE,
-                                                           stderr=asyncio.subprocess.PIPE)
+            process = await asyncio.create_subprocess_exec(
+                *shlex.split(command),
+                stdout=asyncio.subprocess.PIPE,
+                stderr=asyncio.subprocess.PIPE,
+            )
             try:
                 out, err = await asyncio.wait_for(process.communicate(), timeout=query_seconds)
             except asyncio.TimeoutError:
@@ -146,8 +174,11 @@ def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
             return None, error.strerror or str(error)
         if process.returncode != 0:
             return None, f"exit {process.returncode}: {err.decode(errors='replace').strip()[:200]}"
-        return {row[0].strip(): row[1].strip() for row in csv.reader(io.StringIO(out.decode()), delimiter="|")
-                if len(row) >= 2 and row[0].strip()}, None
+        return {
+            row[0].strip(): row[1].strip()
+            for row in csv.reader(io.StringIO(out.decode()), delimiter="|")
+            if len(row) >= 2 and row[0].strip()
+        }, None
 
     async def query_job_status(command: str, logger):
         # a failed query is retried here until one answers or SILENT_SECONDS pass: the plugin
@@ -160,10 +191,14 @@ def bound_status_checks(plugin_module=None, now=time.monotonic) -> bool:
                 return states, now() - started
             logger.debug(f"SLURM status query failed: {why}")
             if now() - started > silent_seconds:
-                raise WorkflowError(f"SLURM stopped answering: `{shlex.split(command)[0]}` has not reported the "
-                                    f"jobs' states for {now() - started:.0f} s (last: {why}); the jobs may still "
-                                    f"run. When `squeue` answers again, run the same command again")
-            await asyncio.sleep(min(RETRY_SECONDS, max(0.0, silent_seconds - (now() - started)) + 0.1))
+                raise WorkflowError(
+                    f"SLURM stopped answering: `{shlex.split(command)[0]}` has not reported the "
+                    f"jobs' states for {now() - started:.0f} s (last: {why}); the jobs may still "
+                    f"run. When `squeue` answers again, run the same command again"
+                )
+            await asyncio.sleep(
+                min(RETRY_SECONDS, max(0.0, silent_seconds - (now() - started)) + 0.1)
+            )
 
     plugin_module.query_job_status = query_job_status
     return True
@@ -179,8 +214,9 @@ def check_executor(workflow) -> None:
     settings = getattr(workflow, "executor_settings", None)
     status_command = getattr(settings, "status_command", None)
     config = scontrol_config()
-    problem = slurm_settings_problem(status_command, getattr(settings, "init_seconds_before_status_checks", None),
-                                     config)
+    problem = slurm_settings_problem(
+        status_command, getattr(settings, "init_seconds_before_status_checks", None), config
+    )
     if problem:
         print(f"Bad cluster setting: {problem}", file=sys.stderr)
         sys.exit(2)

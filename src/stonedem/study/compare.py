@@ -27,8 +27,18 @@ from stonedem.errors import InputError, one_line
 from stonedem.io.paths import real_path
 
 # attrs (and table columns) that hold the clock time or the machine of a run
-CLOCK = ("wall_seconds", "compile_seconds", "kernel_seconds", "seconds", "created", "date_created", "history", "host",
-         "elapsed", "run_seconds")
+CLOCK = (
+    "wall_seconds",
+    "compile_seconds",
+    "kernel_seconds",
+    "seconds",
+    "created",
+    "date_created",
+    "history",
+    "host",
+    "elapsed",
+    "run_seconds",
+)
 KINDS = ("cubes", "tables", "cases", "searches", "fragility")
 # a study's CSV tables are kilobytes; two of 2 GB took 6.4 GB of memory and 28 s to call the same
 MAX_TABLE_BYTES = 256 * 2**20
@@ -38,8 +48,12 @@ def result_files(directory: Path, kinds=KINDS) -> list[str]:
     """The study's files of ``kinds`` under ``directory``/results (paths relative to directory)."""
     results = Path(directory) / "results"
     # a dangling link is a file that cannot be read (a difference), not no file (ignored: "the same")
-    found = [p for kind in kinds for p in (results / kind).rglob("*")
-             if (p.is_file() or p.is_symlink() and not p.exists()) and not p.name.startswith(".")]
+    found = [
+        p
+        for kind in kinds
+        for p in (results / kind).rglob("*")
+        if (p.is_file() or p.is_symlink() and not p.exists()) and not p.name.startswith(".")
+    ]
     return sorted(str(p.relative_to(directory)) for p in found)
 
 
@@ -72,8 +86,11 @@ def dataset_differences(path_a: Path, path_b: Path, label: str) -> list[str]:
     read is a difference (one line per such file)."""
     (a, why_a), (b, why_b) = _load(path_a), _load(path_b)
     if why_a or why_b:
-        return [one_line(f"{label}: cannot read {path} ({why})") for path, why in ((path_a, why_a), (path_b, why_b))
-                if why]
+        return [
+            one_line(f"{label}: cannot read {path} ({why})")
+            for path, why in ((path_a, why_a), (path_b, why_b))
+            if why
+        ]
     out = []
     if set(a.variables) != set(b.variables):
         return [f"{label}: variables {sorted(set(a.variables) ^ set(b.variables))}"]
@@ -84,8 +101,11 @@ def dataset_differences(path_a: Path, path_b: Path, label: str) -> list[str]:
             out.append(f"{label}:{name} differs")
         elif _unclocked(a[name].attrs) != _unclocked(b[name].attrs):
             out.append(f"{label}:{name} attrs differ")
-    differ = {k for k in set(_unclocked(a.attrs)) | set(_unclocked(b.attrs))
-              if not same_values(a.attrs.get(k), b.attrs.get(k))}
+    differ = {
+        k
+        for k in set(_unclocked(a.attrs)) | set(_unclocked(b.attrs))
+        if not same_values(a.attrs.get(k), b.attrs.get(k))
+    }
     if differ:
         out.append(f"{label}: attrs {sorted(differ)} differ")
     return out
@@ -96,7 +116,10 @@ def _text(path: Path):
     try:
         size = Path(path).stat().st_size
         if size > MAX_TABLE_BYTES:
-            return None, f"{path} is {size / 2**20:.0f} MB, more than a study table holds ({MAX_TABLE_BYTES // 2**20} MB)"
+            return (
+                None,
+                f"{path} is {size / 2**20:.0f} MB, more than a study table holds ({MAX_TABLE_BYTES // 2**20} MB)",
+            )
         data = Path(path).read_bytes()
     except OSError as err:
         return None, f"cannot read {path} ({err.strerror or err})"
@@ -107,7 +130,9 @@ def _text(path: Path):
     return data, None
 
 
-def table_differences(path_a: Path, path_b: Path, label: str, clock_columns: bool = False) -> list[str]:
+def table_differences(
+    path_a: Path, path_b: Path, label: str, clock_columns: bool = False
+) -> list[str]:
     """What differs between two CSV tables: their bytes, or with ``clock_columns`` their
     cells outside the CLOCK columns; a table that cannot be read as UTF-8 text is a difference."""
     (a, why_a), (b, why_b) = _text(path_a), _text(path_b)
@@ -143,8 +168,9 @@ def _same_bytes(path_a: Path, path_b: Path):
         return False, f"cannot read {err.filename} ({err.strerror or err})"
 
 
-def file_differences(directory: Path, reference: Path, kinds=KINDS,
-                     clock_columns: bool = False) -> dict[str, list[str]]:
+def file_differences(
+    directory: Path, reference: Path, kinds=KINDS, clock_columns: bool = False
+) -> dict[str, list[str]]:
     """{file: what differs, empty when the same} for every study file of either folder; a
     file in one folder only is a difference naming the folder that has it."""
     mine, theirs = set(result_files(directory, kinds)), set(result_files(reference, kinds))
@@ -163,9 +189,15 @@ def file_differences(directory: Path, reference: Path, kinds=KINDS,
     return out
 
 
-def result_differences(directory: Path, reference: Path, kinds=KINDS, clock_columns: bool = False) -> list[str]:
+def result_differences(
+    directory: Path, reference: Path, kinds=KINDS, clock_columns: bool = False
+) -> list[str]:
     """Everything that differs between two study folders' results (empty: the same)."""
-    return [line for lines in file_differences(directory, reference, kinds, clock_columns).values() for line in lines]
+    return [
+        line
+        for lines in file_differences(directory, reference, kinds, clock_columns).values()
+        for line in lines
+    ]
 
 
 def study_folder(path: str, field: str) -> Path:
@@ -173,12 +205,23 @@ def study_folder(path: str, field: str) -> Path:
     real_path(path, field)  # a symlink loop: one line, not pathlib's RuntimeError
     folder = Path(path)
     if not folder.exists():
-        raise InputError(field, f"{path}: no such folder", "give the folder a study ran in (it holds a results folder)")
+        raise InputError(
+            field,
+            f"{path}: no such folder",
+            "give the folder a study ran in (it holds a results folder)",
+        )
     if not folder.is_dir():
-        raise InputError(field, f"{path} is a file, not a folder", "give the folder a study ran in (it holds a results folder)")
+        raise InputError(
+            field,
+            f"{path} is a file, not a folder",
+            "give the folder a study ran in (it holds a results folder)",
+        )
     if not (folder / "results").is_dir():
-        raise InputError(field, f"{path} holds no results folder",
-                         "give the folder a study ran in (it holds a results folder), not that results folder itself")
+        raise InputError(
+            field,
+            f"{path} holds no results folder",
+            "give the folder a study ran in (it holds a results folder), not that results folder itself",
+        )
     return folder
 
 
@@ -186,15 +229,25 @@ def main(argv=None) -> int:
     args = sys.argv[1:] if argv is None else argv
     try:
         if len(args) != 2:
-            raise InputError("arguments", f"expected two study folders, got {len(args)}",
-                             "python -m stonedem.study.compare STUDY_A STUDY_B")
+            raise InputError(
+                "arguments",
+                f"expected two study folders, got {len(args)}",
+                "python -m stonedem.study.compare STUDY_A STUDY_B",
+            )
         a, b = study_folder(args[0], "STUDY_A"), study_folder(args[1], "STUDY_B")
         if a.resolve() == b.resolve():
-            raise InputError("STUDY_B", f"{args[1]} is the folder STUDY_A names", "compare two different study folders")
+            raise InputError(
+                "STUDY_B",
+                f"{args[1]} is the folder STUDY_A names",
+                "compare two different study folders",
+            )
         files = file_differences(a, b, clock_columns=True)
         if not files:  # two runs that both made nothing are not the same run
-            raise InputError("STUDY_A, STUDY_B", f"no study files (results folders {{{','.join(KINDS)}}}) in either "
-                             "folder", "run the study in both before comparing them")
+            raise InputError(
+                "STUDY_A, STUDY_B",
+                f"no study files (results folders {{{','.join(KINDS)}}}) in either folder",
+                "run the study in both before comparing them",
+            )
     except InputError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2
@@ -202,7 +255,10 @@ def main(argv=None) -> int:
     for rel in differing:
         for line in files[rel]:
             print(line)
-    print(f"{len(files)} files compared: {f'{len(differing)} differ' if differing else 'the same'}", file=sys.stderr)
+    print(
+        f"{len(files)} files compared: {f'{len(differing)} differ' if differing else 'the same'}",
+        file=sys.stderr,
+    )
     return 1 if differing else 0
 
 

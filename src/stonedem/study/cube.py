@@ -13,10 +13,22 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS, SEARCH_VARIABLES
-from stonedem.study.grid import (CASE_PARAMETERS, MEMBER, PARAMETERS, collapse_fraction, Case, case_parameters, case_piece, described_like, on_parameter_dimensions, shared_case_attrs)
-from stonedem.study.search import Run
 from stonedem.io.netcdf import open_result, schema_variables
+from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS, SEARCH_VARIABLES
+from stonedem.study.grid import (
+    CASE_PARAMETERS,
+    MEMBER,
+    PARAMETERS,
+    Case,
+    case_parameters,
+    case_piece,
+    collapse_fraction,
+    described_like,
+    on_parameter_dimensions,
+    shared_case_attrs,
+)
+from stonedem.study.search import Run
+
 
 def _attrs(name: str, parameter: str) -> dict:
     units, long_name = SEARCH_VARIABLES[name]
@@ -33,7 +45,9 @@ class RunPiece:
     (CUBE_MEASURES, CUBE_HISTORIES) as numpy arrays, and the attributes a cube may share."""
 
     params: dict  # the case's swept parameters (the searched one included)
-    time: np.ndarray  # output times [s], rounded to 1e-9 s (runs of different dt sample the same times)
+    time: (
+        np.ndarray
+    )  # output times [s], rounded to 1e-9 s (runs of different dt sample the same times)
     variables: dict  # name -> (dims, values), dims () or ("time",)
     attrs: dict  # CUBE_SHARED_ATTRS as the run's dataset states them
     collapsed: bool
@@ -47,11 +61,19 @@ def run_piece(case: Case, run, histories: bool = True) -> RunPiece:
     from stonedem.io.provenance import bounded_json
 
     response = response_measures(run.scene, run.result, run.checks, histories)
-    attrs = {"source": code_version(), "study": case.study, **contact_attrs(run.scene),
-             "excitation": bounded_json(run.scene.horizontal.description, "excitation")}
-    return RunPiece(dict(case.params), np.round(run.result.time, 9),
-                    {name: response[name] for name in CUBE_MEASURES + CUBE_HISTORIES if name in response},
-                    {k: attrs[k] for k in CUBE_SHARED_ATTRS if k in attrs}, bool(response["collapsed"][1]))
+    attrs = {
+        "source": code_version(),
+        "study": case.study,
+        **contact_attrs(run.scene),
+        "excitation": bounded_json(run.scene.horizontal.description, "excitation"),
+    }
+    return RunPiece(
+        dict(case.params),
+        np.round(run.result.time, 9),
+        {name: response[name] for name in CUBE_MEASURES + CUBE_HISTORIES if name in response},
+        {k: attrs[k] for k in CUBE_SHARED_ATTRS if k in attrs},
+        bool(response["collapsed"][1]),
+    )
 
 
 def dataset_piece(ds: xr.Dataset) -> RunPiece:
@@ -60,8 +82,13 @@ def dataset_piece(ds: xr.Dataset) -> RunPiece:
     params = {name: small[name].values.item() for name in case_parameters(ds)}
     variables = {name: (small[name].dims, small[name].values) for name in small.data_vars}
     time = small["time"].values if "time" in small.coords else np.zeros(0)
-    return RunPiece(params, time, variables, {k: ds.attrs[k] for k in CUBE_SHARED_ATTRS if k in ds.attrs},
-                    bool(small["collapsed"] > 0))
+    return RunPiece(
+        params,
+        time,
+        variables,
+        {k: ds.attrs[k] for k in CUBE_SHARED_ATTRS if k in ds.attrs},
+        bool(small["collapsed"] > 0),
+    )
 
 
 def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> xr.Dataset:
@@ -88,7 +115,9 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
         if dims != () and not system.search.histories:
             continue
         if dims == ():
-            values = [piece.variables[name][1] if name in piece.variables else np.nan for piece in pieces]
+            values = [
+                piece.variables[name][1] if name in piece.variables else np.nan for piece in pieces
+            ]
             data[name] = (("run",), np.array(values))
             continue
         history = np.full((len(pieces), len(time)), np.nan)
@@ -96,16 +125,21 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
             if name in piece.variables:
                 history[k, np.searchsorted(time, piece.time)] = piece.variables[name][1]
         data[name] = (("run", "time"), history)
-    cube = xr.Dataset(schema_variables(data),
-                      coords=schema_variables({"time": (("time",), time)} if system.search.histories else {}))
+    cube = xr.Dataset(
+        schema_variables(data),
+        coords=schema_variables({"time": (("time",), time)} if system.search.histories else {}),
+    )
     params = {}
     for name in pieces[0].params:
         values = [piece.params.get(name) for piece in pieces]
         _, units, long_name, _ = CASE_PARAMETERS[name]
         attrs = {"units": units, "long_name": long_name}
         same = all(v == values[0] for v in values)
-        params[name] = xr.Variable((), values[0], attrs) if same and name != parameter else \
-            xr.Variable(("run",), np.array(values), attrs)
+        params[name] = (
+            xr.Variable((), values[0], attrs)
+            if same and name != parameter
+            else xr.Variable(("run",), np.array(values), attrs)
+        )
     cube = cube.assign_coords(params).assign_coords(run=np.arange(len(order)))
     cube["run"].attrs = {"units": "1", "long_name": f"run of the search, by increasing {parameter}"}
     values = {
@@ -120,12 +154,24 @@ def search_dataset(system: Case, runs: list[Run], cases: list, result: dict) -> 
         "search_status": ((), result["status"]),
     }
     # in one update: each item assigned alone costs a merge (~0.7 ms a search run in all)
-    cube = cube.assign({name: xr.Variable(dims, value, _attrs(name, parameter)) for name, (dims, value) in values.items()})
-    settings = {f"search_{k}": int(v) if isinstance(v, bool) else v for k, v in asdict(system.search).items()}
-    cube.attrs = {**shared_case_attrs([piece.attrs for piece in pieces]), **settings,
-                  "search_method": "hunt and fill (Vamvatsikos & Cornell 2002), stonedem.study.search",
-                  "resurrections": " ".join(f"{v:g}" for v in result["resurrections"]),
-                  "title": f"stonedem threshold search: {system.study}/{system.id}", "case": system.id}
+    cube = cube.assign(
+        {
+            name: xr.Variable(dims, value, _attrs(name, parameter))
+            for name, (dims, value) in values.items()
+        }
+    )
+    settings = {
+        f"search_{k}": int(v) if isinstance(v, bool) else v
+        for k, v in asdict(system.search).items()
+    }
+    cube.attrs = {
+        **shared_case_attrs([piece.attrs for piece in pieces]),
+        **settings,
+        "search_method": "hunt and fill (Vamvatsikos & Cornell 2002), stonedem.study.search",
+        "resurrections": " ".join(f"{v:g}" for v in result["resurrections"]),
+        "title": f"stonedem threshold search: {system.study}/{system.id}",
+        "case": system.id,
+    }
     return cube
 
 
@@ -149,14 +195,23 @@ def combine_searches(paths, description: str = "", stripes: dict | None = None) 
         attrs.append(dict(ds.attrs))
     if not pieces:
         raise InputError("searches", "no searches to combine", "run the study's searches first")
-    merged = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop").set_coords(parameter)
+    merged = xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop").set_coords(
+        parameter
+    )
     cube = described_like(merged, paths[0])
     settings = {k: v for k, v in attrs[0].items() if k.startswith("search_")}
-    cube.attrs = {**shared_case_attrs(attrs), **settings,
-                  "title": f"stonedem study cube (threshold searches): {attrs[0].get('study', '')}",
-                  "n_systems": len(pieces), "n_cases": int(cube["n_runs"].sum()), "description": description}
+    cube.attrs = {
+        **shared_case_attrs(attrs),
+        **settings,
+        "title": f"stonedem study cube (threshold searches): {attrs[0].get('study', '')}",
+        "n_systems": len(pieces),
+        "n_cases": int(cube["n_runs"].sum()),
+        "description": description,
+    }
     if stripes is not None:  # an ensemble study whose fills ran (none may have been needed)
-        cube.attrs["stripe_fills"] = int(sum(piece.sizes.get("stripe_run", 0) for piece in stripes.values()))
+        cube.attrs["stripe_fills"] = int(
+            sum(piece.sizes.get("stripe_run", 0) for piece in stripes.values())
+        )
     return cube
 
 

@@ -35,9 +35,16 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
+from stonedem.study.members import (
+    MAX_MEMBERS,
+    PERTURBATIONS,
+    check_member,
+    check_perturbation,
+    member_scene,
+    perturbation_rule,
+    perturbation_summary,
+)
 from stonedem.study.runner import machine
-from stonedem.study.members import (MAX_MEMBERS, PERTURBATIONS, check_member, check_perturbation, member_scene,
-                                    perturbation_rule, perturbation_summary)
 
 RECORDS = Path("records")  # the cases' records, from the repository root (as the workflow runs)
 MAX_JOBS = 256
@@ -64,6 +71,7 @@ class MemberResults(NamedTuple):
 
 # --- one task -------------------------------------------------------------------------------
 
+
 def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
     """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]} (the run's
     measures, without building its dataset)."""
@@ -72,8 +80,11 @@ def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
 
     run = checked_run(member_scene(case_scene(case, RECORDS), j, perturbation))
     measures = response_measures(run.scene, run.result, run.checks)
-    return {"collapsed": int(measures["collapsed"][1]), "max_rocking": float(measures["max_rocking"][1]),
-            "dt": float(run.result.dt)}
+    return {
+        "collapsed": int(measures["collapsed"][1]),
+        "max_rocking": float(measures["max_rocking"][1]),
+        "dt": float(run.result.dt),
+    }
 
 
 def member_value(system, value: float, j: int, perturbation: str = "stiffness") -> dict:
@@ -96,7 +107,9 @@ def member_search(system, j: int, perturbation: str = "stiffness") -> dict:
         dts.append(result["dt"])
         return bool(result["collapsed"])
 
-    return search_result(search(simulate, system.search), system.search, dts[0] if dts else math.nan)
+    return search_result(
+        search(simulate, system.search), system.search, dts[0] if dts else math.nan
+    )
 
 
 def search_result(runs, settings, dt: float) -> dict:
@@ -104,9 +117,14 @@ def search_result(runs, settings, dt: float) -> dict:
     from stonedem.study.search import summary
 
     result = summary(runs, settings)
-    return {"lower": float(result["lower"]), "upper": float(result["upper"]), "n_runs": int(result["n_runs"]),
-            "status": str(result["status"]), "dt": dt,
-            "runs": [(float(r.value), bool(r.collapsed), str(r.phase)) for r in runs]}
+    return {
+        "lower": float(result["lower"]),
+        "upper": float(result["upper"]),
+        "n_runs": int(result["n_runs"]),
+        "status": str(result["status"]),
+        "dt": dt,
+        "runs": [(float(r.value), bool(r.collapsed), str(r.phase)) for r in runs],
+    }
 
 
 def _task(item):
@@ -144,8 +162,17 @@ def _pool(jobs: int):
 
 # --- every task ------------------------------------------------------------------------------
 
-def run_members(cases, systems, members, jobs: int, perturbation: str = "stiffness", log=sys.stderr,
-                stripes: bool = True, label: str = "member") -> MemberResults:
+
+def run_members(
+    cases,
+    systems,
+    members,
+    jobs: int,
+    perturbation: str = "stiffness",
+    log=sys.stderr,
+    stripes: bool = True,
+    label: str = "member",
+) -> MemberResults:
     """Every grid case and search system of the lists run by every member j of ``members``,
     over ``jobs`` worker processes (the searches first: they are the longest tasks); then,
     with ``stripes``, each system's stripe fills (:func:`stripe_requests`) in the same pool.
@@ -154,8 +181,16 @@ def run_members(cases, systems, members, jobs: int, perturbation: str = "stiffne
     if len(set(members)) != len(members):
         raise InputError("members", f"a member index repeats in {members}", "give each j once")
     check_perturbation(perturbation, "perturbation")
-    items = [("search", i, s.as_dict(), j, perturbation, None) for i, s in enumerate(systems) for j in members]
-    items += [("case", i, c.as_dict(), j, perturbation, None) for i, c in enumerate(cases) for j in members]
+    items = [
+        ("search", i, s.as_dict(), j, perturbation, None)
+        for i, s in enumerate(systems)
+        for j in members
+    ]
+    items += [
+        ("case", i, c.as_dict(), j, perturbation, None)
+        for i, c in enumerate(cases)
+        for j in members
+    ]
     tasks = _Tasks(cases, systems, members, log, label)
     with _pool(jobs) as run:
         tasks.run(run, items)
@@ -181,9 +216,15 @@ def _stripe_items(results: MemberResults, systems) -> list:
     items = []
     for i, system in enumerate(systems):
         searches = results.searches[i]
-        requests = stripe_requests(results.members, [[v for v, _, _ in r["runs"]] for r in searches],
-                                   [r["upper"] for r in searches], [r["lower"] for r in searches])
-        items += [(STRIPE, i, system.as_dict(), j, results.perturbation, value) for j, value in requests]
+        requests = stripe_requests(
+            results.members,
+            [[v for v, _, _ in r["runs"]] for r in searches],
+            [r["upper"] for r in searches],
+            [r["lower"] for r in searches],
+        )
+        items += [
+            (STRIPE, i, system.as_dict(), j, results.perturbation, value) for j, value in requests
+        ]
     return items
 
 
@@ -191,7 +232,13 @@ class _Tasks:
     """The results of the tasks as they finish (in any order), and a log line for each."""
 
     def __init__(self, cases, systems, members, log, label):
-        self.cases, self.systems, self.members, self.log, self.label = cases, systems, list(members), log, label
+        self.cases, self.systems, self.members, self.log, self.label = (
+            cases,
+            systems,
+            list(members),
+            log,
+            label,
+        )
         self.column = {j: k for k, j in enumerate(self.members)}
         self.verdicts = [[None] * len(self.members) for _ in cases]
         self.searches = [[None] * len(self.members) for _ in systems]
@@ -209,13 +256,17 @@ class _Tasks:
         if kind == "search":
             system = self.systems[i]
             self.searches[i][self.column[j]] = result
-            what = (f"{system.study}/{system.id} {self.label} {j}: {result['status']}, "
-                    f"{result['lower']:.4g} ... {result['upper']:.4g}, {result['n_runs']} runs")
+            what = (
+                f"{system.study}/{system.id} {self.label} {j}: {result['status']}, "
+                f"{result['lower']:.4g} ... {result['upper']:.4g}, {result['n_runs']} runs"
+            )
         elif kind == STRIPE:
             system = self.systems[i]
             self.fills[i][(value, j)] = int(result["collapsed"])
-            what = (f"{system.study}/{system.id} {self.label} {j} stripe at {value:.4g}: "
-                    f"{'collapsed' if result['collapsed'] else 'stands'}")
+            what = (
+                f"{system.study}/{system.id} {self.label} {j} stripe at {value:.4g}: "
+                f"{'collapsed' if result['collapsed'] else 'stands'}"
+            )
         else:
             case = self.cases[i]
             self.verdicts[i][self.column[j]] = result
@@ -236,13 +287,18 @@ def stripe_requests(members, run_values, thresholds, survived) -> list[tuple[int
 
     values = [v for mine in run_values for v in mine]
     run_by = [j for j, mine in zip(members, run_values) for _ in mine]
-    missing = missing_stripe_runs(np.array(values, dtype=float), np.array(run_by, dtype=np.int64),
-                                  np.array(thresholds, dtype=float), np.array(survived, dtype=float),
-                                  member_ids=np.array(members, dtype=np.int64))
+    missing = missing_stripe_runs(
+        np.array(values, dtype=float),
+        np.array(run_by, dtype=np.int64),
+        np.array(thresholds, dtype=float),
+        np.array(survived, dtype=float),
+        member_ids=np.array(members, dtype=np.int64),
+    )
     return sorted(missing, key=lambda pair: (pair[1], pair[0]))
 
 
 # --- a rounding file as the members' runs ----------------------------------------------------
+
 
 def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
     """A :mod:`stonedem.bench.rounding` file, in memory, with what :func:`from_rounding` reads
@@ -253,10 +309,26 @@ def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
     ds = options.read_netcdf(path, field, "rounding.nc of stonedem.bench.rounding", ROUNDING_FIX)
     if "perturbation" not in ds.dims:
         raise InputError(field, f"{path} has no perturbation dimension", ROUNDING_FIX)
-    needed = [name for dim, names in (("case", ("collapsed", "max_rocking", "case_dt")),
-                                      ("system", ("collapse_map", "collapse_value", "survived_value", "n_runs",
-                                                  "search_status", "search_dt")))
-              if dim in ds.dims for name in names if name not in ds.variables]
+    needed = [
+        name
+        for dim, names in (
+            ("case", ("collapsed", "max_rocking", "case_dt")),
+            (
+                "system",
+                (
+                    "collapse_map",
+                    "collapse_value",
+                    "survived_value",
+                    "n_runs",
+                    "search_status",
+                    "search_dt",
+                ),
+            ),
+        )
+        if dim in ds.dims
+        for name in names
+        if name not in ds.variables
+    ]
     if needed:
         raise InputError(field, f"{path} lacks {', '.join(needed)}", ROUNDING_FIX)
     members = [int(j) for j in ds.perturbation.values]
@@ -265,7 +337,9 @@ def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
     return ds
 
 
-def from_rounding(rounding, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True) -> MemberResults:
+def from_rounding(
+    rounding, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True
+) -> MemberResults:
     """The results :func:`run_members` gives for ``cases`` and ``systems`` (the config's, in
     its order) with members 0..K, read from a :mod:`stonedem.bench.rounding` file of the same
     cases (its path, or the dataset :func:`read_rounding` gave) instead of run: its
@@ -284,14 +358,26 @@ def from_rounding(rounding, cases, systems, jobs: int = 1, log=sys.stderr, strip
         want = [f"{c.study}/{c.id}" for c in items]
         if sorted(have) != sorted(want):
             extra, lacking = sorted(set(have) - set(want)), sorted(set(want) - set(have))
-            raise InputError(field, f"its {dim}s differ from the config's ({len(lacking)} missing, e.g. "
-                                    f"{lacking[:1]}; {len(extra)} not in the config, e.g. {extra[:1]})",
-                             "give the --config and --studies the rounding run was made with")
+            raise InputError(
+                field,
+                f"its {dim}s differ from the config's ({len(lacking)} missing, e.g. "
+                f"{lacking[:1]}; {len(extra)} not in the config, e.g. {extra[:1]})",
+                "give the --config and --studies the rounding run was made with",
+            )
         return [have.index(name) for name in want]
 
     case_rows, system_rows = names("case", cases), names("system", systems)
-    verdicts = [[{"collapsed": int(ds.collapsed.values[r, k]), "max_rocking": float(ds.max_rocking.values[r, k]),
-                  "dt": float(ds.case_dt.values[r, k])} for k in range(len(members))] for r in case_rows]
+    verdicts = [
+        [
+            {
+                "collapsed": int(ds.collapsed.values[r, k]),
+                "max_rocking": float(ds.max_rocking.values[r, k]),
+                "dt": float(ds.case_dt.values[r, k]),
+            }
+            for k in range(len(members))
+        ]
+        for r in case_rows
+    ]
     searches = []
     for system, r in zip(systems, system_rows):
         row = []
@@ -307,13 +393,21 @@ def from_rounding(rounding, cases, systems, jobs: int = 1, log=sys.stderr, strip
                     break
                 runs.append(Run(step[0], outcomes[key], step[1]))
             result = search_result(runs, system.search, float(ds.search_dt.values[r, k]))
-            stored = (float(ds.survived_value.values[r, k]), float(ds.collapse_value.values[r, k]),
-                      int(ds.n_runs.values[r, k]), str(ds.search_status.values[r, k]))
-            if step is not None or not _same((result["lower"], result["upper"], result["n_runs"], result["status"]),
-                                             stored):
-                raise InputError(field, f"the search of {system.study}/{system.id}, perturbation {j}, does not "
-                                        "replay from its collapse map with the config's search settings",
-                                 "give the config the rounding run was made with, or run the members directly")
+            stored = (
+                float(ds.survived_value.values[r, k]),
+                float(ds.collapse_value.values[r, k]),
+                int(ds.n_runs.values[r, k]),
+                str(ds.search_status.values[r, k]),
+            )
+            if step is not None or not _same(
+                (result["lower"], result["upper"], result["n_runs"], result["status"]), stored
+            ):
+                raise InputError(
+                    field,
+                    f"the search of {system.study}/{system.id}, perturbation {j}, does not "
+                    "replay from its collapse map with the config's search settings",
+                    "give the config the rounding run was made with, or run the members directly",
+                )
             row.append(result)
         searches.append(row)
     results = MemberResults(members, "stiffness", verdicts, searches, [[] for _ in systems])
@@ -323,98 +417,190 @@ def from_rounding(rounding, cases, systems, jobs: int = 1, log=sys.stderr, strip
 
 
 def _same(a, b) -> bool:
-    return all(x == y or (isinstance(x, float) and math.isnan(x) and math.isnan(y)) for x, y in zip(a, b))
+    return all(
+        x == y or (isinstance(x, float) and math.isnan(x) and math.isnan(y)) for x, y in zip(a, b)
+    )
 
 
 # --- the file ---------------------------------------------------------------------------------
 
-def ensemble_dataset(cases, systems, results: MemberResults, checks: str = "none",
-                     attrs: dict | None = None) -> xr.Dataset:
+
+def ensemble_dataset(
+    cases, systems, results: MemberResults, checks: str = "none", attrs: dict | None = None
+) -> xr.Dataset:
     """The ensemble as a self-describing dataset (the file contract of issue 44: ``member``,
     ``case``, ``system`` and ``run`` dimensions), with the exact checks (layer A) and the
     short-horizon trajectories (layer B) of :mod:`stonedem.study.exact_checks` unless
     ``checks`` is "none" ("quick": layer A's quick set). ``attrs`` go on top of the file's."""
+    from stonedem import options
     from stonedem.io.netcdf import code_version
     from stonedem.study.grid import PARAMETERS
     from stonedem.study.runner import library_versions
 
-    from stonedem import options
-
     checks = options.chosen([checks], "checks", CHECKS)[0]
     members = np.array(results.members, dtype=np.int32)
-    coords = {"member": ("member", members, {"units": "1", "long_name": f"member j: contact stiffness k_n times "
-                                                                    f"1 - j 2^-52 ({results.perturbation})"})}
+    coords = {
+        "member": (
+            "member",
+            members,
+            {
+                "units": "1",
+                "long_name": f"member j: contact stiffness k_n times "
+                f"1 - j 2^-52 ({results.perturbation})",
+            },
+        )
+    }
     data = {}
     if cases:
+
         def table(key, dtype=float):
             return np.array([[v[key] for v in row] for row in results.verdicts], dtype=dtype)
 
-        coords["case"] = ("case", np.array([f"{c.study}/{c.id}" for c in cases], dtype=object),
-                          {"long_name": "study/case of a grid case"})
-        coords["case_study"] = ("case", np.array([c.study for c in cases], dtype=object),
-                                {"long_name": "study of the case"})
-        data["collapsed"] = (("case", "member"), table("collapsed", np.int8),
-                             {"units": "1", "long_name": "collapse verdict (1: collapsed, 0: stands)"})
-        data["max_rocking"] = (("case", "member"), table("max_rocking"),
-                               {"units": "rad", "long_name": "peak mean rotation of the rocking bodies"})
-        data["case_dt"] = (("case", "member"), table("dt"), {"units": "s", "long_name": "time step of the run"})
+        coords["case"] = (
+            "case",
+            np.array([f"{c.study}/{c.id}" for c in cases], dtype=object),
+            {"long_name": "study/case of a grid case"},
+        )
+        coords["case_study"] = (
+            "case",
+            np.array([c.study for c in cases], dtype=object),
+            {"long_name": "study of the case"},
+        )
+        data["collapsed"] = (
+            ("case", "member"),
+            table("collapsed", np.int8),
+            {"units": "1", "long_name": "collapse verdict (1: collapsed, 0: stands)"},
+        )
+        data["max_rocking"] = (
+            ("case", "member"),
+            table("max_rocking"),
+            {"units": "rad", "long_name": "peak mean rotation of the rocking bodies"},
+        )
+        data["case_dt"] = (
+            ("case", "member"),
+            table("dt"),
+            {"units": "s", "long_name": "time step of the run"},
+        )
     if systems:
+
         def grid(key, dtype=float):
             return np.array([[t[key] for t in row] for row in results.searches], dtype=dtype)
 
         measures = [s.search.parameter for s in systems]
         unit = PARAMETERS[measures[0]][1] if len(set(measures)) == 1 else "see search_parameter"
-        coords["system"] = ("system", np.array([f"{s.study}/{s.id}" for s in systems], dtype=object),
-                            {"long_name": "study/system of a threshold search"})
-        coords["search_parameter"] = ("system", np.array(measures, dtype=object),
-                                      {"long_name": "intensity measure searched"})
-        coords["search_tolerance"] = ("system", np.array([s.search.tolerance for s in systems]),
-                                      {"units": "1", "long_name": "bracket the search aims for, relative"})
-        coords["search_maximum"] = ("system", np.array([s.search.maximum for s in systems]),
-                                    {"units": unit, "long_name": "largest value the search runs"})
-        data["threshold"] = (("system", "member"), grid("upper"),
-                             {"units": unit, "long_name": "smallest collapsing value of the member's search "
-                                                          "(NaN: no collapse up to the maximum)"})
-        data["survived"] = (("system", "member"), grid("lower"),
-                            {"units": unit, "long_name": "largest surviving value below the threshold"})
-        data["search_status"] = (("system", "member"), grid("status", object), {"long_name": "how the search ended"})
-        data["search_runs"] = (("system", "member"), grid("n_runs", np.int32),
-                               {"units": "1", "long_name": "runs of the member's search"})
+        coords["system"] = (
+            "system",
+            np.array([f"{s.study}/{s.id}" for s in systems], dtype=object),
+            {"long_name": "study/system of a threshold search"},
+        )
+        coords["search_parameter"] = (
+            "system",
+            np.array(measures, dtype=object),
+            {"long_name": "intensity measure searched"},
+        )
+        coords["search_tolerance"] = (
+            "system",
+            np.array([s.search.tolerance for s in systems]),
+            {"units": "1", "long_name": "bracket the search aims for, relative"},
+        )
+        coords["search_maximum"] = (
+            "system",
+            np.array([s.search.maximum for s in systems]),
+            {"units": unit, "long_name": "largest value the search runs"},
+        )
+        data["threshold"] = (
+            ("system", "member"),
+            grid("upper"),
+            {
+                "units": unit,
+                "long_name": "smallest collapsing value of the member's search "
+                "(NaN: no collapse up to the maximum)",
+            },
+        )
+        data["survived"] = (
+            ("system", "member"),
+            grid("lower"),
+            {"units": unit, "long_name": "largest surviving value below the threshold"},
+        )
+        data["search_status"] = (
+            ("system", "member"),
+            grid("status", object),
+            {"long_name": "how the search ended"},
+        )
+        data["search_runs"] = (
+            ("system", "member"),
+            grid("n_runs", np.int32),
+            {"units": "1", "long_name": "runs of the member's search"},
+        )
         rows = []  # (system, member, value, collapsed, phase): each search in its order, then the stripes
         for i in range(len(systems)):
             for j, result in zip(results.members, results.searches[i]):
-                rows += [(i, j, value, collapsed, phase) for value, collapsed, phase in result["runs"]]
+                rows += [
+                    (i, j, value, collapsed, phase) for value, collapsed, phase in result["runs"]
+                ]
             rows += [(i, j, value, collapsed, STRIPE) for j, value, collapsed in results.stripes[i]]
         columns = list(zip(*rows)) if rows else [[]] * 5
-        data["run_system"] = ("run", np.array(columns[0], dtype=np.int32),
-                              {"units": "1", "long_name": "index of the run's system on the system dimension"})
-        data["run_member"] = ("run", np.array(columns[1], dtype=np.int32),
-                              {"units": "1", "long_name": "member j of the run"})
-        data["run_value"] = ("run", np.array(columns[2], dtype=float),
-                             {"units": unit, "long_name": "value of the searched parameter run"})
-        data["run_collapsed"] = ("run", np.array(columns[3], dtype=np.int8),
-                                 {"units": "1", "long_name": "collapse verdict of the run (1: collapsed)"})
-        data["run_phase"] = ("run", np.array(columns[4], dtype=object),
-                             {"long_name": "phase of the run: the search's (hunt, bisect, fill; search: not kept) "
-                                           "or stripe (a stripe fill)"})
-    ds = xr.Dataset(data, coords=coords, attrs={
-        "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with "
-                 f"{perturbation_summary(results.perturbation)} in the last bits",
-        "members": int(len(members)), "first_member": int(members[0]) if len(members) else 0,
-        "perturbation": results.perturbation,
-        "perturbation_rule": perturbation_rule(results.perturbation),
-        "source": code_version(), "machine": machine(), "checks": checks, **library_versions(),
-    })
+        data["run_system"] = (
+            "run",
+            np.array(columns[0], dtype=np.int32),
+            {"units": "1", "long_name": "index of the run's system on the system dimension"},
+        )
+        data["run_member"] = (
+            "run",
+            np.array(columns[1], dtype=np.int32),
+            {"units": "1", "long_name": "member j of the run"},
+        )
+        data["run_value"] = (
+            "run",
+            np.array(columns[2], dtype=float),
+            {"units": unit, "long_name": "value of the searched parameter run"},
+        )
+        data["run_collapsed"] = (
+            "run",
+            np.array(columns[3], dtype=np.int8),
+            {"units": "1", "long_name": "collapse verdict of the run (1: collapsed)"},
+        )
+        data["run_phase"] = (
+            "run",
+            np.array(columns[4], dtype=object),
+            {
+                "long_name": "phase of the run: the search's (hunt, bisect, fill; search: not kept) "
+                "or stripe (a stripe fill)"
+            },
+        )
+    ds = xr.Dataset(
+        data,
+        coords=coords,
+        attrs={
+            "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with "
+            f"{perturbation_summary(results.perturbation)} in the last bits",
+            "members": int(len(members)),
+            "first_member": int(members[0]) if len(members) else 0,
+            "perturbation": results.perturbation,
+            "perturbation_rule": perturbation_rule(results.perturbation),
+            "source": code_version(),
+            "machine": machine(),
+            "checks": checks,
+            **library_versions(),
+        },
+    )
     ds.attrs["llvmlite_version"] = _version("llvmlite")
-    ds.member.attrs.update(perturbation=results.perturbation, members=int(len(members)),
-                           first_member=ds.attrs["first_member"])
+    ds.member.attrs.update(
+        perturbation=results.perturbation,
+        members=int(len(members)),
+        first_member=ds.attrs["first_member"],
+    )
     ds = with_bands(ds, systems)
     if checks != "none":
         from stonedem.study import exact_checks
 
-        for name, layer in (("layer_a", exact_checks.layer_a(quick=checks == "quick")),
-                            ("layer_b", exact_checks.layer_b(duration=0.5))):
-            ds = xr.merge([ds, layer], combine_attrs="override")  # the layers' provenance is this file's
+        for name, layer in (
+            ("layer_a", exact_checks.layer_a(quick=checks == "quick")),
+            ("layer_b", exact_checks.layer_b(duration=0.5)),
+        ):
+            ds = xr.merge(
+                [ds, layer], combine_attrs="override"
+            )  # the layers' provenance is this file's
             if "wall_seconds" in layer.attrs:
                 ds.attrs[f"{name}_wall_seconds"] = float(layer.attrs["wall_seconds"])
     ds.attrs.update(attrs or {})
@@ -431,48 +617,86 @@ def with_bands(ds: xr.Dataset, systems) -> xr.Dataset:
 
     if "collapsed" in ds:
         fraction = ds["collapsed"].mean("member")
-        ds["collapse_fraction"] = fraction.assign_attrs(units="1", long_name="share of the members that collapse")
-        ds["split"] = ((fraction > 0) & (fraction < 1)).astype(np.int8).assign_attrs(
-            units="1", long_name="1 where the members disagree (0 < collapse fraction < 1)")
+        ds["collapse_fraction"] = fraction.assign_attrs(
+            units="1", long_name="share of the members that collapse"
+        )
+        ds["split"] = (
+            ((fraction > 0) & (fraction < 1))
+            .astype(np.int8)
+            .assign_attrs(
+                units="1", long_name="1 where the members disagree (0 < collapse fraction < 1)"
+            )
+        )
         by_study = ds["split"].groupby(ds["case_study"].rename("study"))
-        ds["study_cases"] = by_study.count().astype(np.int32).assign_attrs(units="1", long_name="grid cases")
-        ds["study_split_cases"] = by_study.sum().astype(np.int32).assign_attrs(
-            units="1", long_name="grid cases the members disagree on")
+        ds["study_cases"] = (
+            by_study.count().astype(np.int32).assign_attrs(units="1", long_name="grid cases")
+        )
+        ds["study_split_cases"] = (
+            by_study.sum()
+            .astype(np.int32)
+            .assign_attrs(units="1", long_name="grid cases the members disagree on")
+        )
         ds["study"].attrs["long_name"] = "study"
     if not systems:
         return ds
     unit = ds["threshold"].attrs.get("units", "1")
-    names = {"a50": (unit, "a50: value at which half the members collapse (probit fit over the stripes)"),
-             "a50_low": (unit, "lower end of the 90 % band of a50, bootstrapped over members"),
-             "a50_high": (unit, "upper end of the 90 % band of a50, bootstrapped over members"),
-             "beta": ("1", "probit dispersion of the collapse probability in ln value"),
-             "a_first": (unit, "transition zone: lowest value at which any member collapsed"),
-             "a_all": (unit, "transition zone: value from which every run above collapsed in every member"),
-             "threshold_median": (unit, "median of the member search thresholds"),
-             "threshold_min": (unit, "smallest member search threshold"),
-             "threshold_max": (unit, "largest member search threshold"),
-             "threshold_distinct": ("1", "distinct member search thresholds"),
-             "threshold_member_0": (unit, "member 0's search threshold: the study as configured"),
-             "thesis_threshold": (unit, "thesis Table 7.1: acceleration to cause failure (NaN: not a Table 7.1 cell)")}
+    names = {
+        "a50": (
+            unit,
+            "a50: value at which half the members collapse (probit fit over the stripes)",
+        ),
+        "a50_low": (unit, "lower end of the 90 % band of a50, bootstrapped over members"),
+        "a50_high": (unit, "upper end of the 90 % band of a50, bootstrapped over members"),
+        "beta": ("1", "probit dispersion of the collapse probability in ln value"),
+        "a_first": (unit, "transition zone: lowest value at which any member collapsed"),
+        "a_all": (
+            unit,
+            "transition zone: value from which every run above collapsed in every member",
+        ),
+        "threshold_median": (unit, "median of the member search thresholds"),
+        "threshold_min": (unit, "smallest member search threshold"),
+        "threshold_max": (unit, "largest member search threshold"),
+        "threshold_distinct": ("1", "distinct member search thresholds"),
+        "threshold_member_0": (unit, "member 0's search threshold: the study as configured"),
+        "thesis_threshold": (
+            unit,
+            "thesis Table 7.1: acceleration to cause failure (NaN: not a Table 7.1 cell)",
+        ),
+    }
     rows = {name: [] for name in names}
     status = []
     first = int(np.argmin(ds["member"].values))  # member 0, or a candidate's first member
     for i, system in enumerate(systems):
         runs = ds["run_system"].values == i
-        band = threshold_band(ds["run_value"].values[runs], ds["run_member"].values[runs],
-                              ds["run_collapsed"].values[runs], ds["threshold"].values[i])
+        band = threshold_band(
+            ds["run_value"].values[runs],
+            ds["run_member"].values[runs],
+            ds["run_collapsed"].values[runs],
+            ds["threshold"].values[i],
+        )
         for name in names:
             if name in band:
                 rows[name].append(band[name])
         rows["threshold_member_0"].append(float(ds["threshold"].values[i, first]))
         kind = "colonnade" if "colonnade" in system.study else "single column"
-        rows["thesis_threshold"].append(thesis_threshold(kind, system.params.get("n_drums"),
-                                                         str(system.params.get("record", ""))))
+        rows["thesis_threshold"].append(
+            thesis_threshold(
+                kind, system.params.get("n_drums"), str(system.params.get("record", ""))
+            )
+        )
         status.append(band["status"])
     for name, (units, long_name) in names.items():
         dtype = np.int32 if name == "threshold_distinct" else float
-        ds[name] = ("system", np.array(rows[name], dtype=dtype), {"units": units, "long_name": long_name})
-    ds["fit_status"] = ("system", np.array(status, dtype=object), {"long_name": "how the probit fit of a50 ended"})
+        ds[name] = (
+            "system",
+            np.array(rows[name], dtype=dtype),
+            {"units": units, "long_name": long_name},
+        )
+    ds["fit_status"] = (
+        "system",
+        np.array(status, dtype=object),
+        {"long_name": "how the probit fit of a50 ended"},
+    )
     ds.attrs["band_level"] = 0.90
     return ds
 
@@ -496,13 +720,17 @@ def config_digest(paths) -> str:
 
 def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
     """What the ensemble holds and where its members disagree."""
-    lines = [f"{ds.attrs['members']} members ({ds.attrs['perturbation']}, j = {ds.member.values[0]}.."
-             f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, {ds.sizes.get('system', 0)} "
-             f"threshold searches, {ds.sizes.get('run', 0)} search and stripe runs, {wall_seconds:.0f} s"]
+    lines = [
+        f"{ds.attrs['members']} members ({ds.attrs['perturbation']}, j = {ds.member.values[0]}.."
+        f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, {ds.sizes.get('system', 0)} "
+        f"threshold searches, {ds.sizes.get('run', 0)} search and stripe runs, {wall_seconds:.0f} s"
+    ]
     if "case" in ds.dims:
         split = [str(c) for c in ds.case.values[ds["split"].values.astype(bool)]]
-        lines.append(f"split cases (0 < collapse fraction < 1): {len(split)} of {ds.sizes['case']}"
-                     + (f": {', '.join(split[:10])}{' ...' if len(split) > 10 else ''}" if split else ""))
+        lines.append(
+            f"split cases (0 < collapse fraction < 1): {len(split)} of {ds.sizes['case']}"
+            + (f": {', '.join(split[:10])}{' ...' if len(split) > 10 else ''}" if split else "")
+        )
     if "system" in ds.dims:
         differ = 0
         for k, name in enumerate(ds.system.values):
@@ -510,13 +738,16 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
             distinct = np.unique(values[np.isfinite(values)])
             if distinct.size > 1 or (distinct.size and not np.isfinite(values).all()):
                 differ += 1
-                lines.append(f"  {name}: member thresholds {np.nanmin(values):.4g} ... {np.nanmax(values):.4g} "
-                             f"({distinct.size} values)")
+                lines.append(
+                    f"  {name}: member thresholds {np.nanmin(values):.4g} ... {np.nanmax(values):.4g} "
+                    f"({distinct.size} values)"
+                )
         lines.append(f"cells whose member thresholds differ: {differ} of {ds.sizes['system']}")
     return lines
 
 
 # --- the command ------------------------------------------------------------------------------
+
 
 def build_parser():
     from stonedem import options
@@ -524,18 +755,42 @@ def build_parser():
 
     parser = options.parser("python -m stonedem.study.ensemble", __doc__)
     config_options.add_study_arguments(parser)
-    parser.add_argument("--members", type=int, default=None,
-                        help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)")
-    parser.add_argument("--first", type=int, default=0,
-                        help="the first member's j (default 0; fresh draws: past a baseline's)")
-    parser.add_argument("--perturbation", default="stiffness", help=f"{' or '.join(PERTURBATIONS)} (default stiffness)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)")
-    parser.add_argument("--checks", default="full", help=f"layers A and B: {', '.join(CHECKS)} (default full)")
-    parser.add_argument("--from-rounding", type=options.path_arg, default=None,
-                        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' "
-                             "(stiffness, j = 0..K)")
-    parser.add_argument("--out", type=options.path_arg, required=True, help="the ensemble file to write (.nc)")
+    parser.add_argument(
+        "--members",
+        type=int,
+        default=None,
+        help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)",
+    )
+    parser.add_argument(
+        "--first",
+        type=int,
+        default=0,
+        help="the first member's j (default 0; fresh draws: past a baseline's)",
+    )
+    parser.add_argument(
+        "--perturbation",
+        default="stiffness",
+        help=f"{' or '.join(PERTURBATIONS)} (default stiffness)",
+    )
+    parser.add_argument(
+        "--jobs",
+        type=int,
+        default=os.cpu_count() or 1,
+        help=f"worker processes, 1 to {MAX_JOBS} (default: the CPUs)",
+    )
+    parser.add_argument(
+        "--checks", default="full", help=f"layers A and B: {', '.join(CHECKS)} (default full)"
+    )
+    parser.add_argument(
+        "--from-rounding",
+        type=options.path_arg,
+        default=None,
+        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' "
+        "(stiffness, j = 0..K)",
+    )
+    parser.add_argument(
+        "--out", type=options.path_arg, required=True, help="the ensemble file to write (.nc)"
+    )
     return parser
 
 
@@ -551,22 +806,37 @@ def check_args(args) -> dict:
     jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
     checks = options.chosen([args.checks], "--checks", CHECKS)[0]
     perturbation = check_perturbation(args.perturbation, "--perturbation")
-    first = options.number(args.first, "--first", lo=0, hi=MAX_MEMBERS - 1, whole=True, example="20")
+    first = options.number(
+        args.first, "--first", lo=0, hi=MAX_MEMBERS - 1, whole=True, example="20"
+    )
     rounding = None
     if args.from_rounding is not None:
         rounding = read_rounding(args.from_rounding)
         members = [int(j) for j in rounding.perturbation.values]
         if perturbation != "stiffness" or first != 0 or args.members not in (None, len(members)):
-            raise InputError("--from-rounding", f"its runs are members 0..{len(members) - 1} of the stiffness "
-                                                "perturbation", "leave --members, --first and --perturbation out")
+            raise InputError(
+                "--from-rounding",
+                f"its runs are members 0..{len(members) - 1} of the stiffness perturbation",
+                "leave --members, --first and --perturbation out",
+            )
     else:
-        count = options.number(DEFAULT_MEMBERS if args.members is None else args.members, "--members", lo=1,
-                               hi=MAX_MEMBERS - first, whole=True, example="20")
+        count = options.number(
+            DEFAULT_MEMBERS if args.members is None else args.members,
+            "--members",
+            lo=1,
+            hi=MAX_MEMBERS - first,
+            whole=True,
+            example="20",
+        )
         members = list(range(first, first + count))
     config_paths = [Path(args.config).parent / "config.yaml", Path(args.config)]
     config, known = config_options.study_config(args.config, RECORDS)
-    path = options.output_file(args.out, "--out", suffixes=(".nc",),
-                               inputs=[*config_paths, *([args.from_rounding] if rounding is not None else [])])
+    path = options.output_file(
+        args.out,
+        "--out",
+        suffixes=(".nc",),
+        inputs=[*config_paths, *([args.from_rounding] if rounding is not None else [])],
+    )
     cases, systems = config_options.chosen_cases(config, known, args.studies, RECORDS)
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
         from stonedem.study.grid import case_scene
@@ -575,18 +845,32 @@ def check_args(args) -> dict:
             try:
                 member_scene(case_scene(case, RECORDS), max(members[-1], 1), perturbation)
             except InputError as err:
-                raise InputError(f"--perturbation: {case.study}/{case.id}", err.problem, err.fix) from None
-    return {"cases": cases, "systems": systems, "members": members, "first": first, "perturbation": perturbation,
-            "jobs": jobs, "checks": checks, "rounding": rounding, "path": path,
-            "config": [str(p) for p in dict.fromkeys(config_paths)]}
+                raise InputError(
+                    f"--perturbation: {case.study}/{case.id}", err.problem, err.fix
+                ) from None
+    return {
+        "cases": cases,
+        "systems": systems,
+        "members": members,
+        "first": first,
+        "perturbation": perturbation,
+        "jobs": jobs,
+        "checks": checks,
+        "rounding": rounding,
+        "path": path,
+        "config": [str(p) for p in dict.fromkeys(config_paths)],
+    }
 
 
 def rounding_provenance(rounding: xr.Dataset | None) -> dict:
     """How the members' runs of a rounding file were made (its wall time and history), or {}."""
     if rounding is None:
         return {}
-    return {f"members_{k}": rounding.attrs[k] for k in ("wall_seconds", "history", "source", "machine")
-            if k in rounding.attrs}
+    return {
+        f"members_{k}": rounding.attrs[k]
+        for k in ("wall_seconds", "history", "source", "machine")
+        if k in rounding.attrs
+    }
 
 
 def main(argv=None) -> int:
@@ -603,21 +887,43 @@ def main(argv=None) -> int:
         start = time.perf_counter()
         cases, systems = plan["cases"], plan["systems"]
         if plan["rounding"] is not None:
-            print(f"{len(cases)} cases and {len(systems)} threshold searches of {args.from_rounding}, "
-                  f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)",
-                  file=sys.stderr, flush=True)
+            print(
+                f"{len(cases)} cases and {len(systems)} threshold searches of {args.from_rounding}, "
+                f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)",
+                file=sys.stderr,
+                flush=True,
+            )
             results = from_rounding(plan["rounding"], cases, systems, plan["jobs"])
         else:
-            print(f"{len(cases)} cases and {len(systems)} threshold searches, members {plan['members'][0]}.."
-                  f"{plan['members'][-1]} ({plan['perturbation']}), on {plan['jobs']} process(es)",
-                  file=sys.stderr, flush=True)
-            results = run_members(cases, systems, plan["members"], plan["jobs"], plan["perturbation"])
-        command_line = " ".join(["python -m stonedem.study.ensemble", *(sys.argv[1:] if argv is None else argv)])
-        ds = ensemble_dataset(cases, systems, results, plan["checks"], attrs={
-            "config": " ".join(plan["config"]), "config_digest": config_digest(plan["config"]),
-            "command": command_line,
-            **({"from_rounding": str(args.from_rounding)} if plan["rounding"] is not None else {}),
-            **rounding_provenance(plan["rounding"])})
+            print(
+                f"{len(cases)} cases and {len(systems)} threshold searches, members {plan['members'][0]}.."
+                f"{plan['members'][-1]} ({plan['perturbation']}), on {plan['jobs']} process(es)",
+                file=sys.stderr,
+                flush=True,
+            )
+            results = run_members(
+                cases, systems, plan["members"], plan["jobs"], plan["perturbation"]
+            )
+        command_line = " ".join(
+            ["python -m stonedem.study.ensemble", *(sys.argv[1:] if argv is None else argv)]
+        )
+        ds = ensemble_dataset(
+            cases,
+            systems,
+            results,
+            plan["checks"],
+            attrs={
+                "config": " ".join(plan["config"]),
+                "config_digest": config_digest(plan["config"]),
+                "command": command_line,
+                **(
+                    {"from_rounding": str(args.from_rounding)}
+                    if plan["rounding"] is not None
+                    else {}
+                ),
+                **rounding_provenance(plan["rounding"]),
+            },
+        )
         wall = time.perf_counter() - start
         ds.attrs["wall_seconds"] = wall
         write_dataset(ds, plan["path"])

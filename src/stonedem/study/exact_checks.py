@@ -44,8 +44,10 @@ FACTOR_A = 100.0  # or this many times the check's own last-bit floor, where tha
 FLOOR_PERTURBATIONS = ("stiffness", "geometry")
 RAMP_RATE = 0.5  # [m s-3] the study's ramp (config ramp_drums; thesis Fig. 6.10)
 RAMP_TOLERANCE = 1e-3  # relative, as tests/test_validation_point.py holds the ramp's overturning
-RAMP_CONTACTS = {"ramp_point_study": {"model": "point", "k_n": 1e10},  # the study's contact
-                 "ramp_point": None}  # the engine's default point law (k_n 1e11)
+RAMP_CONTACTS = {
+    "ramp_point_study": {"model": "point", "k_n": 1e10},  # the study's contact
+    "ramp_point": None,
+}  # the engine's default point law (k_n 1e11)
 ONE_SINE_QUICK = {"omega_ratios": (2.0,), "blocks": ((0.5, 2.0),)}
 
 
@@ -58,12 +60,18 @@ def _row(name, value, reference, tolerance, units, relative=True):
     itself an error held to 0 (error = |value|, in the value's units)."""
     value, reference = float(value), float(reference)
     error = abs(value / reference - 1.0) if relative else abs(value - reference)
-    return {"check": name, "value": value, "reference": reference, "error": error,
-            "tolerance": float(tolerance), "units": units,
-            "measure": "relative" if relative else "absolute",
-            # regression scale: |reference|, or 1 for an error normalised by an O(1) quantity
-            "scale": abs(reference) if relative else 1.0,
-            "passes": bool(error <= tolerance)}
+    return {
+        "check": name,
+        "value": value,
+        "reference": reference,
+        "error": error,
+        "tolerance": float(tolerance),
+        "units": units,
+        "measure": "relative" if relative else "absolute",
+        # regression scale: |reference|, or 1 for an error normalised by an O(1) quantity
+        "scale": abs(reference) if relative else 1.0,
+        "passes": bool(error <= tolerance),
+    }
 
 
 def _validation(name, factor, **kwargs):
@@ -85,25 +93,48 @@ def _housner_rows(name, factor, quick):
     result = _validation(name, factor, **kwargs)
     ds = result.dataset
     tol = ds.attrs["tolerance"]
-    return [_row(f"{name}/{g}/theta0_over_alpha={r:g}", ds.period_engine.values[i, j],
-                 ds.period_exact.values[i, j], tol, "s")
-            for i, g in enumerate(ds.geometry.values) for j, r in enumerate(ds.ratio.values)]
+    return [
+        _row(
+            f"{name}/{g}/theta0_over_alpha={r:g}",
+            ds.period_engine.values[i, j],
+            ds.period_exact.values[i, j],
+            tol,
+            "s",
+        )
+        for i, g in enumerate(ds.geometry.values)
+        for j, r in enumerate(ds.ratio.values)
+    ]
 
 
 def _impact_rows(name, factor, quick):
     ds = _validation(name, factor).dataset
     tol = ds.attrs["tolerance"]
-    return [_row(f"{name}/peak_after_impact_{k}", ds.peak_engine.values[k], ds.peak_eq_5_3.values[k], tol, "rad")
-            for k in range(1, ds.sizes["impact"])]
+    return [
+        _row(
+            f"{name}/peak_after_impact_{k}",
+            ds.peak_engine.values[k],
+            ds.peak_eq_5_3.values[k],
+            tol,
+            "rad",
+        )
+        for k in range(1, ds.sizes["impact"])
+    ]
 
 
 def _newmark_rows(name, factor, quick):
     kwargs = {"cases": ((0.8, 1.5, (0.3,)), (0.5, 1.0, (0.2,)))} if quick else {}
     ds = _validation(name, factor, **kwargs).dataset
     tol = ds.attrs["tolerance"]
-    return [_row(f"{name}/a_p={ds.a_p_g.values[k]:g}g/t_p={ds.t_p.values[k]:g}s/mu={ds.mu.values[k]:g}",
-                 ds.u_max_engine.values[k], ds.u_max_eq_5_5.values[k], tol, "m")
-            for k in range(ds.sizes["case"])]
+    return [
+        _row(
+            f"{name}/a_p={ds.a_p_g.values[k]:g}g/t_p={ds.t_p.values[k]:g}s/mu={ds.mu.values[k]:g}",
+            ds.u_max_engine.values[k],
+            ds.u_max_eq_5_5.values[k],
+            tol,
+            "m",
+        )
+        for k in range(ds.sizes["case"])
+    ]
 
 
 def _sliding_rows(name, factor, quick):
@@ -112,21 +143,40 @@ def _sliding_rows(name, factor, quick):
     tol = ds.attrs["tolerance"]
     peak_engine = float(np.abs(ds.sliding_engine).max())
     peak_exact = float(np.abs(ds.sliding_exact).max())
-    return [_row(f"{name}/peak_sliding", peak_engine, peak_exact, tol, "m"),
-            _row(f"{name}/history_error_over_peak", ds.attrs["max_error_over_peak"], 0.0, tol, "1",
-                 relative=False)]
+    return [
+        _row(f"{name}/peak_sliding", peak_engine, peak_exact, tol, "m"),
+        _row(
+            f"{name}/history_error_over_peak",
+            ds.attrs["max_error_over_peak"],
+            0.0,
+            tol,
+            "1",
+            relative=False,
+        ),
+    ]
 
 
 def _two_blocks_rows(name, factor, quick):
     ds = _validation(name, factor).dataset
     tol = ds.attrs["tolerance"]
-    return [_row(f"{name}/theta0={t:g}/balance_error", e, 0.0, tol, "1", relative=False)
-            for t, e in zip(ds.theta0.values, ds.max_abs_balance_error.values)]
+    return [
+        _row(f"{name}/theta0={t:g}/balance_error", e, 0.0, tol, "1", relative=False)
+        for t, e in zip(ds.theta0.values, ds.max_abs_balance_error.values)
+    ]
 
 
 def _energy_rows(name, factor, quick):
     ds = _validation(name, factor).dataset
-    return [_row(f"{name}/final_drift", ds.attrs["final_drift"], 0.0, ds.attrs["tolerance"], "1", relative=False)]
+    return [
+        _row(
+            f"{name}/final_drift",
+            ds.attrs["final_drift"],
+            0.0,
+            ds.attrs["tolerance"],
+            "1",
+            relative=False,
+        )
+    ]
 
 
 def _pena_rows(name, factor, quick):
@@ -134,10 +184,20 @@ def _pena_rows(name, factor, quick):
 
     ds = cases.pena_block(k_n=cases.PENA_K_N * factor, c_sweep=(cases.PENA_C_N,)).dataset
     tol = ds.attrs["tolerance"]
-    rows = [_row(f"{name}/peak_{k}", ds.peak_engine.values[k], ds.peak_rigid.values[k], tol, "rad")
-            for k in range(1, ds.sizes["peak"])]
-    rows += [_row(f"{name}/half_cycle_{k}", ds.half_cycle_engine.values[i], ds.half_cycle_exact.values[i], tol, "s")
-             for i, k in enumerate(ds.half_cycle.values)]
+    rows = [
+        _row(f"{name}/peak_{k}", ds.peak_engine.values[k], ds.peak_rigid.values[k], tol, "rad")
+        for k in range(1, ds.sizes["peak"])
+    ]
+    rows += [
+        _row(
+            f"{name}/half_cycle_{k}",
+            ds.half_cycle_engine.values[i],
+            ds.half_cycle_exact.values[i],
+            tol,
+            "s",
+        )
+        for i, k in enumerate(ds.half_cycle.values)
+    ]
     return rows
 
 
@@ -145,9 +205,17 @@ def _one_sine_rows(name, factor, quick):
     kwargs = dict(ONE_SINE_QUICK) if quick else {}
     ds = _validation(name, factor, map_block=None, **kwargs).dataset
     tol = ds.attrs["tolerance"]
-    return [_row(f"{name}/{b}/omega_ratio={r:g}", ds.threshold_engine.values[i, j], ds.threshold_exact.values[i, j],
-                 tol, "1")
-            for i, b in enumerate(ds.block.values) for j, r in enumerate(ds.omega_ratio.values)]
+    return [
+        _row(
+            f"{name}/{b}/omega_ratio={r:g}",
+            ds.threshold_engine.values[i, j],
+            ds.threshold_exact.values[i, j],
+            tol,
+            "1",
+        )
+        for i, b in enumerate(ds.block.values)
+        for j, r in enumerate(ds.omega_ratio.values)
+    ]
 
 
 def rigid_ramp_thresholds(width=1.0, height=6.0, rate=RAMP_RATE, step=1e-5, duration=7.0):
@@ -161,11 +229,14 @@ def rigid_ramp_thresholds(width=1.0, height=6.0, rate=RAMP_RATE, step=1e-5, dura
     from stonedem.reference import analytic
 
     t = np.arange(0.0, duration, step)
-    res = analytic.rigid_rocking_response_compiled(t, -rate * t, width, height,
-                                                   analytic.housner_restitution(width, height))
+    res = analytic.rigid_rocking_response_compiled(
+        t, -rate * t, width, height, analytic.housner_restitution(width, height)
+    )
     theta = np.abs(np.nan_to_num(res.theta, nan=10.0))
     alpha = math.atan(width / height)
-    return float(rate * t[np.argmax(theta > ONSET_FRACTION * alpha)]), float(rate * t[np.argmax(theta >= alpha)])
+    return float(rate * t[np.argmax(theta > ONSET_FRACTION * alpha)]), float(
+        rate * t[np.argmax(theta >= alpha)]
+    )
 
 
 def _ramp_rows(name, factor, quick):
@@ -177,13 +248,27 @@ def _ramp_rows(name, factor, quick):
 
     contact = RAMP_CONTACTS[name] or cases.POINT_CONTACT
     contact = {**contact, "k_n": contact["k_n"] * factor}
-    spec = {"structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
-            "friction": 0.485, "contact": contact, "excitation": {"kind": "ramp", "rate": RAMP_RATE},
-            "solver": {"duration": 7.0, "stop_on_collapse": True}}
+    spec = {
+        "structure": {"kind": "column", "n_drums": 1, "height": 6.0, "width": 1.0},
+        "friction": 0.485,
+        "contact": contact,
+        "excitation": {"kind": "ramp", "rate": RAMP_RATE},
+        "solver": {"duration": 7.0, "stop_on_collapse": True},
+    }
     run = simulate(scene_from_dict(spec))
     onset, over = rigid_ramp_thresholds()
-    return [_row(f"{name}/rocking_onset_pga", RAMP_RATE * run.rocking_onset_time, onset, RAMP_TOLERANCE, "m s-2"),
-            _row(f"{name}/overturning_pga", RAMP_RATE * run.collapse_time, over, RAMP_TOLERANCE, "m s-2")]
+    return [
+        _row(
+            f"{name}/rocking_onset_pga",
+            RAMP_RATE * run.rocking_onset_time,
+            onset,
+            RAMP_TOLERANCE,
+            "m s-2",
+        ),
+        _row(
+            f"{name}/overturning_pga", RAMP_RATE * run.collapse_time, over, RAMP_TOLERANCE, "m s-2"
+        ),
+    ]
 
 
 # name -> (rows builder, in the quick set)
@@ -234,8 +319,12 @@ def _provenance():
     from stonedem.io.netcdf import code_version
     from stonedem.study.runner import library_versions, machine
 
-    return {"source": code_version(), "machine": machine(), **library_versions(),
-            "llvmlite_version": llvmlite.__version__}
+    return {
+        "source": code_version(),
+        "machine": machine(),
+        **library_versions(),
+        "llvmlite_version": llvmlite.__version__,
+    }
 
 
 def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) -> xr.Dataset:
@@ -254,30 +343,83 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
     for j in floor_members:
         for perturbation in FLOOR_PERTURBATIONS:
             other = {r["check"]: r["value"] for r in check_rows(quick, j, perturbation)}
-            floor = np.maximum(floor, [abs(other.get(r["check"], math.inf) - r["value"]) for r in rows])
+            floor = np.maximum(
+                floor, [abs(other.get(r["check"], math.inf) - r["value"]) for r in rows]
+            )
 
     ds = xr.Dataset(
-        {"check_value": ("check", column("value"), _attrs("1", "the check's number (units: check_units)")),
-         "check_reference": ("check", column("reference"), _attrs("1", "its reference (units: check_units)")),
-         "check_error": ("check", column("error"), _attrs(
-             "1", "|value / reference - 1| (check_measure relative) or |value - reference| (absolute)")),
-         "check_tolerance": ("check", column("tolerance"), _attrs("1", "the reference's own tolerance on check_error")),
-         "check_passes": ("check", column("passes", np.int8), _attrs("1", "check_error <= check_tolerance (1) or not (0)")),
-         "check_scale": ("check", column("scale"), _attrs(
-             "1", "magnitude the baseline regression is relative to: |reference|, or 1 for a normalised error")),
-         "check_floor": ("check", floor if floor_members else np.full(len(rows), np.nan), _attrs(
-             "1", "largest |value change| under k_n x (1 - j 2^-52), and that with every coordinate x "
-             "(1 + j 2^-52), j in floor_members (units: check_units)")),
-         "check_units": ("check", column("units", object), {"long_name": "units of check_value and check_reference"}),
-         "check_measure": ("check", column("measure", object), {"long_name": "how check_error is formed"})},
-        coords={"check": ("check", column("check", object), {"long_name": "validation/what is checked"})},
-        attrs={"title": "stonedem equivalence layer A: non-chaotic checks against their references",
-               "profile": "quick" if quick else "full", "member": int(member),
-               "floor_members": np.array(floor_members, dtype=np.int32),
-               "perturbation": "contact stiffness k_n times 1 - member 2^-52",
-               "floor_perturbations": " ".join(FLOOR_PERTURBATIONS),
-               "checks_passed": int(column("passes").sum()), "checks": len(rows),
-               "wall_seconds": time.perf_counter() - start, **_provenance()},
+        {
+            "check_value": (
+                "check",
+                column("value"),
+                _attrs("1", "the check's number (units: check_units)"),
+            ),
+            "check_reference": (
+                "check",
+                column("reference"),
+                _attrs("1", "its reference (units: check_units)"),
+            ),
+            "check_error": (
+                "check",
+                column("error"),
+                _attrs(
+                    "1",
+                    "|value / reference - 1| (check_measure relative) or |value - reference| (absolute)",
+                ),
+            ),
+            "check_tolerance": (
+                "check",
+                column("tolerance"),
+                _attrs("1", "the reference's own tolerance on check_error"),
+            ),
+            "check_passes": (
+                "check",
+                column("passes", np.int8),
+                _attrs("1", "check_error <= check_tolerance (1) or not (0)"),
+            ),
+            "check_scale": (
+                "check",
+                column("scale"),
+                _attrs(
+                    "1",
+                    "magnitude the baseline regression is relative to: |reference|, or 1 for a normalised error",
+                ),
+            ),
+            "check_floor": (
+                "check",
+                floor if floor_members else np.full(len(rows), np.nan),
+                _attrs(
+                    "1",
+                    "largest |value change| under k_n x (1 - j 2^-52), and that with every coordinate x "
+                    "(1 + j 2^-52), j in floor_members (units: check_units)",
+                ),
+            ),
+            "check_units": (
+                "check",
+                column("units", object),
+                {"long_name": "units of check_value and check_reference"},
+            ),
+            "check_measure": (
+                "check",
+                column("measure", object),
+                {"long_name": "how check_error is formed"},
+            ),
+        },
+        coords={
+            "check": ("check", column("check", object), {"long_name": "validation/what is checked"})
+        },
+        attrs={
+            "title": "stonedem equivalence layer A: non-chaotic checks against their references",
+            "profile": "quick" if quick else "full",
+            "member": int(member),
+            "floor_members": np.array(floor_members, dtype=np.int32),
+            "perturbation": "contact stiffness k_n times 1 - member 2^-52",
+            "floor_perturbations": " ".join(FLOOR_PERTURBATIONS),
+            "checks_passed": int(column("passes").sum()),
+            "checks": len(rows),
+            "wall_seconds": time.perf_counter() - start,
+            **_provenance(),
+        },
     )
     return ds
 
@@ -291,14 +433,28 @@ def _paired(base: xr.Dataset, cand: xr.Dataset, dim: str, layer: str):
     missing: '' when both sides have it)]) over the entries of either side, baseline's first."""
     for ds, side in ((base, "baseline"), (cand, "candidate")):
         if dim not in ds.dims:
-            return [{dim: "", "passed": False, "reason": f"the {side} has no {layer} (no {dim} dimension)"}], None
+            return [
+                {
+                    dim: "",
+                    "passed": False,
+                    "reason": f"the {side} has no {layer} (no {dim} dimension)",
+                }
+            ], None
     base_names, cand_names = [str(x) for x in base[dim].values], [str(x) for x in cand[dim].values]
-    return None, [(name, "" if name in base_names and name in cand_names else
-                   f"missing in the {'candidate' if name not in cand_names else 'baseline'}")
-                  for name in dict.fromkeys(base_names + cand_names)]
+    return None, [
+        (
+            name,
+            ""
+            if name in base_names and name in cand_names
+            else f"missing in the {'candidate' if name not in cand_names else 'baseline'}",
+        )
+        for name in dict.fromkeys(base_names + cand_names)
+    ]
 
 
-def compare_layer_a(base: xr.Dataset, cand: xr.Dataset, relative: float = RELATIVE) -> tuple[bool, list[dict]]:
+def compare_layer_a(
+    base: xr.Dataset, cand: xr.Dataset, relative: float = RELATIVE
+) -> tuple[bool, list[dict]]:
     """(passed, one row per check): each candidate check meets its reference tolerance and
     |cand - base| <= max(relative x max(|base|, scale), FACTOR_A x floor): scale is the
     baseline's ``check_scale`` (|reference|, or 1 for an error held to 0: the absolute floor
@@ -318,18 +474,34 @@ def compare_layer_a(base: xr.Dataset, cand: xr.Dataset, relative: float = RELATI
         b_value, c_value = float(b.check_value), float(c.check_value)
         scale = float(b.check_scale) if "check_scale" in b else abs(float(b.check_reference))
         floor = float(b.check_floor) if "check_floor" in b else 0.0
-        allowed = max(relative * max(abs(b_value), scale), FACTOR_A * floor if _finite(floor) else 0.0)
+        allowed = max(
+            relative * max(abs(b_value), scale), FACTOR_A * floor if _finite(floor) else 0.0
+        )
         difference = abs(c_value - b_value)
         meets = bool(int(c.check_passes)) and _finite(c_value)
         close = _finite(difference) and difference <= allowed
-        reasons = ([] if meets else [f"misses its reference: error {float(c.check_error):.3g} > "
-                                     f"tolerance {float(c.check_tolerance):.3g}"])
+        reasons = (
+            []
+            if meets
+            else [
+                f"misses its reference: error {float(c.check_error):.3g} > "
+                f"tolerance {float(c.check_tolerance):.3g}"
+            ]
+        )
         if not close:
             reasons.append(f"moved from the baseline by {difference:.3g} > {allowed:.3g}")
-        row.update(value=c_value, baseline=b_value, reference=float(c.check_reference),
-                   error=float(c.check_error), tolerance=float(c.check_tolerance), difference=difference,
-                   allowed=allowed, relative_difference=difference / abs(b_value) if b_value else math.inf,
-                   passed=meets and close, reason="; ".join(reasons))
+        row.update(
+            value=c_value,
+            baseline=b_value,
+            reference=float(c.check_reference),
+            error=float(c.check_error),
+            tolerance=float(c.check_tolerance),
+            difference=difference,
+            allowed=allowed,
+            relative_difference=difference / abs(b_value) if b_value else math.inf,
+            passed=meets and close,
+            reason="; ".join(reasons),
+        )
         table.append(row)
     return all(r["passed"] for r in table), table
 
@@ -381,7 +553,9 @@ def last_bit_families(spec: dict) -> dict:
     else:
         for i, body in enumerate(spec.get("bodies", ())):
             if "box" in body and not body.get("driven", False):
-                out.update(width=("bodies", i, "box", "width"), height=("bodies", i, "box", "height"))
+                out.update(
+                    width=("bodies", i, "box", "width"), height=("bodies", i, "box", "height")
+                )
                 if "tilt" in body:
                     out["tilt"] = ("bodies", i, "tilt", "angle")
                 break
@@ -392,8 +566,8 @@ def last_bit_families(spec: dict) -> dict:
 
 def _geometry_variant(scene, path, sign, j):
     """The scene rebuilt from its spec with the value at ``path`` times (1 + sign j 2^-52)."""
-    from stonedem.study.members import RELATIVE_STEP
     from stonedem.engine.scene import scene_from_dict
+    from stonedem.study.members import RELATIVE_STEP
 
     spec = copy.deepcopy(scene.spec)
     node = spec
@@ -402,8 +576,10 @@ def _geometry_variant(scene, path, sign, j):
     value = node[path[-1]]
     node[path[-1]] = value * (1.0 + sign * j * RELATIVE_STEP)
     if node[path[-1]] == value:  # rounded back: a variant that is no variant would floor at 0
-        raise ValueError(f"{'.'.join(map(str, path))} = {value!r} x (1 {'+' if sign > 0 else '-'} "
-                         f"{j} 2^-52) rounds to itself")
+        raise ValueError(
+            f"{'.'.join(map(str, path))} = {value!r} x (1 {'+' if sign > 0 else '-'} "
+            f"{j} 2^-52) rounds to itself"
+        )
     return scene_from_dict(spec)
 
 
@@ -422,7 +598,9 @@ def _divergence(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
     return float(np.max(d[..., :2], initial=0.0)), float(np.max(d[..., 2], initial=0.0))
 
 
-def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, member: int = 0) -> xr.Dataset:
+def layer_b(
+    duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, member: int = 0
+) -> xr.Dataset:
     """Layer B's dataset: per short-horizon scene, member ``member``'s trajectory
     (:func:`stonedem.study.members.member_scene`; a baseline's is member 0's) and the last-bit
     floor of its positions and rotations (NaN with no ``floor_members``: a candidate's floors
@@ -443,8 +621,10 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, membe
     # (family, sign, j): stiffness_j, then <family>_+j and <family>_-j
     variants = [("stiffness", -1.0, j) for j in floor_members]
     variants += [(f, s, j) for f in FAMILIES[1:] for j in floor_members for s in (1.0, -1.0)]
-    variant_names = [f"stiffness_{j}" if f == "stiffness" else f"{f}_{'+' if s > 0 else '-'}{j}"
-                     for f, s, j in variants]
+    variant_names = [
+        f"stiffness_{j}" if f == "stiffness" else f"{f}_{'+' if s > 0 else '-'}{j}"
+        for f, s, j in variants
+    ]
     names = list(scenes)
     trajectories, times, kinds_of_coordinate = [], [], []
     divergence = np.full((len(names), 2, len(variants)), np.nan)
@@ -468,7 +648,9 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, membe
                 other = _geometry_variant(scene, paths[family], sign, j)
             else:
                 continue
-            divergence[i, :, v] = _divergence(base, trajectory(simulate(member_scene(other, member))))
+            divergence[i, :, v] = _divergence(
+                base, trajectory(simulate(member_scene(other, member)))
+            )
     n_sample = max(t.shape[0] for t in trajectories)
     n_coordinate = max(t.shape[1] for t in trajectories)
     padded = np.full((len(names), n_sample, n_coordinate), np.nan)
@@ -487,43 +669,133 @@ def layer_b(duration: float = 0.5, floor_members=(1, 2, 3), *, kinds=None, membe
             by_family[:, :, f][has] = np.nanmax(picked[has], axis=-1)
     measured = np.nanmax(divergence, axis=2) if variants else np.full((len(names), 2), np.nan)
     eps = np.finfo(float).eps
-    position_scale = np.array([np.nanmax(np.abs(np.where(coordinate_kind[i] == 0, padded[i], np.nan)))
-                               for i in range(len(names))])
-    rotation_scale = np.array([max(1.0, np.nanmax(np.abs(np.where(coordinate_kind[i] == 1, padded[i], np.nan))))
-                               for i in range(len(names))])
+    position_scale = np.array(
+        [
+            np.nanmax(np.abs(np.where(coordinate_kind[i] == 0, padded[i], np.nan)))
+            for i in range(len(names))
+        ]
+    )
+    rotation_scale = np.array(
+        [
+            max(1.0, np.nanmax(np.abs(np.where(coordinate_kind[i] == 1, padded[i], np.nan))))
+            for i in range(len(names))
+        ]
+    )
     floor_position = np.maximum(measured[:, 0], FLOOR_ULPS * eps * position_scale)
     floor_rotation = np.maximum(measured[:, 1], FLOOR_ULPS * eps * rotation_scale)
     return xr.Dataset(
-        {"trajectory": (("scene", "sample", "coordinate"), padded, _attrs(
-            "1", f"member {member}: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded")),
-         "coordinate_kind": (("scene", "coordinate"), coordinate_kind, {
-             **_attrs("1", "kind of a trajectory coordinate"), "flag_values": np.array([-1, 0, 1], dtype=np.int8),
-             "flag_meanings": "padding position rotation"}),
-         "sample_time": (("scene", "sample"), sample_time, _attrs("s", "time of each output sample, NaN-padded")),
-         "floor_position": ("scene", floor_position, _attrs(
-             "m", "last-bit floor of positions: largest |divergence| of a variant of any family, at least "
-                  f"{FLOOR_ULPS} ulps of the largest |position|")),
-         "floor_rotation": ("scene", floor_rotation, _attrs(
-             "rad", f"last-bit floor of rotations: largest |divergence|, at least {FLOOR_ULPS} ulps of max(1, |theta|)")),
-         "divergence_position": (("scene", "variant"), divergence[:, 0, :], _attrs(
-             "m", "largest |position difference| from member 0 of the variant (NaN: the scene has none)")),
-         "divergence_rotation": (("scene", "variant"), divergence[:, 1, :], _attrs(
-             "rad", "largest |rotation difference| from member 0 of the variant (NaN: the scene has none)")),
-         "family_position": (("scene", "family"), by_family[:, 0, :], _attrs(
-             "m", "largest divergence_position of the family's variants (NaN: the scene has none)")),
-         "family_rotation": (("scene", "family"), by_family[:, 1, :], _attrs(
-             "rad", "largest divergence_rotation of the family's variants (NaN: the scene has none)")),
-         "family_parameter": (("scene", "family"), parameter, {
-             "long_name": "scene spec value the family scales (none: the scene has none)"})},
-        coords={"scene": ("scene", np.array(names, dtype=object), {"long_name": "short-horizon scene (kind/PGA)"}),
-                "variant": ("variant", np.array(variant_names, dtype=object), {
-                    "long_name": "stiffness_j: k_n x (1 - j 2^-52); <family>_+-j: family_parameter x (1 +- j 2^-52)"}),
-                "variant_family": ("variant", family_of, {"long_name": "last-bit family of the variant"}),
-                "family": ("family", np.array(FAMILIES, dtype=object), {"long_name": "last-bit family"})},
-        attrs={"title": "stonedem equivalence layer B: short-horizon trajectories and their last-bit floors",
-               "duration": float(duration), "duration_units": "s", "member": int(member),
-               "floor_members": np.array(floor_members, dtype=np.int32), "floor_ulps": FLOOR_ULPS,
-               "wall_seconds": time.perf_counter() - start, **_provenance()},
+        {
+            "trajectory": (
+                ("scene", "sample", "coordinate"),
+                padded,
+                _attrs(
+                    "1",
+                    f"member {member}: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded",
+                ),
+            ),
+            "coordinate_kind": (
+                ("scene", "coordinate"),
+                coordinate_kind,
+                {
+                    **_attrs("1", "kind of a trajectory coordinate"),
+                    "flag_values": np.array([-1, 0, 1], dtype=np.int8),
+                    "flag_meanings": "padding position rotation",
+                },
+            ),
+            "sample_time": (
+                ("scene", "sample"),
+                sample_time,
+                _attrs("s", "time of each output sample, NaN-padded"),
+            ),
+            "floor_position": (
+                "scene",
+                floor_position,
+                _attrs(
+                    "m",
+                    "last-bit floor of positions: largest |divergence| of a variant of any family, at least "
+                    f"{FLOOR_ULPS} ulps of the largest |position|",
+                ),
+            ),
+            "floor_rotation": (
+                "scene",
+                floor_rotation,
+                _attrs(
+                    "rad",
+                    f"last-bit floor of rotations: largest |divergence|, at least {FLOOR_ULPS} ulps of max(1, |theta|)",
+                ),
+            ),
+            "divergence_position": (
+                ("scene", "variant"),
+                divergence[:, 0, :],
+                _attrs(
+                    "m",
+                    "largest |position difference| from member 0 of the variant (NaN: the scene has none)",
+                ),
+            ),
+            "divergence_rotation": (
+                ("scene", "variant"),
+                divergence[:, 1, :],
+                _attrs(
+                    "rad",
+                    "largest |rotation difference| from member 0 of the variant (NaN: the scene has none)",
+                ),
+            ),
+            "family_position": (
+                ("scene", "family"),
+                by_family[:, 0, :],
+                _attrs(
+                    "m",
+                    "largest divergence_position of the family's variants (NaN: the scene has none)",
+                ),
+            ),
+            "family_rotation": (
+                ("scene", "family"),
+                by_family[:, 1, :],
+                _attrs(
+                    "rad",
+                    "largest divergence_rotation of the family's variants (NaN: the scene has none)",
+                ),
+            ),
+            "family_parameter": (
+                ("scene", "family"),
+                parameter,
+                {"long_name": "scene spec value the family scales (none: the scene has none)"},
+            ),
+        },
+        coords={
+            "scene": (
+                "scene",
+                np.array(names, dtype=object),
+                {"long_name": "short-horizon scene (kind/PGA)"},
+            ),
+            "variant": (
+                "variant",
+                np.array(variant_names, dtype=object),
+                {
+                    "long_name": "stiffness_j: k_n x (1 - j 2^-52); <family>_+-j: family_parameter x (1 +- j 2^-52)"
+                },
+            ),
+            "variant_family": (
+                "variant",
+                family_of,
+                {"long_name": "last-bit family of the variant"},
+            ),
+            "family": (
+                "family",
+                np.array(FAMILIES, dtype=object),
+                {"long_name": "last-bit family"},
+            ),
+        },
+        attrs={
+            "title": "stonedem equivalence layer B: short-horizon trajectories and their last-bit floors",
+            "duration": float(duration),
+            "duration_units": "s",
+            "member": int(member),
+            "floor_members": np.array(floor_members, dtype=np.int32),
+            "floor_ulps": FLOOR_ULPS,
+            "wall_seconds": time.perf_counter() - start,
+            **_provenance(),
+        },
     )
 
 
@@ -537,7 +809,9 @@ def _unpadded(ds: xr.Dataset, name: str) -> np.ndarray:
     return t[:n_rows, :n_columns]
 
 
-def compare_layer_b(base: xr.Dataset, cand: xr.Dataset, factor: float = FACTOR) -> tuple[bool, list[dict]]:
+def compare_layer_b(
+    base: xr.Dataset, cand: xr.Dataset, factor: float = FACTOR
+) -> tuple[bool, list[dict]]:
     """(passed, one row per scene): per scene max |d position| <= factor x the baseline's
     floor_position and max |d rotation| <= factor x its floor_rotation. A scene missing on
     either side, or a trajectory of another shape, fails."""
@@ -553,11 +827,18 @@ def compare_layer_b(base: xr.Dataset, cand: xr.Dataset, factor: float = FACTOR) 
         b, c = _unpadded(base, name), _unpadded(cand, name)
         floor_p = float(base.floor_position.sel(scene=name))
         floor_r = float(base.floor_rotation.sel(scene=name))
-        row.update(floor_position=floor_p, floor_rotation=floor_r,
-                   allowed_position=factor * floor_p, allowed_rotation=factor * floor_r)
+        row.update(
+            floor_position=floor_p,
+            floor_rotation=floor_r,
+            allowed_position=factor * floor_p,
+            allowed_rotation=factor * floor_r,
+        )
         if b.shape != c.shape:
-            row.update(passed=False, reason=f"trajectory shape {c.shape} (samples, coordinates) differs from "
-                                            f"the baseline's {b.shape}")
+            row.update(
+                passed=False,
+                reason=f"trajectory shape {c.shape} (samples, coordinates) differs from "
+                f"the baseline's {b.shape}",
+            )
             table.append(row)
             continue
         d_position, d_rotation = _divergence(b, c)
@@ -566,12 +847,20 @@ def compare_layer_b(base: xr.Dataset, cand: xr.Dataset, factor: float = FACTOR) 
             d_position = d_rotation = math.inf
             reasons.append("NaN where the baseline has a number (or the reverse)")
         if not d_position <= factor * floor_p:
-            reasons.append(f"position moved {d_position:.3g} m > {factor:g} x floor {floor_p:.3g} m")
+            reasons.append(
+                f"position moved {d_position:.3g} m > {factor:g} x floor {floor_p:.3g} m"
+            )
         if not d_rotation <= factor * floor_r:
-            reasons.append(f"rotation moved {d_rotation:.3g} rad > {factor:g} x floor {floor_r:.3g} rad")
-        row.update(position_difference=d_position, rotation_difference=d_rotation,
-                   position_in_floors=d_position / floor_p if floor_p > 0 else math.inf,
-                   rotation_in_floors=d_rotation / floor_r if floor_r > 0 else math.inf,
-                   passed=not reasons, reason="; ".join(reasons))
+            reasons.append(
+                f"rotation moved {d_rotation:.3g} rad > {factor:g} x floor {floor_r:.3g} rad"
+            )
+        row.update(
+            position_difference=d_position,
+            rotation_difference=d_rotation,
+            position_in_floors=d_position / floor_p if floor_p > 0 else math.inf,
+            rotation_in_floors=d_rotation / floor_r if floor_r > 0 else math.inf,
+            passed=not reasons,
+            reason="; ".join(reasons),
+        )
         table.append(row)
     return all(r["passed"] for r in table), table

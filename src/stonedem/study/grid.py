@@ -22,20 +22,25 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.errors import InputError
-from stonedem.motion.suites import record_file_name
-from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from stonedem.engine.structures import EPISTYLE_TYPES
-from stonedem.study.search import SearchSettings
+from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result
+from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from stonedem.io.yaml_file import read_yaml_mapping
+from stonedem.motion.suites import record_file_name
+from stonedem.study.search import SearchSettings
 
 MAX_CONFIG_BYTES = 1_000_000  # the full study's config is 6 kB
 
 # name: (scene field, units, long name, id label)
 PARAMETERS = {
     "record": ("excitation.file", "1", "ground-motion record", "rec"),
-    "component": ("excitation.component", "1", "record component of a FEMA P695 suite (records/suites/)", "rec"),
+    "component": (
+        "excitation.component",
+        "1",
+        "record component of a FEMA P695 suite (records/suites/)",
+        "rec",
+    ),
     "pga": ("excitation.pga", "m s-2", "peak ground acceleration of the scaled record", "pga"),
     "pga_scale": ("excitation.scale", "1", "record scale factor", "x"),
     "frequency": ("excitation.frequency", "Hz", "harmonic excitation frequency", "f"),
@@ -48,23 +53,68 @@ PARAMETERS = {
     "taper": ("structure.taper", "1", "base / top width of the shaft", "taper"),
     "friction": ("friction", "1", "friction coefficient", "mu"),
     # thesis 6.5: one joint of a standalone column with a lower friction coefficient
-    "weak_joint": ("weak_joint.joint", "1", "joint with the lower friction, from the base (0: base / drum 0)", "joint"),
+    "weak_joint": (
+        "weak_joint.joint",
+        "1",
+        "joint with the lower friction, from the base (0: base / drum 0)",
+        "joint",
+    ),
     "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
 }
 # a case's parameters besides those swept: its ensemble member (issue 44), set by the config's
 # ensemble: {members: K} (config_cases), never in a study's grid or cases
 MEMBER = "member"
-CASE_PARAMETERS = {**PARAMETERS, MEMBER: ("ensemble.member", "1",
-                                          "ensemble member j (stonedem.study.members: k_n x (1 - j 2^-52))", "m")}
-STUDY_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "grid",
-              "interface_friction", "weak_joint", "cases", "description", "search")
-SCENE_KEYS = ("structure", "friction", "contact", "excitation", "solver", "output", "interface_friction",
-              "weak_joint")
+CASE_PARAMETERS = {
+    **PARAMETERS,
+    MEMBER: (
+        "ensemble.member",
+        "1",
+        "ensemble member j (stonedem.study.members: k_n x (1 - j 2^-52))",
+        "m",
+    ),
+}
+STUDY_KEYS = (
+    "structure",
+    "friction",
+    "contact",
+    "excitation",
+    "solver",
+    "output",
+    "grid",
+    "interface_friction",
+    "weak_joint",
+    "cases",
+    "description",
+    "search",
+)
+SCENE_KEYS = (
+    "structure",
+    "friction",
+    "contact",
+    "excitation",
+    "solver",
+    "output",
+    "interface_friction",
+    "weak_joint",
+)
 # study (and defaults) keys whose value must be a mapping before a case is built from it
 MAPPING_KEYS = ("structure", "contact", "excitation", "solver", "output", "weak_joint")
 # keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a scene's name
-DEFAULT_KEYS = ("description", "bodies", "structure", "depth", "density", "gravity", "friction",
-                "interface_friction", "contact", "excitation", "solver", "output", "weak_joint")
+DEFAULT_KEYS = (
+    "description",
+    "bodies",
+    "structure",
+    "depth",
+    "density",
+    "gravity",
+    "friction",
+    "interface_friction",
+    "contact",
+    "excitation",
+    "solver",
+    "output",
+    "weak_joint",
+)
 # study and record names are file names and Snakemake wildcard alternatives (common.smk);
 # case ids are file names and the {case} wildcard
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
@@ -84,9 +134,21 @@ MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.
 # and the memory budget (stonedem.engine.memory, checked in stonedem.engine.simulate.preflight, as stonedem run refuses them)
 
 # the values of each swept parameter (check_value); record: a name under the config's records:
-POSITIVE = ("pga", "pga_scale", "frequency", "amplitude", "clear_distance", "epistyle_density", "taper")
+POSITIVE = (
+    "pga",
+    "pga_scale",
+    "frequency",
+    "amplitude",
+    "clear_distance",
+    "epistyle_density",
+    "taper",
+)
 NONNEGATIVE = ("friction", "weak_joint_mu")
-COUNTS = {"n_drums": (1, MAX_DRUMS), "n_columns": (1, MAX_COLUMNS), "weak_joint": (0, MAX_DRUMS - 1)}
+COUNTS = {
+    "n_drums": (1, MAX_DRUMS),
+    "n_columns": (1, MAX_COLUMNS),
+    "weak_joint": (0, MAX_DRUMS - 1),
+}
 CHOICES = {"epistyle_type": EPISTYLE_TYPES}
 
 
@@ -112,8 +174,13 @@ class Case:
     @classmethod
     def from_dict(cls, spec: dict) -> "Case":
         search = spec.get("search")
-        return cls(spec["study"], spec["id"], dict(spec["params"]), copy.deepcopy(spec["scene"]),
-                   SearchSettings(**search) if search is not None else None)
+        return cls(
+            spec["study"],
+            spec["id"],
+            dict(spec["params"]),
+            copy.deepcopy(spec["scene"]),
+            SearchSettings(**search) if search is not None else None,
+        )
 
 
 # parameters a threshold search may sweep: the intensity measures of the excitation
@@ -146,8 +213,16 @@ def load_config(*paths) -> dict:
 
     config: dict = {}
     for path in paths:
-        merge(config, read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES,
-                                        "give 'key: value' lines (config/README.md)", allow_empty=True))
+        merge(
+            config,
+            read_yaml_mapping(
+                path,
+                "a config file",
+                MAX_CONFIG_BYTES,
+                "give 'key: value' lines (config/README.md)",
+                allow_empty=True,
+            ),
+        )
     return config
 
 
@@ -156,12 +231,18 @@ def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
     ``ensemble: {members: K}`` (K > 1) every case once per member (:func:`ensemble_settings`)."""
     names = list(config.get("studies") or {}) if studies is None else studies
     members, perturbation = ensemble_settings(config)
-    return {name: with_members(case_table(name, config["studies"][name], config.get("defaults")), members,
-                               perturbation) for name in names}
+    return {
+        name: with_members(
+            case_table(name, config["studies"][name], config.get("defaults")), members, perturbation
+        )
+        for name in names
+    }
 
 
 ENSEMBLE_KEYS = ("members", "perturbation", "baseline_members")
-BASELINE_MEMBERS = 20  # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
+BASELINE_MEMBERS = (
+    20  # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
+)
 
 
 def ensemble_settings(config: dict, baseline: bool = False) -> tuple[int, str]:
@@ -173,16 +254,23 @@ def ensemble_settings(config: dict, baseline: bool = False) -> tuple[int, str]:
     spec = config.get("ensemble")
     spec = {} if spec is None else spec
     if not isinstance(spec, dict):
-        raise InputError("ensemble", f"expected a mapping, got {spec!r}", "write ensemble: {members: 20}")
+        raise InputError(
+            "ensemble", f"expected a mapping, got {spec!r}", "write ensemble: {members: 20}"
+        )
     for key in spec:
         if key not in ENSEMBLE_KEYS:
-            raise InputError(f"ensemble.{key}", "unknown key", f"allowed keys: {', '.join(ENSEMBLE_KEYS)}")
+            raise InputError(
+                f"ensemble.{key}", "unknown key", f"allowed keys: {', '.join(ENSEMBLE_KEYS)}"
+            )
     counts = {}
     for key, default, low in (("members", 1, 1), ("baseline_members", BASELINE_MEMBERS, 2)):
         value = spec.get(key, default)
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= MAX_MEMBERS:
-            raise InputError(f"ensemble.{key}", f"expected an integer {low} ... {MAX_MEMBERS}, got {value!r}",
-                             f"give {key}: {default} (stonedem.study.members.MAX_MEMBERS)")
+            raise InputError(
+                f"ensemble.{key}",
+                f"expected an integer {low} ... {MAX_MEMBERS}, got {value!r}",
+                f"give {key}: {default} (stonedem.study.members.MAX_MEMBERS)",
+            )
         counts[key] = value
     perturbation = check_perturbation(spec.get("perturbation", PERTURBATIONS[0]))
     return counts["baseline_members" if baseline else "members"], perturbation
@@ -249,50 +337,77 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
     a weak joint out of range is named by its grid or case entry (else weak_joint.joint)."""
     where = f"studies.{name}"
     if not isinstance(study, dict):
-        raise InputError(where, f"expected a mapping, got {type(study).__name__}",
-                         "give structure:, excitation:, grid:")
+        raise InputError(
+            where,
+            f"expected a mapping, got {type(study).__name__}",
+            "give structure:, excitation:, grid:",
+        )
     for key in study:
         if key not in STUDY_KEYS:
-            raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}")
+            raise InputError(
+                f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}"
+            )
     if defaults is not None and not isinstance(defaults, dict):
-        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
-                         "write defaults: {contact: {...}, solver: {...}}")
+        raise InputError(
+            "defaults",
+            f"expected a mapping, got {type(defaults).__name__}",
+            "write defaults: {contact: {...}, solver: {...}}",
+        )
     for source, path in ((study, where), (defaults or {}, "defaults")):
         for key in MAPPING_KEYS:
             if key in source and not isinstance(source[key], dict):
-                raise InputError(f"{path}.{key}", f"expected a mapping, got {source[key]!r}",
-                                 f"write {key}: {{...}}")
+                raise InputError(
+                    f"{path}.{key}",
+                    f"expected a mapping, got {source[key]!r}",
+                    f"write {key}: {{...}}",
+                )
         if "interface_friction" in source and not isinstance(source["interface_friction"], list):
-            raise InputError(f"{path}.interface_friction", "expected a list",
-                             "write interface_friction: [{bodies: [a, b], mu: 0.3}]")
+            raise InputError(
+                f"{path}.interface_friction",
+                "expected a list",
+                "write interface_friction: [{bodies: [a, b], mu: 0.3}]",
+            )
     grid = study.get("grid")
     grid = {} if grid is None else grid
     if not isinstance(grid, dict):
-        raise InputError(f"{where}.grid", f"expected a mapping, got {type(grid).__name__}",
-                         "write grid: {parameter: [values]}")
+        raise InputError(
+            f"{where}.grid",
+            f"expected a mapping, got {type(grid).__name__}",
+            "write grid: {parameter: [values]}",
+        )
     listed = study.get("cases")
     listed = [] if listed is None else listed
     if not isinstance(listed, list):
-        raise InputError(f"{where}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]")
+        raise InputError(
+            f"{where}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]"
+        )
     if not grid and not listed:
         raise InputError(where, "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
     n_grid = 1 if grid else 0
     for key, values in grid.items():
         _check_parameter(f"{where}.grid.{key}", key)
         if not isinstance(values, list) or not values:
-            raise InputError(f"{where}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]")
+            raise InputError(
+                f"{where}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]"
+            )
         seen = {}
         for i, value in enumerate(values):
             check_value(f"{where}.grid.{key}[{i}]", key, value)
             if _label(value) in seen:
-                raise InputError(f"{where}.grid.{key}[{i}]", f"{value!r} repeats {key}[{seen[_label(value)]}]",
-                                 "remove the duplicate")
+                raise InputError(
+                    f"{where}.grid.{key}[{i}]",
+                    f"{value!r} repeats {key}[{seen[_label(value)]}]",
+                    "remove the duplicate",
+                )
             seen[_label(value)] = i
         n_grid *= len(values)
     for i, params in enumerate(listed):
         if not isinstance(params, dict) or not params:
-            raise InputError(f"{where}.cases[{i}]", "expected a mapping of parameters",
-                             "write {record: ..., pga: ...}")
+            raise InputError(
+                f"{where}.cases[{i}]",
+                "expected a mapping of parameters",
+                "write {record: ..., pga: ...}",
+            )
         for key, value in params.items():
             _check_parameter(f"{where}.cases[{i}].{key}", key)
             check_value(f"{where}.cases[{i}].{key}", key, value)
@@ -301,16 +416,24 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
         search = SearchSettings.from_config(study["search"], f"{where}.search", SEARCH_PARAMETERS)
         for key in list(grid) + [k for params in listed for k in params]:
             if key == search.parameter:
-                raise InputError(f"{where}.grid.{key}" if key in grid else f"{where}.cases",
-                                 f"{key} is the searched parameter", f"remove {key} from the grid and cases")
+                raise InputError(
+                    f"{where}.grid.{key}" if key in grid else f"{where}.cases",
+                    f"{key} is the searched parameter",
+                    f"remove {key} from the grid and cases",
+                )
     if search is not None and (n_grid + len(listed)) * search.max_runs > MAX_CASES_PER_STUDY:
-        raise InputError(f"{where}.search.max_runs", f"{n_grid + len(listed)} systems x {search.max_runs} runs may "
-                         f"exceed the limit of {MAX_CASES_PER_STUDY} cases per study",
-                         "search fewer systems or lower max_runs (stonedem.study.grid.MAX_CASES_PER_STUDY)")
+        raise InputError(
+            f"{where}.search.max_runs",
+            f"{n_grid + len(listed)} systems x {search.max_runs} runs may "
+            f"exceed the limit of {MAX_CASES_PER_STUDY} cases per study",
+            "search fewer systems or lower max_runs (stonedem.study.grid.MAX_CASES_PER_STUDY)",
+        )
     if n_grid + len(listed) > MAX_CASES_PER_STUDY:
-        raise InputError(f"{where}.grid" if grid else f"{where}.cases",
-                         f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
-                         "thin the grid or split the study (stonedem.study.grid.MAX_CASES_PER_STUDY)")
+        raise InputError(
+            f"{where}.grid" if grid else f"{where}.cases",
+            f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
+            "thin the grid or split the study (stonedem.study.grid.MAX_CASES_PER_STUDY)",
+        )
     base = {k: copy.deepcopy(v) for k, v in (defaults or {}).items()}
     for key in SCENE_KEYS:
         if key in study:
@@ -319,11 +442,22 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
             else:
                 base[key] = copy.deepcopy(study[key])
     keys = list(grid)
-    rows = [({k: grid[k][i] for k, i in zip(keys, index)},
-             {k: f"{where}.grid.{k}[{i}]" for k, i in zip(keys, index)}, f"{where}.grid")
-            for index in itertools.product(*(range(len(grid[k])) for k in keys))] if grid else []
-    rows += [(dict(params), {k: f"{where}.cases[{i}].{k}" for k in params}, f"{where}.cases[{i}]")
-             for i, params in enumerate(listed)]
+    rows = (
+        [
+            (
+                {k: grid[k][i] for k, i in zip(keys, index)},
+                {k: f"{where}.grid.{k}[{i}]" for k, i in zip(keys, index)},
+                f"{where}.grid",
+            )
+            for index in itertools.product(*(range(len(grid[k])) for k in keys))
+        ]
+        if grid
+        else []
+    )
+    rows += [
+        (dict(params), {k: f"{where}.cases[{i}].{k}" for k in params}, f"{where}.cases[{i}]")
+        for i, params in enumerate(listed)
+    ]
     cases = []
     ids = set()
     for params, origin, container in rows:
@@ -332,10 +466,17 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
             _set(case.scene, PARAMETERS[search.parameter][0], search.start)
             case = Case(case.study, case.id, case.params, case.scene, search)
         if case.id in ids:
-            raise InputError(container, f"case {case.id} is given twice", "remove the duplicate grid value or case")
+            raise InputError(
+                container,
+                f"case {case.id} is given twice",
+                "remove the duplicate grid value or case",
+            )
         if not CASE_ID_PATTERN.fullmatch(case.id):  # values are checked: a guard for new parameters
-            raise InputError(container, f"case id {case.id!r} is not a file name and {{case}} wildcard",
-                             "use letters, digits, _ . + - in string values")
+            raise InputError(
+                container,
+                f"case id {case.id!r} is not a file name and {{case}} wildcard",
+                "use letters, digits, _ . + - in string values",
+            )
         ids.add(case.id)
         cases.append((case, origin))
     return cases
@@ -343,8 +484,11 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
 
 def _check_parameter(field: str, key) -> None:
     if key == MEMBER:
-        raise InputError(field, f"{key} is set by the config's ensemble:, not swept",
-                         "remove it here and write ensemble: {members: K} at the top level")
+        raise InputError(
+            field,
+            f"{key} is set by the config's ensemble:, not swept",
+            "remove it here and write ensemble: {members: K} at the top level",
+        )
     if key not in PARAMETERS:
         raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
 
@@ -353,27 +497,39 @@ def check_value(field: str, key: str, value):
     """One value of swept parameter ``key``, or an InputError naming ``field`` (its config path)."""
     if key == "record":
         if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
-            raise InputError(field, f"expected a record name, got {value!r}", "give a name listed under records:")
+            raise InputError(
+                field, f"expected a record name, got {value!r}", "give a name listed under records:"
+            )
         return value
     if key == "component":
         from stonedem.motion.suites import suite_of
 
         if not isinstance(value, str) or suite_of(value) is None:
-            raise InputError(field, f"expected a FEMA P695 component name, got {value!r}",
-                             "give e.g. FF07a, NP03b, NN12a (records/suites/)")
+            raise InputError(
+                field,
+                f"expected a FEMA P695 component name, got {value!r}",
+                "give e.g. FF07a, NP03b, NN12a (records/suites/)",
+            )
         return value
     if key in CHOICES:
         if not isinstance(value, str) or value not in CHOICES[key]:
-            raise InputError(field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}")
+            raise InputError(
+                field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}"
+            )
         return value
     units = PARAMETERS[key][1]
     if key in COUNTS:
         low, high = COUNTS[key]
         if isinstance(value, bool) or not isinstance(value, int):
-            raise InputError(field, f"expected an integer, got {value!r}", f"give an integer {low} ... {high}")
+            raise InputError(
+                field, f"expected an integer, got {value!r}", f"give an integer {low} ... {high}"
+            )
         if not low <= value <= high:
-            raise InputError(field, f"must be {low} ... {high}, got {value}",
-                             f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)")
+            raise InputError(
+                field,
+                f"must be {low} ... {high}, got {value}",
+                f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)",
+            )
         return value
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         fix = "give a number"
@@ -387,9 +543,13 @@ def check_value(field: str, key: str, value):
     if not math.isfinite(value):
         raise InputError(field, f"{value} is not finite", "give a finite number")
     if key in POSITIVE and not value > 0:
-        raise InputError(field, f"must be > 0, got {value}", f"give a positive {PARAMETERS[key][2]} [{units}]")
+        raise InputError(
+            field, f"must be > 0, got {value}", f"give a positive {PARAMETERS[key][2]} [{units}]"
+        )
     if key in NONNEGATIVE and not value >= 0:
-        raise InputError(field, f"must be >= 0, got {value}", f"give a non-negative {PARAMETERS[key][2]}")
+        raise InputError(
+            field, f"must be >= 0, got {value}", f"give a non-negative {PARAMETERS[key][2]}"
+        )
     return value
 
 
@@ -411,24 +571,35 @@ def _apply_weak_joint(scene: dict, where: str, joint_field: str | None = None) -
     if weak is None:
         return
     if not isinstance(weak, dict) or set(weak) != {"joint", "mu"}:
-        raise InputError(f"{where}.weak_joint", "expected {joint, mu}", "write weak_joint: {joint: 0, mu: 0.05}")
+        raise InputError(
+            f"{where}.weak_joint", "expected {joint, mu}", "write weak_joint: {joint: 0, mu: 0.05}"
+        )
     joint = weak["joint"]
     n_drums = (scene.get("structure") or {}).get("n_drums", 1)
     if isinstance(n_drums, bool) or not isinstance(n_drums, int):
         return  # the scene refuses it (structure.n_drums)
     if isinstance(joint, bool) or not isinstance(joint, int) or not 0 <= joint < n_drums:
-        raise InputError(joint_field or f"{where}.weak_joint.joint",
-                         f"{joint!r} is not a joint of a {n_drums}-drum column",
-                         f"give an integer 0 ... {n_drums - 1}")
+        raise InputError(
+            joint_field or f"{where}.weak_joint.joint",
+            f"{joint!r} is not a joint of a {n_drums}-drum column",
+            f"give an integer 0 ... {n_drums - 1}",
+        )
     lower = "base" if joint == 0 else f"c0_d{joint - 1}"
-    scene.setdefault("interface_friction", []).append({"bodies": [lower, f"c0_d{joint}"], "mu": weak["mu"]})
+    scene.setdefault("interface_friction", []).append(
+        {"bodies": [lower, f"c0_d{joint}"], "mu": weak["mu"]}
+    )
 
 
 # --- the whole config, as `snakemake -n` sees it (workflow/rules/common.smk) -----------------
 
 
-def check_config(config: dict, records_dir: Path | str = "records", extract_records: bool = False,
-                 schema: Path | str | None = None, files=()) -> dict[str, list[Case]]:
+def check_config(
+    config: dict,
+    records_dir: Path | str = "records",
+    extract_records: bool = False,
+    schema: Path | str | None = None,
+    files=(),
+) -> dict[str, list[Case]]:
     """{study: case table} of a workflow config, or the first InputError naming its config path.
 
     Every case's scene is built through the validation ``stonedem run`` uses
@@ -446,42 +617,67 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     accepts an alias bomb, which the checks below would expand.
     """
     for path in files:
-        read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES, "give 'key: value' lines (config/README.md)",
-                          allow_empty=True)
+        read_yaml_mapping(
+            path,
+            "a config file",
+            MAX_CONFIG_BYTES,
+            "give 'key: value' lines (config/README.md)",
+            allow_empty=True,
+        )
     if not isinstance(config, dict):
-        raise InputError("config", f"expected a mapping, got {type(config).__name__}", "write key: value lines")
+        raise InputError(
+            "config", f"expected a mapping, got {type(config).__name__}", "write key: value lines"
+        )
     if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
         # a misspelt top-level key (studdies:) would be ignored and the full study planned
         known = list(load_schema(schema).get("properties", {}))
         for key in config:
             if key not in known:
                 raise InputError(str(key), "unknown key", f"allowed keys: {', '.join(known)}")
-        check_schema(config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults"))
+        check_schema(
+            config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults")
+        )
     records = config.get("records")
     records = {} if records is None else records
     if not isinstance(records, dict):
-        raise InputError("records", f"expected a mapping, got {type(records).__name__}",
-                         "write records: {name: {set: ..., id: ..., component: ...}}")
+        raise InputError(
+            "records",
+            f"expected a mapping, got {type(records).__name__}",
+            "write records: {name: {set: ..., id: ..., component: ...}}",
+        )
     records_dir = Path(records_dir)
     for name in records:
         if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
-            raise InputError(f"records.{name}", "a record name is a file name and a Snakemake wildcard",
-                             "use letters, digits, _ and -")
+            raise InputError(
+                f"records.{name}",
+                "a record name is a file name and a Snakemake wildcard",
+                "use letters, digits, _ and -",
+            )
         if not extract_records and not (records_dir / f"{name}.nc").is_file():
-            raise InputError(f"records.{name}", f"{records_dir / name}.nc not found",
-                             "restore it (git checkout records/), or extract it: snakemake -j1 --config "
-                             "extract_records=true --forcerun extract_record")
+            raise InputError(
+                f"records.{name}",
+                f"{records_dir / name}.nc not found",
+                "restore it (git checkout records/), or extract it: snakemake -j1 --config "
+                "extract_records=true --forcerun extract_record",
+            )
     defaults = config.get("defaults")
     defaults = {} if defaults is None else defaults
     if not isinstance(defaults, dict):
-        raise InputError("defaults", f"expected a mapping, got {type(defaults).__name__}",
-                         "write defaults: {contact: {...}, solver: {...}}")
+        raise InputError(
+            "defaults",
+            f"expected a mapping, got {type(defaults).__name__}",
+            "write defaults: {contact: {...}, solver: {...}}",
+        )
     for key in defaults:
         if key not in DEFAULT_KEYS:
-            raise InputError(f"defaults.{key}", "unknown key", f"allowed keys: {', '.join(DEFAULT_KEYS)}")
+            raise InputError(
+                f"defaults.{key}", "unknown key", f"allowed keys: {', '.join(DEFAULT_KEYS)}"
+            )
     studies = config.get("studies")
     if not isinstance(studies, dict) or not studies:
-        raise InputError("studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}")
+        raise InputError(
+            "studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}"
+        )
     members, perturbation = ensemble_settings(config)
     # members differ from their case only in k_n's last bits (and a tilt): each case is checked once
     checker = _CaseChecker(records, records_dir, tilt=members > 1 and perturbation == "tilt")
@@ -489,21 +685,32 @@ def check_config(config: dict, records_dir: Path | str = "records", extract_reco
     total = 0
     for name, study in studies.items():
         if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
-            raise InputError(f"studies.{name}", "a study name is a file name and a Snakemake wildcard",
-                             "use letters, digits, _ and -")
+            raise InputError(
+                f"studies.{name}",
+                "a study name is a file name and a Snakemake wildcard",
+                "use letters, digits, _ and -",
+            )
         rows = _case_rows(name, study, defaults, exact=True)
         total += len(rows)
         if total > MAX_CASES:
-            raise InputError(f"studies.{name}", f"the studies up to this one have {total} cases, more than "
-                             f"the limit of {MAX_CASES}", "thin the grids (stonedem.study.grid.MAX_CASES)")
+            raise InputError(
+                f"studies.{name}",
+                f"the studies up to this one have {total} cases, more than "
+                f"the limit of {MAX_CASES}",
+                "thin the grids (stonedem.study.grid.MAX_CASES)",
+            )
         with np.errstate(all="ignore"):  # a degenerate body's NaN: the scene refuses it by name
             for case, origin in rows:
                 checker.check(case, study, defaults, origin, len(rows))
         tables[name] = [case for case, _ in rows]
     if total * members > MAX_MEMBER_CASES:
-        raise InputError("ensemble.members", f"{members} members of {total} cases make {total * members} runs, more "
-                         f"than the limit of {MAX_MEMBER_CASES}", "run fewer members, or the ensemble of the whole "
-                         "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)")
+        raise InputError(
+            "ensemble.members",
+            f"{members} members of {total} cases make {total * members} runs, more "
+            f"than the limit of {MAX_MEMBER_CASES}",
+            "run fewer members, or the ensemble of the whole "
+            "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)",
+        )
     if schema is not None:
         check_schema(config, schema)
     return tables
@@ -523,11 +730,15 @@ def check_schema(config: dict, schema: Path | str, where=None) -> None:
     import jsonschema
 
     validator = jsonschema.Draft202012Validator(load_schema(schema))
-    errors = (e for e in validator.iter_errors(config) if where is None or where(tuple(e.absolute_path)))
+    errors = (
+        e for e in validator.iter_errors(config) if where is None or where(tuple(e.absolute_path))
+    )
     error = jsonschema.exceptions.best_match(errors)
     if error is None:
         return
-    field = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path).lstrip(".")
+    field = "".join(
+        f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path
+    ).lstrip(".")
     message = error.message if len(error.message) <= 200 else error.message[:197] + "..."
     raise InputError(field or "config", message, f"see {Path(schema).name}")
 
@@ -540,11 +751,15 @@ class _CaseChecker:
     def __init__(self, records: dict, records_dir: Path, tilt: bool = False):
         self.records = records
         self.records_dir = records_dir
-        self.tilt = tilt  # ensemble: {perturbation: tilt}: the tilt members' bodies must be untilted
+        self.tilt = (
+            tilt  # ensemble: {perturbation: tilt}: the tilt members' bodies must be untilted
+        )
         self.excitations = {}  # excitation key -> (horizontal, vertical) BaseMotion | InputError
         self.scenes = {}  # scene key (no excitation, no name) -> Scene | InputError
 
-    def check(self, case: Case, study: dict, defaults: dict, origin: dict, n_cases: int = 1) -> None:
+    def check(
+        self, case: Case, study: dict, defaults: dict, origin: dict, n_cases: int = 1
+    ) -> None:
         """Raise the InputError the case's job would raise (or a limit's), at its config path."""
         from dataclasses import replace
 
@@ -554,24 +769,37 @@ class _CaseChecker:
             raise _located(error, case, study, defaults, origin, n_cases) from None
 
         scene = dict(case.scene)
-        if not any(key in source for source in (study, defaults) for key in ("structure", "bodies")):
-            raise InputError(f"studies.{case.study}.structure", "missing",
-                             "give structure: {kind: column, n_drums: ..., height: ..., width: ...}")
+        if not any(
+            key in source for source in (study, defaults) for key in ("structure", "bodies")
+        ):
+            raise InputError(
+                f"studies.{case.study}.structure",
+                "missing",
+                "give structure: {kind: column, n_drums: ..., height: ..., width: ...}",
+            )
         try:
             _check_structure_size(scene.get("structure"))
         except InputError as error:
             fail(error)
         excitation = scene.get("excitation") or {"kind": "none"}
         readable = True
-        for field, spec in (("excitation", excitation), ("excitation.vertical", excitation.get("vertical"))):
+        for field, spec in (
+            ("excitation", excitation),
+            ("excitation.vertical", excitation.get("vertical")),
+        ):
             if not isinstance(spec, dict) or spec.get("kind") != "record":
                 continue
             if "file" in spec:
                 name = spec["file"]
                 if not isinstance(name, str) or name not in self.records:
                     known = ", ".join(self.records) or "none"
-                    fail(InputError(f"{field}.file", f"unknown record {name!r}",
-                                    f"use a name listed under records: ({known})"))
+                    fail(
+                        InputError(
+                            f"{field}.file",
+                            f"unknown record {name!r}",
+                            f"use a name listed under records: ({known})",
+                        )
+                    )
             else:  # a suite component: records/suites/ is committed, not listed under records:
                 name = record_file_name(spec)
             if name is not None:
@@ -585,8 +813,13 @@ class _CaseChecker:
         if solver.get("duration") is None:  # as run_case: the record's length + 2 s
             natural = motions[0].duration if motions else None
             if natural is None and readable:
-                fail(InputError("solver.duration", "missing and the excitation has no natural length",
-                                "give solver: {duration: ...} in the study"))
+                fail(
+                    InputError(
+                        "solver.duration",
+                        "missing and the excitation has no natural length",
+                        "give solver: {duration: ...} in the study",
+                    )
+                )
             solver["duration"] = natural + REST_AFTER_RECORD if natural is not None else 1.0
         scene["solver"] = solver
         built = self._scene(scene)
@@ -598,35 +831,66 @@ class _CaseChecker:
             try:
                 tilted_bodies(built.bodies, TILT)
             except InputError as error:  # a top-level setting: named as such, not by the study
-                raise InputError(error.field, f"{error.problem} (study {case.study})", error.fix) from None
+                raise InputError(
+                    error.field, f"{error.problem} (study {case.study})", error.fix
+                ) from None
         if built.duration > MAX_DURATION:
-            fail(InputError("solver.duration", f"{built.duration:g} s exceeds the limit of {MAX_DURATION:g} s",
-                            "simulate less time (stonedem.study.grid.MAX_DURATION)"))
+            fail(
+                InputError(
+                    "solver.duration",
+                    f"{built.duration:g} s exceeds the limit of {MAX_DURATION:g} s",
+                    "simulate less time (stonedem.study.grid.MAX_DURATION)",
+                )
+            )
         if built.duration / built.output_every > MAX_OUTPUT_SAMPLES:
-            fail(InputError("output.every", f"{built.output_every:g} s gives {built.duration / built.output_every:.3g}"
-                            f" samples over {built.duration:g} s, more than the limit of {MAX_OUTPUT_SAMPLES:.0e}",
-                            "sample less often (stonedem.study.grid.MAX_OUTPUT_SAMPLES)"))
+            fail(
+                InputError(
+                    "output.every",
+                    f"{built.output_every:g} s gives {built.duration / built.output_every:.3g}"
+                    f" samples over {built.duration:g} s, more than the limit of {MAX_OUTPUT_SAMPLES:.0e}",
+                    "sample less often (stonedem.study.grid.MAX_OUTPUT_SAMPLES)",
+                )
+            )
         if motions is not None:
             try:  # steps, memory, the excitation resolved by the step: what run_scene refuses first
                 preflight(replace(built, horizontal=motions[0], vertical=motions[1]))
             except InputError as error:
                 fail(error)
             except Exception as error:  # noqa: BLE001 - what would crash the job, refused by name
-                fail(InputError("", f"checking a case's scene: {type(error).__name__}: {error}", "fix the study"))
+                fail(
+                    InputError(
+                        "",
+                        f"checking a case's scene: {type(error).__name__}: {error}",
+                        "fix the study",
+                    )
+                )
 
     def _excitation(self, excitation: dict):
         from stonedem.motion.excitation import excitation_pair
 
-        return _built(self.excitations, excitation, lambda: excitation_pair(excitation, self.records_dir),
-                      "excitation", "", "fix the excitation")
+        return _built(
+            self.excitations,
+            excitation,
+            lambda: excitation_pair(excitation, self.records_dir),
+            "excitation",
+            "",
+            "fix the excitation",
+        )
 
     def _scene(self, scene: dict):
         from stonedem.engine.scene import scene_from_dict
 
         spec = {k: v for k, v in scene.items() if k not in ("excitation", "name", "ensemble")}
-        return _built(self.scenes, spec,
-                      lambda: scene_from_dict({**spec, "excitation": {"kind": "none"}}, base_dir=self.records_dir),
-                      "", "building a case's scene: ", "fix the study")
+        return _built(
+            self.scenes,
+            spec,
+            lambda: scene_from_dict(
+                {**spec, "excitation": {"kind": "none"}}, base_dir=self.records_dir
+            ),
+            "",
+            "building a case's scene: ",
+            "fix the study",
+        )
 
 
 def _built(cache: dict, spec, build, field: str, prefix: str, fix: str):
@@ -653,26 +917,33 @@ def _check_structure_size(structure) -> None:
     """n_drums and n_columns of a structure (and its rows) within the limits, before it is built."""
     if not isinstance(structure, dict):
         return  # the scene refuses it
-    for prefix, spec in (("structure", structure), ("structure.lower", structure.get("lower")),
-                         ("structure.upper", structure.get("upper"))):
+    for prefix, spec in (
+        ("structure", structure),
+        ("structure.lower", structure.get("lower")),
+        ("structure.upper", structure.get("upper")),
+    ):
         if not isinstance(spec, dict):
             continue
         for key in ("n_drums", "n_columns"):
             value = spec.get(key)
             low, high = COUNTS[key]
             if isinstance(value, int) and not isinstance(value, bool) and value > high:
-                raise InputError(f"{prefix}.{key}", f"must be {low} ... {high}, got {value}",
-                                 f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)")
+                raise InputError(
+                    f"{prefix}.{key}",
+                    f"must be {low} ... {high}, got {value}",
+                    f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)",
+                )
 
 
-def _located(error: InputError, case: Case, study: dict, defaults: dict, origin: dict,
-             n_cases: int = 1) -> InputError:
+def _located(
+    error: InputError, case: Case, study: dict, defaults: dict, origin: dict, n_cases: int = 1
+) -> InputError:
     """A scene's error, named by the config path its value came from: a grid or case entry,
     the study, or the defaults."""
     field = error.field
     prefix = f"studies.{case.study}."
     if field.startswith(prefix):
-        field = field[len(prefix):]
+        field = field[len(prefix) :]
     for key, path in origin.items():
         target = PARAMETERS[key][0]
         if field == target or field.startswith((target + ".", target + "[")):
@@ -682,7 +953,9 @@ def _located(error: InputError, case: Case, study: dict, defaults: dict, origin:
     if parts and parts[0] == "bodies" and "bodies" not in study and "bodies" not in defaults:
         problem = f"{field}: {problem}"  # a built body: the structure made it
         field, parts = "structure", ["structure"]
-    if n_cases > 1 and any(CASE_PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params):
+    if n_cases > 1 and any(
+        CASE_PARAMETERS[k][0].split(".")[0] == (parts[0] if parts else "") for k in case.params
+    ):
         problem = f"{problem} (case {case.id})"  # the swept parameters may be part of it
 
     def depth(source) -> int:
@@ -708,7 +981,9 @@ def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
     return case_dataset(case, run_scene(case_scene(case, base_dir)))
 
 
-def run_cases_together(cases: list[Case], base_dir: Path | str = ".", device: str = "cpu") -> list[xr.Dataset]:
+def run_cases_together(
+    cases: list[Case], base_dir: Path | str = ".", device: str = "cpu"
+) -> list[xr.Dataset]:
     """:func:`run_case` of each case, simulated side by side on ``device``
     (:func:`stonedem.engine.run.run_scenes`; on the GPU the cases must share a structure)."""
     from stonedem.engine.run import run_scenes
@@ -720,7 +995,6 @@ def run_cases_together(cases: list[Case], base_dir: Path | str = ".", device: st
 def case_scene(case: Case, base_dir: Path | str = "."):
     """The case's Scene; a record's own length (plus the rest after it) when it gives no duration."""
     from stonedem.engine.scene import scene_from_dict
-
     from stonedem.study.members import member_scene
 
     scene_spec, member = scene_without_member(copy.deepcopy(case.scene))
@@ -728,7 +1002,9 @@ def case_scene(case: Case, base_dir: Path | str = "."):
     if solver.get("duration") is None:
         solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
     scene = scene_from_dict(scene_spec, base_dir=base_dir)
-    return scene if member is None else member_scene(scene, member["member"], member["perturbation"])
+    return (
+        scene if member is None else member_scene(scene, member["member"], member["perturbation"])
+    )
 
 
 class SearchScenes:
@@ -755,7 +1031,9 @@ def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
     """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
     for key, value in case.params.items():
         _, units, long_name, _ = CASE_PARAMETERS[key]
-        ds = ds.assign_coords({key: xr.Variable((), value, {"units": units, "long_name": long_name})})
+        ds = ds.assign_coords(
+            {key: xr.Variable((), value, {"units": units, "long_name": long_name})}
+        )
     ds.attrs.update(study=case.study, case=case.id)
     if "ensemble" in case.scene:
         ds.attrs["ensemble_perturbation"] = case.scene["ensemble"]["perturbation"]
@@ -768,13 +1046,19 @@ def natural_duration(excitation: dict | None, base_dir) -> float:
     from stonedem.motion.excitation import excitation_pair
 
     # a search's runs differ only in the scale, which leaves the length as it is
-    key = json.dumps([{k: v for k, v in (excitation or {}).items() if k not in ("pga", "scale")}, str(base_dir)],
-                     sort_keys=True, default=repr)
+    key = json.dumps(
+        [{k: v for k, v in (excitation or {}).items() if k not in ("pga", "scale")}, str(base_dir)],
+        sort_keys=True,
+        default=repr,
+    )
     if key not in _DURATIONS:
         horizontal, _ = excitation_pair(excitation, Path(base_dir))
         if horizontal.duration is None:
-            raise InputError("solver.duration", "missing and the excitation has no natural length",
-                             "give solver: {duration: ...} in the study")
+            raise InputError(
+                "solver.duration",
+                "missing and the excitation has no natural length",
+                "give solver: {duration: ...} in the study",
+            )
         if len(_DURATIONS) >= 64:
             _DURATIONS.clear()
         _DURATIONS[key] = horizontal.duration
@@ -791,9 +1075,13 @@ def case_piece(ds: xr.Dataset) -> xr.Dataset:
     params = case_parameters(ds)
     names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
     small = ds[names].load()
-    small = small.reset_coords([c for c in small.coords if c not in params and c != "time"], drop=True)
+    small = small.reset_coords(
+        [c for c in small.coords if c not in params and c != "time"], drop=True
+    )
     if "time" in small.coords:
-        small = small.assign_coords(time=("time", np.round(small["time"].values, 9), small["time"].attrs))
+        small = small.assign_coords(
+            time=("time", np.round(small["time"].values, 9), small["time"].attrs)
+        )
     return small
 
 
@@ -806,7 +1094,9 @@ def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
     """``piece`` with its scalar parameters as dimensions of length one, ready to merge;
     strings as objects (merging fixed-width unicode truncates 'per_span' to the width of 'a')."""
     piece = piece.expand_dims(params)
-    return piece.assign_coords({k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"})
+    return piece.assign_coords(
+        {k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"}
+    )
 
 
 def shared_case_attrs(attrs: list[dict]) -> dict:
@@ -814,8 +1104,13 @@ def shared_case_attrs(attrs: list[dict]) -> dict:
     shared = None
     for case_attrs in attrs:
         case_attrs = {k: case_attrs[k] for k in CUBE_SHARED_ATTRS if k in case_attrs}
-        shared = case_attrs if shared is None else {
-            k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)}
+        shared = (
+            case_attrs
+            if shared is None
+            else {
+                k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)
+            }
+        )
     return shared or {}
 
 
@@ -836,7 +1131,9 @@ def described_like(cube: xr.Dataset, path) -> xr.Dataset:
 def collapse_fraction(collapsed: xr.DataArray) -> xr.DataArray:
     """The share of an ensemble's members that collapsed, per case (NaN where none ran)."""
     return collapsed.mean(MEMBER).assign_attrs(
-        units="1", long_name=f"collapse fraction over the ensemble's {collapsed.sizes[MEMBER]} members")
+        units="1",
+        long_name=f"collapse fraction over the ensemble's {collapsed.sizes[MEMBER]} members",
+    )
 
 
 def combine_cases(paths, description: str = "") -> xr.Dataset:
@@ -852,11 +1149,19 @@ def combine_cases(paths, description: str = "") -> xr.Dataset:
             attrs.append(dict(ds.attrs))
     if not pieces:
         raise InputError("cases", "no case files to combine", "run the study's cases first")
-    cube = described_like(xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0])
-    if MEMBER in cube.dims:  # an ensemble (issue 44): the verdicts stay per member, beside their share
+    cube = described_like(
+        xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0]
+    )
+    if (
+        MEMBER in cube.dims
+    ):  # an ensemble (issue 44): the verdicts stay per member, beside their share
         cube["collapse_fraction"] = collapse_fraction(cube["collapsed"])
     # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
     shared = shared_case_attrs(attrs)
-    cube.attrs = {**shared, "title": f"stonedem study cube: {shared.get('study', '')}", "n_cases": len(pieces),
-                  "description": description}
+    cube.attrs = {
+        **shared,
+        "title": f"stonedem study cube: {shared.get('study', '')}",
+        "n_cases": len(pieces),
+        "description": description,
+    }
     return cube

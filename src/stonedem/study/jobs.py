@@ -19,7 +19,9 @@ from pathlib import Path
 
 from stonedem.study.grid import Case, natural_duration
 
-JOB_SECONDS = 60.0  # estimated kernel seconds packed into one job (the estimate runs ~2.3x the measured time)
+JOB_SECONDS = (
+    60.0  # estimated kernel seconds packed into one job (the estimate runs ~2.3x the measured time)
+)
 STEP_SECONDS_PER_BODY = 1.1e-6  # kernel cost of one step per body, point law (measured: 0.7-1.1 us)
 # a search runs about this many cases (hunt ~4-7, five bisections, three fills: stonedem.study.search)
 SEARCH_RUNS = 14
@@ -37,8 +39,12 @@ class Job:
         return self.cases[0].search is not None
 
 
-def plan_jobs(studies: dict[str, list[Case]], records_dir: Path | str = "records",
-              job_seconds: float = JOB_SECONDS, search_seconds: float = 0.0) -> list[Job]:
+def plan_jobs(
+    studies: dict[str, list[Case]],
+    records_dir: Path | str = "records",
+    job_seconds: float = JOB_SECONDS,
+    search_seconds: float = 0.0,
+) -> list[Job]:
     """Every study's jobs, the most expensive first (Snakemake priority follows this order).
 
     ``search_seconds``: threshold searches packed into jobs of about this estimated cost
@@ -58,8 +64,11 @@ def plan_jobs(studies: dict[str, list[Case]], records_dir: Path | str = "records
                 chunks.append([])
             chunks[-1].append((case, cost))
         kind = "search" if search else "simulate"
-        jobs += [Job(f"{kind}_{study}_{k}", study, tuple(c for c, _ in chunk), sum(c for _, c in chunk))
-                 for k, chunk in enumerate(chunks) if chunk]
+        jobs += [
+            Job(f"{kind}_{study}_{k}", study, tuple(c for c, _ in chunk), sum(c for _, c in chunk))
+            for k, chunk in enumerate(chunks)
+            if chunk
+        ]
     return sorted(jobs, key=lambda job: -job.cost)
 
 
@@ -92,9 +101,14 @@ class CostEstimate:
         from stonedem.engine.simulate import choose_time_step
 
         try:
-            solver = {**(spec.get("solver") or {}), "duration": 1.0}  # the step does not depend on it
-            scene = scene_from_dict({**spec, "solver": solver, "excitation": {"kind": "none"}},
-                                    base_dir=self.records_dir)
+            solver = {
+                **(spec.get("solver") or {}),
+                "duration": 1.0,
+            }  # the step does not depend on it
+            scene = scene_from_dict(
+                {**spec, "solver": solver, "excitation": {"kind": "none"}},
+                base_dir=self.records_dir,
+            )
             dt, _ = choose_time_step(scene)
         except Exception:  # noqa: BLE001 - a bad case is refused by check_config, not here
             return 1.0
@@ -121,6 +135,8 @@ def job_summary(jobs: list[Job]) -> str:
     n_search_jobs = sum(j.is_search for j in jobs)
     n_search = sum(len(j.cases) for j in jobs if j.is_search)
     total = sum(j.cost for j in jobs)
-    return (f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search_jobs} jobs, "
-            f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time estimated "
-            f"(~{math.ceil(total / 60)} min on one core)")
+    return (
+        f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search_jobs} jobs, "
+        f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time estimated "
+        f"(~{math.ceil(total / 60)} min on one core)"
+    )

@@ -41,14 +41,19 @@ MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below
 
 # what each perturbation's members change, in words: (for an ensemble file's title, what its
 # perturbation_rule adds to the k_n change)
-WORDS = {"stiffness": ("k_n changed", ""),
-         "tilt": ("k_n changed and the structure tilted 1e-6 rad", ", structure tilted by 1e-6 rad"),
-         "geometry": ("k_n and every coordinate changed", ", every vertex times 1 + j 2^-52")}
+WORDS = {
+    "stiffness": ("k_n changed", ""),
+    "tilt": ("k_n changed and the structure tilted 1e-6 rad", ", structure tilted by 1e-6 rad"),
+    "geometry": ("k_n and every coordinate changed", ", every vertex times 1 + j 2^-52"),
+}
 
 
 def perturbation_rule(perturbation: str) -> str:
     """What member j of ``perturbation`` changes, in words (an ensemble file's attribute)."""
-    return "member j: contact stiffness k_n times 1 - j 2^-52" + WORDS[check_perturbation(perturbation)][1]
+    return (
+        "member j: contact stiffness k_n times 1 - j 2^-52"
+        + WORDS[check_perturbation(perturbation)][1]
+    )
 
 
 def perturbation_summary(perturbation: str) -> str:
@@ -64,16 +69,23 @@ def stiffness_factor(j: int) -> float:
 def check_member(j, field: str = "member") -> int:
     """A member index 0 <= j < MAX_MEMBERS, or an InputError naming ``field``."""
     if isinstance(j, bool) or not isinstance(j, (int, np.integer)):
-        raise InputError(field, f"expected an integer member index, got {j!r}", f"give 0 ... {MAX_MEMBERS - 1}")
+        raise InputError(
+            field, f"expected an integer member index, got {j!r}", f"give 0 ... {MAX_MEMBERS - 1}"
+        )
     if not 0 <= j < MAX_MEMBERS:
-        raise InputError(field, f"must be 0 ... {MAX_MEMBERS - 1}, got {j}",
-                         f"give 0 ... {MAX_MEMBERS - 1} (stonedem.study.members.MAX_MEMBERS)")
+        raise InputError(
+            field,
+            f"must be 0 ... {MAX_MEMBERS - 1}, got {j}",
+            f"give 0 ... {MAX_MEMBERS - 1} (stonedem.study.members.MAX_MEMBERS)",
+        )
     return int(j)
 
 
 def check_perturbation(kind, field: str = "ensemble.perturbation") -> str:
     if kind not in PERTURBATIONS:
-        raise InputError(field, f"unknown perturbation {kind!r}", f"use one of {', '.join(PERTURBATIONS)}")
+        raise InputError(
+            field, f"unknown perturbation {kind!r}", f"use one of {', '.join(PERTURBATIONS)}"
+        )
     return kind
 
 
@@ -88,7 +100,9 @@ def member_scene(scene, j: int, perturbation: str = "stiffness"):
     contact = dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j))
     scene = dataclasses.replace(scene, contact=contact)
     if perturbation == "tilt":
-        scene = dataclasses.replace(scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT))
+        scene = dataclasses.replace(
+            scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT)
+        )
     elif perturbation == "geometry":
         scene = dataclasses.replace(scene, bodies=scaled_bodies(scene.bodies, scale_factor(j)))
     return scene
@@ -104,13 +118,18 @@ def tilted_bodies(bodies, angle: float) -> tuple:
     0) about the free bodies' lowest left corner (angle > 0) or lowest right corner (< 0)."""
     free = [b for b in bodies if not b.driven]
     if any(b.tilt_angle != 0.0 for b in free):
-        raise InputError("ensemble.perturbation", "a tilt member of a scene whose bodies are tilted already",
-                         "use perturbation: stiffness")
+        raise InputError(
+            "ensemble.perturbation",
+            "a tilt member of a scene whose bodies are tilted already",
+            "use perturbation: stiffness",
+        )
     if not free:
         return tuple(bodies)
     vertices = np.concatenate([b.vertices for b in free])
     low = vertices[:, 1] <= vertices[:, 1].min() + 1e-9 * max(1.0, float(np.ptp(vertices[:, 1])))
     corners = vertices[low]
     pivot = corners[np.argmin(corners[:, 0])] if angle > 0 else corners[np.argmax(corners[:, 0])]
-    return tuple(b if b.driven else dataclasses.replace(b, tilt_angle=angle, tilt_pivot=pivot.copy())
-                 for b in bodies)
+    return tuple(
+        b if b.driven else dataclasses.replace(b, tilt_angle=angle, tilt_pivot=pivot.copy())
+        for b in bodies
+    )

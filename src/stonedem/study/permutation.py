@@ -46,26 +46,37 @@ def _group(name, array, rows=None):
     if a.ndim == 1 and a.size == 0:
         a = a.reshape(0, 0)
     if a.ndim != 2:
-        raise InputError(name, f"expected a (row, member) array, got shape {a.shape}",
-                         "give one column per member")
+        raise InputError(
+            name,
+            f"expected a (row, member) array, got shape {a.shape}",
+            "give one column per member",
+        )
     if rows is not None and a.shape[0] != rows:
-        raise InputError(name, f"{a.shape[0]} rows where the other group has {rows}",
-                         "give both groups the same cases or systems, in the same order")
+        raise InputError(
+            name,
+            f"{a.shape[0]} rows where the other group has {rows}",
+            "give both groups the same cases or systems, in the same order",
+        )
     return a
 
 
 def _verdicts(name, array, rows=None):
     a = _group(name, array, rows)
     if not np.all((a == 0) | (a == 1)):
-        raise InputError(name, "verdicts must be 0 (stands) or 1 (collapsed)", "give the collapsed flags")
+        raise InputError(
+            name, "verdicts must be 0 (stands) or 1 (collapsed)", "give the collapsed flags"
+        )
     return a
 
 
 def _thresholds(name, array, rows=None):
     a = _group(name, array, rows)
     if np.any(a[np.isfinite(a)] <= 0) or np.any(np.isneginf(a)):
-        raise InputError(name, "thresholds must be positive (NaN for no collapse up to the maximum)",
-                         "give each member's smallest collapsing value")
+        raise InputError(
+            name,
+            "thresholds must be positive (NaN for no collapse up to the maximum)",
+            "give each member's smallest collapsing value",
+        )
     return a
 
 
@@ -80,8 +91,11 @@ def _tolerances(tolerance, systems):
     if t.ndim == 0:
         t = np.full(systems, float(t))
     if t.shape != (systems,) or not np.all(np.isfinite(t) & (t > 0)):
-        raise InputError("tolerance", f"expected a positive relative bracket, or one per system ({systems})",
-                         "give the searches' tolerance, e.g. 0.02")
+        raise InputError(
+            "tolerance",
+            f"expected a positive relative bracket, or one per system ({systems})",
+            "give the searches' tolerance, e.g. 0.02",
+        )
     return t
 
 
@@ -112,7 +126,9 @@ def verdict_distance(base_collapsed, cand_collapsed) -> float:
         return 0.0
     _need_members(base, cand)
     pooled = np.concatenate([base, cand], axis=1)
-    return float(_verdict_statistic(pooled, cand.sum(axis=1, keepdims=True), cand.shape[1], base.shape[1])[0])
+    return float(
+        _verdict_statistic(pooled, cand.sum(axis=1, keepdims=True), cand.shape[1], base.shape[1])[0]
+    )
 
 
 def threshold_shifts(base_thresholds, cand_thresholds, tolerance) -> np.ndarray:
@@ -126,7 +142,9 @@ def threshold_shifts(base_thresholds, cand_thresholds, tolerance) -> np.ndarray:
         return np.zeros(0)
     _need_members(base, cand)
     brackets = np.log1p(_tolerances(tolerance, base.shape[0]))
-    return _shift(np.median(_log_thresholds(cand), axis=1), np.median(_log_thresholds(base), axis=1), brackets)
+    return _shift(
+        np.median(_log_thresholds(cand), axis=1), np.median(_log_thresholds(base), axis=1), brackets
+    )
 
 
 def threshold_shift(base_thresholds, cand_thresholds, tolerance) -> float:
@@ -136,8 +154,11 @@ def threshold_shift(base_thresholds, cand_thresholds, tolerance) -> float:
 
 def _need_members(base, cand):
     if base.shape[1] == 0 or cand.shape[1] == 0:
-        raise InputError("members", f"{base.shape[1]} baseline and {cand.shape[1]} candidate members",
-                         "give each group at least one member")
+        raise InputError(
+            "members",
+            f"{base.shape[1]} baseline and {cand.shape[1]} candidate members",
+            "give each group at least one member",
+        )
 
 
 def _nth_smallest(sorted_values, picked_ranks, n):
@@ -172,10 +193,18 @@ def _group_medians(ln_t, picks):
         return 0.5 * (values_low + values_high)  # as np.median: (inf + x) / 2 = inf, no NaN
 
     low, high = (k_small - 1) // 2, k_small // 2
-    small = middle(np.take_along_axis(sorted_values[:, None, :], small_ranks[:, :, low:low + 1], axis=2)[..., 0],
-                   np.take_along_axis(sorted_values[:, None, :], small_ranks[:, :, high:high + 1], axis=2)[..., 0])
-    large = middle(_nth_smallest(sorted_values, small_ranks, (k_large - 1) // 2),
-                   _nth_smallest(sorted_values, small_ranks, k_large // 2))
+    small = middle(
+        np.take_along_axis(sorted_values[:, None, :], small_ranks[:, :, low : low + 1], axis=2)[
+            ..., 0
+        ],
+        np.take_along_axis(sorted_values[:, None, :], small_ranks[:, :, high : high + 1], axis=2)[
+            ..., 0
+        ],
+    )
+    large = middle(
+        _nth_smallest(sorted_values, small_ranks, (k_large - 1) // 2),
+        _nth_smallest(sorted_values, small_ranks, k_large // 2),
+    )
     return (small, large) if small_is_cand else (large, small)
 
 
@@ -191,8 +220,16 @@ def _assignments(total, k_cand, n_permutations, rng):
     return np.sort(picks, axis=1), False, n_permutations
 
 
-def permutation_test(base_collapsed, base_thresholds, cand_collapsed, cand_thresholds, tolerance,
-                     n_permutations=10_000, seed=0, alpha=0.005) -> dict:
+def permutation_test(
+    base_collapsed,
+    base_thresholds,
+    cand_collapsed,
+    cand_thresholds,
+    tolerance,
+    n_permutations=10_000,
+    seed=0,
+    alpha=0.005,
+) -> dict:
     """The whole-run permutation test of Layer C (ENSEMBLES.md section 4).
 
     ``base_collapsed`` (case, K_B) and ``cand_collapsed`` (case, K_N): grid verdicts 0/1;
@@ -208,9 +245,16 @@ def permutation_test(base_collapsed, base_thresholds, cand_collapsed, cand_thres
     cases every baseline run agrees on where some candidate run disagrees (to list, not to
     fail on).
     """
-    if isinstance(n_permutations, bool) or not isinstance(n_permutations, (int, np.integer)) or n_permutations < 1:
-        raise InputError("n_permutations", f"expected a positive whole number, got {n_permutations!r}",
-                         "give e.g. 10000")
+    if (
+        isinstance(n_permutations, bool)
+        or not isinstance(n_permutations, (int, np.integer))
+        or n_permutations < 1
+    ):
+        raise InputError(
+            "n_permutations",
+            f"expected a positive whole number, got {n_permutations!r}",
+            "give e.g. 10000",
+        )
     if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
         raise InputError("alpha", f"expected a number in (0, 1), got {alpha!r}", "give e.g. 0.005")
     base_v = _verdicts("base_collapsed", base_collapsed)
@@ -219,20 +263,38 @@ def permutation_test(base_collapsed, base_thresholds, cand_collapsed, cand_thres
     cand_t = _thresholds("cand_thresholds", cand_thresholds, base_t.shape[0])
     has_cases, has_systems = base_v.shape[0] > 0, base_t.shape[0] > 0
     if not has_cases and not has_systems:
-        return {"s_v": 0.0, "p_v": 1.0, "s_t": 0.0, "p_t": 1.0, "n_assignments": 0, "exact": True, "reject": False,
-                "unanimous_flips": np.zeros(0, np.int64), "alpha": float(alpha),
-                "members_base": int(base_v.shape[1] or base_t.shape[1]),
-                "members_candidate": int(cand_v.shape[1] or cand_t.shape[1])}
+        return {
+            "s_v": 0.0,
+            "p_v": 1.0,
+            "s_t": 0.0,
+            "p_t": 1.0,
+            "n_assignments": 0,
+            "exact": True,
+            "reject": False,
+            "unanimous_flips": np.zeros(0, np.int64),
+            "alpha": float(alpha),
+            "members_base": int(base_v.shape[1] or base_t.shape[1]),
+            "members_candidate": int(cand_v.shape[1] or cand_t.shape[1]),
+        }
     k_base = base_v.shape[1] if has_cases else base_t.shape[1]
     k_cand = cand_v.shape[1] if has_cases else cand_t.shape[1]
     if has_cases and has_systems and (base_t.shape[1] != k_base or cand_t.shape[1] != k_cand):
-        raise InputError("base_thresholds", f"verdicts of {k_base} + {k_cand} runs but thresholds of "
-                         f"{base_t.shape[1]} + {cand_t.shape[1]}", "give both arrays of a group the same runs")
+        raise InputError(
+            "base_thresholds",
+            f"verdicts of {k_base} + {k_cand} runs but thresholds of "
+            f"{base_t.shape[1]} + {cand_t.shape[1]}",
+            "give both arrays of a group the same runs",
+        )
     if k_base == 0 or k_cand == 0:
-        raise InputError("members", f"{k_base} baseline and {k_cand} candidate members",
-                         "give each group at least one member")
+        raise InputError(
+            "members",
+            f"{k_base} baseline and {k_cand} candidate members",
+            "give each group at least one member",
+        )
     total = k_base + k_cand
-    picks, exact, n_assignments = _assignments(total, k_cand, int(n_permutations), np.random.default_rng(seed))
+    picks, exact, n_assignments = _assignments(
+        total, k_cand, int(n_permutations), np.random.default_rng(seed)
+    )
     # the observed assignment first: the candidates are the last k_cand runs of the pool
     picks = np.concatenate([np.arange(k_base, total)[None, :], picks])
 
@@ -260,16 +322,32 @@ def permutation_test(base_collapsed, base_thresholds, cand_collapsed, cand_thres
         median_cand, median_base = _group_medians(ln_t, picks)
         stat = _shift(median_cand, median_base, brackets[:, None]).sum(axis=0)
         s_t, p_t = float(stat[0]), p_value(stat)
-    return {"s_v": s_v, "p_v": p_v, "s_t": s_t, "p_t": p_t, "n_assignments": int(n_assignments),
-            "exact": bool(exact), "reject": bool(p_v <= alpha or p_t <= alpha), "unanimous_flips": flips,
-            "alpha": float(alpha), "members_base": int(k_base), "members_candidate": int(k_cand)}
+    return {
+        "s_v": s_v,
+        "p_v": p_v,
+        "s_t": s_t,
+        "p_t": p_t,
+        "n_assignments": int(n_assignments),
+        "exact": bool(exact),
+        "reject": bool(p_v <= alpha or p_t <= alpha),
+        "unanimous_flips": flips,
+        "alpha": float(alpha),
+        "members_base": int(k_base),
+        "members_candidate": int(k_cand),
+    }
 
 
 def fit_shift_tolerance(n) -> float:
     """How far a fragility fit over ``n`` records may move between code versions, in ln theta
     and in beta: 0.02 sqrt(100 / n) (ENSEMBLES.md section 5: about 8 sd of the measured
     rounding movement, 1/4 of the bootstrap 90 % half-width at n = 100)."""
-    if isinstance(n, bool) or not isinstance(n, (int, float, np.integer, np.floating)) or not n >= 1 \
-            or not math.isfinite(n):
-        raise InputError("n", f"expected a number of records >= 1, got {n!r}", "give the records of the fit")
+    if (
+        isinstance(n, bool)
+        or not isinstance(n, (int, float, np.integer, np.floating))
+        or not n >= 1
+        or not math.isfinite(n)
+    ):
+        raise InputError(
+            "n", f"expected a number of records >= 1, got {n!r}", "give the records of the fit"
+        )
     return 0.02 * math.sqrt(100.0 / float(n))

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from stonedem.units import GRAVITY
 from stonedem.study.cube import member_summary
 from stonedem.study.grid import MEMBER
 from stonedem.study.search import Run, bracket
+from stonedem.units import GRAVITY
 
 # thesis Table 7.1: acceleration required to cause failure [m/s2]
 THESIS_TABLE_7_1 = {
@@ -44,16 +44,29 @@ def table_7_1(standalone: xr.Dataset, colonnade: xr.Dataset) -> list[dict]:
     for system, full in (("colonnade", colonnade), ("single column", standalone)):
         cube = member_summary(full)  # an ensemble: member 0's searches as today's columns
         for found in collapse_brackets(cube, "pga"):
-            rows.append({"system": system, "n_drums": found["n_drums"], "record": found["record"],
-                         "thesis_record": thesis_record(found["record"]), "collapse_pga_m_s2": found["upper"],
-                         "survived_pga_m_s2": found["lower"], "bracket_width": found["width"],
-                         "n_runs": found["n_runs"], "monotonic": int(found["monotonic"]),
-                         "resurrections_m_s2": " ".join(f"{v:g}" for v in found["resurrections"]),
-                         "search_status": found["status"], "collapse_map": found["map"],
-                         "thesis_accel_to_failure_m_s2": thesis_threshold(system, found["n_drums"],
-                                                                           found["record"])})
+            rows.append(
+                {
+                    "system": system,
+                    "n_drums": found["n_drums"],
+                    "record": found["record"],
+                    "thesis_record": thesis_record(found["record"]),
+                    "collapse_pga_m_s2": found["upper"],
+                    "survived_pga_m_s2": found["lower"],
+                    "bracket_width": found["width"],
+                    "n_runs": found["n_runs"],
+                    "monotonic": int(found["monotonic"]),
+                    "resurrections_m_s2": " ".join(f"{v:g}" for v in found["resurrections"]),
+                    "search_status": found["status"],
+                    "collapse_map": found["map"],
+                    "thesis_accel_to_failure_m_s2": thesis_threshold(
+                        system, found["n_drums"], found["record"]
+                    ),
+                }
+            )
             if MEMBER in full.dims:
-                rows[-1].update(ensemble_columns(full.sel(record=found["record"], n_drums=found["n_drums"])))
+                rows[-1].update(
+                    ensemble_columns(full.sel(record=found["record"], n_drums=found["n_drums"]))
+                )
     return rows
 
 
@@ -70,19 +83,35 @@ def ensemble_columns(system: xr.Dataset) -> dict:
     values = system["pga"].broadcast_like(system["collapsed"]).transpose(MEMBER, "run").values
     filled = "stripe_fills" in system.attrs  # the fills ran (none may have been needed)
     if "stripe_value" in system:  # the fills beside the search runs, one member's row each
-        collapsed = np.concatenate([collapsed, system["stripe_collapsed"].transpose(MEMBER, "stripe_run").values], axis=1)
-        values = np.concatenate([values, system["stripe_value"].transpose(MEMBER, "stripe_run").values], axis=1)
+        collapsed = np.concatenate(
+            [collapsed, system["stripe_collapsed"].transpose(MEMBER, "stripe_run").values], axis=1
+        )
+        values = np.concatenate(
+            [values, system["stripe_value"].transpose(MEMBER, "stripe_run").values], axis=1
+        )
     members = np.broadcast_to(system[MEMBER].values[:, None], values.shape)
     ran = np.isfinite(values) & np.isfinite(collapsed)
-    band = threshold_band(values[ran], members[ran], collapsed[ran] > 0,
-                          system["collapse_threshold"].transpose(MEMBER).values)
-    return {"members": band["members"], "a50_m_s2": band["a50"], "a50_low_m_s2": band["a50_low"],
-            "a50_high_m_s2": band["a50_high"], "beta": band["beta"], "fit_status": band["status"],
-            "a_first_m_s2": band["a_first"], "a_all_m_s2": band["a_all"],
-            "member_threshold_median_m_s2": band["threshold_median"],
-            "member_threshold_min_m_s2": band["threshold_min"], "member_threshold_max_m_s2": band["threshold_max"],
-            "member_thresholds_distinct": band["threshold_distinct"],
-            "stripes": "search runs and stripe fills" if filled else "search runs"}
+    band = threshold_band(
+        values[ran],
+        members[ran],
+        collapsed[ran] > 0,
+        system["collapse_threshold"].transpose(MEMBER).values,
+    )
+    return {
+        "members": band["members"],
+        "a50_m_s2": band["a50"],
+        "a50_low_m_s2": band["a50_low"],
+        "a50_high_m_s2": band["a50_high"],
+        "beta": band["beta"],
+        "fit_status": band["status"],
+        "a_first_m_s2": band["a_first"],
+        "a_all_m_s2": band["a_all"],
+        "member_threshold_median_m_s2": band["threshold_median"],
+        "member_threshold_min_m_s2": band["threshold_min"],
+        "member_threshold_max_m_s2": band["threshold_max"],
+        "member_thresholds_distinct": band["threshold_distinct"],
+        "stripes": "search runs and stripe fills" if filled else "search runs",
+    }
 
 
 def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
@@ -108,8 +137,15 @@ def collapse_brackets(cube: xr.Dataset, along: str = "pga") -> list[dict]:
         runs = [Run(float(x), bool(h > 0), "") for x, h in zip(v[ran][order], c[ran][order])]
         row = {d: _plain(system[d].values) for d in systems}
         status = str(cube["search_status"].sel(row).values) if "search_status" in cube else ""
-        out.append({**row, **bracket(runs), "n_runs": len(runs), "status": status,
-                    "map": " ".join(f"{r.value:g}:{'X' if r.collapsed else '.'}" for r in runs)})
+        out.append(
+            {
+                **row,
+                **bracket(runs),
+                "n_runs": len(runs),
+                "status": status,
+                "map": " ".join(f"{r.value:g}:{'X' if r.collapsed else '.'}" for r in runs),
+            }
+        )
     return out
 
 
@@ -132,11 +168,15 @@ def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
     rows = []
     for value in cube[along].values:
         case = cube.sel({along: value})
-        rows.append({along: value.item() if hasattr(value, "item") else value,
-                     "rocking_onset_pga_m_s2": rate * float(case["rocking_onset_time"]),
-                     "overturning_pga_m_s2": rate * float(case["collapse_time"]),
-                     "static_rocking_pga_m_s2": GRAVITY * float(np.tan(case["theta_cr"])),
-                     "ramp_rate_m_s3": rate})
+        rows.append(
+            {
+                along: value.item() if hasattr(value, "item") else value,
+                "rocking_onset_pga_m_s2": rate * float(case["rocking_onset_time"]),
+                "overturning_pga_m_s2": rate * float(case["collapse_time"]),
+                "static_rocking_pga_m_s2": GRAVITY * float(np.tan(case["theta_cr"])),
+                "ramp_rate_m_s3": rate,
+            }
+        )
     return rows
 
 
@@ -168,12 +208,22 @@ def frequency_response(cube: xr.Dataset) -> list[dict]:
     """
     cube = member_summary(cube)  # an ensemble: collapse fractions, medians, member 0's histories
     amplitude = np.abs(cube["base_displacement"]).max("time")
-    cube = cube.assign(base_amplitude=amplitude, base_pga=np.abs(cube["base_acceleration"]).max("time"),
-                       sliding_to_base_ratio=cube["max_total_sliding"] / amplitude)
-    rows = case_rows(cube, {"base_amplitude": "base_amplitude_m", "base_pga": "pga_m_s2",
-                            "max_total_sliding": "max_total_sliding_m",
-                            "sliding_to_base_ratio": "sliding_to_base_ratio",
-                            "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
+    cube = cube.assign(
+        base_amplitude=amplitude,
+        base_pga=np.abs(cube["base_acceleration"]).max("time"),
+        sliding_to_base_ratio=cube["max_total_sliding"] / amplitude,
+    )
+    rows = case_rows(
+        cube,
+        {
+            "base_amplitude": "base_amplitude_m",
+            "base_pga": "pga_m_s2",
+            "max_total_sliding": "max_total_sliding_m",
+            "sliding_to_base_ratio": "sliding_to_base_ratio",
+            "max_rocking": "max_rocking_rad",
+            "collapsed": "collapsed",
+        },
+    )
     for row in rows:
         row["collapsed"] = verdict(row["collapsed"])
     return rows
@@ -188,8 +238,14 @@ def epistyle_response(cube: xr.Dataset) -> list[dict]:
     """Maximum epistyle displacement relative to the base, rocking and collapse for every case of
     a colonnade study (thesis Fig. 7.19-7.49: one parameter varied at a time)."""
     cube = member_summary(cube)
-    rows = case_rows(cube, {"max_epistyle_displacement": "max_epistyle_displacement_m",
-                            "max_rocking": "max_rocking_rad", "collapsed": "collapsed"})
+    rows = case_rows(
+        cube,
+        {
+            "max_epistyle_displacement": "max_epistyle_displacement_m",
+            "max_rocking": "max_rocking_rad",
+            "collapsed": "collapsed",
+        },
+    )
     for row in rows:  # -1: a combination a sparse cube of listed cases did not run
         row["collapsed"] = verdict(row["collapsed"]) if np.isfinite(row["collapsed"]) else -1
     return rows

@@ -31,11 +31,18 @@ from pathlib import Path
 
 import xarray as xr
 
-from stonedem.io.netcdf import write_dataset
 from stonedem.entry import progress_print
+from stonedem.io.netcdf import write_dataset
 from stonedem.motion.suites import record_file_name
 from stonedem.study.cube import RunPiece, dataset_piece, run_piece, search_dataset
-from stonedem.study.grid import Case, SearchScenes, case_scene, run_case, run_cases_together, search_case
+from stonedem.study.grid import (
+    Case,
+    SearchScenes,
+    case_scene,
+    run_case,
+    run_cases_together,
+    search_case,
+)
 from stonedem.study.search import Run, replay, search, search_together, summary
 
 _SOURCE_FINGERPRINT: list[str] = []
@@ -73,7 +80,10 @@ class CaseStore:
         of the records it reads and the stonedem sources, hashed."""
         records = []
         excitation = case.scene.get("excitation") or {}
-        for spec in (excitation, excitation.get("vertical") if isinstance(excitation, dict) else None):
+        for spec in (
+            excitation,
+            excitation.get("vertical") if isinstance(excitation, dict) else None,
+        ):
             name = record_file_name(spec)
             if name is not None:
                 path = self.records_dir / f"{name}.nc"
@@ -81,8 +91,14 @@ class CaseStore:
         # two studies' identical scenes each keep their own entry: one restored from the other's
         # carried that study's name, case id and title (the SLURM run, whose jobs ran in another
         # order, then differed from the local one in those attributes)
-        text = {"study": case.study, "case": case.id, "scene": case.scene, "params": case.params,
-                "records": records, "source": source_fingerprint()}
+        text = {
+            "study": case.study,
+            "case": case.id,
+            "scene": case.scene,
+            "params": case.params,
+            "records": records,
+            "source": source_fingerprint(),
+        }
         if case.search is not None:  # a search system's entry is its whole search file
             text["search"] = dataclasses.asdict(case.search)
         text = json.dumps(text, sort_keys=True, default=repr)
@@ -103,8 +119,11 @@ class CaseStore:
         except OSError as err:
             # the copy failed (a full disk, a quota): the entry may well be good, so it stays
             tmp.unlink(missing_ok=True)
-            progress_print(log or sys.stderr, f"warning: case store entry {stored.name} could not be copied "
-                           f"({err.strerror}); simulating the case again")
+            progress_print(
+                log or sys.stderr,
+                f"warning: case store entry {stored.name} could not be copied "
+                f"({err.strerror}); simulating the case again",
+            )
             return False
         try:
             good = _sha256(tmp) == _read_checksum(stored)
@@ -133,8 +152,11 @@ class CaseStore:
             except OSError as err:
                 # a read-only store: the entry stays, and every restore skips it again
                 where = f"left in place ({err.strerror}), skipped"
-        progress_print(log or sys.stderr, f"warning: case store entry {stored.name} failed its checksum; "
-                       f"{where}, simulating the case again")
+        progress_print(
+            log or sys.stderr,
+            f"warning: case store entry {stored.name} failed its checksum; "
+            f"{where}, simulating the case again",
+        )
 
     def keep(self, case: Case, output: Path) -> None:
         """Remember a finished case file as a copy with its checksum (best effort: a full disk
@@ -181,8 +203,14 @@ def _sha256(path: Path) -> str:
 COMPILE_SHOWN = 1.0
 
 
-def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", log=None,
-            keep_dataset: bool = False) -> dict:
+def run_one(
+    case: Case,
+    output: Path | str,
+    store: CaseStore,
+    label: str = "",
+    log=None,
+    keep_dataset: bool = False,
+) -> dict:
     """Simulate ``case`` into ``output`` (or restore it from the store); one log line.
 
     Returns {collapsed, steps, kernel_seconds, compile_seconds, seconds, restored}, and with ``keep_dataset``
@@ -201,11 +229,23 @@ def run_one(case: Case, output: Path | str, store: CaseStore, label: str = "", l
         info["dataset"] = None if restored else ds
     info.update(restored=restored, seconds=wallclock.perf_counter() - start)
     if restored:
-        progress_print(log or sys.stderr, f"{label}{case.study}/{case.id}: restored from the case store; "
-                                          f"{info['verdict']}")
+        progress_print(
+            log or sys.stderr,
+            f"{label}{case.study}/{case.id}: restored from the case store; {info['verdict']}",
+        )
     else:  # the compile of the time loop (a cold cache's first case), apart from the kernel's stepping
-        progress_print(log or sys.stderr, run_line(label, case, info["steps"], info["kernel_seconds"],
-                                                   info["compile_seconds"], info["seconds"], info["verdict"]))
+        progress_print(
+            log or sys.stderr,
+            run_line(
+                label,
+                case,
+                info["steps"],
+                info["kernel_seconds"],
+                info["compile_seconds"],
+                info["seconds"],
+                info["verdict"],
+            ),
+        )
     return info
 
 
@@ -214,9 +254,13 @@ def _info(ds) -> dict:
     verdict = ds.attrs.get("status", "")
     if collapsed:
         verdict = f"collapsed at {float(ds['collapse_time']):.2f} s ({verdict})"
-    return {"collapsed": collapsed, "steps": int(ds.attrs.get("steps_run", 0)),
-            "kernel_seconds": float(ds.attrs.get("wall_seconds", 0.0)),
-            "compile_seconds": float(ds.attrs.get("compile_seconds", 0.0)), "verdict": verdict}
+    return {
+        "collapsed": collapsed,
+        "steps": int(ds.attrs.get("steps_run", 0)),
+        "kernel_seconds": float(ds.attrs.get("wall_seconds", 0.0)),
+        "compile_seconds": float(ds.attrs.get("compile_seconds", 0.0)),
+        "verdict": verdict,
+    }
 
 
 def _case_info(path: Path) -> dict:
@@ -232,8 +276,9 @@ def run_cases(cases: list[Case], outputs: list, store: CaseStore, log=None) -> l
     return infos
 
 
-def run_search(system: Case, runs_dir: Path | str | None, summary_path: Path | str, store: CaseStore,
-               log=None):
+def run_search(
+    system: Case, runs_dir: Path | str | None, summary_path: Path | str, store: CaseStore, log=None
+):
     """The threshold search of one system (stonedem.study.search): the runs and the bracket in
     ``summary_path``, one file (restored whole from the store when the search was made before).
     ``runs_dir``: also every run's full case file there (``<case id>.nc``), each kept in the
@@ -269,16 +314,32 @@ def restored_search(system: Case, path: Path | str, log=None) -> tuple[list[Run]
     """The runs (in the order the search made them) and summary of a search file restored from
     the store; its log line."""
     with xr.open_dataset(path) as ds:
-        runs = [Run(float(v), bool(c), str(p)) for _, v, c, p in
-                sorted(zip(ds["search_order"].values, ds[system.search.parameter].values, ds["collapsed"].values,
-                           ds["search_phase"].values))]
+        runs = [
+            Run(float(v), bool(c), str(p))
+            for _, v, c, p in sorted(
+                zip(
+                    ds["search_order"].values,
+                    ds[system.search.parameter].values,
+                    ds["collapsed"].values,
+                    ds["search_phase"].values,
+                )
+            )
+        ]
     result = summary(runs, system.search)
-    progress_print(log or sys.stderr, f"{search_line(system, result)} (restored from the case store)")
+    progress_print(
+        log or sys.stderr, f"{search_line(system, result)} (restored from the case store)"
+    )
     return runs, result
 
 
-def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None,
-             scenes: SearchScenes | None = None, histories: bool = True) -> RunPiece:
+def run_slim(
+    case: Case,
+    records_dir: Path | str,
+    label: str = "",
+    log=None,
+    scenes: SearchScenes | None = None,
+    histories: bool = True,
+) -> RunPiece:
     """Simulate ``case`` and keep what its search keeps (:class:`stonedem.study.cube.RunPiece`):
     no dataset, no file; one log line, as :func:`run_one` gives. ``scenes``: its search's
     scenes (built from the search's first), else the case's scene is built in full;
@@ -289,25 +350,48 @@ def run_slim(case: Case, records_dir: Path | str, label: str = "", log=None,
     run = checked_run(scenes(case) if scenes is not None else case_scene(case, records_dir))
     piece = run_piece(case, run, histories)
     status = run.checks["status"]
-    verdict = f"collapsed at {run.result.collapse_time:.2f} s ({status})" if piece.collapsed else status
-    progress_print(log or sys.stderr, run_line(label, case, run.result.steps_run, run.result.wall_seconds,
-                                               run.compile_seconds, wallclock.perf_counter() - start, verdict))
+    verdict = (
+        f"collapsed at {run.result.collapse_time:.2f} s ({status})" if piece.collapsed else status
+    )
+    progress_print(
+        log or sys.stderr,
+        run_line(
+            label,
+            case,
+            run.result.steps_run,
+            run.result.wall_seconds,
+            run.compile_seconds,
+            wallclock.perf_counter() - start,
+            verdict,
+        ),
+    )
     return piece
 
 
-def run_line(label: str, case: Case, steps: int, kernel: float, compile_seconds: float, seconds: float,
-             verdict: str) -> str:
+def run_line(
+    label: str,
+    case: Case,
+    steps: int,
+    kernel: float,
+    compile_seconds: float,
+    seconds: float,
+    verdict: str,
+) -> str:
     """A run's log line: its steps, kernel and compile time (above COMPILE_SHOWN), and verdict."""
     compiled = f"{compile_seconds:.1f} s compile, " if compile_seconds > COMPILE_SHOWN else ""
-    return (f"{label}{case.study}/{case.id}: {steps} steps, {kernel:.2f} s kernel, {compiled}{seconds:.2f} s in all; "
-            f"{verdict}")
+    return (
+        f"{label}{case.study}/{case.id}: {steps} steps, {kernel:.2f} s kernel, {compiled}{seconds:.2f} s in all; "
+        f"{verdict}"
+    )
 
 
 def search_line(system: Case, result: dict) -> str:
     """The log line of a finished search: how it ended, its bracket, runs and resurrections."""
-    return (f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
-            f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
-            f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}")
+    return (
+        f"{system.study}/{system.id}: {result['status']}, {system.search.parameter} "
+        f"{result['lower']:.4g} ... {result['upper']:.4g} (width {result['width']:.2%}), "
+        f"{result['n_runs']} runs, resurrections: {result['resurrections'] or 'none'}"
+    )
 
 
 # runs per search and round of run_searches (stonedem.study.search.search_together): 16 gives
@@ -315,8 +399,15 @@ def search_line(system: Case, result: dict) -> str:
 SEARCH_WIDTH = 16
 
 
-def run_searches(systems: list[Case], runs_dirs: list | None, summary_paths: list, store: CaseStore,
-                 device: str = "cpu", width: int = SEARCH_WIDTH, log=None) -> list[tuple[list[Run], dict]]:
+def run_searches(
+    systems: list[Case],
+    runs_dirs: list | None,
+    summary_paths: list,
+    store: CaseStore,
+    device: str = "cpu",
+    width: int = SEARCH_WIDTH,
+    log=None,
+) -> list[tuple[list[Run], dict]]:
     """The threshold searches of ``systems`` together, in rounds
     (:func:`stonedem.study.search.search_together`): each round's runs restored from the store
     where they are, the others simulated side by side on ``device``
@@ -333,8 +424,15 @@ def run_searches(systems: list[Case], runs_dirs: list | None, summary_paths: lis
                 done[i] = restored_search(system, path, log)
         todo = [i for i in range(len(systems)) if i not in done]
         if todo:
-            ran = _searches_together([systems[i] for i in todo], None, [summary_paths[i] for i in todo], store,
-                                     device, width, log)
+            ran = _searches_together(
+                [systems[i] for i in todo],
+                None,
+                [summary_paths[i] for i in todo],
+                store,
+                device,
+                width,
+                log,
+            )
             done.update(zip(todo, ran))
         return [done[i] for i in range(len(systems))]
     return _searches_together(systems, runs_dirs, summary_paths, store, device, width, log)
@@ -342,7 +440,9 @@ def run_searches(systems: list[Case], runs_dirs: list | None, summary_paths: lis
 
 def _searches_together(systems, runs_dirs, summary_paths, store, device, width, log):
     settings = [system.search for system in systems]
-    known: list[dict[float, bool]] = [{} for _ in systems]  # value -> collapsed, as search_together has it
+    known: list[dict[float, bool]] = [
+        {} for _ in systems
+    ]  # value -> collapsed, as search_together has it
     # the files of the runs kept (on the path, or restored from the store); the summaries read
     # them back: every search's datasets held at once could outgrow the memory of a job. Without
     # run files, the runs' pieces
@@ -355,7 +455,9 @@ def _searches_together(systems, runs_dirs, summary_paths, store, device, width, 
 
     def simulate(items: list[tuple[int, float]]) -> list[xr.Dataset]:
         simulated[0] += len(items)
-        return run_cases_together([output(i, value)[0] for i, value in items], store.records_dir, device)
+        return run_cases_together(
+            [output(i, value)[0] for i, value in items], store.records_dir, device
+        )
 
     def write(i: int, value: float, ds: xr.Dataset) -> None:
         case, path = output(i, value)
@@ -387,18 +489,25 @@ def _searches_together(systems, runs_dirs, summary_paths, store, device, width, 
             for run in replay(known[i], settings[i])[0]:
                 if (i, run.value) in pending:
                     write(i, run.value, pending[(i, run.value)])
-        progress_print(log, f"round of {len(requests)} runs over {len({i for i, _, _ in requests})} searches: "
-                            f"{len(todo)} simulated on the {device.upper()}, {len(requests) - len(todo)} restored, "
-                            f"{wallclock.perf_counter() - start:.1f} s")
+        progress_print(
+            log,
+            f"round of {len(requests)} runs over {len({i for i, _, _ in requests})} searches: "
+            f"{len(todo)} simulated on the {device.upper()}, {len(requests) - len(todo)} restored, "
+            f"{wallclock.perf_counter() - start:.1f} s",
+        )
         return collapsed
 
     all_runs, rounds = search_together(run_many, settings, width)
     # a run dropped as speculative that the path reached later, through another branch: again
-    late = [(i, r.value) for i, runs in enumerate(all_runs) for r in runs if r.value not in files[i]]
+    late = [
+        (i, r.value) for i, runs in enumerate(all_runs) for r in runs if r.value not in files[i]
+    ]
     for (i, value), ds in zip(late, simulate(late)):
         if _info(ds)["collapsed"] != known[i][value]:
-            raise RuntimeError(f"{systems[i].study}/{output(i, value)[0].id}: simulated again, its collapse "
-                               f"verdict changed; the device does not repeat runs bit for bit")
+            raise RuntimeError(
+                f"{systems[i].study}/{output(i, value)[0].id}: simulated again, its collapse "
+                f"verdict changed; the device does not repeat runs bit for bit"
+            )
         write(i, value, ds)
     for i, runs in enumerate(all_runs):  # files restored from the store off the path
         on_path = {r.value for r in runs}
@@ -406,8 +515,10 @@ def _searches_together(systems, runs_dirs, summary_paths, store, device, width, 
             kept = files[i].pop(value)
             if isinstance(kept, Path):
                 kept.unlink(missing_ok=True)
-    plan = (f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
-            f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept")
+    plan = (
+        f"search_together: rounds of up to {width} runs per search (stonedem.study.search); "
+        f"{rounds} rounds, {simulated[0]} runs simulated for {sum(map(len, all_runs))} kept"
+    )
     out = []
     for system, runs, written, summary_path in zip(systems, all_runs, files, summary_paths):
         result = summary(runs, system.search)
@@ -431,7 +542,10 @@ def choose_device(wanted: str) -> tuple[str, str]:
     usable, why = gpu_available()
     if usable:
         return "gpu", f"device: gpu ({why})"
-    return "cpu", f"device: gpu asked for, but {why}: running the searches together on the CPU's cores instead"
+    return (
+        "cpu",
+        f"device: gpu asked for, but {why}: running the searches together on the CPU's cores instead",
+    )
 
 
 def machine() -> str:
@@ -458,4 +572,8 @@ def library_versions() -> dict[str, str]:
         cuda = version("numba-cuda")
     except PackageNotFoundError:
         cuda = "not installed"
-    return {"numba_version": numba.__version__, "numpy_version": np.__version__, "numba_cuda_version": cuda}
+    return {
+        "numba_version": numba.__version__,
+        "numpy_version": np.__version__,
+        "numba_cuda_version": cuda,
+    }

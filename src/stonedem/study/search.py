@@ -49,7 +49,9 @@ class SearchSettings:
     # hunt: each value this times the last (down when start collapses); 1.8 < 1.02**32, so
     # five bisections narrow a hunt step to a 2 % bracket (2.0 would need six)
     factor: float = 1.8
-    tolerance: float = 0.02  # bracket: smallest collapse / largest survivor below it - 1 (>= FINEST_TOLERANCE)
+    tolerance: float = (
+        0.02  # bracket: smallest collapse / largest survivor below it - 1 (>= FINEST_TOLERANCE)
+    )
     minimum: float = 0.125  # a collapse at start hunts down, at most to here
     maximum: float = 64.0  # no collapse up to here: the threshold lies above it
     fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...
@@ -61,64 +63,106 @@ class SearchSettings:
     def from_config(cls, spec, where: str, parameters) -> "SearchSettings":
         """From a study's ``search:`` mapping; an InputError names the field and the fix."""
         if not isinstance(spec, dict):
-            raise InputError(where, f"expected a mapping, got {spec!r}",
-                             "write search: {parameter: pga, start: 1.0, tolerance: 0.02}")
+            raise InputError(
+                where,
+                f"expected a mapping, got {spec!r}",
+                "write search: {parameter: pga, start: 1.0, tolerance: 0.02}",
+            )
         known = {f.name: f for f in fields(cls)}
         for key in spec:
             if key not in known:
-                raise InputError(f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(known)}")
+                raise InputError(
+                    f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(known)}"
+                )
         parameter = spec.get("parameter", cls.parameter)
         if parameter not in parameters:
-            raise InputError(f"{where}.parameter", f"unknown parameter {parameter!r}",
-                             f"use a numeric study parameter such as {', '.join(parameters)}")
+            raise InputError(
+                f"{where}.parameter",
+                f"unknown parameter {parameter!r}",
+                f"use a numeric study parameter such as {', '.join(parameters)}",
+            )
         values = {}
         for key in ("start", "factor", "tolerance", "minimum", "maximum"):
             value = spec.get(key, getattr(cls, key))
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
-                    or value <= 0:
-                raise InputError(f"{where}.{key}", f"expected a positive number, got {value!r}",
-                                 "give a positive finite number")
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not math.isfinite(value)
+                or value <= 0
+            ):
+                raise InputError(
+                    f"{where}.{key}",
+                    f"expected a positive number, got {value!r}",
+                    "give a positive finite number",
+                )
             values[key] = float(value)
         for key, low, high in (("fill", 0, 100), ("max_runs", 1, 1000)):
             value = spec.get(key, getattr(cls, key))
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-                raise InputError(f"{where}.{key}", f"expected an integer {low} ... {high}, got {value!r}",
-                                 f"give an integer {low} ... {high}")
+                raise InputError(
+                    f"{where}.{key}",
+                    f"expected an integer {low} ... {high}, got {value!r}",
+                    f"give an integer {low} ... {high}",
+                )
             values[key] = value
         histories = spec.get("histories", cls.histories)
         if not isinstance(histories, bool):
-            raise InputError(f"{where}.histories", f"expected true or false, got {histories!r}",
-                             "write histories: false to keep the runs' measures only")
+            raise InputError(
+                f"{where}.histories",
+                f"expected true or false, got {histories!r}",
+                "write histories: false to keep the runs' measures only",
+            )
         values["histories"] = histories
         if values["tolerance"] >= 1.0:
-            raise InputError(f"{where}.tolerance", f"{values['tolerance']:g} is not a relative width < 1",
-                             "give e.g. tolerance: 0.02 (2 %)")
+            raise InputError(
+                f"{where}.tolerance",
+                f"{values['tolerance']:g} is not a relative width < 1",
+                "give e.g. tolerance: 0.02 (2 %)",
+            )
         check_tolerance(values["tolerance"], f"{where}.tolerance")
         if values["factor"] <= 1.0 + values["tolerance"]:
-            raise InputError(f"{where}.factor", f"{values['factor']:g} must exceed 1 + tolerance",
-                             "hunt in steps wider than the bracket, e.g. factor: 1.8")
+            raise InputError(
+                f"{where}.factor",
+                f"{values['factor']:g} must exceed 1 + tolerance",
+                "hunt in steps wider than the bracket, e.g. factor: 1.8",
+            )
         if not values["minimum"] <= values["start"] <= values["maximum"]:
-            raise InputError(f"{where}.start", f"{values['start']:g} outside minimum ... maximum "
-                             f"({values['minimum']:g} ... {values['maximum']:g})", "start inside the range")
+            raise InputError(
+                f"{where}.start",
+                f"{values['start']:g} outside minimum ... maximum "
+                f"({values['minimum']:g} ... {values['maximum']:g})",
+                "start inside the range",
+            )
         if values["max_runs"] < _runs_needed(values):
-            raise InputError(f"{where}.max_runs", f"{values['max_runs']} runs cannot hunt over "
-                             f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance",
-                             f"allow at least {_runs_needed(values)} runs")
+            raise InputError(
+                f"{where}.max_runs",
+                f"{values['max_runs']} runs cannot hunt over "
+                f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance",
+                f"allow at least {_runs_needed(values)} runs",
+            )
         return cls(parameter=parameter, **values)
 
 
 def check_tolerance(tolerance: float, field: str) -> None:
     """Refuse a tolerance the rounded values cannot bracket (the search would stop wider)."""
     if tolerance < FINEST_TOLERANCE:
-        raise InputError(field, f"{tolerance:g} is finer than the search resolves (values run are rounded to "
-                                f"{SIGNIFICANT_DIGITS} significant digits)",
-                         f"give tolerance >= {FINEST_TOLERANCE:g}, the finest the search can do")
+        raise InputError(
+            field,
+            f"{tolerance:g} is finer than the search resolves (values run are rounded to "
+            f"{SIGNIFICANT_DIGITS} significant digits)",
+            f"give tolerance >= {FINEST_TOLERANCE:g}, the finest the search can do",
+        )
 
 
 def _runs_needed(v: dict) -> int:
     """Runs of the longest hunt plus a bisection down to the tolerance."""
-    hunt = math.ceil(math.log(max(v["maximum"] / v["start"], v["start"] / v["minimum"], 1.0))
-                     / math.log(v["factor"])) + 1
+    hunt = (
+        math.ceil(
+            math.log(max(v["maximum"] / v["start"], v["start"] / v["minimum"], 1.0))
+            / math.log(v["factor"])
+        )
+        + 1
+    )
     bisect = math.ceil(math.log2(max(math.log(v["factor"]) / math.log1p(v["tolerance"]), 1.0)))
     return hunt + bisect
 
@@ -180,8 +224,9 @@ def _widest_gap(values: list[float], tolerance: float) -> tuple[float, float] | 
     return (low, high) if ratio - 1.0 > tolerance else None
 
 
-def search(run: Callable[[float, str], bool], settings: SearchSettings,
-           runs: list[Run] | None = None) -> list[Run]:
+def search(
+    run: Callable[[float, str], bool], settings: SearchSettings, runs: list[Run] | None = None
+) -> list[Run]:
     """Run the search: ``run(value, phase)`` simulates one case and returns whether it
     collapsed. ``runs``: runs already made (a resumed search). Returns every run, in order."""
     runs = list(runs or [])
@@ -191,7 +236,9 @@ def search(run: Callable[[float, str], bool], settings: SearchSettings,
     return runs
 
 
-def replay(outcomes: dict[float, bool], settings: SearchSettings) -> tuple[list[Run], tuple[float, str] | None]:
+def replay(
+    outcomes: dict[float, bool], settings: SearchSettings
+) -> tuple[list[Run], tuple[float, str] | None]:
     """The runs :func:`search` makes when each value's outcome is ``outcomes[value]``, as far
     as they are known, and the next (value, phase) it needs (None: the search is done)."""
     runs: list[Run] = []
@@ -200,7 +247,9 @@ def replay(outcomes: dict[float, bool], settings: SearchSettings) -> tuple[list[
     return runs, step
 
 
-def speculative_values(outcomes: dict[float, bool], settings: SearchSettings, width: int) -> list[tuple[float, str]]:
+def speculative_values(
+    outcomes: dict[float, bool], settings: SearchSettings, width: int
+) -> list[tuple[float, str]]:
     """Up to ``width`` (value, phase) the search may need next: the rule's next value, then
     breadth first the values it would ask for after each outcome of those (known values take
     their known outcome). Empty when the search is done."""
@@ -221,19 +270,27 @@ def speculative_values(outcomes: dict[float, bool], settings: SearchSettings, wi
     return list(chosen.items())
 
 
-def search_together(run_many: Callable[[list[tuple[int, float, str]]], list[bool]],
-                    settings: list[SearchSettings], width: int = 8) -> tuple[list[list[Run]], int]:
+def search_together(
+    run_many: Callable[[list[tuple[int, float, str]]], list[bool]],
+    settings: list[SearchSettings],
+    width: int = 8,
+) -> tuple[list[list[Run]], int]:
     """Many searches in rounds (:func:`speculative_values`, ``width`` runs per search and
     round): ``run_many([(search, value, phase), ...])`` simulates them all at once and returns
     whether each collapsed. Returns each search's runs, as :func:`search` makes them, and the
     number of rounds."""
     if isinstance(width, bool) or not isinstance(width, int) or width < 1:
-        raise InputError("width", f"expected a whole number >= 1, got {width!r}", "give e.g. width=8")
+        raise InputError(
+            "width", f"expected a whole number >= 1, got {width!r}", "give e.g. width=8"
+        )
     outcomes: list[dict[float, bool]] = [{} for _ in settings]
     rounds = 0
     while True:
-        requests = [(i, value, phase) for i, s in enumerate(settings)
-                    for value, phase in speculative_values(outcomes[i], s, width)]
+        requests = [
+            (i, value, phase)
+            for i, s in enumerate(settings)
+            for value, phase in speculative_values(outcomes[i], s, width)
+        ]
         if not requests:
             break
         rounds += 1
@@ -255,15 +312,22 @@ def bracket(runs: list[Run]) -> dict:
     below = [v for v in survivors if not v > upper] if collapses else survivors
     lower = below[-1] if below else math.nan
     resurrections = [v for v in survivors if v > upper]
-    return {"lower": lower, "upper": upper, "width": upper / lower - 1.0 if below and collapses else math.nan,
-            "resurrections": resurrections, "monotonic": not resurrections}
+    return {
+        "lower": lower,
+        "upper": upper,
+        "width": upper / lower - 1.0 if below and collapses else math.nan,
+        "resurrections": resurrections,
+        "monotonic": not resurrections,
+    }
 
 
 def summary(runs: list[Run], settings: SearchSettings) -> dict:
     """:func:`bracket` of a search's runs, their number and how the search ended."""
     result = bracket(runs)
     if math.isnan(result["upper"]):
-        status = NO_COLLAPSE if max((r.value for r in runs), default=0.0) >= settings.maximum else BUDGET
+        status = (
+            NO_COLLAPSE if max((r.value for r in runs), default=0.0) >= settings.maximum else BUDGET
+        )
     elif math.isnan(result["lower"]):
         status = COLLAPSE_AT_MINIMUM if result["upper"] <= settings.minimum else BUDGET
     elif result["width"] <= settings.tolerance:

@@ -37,7 +37,10 @@ def member_groups(systems: list[Case]) -> dict[str, list[Case]]:
             continue
         base = case_id({k: v for k, v in system.params.items() if k != MEMBER})
         groups.setdefault(base, []).append(system)
-    return {base: sorted(members, key=lambda s: int(s.params[MEMBER])) for base, members in groups.items()}
+    return {
+        base: sorted(members, key=lambda s: int(s.params[MEMBER]))
+        for base, members in groups.items()
+    }
 
 
 def search_runs(path: Path | str) -> dict:
@@ -46,15 +49,28 @@ def search_runs(path: Path | str) -> dict:
     with open_result(path) as ds:
         parameter = ds.attrs.get("search_parameter")
         if parameter not in ds.variables or "collapse_threshold" not in ds:
-            raise InputError("searches", f"{path} is not a threshold search's file (no {parameter or 'parameter'} runs)",
-                             "give the files its threshold searches wrote")
-        return {"values": np.asarray(ds[parameter].values, dtype=float).ravel(),
-                "threshold": float(ds["collapse_threshold"]), "survived": float(ds["survived_below_threshold"]),
-                "parameter": parameter, "units": str(ds[parameter].attrs.get("units", ""))}
+            raise InputError(
+                "searches",
+                f"{path} is not a threshold search's file (no {parameter or 'parameter'} runs)",
+                "give the files its threshold searches wrote",
+            )
+        return {
+            "values": np.asarray(ds[parameter].values, dtype=float).ravel(),
+            "threshold": float(ds["collapse_threshold"]),
+            "survived": float(ds["survived_below_threshold"]),
+            "parameter": parameter,
+            "units": str(ds[parameter].attrs.get("units", "")),
+        }
 
 
-def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str | None, output: Path | str, store,
-                 log=None) -> xr.Dataset:
+def fill_stripes(
+    systems: list[Case],
+    search_paths: list,
+    runs_dir: Path | str | None,
+    output: Path | str,
+    store,
+    log=None,
+) -> xr.Dataset:
     """Run the stripe fills of one system's members (``systems``, their searches in
     ``search_paths``, the same order): the fills' table in ``output`` (one row per fill: the
     member's system id, j, value, collapsed), and each missing (member, value) run as a case
@@ -63,12 +79,19 @@ def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str |
     from stonedem.study.runner import run_one, run_slim
 
     if len(systems) != len(search_paths) or not systems:
-        raise InputError("searches", f"{len(systems)} member systems and {len(search_paths)} search files",
-                         "give one search file per member system")
+        raise InputError(
+            "searches",
+            f"{len(systems)} member systems and {len(search_paths)} search files",
+            "give one search file per member system",
+        )
     found = [search_runs(path) for path in search_paths]
     members = [int(s.params[MEMBER]) for s in systems]
-    missing = stripe_requests(members, [f["values"] for f in found], [f["threshold"] for f in found],
-                              [f["survived"] for f in found])  # (j, value), in the order (value, j)
+    missing = stripe_requests(
+        members,
+        [f["values"] for f in found],
+        [f["threshold"] for f in found],
+        [f["survived"] for f in found],
+    )  # (j, value), in the order (value, j)
     by_member = dict(zip(members, systems))
     if runs_dir is not None:
         runs_dir = Path(runs_dir)
@@ -85,22 +108,54 @@ def fill_stripes(systems: list[Case], search_paths: list, runs_dir: Path | str |
     base = systems[0]
     parameter, units = found[0]["parameter"], found[0]["units"]
     ds = xr.Dataset(
-        {"stripe_system": ("stripe", np.array([r[0] for r in rows], dtype=object),
-                           {"long_name": "the member's search system (case id)"}),
-         "stripe_member": ("stripe", np.array([r[1] for r in rows], dtype=np.int32),
-                           {"units": "1", "long_name": "ensemble member j of the fill"}),
-         "stripe_value": ("stripe", np.array([r[2] for r in rows], dtype=float),
-                          {"units": units, "long_name": f"{parameter} of the fill (a value another member ran)"}),
-         "stripe_collapsed": ("stripe", np.array([r[3] for r in rows], dtype=np.int8),
-                              {"units": "1", "long_name": "1: the fill collapsed"})},
-        coords={"stripe": ("stripe", np.arange(len(rows), dtype=np.int32), {"long_name": "fill, by (value, j)"})},
-        attrs={"title": f"stonedem stripe fills: {base.study}, {len(systems)} members",
-               "study": base.study, "search_parameter": parameter, "members": len(systems),
-               "systems": " ".join(s.id for s in systems),
-               "method": "every value a member ran inside the zone [lowest survived, highest threshold], run by "
-                         "every member (stonedem.study.stripes.missing_stripe_runs)"})
+        {
+            "stripe_system": (
+                "stripe",
+                np.array([r[0] for r in rows], dtype=object),
+                {"long_name": "the member's search system (case id)"},
+            ),
+            "stripe_member": (
+                "stripe",
+                np.array([r[1] for r in rows], dtype=np.int32),
+                {"units": "1", "long_name": "ensemble member j of the fill"},
+            ),
+            "stripe_value": (
+                "stripe",
+                np.array([r[2] for r in rows], dtype=float),
+                {
+                    "units": units,
+                    "long_name": f"{parameter} of the fill (a value another member ran)",
+                },
+            ),
+            "stripe_collapsed": (
+                "stripe",
+                np.array([r[3] for r in rows], dtype=np.int8),
+                {"units": "1", "long_name": "1: the fill collapsed"},
+            ),
+        },
+        coords={
+            "stripe": (
+                "stripe",
+                np.arange(len(rows), dtype=np.int32),
+                {"long_name": "fill, by (value, j)"},
+            )
+        },
+        attrs={
+            "title": f"stonedem stripe fills: {base.study}, {len(systems)} members",
+            "study": base.study,
+            "search_parameter": parameter,
+            "members": len(systems),
+            "systems": " ".join(s.id for s in systems),
+            "method": "every value a member ran inside the zone [lowest survived, highest threshold], run by "
+            "every member (stonedem.study.stripes.missing_stripe_runs)",
+        },
+    )
     write_dataset(ds, output)
-    print(f"{base.study}: {len(rows)} stripe fills over {len(systems)} members", file=log or sys.stderr, flush=True)
+    print(
+        f"{base.study}: {len(rows)} stripe fills over {len(systems)} members",
+        file=log or sys.stderr,
+        flush=True,
+    )
     return ds
 
 
@@ -114,8 +169,18 @@ def stripe_pieces(stripe_paths) -> dict[str, xr.Dataset]:
         systems = [str(s) for s in ds["stripe_system"].values]
         for system in dict.fromkeys(systems):
             rows = [k for k, s in enumerate(systems) if s == system]
-            mine = ds[["stripe_value", "stripe_collapsed"]].isel(stripe=rows).drop_vars("stripe", errors="ignore")
+            mine = (
+                ds[["stripe_value", "stripe_collapsed"]]
+                .isel(stripe=rows)
+                .drop_vars("stripe", errors="ignore")
+            )
             out[system] = mine.rename({"stripe": STRIPE_RUN}).assign_coords(
-                {STRIPE_RUN: (STRIPE_RUN, np.arange(len(rows), dtype=np.int32),
-                              {"long_name": "stripe fill of the member's search"})})
+                {
+                    STRIPE_RUN: (
+                        STRIPE_RUN,
+                        np.arange(len(rows), dtype=np.int32),
+                        {"long_name": "stripe fill of the member's search"},
+                    )
+                }
+            )
     return out

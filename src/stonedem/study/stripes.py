@@ -52,22 +52,35 @@ def _runs(values, members, collapsed):
     for name, data in (("values", values), ("members", members), ("collapsed", collapsed)):
         array = np.asarray(data)
         if array.ndim != 1:
-            raise InputError(name, f"expected one entry per run, got an array of shape {array.shape}",
-                             "give a flat array of the run table")
+            raise InputError(
+                name,
+                f"expected one entry per run, got an array of shape {array.shape}",
+                "give a flat array of the run table",
+            )
         arrays.append(array)
     v, m, c = arrays
     if not v.size == m.size == c.size:
-        raise InputError("values", f"{v.size} values, {m.size} members and {c.size} collapse flags",
-                         "give one value, member and collapse flag per run")
+        raise InputError(
+            "values",
+            f"{v.size} values, {m.size} members and {c.size} collapse flags",
+            "give one value, member and collapse flag per run",
+        )
     v = v.astype(float)
     if not np.all(np.isfinite(v) & (v > 0)):
-        raise InputError("values", "every run value must be finite and positive",
-                         "give the searched PGA of each run")
+        raise InputError(
+            "values",
+            "every run value must be finite and positive",
+            "give the searched PGA of each run",
+        )
     if m.size and not (np.issubdtype(m.dtype, np.integer) or np.all(m == np.round(m))):
-        raise InputError("members", "member indices must be integers", "give the member index j of each run")
+        raise InputError(
+            "members", "member indices must be integers", "give the member index j of each run"
+        )
     c = c.astype(float)
     if not np.all((c == 0) | (c == 1)):
-        raise InputError("collapsed", "collapse flags must be 0 or 1", "give 1 for a collapse, 0 for a survivor")
+        raise InputError(
+            "collapsed", "collapse flags must be 0 or 1", "give 1 for a collapse, 0 for a survivor"
+        )
     return v, m.astype(np.int64), c.astype(np.int8)
 
 
@@ -85,8 +98,11 @@ def _member_table(v, m, c):
     np.logical_or.at(miss, (mi, li), c == 0)
     if np.any(hit & miss):
         k, level = np.argwhere(hit & miss)[0]
-        raise InputError("collapsed", f"member {member_ids[k]} both collapsed and stood at {levels[level]:g}",
-                         "a member's runs at one value must agree: check the run table")
+        raise InputError(
+            "collapsed",
+            f"member {member_ids[k]} both collapsed and stood at {levels[level]:g}",
+            "a member's runs at one value must agree: check the run table",
+        )
     return member_ids, levels, ran, hit
 
 
@@ -110,8 +126,11 @@ def _per_member(name, data, member_ids):
         return np.array([data[int(j)] for j in member_ids], dtype=float)
     array = np.asarray(data, dtype=float)
     if array.shape != member_ids.shape:
-        raise InputError(name, f"{array.size} values for the {member_ids.size} members of the runs",
-                         "give one value per member, in increasing member order")
+        raise InputError(
+            name,
+            f"{array.size} values for the {member_ids.size} members of the runs",
+            "give one value per member, in increasing member order",
+        )
     return array
 
 
@@ -134,7 +153,9 @@ def missing_stripe_runs(values, members, thresholds, survived, member_ids=None):
     if np.unique(ids).size != ids.size:
         raise InputError("member_ids", "member indices repeat", "give each member once")
     if not np.all(np.isin(m, ids)):
-        raise InputError("members", "a run belongs to a member not in member_ids", "list every member")
+        raise InputError(
+            "members", "a run belongs to a member not in member_ids", "list every member"
+        )
     upper = _per_member("thresholds", thresholds, ids)
     lower = _per_member("survived", survived, ids)
     if v.size == 0:
@@ -143,8 +164,12 @@ def missing_stripe_runs(values, members, thresholds, survived, member_ids=None):
     for j, up, low in zip(ids, upper, lower):
         mine = v[m == j]
         if mine.size == 0:
-            raise InputError("members", f"member {j} has no runs", "give every member's search runs")
-        ends.append((low if np.isfinite(low) else mine.min(), up if np.isfinite(up) else mine.max()))
+            raise InputError(
+                "members", f"member {j} has no runs", "give every member's search runs"
+            )
+        ends.append(
+            (low if np.isfinite(low) else mine.min(), up if np.isfinite(up) else mine.max())
+        )
     zone_low = min(e[0] for e in ends)
     zone_high = max(e[1] for e in ends)
     inside = np.unique(v[(v >= zone_low) & (v <= zone_high)])
@@ -217,19 +242,25 @@ def _probit_newton(x, n, k, iterations=100):
         xa, na, ka = x[idx], n[idx], k[idx]
         eta = b0[idx, None] + b1[idx, None] * xa
         # inverse Mills ratios phi/Phi of eta and -eta, from logs (no 0/0 in the tails)
-        log_phi = -0.5 * eta ** 2 - 0.5 * math.log(2 * math.pi)
+        log_phi = -0.5 * eta**2 - 0.5 * math.log(2 * math.pi)
         lam_hit = np.exp(log_phi - special.log_ndtr(eta))
         lam_miss = np.exp(log_phi - special.log_ndtr(-eta))
         u = ka * lam_hit - (na - ka) * lam_miss  # d ll / d eta
-        w = ka * lam_hit * (eta + lam_hit) + (na - ka) * lam_miss * (lam_miss - eta)  # -d2 ll / d eta2
+        w = ka * lam_hit * (eta + lam_hit) + (na - ka) * lam_miss * (
+            lam_miss - eta
+        )  # -d2 ll / d eta2
         g0, g1 = u.sum(-1), (u * xa).sum(-1)
         h00, h01, h11 = w.sum(-1), (w * xa).sum(-1), (w * xa * xa).sum(-1)
-        det = h00 * h11 - h01 ** 2
+        det = h00 * h11 - h01**2
         with np.errstate(divide="ignore", invalid="ignore"):
             d0 = (h11 * g0 - h01 * g1) / det
             d1 = (h00 * g1 - h01 * g0) / det
-            on_bound = ((b1[idx] <= b1_low) & (d1 < 0)) | ((b1[idx] >= b1_high) & (d1 > 0)) | ~np.isfinite(det) \
+            on_bound = (
+                ((b1[idx] <= b1_low) & (d1 < 0))
+                | ((b1[idx] >= b1_high) & (d1 > 0))
+                | ~np.isfinite(det)
                 | (det <= 0)
+            )
             d0 = np.where(on_bound, g0 / h00, d0)
             d1 = np.where(on_bound, 0.0, d1)
         d0 = np.nan_to_num(d0, nan=0.0, posinf=0.0, neginf=0.0)
@@ -251,7 +282,9 @@ def _probit_newton(x, n, k, iterations=100):
         # the change of eta at the largest |x|: what the step does to the fitted curve
         moved = np.abs(best0 - b0[idx]) + np.abs(best1 - b1[idx]) * np.abs(xa).max(-1)
         b0[idx], b1[idx], ll[idx] = best0, best1, best_ll
-        done = pending | (moved <= 1e-10 * (1.0 + np.abs(best0) + np.abs(best1)))  # stuck, or converged
+        done = pending | (
+            moved <= 1e-10 * (1.0 + np.abs(best0) + np.abs(best1))
+        )  # stuck, or converged
         active[idx[done]] = False
     return -b0 / b1, 1.0 / b1, ll
 
@@ -273,7 +306,9 @@ def _fit_rows(x, n, k):
     separable, top_zero, low_one = _separable(x, n, k)
     spread = separable & (code == 0)
     code[spread] = 1
-    a50[spread] = np.exp(0.5 * (top_zero[spread] + low_one[spread]))  # geometric mean of the bracket
+    a50[spread] = np.exp(
+        0.5 * (top_zero[spread] + low_one[spread])
+    )  # geometric mean of the bracket
     beta[spread] = 0.0
     ll[spread] = 0.0
     quasi, x_mixed, ll_mixed = _one_mixed_stripe(x, n, k)
@@ -291,8 +326,16 @@ def _fit_rows(x, n, k):
     return a50, beta, code, ll
 
 
-_STATUSES = (FITTED, NO_SPREAD, NOTHING_COLLAPSED, ALL_COLLAPSED, NO_RUNS, BETA_AT_MINIMUM, BETA_AT_MAXIMUM,
-             ONE_MIXED_STRIPE)
+_STATUSES = (
+    FITTED,
+    NO_SPREAD,
+    NOTHING_COLLAPSED,
+    ALL_COLLAPSED,
+    NO_RUNS,
+    BETA_AT_MINIMUM,
+    BETA_AT_MAXIMUM,
+    ONE_MIXED_STRIPE,
+)
 
 
 def probit_fit(levels, n_runs, n_collapses) -> dict:
@@ -311,16 +354,30 @@ def probit_fit(levels, n_runs, n_collapses) -> dict:
     n = np.asarray(n_runs)
     k = np.asarray(n_collapses)
     if not (a.ndim == n.ndim == k.ndim == 1) or not a.size == n.size == k.size:
-        raise InputError("levels", f"{a.size} levels, {n.size} run counts and {k.size} collapse counts",
-                         "give one run count and one collapse count per level")
+        raise InputError(
+            "levels",
+            f"{a.size} levels, {n.size} run counts and {k.size} collapse counts",
+            "give one run count and one collapse count per level",
+        )
     if not np.all(np.isfinite(a) & (a > 0)):
-        raise InputError("levels", "levels must be finite and positive", "give the PGA of each stripe")
+        raise InputError(
+            "levels", "levels must be finite and positive", "give the PGA of each stripe"
+        )
     if not (np.all(n == np.round(n)) and np.all(k == np.round(k)) and np.all((0 <= k) & (k <= n))):
-        raise InputError("n_collapses", "counts must be whole numbers with 0 <= collapses <= runs",
-                         "give the runs and collapses at each level")
-    a50, beta, code, ll = _fit_rows(np.log(a)[None, :], n[None, :].astype(float), k[None, :].astype(float))
-    return {"a50": float(a50[0]), "beta": float(beta[0]), "status": _STATUSES[code[0]],
-            "log_likelihood": float(ll[0])}
+        raise InputError(
+            "n_collapses",
+            "counts must be whole numbers with 0 <= collapses <= runs",
+            "give the runs and collapses at each level",
+        )
+    a50, beta, code, ll = _fit_rows(
+        np.log(a)[None, :], n[None, :].astype(float), k[None, :].astype(float)
+    )
+    return {
+        "a50": float(a50[0]),
+        "beta": float(beta[0]),
+        "status": _STATUSES[code[0]],
+        "log_likelihood": float(ll[0]),
+    }
 
 
 def bootstrap_band(values, members, collapsed, n_boot=1000, level=0.90, seed=0):
@@ -333,13 +390,17 @@ def bootstrap_band(values, members, collapsed, n_boot=1000, level=0.90, seed=0):
     order statistics (no interpolation across an infinity). NaN band where the fit of the
     data itself has no a50."""
     if isinstance(n_boot, bool) or not isinstance(n_boot, (int, np.integer)) or n_boot < 1:
-        raise InputError("n_boot", f"expected a positive whole number, got {n_boot!r}", "give e.g. 1000")
+        raise InputError(
+            "n_boot", f"expected a positive whole number, got {n_boot!r}", "give e.g. 1000"
+        )
     if not (isinstance(level, (int, float)) and 0 < level < 1):
         raise InputError("level", f"expected a number in (0, 1), got {level!r}", "give e.g. 0.90")
     v, m, c = _runs(values, members, collapsed)
     member_ids, levels, ran, hit = _member_table(v, m, c)
     x = np.log(levels)
-    whole = _fit_rows(x[None, :], ran.sum(0)[None, :].astype(float), hit.sum(0)[None, :].astype(float))
+    whole = _fit_rows(
+        x[None, :], ran.sum(0)[None, :].astype(float), hit.sum(0)[None, :].astype(float)
+    )
     if not np.isfinite(whole[0][0]):
         return math.nan, math.nan
     rng = np.random.default_rng(seed)
@@ -352,7 +413,9 @@ def bootstrap_band(values, members, collapsed, n_boot=1000, level=0.90, seed=0):
     a50, _, code, _ = _fit_rows(np.broadcast_to(x, n.shape), n, k)
     a50 = np.where(code == 2, np.inf, np.where(code == 3, 0.0, a50))
     tail = (1.0 - level) / 2.0
-    return float(np.quantile(a50, tail, method="lower")), float(np.quantile(a50, 1.0 - tail, method="higher"))
+    return float(np.quantile(a50, tail, method="lower")), float(
+        np.quantile(a50, 1.0 - tail, method="higher")
+    )
 
 
 def transition_zone(values, members, collapsed):
@@ -384,10 +447,15 @@ def threshold_band(values, members, collapsed, thresholds, n_boot=1000, level=0.
     t = np.asarray(thresholds, dtype=float).ravel()
     member_ids = np.unique(m)
     if t.size != member_ids.size:
-        raise InputError("thresholds", f"{t.size} thresholds for the {member_ids.size} members of the runs",
-                         "give one search threshold per member (NaN for none)")
+        raise InputError(
+            "thresholds",
+            f"{t.size} thresholds for the {member_ids.size} members of the runs",
+            "give one search threshold per member (NaN for none)",
+        )
     if np.any(np.isfinite(t) & (t <= 0)) or np.any(np.isneginf(t)):
-        raise InputError("thresholds", "thresholds must be positive (NaN for none)", "give each member's upper")
+        raise InputError(
+            "thresholds", "thresholds must be positive (NaN for none)", "give each member's upper"
+        )
     levels, n, k = stripes(v, m, c)
     fit = probit_fit(levels, n, k)
     low, high = bootstrap_band(v, m, c, n_boot=n_boot, level=level, seed=seed)
@@ -401,14 +469,20 @@ def threshold_band(values, members, collapsed, thresholds, n_boot=1000, level=0.
     median = np.median(ordered) if t.size else math.nan  # (finite + inf) / 2 = inf: no NaN
     return {
         "members": int(member_ids.size),
-        "a50": fit["a50"], "beta": fit["beta"], "status": fit["status"],
+        "a50": fit["a50"],
+        "beta": fit["beta"],
+        "status": fit["status"],
         "log_likelihood": fit["log_likelihood"],
-        "a50_low": low, "a50_high": high, "band_level": float(level),
-        "a_first": a_first, "a_all": a_all,
+        "a50_low": low,
+        "a50_high": high,
+        "band_level": float(level),
+        "a_first": a_first,
+        "a_all": a_all,
         "threshold_median": finite(median) if t.size else math.nan,
         "threshold_min": finite(ordered[0]) if t.size else math.nan,
         "threshold_max": finite(ordered[-1]) if t.size else math.nan,
         "threshold_distinct": int(np.unique(t[np.isfinite(t)]).size),
         "threshold_none": int(np.sum(~np.isfinite(t))),
-        "levels": int(levels.size), "runs": int(n.sum()),
+        "levels": int(levels.size),
+        "runs": int(n.sum()),
     }

@@ -34,14 +34,14 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
-from stonedem.reference import analytic
-from stonedem.io.atomic import write_text
-from stonedem.io.netcdf import code_version, open_result, write_dataset
-from stonedem.engine.run import run_scene
-from stonedem.motion.excitation import RECORDS_DIR
 from stonedem.engine.laws import LAWS
+from stonedem.engine.run import run_scene
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
+from stonedem.io.atomic import write_text
+from stonedem.io.netcdf import code_version, open_result, write_dataset
+from stonedem.motion.excitation import RECORDS_DIR
+from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
@@ -63,16 +63,36 @@ def _attrs(units, long_name):
 POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}  # the engine's default law
 
 
-def block_scene(width, height, *, mass=None, density=2700.0, friction=10.0, k_n=1e9, c_n=0.0,
-                c_t=None, tilt=0.0, excitation=None, duration=1.0, dt="auto", every=1e-3,
-                base_width=None, stop_on_collapse=False, dt_safety="auto", contact=None):
+def block_scene(
+    width,
+    height,
+    *,
+    mass=None,
+    density=2700.0,
+    friction=10.0,
+    k_n=1e9,
+    c_n=0.0,
+    c_t=None,
+    tilt=0.0,
+    excitation=None,
+    duration=1.0,
+    dt="auto",
+    every=1e-3,
+    base_width=None,
+    stop_on_collapse=False,
+    dt_safety="auto",
+    contact=None,
+):
     """Scene dict of one rectangular block resting on a driven base (top at y = 0).
 
     The contact is the area law with k_n, c_n (and c_t) unless ``contact`` gives the whole
     contact mapping (e.g. {"model": "point", "k_n": 1e11}); the step is the engine's
     automatic one for that law (stonedem.engine.laws.LAWS) unless ``dt_safety`` is given.
     """
-    block = {"name": "block", "box": {"width": width, "height": height, "center": [0.0, height / 2]}}
+    block = {
+        "name": "block",
+        "box": {"width": width, "height": height, "center": [0.0, height / 2]},
+    }
     if mass is not None:
         block["mass"] = mass
     else:
@@ -81,14 +101,25 @@ def block_scene(width, height, *, mass=None, density=2700.0, friction=10.0, k_n=
         block["tilt"] = {"angle": abs(tilt), "about": "bottom_right" if tilt > 0 else "bottom_left"}
     base_width = base_width or max(4.0, 4.0 * width)
     return {
-        "bodies": [{"name": "base", "box": {"width": base_width, "height": 0.5,
-                                            "center": [0.0, -0.25]}, "driven": True}, block],
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": base_width, "height": 0.5, "center": [0.0, -0.25]},
+                "driven": True,
+            },
+            block,
+        ],
         "friction": friction,
-        "contact": dict(contact) if contact is not None else
-        {"model": "area", "k_n": k_n, "c_n": c_n, **({} if c_t is None else {"c_t": c_t})},
+        "contact": dict(contact)
+        if contact is not None
+        else {"model": "area", "k_n": k_n, "c_n": c_n, **({} if c_t is None else {"c_t": c_t})},
         "excitation": excitation or {"kind": "none"},
-        "solver": {"duration": duration, "dt": dt, "dt_safety": dt_safety,
-                   "stop_on_collapse": stop_on_collapse},
+        "solver": {
+            "duration": duration,
+            "dt": dt,
+            "dt_safety": dt_safety,
+            "stop_on_collapse": stop_on_collapse,
+        },
         "output": {"every": every},
     }
 
@@ -97,8 +128,7 @@ def contact_attrs(contact, **area):
     """Dataset attrs naming the contact law of a validation: the point mapping, or the area law's k_n, c_n."""
     if contact is None:
         return {"contact_model": "area", **area}
-    return {"contact_model": contact["model"],
-            **{k: v for k, v in contact.items() if k != "model"}}
+    return {"contact_model": contact["model"], **{k: v for k, v in contact.items() if k != "model"}}
 
 
 def variant_name(name, contact):
@@ -150,7 +180,9 @@ def rigid_free_rocking(time, width, height, r, theta0, step=1e-3):
     so a fine output grid is slow) and interpolated linearly onto ``time``.
     """
     coarse = np.arange(0.0, float(time[-1]) + 2.0 * step, step)
-    res = analytic.rigid_rocking_response(coarse, np.zeros_like(coarse), width, height, r, g=G, theta0=theta0)
+    res = analytic.rigid_rocking_response(
+        coarse, np.zeros_like(coarse), width, height, r, g=G, theta0=theta0
+    )
     return np.interp(time, coarse, res.theta)
 
 
@@ -172,29 +204,66 @@ def housner_period(geometries=HOUSNER_GEOMETRIES, ratios=HOUSNER_RATIOS, k_n=1e1
             t_exact[i, j] = analytic.rocking_period_exact(w, h, theta0, g=G)
             t_slender[i, j] = analytic.housner_period_slender(w, h, theta0, g=G)
             quarter = t_exact[i, j] / 4.0
-            scene = scene_from_dict(block_scene(w, h, tilt=theta0, k_n=k_n, duration=1.3 * quarter,
-                                                every=quarter / 2000.0, contact=contact))
+            scene = scene_from_dict(
+                block_scene(
+                    w,
+                    h,
+                    tilt=theta0,
+                    k_n=k_n,
+                    duration=1.3 * quarter,
+                    every=quarter / 2000.0,
+                    contact=contact,
+                )
+            )
             r = simulate(scene)
             # no loss before the first impact: a quarter period is release -> theta = 0
             t_sim[i, j] = 4.0 * first_crossing_time(r.time, r.theta[:, 1])
     err = t_sim / t_exact - 1.0
     geometry_labels = [f"{w:g} x {h:g} m" for w, h in geometries]
     ds = xr.Dataset(
-        {"period_engine": (("geometry", "ratio"), t_sim, _attrs("s", "rocking period, engine (4 x release to first impact)")),
-         "period_exact": (("geometry", "ratio"), t_exact, _attrs("s", "rocking period, exact rigid-block equation")),
-         "period_eq_5_1": (("geometry", "ratio"), t_slender, _attrs("s", "rocking period, Housner slender-block Eq. 5.1")),
-         "relative_error": (("geometry", "ratio"), err, _attrs("1", "engine / exact - 1")),
-         "alpha": ("geometry", [math.atan(w / h) for w, h in geometries], _attrs("rad", "slenderness angle atan(b/h)")),
-         # thesis Fig. 5.2 plots T/4 x p with p = sqrt(W R / I_O) (Eq. 5.1)
-         "p": ("geometry", [analytic.rectangle_rocking_properties(w, h, g=G).p for w, h in geometries],
-               _attrs("rad s-1", "rocking frequency parameter p = sqrt(W R / I_O)"))},
-        coords={"geometry": ("geometry", geometry_labels, _attrs("1", "block width x height")),
-                "ratio": ("ratio", np.array(ratios, dtype=float), _attrs("1", "theta0 / alpha"))},
+        {
+            "period_engine": (
+                ("geometry", "ratio"),
+                t_sim,
+                _attrs("s", "rocking period, engine (4 x release to first impact)"),
+            ),
+            "period_exact": (
+                ("geometry", "ratio"),
+                t_exact,
+                _attrs("s", "rocking period, exact rigid-block equation"),
+            ),
+            "period_eq_5_1": (
+                ("geometry", "ratio"),
+                t_slender,
+                _attrs("s", "rocking period, Housner slender-block Eq. 5.1"),
+            ),
+            "relative_error": (("geometry", "ratio"), err, _attrs("1", "engine / exact - 1")),
+            "alpha": (
+                "geometry",
+                [math.atan(w / h) for w, h in geometries],
+                _attrs("rad", "slenderness angle atan(b/h)"),
+            ),
+            # thesis Fig. 5.2 plots T/4 x p with p = sqrt(W R / I_O) (Eq. 5.1)
+            "p": (
+                "geometry",
+                [analytic.rectangle_rocking_properties(w, h, g=G).p for w, h in geometries],
+                _attrs("rad s-1", "rocking frequency parameter p = sqrt(W R / I_O)"),
+            ),
+        },
+        coords={
+            "geometry": ("geometry", geometry_labels, _attrs("1", "block width x height")),
+            "ratio": ("ratio", np.array(ratios, dtype=float), _attrs("1", "theta0 / alpha")),
+        },
         attrs={"tolerance": tol, **contact_attrs(contact, k_n=k_n, c_n=0.0), "friction": 10.0},
     )
     worst = float(np.abs(err).max())
-    return ValidationResult(variant_name("housner_period", contact), ds, worst <= tol,
-                            {"max_abs_error": worst, "tolerance": tol}, error=worst)
+    return ValidationResult(
+        variant_name("housner_period", contact),
+        ds,
+        worst <= tol,
+        {"max_abs_error": worst, "tolerance": tol},
+        error=worst,
+    )
 
 
 # --- 5.1.2 -------------------------------------------------------------------------------
@@ -210,9 +279,19 @@ def measured_restitution(c_n, width, height, mass, theta0, n_impacts=6, k_n=1e9,
     """
     alpha = math.atan(width / height)
     t_quarter = analytic.rocking_period_exact(width, height, theta0, g=G) / 4.0
-    scene = scene_from_dict(block_scene(width, height, mass=mass, tilt=theta0, k_n=k_n, c_n=c_n,
-                                        duration=(2.2 * n_impacts + 2) * t_quarter, every=2e-4,
-                                        contact=contact))
+    scene = scene_from_dict(
+        block_scene(
+            width,
+            height,
+            mass=mass,
+            tilt=theta0,
+            k_n=k_n,
+            c_n=c_n,
+            duration=(2.2 * n_impacts + 2) * t_quarter,
+            every=2e-4,
+            contact=contact,
+        )
+    )
     r = simulate(scene)
     peaks = rocking_peaks(-r.theta[:, 1])[: n_impacts + 1]
     if len(peaks) < n_impacts + 1:
@@ -222,8 +301,9 @@ def measured_restitution(c_n, width, height, mass, theta0, n_impacts=6, k_n=1e9,
     return peaks, float((e[-1] / e[0]) ** (1.0 / n_impacts)), r
 
 
-def calibrate_restitution(target_r, width, height, mass, theta0, n_impacts=6, k_n=1e9,
-                          c_bounds=None):
+def calibrate_restitution(
+    target_r, width, height, mass, theta0, n_impacts=6, k_n=1e9, c_bounds=None
+):
     """Normal dashpot c_n [N s m-1] that gives energy ratio ``target_r`` per impact (thesis 5.1.2).
 
     Calibrated on the problem with a known solution: the free rocking of the block from
@@ -234,6 +314,7 @@ def calibrate_restitution(target_r, width, height, mass, theta0, n_impacts=6, k_
     if c_bounds is None:
         critical = 2.0 * math.sqrt(k_n * width * mass)
         c_bounds = (0.01 * critical, 3.0 * critical)
+
     def miss(log_c):
         _, r, _ = measured_restitution(math.exp(log_c), width, height, mass, theta0, n_impacts, k_n)
         return (r if np.isfinite(r) else 0.0) - target_r
@@ -264,27 +345,55 @@ def impact_restitution(target_r=0.85, n_impacts=6, k_n=1e9, contact=None):
     # thesis Fig. 5.3: the same free rocking by the rigid rocking equation, r = 0.85 (Eq. 5.2)
     theta_rigid = rigid_free_rocking(run.time, w, h, target_r, theta0)
     ds = xr.Dataset(
-        {"peak_engine": ("impact", peaks, _attrs("rad", "peak rotation after each impact, engine")),
-         "peak_eq_5_3": ("impact", ref, _attrs("rad", "peak rotation, Housner Eq. 5.3")),
-         "relative_error": ("impact", err, _attrs("1", "engine / Eq. 5.3 - 1")),
-         "theta_history": ("time", theta_engine, _attrs("rad", "block rotation, engine (positive: leaning right)")),
-         "theta_rigid": ("time", theta_rigid, _attrs("rad", "block rotation, rigid rocking equation with r per impact"))},
-        coords={"impact": ("impact", np.arange(len(peaks)), _attrs("1", "impact number")),
-                "time": ("time", run.time, _attrs("s", "time"))},
-        attrs={"tolerance": tol, "target_r": target_r, "calibrated_c_n": c_n,
-               "c_n_units": "N s m-1", **contact_attrs(contact, k_n=k_n), "measured_r": r_mean,
-               "theta0": theta0},
+        {
+            "peak_engine": (
+                "impact",
+                peaks,
+                _attrs("rad", "peak rotation after each impact, engine"),
+            ),
+            "peak_eq_5_3": ("impact", ref, _attrs("rad", "peak rotation, Housner Eq. 5.3")),
+            "relative_error": ("impact", err, _attrs("1", "engine / Eq. 5.3 - 1")),
+            "theta_history": (
+                "time",
+                theta_engine,
+                _attrs("rad", "block rotation, engine (positive: leaning right)"),
+            ),
+            "theta_rigid": (
+                "time",
+                theta_rigid,
+                _attrs("rad", "block rotation, rigid rocking equation with r per impact"),
+            ),
+        },
+        coords={
+            "impact": ("impact", np.arange(len(peaks)), _attrs("1", "impact number")),
+            "time": ("time", run.time, _attrs("s", "time")),
+        },
+        attrs={
+            "tolerance": tol,
+            "target_r": target_r,
+            "calibrated_c_n": c_n,
+            "c_n_units": "N s m-1",
+            **contact_attrs(contact, k_n=k_n),
+            "measured_r": r_mean,
+            "theta0": theta0,
+        },
     )
     worst = float(np.abs(err).max())
-    return ValidationResult(variant_name("impact_restitution", contact), ds, worst <= tol,
-                            {"calibrated_c_n": c_n, "measured_r": r_mean,
-                             "max_abs_error": worst, "tolerance": tol}, error=worst)
+    return ValidationResult(
+        variant_name("impact_restitution", contact),
+        ds,
+        worst <= tol,
+        {"calibrated_c_n": c_n, "measured_r": r_mean, "max_abs_error": worst, "tolerance": tol},
+        error=worst,
+    )
 
 
 # --- 5.1.3 -------------------------------------------------------------------------------
 
-NEWMARK_CASES = ((0.8, 1.5, (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7)),
-                 (0.5, 1.0, (0.1, 0.2, 0.3, 0.4)))  # (a_p / g, T_p [s], mu values)
+NEWMARK_CASES = (
+    (0.8, 1.5, (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7)),
+    (0.5, 1.0, (0.1, 0.2, 0.3, 0.4)),
+)  # (a_p / g, T_p [s], mu values)
 
 
 def newmark_history(time, a_p, t_p, mu):
@@ -299,7 +408,7 @@ def newmark_history(time, a_p, t_p, mu):
     t = np.concatenate([time[:n_before], [t_p, t_p], time[n_before:]])
     a = np.concatenate([np.full(n_before + 1, a_p), np.zeros(len(time) - n_before + 1)])
     u = analytic.rigid_plastic_sliding(t, a, mu, g=G).u
-    return np.concatenate([u[:n_before], u[n_before + 2:]])
+    return np.concatenate([u[:n_before], u[n_before + 2 :]])
 
 
 def _newmark_run(ap_g, tp, mu, k_n, contact=None):
@@ -310,10 +419,18 @@ def _newmark_run(ap_g, tp, mu, k_n, contact=None):
     width, height, density = 2.0, 0.5, 2700.0  # squat: tan(alpha) = 4 > a_p/g, no rocking
     mass = density * width * height
     c_n = 0.5 * 2.0 * math.sqrt(k_n * width * mass)  # half critical: no bouncing
-    spec = block_scene(width, height, friction=mu, k_n=k_n, c_n=c_n,
-                       excitation={"kind": "rect_pulse", "accel": a_p, "duration": tp},
-                       duration=t_stop + 0.5, every=1e-3,
-                       base_width=2.0 * (u_ref + a_p * tp * (t_stop + 0.5)) + 10.0, contact=contact)
+    spec = block_scene(
+        width,
+        height,
+        friction=mu,
+        k_n=k_n,
+        c_n=c_n,
+        excitation={"kind": "rect_pulse", "accel": a_p, "duration": tp},
+        duration=t_stop + 0.5,
+        every=1e-3,
+        base_width=2.0 * (u_ref + a_p * tp * (t_stop + 0.5)) + 10.0,
+        contact=contact,
+    )
     scene = scene_from_dict(spec)
     r = simulate(scene)
     d_base, _, _ = scene.horizontal.evaluate(r.time)
@@ -337,30 +454,60 @@ def newmark_pulse(cases=NEWMARK_CASES, k_n=1e9, contact=None):
     hist = np.array([np.interp(grid, t, rel, right=np.nan) for t, rel in runs])
     exact = np.array([newmark_history(grid, row[0] * G, row[1], row[2]) for row in rows])
     ds = xr.Dataset(
-        {"u_max_engine": ("case", arr[:, 3], _attrs("m", "maximum sliding, engine")),
-         "u_max_eq_5_5": ("case", arr[:, 4], _attrs("m", "maximum sliding, Newmark Eq. 5.5")),
-         "relative_error": ("case", err, _attrs("1", "engine / Eq. 5.5 - 1")),
-         "pi_1": ("case", arr[:, 3] / (arr[:, 0] * G * arr[:, 1] ** 2), _attrs("1", "u_max / (a_p T_p^2), engine")),
-         "pi_1_eq_5_5": ("case", arr[:, 4] / (arr[:, 0] * G * arr[:, 1] ** 2), _attrs("1", "u_max / (a_p T_p^2), Eq. 5.5")),
-         "sliding_engine": (("case", "time"), hist, _attrs("m", "block displacement relative to the base, engine (NaN after the run)")),
-         "sliding_exact": (("case", "time"), exact, _attrs("m", "relative displacement, exact rigid-plastic block"))},
-        coords={"case": ("case", np.arange(len(rows)), _attrs("1", "case")),
-                "a_p_g": ("case", arr[:, 0], _attrs("1", "pulse amplitude / g")),
-                "t_p": ("case", arr[:, 1], _attrs("s", "pulse duration")),
-                "mu": ("case", arr[:, 2], _attrs("1", "friction coefficient")),
-                "time": ("time", grid, _attrs("s", "time"))},
+        {
+            "u_max_engine": ("case", arr[:, 3], _attrs("m", "maximum sliding, engine")),
+            "u_max_eq_5_5": ("case", arr[:, 4], _attrs("m", "maximum sliding, Newmark Eq. 5.5")),
+            "relative_error": ("case", err, _attrs("1", "engine / Eq. 5.5 - 1")),
+            "pi_1": (
+                "case",
+                arr[:, 3] / (arr[:, 0] * G * arr[:, 1] ** 2),
+                _attrs("1", "u_max / (a_p T_p^2), engine"),
+            ),
+            "pi_1_eq_5_5": (
+                "case",
+                arr[:, 4] / (arr[:, 0] * G * arr[:, 1] ** 2),
+                _attrs("1", "u_max / (a_p T_p^2), Eq. 5.5"),
+            ),
+            "sliding_engine": (
+                ("case", "time"),
+                hist,
+                _attrs("m", "block displacement relative to the base, engine (NaN after the run)"),
+            ),
+            "sliding_exact": (
+                ("case", "time"),
+                exact,
+                _attrs("m", "relative displacement, exact rigid-plastic block"),
+            ),
+        },
+        coords={
+            "case": ("case", np.arange(len(rows)), _attrs("1", "case")),
+            "a_p_g": ("case", arr[:, 0], _attrs("1", "pulse amplitude / g")),
+            "t_p": ("case", arr[:, 1], _attrs("s", "pulse duration")),
+            "mu": ("case", arr[:, 2], _attrs("1", "friction coefficient")),
+            "time": ("time", grid, _attrs("s", "time")),
+        },
         attrs={"tolerance": tol, **contact_attrs(contact, k_n=k_n)},
     )
     worst = float(np.abs(err).max())
-    return ValidationResult(variant_name("newmark_pulse", contact), ds, worst <= tol, {"max_abs_error": worst, "tolerance": tol},
-                            error=worst)
+    return ValidationResult(
+        variant_name("newmark_pulse", contact),
+        ds,
+        worst <= tol,
+        {"max_abs_error": worst, "tolerance": tol},
+        error=worst,
+    )
 
 
 # --- 5.1.4 -------------------------------------------------------------------------------
 
+
 def _record_arrays(path):
     with xr.open_dataset(path) as rec:
-        return rec["time"].values.astype(float), rec["acceleration"].values.astype(float), dict(rec.attrs)
+        return (
+            rec["time"].values.astype(float),
+            rec["acceleration"].values.astype(float),
+            dict(rec.attrs),
+        )
 
 
 def _engine_record(motion):
@@ -376,9 +523,18 @@ def record_sliding(record=RECORD_NORTHRIDGE, mu=0.3, k_n=1e9, duration=None, con
     width, height, density = 2.0, 0.5, 2700.0
     mass = density * width * height
     c_n = 0.5 * 2.0 * math.sqrt(k_n * width * mass)
-    spec = block_scene(width, height, friction=mu, k_n=k_n, c_n=c_n,
-                       excitation={"kind": "record", "file": str(record)},
-                       duration=duration, every=0.005, base_width=20.0, contact=contact)
+    spec = block_scene(
+        width,
+        height,
+        friction=mu,
+        k_n=k_n,
+        c_n=c_n,
+        excitation={"kind": "record", "file": str(record)},
+        duration=duration,
+        every=0.005,
+        base_width=20.0,
+        contact=contact,
+    )
     scene = scene_from_dict(spec)
     r = simulate(scene)
     d_base, _, a_base = scene.horizontal.evaluate(r.time)
@@ -393,19 +549,48 @@ def record_sliding(record=RECORD_NORTHRIDGE, mu=0.3, k_n=1e9, duration=None, con
     err_hist = float(np.abs(u_sim - u_exact).max() / peak)
     err_peak = float(np.abs(u_sim).max() / peak - 1.0)
     ds = xr.Dataset(
-        {"sliding_engine": ("time", u_sim, _attrs("m", "block displacement relative to the base, engine")),
-         "sliding_exact": ("time", u_exact, _attrs("m", "relative displacement, exact rigid-plastic block")),
-         "sliding_bouc_wen": ("time", u_bw, _attrs("m", "relative displacement, Bouc-Wen Eq. 5.6-5.7")),
-         "base_acceleration": ("time", a_base, _attrs("m s-2", "base acceleration"))},
+        {
+            "sliding_engine": (
+                "time",
+                u_sim,
+                _attrs("m", "block displacement relative to the base, engine"),
+            ),
+            "sliding_exact": (
+                "time",
+                u_exact,
+                _attrs("m", "relative displacement, exact rigid-plastic block"),
+            ),
+            "sliding_bouc_wen": (
+                "time",
+                u_bw,
+                _attrs("m", "relative displacement, Bouc-Wen Eq. 5.6-5.7"),
+            ),
+            "base_acceleration": ("time", a_base, _attrs("m s-2", "base acceleration")),
+        },
         coords={"time": ("time", r.time, _attrs("s", "time"))},
-        attrs={"tolerance": tol, "mu": mu, **contact_attrs(contact, k_n=k_n), "record": Path(record).name,
-               "record_title": rec_attrs.get("title", ""),
-               "max_error_over_peak": err_hist, "peak_error": err_peak},
+        attrs={
+            "tolerance": tol,
+            "mu": mu,
+            **contact_attrs(contact, k_n=k_n),
+            "record": Path(record).name,
+            "record_title": rec_attrs.get("title", ""),
+            "max_error_over_peak": err_hist,
+            "peak_error": err_peak,
+        },
     )
     error = max(err_hist, abs(err_peak))
-    return ValidationResult(variant_name("record_sliding", contact), ds, error <= tol,
-                            {"max_error_over_peak": err_hist, "peak_error": err_peak,
-                             "peak_sliding_m": peak, "tolerance": tol}, error=error)
+    return ValidationResult(
+        variant_name("record_sliding", contact),
+        ds,
+        error <= tol,
+        {
+            "max_error_over_peak": err_hist,
+            "peak_error": err_peak,
+            "peak_sliding_m": peak,
+            "tolerance": tol,
+        },
+        error=error,
+    )
 
 
 def _field(obj, name):
@@ -425,13 +610,25 @@ def rigid_peak_band(t, a, width, height, r, band=ROCKING_SCALE_BAND, n=21):
     How well a single peak is posed: where it moves by tens of percent over a 1 % change of
     the input, no engine can be held to it within a few percent.
     """
-    peaks = [np.nanmax(np.abs(analytic.rigid_rocking_response_compiled(t, f * a, width, height, r, g=G).theta))
-             for f in np.linspace(1.0 - band, 1.0 + band, n)]
+    peaks = [
+        np.nanmax(
+            np.abs(analytic.rigid_rocking_response_compiled(t, f * a, width, height, r, g=G).theta)
+        )
+        for f in np.linspace(1.0 - band, 1.0 + band, n)
+    ]
     return float(min(peaks)), float(max(peaks))
 
 
-def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKING_SCALES,
-                   case_scale=ROCKING_CASE_SCALE, k_n=1e11, c_factors=(0.95, 1.05), contact=None):
+def record_rocking(
+    record=RECORD_NORTHRIDGE,
+    width=1.0,
+    height=6.0,
+    scales=ROCKING_SCALES,
+    case_scale=ROCKING_CASE_SCALE,
+    k_n=1e11,
+    c_factors=(0.95, 1.05),
+    contact=None,
+):
     """Rocking of a monolithic column under a record vs the rigid rocking equation (5.1.5).
 
     The engine's dashpot is calibrated (on free rocking from alpha/2) to Housner's energy
@@ -449,7 +646,9 @@ def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKI
     alpha = math.atan(width / height)
     r_target = analytic.housner_restitution(width, height)
     if contact is None:
-        c_n = calibrate_restitution(r_target, width, height, mass, 0.5 * alpha, n_impacts=4, k_n=k_n)
+        c_n = calibrate_restitution(
+            r_target, width, height, mass, 0.5 * alpha, n_impacts=4, k_n=k_n
+        )
     else:
         c_n = float("nan")
 
@@ -458,13 +657,23 @@ def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKI
         if contact is None:
             return None
         return {**contact, "k_n": factor * contact["k_n"]}
+
     t_rec, a_rec, rec_attrs = _record_arrays(record)
     scales = tuple(sorted(set(scales) | {case_scale}))
     peaks_sim, peaks_ref, bands, histories = [], [], [], {}
     for scale in scales:
-        spec = block_scene(width, height, density=density, k_n=k_n, c_n=c_n,
-                           excitation={"kind": "record", "file": str(record), "scale": scale},
-                           duration=float(t_rec[-1]), every=0.002, base_width=8.0, contact=contact)
+        spec = block_scene(
+            width,
+            height,
+            density=density,
+            k_n=k_n,
+            c_n=c_n,
+            excitation={"kind": "record", "file": str(record), "scale": scale},
+            duration=float(t_rec[-1]),
+            every=0.002,
+            base_width=8.0,
+            contact=contact,
+        )
         scene = scene_from_dict(spec)
         r = simulate(scene)
         theta_sim = -r.theta[:, 1]
@@ -482,45 +691,109 @@ def record_rocking(record=RECORD_NORTHRIDGE, width=1.0, height=6.0, scales=ROCKI
     i_case = scales.index(case_scale)
     c_errors = []
     for factor in c_factors:
-        spec = block_scene(width, height, density=density, k_n=k_n, c_n=factor * c_n,
-                           excitation={"kind": "record", "file": str(record), "scale": case_scale},
-                           duration=float(t_rec[-1]), every=0.002, base_width=8.0,
-                           contact=varied(factor))
+        spec = block_scene(
+            width,
+            height,
+            density=density,
+            k_n=k_n,
+            c_n=factor * c_n,
+            excitation={"kind": "record", "file": str(record), "scale": case_scale},
+            duration=float(t_rec[-1]),
+            every=0.002,
+            base_width=8.0,
+            contact=varied(factor),
+        )
         r = simulate(scene_from_dict(spec))
         c_errors.append(float(np.abs(r.theta[:, 1]).max() / peaks_ref[i_case] - 1.0))
     err = float(errors[i_case])
     ds = xr.Dataset(
-        {"theta_engine": ("time", histories["engine"], _attrs("rad", "column rotation, engine (positive: leaning right)")),
-         "theta_rigid": ("time", histories["rigid"], _attrs("rad", "column rotation, rigid rocking equation")),
-         "base_acceleration": ("time", histories["a_base"], _attrs("m s-2", "base acceleration (record x case_scale)")),
-         "peak_engine": ("scale", peaks_sim, _attrs("rad", "peak |rotation|, engine")),
-         "peak_rigid": ("scale", peaks_ref, _attrs("rad", "peak |rotation|, rigid rocking equation")),
-         "peak_relative_error": ("scale", errors, _attrs("1", "engine / rigid - 1")),
-         "peak_rigid_band_low": ("scale", np.array([b[0] for b in bands]) / peaks_ref - 1.0,
-                                 _attrs("1", f"lowest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1")),
-         "peak_rigid_band_high": ("scale", np.array([b[1] for b in bands]) / peaks_ref - 1.0,
-                                  _attrs("1", f"highest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1")),
-         "peak_relative_error_vs_c_n": ("c_factor", np.array(c_errors), _attrs("1", "engine / rigid - 1 at case_scale with c_n x c_factor"))},
-        coords={"time": ("time", histories["time"], _attrs("s", "time")),
-                "scale": ("scale", np.array(scales), _attrs("1", "record scale factor")),
-                "c_factor": ("c_factor", np.array(c_factors, dtype=float),
-                             _attrs("1", "factor on the calibrated c_n (area law) or on k_n (point law)"))},
-        attrs={"tolerance": tol, "restitution_r": r_target, "calibrated_c_n": c_n,
-               **contact_attrs(contact, k_n=k_n),
-               "record": Path(record).name, "record_title": rec_attrs.get("title", ""),
-               "case_scale": case_scale, "peak_error": err, "alpha": alpha,
-               "scales_within_tolerance": int(np.sum(np.abs(errors) <= tol)),
-               "note": "histories are those of case_scale; multi-impact rocking is sensitive: see peak_relative_error, "
-                       "and peak_rigid_band_low/high for how far the rigid peak itself moves over a 1 % change of the scale"},
+        {
+            "theta_engine": (
+                "time",
+                histories["engine"],
+                _attrs("rad", "column rotation, engine (positive: leaning right)"),
+            ),
+            "theta_rigid": (
+                "time",
+                histories["rigid"],
+                _attrs("rad", "column rotation, rigid rocking equation"),
+            ),
+            "base_acceleration": (
+                "time",
+                histories["a_base"],
+                _attrs("m s-2", "base acceleration (record x case_scale)"),
+            ),
+            "peak_engine": ("scale", peaks_sim, _attrs("rad", "peak |rotation|, engine")),
+            "peak_rigid": (
+                "scale",
+                peaks_ref,
+                _attrs("rad", "peak |rotation|, rigid rocking equation"),
+            ),
+            "peak_relative_error": ("scale", errors, _attrs("1", "engine / rigid - 1")),
+            "peak_rigid_band_low": (
+                "scale",
+                np.array([b[0] for b in bands]) / peaks_ref - 1.0,
+                _attrs(
+                    "1",
+                    f"lowest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1",
+                ),
+            ),
+            "peak_rigid_band_high": (
+                "scale",
+                np.array([b[1] for b in bands]) / peaks_ref - 1.0,
+                _attrs(
+                    "1",
+                    f"highest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1",
+                ),
+            ),
+            "peak_relative_error_vs_c_n": (
+                "c_factor",
+                np.array(c_errors),
+                _attrs("1", "engine / rigid - 1 at case_scale with c_n x c_factor"),
+            ),
+        },
+        coords={
+            "time": ("time", histories["time"], _attrs("s", "time")),
+            "scale": ("scale", np.array(scales), _attrs("1", "record scale factor")),
+            "c_factor": (
+                "c_factor",
+                np.array(c_factors, dtype=float),
+                _attrs("1", "factor on the calibrated c_n (area law) or on k_n (point law)"),
+            ),
+        },
+        attrs={
+            "tolerance": tol,
+            "restitution_r": r_target,
+            "calibrated_c_n": c_n,
+            **contact_attrs(contact, k_n=k_n),
+            "record": Path(record).name,
+            "record_title": rec_attrs.get("title", ""),
+            "case_scale": case_scale,
+            "peak_error": err,
+            "alpha": alpha,
+            "scales_within_tolerance": int(np.sum(np.abs(errors) <= tol)),
+            "note": "histories are those of case_scale; multi-impact rocking is sensitive: see peak_relative_error, "
+            "and peak_rigid_band_low/high for how far the rigid peak itself moves over a 1 % change of the scale",
+        },
     )
     ok = abs(err) <= tol and peaks_ref[i_case] < alpha
-    return ValidationResult(variant_name("record_rocking", contact), ds, ok,
-                            {"peak_engine": float(peaks_sim[i_case]), "peak_rigid": float(peaks_ref[i_case]),
-                             "peak_error": err, "scales_within_tolerance": int(np.sum(np.abs(errors) <= tol)),
-                             "rigid_peak_band_low": bands[i_case][0] / peaks_ref[i_case] - 1.0,
-                             "rigid_peak_band_high": bands[i_case][1] / peaks_ref[i_case] - 1.0,
-                             **{f"peak_error_c_n_x{f:g}": e for f, e in zip(c_factors, c_errors)},
-                             "n_scales": len(scales), "tolerance": tol}, error=abs(err))
+    return ValidationResult(
+        variant_name("record_rocking", contact),
+        ds,
+        ok,
+        {
+            "peak_engine": float(peaks_sim[i_case]),
+            "peak_rigid": float(peaks_ref[i_case]),
+            "peak_error": err,
+            "scales_within_tolerance": int(np.sum(np.abs(errors) <= tol)),
+            "rigid_peak_band_low": bands[i_case][0] / peaks_ref[i_case] - 1.0,
+            "rigid_peak_band_high": bands[i_case][1] / peaks_ref[i_case] - 1.0,
+            **{f"peak_error_c_n_x{f:g}": e for f, e in zip(c_factors, c_errors)},
+            "n_scales": len(scales),
+            "tolerance": tol,
+        },
+        error=abs(err),
+    )
 
 
 # --- 5.1.6 -------------------------------------------------------------------------------
@@ -538,11 +811,23 @@ def two_blocks(theta0s=(0.10, 0.15), duration=6.0, k_n=1e8, c_n=1e3, contact=Non
         pivot = [w1 / 2.0, 0.0]
         spec = {
             "bodies": [
-                {"name": "base", "box": {"width": 8.0, "height": 0.5, "center": [0.0, -0.25]}, "driven": True},
-                {"name": "lower", "box": {"width": w1, "height": h1, "center": [0.0, h1 / 2]},
-                 "density": 2700.0, "tilt": {"angle": -theta0, "about": pivot}},
-                {"name": "upper", "box": {"width": w2, "height": h2, "center": [0.0, h1 + h2 / 2]},
-                 "density": 2700.0, "tilt": {"angle": -theta0, "about": pivot}},
+                {
+                    "name": "base",
+                    "box": {"width": 8.0, "height": 0.5, "center": [0.0, -0.25]},
+                    "driven": True,
+                },
+                {
+                    "name": "lower",
+                    "box": {"width": w1, "height": h1, "center": [0.0, h1 / 2]},
+                    "density": 2700.0,
+                    "tilt": {"angle": -theta0, "about": pivot},
+                },
+                {
+                    "name": "upper",
+                    "box": {"width": w2, "height": h2, "center": [0.0, h1 + h2 / 2]},
+                    "density": 2700.0,
+                    "tilt": {"angle": -theta0, "about": pivot},
+                },
             ],
             "friction": 10.0,
             "contact": dict(contact) if contact else {"model": "area", "k_n": k_n, "c_n": c_n},
@@ -560,22 +845,53 @@ def two_blocks(theta0s=(0.10, 0.15), duration=6.0, k_n=1e8, c_n=1e3, contact=Non
         errors.append(float(np.abs(balance).max() / e_input))
     n = min(len(hh[0]) for hh in histories)
     ds = xr.Dataset(
-        {"theta_lower": (("theta0", "time"), np.array([hh[1][:n] for hh in histories]), _attrs("rad", "lower block rotation (positive: leaning right)")),
-         "theta_upper": (("theta0", "time"), np.array([hh[2][:n] for hh in histories]), _attrs("rad", "upper block rotation")),
-         "energy_balance_error": (("theta0", "time"), np.array([hh[3][:n] for hh in histories]), _attrs("1", "energy balance error / initial energy above rest")),
-         "max_abs_balance_error": ("theta0", errors, _attrs("1", "maximum |energy balance error| / initial energy above rest"))},
-        coords={"theta0": ("theta0", np.array(theta0s), _attrs("rad", "initial inclination")),
-                "time": ("time", histories[0][0][:n], _attrs("s", "time"))},
-        attrs={"tolerance": tol, "k_n": k_n, "c_n": c_n, "lower_block": f"{w1} x {h1} m",
-               "upper_block": f"{w2} x {h2} m"},
+        {
+            "theta_lower": (
+                ("theta0", "time"),
+                np.array([hh[1][:n] for hh in histories]),
+                _attrs("rad", "lower block rotation (positive: leaning right)"),
+            ),
+            "theta_upper": (
+                ("theta0", "time"),
+                np.array([hh[2][:n] for hh in histories]),
+                _attrs("rad", "upper block rotation"),
+            ),
+            "energy_balance_error": (
+                ("theta0", "time"),
+                np.array([hh[3][:n] for hh in histories]),
+                _attrs("1", "energy balance error / initial energy above rest"),
+            ),
+            "max_abs_balance_error": (
+                "theta0",
+                errors,
+                _attrs("1", "maximum |energy balance error| / initial energy above rest"),
+            ),
+        },
+        coords={
+            "theta0": ("theta0", np.array(theta0s), _attrs("rad", "initial inclination")),
+            "time": ("time", histories[0][0][:n], _attrs("s", "time")),
+        },
+        attrs={
+            "tolerance": tol,
+            "k_n": k_n,
+            "c_n": c_n,
+            "lower_block": f"{w1} x {h1} m",
+            "upper_block": f"{w2} x {h2} m",
+        },
     )
     worst = max(errors)
     ds.attrs.update(contact_attrs(contact, k_n=k_n, c_n=c_n))
-    return ValidationResult(variant_name("two_blocks", contact), ds, worst <= tol, {"max_abs_balance_error": worst, "tolerance": tol},
-                            error=worst)
+    return ValidationResult(
+        variant_name("two_blocks", contact),
+        ds,
+        worst <= tol,
+        {"max_abs_balance_error": worst, "tolerance": tol},
+        error=worst,
+    )
 
 
 # --- energy ------------------------------------------------------------------------------
+
 
 def energy_conservation(duration=10.0, k_n=1e9, contact=None):
     """Total energy of a rocking block with c_n = c_t = 0 and no slip stays within 0.5 % over 10 s.
@@ -592,8 +908,19 @@ def energy_conservation(duration=10.0, k_n=1e9, contact=None):
     if contact is not None:
         contact = {**contact, "damping": 0.0, "impact": "none", "c_t": 0.0}
     # a quarter of the bound: the balance is held to 0.5 % (the point law drifts 3.7 % at 1.0)
-    spec = block_scene(w, h, mass=m, tilt=theta0, k_n=k_n, c_n=0.0, c_t=0.0, duration=duration, every=1e-3,
-                       contact=contact, dt_safety=0.25)
+    spec = block_scene(
+        w,
+        h,
+        mass=m,
+        tilt=theta0,
+        k_n=k_n,
+        c_n=0.0,
+        c_t=0.0,
+        duration=duration,
+        every=1e-3,
+        contact=contact,
+        dt_safety=0.25,
+    )
     r = simulate(scene_from_dict(spec))
     from stonedem.kernels import step
 
@@ -608,18 +935,38 @@ def energy_conservation(duration=10.0, k_n=1e9, contact=None):
     drift = (total - total[0]) / rocking_energy
     final = float(abs(np.mean(drift[-1000:])))
     ds = xr.Dataset(
-        {"energy_total": ("time", total - total[0], _attrs("J", "kinetic + potential + elastic energy relative to t = 0")),
-         "relative_drift": ("time", drift, _attrs("1", "energy change / initial rocking energy"))},
+        {
+            "energy_total": (
+                "time",
+                total - total[0],
+                _attrs("J", "kinetic + potential + elastic energy relative to t = 0"),
+            ),
+            "relative_drift": (
+                "time",
+                drift,
+                _attrs("1", "energy change / initial rocking energy"),
+            ),
+        },
         coords={"time": ("time", r.time, _attrs("s", "time"))},
-        attrs={"tolerance": tol, "rocking_energy": rocking_energy, "final_drift": final,
-               "max_excursion": float(np.abs(drift).max()), **contact_attrs(contact, k_n=k_n, c_n=0.0),
-               "checked": "kinetic + potential + elastic" + (" + dissipated" if contact else ""),
-               "final_drift_without_dissipation": float(abs(np.mean(
-                   (plain_total - plain_total[0])[-1000:]) / rocking_energy))},
+        attrs={
+            "tolerance": tol,
+            "rocking_energy": rocking_energy,
+            "final_drift": final,
+            "max_excursion": float(np.abs(drift).max()),
+            **contact_attrs(contact, k_n=k_n, c_n=0.0),
+            "checked": "kinetic + potential + elastic" + (" + dissipated" if contact else ""),
+            "final_drift_without_dissipation": float(
+                abs(np.mean((plain_total - plain_total[0])[-1000:]) / rocking_energy)
+            ),
+        },
     )
-    return ValidationResult(variant_name("energy_conservation", contact), ds, final <= tol,
-                            {"final_drift": final, "max_excursion": float(np.abs(drift).max()),
-                             "tolerance": tol}, error=final)
+    return ValidationResult(
+        variant_name("energy_conservation", contact),
+        ds,
+        final <= tol,
+        {"final_drift": final, "max_excursion": float(np.abs(drift).max()), "tolerance": tol},
+        error=final,
+    )
 
 
 # --- 5.1.5 one-sine pulses ---------------------------------------------------------------
@@ -635,8 +982,17 @@ ONE_SINE_IMPACT_EPS = 0.005  # a side counts once |theta| > this x alpha (impact
 ONE_SINE_FREE_TIME = 1.0  # free rocking run after the pulse, x 1/p (x 4, twice, if undecided)
 
 
-def one_sine_run(amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE_SINE_K_N, c_n=0.0,
-                 free_time=ONE_SINE_FREE_TIME):
+def one_sine_run(
+    amplitude,
+    omega_ratio,
+    width,
+    height,
+    *,
+    contact=None,
+    k_n=ONE_SINE_K_N,
+    c_n=0.0,
+    free_time=ONE_SINE_FREE_TIME,
+):
     """Engine run of one block under the one-sine pulse a_p sin(omega_p t), 0 <= t < 2 pi / omega_p.
 
     ``amplitude`` is a_p / (g tan alpha), ``omega_ratio`` omega_p / p (the engine's
@@ -649,11 +1005,22 @@ def one_sine_run(amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE
     blk = analytic.rectangle_rocking_properties(width, height, g=G)
     omega_p = omega_ratio * blk.p
     period = 2.0 * math.pi / omega_p
-    spec = block_scene(width, height, density=ONE_SINE_DENSITY, k_n=k_n, c_n=c_n,
-                       excitation={"kind": "sine_pulse", "accel": amplitude * G * math.tan(blk.alpha),
-                                   "frequency": omega_p / (2.0 * math.pi)},
-                       duration=period + free_time / blk.p, every=min(1e-3, period / 400.0),
-                       base_width=2.0 * (width + height) + 2.0, contact=contact)
+    spec = block_scene(
+        width,
+        height,
+        density=ONE_SINE_DENSITY,
+        k_n=k_n,
+        c_n=c_n,
+        excitation={
+            "kind": "sine_pulse",
+            "accel": amplitude * G * math.tan(blk.alpha),
+            "frequency": omega_p / (2.0 * math.pi),
+        },
+        duration=period + free_time / blk.p,
+        every=min(1e-3, period / 400.0),
+        base_width=2.0 * (width + height) + 2.0,
+        contact=contact,
+    )
     return simulate(scene_from_dict(spec)), period
 
 
@@ -701,8 +1068,9 @@ def one_sine_classify(time, theta, alpha, p, pulse_end):
     return None, mode, impacts
 
 
-def one_sine_engine_outcome(amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE_SINE_K_N,
-                            c_n=0.0):
+def one_sine_engine_outcome(
+    amplitude, omega_ratio, width, height, *, contact=None, k_n=ONE_SINE_K_N, c_n=0.0
+):
     """(overturned, mode) of the engine's block under one one-sine pulse (:func:`one_sine_run`).
 
     Run for the pulse and ONE_SINE_FREE_TIME / p; a run whose end leaves the fate undecided
@@ -712,8 +1080,9 @@ def one_sine_engine_outcome(amplitude, omega_ratio, width, height, *, contact=No
     blk = analytic.rectangle_rocking_properties(width, height, g=G)
     free = ONE_SINE_FREE_TIME
     for _ in range(3):
-        run, period = one_sine_run(amplitude, omega_ratio, width, height, contact=contact, k_n=k_n,
-                                   c_n=c_n, free_time=free)
+        run, period = one_sine_run(
+            amplitude, omega_ratio, width, height, contact=contact, k_n=k_n, c_n=c_n, free_time=free
+        )
         over, mode, _ = one_sine_classify(run.time, run.theta[:, 1], blk.alpha, blk.p, period)
         if over is not None:
             return over, mode
@@ -763,13 +1132,22 @@ def engine_min_overturning(overturns, guess, step=1.01, rel_tol=1e-3, cap=50.0):
     return hi, over(hi)[1], len(runs)
 
 
-MODE_FLAGS = {"flag_values": np.arange(len(analytic.ONE_SINE_MODES), dtype=np.int8),
-              "flag_meanings": " ".join(analytic.ONE_SINE_MODES)}
+MODE_FLAGS = {
+    "flag_values": np.arange(len(analytic.ONE_SINE_MODES), dtype=np.int8),
+    "flag_meanings": " ".join(analytic.ONE_SINE_MODES),
+}
 
 
-def one_sine_overturning(omega_ratios=ONE_SINE_RATIOS, blocks=ONE_SINE_BLOCKS, contact=None,
-                         rel_tol=1e-3, k_n=ONE_SINE_K_N, map_block=0,
-                         map_ratios=ONE_SINE_MAP_RATIOS, map_amplitudes=ONE_SINE_MAP_AMPLITUDES):
+def one_sine_overturning(
+    omega_ratios=ONE_SINE_RATIOS,
+    blocks=ONE_SINE_BLOCKS,
+    contact=None,
+    rel_tol=1e-3,
+    k_n=ONE_SINE_K_N,
+    map_block=0,
+    map_ratios=ONE_SINE_MAP_RATIOS,
+    map_amplitudes=ONE_SINE_MAP_AMPLITUDES,
+):
     """Smallest overturning one-sine pulse vs the exact rigid block with the same restitution (5.1.5).
 
     For each block and omega_p / p the engine's smallest overturning amplitude a_p / (g tan
@@ -792,94 +1170,193 @@ def one_sine_overturning(omega_ratios=ONE_SINE_RATIOS, blocks=ONE_SINE_BLOCKS, c
         blk = analytic.rectangle_rocking_properties(w, h, g=G)
         mass = ONE_SINE_DENSITY * w * h
         r_h = analytic.housner_restitution(w, h)
-        c_n = (calibrate_restitution(r_h, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n)
-               if contact is None else float("nan"))
-        _, r_m, _ = measured_restitution(c_n, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n,
-                                         contact=contact)
+        c_n = (
+            calibrate_restitution(r_h, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n)
+            if contact is None
+            else float("nan")
+        )
+        _, r_m, _ = measured_restitution(
+            c_n, w, h, mass, 0.5 * blk.alpha, n_impacts=4, k_n=k_n, contact=contact
+        )
         r = r_m if contact is None else r_h
-        for values, value in ((r_ref, r), (r_measured, r_m), (r_housner, r_h), (c_ns, c_n),
-                              (alphas, blk.alpha), (ps, blk.p)):
+        for values, value in (
+            (r_ref, r),
+            (r_measured, r_m),
+            (r_housner, r_h),
+            (c_ns, c_n),
+            (alphas, blk.alpha),
+            (ps, blk.p),
+        ):
             values.append(value)
-        overturns = partial(one_sine_engine_outcome, width=w, height=h, contact=contact, k_n=k_n,
-                            c_n=0.0 if contact is not None else c_n)
+        overturns = partial(
+            one_sine_engine_outcome,
+            width=w,
+            height=h,
+            contact=contact,
+            k_n=k_n,
+            c_n=0.0 if contact is not None else c_n,
+        )
         for j, ratio in enumerate(omega_ratios):
             exact = analytic.rigid_one_sine_min_overturning(ratio, w, h, r, g=G)
-            amp, mode, n = engine_min_overturning(partial(overturns, omega_ratio=ratio),
-                                                  exact.amplitude, rel_tol=rel_tol)
+            amp, mode, n = engine_min_overturning(
+                partial(overturns, omega_ratio=ratio), exact.amplitude, rel_tol=rel_tol
+            )
             thr_exact[i, j], thr_engine[i, j], n_runs[i, j] = exact.amplitude, amp, n
             mode_exact[i, j] = analytic.ONE_SINE_MODES.index(exact.mode)
             mode_engine[i, j] = analytic.ONE_SINE_MODES.index(mode)
     err = thr_engine / thr_exact - 1.0
     labels = [f"{w:g} x {h:g} m" for w, h in blocks]
     data = {
-        "threshold_engine": (("block", "omega_ratio"), thr_engine,
-                             _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), engine")),
-        "threshold_exact": (("block", "omega_ratio"), thr_exact,
-                            _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), exact rigid block")),
+        "threshold_engine": (
+            ("block", "omega_ratio"),
+            thr_engine,
+            _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), engine"),
+        ),
+        "threshold_exact": (
+            ("block", "omega_ratio"),
+            thr_exact,
+            _attrs("1", "smallest overturning amplitude a_p / (g tan alpha), exact rigid block"),
+        ),
         "relative_error": (("block", "omega_ratio"), err, _attrs("1", "engine / exact - 1")),
-        "mode_engine": (("block", "omega_ratio"), mode_engine,
-                        {**_attrs("1", "overturning mode at the threshold, engine"), **MODE_FLAGS}),
-        "mode_exact": (("block", "omega_ratio"), mode_exact,
-                       {**_attrs("1", "overturning mode at the threshold, exact rigid block"), **MODE_FLAGS}),
-        "engine_runs": (("block", "omega_ratio"), n_runs, _attrs("1", "engine runs of the hunt and bisection")),
-        "restitution": ("block", r_ref, _attrs("1", "kinetic energy ratio per impact r of the exact rigid block")),
-        "restitution_engine": ("block", r_measured,
-                               _attrs("1", "engine's energy ratio per impact, free rocking from alpha/2, 4 impacts")),
-        "restitution_housner": ("block", r_housner, _attrs("1", "Housner's r = (1 - 3/2 sin^2 alpha)^2")),
-        "calibrated_c_n": ("block", c_ns, _attrs("N s m-1", "area law c_n calibrated to Housner's r (NaN: point law)")),
+        "mode_engine": (
+            ("block", "omega_ratio"),
+            mode_engine,
+            {**_attrs("1", "overturning mode at the threshold, engine"), **MODE_FLAGS},
+        ),
+        "mode_exact": (
+            ("block", "omega_ratio"),
+            mode_exact,
+            {**_attrs("1", "overturning mode at the threshold, exact rigid block"), **MODE_FLAGS},
+        ),
+        "engine_runs": (
+            ("block", "omega_ratio"),
+            n_runs,
+            _attrs("1", "engine runs of the hunt and bisection"),
+        ),
+        "restitution": (
+            "block",
+            r_ref,
+            _attrs("1", "kinetic energy ratio per impact r of the exact rigid block"),
+        ),
+        "restitution_engine": (
+            "block",
+            r_measured,
+            _attrs("1", "engine's energy ratio per impact, free rocking from alpha/2, 4 impacts"),
+        ),
+        "restitution_housner": (
+            "block",
+            r_housner,
+            _attrs("1", "Housner's r = (1 - 3/2 sin^2 alpha)^2"),
+        ),
+        "calibrated_c_n": (
+            "block",
+            c_ns,
+            _attrs("N s m-1", "area law c_n calibrated to Housner's r (NaN: point law)"),
+        ),
         "alpha": ("block", alphas, _attrs("rad", "slenderness angle atan(b/h)")),
         "p": ("block", ps, _attrs("rad s-1", "rocking frequency parameter p = sqrt(W R / I_O)")),
     }
-    coords = {"block": ("block", labels, _attrs("1", "block width x height")),
-              "width": ("block", [w for w, _ in blocks], _attrs("m", "block width")),
-              "height": ("block", [h for _, h in blocks], _attrs("m", "block height")),
-              "omega_ratio": ("omega_ratio", np.array(omega_ratios, dtype=float),
-                              _attrs("1", "pulse circular frequency over the block's p, omega_p / p"))}
+    coords = {
+        "block": ("block", labels, _attrs("1", "block width x height")),
+        "width": ("block", [w for w, _ in blocks], _attrs("m", "block width")),
+        "height": ("block", [h for _, h in blocks], _attrs("m", "block height")),
+        "omega_ratio": (
+            "omega_ratio",
+            np.array(omega_ratios, dtype=float),
+            _attrs("1", "pulse circular frequency over the block's p, omega_p / p"),
+        ),
+    }
     agreement = float("nan")
     if map_block is not None:
         w, h = blocks[map_block]
         c_n = 0.0 if contact is not None else c_ns[map_block]
-        exact_map = analytic.rigid_one_sine_spectrum(map_ratios, w, h, r_ref[map_block], map_amplitudes,
-                                                     g=G)
+        exact_map = analytic.rigid_one_sine_spectrum(
+            map_ratios, w, h, r_ref[map_block], map_amplitudes, g=G
+        )
         engine_map = np.zeros_like(exact_map.mode)
         for i, ratio in enumerate(map_ratios):
             for j, amp in enumerate(map_amplitudes):
-                _, mode = one_sine_engine_outcome(amp, ratio, w, h, contact=contact, k_n=k_n, c_n=c_n)
+                _, mode = one_sine_engine_outcome(
+                    amp, ratio, w, h, contact=contact, k_n=k_n, c_n=c_n
+                )
                 engine_map[i, j] = analytic.ONE_SINE_MODES.index(mode)
         agreement = float(np.mean(engine_map == exact_map.mode))
-        data["map_engine"] = (("map_omega_ratio", "amplitude"), engine_map,
-                              {**_attrs("1", f"overturning mode of the {labels[map_block]} block, engine"),
-                               **MODE_FLAGS})
-        data["map_exact"] = (("map_omega_ratio", "amplitude"), exact_map.mode,
-                             {**_attrs("1", f"overturning mode of the {labels[map_block]} block, exact rigid block"),
-                              **MODE_FLAGS})
-        coords["map_omega_ratio"] = ("map_omega_ratio", np.array(map_ratios, dtype=float),
-                                     _attrs("1", "omega_p / p of the overturning map"))
-        coords["amplitude"] = ("amplitude", np.array(map_amplitudes, dtype=float),
-                               _attrs("1", "pulse amplitude a_p / (g tan alpha) of the overturning map"))
+        data["map_engine"] = (
+            ("map_omega_ratio", "amplitude"),
+            engine_map,
+            {
+                **_attrs("1", f"overturning mode of the {labels[map_block]} block, engine"),
+                **MODE_FLAGS,
+            },
+        )
+        data["map_exact"] = (
+            ("map_omega_ratio", "amplitude"),
+            exact_map.mode,
+            {
+                **_attrs(
+                    "1", f"overturning mode of the {labels[map_block]} block, exact rigid block"
+                ),
+                **MODE_FLAGS,
+            },
+        )
+        coords["map_omega_ratio"] = (
+            "map_omega_ratio",
+            np.array(map_ratios, dtype=float),
+            _attrs("1", "omega_p / p of the overturning map"),
+        )
+        coords["amplitude"] = (
+            "amplitude",
+            np.array(map_amplitudes, dtype=float),
+            _attrs("1", "pulse amplitude a_p / (g tan alpha) of the overturning map"),
+        )
     if contact is None:
         reference = "exact rigid block with the engine's measured r (area law, c_n calibrated to Housner's r)"
     else:
         reference = "exact rigid block with Housner's r (the point law's plastic impact)"
-    ds = xr.Dataset(data, coords=coords, attrs={
-        "tolerance": tol, **contact_attrs(contact, k_n=k_n, c_n="calibrated per block: calibrated_c_n"),
-        "friction": 10.0, "density": ONE_SINE_DENSITY, "restitution_reference": reference,
-        "pulse": "a_g = a_p sin(omega_p t) for 0 <= t < 2 pi / omega_p (sine_pulse), block at rest at t = 0",
-        "threshold_rel_tol_engine": rel_tol, "threshold_rel_tol_exact": 1e-4, "hunt_step": 1.01,
-        "map_block": labels[map_block] if map_block is not None else "none", "map_agreement": agreement,
-        "impact": f"a change of side of the rotation (|theta| > {ONE_SINE_IMPACT_EPS:g} alpha) before it falls"})
+    ds = xr.Dataset(
+        data,
+        coords=coords,
+        attrs={
+            "tolerance": tol,
+            **contact_attrs(contact, k_n=k_n, c_n="calibrated per block: calibrated_c_n"),
+            "friction": 10.0,
+            "density": ONE_SINE_DENSITY,
+            "restitution_reference": reference,
+            "pulse": "a_g = a_p sin(omega_p t) for 0 <= t < 2 pi / omega_p (sine_pulse), block at rest at t = 0",
+            "threshold_rel_tol_engine": rel_tol,
+            "threshold_rel_tol_exact": 1e-4,
+            "hunt_step": 1.01,
+            "map_block": labels[map_block] if map_block is not None else "none",
+            "map_agreement": agreement,
+            "impact": f"a change of side of the rotation (|theta| > {ONE_SINE_IMPACT_EPS:g} alpha) before it falls",
+        },
+    )
     worst = float(np.abs(err).max())
     i, j = np.unravel_index(int(np.argmax(np.abs(err))), err.shape)
-    return ValidationResult(variant_name("one_sine_overturning", contact), ds, worst <= tol,
-                            {"max_abs_error": worst, "worst_omega_ratio": float(omega_ratios[j]),
-                             "worst_block_height": float(blocks[i][1]),
-                             "modes_differ": int(np.sum(mode_engine != mode_exact)),
-                             "map_agreement": agreement, "tolerance": tol}, error=worst)
+    return ValidationResult(
+        variant_name("one_sine_overturning", contact),
+        ds,
+        worst <= tol,
+        {
+            "max_abs_error": worst,
+            "worst_omega_ratio": float(omega_ratios[j]),
+            "worst_block_height": float(blocks[i][1]),
+            "modes_differ": int(np.sum(mode_engine != mode_exact)),
+            "map_agreement": agreement,
+            "tolerance": tol,
+        },
+        error=worst,
+    )
 
 
 # --- 5.2.1 -------------------------------------------------------------------------------
 
-PENA_BLOCK = {"width": 0.25, "height": 1.0, "mass": 503.0, "theta0": 0.05236}  # thesis 5.2.1 (Pena et al. granite)
+PENA_BLOCK = {
+    "width": 0.25,
+    "height": 1.0,
+    "mass": 503.0,
+    "theta0": 0.05236,
+}  # thesis 5.2.1 (Pena et al. granite)
 PENA_C_N = 1.0e6  # thesis 5.2.1 contact damping coefficient [N s m-1]
 PENA_K_N = 1.0e10  # stiff enough for the rigid-block reference (see pena_block) [N m-2]
 PENA_K_N_THESIS = 1.0e8  # thesis 5.2.1: "of the order of 1e8 N/m2"
@@ -888,8 +1365,16 @@ PENA_C_SWEEP = (1.0e5, 3.0e5, 1.0e6, 3.0e6, 1.0e7)  # thesis Fig. 5.21 [N s m-1]
 
 def free_rocking(c_n, k_n, duration, every, block=PENA_BLOCK):
     """(time [s], rotation [rad], positive leaning right) of a block released from rest at theta0."""
-    spec = block_scene(block["width"], block["height"], mass=block["mass"], tilt=block["theta0"],
-                       k_n=k_n, c_n=c_n, duration=duration, every=every)
+    spec = block_scene(
+        block["width"],
+        block["height"],
+        mass=block["mass"],
+        tilt=block["theta0"],
+        k_n=k_n,
+        c_n=c_n,
+        duration=duration,
+        every=every,
+    )
     r = simulate(scene_from_dict(spec))
     return r.time, -r.theta[:, 1]
 
@@ -899,7 +1384,9 @@ def first_impact_restitution(theta, block=PENA_BLOCK):
     peaks = rocking_peaks(theta)
     if len(peaks) < 2:
         return float("nan")
-    return float(analytic.restitution_from_peaks_exact(block["width"], block["height"], peaks[:2])[0])
+    return float(
+        analytic.restitution_from_peaks_exact(block["width"], block["height"], peaks[:2])[0]
+    )
 
 
 def rocking_against_rigid(time, theta, block=PENA_BLOCK, min_fraction=0.2):
@@ -921,15 +1408,22 @@ def rocking_against_rigid(time, theta, block=PENA_BLOCK, min_fraction=0.2):
     n = int(min(np.sum(peaks >= min_fraction * theta0), len(peaks_rigid)))
     crossings = zero_crossings(time, theta)
     half_engine = np.diff(crossings)[: n - 1]  # half cycle k has the peak of index k + 1
-    half_exact = analytic.rocking_period_exact(w, h, peaks[1: len(half_engine) + 1], g=G) / 2.0
-    return {"r1": r1, "theta_rigid": theta_rigid, "peaks": peaks[:n], "peaks_rigid": peaks_rigid[:n],
-            "half_engine": half_engine, "half_exact": np.atleast_1d(half_exact),
-            "first_quarter": float(crossings[0]),
-            "first_quarter_exact": float(analytic.rocking_period_exact(w, h, theta0, g=G)) / 4.0}
+    half_exact = analytic.rocking_period_exact(w, h, peaks[1 : len(half_engine) + 1], g=G) / 2.0
+    return {
+        "r1": r1,
+        "theta_rigid": theta_rigid,
+        "peaks": peaks[:n],
+        "peaks_rigid": peaks_rigid[:n],
+        "half_engine": half_engine,
+        "half_exact": np.atleast_1d(half_exact),
+        "first_quarter": float(crossings[0]),
+        "first_quarter_exact": float(analytic.rocking_period_exact(w, h, theta0, g=G)) / 4.0,
+    }
 
 
-def pena_block(c_n=PENA_C_N, k_n=PENA_K_N, c_sweep=PENA_C_SWEEP, duration=4.0, every=5e-4,
-               min_fraction=0.2):
+def pena_block(
+    c_n=PENA_C_N, k_n=PENA_K_N, c_sweep=PENA_C_SWEEP, duration=4.0, every=5e-4, min_fraction=0.2
+):
     """Free rocking of the Pena granite block and the effect of c_n on it (thesis 5.2.1).
 
     The experiment's data are not in the thesis, so the reference is analytic: with r
@@ -948,44 +1442,124 @@ def pena_block(c_n=PENA_C_N, k_n=PENA_K_N, c_sweep=PENA_C_SWEEP, duration=4.0, e
     peak_err = cmp["peaks"] / cmp["peaks_rigid"] - 1.0
     half_err = cmp["half_engine"] / cmp["half_exact"] - 1.0
     _, theta_soft = free_rocking(c_n, PENA_K_N_THESIS, duration, every)
-    soft_r = analytic.restitution_from_peaks_exact(PENA_BLOCK["width"], PENA_BLOCK["height"],
-                                                   rocking_peaks(theta_soft))
+    soft_r = analytic.restitution_from_peaks_exact(
+        PENA_BLOCK["width"], PENA_BLOCK["height"], rocking_peaks(theta_soft)
+    )
     sweep = [theta if c == c_n else free_rocking(c, k_n, duration, every)[1] for c in c_sweep]
     ds = xr.Dataset(
-        {"theta_engine": ("time", theta, _attrs("rad", "block rotation, engine (positive: leaning right)")),
-         "theta_rigid": ("time", cmp["theta_rigid"], _attrs("rad", "block rotation, rigid rocking equation with r of the first impact")),
-         "theta_engine_k_n_thesis": ("time", theta_soft, _attrs("rad", f"block rotation, engine with the thesis k_n = {PENA_K_N_THESIS:g} N m-2")),
-         "theta_sweep": (("c_n", "time"), np.reshape(sweep, (len(sweep), len(time))),
-                         _attrs("rad", "block rotation, engine, for each c_n")),
-         "restitution_first_impact": ("c_n", [first_impact_restitution(th) for th in sweep],
-                                      _attrs("1", "kinetic energy ratio of the first impact (Eq. 5.2)")),
-         "peak_engine": ("peak", cmp["peaks"], _attrs("rad", "peak rotation of each half cycle, engine")),
-         "peak_rigid": ("peak", cmp["peaks_rigid"], _attrs("rad", "peak rotation, rigid rocking equation")),
-         "peak_relative_error": ("peak", peak_err, _attrs("1", "engine / rigid - 1")),
-         "half_cycle_engine": ("half_cycle", cmp["half_engine"], _attrs("s", "duration of the half cycle between impacts, engine")),
-         "half_cycle_exact": ("half_cycle", cmp["half_exact"], _attrs("s", "half the exact free-rocking period at the measured peak (Eq. 5.4, exact form)")),
-         "half_cycle_relative_error": ("half_cycle", half_err, _attrs("1", "engine / exact - 1"))},
-        coords={"time": ("time", time, _attrs("s", "time")),
-                "c_n": ("c_n", np.array(c_sweep, dtype=float), _attrs("N s m-1", "normal contact damping coefficient")),
-                "peak": ("peak", np.arange(len(peak_err)), _attrs("1", "half cycle number (0: release)")),
-                "half_cycle": ("half_cycle", np.arange(1, len(half_err) + 1), _attrs("1", "half cycle number (after impact n)"))},
-        attrs={"tolerance": tol, "k_n": k_n, "k_n_units": "N m-2", "c_n": c_n, "c_n_units": "N s m-1",
-               "k_n_thesis": PENA_K_N_THESIS, "restitution_r": cmp["r1"],
-               "restitution_per_impact_k_n_thesis": soft_r,
-               "housner_restitution": analytic.housner_restitution(PENA_BLOCK["width"], PENA_BLOCK["height"]),
-               "first_quarter_period": cmp["first_quarter"], "first_quarter_period_exact": cmp["first_quarter_exact"],
-               "min_fraction": min_fraction, **{f"block_{k}": v for k, v in PENA_BLOCK.items()},
-               "note": "experiment of Pena et al. not available: reference is the rigid rocking equation"},
+        {
+            "theta_engine": (
+                "time",
+                theta,
+                _attrs("rad", "block rotation, engine (positive: leaning right)"),
+            ),
+            "theta_rigid": (
+                "time",
+                cmp["theta_rigid"],
+                _attrs("rad", "block rotation, rigid rocking equation with r of the first impact"),
+            ),
+            "theta_engine_k_n_thesis": (
+                "time",
+                theta_soft,
+                _attrs(
+                    "rad", f"block rotation, engine with the thesis k_n = {PENA_K_N_THESIS:g} N m-2"
+                ),
+            ),
+            "theta_sweep": (
+                ("c_n", "time"),
+                np.reshape(sweep, (len(sweep), len(time))),
+                _attrs("rad", "block rotation, engine, for each c_n"),
+            ),
+            "restitution_first_impact": (
+                "c_n",
+                [first_impact_restitution(th) for th in sweep],
+                _attrs("1", "kinetic energy ratio of the first impact (Eq. 5.2)"),
+            ),
+            "peak_engine": (
+                "peak",
+                cmp["peaks"],
+                _attrs("rad", "peak rotation of each half cycle, engine"),
+            ),
+            "peak_rigid": (
+                "peak",
+                cmp["peaks_rigid"],
+                _attrs("rad", "peak rotation, rigid rocking equation"),
+            ),
+            "peak_relative_error": ("peak", peak_err, _attrs("1", "engine / rigid - 1")),
+            "half_cycle_engine": (
+                "half_cycle",
+                cmp["half_engine"],
+                _attrs("s", "duration of the half cycle between impacts, engine"),
+            ),
+            "half_cycle_exact": (
+                "half_cycle",
+                cmp["half_exact"],
+                _attrs(
+                    "s",
+                    "half the exact free-rocking period at the measured peak (Eq. 5.4, exact form)",
+                ),
+            ),
+            "half_cycle_relative_error": (
+                "half_cycle",
+                half_err,
+                _attrs("1", "engine / exact - 1"),
+            ),
+        },
+        coords={
+            "time": ("time", time, _attrs("s", "time")),
+            "c_n": (
+                "c_n",
+                np.array(c_sweep, dtype=float),
+                _attrs("N s m-1", "normal contact damping coefficient"),
+            ),
+            "peak": (
+                "peak",
+                np.arange(len(peak_err)),
+                _attrs("1", "half cycle number (0: release)"),
+            ),
+            "half_cycle": (
+                "half_cycle",
+                np.arange(1, len(half_err) + 1),
+                _attrs("1", "half cycle number (after impact n)"),
+            ),
+        },
+        attrs={
+            "tolerance": tol,
+            "k_n": k_n,
+            "k_n_units": "N m-2",
+            "c_n": c_n,
+            "c_n_units": "N s m-1",
+            "k_n_thesis": PENA_K_N_THESIS,
+            "restitution_r": cmp["r1"],
+            "restitution_per_impact_k_n_thesis": soft_r,
+            "housner_restitution": analytic.housner_restitution(
+                PENA_BLOCK["width"], PENA_BLOCK["height"]
+            ),
+            "first_quarter_period": cmp["first_quarter"],
+            "first_quarter_period_exact": cmp["first_quarter_exact"],
+            "min_fraction": min_fraction,
+            **{f"block_{k}": v for k, v in PENA_BLOCK.items()},
+            "note": "experiment of Pena et al. not available: reference is the rigid rocking equation",
+        },
     )
     worst_peak = float(np.abs(peak_err).max())
     worst_half = float(np.abs(half_err).max()) if len(half_err) else float("nan")
     error = max(worst_peak, worst_half)
     ok = error <= tol and len(half_err) >= 3  # at least three half cycles compared
-    return ValidationResult("pena_block", ds, ok,
-                            {"peak_error": worst_peak, "half_cycle_error": worst_half,
-                             "restitution_r": cmp["r1"], "n_peaks": len(peak_err),
-                             "r_first_impact_k_n_thesis": float(soft_r[0]) if len(soft_r) else float("nan"),
-                             "tolerance": tol}, error=error)
+    return ValidationResult(
+        "pena_block",
+        ds,
+        ok,
+        {
+            "peak_error": worst_peak,
+            "half_cycle_error": worst_half,
+            "restitution_r": cmp["r1"],
+            "n_peaks": len(peak_err),
+            "r_first_impact_k_n_thesis": float(soft_r[0]) if len(soft_r) else float("nan"),
+            "tolerance": tol,
+        },
+        error=error,
+    )
 
 
 THESIS_5_1 = {
@@ -998,6 +1572,8 @@ THESIS_5_1 = {
     "energy_conservation": energy_conservation,
     "one_sine_overturning": one_sine_overturning,
 }
+
+
 def point_law_variant(check):
     """check run with the engine's default point law, described as such (``stonedem validate --list``)."""
     variant = partial(check, contact=POINT_CONTACT)
@@ -1016,8 +1592,13 @@ VALIDATIONS = {
 
 def annotate(result: ValidationResult) -> xr.Dataset:
     """The result's dataset with its verdict and provenance in the attributes."""
-    result.dataset.attrs.update(title=f"stonedem validation {result.name}", validation=result.name,
-                                source=code_version(), passed=int(result.passed), error=result.error)
+    result.dataset.attrs.update(
+        title=f"stonedem validation {result.name}",
+        validation=result.name,
+        source=code_version(),
+        passed=int(result.passed),
+        error=result.error,
+    )
     return result.dataset
 
 
@@ -1035,7 +1616,9 @@ def summary_table(paths) -> str:
     for path in paths:
         with open_result(path) as ds:
             a = ds.attrs
-            lines.append(f"{a['validation']},{float(a['error']):.6g},{float(a['tolerance']):g},{int(a['passed'])}")
+            lines.append(
+                f"{a['validation']},{float(a['error']):.6g},{float(a['tolerance']):g},{int(a['passed'])}"
+            )
     return "\n".join(lines) + "\n"
 
 

@@ -32,7 +32,9 @@ def plot(result, path: Path) -> Path:
     draw = DRAWERS[result.name]
     draw(ds, ax)
     verdict = "passed" if result.passed else "FAILED"
-    ax.set_title(f"{result.name}: {verdict} (tolerance {100 * ds.attrs['tolerance']:g} %)", fontsize=10)
+    ax.set_title(
+        f"{result.name}: {verdict} (tolerance {100 * ds.attrs['tolerance']:g} %)", fontsize=10
+    )
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -40,7 +42,7 @@ def plot(result, path: Path) -> Path:
 
 def _housner(ds, ax):
     for i, geo in enumerate(ds.geometry.values):
-        line, = ax.plot(ds.ratio, ds.period_exact[i], "-", label=f"{geo} exact")
+        (line,) = ax.plot(ds.ratio, ds.period_exact[i], "-", label=f"{geo} exact")
         ax.plot(ds.ratio, ds.period_eq_5_1[i], ":", color=line.get_color(), label=f"{geo} Eq. 5.1")
         ax.plot(ds.ratio, ds.period_engine[i], "o", color=line.get_color(), label=f"{geo} engine")
     ax.set_xlabel(label(ds.ratio))
@@ -49,8 +51,15 @@ def _housner(ds, ax):
 
 
 def _impact(ds, ax):
-    ax.plot(ds.impact, ds.peak_eq_5_3, "-", label="Housner Eq. 5.3, r = %.2f" % ds.attrs["target_r"])
-    ax.plot(ds.impact, ds.peak_engine, "o", label="engine, c_n = %.3g N s/m" % ds.attrs["calibrated_c_n"])
+    ax.plot(
+        ds.impact, ds.peak_eq_5_3, "-", label="Housner Eq. 5.3, r = %.2f" % ds.attrs["target_r"]
+    )
+    ax.plot(
+        ds.impact,
+        ds.peak_engine,
+        "o",
+        label="engine, c_n = %.3g N s/m" % ds.attrs["calibrated_c_n"],
+    )
     ax.set_xlabel(label(ds.impact))
     ax.set_ylabel(label(ds.peak_engine))
     ax.legend()
@@ -59,8 +68,14 @@ def _impact(ds, ax):
 def _newmark(ds, ax):
     for ap in sorted(set(ds.a_p_g.values)):
         sel = ds.a_p_g == ap
-        line, = ax.plot(ds.mu[sel], ds.u_max_eq_5_5[sel], "-", label=f"Eq. 5.5, a_p = {ap:g} g")
-        ax.plot(ds.mu[sel], ds.u_max_engine[sel], "o", color=line.get_color(), label=f"engine, a_p = {ap:g} g")
+        (line,) = ax.plot(ds.mu[sel], ds.u_max_eq_5_5[sel], "-", label=f"Eq. 5.5, a_p = {ap:g} g")
+        ax.plot(
+            ds.mu[sel],
+            ds.u_max_engine[sel],
+            "o",
+            color=line.get_color(),
+            label=f"engine, a_p = {ap:g} g",
+        )
     ax.set_yscale("log")
     ax.set_xlabel(label(ds.mu))
     ax.set_ylabel(label(ds.u_max_engine))
@@ -78,7 +93,12 @@ def _sliding(ds, ax):
 
 def _rocking(ds, ax):
     scale = ds.attrs["case_scale"]
-    ax.plot(ds.time, ds.theta_rigid, "-", label="rigid rocking equation, r = %.3f, scale %g" % (ds.attrs["restitution_r"], scale))
+    ax.plot(
+        ds.time,
+        ds.theta_rigid,
+        "-",
+        label="rigid rocking equation, r = %.3f, scale %g" % (ds.attrs["restitution_r"], scale),
+    )
     ax.plot(ds.time, ds.theta_engine, ":", lw=2, label="engine, scale %g" % scale)
     inset = ax.inset_axes([0.68, 0.08, 0.3, 0.3])
     inset.plot(ds.scale, 100 * ds.peak_relative_error, "o-")
@@ -93,8 +113,14 @@ def _rocking(ds, ax):
 
 def _two_blocks(ds, ax):
     for i, th0 in enumerate(ds.theta0.values):
-        line, = ax.plot(ds.time, ds.theta_lower[i], "-", label=f"lower block, {th0:g} rad")
-        ax.plot(ds.time, ds.theta_upper[i], "--", color=line.get_color(), label=f"upper block, {th0:g} rad")
+        (line,) = ax.plot(ds.time, ds.theta_lower[i], "-", label=f"lower block, {th0:g} rad")
+        ax.plot(
+            ds.time,
+            ds.theta_upper[i],
+            "--",
+            color=line.get_color(),
+            label=f"upper block, {th0:g} rad",
+        )
     ax.set_xlabel(label(ds.time))
     ax.set_ylabel("rotation (positive: leaning right) [rad]")
     ax.legend(fontsize=8)
@@ -116,8 +142,14 @@ def _mode_map(ax, ds, name, title):
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     codes = ds[name]
-    ax.pcolormesh(ds.map_omega_ratio, ds.amplitude, codes.T, shading="nearest",
-                  cmap=ListedColormap(MODE_COLOURS), norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3))
+    ax.pcolormesh(
+        ds.map_omega_ratio,
+        ds.amplitude,
+        codes.T,
+        shading="nearest",
+        cmap=ListedColormap(MODE_COLOURS),
+        norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3),
+    )
     _log_amplitude_axis(ax)
     ax.set_xlabel(label(ds.map_omega_ratio))
     ax.set_title(title, fontsize=8)
@@ -143,9 +175,16 @@ def _one_sine(ds, ax):
     curves = ax
     for i, block in enumerate(ds.block.values):
         r = float(ds.restitution[i])
-        line, = curves.plot(ds.omega_ratio, ds.threshold_exact[i], "-", label=f"{block}: exact rigid, r = {r:.4f}")
-        curves.plot(ds.omega_ratio, ds.threshold_engine[i], "o", color=line.get_color(),
-                    label=f"{block}: engine (worst {100 * float(np.abs(ds.relative_error[i]).max()):.2g} %)")
+        (line,) = curves.plot(
+            ds.omega_ratio, ds.threshold_exact[i], "-", label=f"{block}: exact rigid, r = {r:.4f}"
+        )
+        curves.plot(
+            ds.omega_ratio,
+            ds.threshold_engine[i],
+            "o",
+            color=line.get_color(),
+            label=f"{block}: engine (worst {100 * float(np.abs(ds.relative_error[i]).max()):.2g} %)",
+        )
     _log_amplitude_axis(curves)
     curves.set_xlabel(label(ds.omega_ratio))
     curves.set_ylabel("smallest overturning a_p / (g tan alpha) [1]")
@@ -155,20 +194,32 @@ def _one_sine(ds, ax):
     exact_ax = fig.add_subplot(grid[1])
     engine_ax = fig.add_subplot(grid[2], sharex=exact_ax, sharey=exact_ax)
     _mode_map(exact_ax, ds, "map_exact", f"exact rigid block, {ds.attrs['map_block']}")
-    _mode_map(engine_ax, ds, "map_engine", f"engine, {ds.attrs['map_block']}: "
-              f"{100 * ds.attrs['map_agreement']:.0f} % of cells agree (x: differ)")
+    _mode_map(
+        engine_ax,
+        ds,
+        "map_engine",
+        f"engine, {ds.attrs['map_block']}: "
+        f"{100 * ds.attrs['map_agreement']:.0f} % of cells agree (x: differ)",
+    )
     differ = (ds.map_engine != ds.map_exact).values
     rr, aa = np.meshgrid(ds.map_omega_ratio.values, ds.amplitude.values, indexing="ij")
     engine_ax.plot(rr[differ], aa[differ], "x", color="k", ms=5)
-    i = list(ds.block.values).index(ds.attrs["map_block"]) if ds.attrs["map_block"] in ds.block.values else None
+    i = (
+        list(ds.block.values).index(ds.attrs["map_block"])
+        if ds.attrs["map_block"] in ds.block.values
+        else None
+    )
     if i is not None:
         for a in (exact_ax, engine_ax):
             a.plot(ds.omega_ratio, ds.threshold_exact[i], "-", color="k", lw=0.8)
             a.plot(ds.omega_ratio, ds.threshold_engine[i], "o", color="k", mfc="none", ms=4)
     exact_ax.set_ylabel(f"pulse amplitude a_p / (g tan alpha) [{ds.amplitude.attrs['units']}]")
     names = ("safe", "overturns after an impact", "overturns without impact")
-    engine_ax.legend(handles=[Patch(color=c, label=n) for c, n in zip(MODE_COLOURS, names)],
-                     fontsize=7, loc="lower right")
+    engine_ax.legend(
+        handles=[Patch(color=c, label=n) for c, n in zip(MODE_COLOURS, names)],
+        fontsize=7,
+        loc="lower right",
+    )
 
 
 DRAWERS = {
@@ -188,12 +239,30 @@ DRAWERS = {
 
 def _pena(ds, ax):
     """Thesis Fig. 5.20: engine at the checked k_n, rigid rocking equation, engine at the thesis k_n."""
-    ax.plot(ds.time, ds.theta_rigid, "-", lw=2, color="0.6",
-            label="rigid rocking equation, r = %.3f (engine's first impact)" % ds.attrs["restitution_r"])
-    ax.plot(ds.time, ds.theta_engine, "-", lw=0.9, color="C0",
-            label="engine, k_n = %.0e N/m2, c_n = %.0e N s/m" % (ds.attrs["k_n"], ds.attrs["c_n"]))
-    ax.plot(ds.time, ds.theta_engine_k_n_thesis, ":", color="C3",
-            label="engine, thesis k_n = %.0e N/m2 (not checked)" % ds.attrs["k_n_thesis"])
+    ax.plot(
+        ds.time,
+        ds.theta_rigid,
+        "-",
+        lw=2,
+        color="0.6",
+        label="rigid rocking equation, r = %.3f (engine's first impact)"
+        % ds.attrs["restitution_r"],
+    )
+    ax.plot(
+        ds.time,
+        ds.theta_engine,
+        "-",
+        lw=0.9,
+        color="C0",
+        label="engine, k_n = %.0e N/m2, c_n = %.0e N s/m" % (ds.attrs["k_n"], ds.attrs["c_n"]),
+    )
+    ax.plot(
+        ds.time,
+        ds.theta_engine_k_n_thesis,
+        ":",
+        color="C3",
+        label="engine, thesis k_n = %.0e N/m2 (not checked)" % ds.attrs["k_n_thesis"],
+    )
     ax.set_xlabel(label(ds.time))
     ax.set_ylabel(label(ds.theta_engine))
     ax.legend(fontsize=7)
@@ -211,8 +280,16 @@ def _fig_5_2(ds, fig):
     ax.plot(x, np.arccosh(1.0 / (1.0 - x)), "-", lw=2, color="C0", label="Housner Eq. 5.1")
     for i, geo in enumerate(ds.geometry.values):
         scale = float(ds.p[i]) / 4.0
-        line, = ax.plot(ds.ratio, ds.period_exact[i] * scale, "--", lw=0.8, label=f"{geo}: exact rigid block")
-        ax.plot(ds.ratio, ds.period_engine[i] * scale, "o", color=line.get_color(), label=f"{geo}: engine")
+        (line,) = ax.plot(
+            ds.ratio, ds.period_exact[i] * scale, "--", lw=0.8, label=f"{geo}: exact rigid block"
+        )
+        ax.plot(
+            ds.ratio,
+            ds.period_engine[i] * scale,
+            "o",
+            color=line.get_color(),
+            label=f"{geo}: engine",
+        )
     ax.set_xlabel(label(ds.ratio))
     ax.set_ylabel("T/4 x sqrt(W R / I_O) [1]")
     ax.legend(fontsize=7)
@@ -220,10 +297,22 @@ def _fig_5_2(ds, fig):
 
 def _fig_5_4(ds, fig):
     ax = fig.add_subplot()
-    ax.plot(ds.time, ds.theta_rigid, "-", lw=2, color="0.6",
-            label="rigid rocking equation, r = %.2f (thesis Fig. 5.3)" % ds.attrs["target_r"])
-    ax.plot(ds.time, ds.theta_history, "-", lw=0.9, color="C0",
-            label="engine, c_n = %.3g N s/m (calibrated to r)" % ds.attrs["calibrated_c_n"])
+    ax.plot(
+        ds.time,
+        ds.theta_rigid,
+        "-",
+        lw=2,
+        color="0.6",
+        label="rigid rocking equation, r = %.2f (thesis Fig. 5.3)" % ds.attrs["target_r"],
+    )
+    ax.plot(
+        ds.time,
+        ds.theta_history,
+        "-",
+        lw=0.9,
+        color="C0",
+        label="engine, c_n = %.3g N s/m (calibrated to r)" % ds.attrs["calibrated_c_n"],
+    )
     ax.set_xlabel(label(ds.time))
     ax.set_ylabel(label(ds.theta_history))
     ax.legend(fontsize=8)
@@ -241,8 +330,13 @@ def _fig_5_7(ds, fig):
     for k, ap in enumerate(sorted(set(ds.a_p_g.values))):
         sel = ds.a_p_g == ap
         t_p = float(ds.t_p[sel][0])
-        ax.plot(ds.mu[sel] / ap, ds.pi_1[sel], "os"[k % 2], color=f"C{k + 1}",
-                label=f"engine, a_p = {ap:g} g, T_p = {t_p:g} s")
+        ax.plot(
+            ds.mu[sel] / ap,
+            ds.pi_1[sel],
+            "os"[k % 2],
+            color=f"C{k + 1}",
+            label=f"engine, a_p = {ap:g} g, T_p = {t_p:g} s",
+        )
     ax.set_yscale("log")
     ax.set_xlabel("mu g / a_p [1]")
     ax.set_ylabel("Pi_1 = u_max / (a_p T_p^2) [1]")
@@ -280,10 +374,22 @@ def _fig_5_10(ds, fig):
 def _fig_5_13(ds, fig):
     top, bottom = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1, 2]})
     _record_panel(ds, top)
-    bottom.plot(ds.time, ds.theta_rigid, "-", lw=2, color="0.6",
-                label="rigid rocking equation, r = %.3f" % ds.attrs["restitution_r"])
-    bottom.plot(ds.time, ds.theta_engine, "-", lw=0.9, color="C0",
-                label="engine, c_n = %.3g N s/m" % ds.attrs["calibrated_c_n"])
+    bottom.plot(
+        ds.time,
+        ds.theta_rigid,
+        "-",
+        lw=2,
+        color="0.6",
+        label="rigid rocking equation, r = %.3f" % ds.attrs["restitution_r"],
+    )
+    bottom.plot(
+        ds.time,
+        ds.theta_engine,
+        "-",
+        lw=0.9,
+        color="C0",
+        label="engine, c_n = %.3g N s/m" % ds.attrs["calibrated_c_n"],
+    )
     bottom.set_xlabel(label(ds.time))
     bottom.set_ylabel("column rotation (+: leaning right) [rad]", fontsize=8)
     bottom.legend(fontsize=8)
@@ -298,8 +404,11 @@ def _two_blocks_figure(theta0):
         top.plot(ds.time, c.theta_lower, "-", label=f"block 1 (lower, {ds.attrs['lower_block']})")
         top.plot(ds.time, c.theta_upper, "--", label=f"block 2 (upper, {ds.attrs['upper_block']})")
         top.set_ylabel("rotation (+: leaning right) [rad]", fontsize=8)
-        top.set_title(f"engine, released from {float(c.theta0):g} rad; no analytic two-block solution "
-                      "here: the reference is the energy balance", fontsize=8)
+        top.set_title(
+            f"engine, released from {float(c.theta0):g} rad; no analytic two-block solution "
+            "here: the reference is the energy balance",
+            fontsize=8,
+        )
         top.legend(fontsize=8)
         tol = 100 * ds.attrs["tolerance"]
         bottom.axhspan(-tol, tol, color="0.9", label=f"tolerance {tol:g} %")
@@ -318,12 +427,19 @@ def _fig_5_20(ds, fig):
 def _fig_5_21(ds, fig):
     ax = fig.add_subplot()
     for c_n, r in zip(ds.c_n.values, ds.restitution_first_impact.values):
-        ax.plot(ds.time, ds.theta_sweep.sel(c_n=c_n), lw=0.9,
-                label=f"c_n = {c_n:.0e} N s/m, r(1st impact) = {r:.3f}")
+        ax.plot(
+            ds.time,
+            ds.theta_sweep.sel(c_n=c_n),
+            lw=0.9,
+            label=f"c_n = {c_n:.0e} N s/m, r(1st impact) = {r:.3f}",
+        )
     ax.set_xlabel(label(ds.time))
     ax.set_ylabel(label(ds.theta_sweep))
-    ax.set_title(f"engine, k_n = {ds.attrs['k_n']:.0e} N/m2; Housner's no-bounce r = "
-                 f"{ds.attrs['housner_restitution']:.3f}", fontsize=8)
+    ax.set_title(
+        f"engine, k_n = {ds.attrs['k_n']:.0e} N/m2; Housner's no-bounce r = "
+        f"{ds.attrs['housner_restitution']:.3f}",
+        fontsize=8,
+    )
     ax.legend(fontsize=7)
 
 
@@ -346,15 +462,15 @@ THESIS_FIGURES = {
 CAPTIONS = {
     "thesis_fig_5_2": "Period T of a block rocking with amplitude theta0",
     "thesis_fig_5_4": "Computed time-history response of a rigid block left to freely vibrate "
-                      "from an initial angle, with energy loss during impacts",
+    "from an initial angle, with energy loss during impacts",
     "thesis_fig_5_5": "Reduction of the maximum rotation angle of each cycle due to impact",
     "thesis_fig_5_7": "Normalized maximum relative displacements of a rigid body on a surface "
-                      "with friction mu, under rectangular acceleration pulses",
+    "with friction mu, under rectangular acceleration pulses",
     "thesis_fig_5_8": "Time-history relative displacements of a sliding block under rectangular pulse accelerations",
     "thesis_fig_5_10": "Sliding response of a rigid body under an earthquake excitation "
-                       "(Northridge 1994 MUL009 stand-in)",
+    "(Northridge 1994 MUL009 stand-in)",
     "thesis_fig_5_13": "Rocking response of a rigid body under earthquake excitations (Northridge stand-in "
-                       "for Bucharest 1977)",
+    "for Bucharest 1977)",
     "thesis_fig_5_15": "Rotation of the two bodies released from 0.1 rad",
     "thesis_fig_5_17": "Rotation of Block 1 from an initial rotation angle of 0.15 rad",
     "thesis_fig_5_20": "Rotation of the rigid body (Pena granite block) obtained numerically",
@@ -371,8 +487,10 @@ def _verdict(ds) -> str:
     if "passed" not in ds.attrs:
         return ""
     verdict = "passed" if int(ds.attrs["passed"]) else "FAILED"
-    return (f"validation {ds.attrs.get('validation', '')}: error {float(ds.attrs['error']):.3g}, "
-            f"tolerance {float(ds.attrs['tolerance']):g}: {verdict}")
+    return (
+        f"validation {ds.attrs.get('validation', '')}: error {float(ds.attrs['error']):.3g}, "
+        f"tolerance {float(ds.attrs['tolerance']):g}: {verdict}"
+    )
 
 
 def _save(fig, path) -> Path:
@@ -406,4 +524,7 @@ def figures_of(validation: str) -> list[str]:
 
 def write_thesis_figures(validation: str, dataset, out_dir) -> list[Path]:
     """Every thesis figure of ``validation`` into ``out_dir``/<figure>.png."""
-    return [draw_thesis_figure(name, dataset, Path(out_dir) / f"{name}.png") for name in figures_of(validation)]
+    return [
+        draw_thesis_figure(name, dataset, Path(out_dir) / f"{name}.png")
+        for name in figures_of(validation)
+    ]

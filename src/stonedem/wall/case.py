@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+
 from stonedem.errors import InputError, check_text, plain_number
 from stonedem.io.yaml_file import printable as _printable
 from stonedem.io.yaml_file import read_yaml_mapping
@@ -62,13 +63,21 @@ MAX_BLOCKS = 5000
 # Estimated peak memory of a run: LU factors, the stored path (block displacements and
 # interface states of every step up to solver.max_steps) and the dataset written from it.
 MAX_MEMORY_BYTES = 2 << 30
-MAX_OPENINGS = 100         # openings are tested against every block in Python
-MAX_POINT_LOADS = 10_000   # load.extra_vertical[*].count: one Python pass over the top course each
-MAX_TEXT = 2000            # characters of name / description / reference labels
+MAX_OPENINGS = 100  # openings are tested against every block in Python
+MAX_POINT_LOADS = 10_000  # load.extra_vertical[*].count: one Python pass over the top course each
+MAX_TEXT = 2000  # characters of name / description / reference labels
 
 TOP_KEYS = {"name", "description", "panel", "joints", "restraints", "load", "solver", "reference"}
-PANEL_KEYS = {"block", "blocks_per_course", "courses", "unit_weight", "joint_thickness",
-              "first_course_offset", "openings", "lintel_strength"}
+PANEL_KEYS = {
+    "block",
+    "blocks_per_course",
+    "courses",
+    "unit_weight",
+    "joint_thickness",
+    "first_course_offset",
+    "openings",
+    "lintel_strength",
+}
 BLOCK_KEYS = {"a", "b", "s"}
 JOINT_KEYS = {"kind", "mu", "k_n", "k_t", "tensile_strength", "cohesion", "alpha"}
 # interface-law switches (the whole panel; not per support joint): manuscript Fig. 10 and Eq. 13
@@ -84,35 +93,46 @@ EXTRA_KEYS = {"count", "force", "edge"}
 OPENING_KEYS = {"x", "y"}
 SOLVER_KEYS = set(SolverSettings().as_dict()) | {"control_block"}
 # manuscript reference values (free of effect on the run; the dataset carries them)
-REFERENCE_NUMBERS = {"L", "H", "p_dem", "lambda_dem", "lambda_fem", "lambda_limit_analysis",
-                     "lambda_analytic"}
-REFERENCE_LISTS = {"p_experiment", "lambda_experiment"}   # a number or a list of numbers
+REFERENCE_NUMBERS = {
+    "L",
+    "H",
+    "p_dem",
+    "lambda_dem",
+    "lambda_fem",
+    "lambda_limit_analysis",
+    "lambda_analytic",
+}
+REFERENCE_LISTS = {"p_experiment", "lambda_experiment"}  # a number or a list of numbers
 REFERENCE_KEYS = REFERENCE_NUMBERS | REFERENCE_LISTS | {"table", "case", "n"}
-FIX_DOFS = {"all": (0, 1, 2, 3, 4, 5), "translations": (0, 1, 2), "out_of_plane": (2,),
-            "rotations": (3, 4, 5)}
+FIX_DOFS = {
+    "all": (0, 1, 2, 3, 4, 5),
+    "translations": (0, 1, 2),
+    "out_of_plane": (2,),
+    "rotations": (3, 4, 5),
+}
 DIRECTIONS = {"out_of_plane": 2, "in_plane": 0}
 
 # allowed ranges [lo, hi] (SI units); ``lo_open``: lo itself excluded. Wide enough for any
 # masonry wall, narrow enough that the arithmetic stays finite and the run meaningful.
 RANGES = {
-    "length": (1e-3, 100.0, False),          # block sides a, b, s [m]
-    "unit_weight": (1.0, 1e6, False),        # [N/m3] (brick ~18e3, steel 77e3)
-    "coordinate": (0.0, 1e4, False),         # opening corners [m]
+    "length": (1e-3, 100.0, False),  # block sides a, b, s [m]
+    "unit_weight": (1.0, 1e6, False),  # [N/m3] (brick ~18e3, steel 77e3)
+    "coordinate": (0.0, 1e4, False),  # opening corners [m]
     "mu": (0.0, 10.0, True),
-    "stiffness": (1e3, 1e16, False),         # k_n, k_t [N/m3]
-    "alpha": (1.0, 10.0, False),             # Eq. 14 exponent (Table A1: 1.5-2.6); >= 1 keeps it convex
-    "stress": (0.0, 1e10, False),            # tensile strength, cohesion, lintel strength [Pa]
-    "force": (0.0, 1e10, False),             # point loads [N]
+    "stiffness": (1e3, 1e16, False),  # k_n, k_t [N/m3]
+    "alpha": (1.0, 10.0, False),  # Eq. 14 exponent (Table A1: 1.5-2.6); >= 1 keeps it convex
+    "stress": (0.0, 1e10, False),  # tensile strength, cohesion, lintel strength [Pa]
+    "force": (0.0, 1e10, False),  # point loads [N]
     "reference": (0.0, 1e12, True),
 }
 # solver settings: (kind, lo, hi, lo_open); "int" counts, "switch" 0/1 (or false/true)
 SOLVER_RULES = {
-    "tolerance": ("number", 1e-12, 0.1, False),   # finer: rounding (~1e-15) blamed the restraints
-    "max_iterations": ("int", 2, 10_000),        # a Newton step converges at iteration 2 at the earliest
+    "tolerance": ("number", 1e-12, 0.1, False),  # finer: rounding (~1e-15) blamed the restraints
+    "max_iterations": ("int", 2, 10_000),  # a Newton step converges at iteration 2 at the earliest
     "dead_load_iterations": ("int", 2, 100_000),
     "max_steps": ("int", 1, 1_000_000),
-    "max_displacement": ("number", 0.0, 1e3, False),   # 0: the wall thickness s
-    "first_step": ("number", 0.0, 1e3, False),         # 0: automatic
+    "max_displacement": ("number", 0.0, 1e3, False),  # 0: the wall thickness s
+    "first_step": ("number", 0.0, 1e3, False),  # 0: automatic
     "growth": ("number", 1.0, 10.0, False),
     "easy_iterations": ("int", 0, 10_000),
     "max_failures": ("int", 1, 1000),
@@ -125,16 +145,18 @@ SOLVER_RULES = {
     "drop_ratio": ("number", 0.0, 1.0, False),
     "plateau_steps": ("int", 1, 1_000_000),
     "plateau_tolerance": ("number", 0.0, 1.0, False),
-    "max_seconds": ("number", 0.0, 1e7, False),        # 0: no budget
+    "max_seconds": ("number", 0.0, 1e7, False),  # 0: no budget
     "secant": ("switch",),
-    "load_step": ("number", 0.0, 1e12, False),         # 0: automatic
+    "load_step": ("number", 0.0, 1e12, False),  # 0: automatic
     "min_load_step": ("number", 0.0, 1.0, True),
     "singular_ratio": ("number", 1.0, 1e15, True),
     "secant_refresh": ("int", 0, 10_000),
     "control_block": ("int", 0, MAX_BLOCKS),
 }
 assert set(SOLVER_RULES) == SOLVER_KEYS, "every solver setting has a rule"
-MIN_FIRST_STEP = 1e-12  # [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
+MIN_FIRST_STEP = (
+    1e-12  # [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
+)
 
 # a number written as text: YAML 1.1 reads 1.0e9 (no exponent sign) as a string
 _NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
@@ -151,22 +173,31 @@ def _show(value, limit=40) -> str:
     """A short one-line repr of a user value for a message (bounded work: a YAML alias bomb
     of nested lists is not expanded)."""
     text = _printable(_REPR.repr(value))
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _kind_name(value) -> str:
     if value is None:
         return "nothing (null)"
-    return {bool: "a boolean", int: "an integer", float: "a number", str: "text", list: "a list",
-            dict: "a mapping"}.get(type(value), type(value).__name__)
+    return {
+        bool: "a boolean",
+        int: "an integer",
+        float: "a number",
+        str: "text",
+        list: "a list",
+        dict: "a mapping",
+    }.get(type(value), type(value).__name__)
 
 
 def _mapping(value, field, allow_none=False):
     if value is None and allow_none:
         return {}
     if not isinstance(value, dict):
-        raise InputError(field, f"expected a mapping, got {_kind_name(value)} {_show(value)}",
-                         "write it as {key: value, ...}")
+        raise InputError(
+            field,
+            f"expected a mapping, got {_kind_name(value)} {_show(value)}",
+            "write it as {key: value, ...}",
+        )
     return value
 
 
@@ -174,10 +205,15 @@ def _list(value, field, allow_none=False, max_items=None):
     if value is None and allow_none:
         return []
     if not isinstance(value, list):
-        raise InputError(field, f"expected a list, got {_kind_name(value)} {_show(value)}",
-                         "write it as [item, ...] or as '- item' lines")
+        raise InputError(
+            field,
+            f"expected a list, got {_kind_name(value)} {_show(value)}",
+            "write it as [item, ...] or as '- item' lines",
+        )
     if max_items is not None and len(value) > max_items:
-        raise InputError(field, f"{len(value)} items exceed the limit {max_items}", f"give at most {max_items}")
+        raise InputError(
+            field, f"{len(value)} items exceed the limit {max_items}", f"give at most {max_items}"
+        )
     return value
 
 
@@ -195,15 +231,20 @@ def _keys(spec, allowed, field, required=()):
 
 def _choice(value, options, field):
     if not isinstance(value, str) or value not in options:
-        raise InputError(field, f"unknown value {_show(value)}", f"use one of: {', '.join(options)}")
+        raise InputError(
+            field, f"unknown value {_show(value)}", f"use one of: {', '.join(options)}"
+        )
     return value
 
 
 def _bool(value, field):
     """A real YAML boolean (true/false); the string "false" or the number 0 is refused."""
     if not isinstance(value, bool):
-        raise InputError(field, f"expected true or false, got {_kind_name(value)} {_show(value)}",
-                         "write true or false without quotes")
+        raise InputError(
+            field,
+            f"expected true or false, got {_kind_name(value)} {_show(value)}",
+            "write true or false without quotes",
+        )
     return value
 
 
@@ -212,11 +253,16 @@ def _as_number(value, field, what="a number"):
     if isinstance(value, str) and _NUMERIC.fullmatch(value):
         value = float(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(field, f"expected {what}, got {_kind_name(value)} {_show(value)}",
-                         f"give {what} (SI units)")
+        raise InputError(
+            field,
+            f"expected {what}, got {_kind_name(value)} {_show(value)}",
+            f"give {what} (SI units)",
+        )
     if isinstance(value, int):
         if abs(value) > 1e300:
-            raise InputError(field, f"{_show(value)} is out of range", "give a number of sensible size")
+            raise InputError(
+                field, f"{_show(value)} is out of range", "give a number of sensible size"
+            )
         return value
     if not math.isfinite(value):
         raise InputError(field, f"{value} is not finite", "give a finite number")
@@ -229,9 +275,13 @@ def _range_text(lo, hi, lo_open):
 
 def _number(value, field, lo, hi, lo_open=False, units=""):
     """A finite float in [lo, hi] (``lo_open``: lo excluded)."""
-    x = float(_as_number(value, field)) + 0.0   # -0.0 -> 0.0
+    x = float(_as_number(value, field)) + 0.0  # -0.0 -> 0.0
     if x < lo or x > hi or (lo_open and x == lo):
-        raise InputError(field, f"{x:g}{units} is out of range", f"give a value {_range_text(lo, hi, lo_open)}{units}")
+        raise InputError(
+            field,
+            f"{x:g}{units} is out of range",
+            f"give a value {_range_text(lo, hi, lo_open)}{units}",
+        )
     return x
 
 
@@ -263,16 +313,23 @@ def _switch(value, field):
 
 
 def _text(value, field, max_len=MAX_TEXT, one_line=True):
-    return check_text(value, field, max_len, one_line, describe=lambda v: f"{_kind_name(v)} {_show(v)}")
+    return check_text(
+        value, field, max_len, one_line, describe=lambda v: f"{_kind_name(v)} {_show(v)}"
+    )
 
 
 # --- reading ------------------------------------------------------------------------------
 
+
 def read_case(path) -> dict:
     """The case mapping of a YAML file; an InputError naming the file when it cannot be one
     (:func:`stonedem.io.yaml_file.read_yaml_mapping`: kind, size, encoding, nesting, keys twice)."""
-    return read_yaml_mapping(path, "a wall case file", MAX_CASE_BYTES,
-                             "give panel, joints, restraints and load as 'key: value' lines (see config/walls/)")
+    return read_yaml_mapping(
+        path,
+        "a wall case file",
+        MAX_CASE_BYTES,
+        "give panel, joints, restraints and load as 'key: value' lines (see config/walls/)",
+    )
 
 
 # --- problem size -------------------------------------------------------------------------
@@ -295,13 +352,15 @@ class ProblemSize:
     n_dofs: float
     stiffness_nonzeros: float
     lu_bytes: float
-    path_bytes: float           # the stored path: max_steps + 1 steps
-    memory_bytes: float         # peak estimate: LU + path (twice: records and arrays) + dataset
-    factor_seconds: float       # one sparse LU of the panel stiffness
+    path_bytes: float  # the stored path: max_steps + 1 steps
+    memory_bytes: float  # peak estimate: LU + path (twice: records and arrays) + dataset
+    factor_seconds: float  # one sparse LU of the panel stiffness
 
     def describe(self, blocks: bool = True) -> str:
-        text = (f"{self.n_interfaces:.3g} interfaces, {self.n_dofs:.3g} DOFs, ~{_bytes(self.memory_bytes)}, "
-                f"~{self.factor_seconds:.2g} s per stiffness factorization")
+        text = (
+            f"{self.n_interfaces:.3g} interfaces, {self.n_dofs:.3g} DOFs, ~{_bytes(self.memory_bytes)}, "
+            f"~{self.factor_seconds:.2g} s per stiffness factorization"
+        )
         return f"{self.n_blocks:.3g} blocks, {text}" if blocks else text
 
 
@@ -309,8 +368,13 @@ def _bytes(n: float) -> str:
     return f"{n / 2**30:.3g} GiB" if n >= 2**30 else f"{n / 2**20:.3g} MiB"
 
 
-def estimate_size(blocks_per_course: float, courses: float, support_edges=(), max_steps: int = 1000,
-                  first_course_offset: bool = False) -> ProblemSize:
+def estimate_size(
+    blocks_per_course: float,
+    courses: float,
+    support_edges=(),
+    max_steps: int = 1000,
+    first_course_offset: bool = False,
+) -> ProblemSize:
     """Blocks, interfaces, DOFs, memory and factorization time of a panel, from its dimensions
     alone (floats throughout, so absurd inputs give large numbers, not a hang)."""
     n_len, courses = float(blocks_per_course), float(courses)
@@ -325,28 +389,37 @@ def estimate_size(blocks_per_course: float, courses: float, support_edges=(), ma
     ni = heads + beds + supports
     nd = 6 * nb
     k_nnz = 36.0 * (nb + 2 * (heads + beds))
-    lu_bytes = 12.0 * LU_FILL * nb ** LU_EXPONENT          # value + row index per nonzero
-    per_step = 8.0 * nd + 8.0 * ni + 8.0 * 8                # q, interface states, scalars
+    lu_bytes = 12.0 * LU_FILL * nb**LU_EXPONENT  # value + row index per nonzero
+    per_step = 8.0 * nd + 8.0 * ni + 8.0 * 8  # q, interface states, scalars
     path_bytes = (max_steps + 1) * per_step
-    memory = 1.5 * lu_bytes + 2.0 * path_bytes + (max_steps + 1) * ni + MODEL_BYTES_PER_INTERFACE * ni
+    memory = (
+        1.5 * lu_bytes + 2.0 * path_bytes + (max_steps + 1) * ni + MODEL_BYTES_PER_INTERFACE * ni
+    )
     seconds = LU_SECONDS * (nb / LU_SECONDS_BLOCKS) ** LU_SECONDS_EXPONENT
     return ProblemSize(nb, ni, nd, k_nnz, lu_bytes, path_bytes, memory, seconds)
 
 
 def check_size(size: ProblemSize, fix_steps: bool = True) -> ProblemSize:
     if size.n_blocks > MAX_BLOCKS:
-        raise InputError("panel", f"n_blocks {size.n_blocks:.3g} exceeds the limit {MAX_BLOCKS} "
-                         f"(estimated: {size.describe(blocks=False)})",
-                         "use fewer courses or blocks_per_course (stonedem.wall.case.MAX_BLOCKS)")
+        raise InputError(
+            "panel",
+            f"n_blocks {size.n_blocks:.3g} exceeds the limit {MAX_BLOCKS} "
+            f"(estimated: {size.describe(blocks=False)})",
+            "use fewer courses or blocks_per_course (stonedem.wall.case.MAX_BLOCKS)",
+        )
     if size.memory_bytes > MAX_MEMORY_BYTES:
         where = "solver.max_steps" if fix_steps and size.path_bytes > size.lu_bytes else "panel"
-        raise InputError(where, f"the run would need ~{_bytes(size.memory_bytes)}, over the limit "
-                         f"{_bytes(MAX_MEMORY_BYTES)} (estimated: {size.describe()})",
-                         "lower solver.max_steps or the panel size (stonedem.wall.case.MAX_MEMORY_BYTES)")
+        raise InputError(
+            where,
+            f"the run would need ~{_bytes(size.memory_bytes)}, over the limit "
+            f"{_bytes(MAX_MEMORY_BYTES)} (estimated: {size.describe()})",
+            "lower solver.max_steps or the panel size (stonedem.wall.case.MAX_MEMORY_BYTES)",
+        )
     return size
 
 
 # --- validation ---------------------------------------------------------------------------
+
 
 @dataclass
 class CaseInput:
@@ -397,8 +470,11 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
     # the size limit (n_blocks, memory) is checked below, from the estimate
     n_len = _number(p["blocks_per_course"], "panel.blocks_per_course", 1.0, 1e12)
     if abs(2 * n_len - round(2 * n_len)) > 1e-9:
-        raise InputError("panel.blocks_per_course", f"{n_len:g} is not a multiple of 0.5",
-                         "give a whole or half number of blocks >= 1")
+        raise InputError(
+            "panel.blocks_per_course",
+            f"{n_len:g} is not a multiple of 0.5",
+            "give a whole or half number of blocks >= 1",
+        )
     n_len = round(2 * n_len) / 2
     courses = _integer(p["courses"], "panel.courses", 1, 10**12)
     gamma = _ranged(p["unit_weight"], "panel.unit_weight", "unit_weight", " N/m3")
@@ -406,32 +482,46 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
     offset = _bool(p.get("first_course_offset", False), "panel.first_course_offset")
     length, height = n_len * (b + e), courses * (a + e)
     openings = []
-    for k, o in enumerate(_list(p.get("openings"), "panel.openings", allow_none=True, max_items=MAX_OPENINGS)):
+    for k, o in enumerate(
+        _list(p.get("openings"), "panel.openings", allow_none=True, max_items=MAX_OPENINGS)
+    ):
         f = f"panel.openings[{k}]"
         _keys(o, OPENING_KEYS, f, required=("x", "y"))
         box = {}
         for ax, extent in (("x", length), ("y", height)):
             v = o[ax]
             if not isinstance(v, list) or len(v) != 2:
-                raise InputError(f"{f}.{ax}", f"expected [start, end] in metres, got {_show(v)}",
-                                 "give two numbers, e.g. [0.2, 0.5]")
+                raise InputError(
+                    f"{f}.{ax}",
+                    f"expected [start, end] in metres, got {_show(v)}",
+                    "give two numbers, e.g. [0.2, 0.5]",
+                )
             lo, hi = (_ranged(x, f"{f}.{ax}", "coordinate", " m") for x in v)
             if hi <= lo:
                 raise InputError(f"{f}.{ax}", f"end {hi:g} <= start {lo:g}", "give start < end")
             if lo >= extent:
-                raise InputError(f"{f}.{ax}", f"starts at {lo:g} m, outside the panel (0 to {extent:.4g} m)",
-                                 "give the opening in metres from the panel's bottom left corner")
+                raise InputError(
+                    f"{f}.{ax}",
+                    f"starts at {lo:g} m, outside the panel (0 to {extent:.4g} m)",
+                    "give the opening in metres from the panel's bottom left corner",
+                )
             box[ax] = (lo, hi)
         openings.append(box)
     lintel = _ranged(p.get("lintel_strength", 0.0), "panel.lintel_strength", "stress", " Pa")
     if lintel and not openings:
-        raise InputError("panel.lintel_strength", "lintels act only over openings",
-                         "remove it or add panel.openings")
+        raise InputError(
+            "panel.lintel_strength",
+            "lintels act only over openings",
+            "remove it or add panel.openings",
+        )
 
     j = spec["joints"]
     _keys(j, JOINT_KEYS | set(LAW_KEYS), "joints", required=("kind", "mu", "k_n", "k_t"))
     kind = _choice(j["kind"], ("dry", "mortar"), "joints.kind")
-    law = {key: _choice(j.get(key, options[0]), options, f"joints.{key}") for key, options in LAW_KEYS.items()}
+    law = {
+        key: _choice(j.get(key, options[0]), options, f"joints.{key}")
+        for key, options in LAW_KEYS.items()
+    }
     j = {key: val for key, val in j.items() if key not in LAW_KEYS}
     joint = _joint_props(j, kind, "joints")
 
@@ -444,35 +534,58 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         _keys(r, RESTRAINT_KEYS, f, required=("edge", "fix"))
         edge = _choice(r["edge"], EDGES, f"{f}.edge")
         fix = _choice(r["fix"], tuple(FIX_DOFS), f"{f}.fix")
-        support = _choice(r.get("support", "joint" if edge == "base" else "block"), ("joint", "block"),
-                          f"{f}.support")
+        support = _choice(
+            r.get("support", "joint" if edge == "base" else "block"),
+            ("joint", "block"),
+            f"{f}.support",
+        )
         at = _choice(r.get("at", "centre"), RESTRAINT_AT, f"{f}.at")
         if "hold" in r and at == "centre":
-            raise InputError(f"{f}.hold", "only for a restraint line (at: edge or offset)",
-                             "remove it or set at: edge")
+            raise InputError(
+                f"{f}.hold",
+                "only for a restraint line (at: edge or offset)",
+                "remove it or set at: edge",
+            )
         if "offset" in r and at != "offset":
-            raise InputError(f"{f}.offset", f"only for at: offset (this restraint is at: {at})",
-                             "remove it or set at: offset")
+            raise InputError(
+                f"{f}.offset",
+                f"only for at: offset (this restraint is at: {at})",
+                "remove it or set at: offset",
+            )
         if support == "joint" and "at" in r:
-            raise InputError(f"{f}.at", "a support joint is the whole edge interface",
-                             "remove it, or set support: block for a restraint line")
+            raise InputError(
+                f"{f}.at",
+                "a support joint is the whole edge interface",
+                "remove it, or set support: block for a restraint line",
+            )
         if support == "joint":
             if fix != "all":
-                raise InputError(f"{f}.fix", f"{fix!r} with support: joint",
-                                 "a support joint is a fixed rigid support: use fix: all, or support: block")
+                raise InputError(
+                    f"{f}.fix",
+                    f"{fix!r} with support: joint",
+                    "a support joint is a fixed rigid support: use fix: all, or support: block",
+                )
             if "dead_load" in r:
-                raise InputError(f"{f}.dead_load", "only for support: block (a support joint always acts)",
-                                 "remove it or set support: block")
+                raise InputError(
+                    f"{f}.dead_load",
+                    "only for support: block (a support joint always acts)",
+                    "remove it or set support: block",
+                )
             if edge in support_edges:
-                raise InputError(f"{f}.edge", f"a second support joint on the {edge} edge",
-                                 "give each edge one support joint")
+                raise InputError(
+                    f"{f}.edge",
+                    f"a second support joint on the {edge} edge",
+                    "give each edge one support joint",
+                )
             support_edges.append(edge)
             over = _mapping(r.get("joint"), f"{f}.joint", allow_none=True)
             _keys(over, JOINT_KEYS - {"kind"}, f"{f}.joint")
             support_joint[edge] = _joint_props({**j, **over}, kind, f"{f}.joint", given=over)
         else:
             if "joint" in r:
-                raise InputError(f"{f}.joint", "only for support: joint", "remove it or set support: joint")
+                raise InputError(
+                    f"{f}.joint", "only for support: joint", "remove it or set support: joint"
+                )
             # dead_load: true -> this restraint also acts while the self-weight is applied
             # (a base restraint always does: it carries the self-weight)
             dead = _bool(r.get("dead_load", False), f"{f}.dead_load")
@@ -482,33 +595,49 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
                     dead_fix.add(edge)
             else:
                 if fix not in LINE_COMPONENTS:
-                    raise InputError(f"{f}.fix", f"{fix!r} on a restraint line (at: {at}): a line holds "
-                                     "the displacement of its points, not rotations",
-                                     "use fix: out_of_plane or translations, or at: centre")
+                    raise InputError(
+                        f"{f}.fix",
+                        f"{fix!r} on a restraint line (at: {at}): a line holds "
+                        "the displacement of its points, not rotations",
+                        "use fix: out_of_plane or translations, or at: centre",
+                    )
                 distance = 0.0
                 if at == "offset":
                     if "offset" not in r:
-                        raise InputError(f"{f}.offset", "missing for at: offset",
-                                         "give the line's distance from the edge in metres")
+                        raise InputError(
+                            f"{f}.offset",
+                            "missing for at: offset",
+                            "give the line's distance from the edge in metres",
+                        )
                     extent = length if edge in ("left", "right") else height
                     distance = _number(r["offset"], f"{f}.offset", 0.0, extent, units=" m")
                     if distance >= extent:
-                        raise InputError(f"{f}.offset", f"{distance:g} m is outside the panel "
-                                         f"({extent:.4g} m across)", "give a distance inside the panel")
+                        raise InputError(
+                            f"{f}.offset",
+                            f"{distance:g} m is outside the panel ({extent:.4g} m across)",
+                            "give a distance inside the panel",
+                        )
                 from stonedem.wall.restraints import LineRestraint
+
                 hold = _choice(r.get("hold", "line"), ("line", "points"), f"{f}.hold")
-                lines.append(LineRestraint(edge, LINE_COMPONENTS[fix], distance, dead or edge == "base",
-                                           hold))
+                lines.append(
+                    LineRestraint(
+                        edge, LINE_COMPONENTS[fix], distance, dead or edge == "base", hold
+                    )
+                )
 
     ld = spec["load"]
     _keys(ld, LOAD_KEYS, "load", required=("kind",))
     load_kind = _choice(ld["kind"], ("proportional", "pressure"), "load.kind")
     direction = _choice(ld.get("direction", "out_of_plane"), tuple(DIRECTIONS), "load.direction")
     if load_kind == "pressure" and direction != "out_of_plane":
-        raise InputError("load.direction", "pressure acts out of plane", "use direction: out_of_plane")
+        raise InputError(
+            "load.direction", "pressure acts out of plane", "use direction: out_of_plane"
+        )
     extras = []
-    for k, x in enumerate(_list(ld.get("extra_vertical"), "load.extra_vertical", allow_none=True,
-                                max_items=100)):
+    for k, x in enumerate(
+        _list(ld.get("extra_vertical"), "load.extra_vertical", allow_none=True, max_items=100)
+    ):
         f = f"load.extra_vertical[{k}]"
         _keys(x, EXTRA_KEYS, f, required=("count", "force"))
         cnt = _integer(x["count"], f"{f}.count", 1, MAX_POINT_LOADS)
@@ -529,9 +658,14 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
             v = _switch(val, f)
         else:
             v = _number(val, f, *rule[1:])
-        if key == "first_step" and 0.0 < v < MIN_FIRST_STEP:  # 1e-300 ran to lambda_max 4e-270, exit 0
-            raise InputError(f, f"{v:g} m is below {MIN_FIRST_STEP:g} m, where rounding steers the path",
-                             f"give 0 (automatic) or a step >= {MIN_FIRST_STEP:g} m")
+        if (
+            key == "first_step" and 0.0 < v < MIN_FIRST_STEP
+        ):  # 1e-300 ran to lambda_max 4e-270, exit 0
+            raise InputError(
+                f,
+                f"{v:g} m is below {MIN_FIRST_STEP:g} m, where rounding steers the path",
+                f"give 0 (automatic) or a step >= {MIN_FIRST_STEP:g} m",
+            )
         if key == "control_block":
             control_block = v
         else:
@@ -543,11 +677,40 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
 
     size = check_size(estimate_size(n_len, courses, support_edges, settings.max_steps, offset))
     if control_block is not None and control_block >= size.n_blocks:
-        raise InputError("solver.control_block", f"{control_block} >= {size.n_blocks:.0f} blocks",
-                         "give a block index of the panel")
-    return CaseInput(spec, name, a, b, s, n_len, courses, gamma, e, offset, openings, lintel, kind,
-                     joint, law, support_edges, support_joint, block_fix, dead_fix, lines, load_kind, direction,
-                     extras, extra_live, settings, control_block, size)
+        raise InputError(
+            "solver.control_block",
+            f"{control_block} >= {size.n_blocks:.0f} blocks",
+            "give a block index of the panel",
+        )
+    return CaseInput(
+        spec,
+        name,
+        a,
+        b,
+        s,
+        n_len,
+        courses,
+        gamma,
+        e,
+        offset,
+        openings,
+        lintel,
+        kind,
+        joint,
+        law,
+        support_edges,
+        support_joint,
+        block_fix,
+        dead_fix,
+        lines,
+        load_kind,
+        direction,
+        extras,
+        extra_live,
+        settings,
+        control_block,
+        size,
+    )
 
 
 def _check_reference(ref):
@@ -565,9 +728,13 @@ def _check_reference(ref):
                 raise InputError(f, "empty list", "give a number or a list of numbers")
         elif key in ("table", "n"):
             _integer(val, f, 1, 10_000)
-        else:   # case label: text or an integer
+        else:  # case label: text or an integer
             if isinstance(val, bool) or not isinstance(val, (str, int)):
-                raise InputError(f, f"expected a label, got {_kind_name(val)} {_show(val)}", "give text, e.g. S11")
+                raise InputError(
+                    f,
+                    f"expected a label, got {_kind_name(val)} {_show(val)}",
+                    "give text, e.g. S11",
+                )
             if isinstance(val, str):
                 _text(val, f, max_len=200)
 
@@ -575,6 +742,7 @@ def _check_reference(ref):
 def _joint_props(j, kind, field, given=None):
     """Joint properties of ``j``; ``given`` (support-joint overrides) names which keys the
     error should point at under ``field`` (the rest were checked under joints already)."""
+
     def name(key):
         return field if given is None or key in given else "joints"
 
@@ -585,23 +753,37 @@ def _joint_props(j, kind, field, given=None):
     if kind == "dry":
         for key in ("tensile_strength", "cohesion"):
             if key in j and _ranged(j[key], f"{name(key)}.{key}", "stress", " Pa") != 0.0:
-                raise InputError(f"{name(key)}.{key}", "a dry joint has no tensile strength or cohesion",
-                                 "remove it or use kind: mortar")
+                raise InputError(
+                    f"{name(key)}.{key}",
+                    "a dry joint has no tensile strength or cohesion",
+                    "remove it or use kind: mortar",
+                )
         sig_t, coh = 0.0, 0.0
     else:
         if "tensile_strength" not in j:
-            raise InputError(f"{field}.tensile_strength", "missing for a mortar joint", "add it in Pa")
-        sig_t = _ranged(j["tensile_strength"], f"{name('tensile_strength')}.tensile_strength", "stress", " Pa")
+            raise InputError(
+                f"{field}.tensile_strength", "missing for a mortar joint", "add it in Pa"
+            )
+        sig_t = _ranged(
+            j["tensile_strength"], f"{name('tensile_strength')}.tensile_strength", "stress", " Pa"
+        )
         # manuscript Eq. 10: shear strength mu (f_t - f_n), i.e. cohesion c = mu sigma_t
         if "cohesion" in j:
             coh = _ranged(j["cohesion"], f"{name('cohesion')}.cohesion", "stress", " Pa")
         else:
             coh = mu * sig_t
-    return {"mu": mu, "k_n": k_n, "k_t": k_t, "alpha": alpha, "tensile_strength": sig_t,
-            "cohesion": coh}
+    return {
+        "mu": mu,
+        "k_n": k_n,
+        "k_t": k_t,
+        "alpha": alpha,
+        "tensile_strength": sig_t,
+        "cohesion": coh,
+    }
 
 
 # --- building -----------------------------------------------------------------------------
+
 
 @dataclass
 class WallCase:
@@ -626,11 +808,22 @@ def build_case(ci: CaseInput) -> WallCase:
     """The panel, loads and restraints of a validated case (InputError for what only the built
     panel shows: openings removing every block or cutting blocks off from every support, a
     restrained control block, ...)."""
-    from stonedem.wall.constitutive import JointStrength   # numba and scipy: only once the case is valid
+    from stonedem.wall.constitutive import (
+        JointStrength,
+    )  # numba and scipy: only once the case is valid
     from stonedem.wall.pushover import WallModel
 
-    panel = build_panel(ci.a, ci.b, ci.s, ci.blocks_per_course, ci.courses, ci.joint_thickness,
-                        ci.openings, ci.first_course_offset, ci.support_edges)
+    panel = build_panel(
+        ci.a,
+        ci.b,
+        ci.s,
+        ci.blocks_per_course,
+        ci.courses,
+        ci.joint_thickness,
+        ci.openings,
+        ci.first_course_offset,
+        ci.support_edges,
+    )
     if panel.n_blocks == 0:
         raise InputError("panel.openings", "the openings remove every block", "make them smaller")
     nb = panel.n_blocks
@@ -641,8 +834,11 @@ def build_case(ci: CaseInput) -> WallCase:
     fixed = _pinned(panel, ci.block_fix)
     check_load_paths(ci, panel, fixed, ci.lines)
     if ni == 0:
-        raise InputError("panel", "a single block with no joints and no support joint",
-                         "give more blocks or a support joint (restraints: [{edge: base, fix: all}])")
+        raise InputError(
+            "panel",
+            "a single block with no joints and no support joint",
+            "give more blocks or a support joint (restraints: [{edge: base, fix: all}])",
+        )
     props = {key: np.full(ni, ci.joint[key]) for key in ci.joint}
     for edge, jp in ci.support_joint.items():
         sel = (panel.kind == KIND_SUPPORT) & (panel.edge == edge)
@@ -658,14 +854,25 @@ def build_case(ci: CaseInput) -> WallCase:
             c_above = panel.course[above].min()
             x_lo = panel.centre[:, 0] - panel.size[:, 0] / 2
             x_hi = panel.centre[:, 0] + panel.size[:, 0] / 2
-            beam = (panel.course == c_above) & (x_hi > box["x"][0] + 1e-9) & (x_lo < box["x"][1] - 1e-9)
+            beam = (
+                (panel.course == c_above)
+                & (x_hi > box["x"][0] + 1e-9)
+                & (x_lo < box["x"][1] - 1e-9)
+            )
             sel = (panel.kind == KIND_HEAD) & (panel.first >= 0) & (panel.second >= 0)
-            sel &= np.isin(panel.first, np.flatnonzero(beam)) & np.isin(panel.second, np.flatnonzero(beam))
+            sel &= np.isin(panel.first, np.flatnonzero(beam)) & np.isin(
+                panel.second, np.flatnonzero(beam)
+            )
             props["tensile_strength"][sel] = ci.lintel_strength
             props["cohesion"][sel] = props["mu"][sel] * ci.lintel_strength
-    strength = JointStrength(props["mu"], props["tensile_strength"], props["cohesion"], props["alpha"],
-                             torsion_all_joints=ci.law["torsion_under_bending"] == "all",
-                             release_both_rotations=ci.law["bending_release"] == "both")
+    strength = JointStrength(
+        props["mu"],
+        props["tensile_strength"],
+        props["cohesion"],
+        props["alpha"],
+        torsion_all_joints=ci.law["torsion_under_bending"] == "all",
+        release_both_rotations=ci.law["bending_release"] == "both",
+    )
 
     weight = ci.unit_weight * panel.volume
     dead = np.zeros((nb, 6))
@@ -686,8 +893,11 @@ def build_case(ci: CaseInput) -> WallCase:
             if ci.extra_live and ci.load_kind == "proportional":
                 live[blk, DIRECTIONS[ci.direction]] += force
     if not np.any((live.ravel() != 0) & ~fixed.ravel()):
-        raise InputError("restraints", "every block is held in the direction of the live load",
-                         "restrain only the edges (fewer restraints), or give a larger panel")
+        raise InputError(
+            "restraints",
+            "every block is held in the direction of the live load",
+            "restrain only the edges (fewer restraints), or give a larger panel",
+        )
     # restraints away from the base hold the wall after its self-weight has settled it
     fixed_dead = np.zeros_like(fixed)
     for blk in panel.touching("base"):
@@ -702,18 +912,34 @@ def build_case(ci: CaseInput) -> WallCase:
         lines = [dataclasses.replace(ln, dead_load=True) for ln in lines]
     if ci.control_block is not None:
         if ci.control_block >= nb:
-            raise InputError("solver.control_block", f"{ci.control_block} >= {nb} blocks",
-                             "give a block index of the panel")
+            raise InputError(
+                "solver.control_block",
+                f"{ci.control_block} >= {nb} blocks",
+                "give a block index of the panel",
+            )
         comp = DIRECTIONS[ci.direction] if ci.load_kind == "proportional" else 2
         if fixed[ci.control_block, comp]:
-            raise InputError("solver.control_block", f"block {ci.control_block} is restrained in the load direction",
-                             "give a free block, or remove control_block (the solver picks one)")
-    model = WallModel(panel, props["k_n"], props["k_t"], strength, dead.ravel(), live.ravel(),
-                      fixed.ravel(), fixed_dead.ravel(), lines)
+            raise InputError(
+                "solver.control_block",
+                f"block {ci.control_block} is restrained in the load direction",
+                "give a free block, or remove control_block (the solver picks one)",
+            )
+    model = WallModel(
+        panel,
+        props["k_n"],
+        props["k_t"],
+        strength,
+        dead.ravel(),
+        live.ravel(),
+        fixed.ravel(),
+        fixed_dead.ravel(),
+        lines,
+    )
     return WallCase(ci.spec, ci.name, model, ci.settings, ci.control_block, ci.load_kind)
 
 
 # --- load paths ---------------------------------------------------------------------------
+
 
 def _pinned(panel, block_fix) -> np.ndarray:
     """(nb, 6) bool: the DOFs held by the pins of ``block_fix`` (edge -> DOFs), on the blocks
@@ -773,8 +999,9 @@ def _courses(course, courses) -> str:
 
 def _removed_text(full, removed, courses) -> str:
     """What a set of removed cells (``removed``: bool over the unholed panel) takes out."""
-    whole = np.array([c for c in np.unique(full.course[removed]) if removed[full.course == c].all()],
-                     dtype=int)
+    whole = np.array(
+        [c for c in np.unique(full.course[removed]) if removed[full.course == c].all()], dtype=int
+    )
     part = removed & ~np.isin(full.course, whole)
     text = [f"every block of {_courses(whole, courses)}"] if whole.size else []
     if part.any():
@@ -787,14 +1014,24 @@ def _blame(ci, panel, cut):
     whose blocks, put back alone, give some of the blocks a load path (most first); else every
     opening that removes a block (only together do they cut the blocks off)."""
     every = list(range(len(ci.openings)))
-    full = build_panel(ci.a, ci.b, ci.s, ci.blocks_per_course, ci.courses, ci.joint_thickness, (),
-                       ci.first_course_offset, ci.support_edges)
+    full = build_panel(
+        ci.a,
+        ci.b,
+        ci.s,
+        ci.blocks_per_course,
+        ci.courses,
+        ci.joint_thickness,
+        (),
+        ci.first_course_offset,
+        ci.support_edges,
+    )
     x, y = full.centre[:, 0], full.centre[:, 1]
     # the test build_panel removes a block by, on the same centres
-    inside = np.array([(o["x"][0] < x) & (x < o["x"][1]) & (o["y"][0] < y) & (y < o["y"][1])
-                       for o in ci.openings]).reshape(len(ci.openings), full.n_blocks)
+    inside = np.array(
+        [(o["x"][0] < x) & (x < o["x"][1]) & (o["y"][0] < y) & (y < o["y"][1]) for o in ci.openings]
+    ).reshape(len(ci.openings), full.n_blocks)
     kept = ~inside.any(axis=0)
-    if int(kept.sum()) != panel.n_blocks:   # not reached: the holed panel is the kept cells
+    if int(kept.sum()) != panel.n_blocks:  # not reached: the holed panel is the kept cells
         return every, "the blocks between them and the supports"
     cut_full = np.zeros(full.n_blocks, dtype=bool)
     cut_full[np.flatnonzero(kept)[cut]] = True
@@ -819,20 +1056,32 @@ def check_load_paths(ci: CaseInput, panel, fixed, lines) -> None:
     if not cut.any():
         return
     nb, n = panel.n_blocks, int(cut.sum())
-    who = (f"every block ({nb}, {_courses(panel.course, ci.courses)}) has" if n == nb else
-           f"{n} of the {nb} blocks ({_courses(panel.course[cut], ci.courses)}) have")
+    who = (
+        f"every block ({nb}, {_courses(panel.course, ci.courses)}) has"
+        if n == nb
+        else f"{n} of the {nb} blocks ({_courses(panel.course[cut], ci.courses)}) have"
+    )
     edges = [e for e in EDGES if e in ci.support_edges or e in ci.block_fix]
     where = [f"the {' and '.join(edges)} edge{'s' if len(edges) > 1 else ''}"] if edges else []
-    where += [f"the {ln.edge} line" + (f" {ln.distance:g} m inside" if ln.distance else "")
-              for ln in lines if ln.edge not in edges or ln.distance]
+    where += [
+        f"the {ln.edge} line" + (f" {ln.distance:g} m inside" if ln.distance else "")
+        for ln in lines
+        if ln.edge not in edges or ln.distance
+    ]
     why = f"a support acts only on the blocks on {' and '.join(where)}"
     fix = "shrink or move the opening so that blocks join these to a support, or support an edge they touch"
-    if not ci.openings:   # not reached: a running-bond panel without openings is all joined
+    if not ci.openings:  # not reached: a running-bond panel without openings is all joined
         raise InputError("restraints", f"{who} no load path to a support ({why})", fix)
     order, removed = _blame(ci, panel, cut)
     text = "the opening removes"
     if len(order) > 1:
         others = ", ".join(f"panel.openings[{k}]" for k in order[1:])
-        text, fix = f"with {others}, the opening removes", fix.replace("the opening", "the openings")
-    raise InputError(f"panel.openings[{order[0]}]",
-                     f"{who} no load path to a support: {text} {removed}, and {why}", fix)
+        text, fix = (
+            f"with {others}, the opening removes",
+            fix.replace("the opening", "the openings"),
+        )
+    raise InputError(
+        f"panel.openings[{order[0]}]",
+        f"{who} no load path to a support: {text} {removed}, and {why}",
+        fix,
+    )

@@ -29,10 +29,15 @@ PROGRESS_SECONDS = 2.0
 def _arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("case", type=Path, help="wall case YAML file (schema: stonedem.wall.case)")
     parser.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file (.nc)")
-    parser.add_argument("--limit", action="store_true",
-                        help="also the collapse multiplier by limit analysis (HiGHS LP) with the joint "
-                             "caps on the pushover's actions at its peak: proves the plateau")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress lines and no summary line")
+    parser.add_argument(
+        "--limit",
+        action="store_true",
+        help="also the collapse multiplier by limit analysis (HiGHS LP) with the joint "
+        "caps on the pushover's actions at its peak: proves the plateau",
+    )
+    parser.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress lines and no summary line"
+    )
     return parser
 
 
@@ -61,7 +66,7 @@ class ProgressLog:
             return
         self.last = now
         line = f"pushover: step {step}, lambda {lam:.4g}{self.units}"
-        if u == u:   # not NaN (a step being cut back)
+        if u == u:  # not NaN (a step being cut back)
             line += f", u {u:.3g} m"
         if message:
             line += f" (cutting the step back: {message})"
@@ -74,7 +79,7 @@ def pushover(checked: dict, output=None, progress: bool = False, limit_analysis:
     """Build a checked case (:func:`stonedem.wall.case.check_case`), push it over and, with
     ``output``, write it; ``progress``: a :class:`ProgressLog` line on stderr every few seconds."""
     from stonedem.wall.case import build_case
-    from stonedem.wall.dataset import run_case   # xarray, numba, scipy: only once the input is valid
+    from stonedem.wall.dataset import run_case  # xarray, numba, scipy: only once the input is valid
 
     case = build_case(checked)
     log = ProgressLog(units=" Pa" if case.load_kind == "pressure" else "") if progress else None
@@ -90,21 +95,25 @@ def command_wall(args) -> int:
     check_output_path(args.output, "-o/--output", inputs=[args.case], suffixes=OUTPUT_SUFFIXES)
     ds = pushover(checked, args.output, progress=not args.quiet, limit_analysis=args.limit)
     if not args.quiet:
-        print(f"wrote {args.output}: lambda_max = {float(ds.lambda_max):.4g} "
-              f"({ds.attrs['status']}), {ds.sizes['step']} steps, {ds.attrs['n_blocks']} blocks, "
-              f"{ds.attrs['wall_seconds']:.1f} s", file=sys.stderr)
+        print(
+            f"wrote {args.output}: lambda_max = {float(ds.lambda_max):.4g} "
+            f"({ds.attrs['status']}), {ds.sizes['step']} steps, {ds.attrs['n_blocks']} blocks, "
+            f"{ds.attrs['wall_seconds']:.1f} s",
+            file=sys.stderr,
+        )
         if args.limit:
             la = ds["lambda_limit_analysis"]
-            print(f"limit analysis: {float(la):.4g} on the joint caps at lambda_max ({la.attrs['status']}, "
-                  f"{la.attrs['seconds']:.1f} s); {ds.attrs['limit_analysis_verdict']}", file=sys.stderr)
+            print(
+                f"limit analysis: {float(la):.4g} on the joint caps at lambda_max ({la.attrs['status']}, "
+                f"{la.attrs['seconds']:.1f} s); {ds.attrs['limit_analysis_verdict']}",
+                file=sys.stderr,
+            )
     return 0
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python3 -m stonedem.wall``: the shared exit conventions of :func:`stonedem.entry.guarded`."""
-    from stonedem.entry import guarded
-
-    from stonedem.entry import Parser
+    from stonedem.entry import Parser, guarded
 
     parser = _arguments(Parser(prog="stonedem wall", description=HELP))
     args = parser.parse_args(argv)

@@ -22,8 +22,13 @@ import numpy as np
 from stonedem.wall import return_map_kernel as kernel
 from stonedem.wall.return_map_kernel import DETACHED, ELASTIC, FLEXURAL, SHEAR, SHEAR_FLEXURAL
 
-STATE_NAMES = {ELASTIC: "elastic", SHEAR: "shear", FLEXURAL: "flexural",
-               SHEAR_FLEXURAL: "shear and flexural", DETACHED: "detached"}
+STATE_NAMES = {
+    ELASTIC: "elastic",
+    SHEAR: "shear",
+    FLEXURAL: "flexural",
+    SHEAR_FLEXURAL: "shear and flexural",
+    DETACHED: "detached",
+}
 
 
 @dataclass
@@ -31,11 +36,11 @@ class JointStrength:
     """Per-interface strength parameters."""
 
     mu: np.ndarray
-    tensile_strength: np.ndarray   # sigma_t [Pa]
-    cohesion: np.ndarray           # c [Pa]
-    alpha: np.ndarray              # exponent of Eq. 14
-    brittle: bool = False          # True: tensile strength lost at detachment (not the manuscript)
-    n_eps: object = 0.0            # [N] smoothing width of the capacities near zero compression
+    tensile_strength: np.ndarray  # sigma_t [Pa]
+    cohesion: np.ndarray  # c [Pa]
+    alpha: np.ndarray  # exponent of Eq. 14
+    brittle: bool = False  # True: tensile strength lost at detachment (not the manuscript)
+    n_eps: object = 0.0  # [N] smoothing width of the capacities near zero compression
     # Fig. 10 torsion reduction under bending on every joint (False: no-tension joints only)
     torsion_all_joints: bool = True
     # Eq. 13 read literally: both rotational stiffnesses zeroed when one bending component
@@ -45,11 +50,11 @@ class JointStrength:
 
 @dataclass
 class ReturnMap:
-    forces: np.ndarray       # (ni, 6) local actions
-    plastic: np.ndarray      # (ni, 6) plastic relative displacements
-    state: np.ndarray        # (ni,) ELASTIC ... DETACHED
-    cracked: np.ndarray      # (ni,) bool: tensile strength lost
-    tangent: np.ndarray      # (ni, 6) factors on K-bar: 1 elastic, 0 yielded (Eq. 13-14)
+    forces: np.ndarray  # (ni, 6) local actions
+    plastic: np.ndarray  # (ni, 6) plastic relative displacements
+    state: np.ndarray  # (ni,) ELASTIC ... DETACHED
+    cracked: np.ndarray  # (ni,) bool: tensile strength lost
+    tangent: np.ndarray  # (ni, 6) factors on K-bar: 1 elastic, 0 yielded (Eq. 13-14)
 
 
 def _flat(*arrays):
@@ -84,20 +89,34 @@ def project_shear_torsion(r, s, F, M, alpha, k_s, k_m):
 
 
 def _state_arguments(d, plastic_old, cracked_old, k):
-    return (np.ascontiguousarray(d, dtype=float), np.ascontiguousarray(plastic_old, dtype=float),
-            np.ascontiguousarray(cracked_old, dtype=np.bool_), np.ascontiguousarray(k, dtype=float))
+    return (
+        np.ascontiguousarray(d, dtype=float),
+        np.ascontiguousarray(plastic_old, dtype=float),
+        np.ascontiguousarray(cracked_old, dtype=np.bool_),
+        np.ascontiguousarray(k, dtype=float),
+    )
 
 
 def _section_arguments(sec, strength: JointStrength, ni):
     """Per-interface geometry and strength in the order of ``kernel.interface_actions``."""
+
     def per_interface(v):
         return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), (ni,)))
 
-    return (per_interface(sec.area), np.ascontiguousarray(sec.lever, dtype=float),
-            per_interface(sec.width), per_interface(sec.depth), per_interface(strength.mu),
-            per_interface(strength.tensile_strength), per_interface(strength.cohesion),
-            per_interface(strength.alpha), bool(strength.brittle), per_interface(strength.n_eps),
-            bool(strength.torsion_all_joints), bool(strength.release_both_rotations))
+    return (
+        per_interface(sec.area),
+        np.ascontiguousarray(sec.lever, dtype=float),
+        per_interface(sec.width),
+        per_interface(sec.depth),
+        per_interface(strength.mu),
+        per_interface(strength.tensile_strength),
+        per_interface(strength.cohesion),
+        per_interface(strength.alpha),
+        bool(strength.brittle),
+        per_interface(strength.n_eps),
+        bool(strength.torsion_all_joints),
+        bool(strength.release_both_rotations),
+    )
 
 
 def _old_forces(forces_old, d):
@@ -106,8 +125,9 @@ def _old_forces(forces_old, d):
     return np.ascontiguousarray(forces_old, dtype=float)
 
 
-def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength,
-               forces_old=None) -> ReturnMap:
+def return_map(
+    d, plastic_old, cracked_old, k, sec, strength: JointStrength, forces_old=None
+) -> ReturnMap:
     """Actions of every interface for local relative displacements ``d`` (ni x 6).
 
     A pure function of (d, plastic_old, cracked_old, forces_old): within a load step the solver
@@ -117,17 +137,35 @@ def return_map(d, plastic_old, cracked_old, k, sec, strength: JointStrength,
     """
     d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
     f, plastic, tangent, state, cracked = kernel.interface_actions(
-        d, p, c, _old_forces(forces_old, d), k, *_section_arguments(sec, strength, len(d)))
+        d, p, c, _old_forces(forces_old, d), k, *_section_arguments(sec, strength, len(d))
+    )
     return ReturnMap(f, plastic, state, cracked, tangent)
 
 
-def return_map_derivative(d, rm: ReturnMap, plastic_old, cracked_old, k, sec,
-                          strength: JointStrength, eps, forces_old=None) -> np.ndarray:
+def return_map_derivative(
+    d,
+    rm: ReturnMap,
+    plastic_old,
+    cracked_old,
+    k,
+    sec,
+    strength: JointStrength,
+    eps,
+    forces_old=None,
+) -> np.ndarray:
     """(ni, 6, 6) derivative of the forces of ``rm`` (the return map at ``d``): K-bar on elastic
     interfaces, forward differences elsewhere (normal perturbed towards contact), each
     diagonal term at least ``eps`` x K-bar."""
     d, p, c, k = _state_arguments(d, plastic_old, cracked_old, k)
     sec_args = _section_arguments(sec, strength, len(d))
-    return kernel.interface_tangents(d, np.ascontiguousarray(rm.forces, dtype=float),
-                                     np.ascontiguousarray(rm.state), p, c, _old_forces(forces_old, d), k,
-                                     *sec_args, float(eps))
+    return kernel.interface_tangents(
+        d,
+        np.ascontiguousarray(rm.forces, dtype=float),
+        np.ascontiguousarray(rm.state),
+        p,
+        c,
+        _old_forces(forces_old, d),
+        k,
+        *sec_args,
+        float(eps),
+    )

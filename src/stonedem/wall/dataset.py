@@ -22,40 +22,44 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     nb = panel.n_blocks
     lam_units = pressure_units if case.load_kind == "pressure" else "1"
     q = result.q.reshape(len(result.q), nb, 6)
-    data = schema_variables({
-        "lambda": (("step",), result.lam),
-        "control_displacement": (("step",), result.control),
-        "iterations": (("step",), result.iterations.astype(np.int32)),
-        "residual": (("step",), result.residual),
-        "damage": (("step", "interface"), result.state.astype(np.int8)),
-        "lambda_max": ((), result.lambda_max),
-        "step_at_limit": ((), np.int32(result.step_max)),
-        "displacement_at_limit": (("block", "dof"), q[result.step_max]),
-        "displacement_final": (("block", "dof"), q[-1]),
-        "interface_forces_at_limit": (("interface", "dof"), result.interface_forces_at_max),
-        "damage_at_limit": (("interface",), result.state[result.step_max].astype(np.int8)),
-    })
+    data = schema_variables(
+        {
+            "lambda": (("step",), result.lam),
+            "control_displacement": (("step",), result.control),
+            "iterations": (("step",), result.iterations.astype(np.int32)),
+            "residual": (("step",), result.residual),
+            "damage": (("step", "interface"), result.state.astype(np.int8)),
+            "lambda_max": ((), result.lambda_max),
+            "step_at_limit": ((), np.int32(result.step_max)),
+            "displacement_at_limit": (("block", "dof"), q[result.step_max]),
+            "displacement_final": (("block", "dof"), q[-1]),
+            "interface_forces_at_limit": (("interface", "dof"), result.interface_forces_at_max),
+            "damage_at_limit": (("interface",), result.state[result.step_max].astype(np.int8)),
+        }
+    )
     data["lambda"].attrs["units"] = lam_units
     data["lambda_max"].attrs["units"] = lam_units
     if not result.limit_reached:
         data["lambda_max"].attrs["comment"] = result.limit_note
-    coords = schema_variables({
-        "step": (("step",), np.arange(len(result.lam), dtype=np.int32)),
-        "block": (("block",), np.arange(nb, dtype=np.int32)),
-        "interface": (("interface",), np.arange(panel.n_interfaces, dtype=np.int32)),
-        "dof": (("dof",), np.array(["u1", "u2", "u3", "w1", "w2", "w3"], dtype=object)),
-        "block_x": (("block",), panel.centre[:, 0]),
-        "block_y": (("block",), panel.centre[:, 1]),
-        "block_length": (("block",), panel.size[:, 0]),
-        "block_course": (("block",), panel.course.astype(np.int32)),
-        "interface_x": (("interface",), panel.centroid[:, 0]),
-        "interface_y": (("interface",), panel.centroid[:, 1]),
-        "interface_width": (("interface",), panel.width),
-        "interface_kind": (("interface",), panel.kind.astype(np.int8)),
-        "interface_first": (("interface",), panel.first.astype(np.int32)),
-        "interface_second": (("interface",), panel.second.astype(np.int32)),
-        "interface_normal_axis": (("interface",), panel.normal_axis.astype(np.int8)),
-    })
+    coords = schema_variables(
+        {
+            "step": (("step",), np.arange(len(result.lam), dtype=np.int32)),
+            "block": (("block",), np.arange(nb, dtype=np.int32)),
+            "interface": (("interface",), np.arange(panel.n_interfaces, dtype=np.int32)),
+            "dof": (("dof",), np.array(["u1", "u2", "u3", "w1", "w2", "w3"], dtype=object)),
+            "block_x": (("block",), panel.centre[:, 0]),
+            "block_y": (("block",), panel.centre[:, 1]),
+            "block_length": (("block",), panel.size[:, 0]),
+            "block_course": (("block",), panel.course.astype(np.int32)),
+            "interface_x": (("interface",), panel.centroid[:, 0]),
+            "interface_y": (("interface",), panel.centroid[:, 1]),
+            "interface_width": (("interface",), panel.width),
+            "interface_kind": (("interface",), panel.kind.astype(np.int8)),
+            "interface_first": (("interface",), panel.first.astype(np.int32)),
+            "interface_second": (("interface",), panel.second.astype(np.int32)),
+            "interface_normal_axis": (("interface",), panel.normal_axis.astype(np.int8)),
+        }
+    )
     spec = case.spec
     joints = spec["joints"]
     attrs = {
@@ -66,26 +70,36 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         "case_name": case.name,
         "load_kind": case.load_kind,
         "lambda_units": lam_units,
-        "joint_kind": joints["kind"], "mu": float(joints["mu"]),
-        "k_n": float(joints["k_n"]), "k_n_units": "N m-3",
-        "k_t": float(joints["k_t"]), "k_t_units": "N m-3",
-        "tensile_strength": float(joints.get("tensile_strength", 0.0)), "tensile_strength_units": "Pa",
+        "joint_kind": joints["kind"],
+        "mu": float(joints["mu"]),
+        "k_n": float(joints["k_n"]),
+        "k_n_units": "N m-3",
+        "k_t": float(joints["k_t"]),
+        "k_t_units": "N m-3",
+        "tensile_strength": float(joints.get("tensile_strength", 0.0)),
+        "tensile_strength_units": "Pa",
         "alpha": float(joints.get("alpha", 1.5)),
-        "block_a": float(spec["panel"]["block"]["a"]), "block_b": float(spec["panel"]["block"]["b"]),
-        "block_s": float(spec["panel"]["block"]["s"]), "block_units": "m",
-        "n_blocks": nb, "n_interfaces": panel.n_interfaces,
-        "panel_length": panel.length, "panel_height": panel.height,
+        "block_a": float(spec["panel"]["block"]["a"]),
+        "block_b": float(spec["panel"]["block"]["b"]),
+        "block_s": float(spec["panel"]["block"]["s"]),
+        "block_units": "m",
+        "n_blocks": nb,
+        "n_interfaces": panel.n_interfaces,
+        "panel_length": panel.length,
+        "panel_height": panel.height,
         "control_dof": result.control_dof,
         "control_block": result.control_dof // 6,
         # the status says when the path ended before a limit (max_steps, max_seconds, ...)
-        "status": result.status if result.limit_reached else f"{result.status}; {result.limit_note}",
+        "status": result.status
+        if result.limit_reached
+        else f"{result.status}; {result.limit_note}",
         "limit_reached": "yes" if result.limit_reached else "no",
         # every plateau (and end past a peak) the path met, with the limit analysis on its caps
         "plateau_checks": "; ".join(result.plateau_checks) or "none",
         "wall_seconds": result.wall_seconds,
         "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
-                  "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
-                  "residual line search; banded LU (LAPACK dgbtrf), sparse LU (scipy splu) for a wide band",
+        "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
+        "residual line search; banded LU (LAPACK dgbtrf), sparse LU (scipy splu) for a wide band",
         "solver_settings": json.dumps(result.settings, sort_keys=True),
         "damage_codes": json.dumps(STATE_NAMES),
         "interface_kinds": json.dumps(KIND_NAMES),
@@ -95,12 +109,15 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     if "reference" in spec:
         attrs["reference"] = json.dumps(spec["reference"], sort_keys=True)
         ref = spec["reference"].get("lambda_dem", spec["reference"].get("p_dem"))
-        if ref:   # the verdict travels with the data, not only in the tables
+        if ref:  # the verdict travels with the data, not only in the tables
             err = float(result.lambda_max) / float(ref) - 1
             attrs["manuscript_dem"] = float(ref)
             attrs["error_vs_manuscript_dem"] = err
-            attrs["within_tolerance"] = ("yes" if abs(err) <= LIMIT_TOLERANCE else "no") if result.limit_reached \
+            attrs["within_tolerance"] = (
+                ("yes" if abs(err) <= LIMIT_TOLERANCE else "no")
+                if result.limit_reached
                 else "not determined: no limit load reached"
+            )
             attrs["tolerance"] = f"{LIMIT_TOLERANCE:.0%} of the manuscript DEM limit load"
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
@@ -118,19 +135,26 @@ def add_limit_analysis(ds, at_limit, dead_load=None):
         pairs.append(("lambda_limit_analysis_dead_load", dead_load))
     for name, r in pairs:
         var = schema_variables({name: ((), r.lambda_limit)})[name]
-        var.attrs.update(units=units, status=r.status, lp_rounds=np.int32(r.rounds),
-                         supporting_planes=np.int32(r.cuts), domain_excess=r.domain_excess,
-                         seconds=round(r.seconds, 2))
+        var.attrs.update(
+            units=units,
+            status=r.status,
+            lp_rounds=np.int32(r.rounds),
+            supporting_planes=np.int32(r.cuts),
+            domain_excess=r.domain_excess,
+            seconds=round(r.seconds, 2),
+        )
         ds[name] = var
     gap = float(ds.lambda_max) / at_limit.lambda_limit - 1
     ds.attrs["pushover_vs_limit_analysis"] = gap
     ds.attrs["limit_analysis_verdict"] = (
         f"plateau proven: lambda_max within {ORACLE_TOLERANCE:.0%} of the limit analysis on its caps"
-        if abs(gap) <= ORACLE_TOLERANCE else
-        f"plateau NOT proven: lambda_max {gap:+.1%} from the limit analysis on its caps")
+        if abs(gap) <= ORACLE_TOLERANCE
+        else f"plateau NOT proven: lambda_max {gap:+.1%} from the limit analysis on its caps"
+    )
     ds.attrs["limit_analysis_solver"] = (
         "static theorem, HiGHS interior point (highspy) with Kelley cutting planes of the Eq. 14 "
-        "shear-torsion domain; joint caps (Eq. 9-12, Fig. 10) on the given actions")
+        "shear-torsion domain; joint caps (Eq. 9-12, Fig. 10) on the given actions"
+    )
     return ds
 
 
@@ -144,28 +168,43 @@ def run_case(case, output=None, progress=None, limit_analysis=False) -> xr.Datas
     try:
         result = pushover(case.model, case.settings, case.control_block, progress=progress)
     except DeadLoadError as err:
-        raise InputError("restraints", f"leave a mechanism at lambda = 0: {err}",
-                         "hold the wall from below, e.g. add {edge: base, fix: all}") from err
-    except ConvergenceError as err:   # the live load cannot be started from the dead-load state
-        raise InputError("restraints", f"the live load cannot be applied: {err}",
-                         "check the restraints and the load direction") from err
+        raise InputError(
+            "restraints",
+            f"leave a mechanism at lambda = 0: {err}",
+            "hold the wall from below, e.g. add {edge: base, fix: all}",
+        ) from err
+    except ConvergenceError as err:  # the live load cannot be started from the dead-load state
+        raise InputError(
+            "restraints",
+            f"the live load cannot be applied: {err}",
+            "check the restraints and the load direction",
+        ) from err
     ds = wall_dataset(case, result)
     if limit_analysis:
         from stonedem.wall.limit_analysis import LimitAnalysisError, limit_multiplier
 
         try:
-            at_limit = limit_multiplier(case.model, caps_at=result.interface_forces_at_max,
-                                        lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE)
+            at_limit = limit_multiplier(
+                case.model,
+                caps_at=result.interface_forces_at_max,
+                lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE,
+            )
         except LimitAnalysisError as err:
-            raise InputError("restraints", f"the limit analysis has no answer: {err}",
-                             "check the restraints and the load direction") from err
+            raise InputError(
+                "restraints",
+                f"the limit analysis has no answer: {err}",
+                "check the restraints and the load direction",
+            ) from err
         add_limit_analysis(ds, at_limit)
     if output is not None:
         try:
             write_dataset(ds, output)
-        except OSError as err:   # disk full, folder removed meanwhile, ...: one line, no file
-            raise InputError("-o/--output", f"cannot write {output} ({err.strerror or err})",
-                             "give a path on a writable disk with free space") from err
+        except OSError as err:  # disk full, folder removed meanwhile, ...: one line, no file
+            raise InputError(
+                "-o/--output",
+                f"cannot write {output} ({err.strerror or err})",
+                "give a path on a writable disk with free space",
+            ) from err
     return ds
 
 

@@ -21,11 +21,24 @@ def damage_map(ax, ds, scale=None):
     umax = np.abs(u3).max() or 1.0
     a_cell = float(ds.attrs["panel_height"]) / (int(ds.block_course.max()) + 1)
     for x, y, length, u in zip(ds.block_x.values, ds.block_y.values, ds.block_length.values, u3):
-        ax.add_patch(Rectangle((x - length / 2, y - a_cell / 2), length, a_cell, facecolor=plt.cm.Blues(0.15 + 0.7 * abs(u) / umax),
-                               edgecolor="0.6", linewidth=0.3))
+        ax.add_patch(
+            Rectangle(
+                (x - length / 2, y - a_cell / 2),
+                length,
+                a_cell,
+                facecolor=plt.cm.Blues(0.15 + 0.7 * abs(u) / umax),
+                edgecolor="0.6",
+                linewidth=0.3,
+            )
+        )
     state = ds.damage_at_limit.values
-    for x, y, w, ax_n, st in zip(ds.interface_x.values, ds.interface_y.values, ds.interface_width.values,
-                                 ds.interface_normal_axis.values, state):
+    for x, y, w, ax_n, st in zip(
+        ds.interface_x.values,
+        ds.interface_y.values,
+        ds.interface_width.values,
+        ds.interface_normal_axis.values,
+        state,
+    ):
         xs, ys = ((x, x), (y - w / 2, y + w / 2)) if ax_n == 0 else ((x - w / 2, x + w / 2), (y, y))
         ax.plot(xs, ys, color=STATE_COLOURS[int(st)], linewidth=1.2 if st else 0.5)
     ax.set_aspect("equal")
@@ -55,13 +68,19 @@ def damage_figure(datasets, path, ncols=3):
     n = len(datasets)
     ncols = min(ncols, n)
     nrows = int(np.ceil(n / ncols))
-    fig, axes = plt.subplots(nrows, ncols, figsize=(max(3.4 * ncols, 6.0), 3.4 * nrows), squeeze=False)
+    fig, axes = plt.subplots(
+        nrows, ncols, figsize=(max(3.4 * ncols, 6.0), 3.4 * nrows), squeeze=False
+    )
     for ax, ds in zip(axes.ravel(), datasets):
         damage_map(ax, ds)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
-    handles = [plt.Line2D([], [], color=c, label=lab) for c, lab in
-               zip(STATE_COLOURS.values(), ["elastic", "shear", "flexural", "shear+flexural", "detached"])]
+    handles = [
+        plt.Line2D([], [], color=c, label=lab)
+        for c, lab in zip(
+            STATE_COLOURS.values(), ["elastic", "shear", "flexural", "shear+flexural", "detached"]
+        )
+    ]
     fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=7)
     fig.tight_layout(rect=(0, 0.05, 1, 1))
     fig.savefig(path, dpi=150)

@@ -17,15 +17,17 @@ import numpy as np
 from stonedem.wall.return_map_kernel import torsion_constant_array
 
 # manuscript Table A1: l1/l2, alpha (f1 only), alpha (f2 only), alpha (f1 = f2)
-TABLE_A1 = np.array([
-    [0.1, 1.00, 2.56, 2.00],
-    [0.2, 1.05, 2.44, 1.90],
-    [0.5, 1.25, 1.92, 1.70],
-    [1.0, 1.43, 1.43, 1.43],
-    [2.0, 1.92, 1.25, 1.70],
-    [5.0, 2.44, 1.05, 1.90],
-    [10.0, 2.56, 1.00, 2.00],
-])
+TABLE_A1 = np.array(
+    [
+        [0.1, 1.00, 2.56, 2.00],
+        [0.2, 1.05, 2.44, 1.90],
+        [0.5, 1.25, 1.92, 1.70],
+        [1.0, 1.43, 1.43, 1.43],
+        [2.0, 1.92, 1.25, 1.70],
+        [5.0, 2.44, 1.05, 1.90],
+        [10.0, 2.56, 1.00, 2.00],
+    ]
+)
 
 
 def torsion_constant(l1, l2):
@@ -80,8 +82,8 @@ def alpha_from_table(l1_over_l2, shear_direction="f1"):
 class SpringHistory:
     """Resultants per step of a spring sub-model push: forces [N], moments [N m]."""
 
-    drive: np.ndarray      # (steps, 6) imposed d1 d2 d3 delta1 delta2 delta3 [m, rad]
-    forces: np.ndarray     # (steps, 6) f1 f2 f3 m1 m2 m3
+    drive: np.ndarray  # (steps, 6) imposed d1 d2 d3 delta1 delta2 delta3 [m, rad]
+    forces: np.ndarray  # (steps, 6) f1 f2 f3 m1 m2 m3
     shear_stress: np.ndarray  # (n*n, 2) final tau1, tau2 per spring [Pa]
     x: np.ndarray
     y: np.ndarray
@@ -94,8 +96,9 @@ class SpringHistory:
 class SpringInterface:
     """An l1 x l2 interface as n x n elastic-perfectly-plastic Mohr-Coulomb springs."""
 
-    def __init__(self, l1, l2, n=32, k_n=2.4e9, k_s=1.0e9, mu=0.7, tensile_strength=0.0,
-                 cohesion=None):
+    def __init__(
+        self, l1, l2, n=32, k_n=2.4e9, k_s=1.0e9, mu=0.7, tensile_strength=0.0, cohesion=None
+    ):
         self.l1, self.l2, self.n = float(l1), float(l2), int(n)
         self.k_n, self.k_s, self.mu = float(k_n), float(k_s), float(mu)
         self.tensile_strength = float(tensile_strength)
@@ -123,9 +126,16 @@ class SpringInterface:
 
     def resultants(self, sigma, tau1, tau2):
         dA, x, y = self.dA, self.x, self.y
-        return np.array([tau1.sum() * dA, tau2.sum() * dA, sigma.sum() * dA,
-                         (sigma * y).sum() * dA, -(sigma * x).sum() * dA,
-                         (x * tau2 - y * tau1).sum() * dA])
+        return np.array(
+            [
+                tau1.sum() * dA,
+                tau2.sum() * dA,
+                sigma.sum() * dA,
+                (sigma * y).sum() * dA,
+                -(sigma * x).sum() * dA,
+                (x * tau2 - y * tau1).sum() * dA,
+            ]
+        )
 
     def push(self, path, normal_stress=None) -> SpringHistory:
         """Drive the springs along ``path`` (steps x 6 relative displacements/rotations).
@@ -188,8 +198,15 @@ def shear_ultimate(spring: SpringInterface, normal_force, angle, magnitude=None,
     return spring.push(path, spring.uniform_stress(normal_force)).ultimate[:2]
 
 
-def torsion_shear_domain(spring: SpringInterface, normal_force, shear_angle=0.0, n_points=19,
-                         steps=40, normal_stress=None, centre=(0.0, 0.0)):
+def torsion_shear_domain(
+    spring: SpringInterface,
+    normal_force,
+    shear_angle=0.0,
+    n_points=19,
+    steps=40,
+    normal_stress=None,
+    centre=(0.0, 0.0),
+):
     """Points (|f|/f_su, |m3|/m3_u) of the torsion-shear domain (Fig. 8-9, A4).
 
     Each point is a radial push: shear displacement along ``shear_angle`` combined with a
@@ -202,8 +219,14 @@ def torsion_shear_domain(spring: SpringInterface, normal_force, shear_angle=0.0,
     slip = 50 * f_su / (spring.k_s * spring.area)
     points = []
     for phi in np.linspace(0.0, np.pi / 2, n_points):
-        d = [np.cos(phi) * np.cos(shear_angle), np.cos(phi) * np.sin(shear_angle), 0, 0, 0,
-             np.sin(phi) / c_T]
+        d = [
+            np.cos(phi) * np.cos(shear_angle),
+            np.cos(phi) * np.sin(shear_angle),
+            0,
+            0,
+            0,
+            np.sin(phi) / c_T,
+        ]
         # rotation about ``centre``: translate the drive so the twist centre is there
         d[0] += d[5] * centre[1]
         d[1] -= d[5] * centre[0]
@@ -239,7 +262,9 @@ def torsion_vs_tensile_strength(spring_kwargs, normal_force, tensile_strengths, 
         sp = SpringInterface(**{**spring_kwargs, "tensile_strength": st})
         c_T = torsion_constant(sp.l1, sp.l2)
         slip = 50 * (sp.mu * abs(normal_force) + sp.cohesion * sp.area) / (sp.k_s * sp.area)
-        res = sp.push(ramp([0, 0, 0, 0, 0, 1 / c_T], slip, steps), sp.uniform_stress(normal_force)).ultimate
+        res = sp.push(
+            ramp([0, 0, 0, 0, 0, 1 / c_T], slip, steps), sp.uniform_stress(normal_force)
+        ).ultimate
         numeric.append(abs(res[5]))
         analytic.append(float(torsion_strength(normal_force, sp.mu, sp.l1, sp.l2, st * sp.area)))
     return np.array(numeric), np.array(analytic)

@@ -47,21 +47,21 @@ class LimitAnalysisError(RuntimeError):
 
 @dataclass
 class LimitAnalysisResult:
-    lambda_limit: float          # collapse multiplier (last round; an upper bound of the exact LP)
+    lambda_limit: float  # collapse multiplier (last round; an upper bound of the exact LP)
     converged: bool
-    status: str                  # why the rounds stopped, in words
-    rounds: int                  # LP solves
-    cuts: int                    # supporting planes of the shear-torsion domains
-    domain_excess: float         # max over interfaces of (|m3|/M)^alpha + (r/F)^2 - 1 (last LP)
+    status: str  # why the rounds stopped, in words
+    rounds: int  # LP solves
+    cuts: int  # supporting planes of the shear-torsion domains
+    domain_excess: float  # max over interfaces of (|m3|/M)^alpha + (r/F)^2 - 1 (last LP)
     seconds: float
-    forces: np.ndarray           # (ni, 6) local actions at collapse (t1, t2, n, b1, b2, tor)
-    history: np.ndarray          # (rounds,) lambda of every round
+    forces: np.ndarray  # (ni, 6) local actions at collapse (t1, t2, n, b1, b2, tor)
+    history: np.ndarray  # (rounds,) lambda of every round
 
 
 def radial_boundary_points(u, v, alpha):
     """Points of the boundary v^alpha + u^2 = 1 on the rays through (u, v) >= 0 outside it."""
     lo, hi = np.zeros_like(u), np.ones_like(u)
-    for _ in range(50):   # (t v)^alpha + (t u)^2 grows with t
+    for _ in range(50):  # (t v)^alpha + (t u)^2 grows with t
         t = 0.5 * (lo + hi)
         inside = (t * v) ** alpha + (t * u) ** 2 <= 1.0
         lo, hi = np.where(inside, t, lo), np.where(inside, hi, t)
@@ -71,7 +71,11 @@ def radial_boundary_points(u, v, alpha):
 def tangent_normals(u, v, alpha):
     """Unit outward normals (n_u, n_v) of v^alpha + u^2 = 1 at its points (u, v)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        n_v = np.where(v > 0, alpha * np.where(v > 0, v, 1.0) ** (alpha - 1.0), np.where(alpha <= 1.0, 1.0, 0.0))
+        n_v = np.where(
+            v > 0,
+            alpha * np.where(v > 0, v, 1.0) ** (alpha - 1.0),
+            np.where(alpha <= 1.0, 1.0, 0.0),
+        )
     n_u = 2.0 * u
     norm = np.hypot(n_u, n_v)
     return n_u / norm, n_v / norm
@@ -82,7 +86,7 @@ def domain_excess(f, F, M, alpha):
     with np.errstate(divide="ignore", invalid="ignore"):
         u = np.where(F > 0, np.hypot(f[:, 0], f[:, 1]) / F, 0.0)
         v = np.where(M > 0, np.abs(f[:, 5]) / M, 0.0)
-    return v ** alpha + u ** 2 - 1.0, u, v
+    return v**alpha + u**2 - 1.0, u, v
 
 
 def supporting_planes(f, F, c_T, u, v, alpha, which, turn=0.0):
@@ -167,8 +171,10 @@ TURNS = (0.0, -0.35, 0.35)
 # LP stays an outer bound, the interior point solves fewer rows (chee_liang_10_11 8.3 -> 5.0 s)
 DROP = 0.05
 
-def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
-                     lambda_tolerance=1e-4, max_rounds=60) -> LimitAnalysisResult:
+
+def limit_multiplier(
+    model, caps_at, domain_tolerance=1e-3, lambda_tolerance=1e-4, max_rounds=60
+) -> LimitAnalysisResult:
     """Collapse multiplier of ``model`` (a ``WallModel``) by the static theorem, its caps
     evaluated on the actions ``caps_at`` (ni, 6): the pushover's interface forces at its peak,
     or the dead-load state (``stonedem.wall.pushover.dead_load_state``).
@@ -190,8 +196,10 @@ def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
 
     # equilibrium T^T H^T P f - lambda T^T F_L = T^T F_D, rows scaled to unit norm
     perm = model.sec.perm
-    P = sp.csr_matrix((np.ones(6 * ni), ((6 * np.arange(ni)[:, None] + perm).ravel(), np.arange(6 * ni))),
-                      shape=(6 * ni, 6 * ni))
+    P = sp.csr_matrix(
+        (np.ones(6 * ni), ((6 * np.arange(ni)[:, None] + perm).ravel(), np.arange(6 * ni))),
+        shape=(6 * ni, 6 * ni),
+    )
     A_eq = sp.hstack([model.TT @ model.H.T @ P, -model.reduce(model.live_load)[:, None]]).tocsr()
     norms = np.sqrt(np.asarray(A_eq.multiply(A_eq).sum(axis=1)).ravel())
     norms = np.where(norms > 0, norms, 1.0)
@@ -204,25 +212,34 @@ def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
     negligible = 1e-7 * max(float(F.max(initial=0.0)), 1e-300)
     counted = F > negligible
     lever = model.sec.lever
-    hi[2:6 * ni:6] = f_t                                                  # N <= f_t
-    for comp, cap in ((0, F), (1, F), (5, M)):                            # Eq. 10-12
-        lo[comp:6 * ni:6], hi[comp:6 * ni:6] = -np.where(counted, cap, 0.0), np.where(counted, cap, 0.0)
-    for comp, cap in ((3, R * lever[:, 0]), (4, R * lever[:, 1])):        # Eq. 9
-        lo[comp:6 * ni:6], hi[comp:6 * ni:6] = -cap, cap
+    hi[2 : 6 * ni : 6] = f_t  # N <= f_t
+    for comp, cap in ((0, F), (1, F), (5, M)):  # Eq. 10-12
+        lo[comp : 6 * ni : 6], hi[comp : 6 * ni : 6] = (
+            -np.where(counted, cap, 0.0),
+            np.where(counted, cap, 0.0),
+        )
+    for comp, cap in ((3, R * lever[:, 0]), (4, R * lever[:, 1])):  # Eq. 9
+        lo[comp : 6 * ni : 6], hi[comp : 6 * ni : 6] = -cap, cap
     max_lambda = np.zeros(n_col)
     max_lambda[-1] = -1.0
     h = _highs(max_lambda, lo, hi, A_eq, b_eq)
 
     def solve(phase):
         h.run()
-        check_interrupt()   # a SIGINT/SIGTERM that arrived while HiGHS ran
+        check_interrupt()  # a SIGINT/SIGTERM that arrived while HiGHS ran
         ms = h.getModelStatus()
         if ms == highspy.HighsModelStatus.kUnbounded:
-            raise LimitAnalysisError("the limit analysis is unbounded: the restraints leave no mechanism")
+            raise LimitAnalysisError(
+                "the limit analysis is unbounded: the restraints leave no mechanism"
+            )
         if ms == highspy.HighsModelStatus.kInfeasible and not history:
-            raise LimitAnalysisError("the dead load alone has no equilibrium inside the joint strengths")
+            raise LimitAnalysisError(
+                "the dead load alone has no equilibrium inside the joint strengths"
+            )
         if ms != highspy.HighsModelStatus.kOptimal:
-            raise _Stop(f"the {phase} LP stopped at round {len(history) + 1}: {h.modelStatusToString(ms)}")
+            raise _Stop(
+                f"the {phase} LP stopped at round {len(history) + 1}: {h.modelStatusToString(ms)}"
+            )
         return np.asarray(h.getSolution().col_value)
 
     history, cuts, status, converged, excess = [], 0, "", False, np.inf
@@ -241,7 +258,9 @@ def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
                 break
             # settled: two rounds in a row within the tolerance (one alone can be a pause while
             # other joints are cut: S23 keeps lambda for a round, then drops 2.5 %)
-            if len(history) > 2 and max(abs(lam - history[-2]), abs(lam - history[-3])) <= lambda_tolerance * abs(lam):
+            if len(history) > 2 and max(
+                abs(lam - history[-2]), abs(lam - history[-3])
+            ) <= lambda_tolerance * abs(lam):
                 converged = True
                 status = f"lambda settled (domain excess {excess:.1e} left)"
                 break
@@ -260,8 +279,15 @@ def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
             keep = vals != 0.0
             counts = keep.sum(axis=1)
             starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-            added = h.addRows(which.size, np.full(which.size, -np.inf), ub, int(counts.sum()),
-                              starts.astype(np.int32), cols[keep].astype(np.int32), vals[keep])
+            added = h.addRows(
+                which.size,
+                np.full(which.size, -np.inf),
+                ub,
+                int(counts.sum()),
+                starts.astype(np.int32),
+                cols[keep].astype(np.int32),
+                vals[keep],
+            )
             if added != highspy.HighsStatus.kOk:
                 raise _Stop(f"HiGHS refused the planes of round {len(history)}")
             cuts += which.size
@@ -271,8 +297,17 @@ def limit_multiplier(model, caps_at, domain_tolerance=1e-3,
     except _Stop as stop:
         status = str(stop)
     lam = history[-1] if history else float("nan")
-    return LimitAnalysisResult(lam, converged, status, len(history), cuts, excess,
-                               time.perf_counter() - t0, f, np.asarray(history))
+    return LimitAnalysisResult(
+        lam,
+        converged,
+        status,
+        len(history),
+        cuts,
+        excess,
+        time.perf_counter() - t0,
+        f,
+        np.asarray(history),
+    )
 
 
 class _Stop(Exception):

@@ -24,18 +24,20 @@ _TOL = 1e-9
 class Panel:
     """Blocks (centre, size, course) and interfaces (blocks, centroid, normal axis, sides)."""
 
-    block: dict                         # a, b, s, joint (thickness e)
-    centre: np.ndarray                  # (nb, 3) block centres [m]
-    size: np.ndarray                    # (nb, 3) cell sides along e1, e2, e3 [m]
-    course: np.ndarray                  # (nb,) course index from the bottom
-    first: np.ndarray = field(default=None)     # (ni,) block index (or SUPPORT)
-    second: np.ndarray = field(default=None)    # (ni,)
+    block: dict  # a, b, s, joint (thickness e)
+    centre: np.ndarray  # (nb, 3) block centres [m]
+    size: np.ndarray  # (nb, 3) cell sides along e1, e2, e3 [m]
+    course: np.ndarray  # (nb,) course index from the bottom
+    first: np.ndarray = field(default=None)  # (ni,) block index (or SUPPORT)
+    second: np.ndarray = field(default=None)  # (ni,)
     centroid: np.ndarray = field(default=None)  # (ni, 3) interface centroid [m]
-    normal_axis: np.ndarray = field(default=None)  # (ni,) 0: normal e1 (vertical), 1: e2 (horizontal)
-    width: np.ndarray = field(default=None)     # (ni,) in-plane side (along e1 or e2) [m]
-    depth: np.ndarray = field(default=None)     # (ni,) side along e3 (the thickness) [m]
-    kind: np.ndarray = field(default=None)      # (ni,) KIND_*
-    edge: np.ndarray = field(default=None)      # (ni,) edge name for support joints, "" otherwise
+    normal_axis: np.ndarray = field(
+        default=None
+    )  # (ni,) 0: normal e1 (vertical), 1: e2 (horizontal)
+    width: np.ndarray = field(default=None)  # (ni,) in-plane side (along e1 or e2) [m]
+    depth: np.ndarray = field(default=None)  # (ni,) side along e3 (the thickness) [m]
+    kind: np.ndarray = field(default=None)  # (ni,) KIND_*
+    edge: np.ndarray = field(default=None)  # (ni,) edge name for support joints, "" otherwise
     length: float = 0.0
     height: float = 0.0
 
@@ -93,9 +95,17 @@ def course_cuts(length: float, pitch: float, offset: float) -> np.ndarray:
     return np.concatenate([[0.0], inner, [length]])
 
 
-def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses: int,
-                joint_thickness: float = 0.0, openings=(), first_course_offset: bool = False,
-                support_edges=()) -> Panel:
+def build_panel(
+    a: float,
+    b: float,
+    s: float,
+    blocks_per_course: float,
+    courses: int,
+    joint_thickness: float = 0.0,
+    openings=(),
+    first_course_offset: bool = False,
+    support_edges=(),
+) -> Panel:
     """Running-bond panel of ``courses`` courses, ``blocks_per_course`` (x 0.5) blocks long.
 
     ``openings``: rectangles {"x": [x0, x1], "y": [y0, y1]} [m]; blocks whose centre falls
@@ -117,7 +127,9 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
             sizes.append((x1 - x0, p2, s))
             course_idx.append(j)
             spans.append((x0, x1))
-    centre = np.array(centres, dtype=float).reshape(-1, 3)   # (0, 3) when openings remove every block
+    centre = np.array(centres, dtype=float).reshape(
+        -1, 3
+    )  # (0, 3) when openings remove every block
     size = np.array(sizes, dtype=float).reshape(-1, 3)
     course = np.array(course_idx, dtype=int)
     spans = np.array(spans, dtype=float).reshape(-1, 2)
@@ -135,7 +147,7 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
             if abs(spans[i, 1] - spans[k, 0]) < _TOL:
                 add(i, k, (spans[i, 1], (j + 0.5) * p2, 0.0), 0, p2, KIND_HEAD)
         if j + 1 in by_course:  # bed joints: overlaps with the course above
-            above = by_course[j + 1]   # left to right, like every course
+            above = by_course[j + 1]  # left to right, like every course
             for i in idx:
                 # only the blocks above whose span can overlap block i (linear, not quadratic, in
                 # the blocks per course): x1_k > x0_i and x0_k < x1_i
@@ -145,10 +157,16 @@ def build_panel(a: float, b: float, s: float, blocks_per_course: float, courses:
                     lo, hi = max(spans[i, 0], spans[k, 0]), min(spans[i, 1], spans[k, 1])
                     if hi - lo > _TOL:
                         add(i, k, (0.5 * (lo + hi), (j + 1) * p2, 0.0), 1, hi - lo, KIND_BED)
-    panel = Panel({"a": a, "b": b, "s": s, "joint_thickness": joint_thickness}, centre, size, course,
-                  length=length, height=height)
+    panel = Panel(
+        {"a": a, "b": b, "s": s, "joint_thickness": joint_thickness},
+        centre,
+        size,
+        course,
+        length=length,
+        height=height,
+    )
     for ed in support_edges:
-        for i in panel.touching(ed):   # only blocks on the edge: none where an opening reaches it
+        for i in panel.touching(ed):  # only blocks on the edge: none where an opening reaches it
             x0, x1 = spans[i]
             y0, y1 = centre[i, 1] - p2 / 2, centre[i, 1] + p2 / 2
             if ed == "base":

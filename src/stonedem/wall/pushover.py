@@ -26,9 +26,9 @@ import scipy.sparse.linalg as spla
 from scipy.linalg import lapack
 from threadpoolctl import threadpool_limits
 
+from stonedem.entry import check_interrupt, interruptible
 from stonedem.wall.compatibility import panel_compatibility
 from stonedem.wall.constitutive import JointStrength, return_map, return_map_derivative
-from stonedem.entry import check_interrupt, interruptible
 from stonedem.wall.panel import Panel
 from stonedem.wall.settings import SolverSettings  # noqa: F401 - the solver's settings, re-exported
 from stonedem.wall.stiffness import local_stiffness, sections, to_global_order, to_local_order
@@ -42,11 +42,11 @@ class WallModel:
     k_n: np.ndarray
     k_t: np.ndarray
     strength: JointStrength
-    dead_load: np.ndarray            # (6 nb,) F_D
-    live_load: np.ndarray            # (6 nb,) F_L
-    fixed: np.ndarray                # (6 nb,) bool: pinned DOF (block centre) under the live load
-    fixed_dead: np.ndarray = None    # (6 nb,) bool: pinned while the dead load is applied
-    lines: list = field(default_factory=list)   # LineRestraint: straight restraint lines
+    dead_load: np.ndarray  # (6 nb,) F_D
+    live_load: np.ndarray  # (6 nb,) F_L
+    fixed: np.ndarray  # (6 nb,) bool: pinned DOF (block centre) under the live load
+    fixed_dead: np.ndarray = None  # (6 nb,) bool: pinned while the dead load is applied
+    lines: list = field(default_factory=list)  # LineRestraint: straight restraint lines
     H: sp.csr_matrix = field(init=False)
 
     def __post_init__(self):
@@ -66,7 +66,9 @@ class WallModel:
         from stonedem.wall.restraints import reduction_matrix, restrained_dofs
 
         if phase == "dead":
-            T = reduction_matrix(self.panel, self.fixed_dead, [ln for ln in self.lines if ln.dead_load])
+            T = reduction_matrix(
+                self.panel, self.fixed_dead, [ln for ln in self.lines if ln.dead_load]
+            )
         else:
             T = getattr(self, "T_live", None)
             if T is None:
@@ -95,9 +97,16 @@ class WallModel:
 
     def internal(self, q, plastic, cracked):
         """Internal forces on the reduced DOFs (T^T H^T f) for the block displacements ``q``."""
-        rm = return_map(self.local_deformation(q), plastic, cracked, self.k_local, self.sec,
-                        self.strength, self.forces_old)
-        check_interrupt()   # a SIGINT/SIGTERM that arrived during the compiled call
+        rm = return_map(
+            self.local_deformation(q),
+            plastic,
+            cracked,
+            self.k_local,
+            self.sec,
+            self.strength,
+            self.forces_old,
+        )
+        check_interrupt()  # a SIGINT/SIGTERM that arrived during the compiled call
         f_glob = to_global_order(rm.forces, self.sec.perm).ravel()
         return self.Hf.T @ f_glob, rm
 
@@ -111,8 +120,9 @@ class WallModel:
         differences, vectorised over the interfaces) plus eps K-bar on yielded components."""
         d = self.local_deformation(q)
         ni = len(d)
-        D = return_map_derivative(d, rm, plastic, cracked, self.k_local, self.sec,
-                                  self.strength, eps, self.forces_old)
+        D = return_map_derivative(
+            d, rm, plastic, cracked, self.k_local, self.sec, self.strength, eps, self.forces_old
+        )
         check_interrupt()
         # local -> global component order
         P = self.sec.perm
@@ -128,10 +138,10 @@ class WallModel:
 
 @dataclass
 class PushoverResult:
-    lam: np.ndarray                  # (steps,)
-    control: np.ndarray              # (steps,) control displacement [m]
-    state: np.ndarray                # (steps, ni) damage state
-    q: np.ndarray                    # (steps, 6 nb) block displacements
+    lam: np.ndarray  # (steps,)
+    control: np.ndarray  # (steps,) control displacement [m]
+    state: np.ndarray  # (steps, ni) damage state
+    q: np.ndarray  # (steps, 6 nb) block displacements
     iterations: np.ndarray
     residual: np.ndarray
     control_dof: int
@@ -142,8 +152,10 @@ class PushoverResult:
     dead_state: np.ndarray
     interface_forces_at_max: np.ndarray
     settings: dict
-    limit_reached: bool = True       # False: the path ended before a limit (lambda_max is not a limit load)
-    limit_note: str = ""             # why not, and what to raise
+    limit_reached: bool = (
+        True  # False: the path ended before a limit (lambda_max is not a limit load)
+    )
+    limit_note: str = ""  # why not, and what to raise
     # each plateau the path reached and the limit analysis on the caps at its peak (a plateau
     # more than ORACLE_TOLERANCE below it was a pause, not the limit: the path went on)
     plateau_checks: list = field(default_factory=list)
@@ -156,21 +168,39 @@ class PathRecord:
         self.lam, self.control, self.state = [0.0], [0.0], [rm.state.copy()]
         self.q, self.iterations, self.residual = [q.copy()], [0], [0.0]
         self.lam_max, self.step_max, self.forces_at_max = 0.0, 0, rm.forces.copy()
-        self.proofs = []   # plateau_proof's notes, one per plateau the path reached
+        self.proofs = []  # plateau_proof's notes, one per plateau the path reached
 
     def add(self, lam, u, q, rm, iterations, residual):
         self.lam.append(lam), self.control.append(u), self.state.append(rm.state.copy())
         self.q.append(q.copy()), self.iterations.append(iterations), self.residual.append(residual)
         if lam > self.lam_max:
-            self.lam_max, self.step_max, self.forces_at_max = lam, len(self.lam) - 1, rm.forces.copy()
+            self.lam_max, self.step_max, self.forces_at_max = (
+                lam,
+                len(self.lam) - 1,
+                rm.forces.copy(),
+            )
 
     def result(self, control, status, t0, dead_state, settings) -> PushoverResult:
         reached, note = limit_verdict(status, np.array(self.lam), np.array(self.control), settings)
-        return PushoverResult(np.array(self.lam), np.array(self.control), np.array(self.state),
-                              np.array(self.q), np.array(self.iterations), np.array(self.residual),
-                              int(control), float(self.lam_max), int(self.step_max), status,
-                              time.perf_counter() - t0, dead_state, self.forces_at_max,
-                              settings.as_dict(), reached, note, list(self.proofs))
+        return PushoverResult(
+            np.array(self.lam),
+            np.array(self.control),
+            np.array(self.state),
+            np.array(self.q),
+            np.array(self.iterations),
+            np.array(self.residual),
+            int(control),
+            float(self.lam_max),
+            int(self.step_max),
+            status,
+            time.perf_counter() - t0,
+            dead_state,
+            self.forces_at_max,
+            settings.as_dict(),
+            reached,
+            note,
+            list(self.proofs),
+        )
 
 
 # a path stopped at solver.max_displacement counts as having reached its limit when lambda rose
@@ -192,7 +222,9 @@ def limit_verdict(status: str, lam: np.ndarray, control: np.ndarray, settings) -
     stopped converging before lambda fell after a peak.
     """
     lam_max = float(np.max(lam)) if len(lam) else 0.0
-    if status.startswith(("stopped: plateau", "stopped: lambda dropped", "stopped: peak proven", "limit load")):
+    if status.startswith(
+        ("stopped: plateau", "stopped: lambda dropped", "stopped: peak proven", "limit load")
+    ):
         return True, ""
     if len(lam) < 2 or lam_max <= 0.0:
         why = "no load step converged"
@@ -203,8 +235,10 @@ def limit_verdict(status: str, lam: np.ndarray, control: np.ndarray, settings) -
         rise = lam_max / at - 1.0 if at > 0 else np.inf
         if rise <= LEVEL_TOLERANCE:
             return True, ""
-        why = (f"lambda still rose {rise:.1%} over the last quarter of the push "
-               f"(raise solver.max_displacement)")
+        why = (
+            f"lambda still rose {rise:.1%} over the last quarter of the push "
+            f"(raise solver.max_displacement)"
+        )
     elif status == "stopped: max_steps":
         why = f"the path stopped after solver.max_steps = {settings.max_steps} steps (raise it)"
     elif status == "stopped: max_seconds":
@@ -230,8 +264,10 @@ def plateau_proof(model, path) -> tuple[bool, str]:
     if not la.converged or not np.isfinite(la.lambda_limit):
         return True, f"lambda {path.lam_max:.6g}: no limit analysis ({la.status})"
     gap = la.lambda_limit / path.lam_max - 1.0 if path.lam_max > 0 else np.inf
-    return gap <= ORACLE_TOLERANCE, (f"lambda {path.lam_max:.6g} at step {path.step_max}: limit analysis "
-                                     f"on its caps {la.lambda_limit:.6g} ({gap:+.2%})")
+    return gap <= ORACLE_TOLERANCE, (
+        f"lambda {path.lam_max:.6g} at step {path.step_max}: limit analysis "
+        f"on its caps {la.lambda_limit:.6g} ({gap:+.2%})"
+    )
 
 
 class ConvergenceError(RuntimeError):
@@ -244,8 +280,9 @@ class DeadLoadError(ConvergenceError):
     """The restraints leave a mechanism at lambda = 0: the self-weight cannot be carried."""
 
 
-def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target=None,
-            stagnation_ok=True):
+def _newton(
+    model, q, plastic, cracked, lam, settings, ref, control=None, target=None, stagnation_ok=True
+):
     """Residual iterations at fixed lambda (control None) or fixed control displacement.
 
     ``q`` is the full DOF vector; ``control`` a global DOF index. Returns q, lambda, the
@@ -276,23 +313,34 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
     for it in range(1, n_iter + 1):
         history.append(res)
         # stagnation (active-set chattering) below the accept tolerance: keep this iterate
-        if (stagnation_ok and it > 10 and res < settings.accept_tolerance and cf is not None
-                and min(history[-8:]) > 0.5 * history[-9]):
+        if (
+            stagnation_ok
+            and it > 10
+            and res < settings.accept_tolerance
+            and cf is not None
+            and min(history[-8:]) > 0.5 * history[-9]
+        ):
             return q, lam, rm, it, res
         # a period-2 cycle between two active sets never converges: give up at once
         # (the caller halves the step) instead of spending the remaining iterations on it
-        if (cf is not None and it >= 7 and res >= settings.tolerance
-                and abs(history[-1] - history[-3]) <= 0.02 * history[-1]
-                and abs(history[-2] - history[-4]) <= 0.02 * history[-2]):
+        if (
+            cf is not None
+            and it >= 7
+            and res >= settings.tolerance
+            and abs(history[-1] - history[-3]) <= 0.02 * history[-1]
+            and abs(history[-2] - history[-4]) <= 0.02 * history[-2]
+        ):
             if stagnation_ok and res < settings.accept_tolerance:
                 return q, lam, rm, it, res
-            raise ConvergenceError(f"residual cycles between {history[-1]:.2e} and {history[-2]:.2e}",
-                                   (q, lam, rm, it, res))
+            raise ConvergenceError(
+                f"residual cycles between {history[-1]:.2e} and {history[-2]:.2e}",
+                (q, lam, rm, it, res),
+            )
         on_target = cf is None or abs(cg @ q - target) <= 1e-9 * max(abs(target), 1e-12)
         if res < settings.tolerance and on_target and it > 1:
             return q, lam, rm, it, res
         if refactor:
-            if settings.consistent and cf is not None:   # load-controlled dead load: secant (robust)
+            if settings.consistent and cf is not None:  # load-controlled dead load: secant (robust)
                 K = model.consistent_tangent(q, plastic, cracked, rm, eps)
             else:
                 K = model.tangent(rm, eps if cf is not None else max(eps, 0.05))
@@ -304,7 +352,9 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
         if control is not None:
             cl = cf @ dq_l
             if abs(cl) < 1e-300:
-                raise ConvergenceError("the controlled displacement does not respond to the live load")
+                raise ConvergenceError(
+                    "the controlled displacement does not respond to the live load"
+                )
             # the constraint part of the step is kept whole; the residual part is line-searched
             dlam_c = (target - cg @ q) / cl
             dlam_r = -(cf @ dq) / cl
@@ -331,8 +381,9 @@ def _newton(model, q, plastic, cracked, lam, settings, ref, control=None, target
         res, q, lam, rm, R = best
         if not np.all(np.isfinite(q)):
             raise ConvergenceError("non-finite displacements")
-    raise ConvergenceError(f"no convergence in {n_iter} iterations (residual {res:.2e})",
-                           (q, lam, rm, n_iter, res))
+    raise ConvergenceError(
+        f"no convergence in {n_iter} iterations (residual {res:.2e})", (q, lam, rm, n_iter, res)
+    )
 
 
 class BandLU:
@@ -341,7 +392,7 @@ class BandLU:
     def __init__(self, K, lower, upper):
         coo = K.tocoo()
         n = K.shape[0]
-        band = np.zeros((2 * lower + upper + 1, n), order="F")   # LAPACK band storage
+        band = np.zeros((2 * lower + upper + 1, n), order="F")  # LAPACK band storage
         band[lower + upper + coo.row - coo.col, coo.col] = coo.data
         self.lu, self.pivots, info = lapack.dgbtrf(band, lower, upper, overwrite_ab=1)
         if info > 0:
@@ -367,8 +418,8 @@ def _factor(K, state=None):
     lower, upper = int(offsets.max(initial=0)), int(-offsets.min(initial=0))
     try:
         banded = K.shape[0] > 0 and lower + upper <= K.shape[0] // 4
-        lu = BandLU(coo, lower, upper) if banded else spla.splu(K.tocsc())   # coo.tocoo() is itself
-    except RuntimeError as err:   # "Factor is exactly singular"
+        lu = BandLU(coo, lower, upper) if banded else spla.splu(K.tocsc())  # coo.tocoo() is itself
+    except RuntimeError as err:  # "Factor is exactly singular"
         raise ConvergenceError(f"singular stiffness matrix ({err})", state) from err
     check_interrupt()
     return lu
@@ -410,7 +461,7 @@ def _apply_dead_load(model, settings, ref):
         model.use("live")
         q, _, rm, _, _ = _newton(model, q, plastic, cracked, 0.0, settings, ref)
         model.accept(rm)
-    except (ConvergenceError, RuntimeError) as err:   # splu: "Factor is exactly singular"
+    except (ConvergenceError, RuntimeError) as err:  # splu: "Factor is exactly singular"
         raise DeadLoadError(f"the self-weight cannot be carried ({err})") from err
     return q, rm, dead_state
 
@@ -448,8 +499,10 @@ def _secant_step(model, q, plastic, cracked, K_lu, lam, settings, ref):
         res = np.linalg.norm(R) / ref
         if res < settings.tolerance:
             return q, rm, it, res
-    raise ConvergenceError(f"no convergence in {settings.max_iterations} iterations (residual {res:.2e})",
-                           (q, lam, rm, settings.max_iterations, res))
+    raise ConvergenceError(
+        f"no convergence in {settings.max_iterations} iterations (residual {res:.2e})",
+        (q, lam, rm, settings.max_iterations, res),
+    )
 
 
 def _dead_load_and_control(model, settings, control_block):
@@ -468,17 +521,20 @@ def _dead_load_and_control(model, settings, control_block):
 def one_blas_thread(solver):
     """Run ``solver`` with BLAS on one thread: the banded LU (dgbtrf) is too small to gain from
     more, and OpenBLAS's spinning threads made two wall jobs side by side 4-40x slower."""
+
     @functools.wraps(solver)
     def wrapper(*args, **kwargs):
         with threadpool_limits(limits=1, user_api="blas"):
             return solver(*args, **kwargs)
+
     return wrapper
 
 
 @interruptible
 @one_blas_thread
-def secant_pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
-                    progress=None) -> PushoverResult:
+def secant_pushover(
+    model: WallModel, settings: SolverSettings | None = None, control_block=None, progress=None
+) -> PushoverResult:
     """Manuscript 2.3: load increments dF = d(lambda) F_L; the panel stiffness of step i is
     H^T K-bar(damage of step i-1) H (Eq. 13-14: yielded components at zero, plus
     ``residual_stiffness`` x K-bar so that the LU exists); residual iterations with that
@@ -491,7 +547,7 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
     t0 = time.perf_counter()
     ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
     if progress:
-        progress(0, 0.0, 0.0)   # the dead load is on (a slow one shows in the log)
+        progress(0, 0.0, 0.0)  # the dead load is on (a slow one shows in the log)
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
     w = np.where(model.restrained, 0.0, model.live_load)
@@ -502,8 +558,13 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
     # first increment: 1/50 of the overturning load of the free-standing wall (lambda = s/H for
     # a load proportional to the weight), unless the case gives one
     weight = -model.dead_load[1::6].sum()
-    dlam0 = settings.load_step or (float(model.panel.block["s"]) / model.panel.height * weight
-                                   / max(np.abs(model.live_load).sum(), 1e-300) / 50.0)
+    dlam0 = settings.load_step or (
+        float(model.panel.block["s"])
+        / model.panel.height
+        * weight
+        / max(np.abs(model.live_load).sum(), 1e-300)
+        / 50.0
+    )
     dlam = dlam0
     u0 = q[control]
     lam = 0.0
@@ -516,7 +577,9 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
             break
         g_prev = cvec @ q
         try:
-            q_new, rm_new, it, res = _secant_step(model, q, plastic, cracked, K_lu, lam + dlam, settings, ref)
+            q_new, rm_new, it, res = _secant_step(
+                model, q, plastic, cracked, K_lu, lam + dlam, settings, ref
+            )
             flex = abs(cvec @ q_new - g_prev) / dlam
             if flex > settings.singular_ratio * flex0:
                 raise ConvergenceError("unbounded displacement")
@@ -532,13 +595,13 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
         lam += dlam
         q, rm, plastic, cracked = q_new, rm_new, rm_new.plastic, rm_new.cracked
         model.accept(rm)
-        path.add(lam, (q[control] - u0) * sign, q, rm, it, res)   # lambda only grows here
+        path.add(lam, (q[control] - u0) * sign, q, rm, it, res)  # lambda only grows here
         if progress:
             progress(steps, lam, path.control[-1])
         # stiffness of the next step from the damage of this one (manuscript 2.3)
         try:
             K_lu = _factor(model.tangent(rm, eps))
-        except ConvergenceError as err:   # a mechanism: the displacement grows unboundedly
+        except ConvergenceError as err:  # a mechanism: the displacement grows unboundedly
             status = f"limit load: {err}"
             break
         if it <= max(settings.max_iterations // 10, 2):
@@ -548,8 +611,9 @@ def secant_pushover(model: WallModel, settings: SolverSettings | None = None, co
 
 @interruptible
 @one_blas_thread
-def pushover(model: WallModel, settings: SolverSettings | None = None, control_block=None,
-             progress=None) -> PushoverResult:
+def pushover(
+    model: WallModel, settings: SolverSettings | None = None, control_block=None, progress=None
+) -> PushoverResult:
     """Dead load, then displacement-controlled live load to the limit and beyond
     (``settings.secant``: the manuscript's load-controlled secant scheme instead).
 
@@ -561,7 +625,7 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
     t0 = time.perf_counter()
     ref, q, rm, dead_state, control, unit = _dead_load_and_control(model, settings, control_block)
     if progress:
-        progress(0, 0.0, 0.0)   # the dead load is on (a slow one shows in the log)
+        progress(0, 0.0, 0.0)  # the dead load is on (a slow one shows in the log)
     plastic, cracked = rm.plastic, rm.cracked
     sign = 1.0 if unit >= 0 else -1.0
     s = float(model.panel.block["s"])
@@ -575,13 +639,15 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
         w = np.where(model.restrained, 0.0, model.live_load)
         cvec = w / np.abs(w).sum()
         _, rm0 = model.internal(q, plastic, cracked)
-        q_l = _factor(model.tangent(rm0, settings.residual_stiffness)).solve(model.reduce(model.live_load))
+        q_l = _factor(model.tangent(rm0, settings.residual_stiffness)).solve(
+            model.reduce(model.live_load)
+        )
         ratio = abs(cvec @ model.expand(q_l)) / abs(unit)
     else:
         cvec[control] = sign
         ratio = 1.0
     du = settings.first_step or max(abs(unit) * 1e-3, u_max * 1e-7)
-    last = None   # (dq, dlambda, dg) of the last converged step
+    last = None  # (dq, dlambda, dg) of the last converged step
     du *= ratio
     g_max = u_max * ratio
     du_min = 1e-9 * g_max
@@ -609,8 +675,17 @@ def pushover(model: WallModel, settings: SolverSettings | None = None, control_b
             # a chattering iterate is kept only on the last attempt: cutting the step back
             # first avoids carrying a ~1e-3 residual into the next steps (S11 stalled on it)
             q_new, lam_new, rm, it, res = _newton(
-                model, q_guess, plastic, cracked, lam_guess, settings, ref, cvec, target,
-                stagnation_ok=failures >= settings.max_failures - 1)
+                model,
+                q_guess,
+                plastic,
+                cracked,
+                lam_guess,
+                settings,
+                ref,
+                cvec,
+                target,
+                stagnation_ok=failures >= settings.max_failures - 1,
+            )
         except ConvergenceError as first:
             err = first
         if err is not None:

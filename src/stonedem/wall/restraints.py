@@ -28,23 +28,27 @@ import scipy.sparse as sp
 
 from stonedem.wall.compatibility import skew
 
-RANK_TOLERANCE = 1e-10   # relative singular value below which a constraint row is dependent
+RANK_TOLERANCE = 1e-10  # relative singular value below which a constraint row is dependent
 
 
 @dataclass
 class LineRestraint:
     """A straight restraint line along a panel edge, ``distance`` [m] inside it."""
 
-    edge: str                    # base, top, left, right
-    components: tuple            # displacement components held: 0 e1, 1 e2, 2 e3 (out of plane)
-    distance: float = 0.0        # from the panel edge, inwards [m]
-    dead_load: bool = False      # also acts while the self-weight is applied
-    hold: str = "line"           # "line": every point of the line; "points": the middle of each chord
+    edge: str  # base, top, left, right
+    components: tuple  # displacement components held: 0 e1, 1 e2, 2 e3 (out of plane)
+    distance: float = 0.0  # from the panel edge, inwards [m]
+    dead_load: bool = False  # also acts while the self-weight is applied
+    hold: str = "line"  # "line": every point of the line; "points": the middle of each chord
 
     def position(self, panel) -> float:
         """The line's coordinate: x for left/right, y for base/top [m]."""
-        return {"left": self.distance, "right": panel.length - self.distance,
-                "base": self.distance, "top": panel.height - self.distance}[self.edge]
+        return {
+            "left": self.distance,
+            "right": panel.length - self.distance,
+            "base": self.distance,
+            "top": panel.height - self.distance,
+        }[self.edge]
 
     def chords(self, panel):
         """(block, P_a, P_b) for every block the line crosses: the chord ends [m] (``hold:
@@ -57,8 +61,11 @@ class LineRestraint:
         tol = 1e-9 * max(panel.length, panel.height)
         # a line on a cell boundary belongs to the cell inside the panel from it
         inward = self.edge in ("left", "base")
-        inside = (lo[:, axis] - tol <= at) & (at < hi[:, axis] - tol) if inward else \
-            (lo[:, axis] + tol < at) & (at <= hi[:, axis] + tol)
+        inside = (
+            (lo[:, axis] - tol <= at) & (at < hi[:, axis] - tol)
+            if inward
+            else (lo[:, axis] + tol < at) & (at <= hi[:, axis] + tol)
+        )
         out = []
         for blk in np.flatnonzero(inside):
             a = np.zeros(3)
@@ -74,7 +81,7 @@ class LineRestraint:
 def point_rows(centre, point, components) -> np.ndarray:
     """Rows of the point displacement u + w x (P - c) (components chosen), per block DOF."""
     r = np.asarray(point, dtype=float) - np.asarray(centre, dtype=float)
-    full = np.hstack([np.eye(3), -skew(r)])    # u + w x r = u - S(r) w
+    full = np.hstack([np.eye(3), -skew(r)])  # u + w x r = u - S(r) w
     return full[list(components)]
 
 
@@ -87,7 +94,9 @@ def constraint_rows(panel, fixed, lines) -> dict:
     for line in lines:
         for blk, a, b in line.chords(panel):
             for point in (a, b):
-                rows.setdefault(blk, []).extend(point_rows(panel.centre[blk], point, line.components))
+                rows.setdefault(blk, []).extend(
+                    point_rows(panel.centre[blk], point, line.components)
+                )
     return {blk: np.array(r) for blk, r in rows.items()}
 
 
@@ -96,7 +105,7 @@ def null_space(rows: np.ndarray) -> np.ndarray:
     _, sv, vt = np.linalg.svd(rows)
     rank = int(np.sum(sv > RANK_TOLERANCE * max(sv.max(initial=0.0), 1.0)))
     basis = vt[rank:].T
-    basis[np.abs(basis) < 1e-14] = 0.0   # exact zeros: a pinned DOF gives an exactly zero row of T
+    basis[np.abs(basis) < 1e-14] = 0.0  # exact zeros: a pinned DOF gives an exactly zero row of T
     return basis
 
 
@@ -124,8 +133,9 @@ def reduction_matrix(panel, fixed, lines) -> sp.csr_matrix:
         col += m
     if not r_idx:
         return sp.csr_matrix((6 * nb, 0))
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(r_idx), np.concatenate(c_idx))),
-                         shape=(6 * nb, col))
+    return sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(r_idx), np.concatenate(c_idx))), shape=(6 * nb, col)
+    )
 
 
 def restrained_dofs(T: sp.csr_matrix) -> np.ndarray:

@@ -57,10 +57,10 @@ def closest_point_shear_torsion(r, s, F, M, alpha, k_s, k_m):
     if not F > 0.0:
         return 0.0, 0.0
     x_hi = min(r, F)
-    if not M > 0.0:          # torsion strength lost: pure friction circle
+    if not M > 0.0:  # torsion strength lost: pure friction circle
         return x_hi, 0.0
     ratio = s / M
-    x_lo = F * math.sqrt(max(1.0 - ratio ** alpha, 0.0)) if ratio < 1.0 else 0.0
+    x_lo = F * math.sqrt(max(1.0 - ratio**alpha, 0.0)) if ratio < 1.0 else 0.0
     lo = min(x_lo, x_hi)
     hi = x_hi
     inv = 1.0 / alpha
@@ -71,12 +71,12 @@ def closest_point_shear_torsion(r, s, F, M, alpha, k_s, k_m):
     for _ in range(ROOT_STEPS):
         u = x / F
         w = min(max(1.0 - u * u, 0.0), 1.0)
-        wi = w ** inv
-        w1 = wi / w if w > 0.0 else w ** (inv - 1.0)        # w^(1/alpha - 1)
+        wi = w**inv
+        w1 = wi / w if w > 0.0 else w ** (inv - 1.0)  # w^(1/alpha - 1)
         y = M * wi
         dy = c * u * w1
         g = (x - r) / k_s + (y - s) * dy / k_m
-        if not math.isfinite(g) or g > 0.0:   # vertical tangent at the pure-shear corner
+        if not math.isfinite(g) or g > 0.0:  # vertical tangent at the pure-shear corner
             hi = x
         else:
             lo = x
@@ -84,7 +84,9 @@ def closest_point_shear_torsion(r, s, F, M, alpha, k_s, k_m):
         ddy = c / F * (w1 - 2.0 * (inv - 1.0) * u * u * w2)
         dg = 1.0 / k_s + (dy * dy + (y - s) * ddy) / k_m
         x_new = x - g / dg
-        if not (math.isfinite(x_new) and lo < x_new < hi) or abs(2.0 * (x_new - x)) > abs(step_before):
+        if not (math.isfinite(x_new) and lo < x_new < hi) or abs(2.0 * (x_new - x)) > abs(
+            step_before
+        ):
             x_new = 0.5 * (lo + hi)
         step_before = step
         step = x_new - x
@@ -96,9 +98,29 @@ def closest_point_shear_torsion(r, s, F, M, alpha, k_s, k_m):
 
 
 @njit(cache=True, error_model="numpy")
-def interface_action(d, p_old, cracked_old, f_old, k, area, lever0, lever1, width, depth, mu,
-                     sigma_t, cohesion, alpha, brittle, n_eps, torsion_all, release_both, f, p_new,
-                     tangent):
+def interface_action(
+    d,
+    p_old,
+    cracked_old,
+    f_old,
+    k,
+    area,
+    lever0,
+    lever1,
+    width,
+    depth,
+    mu,
+    sigma_t,
+    cohesion,
+    alpha,
+    brittle,
+    n_eps,
+    torsion_all,
+    release_both,
+    f,
+    p_new,
+    tangent,
+):
     """Return map of one interface: fills f, p_new, tangent (6 each); returns (state, cracked).
 
     ``f_old``: the actions at the last converged step (``release_both``: a bending component
@@ -114,7 +136,7 @@ def interface_action(d, p_old, cracked_old, f_old, k, area, lever0, lever1, widt
     N = f[2]
     detached = N > f_t
     cracked = cracked_old or (detached and sigma_t > 0.0 and brittle)
-    reserve = smooth_plus_scalar(f_t - N, n_eps)   # compressive reserve, N_eps-smoothed
+    reserve = smooth_plus_scalar(f_t - N, n_eps)  # compressive reserve, N_eps-smoothed
 
     # rotation conditions, Eq. 9
     flexural = False
@@ -171,7 +193,7 @@ def interface_action(d, p_old, cracked_old, f_old, k, area, lever0, lever1, widt
         f[2] = f_t
     for j in range(6):
         p_new[j] = d[j] - f[j] / k[j] if k[j] > 0.0 else p_old[j]
-    if detached:   # no normal plastic gap: the joint recloses where it opened
+    if detached:  # no normal plastic gap: the joint recloses where it opened
         p_new[2] = p_old[2]
 
     if detached:
@@ -186,8 +208,25 @@ def interface_action(d, p_old, cracked_old, f_old, k, area, lever0, lever1, widt
 
 
 @njit(cache=True, error_model="numpy")
-def interface_actions(d, p_old, cracked_old, f_old, k, area, lever, width, depth, mu, sigma_t,
-                      cohesion, alpha, brittle, n_eps, torsion_all, release_both):
+def interface_actions(
+    d,
+    p_old,
+    cracked_old,
+    f_old,
+    k,
+    area,
+    lever,
+    width,
+    depth,
+    mu,
+    sigma_t,
+    cohesion,
+    alpha,
+    brittle,
+    n_eps,
+    torsion_all,
+    release_both,
+):
     """Every interface: forces, plastic parts, tangent factors (ni x 6), state, cracked."""
     ni = d.shape[0]
     f = np.empty((ni, 6))
@@ -196,18 +235,57 @@ def interface_actions(d, p_old, cracked_old, f_old, k, area, lever, width, depth
     state = np.empty(ni, dtype=np.int8)
     cracked = np.empty(ni, dtype=np.bool_)
     for i in range(ni):
-        st, cr = interface_action(d[i], p_old[i], cracked_old[i], f_old[i], k[i], area[i],
-                                  lever[i, 0], lever[i, 1], width[i], depth[i], mu[i], sigma_t[i],
-                                  cohesion[i], alpha[i], brittle, n_eps[i], torsion_all,
-                                  release_both, f[i], p_new[i], tangent[i])
+        st, cr = interface_action(
+            d[i],
+            p_old[i],
+            cracked_old[i],
+            f_old[i],
+            k[i],
+            area[i],
+            lever[i, 0],
+            lever[i, 1],
+            width[i],
+            depth[i],
+            mu[i],
+            sigma_t[i],
+            cohesion[i],
+            alpha[i],
+            brittle,
+            n_eps[i],
+            torsion_all,
+            release_both,
+            f[i],
+            p_new[i],
+            tangent[i],
+        )
         state[i] = st
         cracked[i] = cr
     return f, p_new, tangent, state, cracked
 
 
 @njit(cache=True, error_model="numpy")
-def interface_tangents(d, f0, state, p_old, cracked_old, f_old, k, area, lever, width, depth, mu,
-                       sigma_t, cohesion, alpha, brittle, n_eps, torsion_all, release_both, eps):
+def interface_tangents(
+    d,
+    f0,
+    state,
+    p_old,
+    cracked_old,
+    f_old,
+    k,
+    area,
+    lever,
+    width,
+    depth,
+    mu,
+    sigma_t,
+    cohesion,
+    alpha,
+    brittle,
+    n_eps,
+    torsion_all,
+    release_both,
+    eps,
+):
     """6 x 6 derivative of each interface's return map by forward differences (normal
     perturbed towards contact), diagonal kept >= eps K-bar so the iteration matrix factors.
     An elastic interface (no cap active) has the exact derivative K-bar: no differences."""
@@ -235,9 +313,29 @@ def interface_tangents(d, f0, state, p_old, cracked_old, f_old, k, area, lever, 
             for m in range(6):
                 dp[m] = d[i, m]
             dp[j] += h
-            interface_action(dp, p_old[i], cracked_old[i], f_old[i], k[i], area[i], lever[i, 0],
-                             lever[i, 1], width[i], depth[i], mu[i], sigma_t[i], cohesion[i],
-                             alpha[i], brittle, n_eps[i], torsion_all, release_both, fp, pp, tp)
+            interface_action(
+                dp,
+                p_old[i],
+                cracked_old[i],
+                f_old[i],
+                k[i],
+                area[i],
+                lever[i, 0],
+                lever[i, 1],
+                width[i],
+                depth[i],
+                mu[i],
+                sigma_t[i],
+                cohesion[i],
+                alpha[i],
+                brittle,
+                n_eps[i],
+                torsion_all,
+                release_both,
+                fp,
+                pp,
+                tp,
+            )
             for m in range(6):
                 D[i, m, j] = (fp[m] - f0[i, m]) / h
         for j in range(6):
@@ -246,6 +344,7 @@ def interface_tangents(d, f0, state, p_old, cracked_old, f_old, k, area, lever, 
 
 
 # array forms of the scalar kernels, for the Python API (interface domains, tests)
+
 
 @njit(cache=True, error_model="numpy")
 def smooth_plus_array(x, eps):

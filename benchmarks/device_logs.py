@@ -1,4 +1,5 @@
-"""The ensemble throughput printed on a lent GPU, as one table (benchmarks/device/<run>/ensemble.csv).
+"""The ensemble throughput printed on a lent GPU, as one table
+(benchmarks/device/<run>/ensemble.csv).
 
 The device's runs were cut off by their time limits before the benchmark wrote its dataset,
 so what they measured is in the lines it printed as it went (``ensemble_run*.txt``, kept as

@@ -40,7 +40,10 @@ def synthetic_record(path: Path, duration=20.0, dt=0.01, seed=1) -> Path:
     envelope = np.minimum(t / 2.0, 1.0) * np.exp(-np.maximum(t - 8.0, 0.0) / 4.0)
     accel = signal * envelope
     accel *= 3.0 / np.abs(accel).max()
-    header = "synthetic accelerogram for benchmarks: band-limited (0.5-8 Hz) noise, seed 1\ntime [s], acceleration [m/s2]"
+    header = (
+        "synthetic accelerogram for benchmarks: band-limited (0.5-8 Hz) noise, seed "
+        "1\ntime [s], acceleration [m/s2]"
+    )
     return write_atomically(
         path, lambda tmp: np.savetxt(tmp, np.column_stack([t, accel]), header=header, fmt="%.6f")
     )
@@ -165,8 +168,10 @@ def benchmark(out: Path) -> int:
             )
         )
         print(
-            f"{name:28s} bodies {len(scene.bodies):3d}  dt {result.dt:.3g} s  steps {result.steps_run:8d}  "
-            f"contacts {contacts:5.1f}  {ns:6.1f} ns/contact/step  kernel {result.wall_seconds:6.2f} s  "
+            f"{name:28s} bodies {len(scene.bodies):3d}  dt {result.dt:.3g} s  steps "
+            f"{result.steps_run:8d}  "
+            f"contacts {contacts:5.1f}  {ns:6.1f} ns/contact/step  kernel "
+            f"{result.wall_seconds:6.2f} s  "
             f"total {total:6.2f} s  {result.wall_seconds / scene.duration:.4f} wall s per sim s"
         )
     # (b) at dt/2: how much does the answer move?

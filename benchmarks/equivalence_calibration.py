@@ -36,9 +36,10 @@ script also resamples the runs on disk (:func:`resampled_rates`, ``--resamples``
 (layers A and B of the unchanged code agree with the baseline exactly, so a null draw's false
 alarms are layer C's).
 
-    python benchmarks/equivalence_calibration.py --baseline benchmarks/ensemble/2026-11-28/ensemble.nc
-        [--config CONFIG] [--draws 10] [--only null shift flips friction edge_normal tilt] [--jobs 2]
-        [--work results/bench/calibration] [--out results/bench/calibration/calibration.nc]
+    python benchmarks/equivalence_calibration.py --baseline
+    benchmarks/ensemble/2026-11-28/ensemble.nc
+        [--config CONFIG] [--draws 10] [--only null shift flips friction edge_normal tilt] [--jobs
+        2] [--work results/bench/calibration] [--out results/bench/calibration/calibration.nc]
 """
 
 from __future__ import annotations
@@ -277,17 +278,21 @@ def edge_normal_tree(commit: str) -> Path:
         ["git", "-C", str(tree), "apply", str(PATCH)], capture_output=True, text=True
     )
     if patched.returncode != 0:
+        why = (
+            patched.stderr.strip().splitlines()[0] if patched.stderr.strip() else "git apply failed"
+        )
         raise InputError(
             "--only edge_normal",
-            f"{PATCH.name} does not apply to {commit[:10]} "
-            f"({patched.stderr.strip().splitlines()[0] if patched.stderr.strip() else 'git apply failed'})",
-            "rebase the patch on the current kernels (git diff ba4d380 ba4d380^ -- src tests/kernels)",
+            f"{PATCH.name} does not apply to {commit[:10]} ({why})",
+            "rebase the patch on the current kernels (git diff ba4d380 ba4d380^ -- src "
+            "tests/kernels)",
         )
     return tree
 
 
 def run_edge_normal(plan: dict, members: list[int], path: Path) -> float:
-    """The edge_normal draw, made by this script in a child process on the patched worktree's code."""
+    """The edge_normal draw, made by this script in a child process on the patched worktree's
+    code."""
     commit = subprocess.run(
         ["git", "-C", str(ROOT), "rev-parse", "HEAD"], check=True, capture_output=True, text=True
     ).stdout.strip()
@@ -628,7 +633,8 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     for r in range(ds.sizes["draw"]):
         row = ds.isel(draw=r)
         lines.append(
-            f"  {str(row.draw.values):<14} j {int(row.first_member)}..{int(row.first_member) + int(row.members) - 1}"
+            f"  {str(row.draw.values):<14} j "
+            f"{int(row.first_member)}..{int(row.first_member) + int(row.members) - 1}"
             f"  A {row.verdict_a.values} B {row.verdict_b.values} C {row.verdict_c.values}"
             f"  p_v {float(row.p_v):.3g} p_t {float(row.p_t):.3g}  "
             f"{'REJECTED' if int(row.rejected) else 'equivalent'}"
@@ -649,7 +655,8 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         for name in ds.estimate.values:
             row = ds.sel(estimate=name)
             lines.append(
-                f"resampled {name}: {float(row.resampled_rate):.3f} of {ds.sizes['resample']} picks "
+                f"resampled {name}: {float(row.resampled_rate):.3f} of {ds.sizes['resample']} "
+                "picks "
                 f"from {int(row.resampled_pool)} runs"
             )
     for kind in SINGLE:

@@ -24,7 +24,8 @@ the repository root of the commit named, with ``--config config/config.yaml --jo
   ``candidate-friction-00.nc`` of benchmarks/equivalence_calibration.py: stiffness members with
   the base motion x 1.02, every friction coefficient x 1.01).
 
-    python benchmarks/geometry_band.py --work DIR [--out benchmarks/ensemble/2026-11-29/geometry_band.nc]
+    python benchmarks/geometry_band.py --work DIR [--out
+    benchmarks/ensemble/2026-11-29/geometry_band.nc]
 
 Writes one row per draw: members, each layer's verdict, S_v and p_v, S_T and p_T, the answer.
 """
@@ -201,7 +202,8 @@ def band_dataset(work: Path) -> xr.Dataset:
             )
         },
         attrs={
-            "title": "equivalence judgements against a stiffness and a geometry baseline (issue 45)",
+            "title": "equivalence judgements against a stiffness and a geometry baseline "
+            "(issue 45)",
             "alpha": 0.005,
             "source": code_version(),
             "command": "python benchmarks/geometry_band.py " + " ".join(sys.argv[1:]),

@@ -66,7 +66,8 @@ def pair_flips(collapsed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def judge(cpu: np.ndarray, candidate: np.ndarray) -> dict:
     """One candidate draw (case,) against the CPU members (case, K): its flips against each
     member, the cases every member agrees on that it flips, and layer C's S_v with its
-    permutation p over all K + 1 assignments (:func:`stonedem.study.permutation.permutation_test`)."""
+    permutation p over all K + 1 assignments
+    (:func:`stonedem.study.permutation.permutation_test`)."""
     from stonedem.study.permutation import permutation_test
 
     k = cpu.shape[1]
@@ -351,7 +352,8 @@ def equivalence_dataset(cases, cpu, rocking, verdicts, device, floors, attrs) ->
         data,
         coords=coords,
         attrs={
-            "title": "GPU full-record verdicts against the CPU's own last-bit ensemble (issue 44, item 7)",
+            "title": "GPU full-record verdicts against the CPU's own last-bit ensemble (issue "
+            "44, item 7)",
             **attrs,
             "n_members": int(k),
             "n_cases": int(len(cases)),
@@ -375,8 +377,10 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     """What the comparison found, in a few lines."""
     k, n = ds.attrs["n_members"], ds.attrs["n_cases"]
     lines = [
-        f"CPU vs CPU ({k} members, {ds.sizes['pair']} pairs): {ds.attrs['cpu_pair_flips_mean']:.2f} of {n} "
-        f"verdicts differ on average, {ds.attrs['cpu_pair_flips_min']} ... {ds.attrs['cpu_pair_flips_max']}"
+        f"CPU vs CPU ({k} members, {ds.sizes['pair']} pairs): "
+        f"{ds.attrs['cpu_pair_flips_mean']:.2f} of {n} "
+        f"verdicts differ on average, {ds.attrs['cpu_pair_flips_min']} ... "
+        f"{ds.attrs['cpu_pair_flips_max']}"
     ]
     split = ds.split.values == 1
     shown = ", ".join(
@@ -396,21 +400,26 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     for c, name in enumerate(ds.candidate.values):
         flipped = ds.case.values[ds.unanimous_flip.values[:, c] == 1]
         lines.append(
-            f"{CANDIDATE_NAMES[str(name)]} vs the {k} CPU members: {float(ds.flips_mean[c]):.2f} flips per member "
-            f"({int(ds.flips_min[c])} ... {int(ds.flips_max[c])}, {int(ds.flips_member_0[c])} vs member 0); "
+            f"{CANDIDATE_NAMES[str(name)]} vs the {k} CPU members: "
+            f"{float(ds.flips_mean[c]):.2f} flips per member "
+            f"({int(ds.flips_min[c])} ... {int(ds.flips_max[c])}, {int(ds.flips_member_0[c])} "
+            "vs member 0); "
             f"S_v {float(ds.s_v[c]):.3g}, p {float(ds.p_v[c]):.3g} over all {k + 1} assignments; "
             f"unanimous cases flipped: {', '.join(flipped) if flipped.size else 'none'}"
         )
     lines.append(
         f"one candidate draw: the smallest attainable p is 1/(K+1) = {1.0 / (k + 1):.3g} "
-        f"> alpha = {ALPHA:g}, so this cannot reject; the real test needs 8 GPU members run on a device"
+        f"> alpha = {ALPHA:g}, so this cannot reject; the real test needs 8 GPU members run on "
+        "a device"
     )
     for s, scene in enumerate(ds.scene.values):
         family = f" ({ds.floor_family.values[s]})" if "floor_family" in ds else ""
         lines.append(
             f"short horizon {scene}: GPU gap {float(ds.gpu_position_gap[s]):.3g} m = "
-            f"{float(ds.position_gap_in_floors[s]):.3g} floors of {float(ds.floor_position[s]):.3g} m{family}, "
-            f"{float(ds.gpu_rotation_gap[s]):.3g} rad = {float(ds.rotation_gap_in_floors[s]):.3g} floors "
+            f"{float(ds.position_gap_in_floors[s]):.3g} floors of "
+            f"{float(ds.floor_position[s]):.3g} m{family}, "
+            f"{float(ds.gpu_rotation_gap[s]):.3g} rad = "
+            f"{float(ds.rotation_gap_in_floors[s]):.3g} floors "
             f"(open until a device re-runs gpu_check without FMA contraction)"
         )
     return lines
@@ -532,7 +541,8 @@ def main(argv=None) -> int:
             )  # before the runs
             options.check_case_scenes(found, RECORDS)
             print(
-                f"{len(found)} cases of {study} x {k} CPU members (k_n x (1 - j 2^-52), j = 0..{k - 1}) "
+                f"{len(found)} cases of {study} x {k} CPU members (k_n x (1 - j 2^-52), j = "
+                f"0..{k - 1}) "
                 f"on {jobs} process(es)",
                 file=sys.stderr,
                 flush=True,

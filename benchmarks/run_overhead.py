@@ -9,7 +9,8 @@ process's wall time less the compiled loop's (each run's ``wall_seconds`` and
 the dataset or piece, and the files written. The commits alternate, best of ``--repeats``.
 Writes ``results/bench/run_overhead.nc`` and prints one line per commit and the ratio.
 
-    python benchmarks/run_overhead.py [--parent HEAD~1|none] [--repeats 3] [--out results/bench/run_overhead.nc]
+    python benchmarks/run_overhead.py [--parent HEAD~1|none] [--repeats 3] [--out
+    results/bench/run_overhead.nc]
 """
 
 from __future__ import annotations
@@ -62,8 +63,8 @@ with tempfile.TemporaryDirectory() as tmp:
     start = time.perf_counter()
     search_all("timed", systems)
     wall = time.perf_counter() - start
-print(json.dumps({"wall": wall, "stepping": stepping[0], "runs": stepping[1], "searches": len(systems),
-                  "files_per_run": not slim}))
+print(json.dumps({"wall": wall, "stepping": stepping[0], "runs": stepping[1],
+                  "searches": len(systems), "files_per_run": not slim}))
 """
 
 
@@ -141,8 +142,10 @@ def measure_commits(args) -> int:
                     got = measure(tree)
                     got["per_run_ms"] = 1e3 * (got["wall"] - got["stepping"]) / got["runs"]
                     print(
-                        f"[{k + 1}/{args.repeats}] {name} {commits[name][:10]}: {got['runs']} runs in "
-                        f"{got['searches']} searches, {got['wall']:.2f} s, stepping {got['stepping']:.2f} s, "
+                        f"[{k + 1}/{args.repeats}] {name} {commits[name][:10]}: {got['runs']} "
+                        "runs in "
+                        f"{got['searches']} searches, {got['wall']:.2f} s, stepping "
+                        f"{got['stepping']:.2f} s, "
                         f"{got['per_run_ms']:.1f} ms a run beyond it",
                         flush=True,
                     )

@@ -1,4 +1,5 @@
-"""Wall time of a whole Snakemake target from a fresh clone, this commit beside its parent (issue 32).
+"""Wall time of a whole Snakemake target from a fresh clone, this commit beside its parent (issue
+32).
 
 Each commit is cloned afresh into a temporary folder and runs ``python -m snakemake -j2
 TARGET`` there with its own, empty Numba cache (so compiling counts, as on a fresh machine)
@@ -7,7 +8,8 @@ same session, so the parent's time checks the machine's speed. Writes
 results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs): the
 rows of this target and config replace those of an earlier run, the other targets' rows stay.
 
-    python benchmarks/study_time.py [--parent 55e0c02|none] [--target all] [--configfile config/quick.yaml]
+    python benchmarks/study_time.py [--parent 55e0c02|none] [--target all] [--configfile
+    config/quick.yaml]
                                     [--out results/bench/study_time.csv] [--out-clones FOLDER]
 
 The full study takes 6-7 min per commit on 2 cores; the full IDA (``--target fragility``)
@@ -32,7 +34,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit_of(rev: str) -> str:
-    """The full hash of ``rev`` (:func:`stonedem.bench.kernel.resolve_commit`), or one line naming the option."""
+    """The full hash of ``rev`` (:func:`stonedem.bench.kernel.resolve_commit`), or one line naming
+    the option."""
     from stonedem.bench.kernel import ParentUnavailable, resolve_commit
 
     try:
@@ -115,7 +118,8 @@ def main(argv=None) -> int:
         "--out-clones",
         type=options.path_arg,
         default=None,
-        help="clone into this new folder and keep it (its results/ to compare); default: a temporary one",
+        help="clone into this new folder and keep it (its results/ to compare); default: a "
+        "temporary one",
     )
     args = parser.parse_args(argv)
 
@@ -156,7 +160,8 @@ def main(argv=None) -> int:
                 )
                 timing = run_target(commit, args.target, args.configfile, Path(tmp))
                 print(
-                    f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, {timing['jobs']} jobs",
+                    f"  {timing['wall_seconds']:.0f} s, exit {timing['exit_status']}, "
+                    f"{timing['jobs']} jobs",
                     file=sys.stderr,
                     flush=True,
                 )
@@ -174,7 +179,10 @@ def main(argv=None) -> int:
         options.write_csv(path, rows, fieldnames=FIELDS)
         line = f"{args.target}: {new[0]['wall_seconds']:.0f} s"
         if len(new) == 2:
-            line += f", parent {new[1]['wall_seconds']:.0f} s (x{new[1]['wall_seconds'] / new[0]['wall_seconds']:.2f})"
+            line += (
+                f", parent {new[1]['wall_seconds']:.0f} s "
+                f"(x{new[1]['wall_seconds'] / new[0]['wall_seconds']:.2f})"
+            )
         print(f"{line}; wrote {path}")
         return 0 if all(row["exit_status"] == 0 for row in new) else 1
 

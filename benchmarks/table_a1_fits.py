@@ -166,7 +166,8 @@ def table_a1_fits(output: Path, quick: bool = False) -> int:
     options.write_csv(output, rows)
     # the summary: per combination, f1=f2 read either way (the other columns as they are)
     print(
-        f"\n{'n':>3} {'f1=f2 reading':14} {'m3 by':12} {'criterion':8} within/21  max|err|  worst entry"
+        f"\n{'n':>3} {'f1=f2 reading':14} {'m3 by':12} {'criterion':8} within/21  max|err|  "
+        "worst entry"
     )
     keys = sorted({(r["n"], r["m3_normalised_by"], r["criterion"]) for r in rows})
     best = None
@@ -182,13 +183,15 @@ def table_a1_fits(output: Path, quick: bool = False) -> int:
         within = int(np.sum(errors <= TOLERANCE))
         print(
             f"{n:>3} {reading:14} {norm:12} {criterion:8} {within:>5}    {errors.max():.3f}    "
-            f"({worst['l1_over_l2']:g}, {worst['shear']}) {worst['alpha']:.2f} vs {worst['alpha_manuscript']:.2f}"
+            f"({worst['l1_over_l2']:g}, {worst['shear']}) {worst['alpha']:.2f} vs "
+            f"{worst['alpha_manuscript']:.2f}"
         )
         if best is None or (within, -errors.max()) > best[0]:
             best = ((within, -errors.max()), n, reading, norm, criterion)
     (within, neg), n, reading, norm, criterion = best
     print(
-        f"\nbest: n = {n}, f1=f2 as {reading}, m3 by {norm}, {criterion}: {within}/21 within {TOLERANCE}, "
+        f"\nbest: n = {n}, f1=f2 as {reading}, m3 by {norm}, {criterion}: {within}/21 within "
+        f"{TOLERANCE}, "
         f"max error {-neg:.3f}; {output}"
     )
     return 0

@@ -63,7 +63,8 @@ def probe(system, member: int) -> dict:
             result = ensemble.member_search(system, member + offset, perturbation)
             out[name] = (result["upper"], result["lower"], result["n_runs"])
             print(
-                f"{system.id} {name}: threshold {result['upper']:.4g} m/s2 (survived {result['lower']:.4g}, "
+                f"{system.id} {name}: threshold {result['upper']:.4g} m/s2 (survived "
+                f"{result['lower']:.4g}, "
                 f"{result['n_runs']} runs)",
                 file=sys.stderr,
                 flush=True,

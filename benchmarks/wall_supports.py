@@ -304,7 +304,8 @@ def supports(names, out: Path) -> int:
                 }
             )
             print(
-                f"{name:>18} {label:>44} {lam * scale:9.4g} {dem * scale:8.4g} {err:+7.1%} {seconds:5.1f}",
+                f"{name:>18} {label:>44} {lam * scale:9.4g} {dem * scale:8.4g} {err:+7.1%} "
+                f"{seconds:5.1f}",
                 flush=True,
             )
     path = options.write_csv(out / "supports.csv", rows)

@@ -7,7 +7,8 @@ DEM is met, the solver status and the run time; beside them the limit analysis o
 model (``stonedem.wall.limit_analysis``) on the pushover's caps at its peak (the oracle) and on
 the dead-load caps. Writes ``results/walls/benchmark.csv``.
 
-    python benchmarks/wall_tables.py [--only orduna_case1 s11 ...] [--max-seconds 150] [--out results/walls] [--secant]
+    python benchmarks/wall_tables.py [--only orduna_case1 s11 ...] [--max-seconds 150] [--out
+    results/walls] [--secant]
 """
 
 from __future__ import annotations
@@ -163,8 +164,10 @@ def tables(names, max_seconds: float, path: Path, secant: bool = False) -> int:
         pass
     rows = []
     head = (
-        f"{'case':>10} {'unit':>6} {'ours':>9} {'at s/10':>9} {'DEM':>8} {'reference':>12} {'err DEM':>8} "
-        f"{'err ref':>8} {'ok':>3} {'s':>6} {'LP':>9} {'push/LP':>8} {'LP dead':>9} {'LP s':>5}  status"
+        f"{'case':>10} {'unit':>6} {'ours':>9} {'at s/10':>9} {'DEM':>8} {'reference':>12} "
+        f"{'err DEM':>8} "
+        f"{'err ref':>8} {'ok':>3} {'s':>6} {'LP':>9} {'push/LP':>8} {'LP dead':>9} "
+        f"{'LP s':>5}  status"
     )
     print(head, flush=True)
     for name in names:
@@ -174,11 +177,16 @@ def tables(names, max_seconds: float, path: Path, secant: bool = False) -> int:
             print(f"{row['case']:>10}  {row['status']}", flush=True)
             continue
         print(
-            f"{row['case']:>10} {row['unit']:>6} {row['ours']:9.4g} {row['ours_at_s_over_10']:9.4g} "
-            f"{row['manuscript_dem']:8.4g} {row['reference']:>12} {100 * row['error_vs_manuscript_dem']:+7.1f}% "
-            f"{100 * row['error_vs_reference']:+7.1f}% {'yes' if row['within_tolerance'] else 'no':>3} "
-            f"{row['seconds']:6.1f} {row['limit_analysis']:9.4g} {100 * row['pushover_vs_limit_analysis']:+7.2f}% "
-            f"{row['limit_analysis_dead_load']:9.4g} {row['limit_analysis_seconds']:5.1f}  {row['status']}",
+            f"{row['case']:>10} {row['unit']:>6} {row['ours']:9.4g} "
+            f"{row['ours_at_s_over_10']:9.4g} "
+            f"{row['manuscript_dem']:8.4g} {row['reference']:>12} "
+            f"{100 * row['error_vs_manuscript_dem']:+7.1f}% "
+            f"{100 * row['error_vs_reference']:+7.1f}% "
+            f"{'yes' if row['within_tolerance'] else 'no':>3} "
+            f"{row['seconds']:6.1f} {row['limit_analysis']:9.4g} "
+            f"{100 * row['pushover_vs_limit_analysis']:+7.2f}% "
+            f"{row['limit_analysis_dead_load']:9.4g} {row['limit_analysis_seconds']:5.1f}  "
+            f"{row['status']}",
             flush=True,
         )
     options.write_csv(path, rows, fieldnames=max((list(r) for r in rows), key=len), restval="")

@@ -4,9 +4,9 @@ A drum column under an earthquake record
 
 A 6 m column of four stone drums, 1 m wide, with a capital, stands on a base that moves
 with the Northridge 1994 Beverly Hills - Mulhol record (committed in ``records/``), scaled
-to a PGA of 10 m/s2, and collapses during the strongest shaking. The snapshots are drawn from the dataset alone: the body outlines are
-rebuilt from the scene the dataset stores, then posed at each sample's centroid and angle.
-"""
+to a PGA of 10 m/s2, and collapses during the strongest shaking. The snapshots are drawn from the
+dataset alone: the body outlines are rebuilt from the scene the dataset stores, then posed at each
+sample's centroid and angle."""
 
 # %%
 # The scene
@@ -42,7 +42,8 @@ ds = stonedem.run_scene(
 print(
     f"{ds.attrs['status']}: max rocking {float(ds['max_rocking']):.3f} rad "
     f"(theta_cr {float(ds['theta_cr']):.3f} rad), "
-    f"max sliding {float(ds['max_total_sliding']) * 1000:.1f} mm, collapsed: {bool(ds['collapsed'])}"
+    f"max sliding {float(ds['max_total_sliding']) * 1000:.1f} mm, collapsed: "
+    f"{bool(ds['collapsed'])}"
 )
 
 # %%

@@ -40,11 +40,13 @@ reference = {
 }
 analytic = reference["free_standing"]["lambda_analytic"]
 print(
-    f"free_standing: lambda_max {float(results['free_standing'].lambda_max):.4f} vs s/H = {analytic:.4f}"
+    f"free_standing: lambda_max {float(results['free_standing'].lambda_max):.4f} vs s/H = "
+    f"{analytic:.4f}"
 )
 s12 = reference["s12"]
 print(
-    f"s12: lambda_max {float(results['s12'].lambda_max):.4f} vs manuscript DEM {s12['lambda_dem']}, "
+    f"s12: lambda_max {float(results['s12'].lambda_max):.4f} vs manuscript DEM "
+    f"{s12['lambda_dem']}, "
     f"experiment {s12['lambda_experiment']}"
 )
 

@@ -19,7 +19,8 @@ settings.register_profile(
 settings.register_profile(
     "fuzz", max_examples=10_000, deadline=None, suppress_health_check=[HealthCheck.too_slow]
 )
-# another count for one run of the fuzz profile (e.g. 1000 for the slow argv fuzz of the subcommands)
+# another count for one run of the fuzz profile (e.g. 1000 for the slow argv fuzz of the
+# subcommands)
 settings.register_profile(
     "fuzz_n",
     parent=settings.get_profile("fuzz"),
@@ -104,9 +105,9 @@ def pytest_unconfigure(config):
         shutil.rmtree(_DEAD_SLURM.pop(), ignore_errors=True)
 
 
-# the files that take longest (seconds of one worker, 2 cores and a third job, 2026-11-29), handed out first
-# (pyproject's addopts: --dist loadfile --no-loadscope-reorder): xdist's default order, most
-# tests first, left test_workflow.py and test_study_faults.py (a few long tests each) to start
+# the files that take longest (seconds of one worker, 2 cores and a third job, 2026-11-29), handed
+# out first (pyproject's addopts: --dist loadfile --no-loadscope-reorder): xdist's default order,
+# most tests first, left test_workflow.py and test_study_faults.py (a few long tests each) to start
 # last, one worker running them alone at the end
 LONGEST_FIRST = (
     "tests/wall/test_tables.py",  # 187 s
@@ -135,9 +136,10 @@ def pytest_collection_modifyitems(session, config, items):
 @pytest.hookimpl(tryfirst=True)
 def pytest_sessionstart(session):
     """Before the workers start (or the tests, without xdist): compile the engine's time loops
-    (stonedem.engine.run.WARM_SCENES) side by side, one process each (stonedem.engine.run.warm_compile), into Numba's cache. With an
-    empty cache both workers otherwise compiled both loops at once, each, in their first tests
-    (~55 s of a 2-core run; ~2 s when the cache is full)."""
+    (stonedem.engine.run.WARM_SCENES) side by side, one process each
+    (stonedem.engine.run.warm_compile), into Numba's cache. With an empty cache both workers
+    otherwise compiled both loops at once, each, in their first tests (~55 s of a 2-core run; ~2 s
+    when the cache is full)."""
     if os.environ.get("PYTEST_XDIST_WORKER") or os.environ.get("NUMBA_DISABLE_JIT") == "1":
         return
     import subprocess
@@ -180,6 +182,7 @@ def pytest_sessionstart(session):
         _, err = compile_.communicate()
         if compile_.returncode != 0:  # the tests will say what is wrong; this only warms the cache
             print(
-                f"warming the compiled {', '.join(loops)} loop failed: {err.strip().splitlines()[-1:]}",
+                f"warming the compiled {', '.join(loops)} loop failed: "
+                f"{err.strip().splitlines()[-1:]}",
                 file=sys.stderr,
             )

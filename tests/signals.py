@@ -1,4 +1,5 @@
-"""Real-signal tests' one procedure: start a command, wait for a stderr line, signal it, time its exit."""
+"""Real-signal tests' one procedure: start a command, wait for a stderr line, signal it, time its
+exit."""
 
 import queue
 import subprocess

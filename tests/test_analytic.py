@@ -1,4 +1,5 @@
-"""Reference solutions of thesis 5.1 (stonedem.reference.analytic) checked against closed forms and fine ODE solves."""
+"""Reference solutions of thesis 5.1 (stonedem.reference.analytic) checked against closed forms and
+fine ODE solves."""
 
 import math
 
@@ -277,7 +278,8 @@ def test_compiled_bouc_wen_matches_lsoda():
 
 
 def _peaks_from_energy(res, width, height):
-    """Peak |theta| of each half cycle, from the free-rocking energy at the sample nearest the peak."""
+    """Peak |theta| of each half cycle, from the free-rocking energy at the sample nearest the
+    peak."""
     blk = analytic.rectangle_rocking_properties(width, height)
     th, om = res.theta, res.omega
     j = np.flatnonzero(np.sign(om[:-1]) * np.sign(om[1:]) < 0)  # theta' changes sign: a peak
@@ -613,7 +615,8 @@ def test_compiled_rigid_rocking_matches_the_scipy_integrator(scale):
 
 
 def test_compiled_rigid_rocking_converges_in_its_substeps():
-    """Runge-Kutta order 4: 4x the substeps takes the error down ~256x; 16 (the default) is within 1e-9 rad of 64."""
+    """Runge-Kutta order 4: 4x the substeps takes the error down ~256x; 16 (the default) is within
+    1e-9 rad of 64."""
     t = np.arange(0.0, 6.0, 0.01)
     w, h = SLENDER
     a = 1.5 * G * math.tan(_alpha(w, h)) * np.sin(2.0 * np.pi * 1.3 * t) * np.exp(-0.3 * t)

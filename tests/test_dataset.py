@@ -124,7 +124,8 @@ ROCKING_BLOCK = {  # a 1 x 6 m block tipped by a ramp; the engine's defaults oth
 
 
 def _diverging_first(monkeypatch, n_diverged):
-    """stonedem.engine.run.simulate whose first n_diverged runs report NaN (the engine's status), then run."""
+    """stonedem.engine.run.simulate whose first n_diverged runs report NaN (the engine's status),
+    then run."""
     import dataclasses
 
     import stonedem.engine.run

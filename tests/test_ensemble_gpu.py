@@ -38,19 +38,22 @@ CHILD = textwrap.dedent("""
         return s
     groups = {
         # a record with a quiet lead (settling, then carried), two lengths of record
-        "record": [{"structure": {"kind": "column", "n_drums": 1, "height": 3.0, "width": 0.6}, "friction": 0.6,
-                    "contact": {"model": "point", "k_n": 1e9},
-                    "excitation": {"kind": "record", "file": record, "baseline": False, "scale": scale},
+        "record": [{"structure": {"kind": "column", "n_drums": 1, "height": 3.0, "width": 0.6},
+                    "friction": 0.6, "contact": {"model": "point", "k_n": 1e9},
+                    "excitation": {"kind": "record", "file": record, "baseline": False,
+                                   "scale": scale},
                     "solver": {"duration": duration}, "output": {"every": 0.01}}
                    for scale, duration in ((1.0, 3.0), (2.5, 2.0), (4.0, 3.0))],
         # a 1 x 4 m block under a 2 Hz harmonic: rocks at 0.05 m, overturns within 1.5 s at 0.4 m
-        "collapse": [{"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0}, "friction": 0.7,
-                      "contact": {"model": "point", "k_n": 1e9},
+        "collapse": [{"structure": {"kind": "column", "n_drums": 1, "height": 4.0, "width": 1.0},
+                      "friction": 0.7, "contact": {"model": "point", "k_n": 1e9},
                       "excitation": {"kind": "harmonic", "frequency": 2.0, "amplitude": amplitude},
-                      "solver": {"duration": 1.5, "stop_on_collapse": True}, "output": {"every": 0.01}}
+                      "solver": {"duration": 1.5, "stop_on_collapse": True},
+                      "output": {"every": 0.01}}
                      for amplitude in (0.05, 0.4)],
         "column_8": [spec("column_8", 0.5, excitation={"pga": pga}) for pga in (2.0, 8.0)],
-        "colonnade": [spec("colonnade_3x3", 0.3, excitation={"kind": "harmonic", "pga": pga, "frequency": 2.0})
+        "colonnade": [spec("colonnade_3x3", 0.3,
+                           excitation={"kind": "harmonic", "pga": pga, "frequency": 2.0})
                       for pga in (3.0, 6.0)],
         "lone_block": [spec("lone_block", 0.5)],
         "area_law": [spec("column_1", 0.5, contact={"model": "area", "k_n": 1e9, "c_n": 1e4},
@@ -67,9 +70,11 @@ CHILD = textwrap.dedent("""
                 same_shape = cpu.theta.shape == gpu.theta.shape
                 rows.append({
                     "status": [cpu.status, gpu.status], "steps": [cpu.steps_run, gpu.steps_run],
-                    "collapse": [cpu.collapse_step, gpu.collapse_step], "onset": [cpu.onset_step, gpu.onset_step],
+                    "collapse": [cpu.collapse_step, gpu.collapse_step],
+                    "onset": [cpu.onset_step, gpu.onset_step],
                     "samples": [len(cpu.time), len(gpu.time)],
-                    "position": float(max(np.max(np.abs(cpu.x - gpu.x)), np.max(np.abs(cpu.y - gpu.y))))
+                    "position": float(max(np.max(np.abs(cpu.x - gpu.x)),
+                                          np.max(np.abs(cpu.y - gpu.y))))
                     if same_shape else None,
                     "theta": float(np.max(np.abs(cpu.theta - gpu.theta))) if same_shape else None,
                     "peaks": float(np.max(np.abs(cpu.peaks - gpu.peaks))),
@@ -87,8 +92,8 @@ CHILD = textwrap.dedent("""
         def __getitem__(self, grid):
             def launch(leaves, lengths, *rest):
                 host = [numba.typeof(gpu._host_array(a)) for a in (lengths, *rest)]
-                gpu.run_member.compile((numba.typeof(tuple(gpu._host_array(a) for a in leaves)), host[0],
-                                        numba.int64, *host[1:]))
+                stacked = numba.typeof(tuple(gpu._host_array(a) for a in leaves))
+                gpu.run_member.compile((stacked, host[0], numba.int64, *host[1:]))
                 return simulated[grid](leaves, lengths, *rest)
             return launch
     gpu.member_kernel = CompiledFirst
@@ -104,8 +109,8 @@ CHILD = textwrap.dedent("""
     # the two groups' stacked leaves then have one type, so run_member compiles once for the
     # layout (the lone drum's stack typed apart: a second ~150 s compile under the simulator)
     eight_drums = spec("column_8", 0.5)["structure"]
-    out["member_fastest"] = run({"record": [{**s, "structure": eight_drums} for s in groups["record"]],
-                                 "column_8": groups["column_8"]})
+    on_eight = [{**s, "structure": eight_drums} for s in groups["record"]]
+    out["member_fastest"] = run({"record": on_eight, "column_8": groups["column_8"]})
     gpu.MEMBER_FASTEST = False
     print(json.dumps(out))
 """)

@@ -1,6 +1,7 @@
-"""Judging a changed engine against the stored baseline ensemble (python -m stonedem.study.equivalence,
-issue 44): hand-built ensemble files in the layout of stonedem.study.ensemble, K_B = 8 and K_N = 4
-members drawn from one Bernoulli (verdicts) and lognormal (thresholds) model."""
+"""Judging a changed engine against the stored baseline ensemble (python -m
+stonedem.study.equivalence, issue 44): hand-built ensemble files in the layout of
+stonedem.study.ensemble, K_B = 8 and K_N = 4 members drawn from one Bernoulli (verdicts) and
+lognormal (thresholds) model."""
 
 import numpy as np
 import pytest

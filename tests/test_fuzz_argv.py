@@ -256,7 +256,8 @@ def _command(name, draw, files, out_dir):
             [_inputs(files, "scene", "result")],
         )
     if name == "validate":
-        # a valid validate runs every validation (minutes): one bad --only keeps it a question of checks
+        # a valid validate runs every validation (minutes): one bad --only keeps it a question of
+        # checks
         argv = ["validate", "--only", draw(st.sampled_from(["nope", "", "é", "--list"]))]
         return argv + _options(
             draw, {"-o": _outputs(files, out_dir, [""]), "--only": st.sampled_from(["x", "-"])}

@@ -342,7 +342,8 @@ def _assert_cases_run(tables: dict) -> None:
 
 
 def _check(config: dict):
-    """check_config's verdict: the case tables, or None when refused (cleanly, or the test fails)."""
+    """check_config's verdict: the case tables, or None when refused (cleanly, or the test
+    fails)."""
     try:
         tables = check_config(config, records_dir=RECORDS, schema=SCHEMA)
     except InputError as error:

@@ -428,7 +428,8 @@ def test_fuzz_netcdf_records(data, units, suffix):
 
 
 def _run_info(argv):
-    """(exit status, stdout, stderr) of ``stonedem record info`` run in-process under stonedem.entry.guarded."""
+    """(exit status, stdout, stderr) of ``stonedem record info`` run in-process under
+    stonedem.entry.guarded."""
     from stonedem.entry import guarded
     from stonedem.motion.cli import build_parser
 

@@ -1,5 +1,5 @@
-"""IDA over the record suites (stonedem.fragility.ida): config -> searches, limit states off the runs, the
-cube, fits and the physics checks, on synthetic searches whose answers are known."""
+"""IDA over the record suites (stonedem.fragility.ida): config -> searches, limit states off the
+runs, the cube, fits and the physics checks, on synthetic searches whose answers are known."""
 
 import math
 
@@ -160,7 +160,8 @@ def test_cube_and_fits_from_searches(tmp_path):
     assert col.sel(limit_state="residual_sliding", record="FF01a") == pytest.approx(
         math.sqrt(3.0 * 4.0)
     )
-    # rocking onset theta_cr / 30 = 0.00667 at x = 2.58: interpolated between runs 2 and 3 (x^2 exact)
+    # rocking onset theta_cr / 30 = 0.00667 at x = 2.58: interpolated between runs 2 and 3 (x^2
+    # exact)
     assert float(col.sel(limit_state="rocking_onset", record="FF01a")) == pytest.approx(
         math.sqrt(6.667), rel=1e-3
     )

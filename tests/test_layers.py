@@ -106,7 +106,8 @@ def test_imports_go_downward_only():
             elif there == "wall":
                 if here not in WALL_IMPORTED_BY:
                     wrong.append(
-                        f"{module} -> {target} (only the public face and the command line import wall)"
+                        f"{module} -> {target} (only the public face and the command line "
+                        "import wall)"
                     )
             elif layer_of(there) >= layer_of(here):
                 wrong.append(f"{module} -> {target} ({there} is not below {here})")

@@ -49,7 +49,8 @@ def test_tapered_columns_need_a_higher_pga_to_overturn(tmp_path):
 def collapse_fraction(name, study, members):
     """Collapse fraction of a study's one case over ensemble members j = 0 .. members - 1
     (stonedem.study.members: k_n x (1 - j 2^-52)): near a threshold, collapse is chaotic, so an
-    ordering there is a statement about fractions, not about one draw (docs/method/equivalence.md)."""
+    ordering there is a statement about fractions, not about one draw
+    (docs/method/equivalence.md)."""
     from stonedem.engine.run import checked_run, response_measures
     from stonedem.study.grid import case_scene
     from stonedem.study.members import member_scene
@@ -110,7 +111,8 @@ def test_lower_predominant_frequency_collapses_at_lower_pga_and_epistyle_helps(t
 
 
 def test_rocking_dominates_at_low_frequency_and_sliding_at_high(tmp_path):
-    """Thesis 6.1 (Fig. 6.1): the small-scale 7-block column of 5.2.2 under harmonics of fixed PGA."""
+    """Thesis 6.1 (Fig. 6.1): the small-scale 7-block column of 5.2.2 under harmonics of fixed
+    PGA."""
     c = cube(
         tmp_path,
         "small",
@@ -144,7 +146,8 @@ def test_rocking_dominates_at_low_frequency_and_sliding_at_high(tmp_path):
 
 
 def test_heavier_epistyle_moves_less(tmp_path):
-    """Thesis 7.7: three monolithic columns with capitals under the Athens stand-in at the study's 8 m/s2."""
+    """Thesis 7.7: three monolithic columns with capitals under the Athens stand-in at the study's 8
+    m/s2."""
     c = cube(
         tmp_path,
         "epistyle",

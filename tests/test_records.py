@@ -251,7 +251,8 @@ def test_a_constant_record_has_no_predominant_frequency(accel):
 
 
 def run_info(*argv):
-    """(status, stdout, stderr) of ``stonedem record info`` in-process through stonedem.motion.cli."""
+    """(status, stdout, stderr) of ``stonedem record info`` in-process through
+    stonedem.motion.cli."""
     import contextlib
     import io
 

@@ -102,7 +102,8 @@ def test_a_new_excitation_kind_is_one_row(triangle):
 
 
 def test_the_time_step_resolves_a_new_kind(triangle):
-    """The row's period bounds the step (MIN_STEPS_PER_PERIOD steps per period), like every kind's."""
+    """The row's period bounds the step (MIN_STEPS_PER_PERIOD steps per period), like every
+    kind's."""
     spec = {
         **BLOCK,
         "contact": {"model": "area", "k_n": 1e6, "c_n": 0.0},
@@ -188,7 +189,8 @@ def test_a_new_limit_state_is_one_row(monkeypatch, tmp_path):
         cube.attrs["limit_state_slight_rotation"]
         == "peak mean drum rotation exceeds theta_cr / 100"
     )
-    # theta_cr / 100 = 0.002 = 0.001 x^2 at x = sqrt(2), between runs 1 and 2 (x^2 interpolated exactly)
+    # theta_cr / 100 = 0.002 = 0.001 x^2 at x = sqrt(2), between runs 1 and 2 (x^2 interpolated
+    # exactly)
     at = float(
         cube.pga_at_limit.sel(structure="col", record="FF01a", limit_state="slight_rotation")
     )

@@ -153,8 +153,7 @@ def test_an_overlap_far_along_a_row_of_bodies_is_found():
 
     spec = drum_wall_scene(30, 2)
     last = spec["bodies"][-1]
-    last["box"]["center"][1] -= (
-        0.01  # the top drum of the last column sinks 1 cm into the one below
-    )
+    # the top drum of the last column sinks 1 cm into the one below
+    last["box"]["center"][1] -= 0.01
     with pytest.raises(InputError, match="overlap"):
         scene_from_dict(spec)

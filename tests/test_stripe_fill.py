@@ -51,8 +51,8 @@ def search_file(path, values, threshold, survived):
 
 def test_the_fills_are_the_zone_values_a_member_has_not_run(systems, tmp_path):
     members = stripe_fill.member_groups(systems)["rec-mexico_standin_chichi_tcu102_drums-1"]
-    # member 0 ran 2, 8 (bracket 2 .. 8); member 1 ran 2, 4, 8 (2 .. 4); member 2 ran 2, 3, 16 (3 .. 16):
-    # zone [2, 16], values in it 2, 3, 4, 8, 16
+    # member 0 ran 2, 8 (bracket 2 .. 8); member 1 ran 2, 4, 8 (2 .. 4); member 2 ran 2, 3, 16 (3 ..
+    # 16): zone [2, 16], values in it 2, 3, 4, 8, 16
     paths = [
         search_file(tmp_path / "m0.nc", [2, 8], 8.0, 2.0),
         search_file(tmp_path / "m1.nc", [2, 4, 8], 4.0, 2.0),

@@ -192,7 +192,7 @@ def test_load_config_merges_a_profile_key_by_key_as_snakemake_does(tmp_path):
     assert [c.params for c in cases] == [{"frequency": 2.0}]
 
 
-def test_a_search_study_has_one_system_per_grid_case_and_refuses_the_searched_parameter_in_its_grid():
+def test_a_search_study_has_a_system_per_grid_case_and_refuses_its_searched_parameter():
     from stonedem.study.grid import search_case
 
     study = {

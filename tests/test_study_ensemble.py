@@ -30,7 +30,8 @@ STUDIES = ["ramp_drums", "standalone_records"]
 
 @pytest.fixture
 def tiny(tmp_path, monkeypatch):
-    """(config path, grid cases, search systems) of the tiny config, run from the repository root."""
+    """(config path, grid cases, search systems) of the tiny config, run from the repository
+    root."""
     monkeypatch.chdir(ROOT)  # the cases' records are found from the repository root
     folder = tmp_path / "config"
     folder.mkdir()

@@ -1,4 +1,5 @@
-"""Ensemble members (issue 44): the perturbation, the member dimension of a study, K = 1 as today."""
+"""Ensemble members (issue 44): the perturbation, the member dimension of a study, K = 1 as
+today."""
 
 import dataclasses
 

@@ -182,7 +182,8 @@ def test_two_blocks_rotation_histories_and_energy_balance(two):
 def test_energy_conserved_without_damping_or_slip(energy):
     result = energy
     assert result.summary["final_drift"] <= 0.005, (
-        f"10 s of rocking, c_n = 0: drift {result.summary['final_drift']:.5f} of the rocking energy, tol 0.5 %"
+        f"10 s of rocking, c_n = 0: drift {result.summary['final_drift']:.5f} of the rocking "
+        "energy, tol 0.5 %"
     )
 
 

@@ -1,4 +1,5 @@
-"""one_sine_overturning: the engine's smallest overturning one-sine pulse vs the exact rigid block."""
+"""one_sine_overturning: the engine's smallest overturning one-sine pulse vs the exact rigid
+block."""
 
 import math
 
@@ -132,7 +133,8 @@ def _overturns_at(factor, block, ratio, contact):
 
 @pytest.mark.parametrize("block", [BLOCK, (1.0, 6.0)])
 def test_default_point_law_at_omega_ratio_8_is_within_1_percent_of_the_exact_threshold(block):
-    """The 1 % target at omega_p / p = 8 with the engine's defaults (k_n 1e11, dt_safety 1.0), both sides.
+    """The 1 % target at omega_p / p = 8 with the engine's defaults (k_n 1e11, dt_safety 1.0), both
+    sides.
 
     Measured thresholds: +0.29 % (0.5 x 2 m, 10.292 vs 10.263) and +0.16 % (1 x 6 m, 7.942 vs
     7.930), both overturning after an impact as the rigid block does.
@@ -146,7 +148,8 @@ def test_default_point_law_at_omega_ratio_8_is_within_1_percent_of_the_exact_thr
     reason=(
         "the study's k_n = 1e10 N/m2, 0.5 x 2 m at omega_p / p = 8: measured +50.3 %: engine 15.42 "
         "(overturning without impact), exact 10.26 (after an impact): under a pulse of ~2.5 g the "
-        "compliant pivot leaves the block about 4 % of alpha short of the crest after its impact, so "
+        "compliant pivot leaves the block about 4 % of alpha short of the crest after its "
+        "impact, so "
         "it misses the narrow band of overturning after an impact (exact 10.26 - 11.9)"
     ),
 )

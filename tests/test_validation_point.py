@@ -1,4 +1,5 @@
-"""The thesis 5.1 validations with the point contact law (stonedem.validation.cases.VALIDATIONS, name_point)."""
+"""The thesis 5.1 validations with the point contact law (stonedem.validation.cases.VALIDATIONS,
+name_point)."""
 
 import math
 
@@ -12,11 +13,12 @@ from stonedem.reference import analytic
 from stonedem.validation import cases as validation
 
 POINT_VALIDATIONS = [name for name in validation.VALIDATIONS if name.endswith("_point")]
-# one_sine_overturning_point (20-40 s) is checked at three pulses by tests/test_validation_one_sine.py;
-# its full run is within 0.29 % everywhere (worst: omega_p/p = 8 on 0.5 x 2 m; README)
+# one_sine_overturning_point (20-40 s) is checked at three pulses by
+# tests/test_validation_one_sine.py; its full run is within 0.29 % everywhere (worst: omega_p/p = 8
+# on 0.5 x 2 m; README)
 FULL_RUNS = [name for name in POINT_VALIDATIONS if name != "one_sine_overturning_point"]
-# measured with the engine's defaults (stonedem.validation.cases.POINT_CONTACT: k_n 1e11, dt_safety 1.0):
-# the peak of the 1 x 6 m column under MUL009 x 0.6 is 39.9 % above the rigid rocking
+# measured with the engine's defaults (stonedem.validation.cases.POINT_CONTACT: k_n 1e11, dt_safety
+# 1.0): the peak of the 1 x 6 m column under MUL009 x 0.6 is 39.9 % above the rigid rocking
 # equation (k_n x 0.95: +11.9 %, x 1.05: +11.5 %; dt_safety 0.5: +6.9 %, 0.25: +15.0 %;
 # at k_n 1e10 it was -11.6 %): multi-impact rocking near this scale is that sensitive. The
 # other four scales are within 5 % at 1.0 (not 0.9 at 0.5 and 0.25: +81 %, +14 %); the

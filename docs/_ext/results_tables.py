@@ -24,9 +24,9 @@ The path is relative to the repository root (the folder above ``docs/``). Option
 
 A file that is not there (a fresh clone that has not run the study, or a docs build after
 the quick study, which makes only some tables), or one with no row that ``where`` selects,
-gives a short note, not a warning, so the ``-W`` build passes. A file that is there but lacks an asked-for column, variable or
-attribute is a warning: the page has drifted from what the workflow writes.
-"""
+gives a short note, not a warning, so the ``-W`` build passes. A file that is there but lacks an
+asked-for column, variable or attribute is a warning: the page has drifted from what the workflow
+writes."""
 
 from __future__ import annotations
 

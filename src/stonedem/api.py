@@ -189,7 +189,8 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
 
     if overrides is not None and not isinstance(overrides, (str, Mapping, list, tuple)):
         raise TypeError(
-            f"overrides: expected a list of key=value strings or a mapping, got {type(overrides).__name__}"
+            "overrides: expected a list of key=value strings or a mapping, got "
+            f"{type(overrides).__name__}"
         )
     if base_dir is not None and not _is_path(base_dir):
         raise TypeError(
@@ -243,12 +244,13 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
     --------
     >>> import stonedem
     >>> ds = stonedem.run_scene({"bodies": [
-    ...     {"name": "base", "box": {"width": 2.0, "height": 0.2, "center": [0.0, -0.1]}, "driven": True},
+    ...     {"name": "base", "box": {"width": 2.0, "height": 0.2, "center": [0.0, -0.1]}, "driven":
+    True},
     ...     {"name": "block", "box": {"width": 0.2, "height": 1.0, "center": [0.0, 0.5]},
     ...      "tilt": {"angle": 0.05, "about": "bottom_right"}}],
     ...     "solver": {"duration": 0.5}})                                 # doctest: +SKIP
-    >>> float(ds.theta.sel(body="block").isel(time=0))  # leaning onto its right corner  # doctest: +SKIP
-    -0.05
+    >>> float(ds.theta.sel(body="block").isel(time=0))  # leaning onto its right corner  # doctest:
+    +SKIP -0.05
     """
     from stonedem.engine.run import run_scene as simulate_scene
     from stonedem.engine.scene import Scene
@@ -264,7 +266,8 @@ def run_scene(scene_or_source, progress: bool = False) -> xr.Dataset:
 def run_scenes(
     scenes_or_sources, device: str = "cpu", threads: int | None = None
 ) -> list[xr.Dataset]:
-    """Simulate many scenes at once: what :func:`run_scene` gives each, their loops run side by side.
+    """Simulate many scenes at once: what :func:`run_scene` gives each, their loops run side by
+    side.
 
     Parameters
     ----------
@@ -318,7 +321,8 @@ def run_scenes(
     for i, s in enumerate(given):
         if not (isinstance(s, Scene) or _is_path(s) or isinstance(s, Mapping)):
             raise TypeError(
-                f"scenes[{i}]: expected a scene, a scene file path or a mapping, got {type(s).__name__}"
+                f"scenes[{i}]: expected a scene, a scene file path or a mapping, got "
+                f"{type(s).__name__}"
             )
         scenes.append(s if isinstance(s, Scene) else load_scene(s))
     if not isinstance(device, str):

@@ -265,7 +265,8 @@ def test_bad_option_is_refused_before_running(places, tmp_path, capsys, name, ar
 
 
 def test_wall_tables_negative_budget_writes_no_table(tmp_path, capsys):
-    """Once, with a negative budget, every case 'ran' in no time and a table of lambda = 0 was written."""
+    """Once, with a negative budget, every case 'ran' in no time and a table of lambda = 0 was
+    written."""
     line = refused(
         main_of("wall_tables"),
         ["--max-seconds", "-1", "--out", str(tmp_path / "walls")],
@@ -278,7 +279,8 @@ def test_wall_tables_negative_budget_writes_no_table(tmp_path, capsys):
 
 
 def bench_script(rule, outputs, log, quick=False, config="config/quick.yaml"):
-    """Run workflow/scripts/bench.py as Snakemake would, with a stand-in ``snakemake``; its exit status."""
+    """Run workflow/scripts/bench.py as Snakemake would, with a stand-in ``snakemake``; its exit
+    status."""
     sm = SimpleNamespace(
         rule=rule,
         output=[str(p) for p in outputs],

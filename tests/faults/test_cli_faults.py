@@ -53,7 +53,8 @@ def show(proc):
 
 
 def assert_one_error_line(proc, *words):
-    """Exit 2 and exactly one line ``error: ...`` on stderr, the last, holding ``words``; no traceback."""
+    """Exit 2 and exactly one line ``error: ...`` on stderr, the last, holding ``words``; no
+    traceback."""
     assert proc.returncode == 2, show(proc)
     lines = proc.stderr.strip().splitlines()
     errors = [line for line in lines if line.startswith("error: ")]

@@ -68,7 +68,8 @@ def test_the_slurm_profile_without_slurm_refuses_in_one_line(study, tmp_path):
 
 STUB = {
     "sinfo": 'echo "local*"',
-    "scontrol": 'case "$*" in "show config") printf "AccountingStorageType   = accounting_storage/none\\n'
+    "scontrol": 'case "$*" in "show config") printf "AccountingStorageType   = '
+    "accounting_storage/none\\n"
     'MinJobAge               = 600 sec\\nMaxArraySize            = 1001\\n";; esac',
     "sacct": 'echo "sacct: error: Slurm accounting storage is disabled" >&2; exit 1',
     "sbatch": 'n=$(cat "$0.n" 2>/dev/null || echo 100); echo $((n + 1)) > "$0.n"; echo $((n + 1))',

@@ -112,9 +112,11 @@ def test_a_chmod_read_only_store_in_a_child_process(damaged):
         import io, sys
         from stonedem.study.grid import case_table
         from stonedem.study.runner import _SOURCE_FINGERPRINT, CaseStore, run_cases
-        _SOURCE_FINGERPRINT[:] = [{source_fingerprint()!r}]  # the parent's key, even if a source changed since
+        # the parent's key, even if a source changed since
+        _SOURCE_FINGERPRINT[:] = [{source_fingerprint()!r}]
         cases = case_table("block", {BLOCK!r})
-        info = run_cases(cases, [{str(output)!r}], CaseStore({str(store.directory)!r}, "records"), sys.stderr)
+        store = CaseStore({str(store.directory)!r}, "records")
+        info = run_cases(cases, [{str(output)!r}], store, sys.stderr)
         sys.exit(0 if not info[0]["restored"] else 3)
     """)
     with read_only(store.directory):

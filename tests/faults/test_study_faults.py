@@ -1,9 +1,9 @@
 """Faults around a whole Snakemake study (issue 31, part 4): a truncated or zero-byte result,
 a full disk, a read-only results/, a study path with spaces and accents, a corrupted record
 (SIGKILL at random points and two snakemake processes at once: test_study_interrupts.py, a
-file of their own so that pytest-xdist's --dist loadfile gives them the other worker). Each ends in recovery or in one
-clear line (``error: ...`` or ``Bad config: ...``, a non-zero exit, no traceback in the
-output or in a job's log), and the healed study's cases, searches, cubes and tables are
+file of their own so that pytest-xdist's --dist loadfile gives them the other worker). Each ends in
+recovery or in one clear line (``error: ...`` or ``Bad config: ...``, a non-zero exit, no traceback
+in the output or in a job's log), and the healed study's cases, searches, cubes and tables are
 bit-identical to an uninterrupted run (tests/faults/small_study.py: three tiny studies,
 ~10-20 s a run on 2 cores).
 

@@ -82,7 +82,8 @@ def test_three_sigkills_at_random_points_then_unlock_and_rerun_is_identical(ref,
         no_partial_files(study)
         if locks(study):  # the kill came while the jobs ran: the lock stays behind
             in_a_run += 1
-        else:  # the run had finished (or was cleaning up): start over so that the next kill lands in a run
+        # the run had finished (or was cleaning up): start over so that the next kill lands in a run
+        else:
             assert status in (0, -signal.SIGKILL)
             shutil.rmtree(study / "results")
     assert in_a_run >= 2, f"only {in_a_run} of the 3 kills came while jobs ran"

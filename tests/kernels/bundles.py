@@ -1,4 +1,5 @@
-"""Time-loop bundles (stonedem.kernels.step) around a handful of bodies, for the contact-law tests."""
+"""Time-loop bundles (stonedem.kernels.step) around a handful of bodies, for the contact-law
+tests."""
 
 import numpy as np
 

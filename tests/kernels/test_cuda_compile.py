@@ -67,5 +67,6 @@ def test_the_member_kernel_compiles_to_ptx(monkeypatch):
     ptx, _ = cuda.compile_ptx(gpu.run_members_on_gpu, tuple(typeof(a) for a in args), cc=(9, 0))
     assert ".target sm_90" in ptx and ".entry" in ptx
     assert "sqrt" in ptx and "sin" in ptx  # the contact laws and the base motion are in it
-    # no multiply-add fused by NVVM: the GPU rounds as the CPU does (gpu.compile_without_contraction)
+    # no multiply-add fused by NVVM: the GPU rounds as the CPU does
+    # (gpu.compile_without_contraction)
     assert options and all(o.get("fma") is False for o in options), options

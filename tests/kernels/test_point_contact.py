@@ -30,7 +30,8 @@ def box(cx, cy, w, h, angle=0.0):
 
 
 def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=False, memory=None):
-    """(force_x, force_y, torque, n_contact, stored, memory) of a driven base (body 0) and a block (body 1)."""
+    """(force_x, force_y, torque, n_contact, stored, memory) of a driven base (body 0) and a block
+    (body 1)."""
     verts = np.vstack([base, block])
     law = step.Law(
         kind=step.CONTACT_POINT,
@@ -126,7 +127,8 @@ def edges(xs, ys):
 
 
 def depth_of(ax, ay, bx, by):
-    """deepest_face of b against a's edges, the two polygons one after the other in the world arrays."""
+    """deepest_face of b against a's edges, the two polygons one after the other in the world
+    arrays."""
     length, nx, ny = edges(ax, ay)
     pad = np.zeros(len(bx))
     sep, k, _ = deepest_face(

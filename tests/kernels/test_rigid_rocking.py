@@ -1,4 +1,5 @@
-"""The compiled rigid rocking integrators (stonedem.reference.rigid_rocking) against closed forms and each other."""
+"""The compiled rigid rocking integrators (stonedem.reference.rigid_rocking) against closed forms
+and each other."""
 
 import math
 
@@ -49,7 +50,8 @@ def test_uplift_instant_on_a_line():
 
 def test_constant_acceleration_follows_the_energy_integral_and_overturns():
     # a_g = -A held: theta'' = p^2 ((A/g) cos(alpha - theta) - sin(alpha - theta)), whose first
-    # integral is 1/2 theta'^2 = p^2 (A/g (sin alpha - sin(alpha - theta)) + cos alpha - cos(alpha - theta))
+    # integral is 1/2 theta'^2 = p^2 (A/g (sin alpha - sin(alpha - theta)) + cos alpha - cos(alpha -
+    # theta))
     t = np.arange(0.0, 3.0, 0.01)
     blk0 = rectangle_rocking_properties(W, H, g=G)
     ratio = 1.2 * math.tan(blk0.alpha)
@@ -77,7 +79,8 @@ def test_free_rocking_impact_keeps_r_of_the_energy():
     blk, theta, omega, impacts, overturned = _run(t, a, r=0.7, substeps=16)
     assert not overturned and len(impacts) >= 3
     peaks = [np.abs(theta[(t > a0) & (t < a1)]).max() for a0, a1 in zip(impacts[:3], impacts[1:4])]
-    # energy above rest at a crest, per m g R: cos(alpha - theta_max) - cos(alpha); r of it survives each impact
+    # energy above rest at a crest, per m g R: cos(alpha - theta_max) - cos(alpha); r of it survives
+    # each impact
     crest = [math.cos(blk.alpha - p) - math.cos(blk.alpha) for p in peaks]
     for before, after in zip(crest[:-1], crest[1:]):
         assert abs(after / before - 0.7) < 0.002, (
@@ -125,7 +128,8 @@ def test_one_sine_pulse_agrees_with_the_record_integrator_on_the_sampled_pulse()
             abs(th - theta[-1]) < 1e-5 * blk.alpha
             and abs(om - omega[-1]) < 1e-5 * blk.p * blk.alpha
         ), (
-            f"end of pulse: theta {th} vs {theta[-1]}, theta' {om} vs {omega[-1]}; tol 1e-5 alpha (p alpha)"
+            f"end of pulse: theta {th} vs {theta[-1]}, theta' {om} vs {omega[-1]}; tol 1e-5 "
+            "alpha (p alpha)"
         )
         assert peak >= np.abs(theta).max() - 1e-5 * blk.alpha, (
             "the peak is at least the sampled one"

@@ -28,7 +28,8 @@ def test_accumulated_energy_columns_are_the_accumulator_slots():
 
 
 def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
-    """One free 1 x 1 m box of 1 kg in flight, nothing to touch: (model, settings, state, samples)."""
+    """One free 1 x 1 m box of 1 kg in flight, nothing to touch: (model, settings, state,
+    samples)."""
     still = step.Excitation(
         kind=KIND_NONE,
         params=np.zeros(4),

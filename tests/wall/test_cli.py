@@ -9,7 +9,8 @@ import xarray as xr
 from stonedem.io.schema import missing_metadata
 
 CASE = """\
-panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}
+panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13,
+       unit_weight: 20000.0}
 joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength, cohesion
 restraints: [{edge: base, fix: all}, {edge: left, fix: translations}]
 load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}

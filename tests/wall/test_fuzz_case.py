@@ -415,7 +415,8 @@ def test_cli_short_run_prints_only_its_summary(tmp_path, in_process):
 # --- signals --------------------------------------------------------------------------------
 
 LONG = """\
-panel: {block: {a: 0.081, b: 0.21, s: 0.07}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}
+panel: {block: {a: 0.081, b: 0.21, s: 0.07}, blocks_per_course: 3, courses: 13,
+       unit_weight: 20000.0}
 joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}
 restraints: [{edge: base, fix: all}]
 load: {kind: proportional, direction: out_of_plane}

@@ -45,7 +45,8 @@ def test_free_standing_wall_matches_its_closed_form():
 
 
 def _strip(top):
-    """A dry strip one block wide, 10 courses of 0.1 x 0.2 x 0.1 m (as tests/wall/test_restraints.py)."""
+    """A dry strip one block wide, 10 courses of 0.1 x 0.2 x 0.1 m (as
+    tests/wall/test_restraints.py)."""
     return {
         "panel": {
             "block": {"a": 0.1, "b": 0.2, "s": 0.1},

@@ -180,7 +180,8 @@ def test_dry_wall_pushed_in_plane_ends_in_seconds_without_a_library_warning():
         warnings.simplefilter("error")
         r = pushover(case.model, case.settings)
     assert len(r.lam) < 400, r.status
-    # below the whole wall rocking on its toe (lambda = L / H = 0.6 / 1.3), above the first joints' rocking
+    # below the whole wall rocking on its toe (lambda = L / H = 0.6 / 1.3), above the first joints'
+    # rocking
     assert 0.25 < r.lambda_max < 0.6 / 1.3, r.lambda_max
     assert r.plateau_checks, "the end of the path was checked against the limit analysis"
     assert r.limit_reached == r.status.startswith(("stopped: plateau", "stopped: peak proven")), (

@@ -63,7 +63,8 @@ def test_limit_load_within_10_percent_of_manuscript_dem(name):
     expected = ref.get("lambda_dem", ref.get("p_dem"))
     assert r.residual.max() < case.settings.accept_tolerance
     assert r.lambda_max == pytest.approx(expected, rel=LIMIT_TOLERANCE), (
-        f"{name}: lambda_max {r.lambda_max:.4g} vs manuscript DEM {expected:.4g} ({LIMIT_TOLERANCE:.0%})"
+        f"{name}: lambda_max {r.lambda_max:.4g} vs manuscript DEM {expected:.4g} "
+        f"({LIMIT_TOLERANCE:.0%})"
     )
 
 

@@ -1,4 +1,5 @@
-"""A SLURM profile that could not see its jobs finish is refused in one line (stonedem.study.cluster)."""
+"""A SLURM profile that could not see its jobs finish is refused in one line
+(stonedem.study.cluster)."""
 
 import subprocess
 
@@ -52,7 +53,8 @@ def test_settings_that_see_jobs_finish_pass(command, init, config):
 
 def test_scontrol_output_is_read_and_a_missing_scontrol_is_no_answer():
     text = (
-        "Configuration data as of 2026-11-27T01:00:00\nAccountingStorageType   = accounting_storage/none\n"
+        "Configuration data as of 2026-11-27T01:00:00\nAccountingStorageType   = "
+        "accounting_storage/none\n"
         "MinJobAge               = 600 sec\n"
     )
 

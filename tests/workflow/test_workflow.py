@@ -46,7 +46,8 @@ def test_bad_config_is_refused(tmp_path):
     assert "Bad config: records.x." in proc.stderr, proc.stdout + proc.stderr
 
 
-# --- issue 13: the study config is refused at DAG time, by its path (stonedem.study.grid.check_config) ----
+# --- issue 13: the study config is refused at DAG time, by its path
+# (stonedem.study.grid.check_config) ----
 
 
 def _small_workflow(tmp_path, mutate=None):
@@ -116,7 +117,8 @@ def test_dry_run_refuses_a_study_without_a_structure_and_a_negative_stiffness(tm
     )
     _assert_refused(proc, "studies.ramp_drums.structure")
     (tmp_path / "config" / "bad.yaml").write_text(
-        "studies: {ramp_drums: {structure: {kind: column, width: 1.0}}}\ndefaults: {contact: {k_n: -1.0e+9}}\n"
+        "studies: {ramp_drums: {structure: {kind: column, width: 1.0}}}\ndefaults: {contact: "
+        "{k_n: -1.0e+9}}\n"
     )
     proc = snakemake("-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
     _assert_refused(proc, "defaults.contact.k_n")
@@ -132,7 +134,8 @@ def test_dry_run_refuses_a_search_tolerance_finer_than_the_rounding(tmp_path):
         proc, "studies.standalone_records.search.tolerance"
     )
     (tmp_path / "config" / "bad.yaml").write_text(
-        "studies: {standalone_records: {search: {tolerance: 0.02}}}\nfragility: {search: {tolerance: 5.0e-4}}\n"
+        "studies: {standalone_records: {search: {tolerance: 0.02}}}\nfragility: {search: "
+        "{tolerance: 5.0e-4}}\n"
     )
     proc = snakemake("fragility", "-n", "--configfile", "config/bad.yaml", cwd=tmp_path)
     # the schema checks fragility: before its cases, naming the same floor
@@ -235,7 +238,8 @@ def test_slurm_profile_dry_run():
 
     from stonedem.kernels import sources_key
 
-    # --forceall: the whole plan, whatever results/ of this checkout already holds (its compile markers)
+    # --forceall: the whole plan, whatever results/ of this checkout already holds (its compile
+    # markers)
     proc = snakemake(
         "-n",
         "--forceall",
@@ -247,7 +251,8 @@ def test_slurm_profile_dry_run():
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "dry-run" in proc.stdout + proc.stderr
     assert "search_ida_" not in proc.stdout  # the IDA is planned only when asked for
-    # the engine compiled once, a job per time loop, before the jobs that run it (workflow/rules/compile.smk)
+    # the engine compiled once, a job per time loop, before the jobs that run it
+    # (workflow/rules/compile.smk)
     blocks = re.findall(r"^( *)rule (\w+):\n((?:\1    .*\n)+)", proc.stdout, re.M)
     markers = [
         f"results/compiled/{sources_key()}/{loop}.txt" for loop in ("contact_graph", "general")

@@ -10,9 +10,8 @@ from stonedem.study.stripe_fill import stripe_pieces
 workflow_log(snakemake.log[0])
 for (_study, spec), output in zip(snakemake.params.studies.items(), snakemake.output):
     if spec["search"]:
-        stripes = (
-            stripe_pieces(spec["stripes"]) if spec["stripes"] else None
-        )  # None: one member, no fills
+        # None: one member, no fills
+        stripes = stripe_pieces(spec["stripes"]) if spec["stripes"] else None
         cube = combine_searches(list(spec["inputs"]), spec["description"], stripes)
     else:
         cube = combine_cases(list(spec["inputs"]), spec["description"])

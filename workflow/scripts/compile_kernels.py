@@ -1,5 +1,6 @@
 """Snakemake script: one of the engine's compiled time loops compiled (or loaded from Numba's cache)
-before the jobs that run the engine start (stonedem.engine.run.warm_compile); writes the marker they wait for."""
+before the jobs that run the engine start (stonedem.engine.run.warm_compile); writes the marker they
+wait for."""
 
 import time
 

@@ -1,4 +1,5 @@
-"""Snakemake script: a batch of catalogue figures -> their PNGs (stonedem.figures.figures), one log line each."""
+"""Snakemake script: a batch of catalogue figures -> their PNGs (stonedem.figures.figures), one log
+line each."""
 
 import sys
 

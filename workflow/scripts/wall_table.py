@@ -1,4 +1,5 @@
-"""Snakemake script: wall datasets -> manuscript Table 1/2/3 CSV (stonedem.wall.validation.limit_load_table)."""
+"""Snakemake script: wall datasets -> manuscript Table 1/2/3 CSV
+(stonedem.wall.validation.limit_load_table)."""
 
 from stonedem.entry import workflow_log
 from stonedem.io.atomic import write_csv

@@ -1,4 +1,5 @@
-"""Snakemake script: spring sub-model -> manuscript Table A1 CSV (stonedem.wall.validation.table_a1)."""
+"""Snakemake script: spring sub-model -> manuscript Table A1 CSV
+(stonedem.wall.validation.table_a1)."""
 
 from stonedem.entry import workflow_log
 from stonedem.io.atomic import write_csv

@@ -1,4 +1,5 @@
-"""Snakemake script: a batch of catalogue tables' input cubes -> their CSVs (stonedem.figures.tables)."""
+"""Snakemake script: a batch of catalogue tables' input cubes -> their CSVs
+(stonedem.figures.tables)."""
 
 from stonedem.entry import workflow_log
 from stonedem.figures import tables

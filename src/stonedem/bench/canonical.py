@@ -87,9 +87,9 @@ def rocking_reference(width, height, n_impacts=N_IMPACTS):
 
     Released from rest at theta0; Housner's energy ratio r at every impact (thesis Eq. 5.2),
     the peak after an impact from the exact potential energy, m g R [cos(alpha - theta) -
-    cos alpha] (the inverse of :func:`stonedem.reference.analytic.restitution_from_peaks_exact`), each half
-    cycle the exact rigid period at its amplitude (:func:`stonedem.reference.analytic.rocking_period_exact`).
-    """
+    cos alpha] (the inverse of :func:`stonedem.reference.analytic.restitution_from_peaks_exact`),
+    each half cycle the exact rigid period at its amplitude
+    (:func:`stonedem.reference.analytic.rocking_period_exact`)."""
     alpha = math.atan2(width, height)
     r = analytic.housner_restitution(width, height)
     peaks = [rocking_theta0(width, height)]

@@ -8,9 +8,10 @@ landing, ``contact.model: point``, k_n = 1e10 N/m2, zeta = 0.05; the engine's de
 k_n is 1e11); ``--model area`` times the
 thesis' overlap-area law instead (k_n = 1e8 N/m2, c_n = 5e4 N s/m). For each size we report
 
-* steps, mean contacts, the kernel wall time (:attr:`stonedem.engine.simulate.RunResult.wall_seconds`)
-  and the wall time of the whole :func:`stonedem.engine.simulate.simulate` call, so the single-core
-  fraction spent outside the compiled loop is 1 - kernel / total;
+* steps, mean contacts, the kernel wall time
+  (:attr:`stonedem.engine.simulate.RunResult.wall_seconds`) and the wall time of the whole
+  :func:`stonedem.engine.simulate.simulate` call, so the single-core fraction spent outside the
+  compiled loop is 1 - kernel / total;
 * ns per contact per step = 1e9 kernel / (steps x mean contacts), and ns per body per step;
 * a least-squares fit of kernel time per step = a + b x contacts (slope, intercept, R^2):
   flat ns/contact/step and R^2 near 1 mean the cost grows linearly with contacts;
@@ -40,8 +41,8 @@ from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[3]
 
-# free bodies: 99 columns of 10 drums and the base stay under stonedem.engine.scene.MAX_BODIES (1000 free bodies were
-# refused once that limit came in)
+# free bodies: 99 columns of 10 drums and the base stay under stonedem.engine.scene.MAX_BODIES (1000
+# free bodies were refused once that limit came in)
 SIZES = (1, 2, 5, 10, 20, 50, 100, 200, 500, 990)
 QUICK_SIZES = (1, 10, 100)
 MAX_DRUMS = 10  # drums per column; larger walls add columns
@@ -58,13 +59,11 @@ FREQUENCY = 2.0  # [Hz] of the harmonic base motion
 # the laws timed (rows of stonedem.engine.laws.LAWS; numba is imported only where a scene is
 # built, so the registry is read there)
 CONTACT_MODELS = ("point", "area")
-MODEL = (
-    "point"  # contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
-)
+# contact law timed by default (the scene default is stonedem.engine.laws.DEFAULT_LAW)
+MODEL = "point"
 # point law: the study's; the plastic landing keeps every resting contact closed
-K_N_POINT = (
-    1.0e10  # normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
-)
+# normal stiffness per unit contact length [N m-2] (the study's, not the default 1e11)
+K_N_POINT = 1.0e10
 ZETA = 0.05  # damping ratio of each contact point [1]
 # area law: stiffness per unit overlap area [N m-2] and a dashpot [N s m-1] of ~0.2 of
 # critical for a drum, so the drums settle without bouncing off each other at the start
@@ -80,7 +79,8 @@ N_SAMPLES = 100  # output samples per timed run (mean contacts is their mean)
 
 
 def drum_wall_size(n_body: int, max_drums: int = MAX_DRUMS) -> tuple[int, int]:
-    """(n_columns, n_drums) with n_columns x n_drums = n_body free bodies, columns <= max_drums high."""
+    """(n_columns, n_drums) with n_columns x n_drums = n_body free bodies, columns <= max_drums
+    high."""
     if n_body < 1:
         raise ValueError("n_body must be >= 1")
     n_drums = min(n_body, max_drums)
@@ -109,7 +109,8 @@ def drum_wall_scene(
     every: float | None = None,
     stop_on_collapse: bool = False,
 ) -> dict:
-    """Scene dict (for :func:`stonedem.engine.scene.scene_from_dict`) of a wall of drum columns on a driven base.
+    """Scene dict (for :func:`stonedem.engine.scene.scene_from_dict`) of a wall of drum columns on a
+    driven base.
 
     n_columns columns of n_drums drums each (drum_width x column_height / n_drums [m]) stand
     side by side, ``gap`` [m] apart, on one driven base (top at y = 0) that moves as a
@@ -192,7 +193,8 @@ def _compiled():
 
     @njit(cache=True, fastmath=False)
     def all_pairs_aabb(n_body, body_driven, lo_x, lo_y, hi_x, hi_y):
-        """Every pair (a < b) through the narrow phase's AABB rejection; returns (tested, overlapping)."""
+        """Every pair (a < b) through the narrow phase's AABB rejection; returns (tested,
+        overlapping)."""
         tested = 0
         hits = 0
         for a in range(n_body):
@@ -411,7 +413,8 @@ def measure(
 
 
 def linear_fit(x, y, relative: bool = False) -> dict:
-    """Least squares y = a + b x; returns intercept a, slope b, R^2 and the largest relative residual.
+    """Least squares y = a + b x; returns intercept a, slope b, R^2 and the largest relative
+    residual.
 
     relative: minimise the relative residuals (y - a - b x) / y instead of the absolute ones,
     so sizes spanning three decades weigh alike. R^2 is 1 - SS_res / SS_tot of the plain data.
@@ -465,7 +468,8 @@ VARIABLES = {
     "max_abs_theta": ("rad", "largest absolute rotation of a free body in the timed run"),
     "pair_array_mb": (
         "1048576 byte",
-        "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x (N_MEMORY + 2) x 8 bytes",
+        "engine per-pair arrays (pair_memory, pair_ft, pair_mu), n_body^2 x (N_MEMORY + 2) x 8 "
+        "bytes",
     ),
     "peak_rss_mb": ("1048576 byte", "peak resident memory of the process after the run"),
     "sweep_pairs": ("1", "candidate pairs from sort-and-sweep at rest"),
@@ -487,7 +491,8 @@ def run_benchmark(
     progress: bool = True,
     model: str = MODEL,
 ):
-    """Measure every size with the ``model`` contact law; returns an xarray Dataset on dim n_body (free bodies)."""
+    """Measure every size with the ``model`` contact law; returns an xarray Dataset on dim n_body
+    (free bodies)."""
     import xarray as xr
 
     from stonedem.io.netcdf import code_version
@@ -507,7 +512,8 @@ def run_benchmark(
         row.update(broad_phase_cost(scene, broad_min_seconds))
         rows.append(row)
         log(
-            f"  n_body {n:5d} ({n_columns} x {n_drums}): build {build:6.2f} s, {row['repeats']} x {row['steps'] // row['repeats']} steps, "
+            f"  n_body {n:5d} ({n_columns} x {n_drums}): build {build:6.2f} s, "
+            f"{row['repeats']} x {row['steps'] // row['repeats']} steps, "
             f"{row['mean_contacts']:.0f} contacts, kernel {row['kernel_seconds']:.2f} s of "
             f"{row['total_seconds']:.2f} s, {row['ns_per_contact_step']:.0f} ns/contact/step  "
             f"[{time.perf_counter() - start:.0f} s]"
@@ -610,7 +616,8 @@ def print_table(ds, file=sys.stdout) -> None:
             f"{n:6d} {int(v['n_columns']):5d} x {int(v['n_drums']):4d} {int(v['steps']):7d} "
             f"{v['mean_contacts']:8.1f} {v['kernel_seconds']:8.3f} {v['total_seconds']:8.3f} "
             f"{100 * v['outside_fraction']:6.1f}% {v['ns_per_contact_step']:9.1f} "
-            f"{v['ns_per_body_step']:9.1f} {int(v['sweep_pairs']):6d} {1e6 * v['sweep_seconds']:9.2f} "
+            f"{v['ns_per_body_step']:9.1f} {int(v['sweep_pairs']):6d} "
+            f"{1e6 * v['sweep_seconds']:9.2f} "
             f"{1e6 * v['all_pairs_seconds']:11.2f} {v['pair_array_mb']:8.1f}",
             file=file,
         )
@@ -628,7 +635,8 @@ def print_table(ds, file=sys.stdout) -> None:
     )
     print(
         f"contact law: {a.get('contact_model', 'area')}; "
-        f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = {a['sweep_fit_r2']:.4f}); "
+        f"sort-and-sweep: {a['sweep_fit_slope_ns_per_body']:.1f} ns per body (R^2 = "
+        f"{a['sweep_fit_r2']:.4f}); "
         f"{a['machine']}, NUMBA_NUM_THREADS={a['numba_num_threads']}, {a['source']}",
         file=file,
     )
@@ -711,7 +719,8 @@ def build_parser():
     parser.add_argument(
         "--duration",
         type=float,
-        help=f"simulated seconds per timed run, > 0 and <= {DURATION_RANGE[1]:g} (default {DURATION})",
+        help=f"simulated seconds per timed run, > 0 and <= {DURATION_RANGE[1]:g} (default "
+        f"{DURATION})",
     )
     parser.add_argument(
         "--target",
@@ -732,7 +741,8 @@ def build_parser():
 
 
 def check_args(args):
-    """(sizes, duration [s], target [s], nc path, png path), or an InputError before anything runs."""
+    """(sizes, duration [s], target [s], nc path, png path), or an InputError before anything
+    runs."""
     from stonedem.bench import options
     from stonedem.engine.scene import MAX_BODIES
 

@@ -7,7 +7,8 @@ its own PGA (spread over PGA_SPAN, as an IDA's runs are), run by
 after one call that compiles; a member-step is one time step of one member. Writes
 results/bench/ensemble.nc and results/figures/ensemble_throughput.png.
 
-    python -m stonedem.bench.ensemble [--quick] [--scene column_8] [--members 1 2 4 ...] [--out results/bench]
+    python -m stonedem.bench.ensemble [--quick] [--scene column_8] [--members 1 2 4 ...] [--out
+    results/bench]
 """
 
 from __future__ import annotations

@@ -23,7 +23,8 @@ from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, write_dataset
 
 ROOT = Path(__file__).resolve().parents[3]
-# hypothesis' statistics line, e.g. "- 10000 passing examples, 0 failing examples, 12 invalid examples"
+# hypothesis' statistics line, e.g. "- 10000 passing examples, 0 failing examples, 12 invalid
+# examples"
 COUNTS = re.compile(r"(\d+) passing examples?, (\d+) failing examples?, (\d+) invalid examples?")
 TEST = re.compile(r"^(tests/\S+::\S+):$", re.M)
 

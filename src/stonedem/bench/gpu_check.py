@@ -102,7 +102,8 @@ def check_dataset(
                 [short[k][0] for k in kinds],
                 {
                     "units": "m",
-                    "long_name": "largest |GPU - CPU| of a centroid coordinate over the short horizon",
+                    "long_name": "largest |GPU - CPU| of a centroid coordinate over the short "
+                    "horizon",
                 },
             ),
             "rotation_difference": (
@@ -146,7 +147,8 @@ def check_dataset(
                 full["gpu_wall"],
                 {
                     "units": "s",
-                    "long_name": "wall time of the full-record members on the GPU, compile included",
+                    "long_name": "wall time of the full-record members on the GPU, compile "
+                    "included",
                 },
             ),
             "cpu_wall": (
@@ -237,7 +239,8 @@ def main(argv=None) -> int:
         for kind, (p, r, n) in short.items():
             print(
                 f"short horizon {kind}: {n} members, |dx| <= {p:.3g} m, |dtheta| <= {r:.3g} rad "
-                f"({'ok' if max(p, r) <= SHORT_TOLERANCE else 'MISSED'}, tolerance {SHORT_TOLERANCE:g})",
+                f"({'ok' if max(p, r) <= SHORT_TOLERANCE else 'MISSED'}, tolerance "
+                f"{SHORT_TOLERANCE:g})",
                 flush=True,
             )
         study, cases = full_record_cases(

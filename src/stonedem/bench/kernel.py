@@ -22,7 +22,8 @@ For each scene of :data:`SCENES` (a lone rocking block, columns of 1, 8 and 30 d
 Writes results/bench/kernel.nc (and .csv) and results/figures/kernel_cost.png (ns per step
 against bodies). One thread; timings want a quiet machine.
 
-    python -m stonedem.bench.kernel [--quick] [--parent REV|none] [--out results/bench] [--figure PNG]
+    python -m stonedem.bench.kernel [--quick] [--parent REV|none] [--out results/bench] [--figure
+    PNG]
 """
 
 from __future__ import annotations
@@ -213,9 +214,8 @@ def stage_costs(spec: dict, n_rep: int = 20000, repeats: int = 3) -> dict:
     _place(model, state, work, t, 1)
     n_pair = kstep.sweep(model, state, work)
     one = empty_samples(1, len(scene.bodies))
-    point_law = (
-        True if model.law.kind == kstep.CONTACT_POINT else None
-    )  # the scene's law alone, as run_steps
+    # the scene's law alone, as run_steps
+    point_law = True if model.law.kind == kstep.CONTACT_POINT else None
     contact_ns = _best_ns(
         lambda n: _contact_forces(model, state, work, n_pair, dt, n, False, point_law),
         n_rep,
@@ -375,7 +375,8 @@ def check_out_parent(commit: str, root: Path) -> None:
 
 def time_engines(source: Path, specs: dict) -> dict:
     """{scene: (ns per step of the loop, ns per step of the Python around it, steps, mean
-    contacts, dt)} of the engine in ``source`` (a ``src`` folder), one run each, in a fresh process."""
+    contacts, dt)} of the engine in ``source`` (a ``src`` folder), one run each, in a fresh
+    process."""
     done = subprocess.run(
         [sys.executable, "-c", WORKER, json.dumps({"src": str(source), "scenes": specs})],
         cwd=ROOT,
@@ -404,7 +405,8 @@ def build_parser():
     parser.add_argument(
         "--parent",
         default=None,
-        help="the commit to compare against, or none (default HEAD~1, if this is a git checkout that has it)",
+        help="the commit to compare against, or none (default HEAD~1, if this is a git "
+        "checkout that has it)",
     )
     parser.add_argument(
         "--repeats", type=int, default=3, help="interleaved runs per engine and scene; best kept"
@@ -467,7 +469,8 @@ def kernel_dataset(rows, stages, parent_commit, parent_note, quick):
         long_name="wall time of the compiled loop per step and touching pair", units="ns"
     )
     ds["python_ns_per_step"] = grid("python_ns_per_step").assign_attrs(
-        long_name="wall time of simulate() outside the compiled loop (set-up, chunks, signals) per step",
+        long_name="wall time of simulate() outside the compiled loop (set-up, chunks, signals) "
+        "per step",
         units="ns",
     )
     ds["contacts"] = contacts.assign_attrs(
@@ -522,8 +525,10 @@ def kernel_dataset(rows, stages, parent_commit, parent_note, quick):
     ds["version"].attrs = {"long_name": "engine: this commit or its parent"}
     ds.attrs.update(
         {
-            "title": "ns per step of the compiled rigid-block loop, stage by stage, beside the parent commit",
-            "settings": "point law, k_n 1e10 N/m2, dt auto (dt_safety 1), output every 0.01 s, one thread, "
+            "title": "ns per step of the compiled rigid-block loop, stage by stage, beside the "
+            "parent commit",
+            "settings": "point law, k_n 1e10 N/m2, dt auto (dt_safety 1), output every 0.01 s, "
+            "one thread, "
             f"{2.0 if quick else 10.0} simulated s per scene (skipped quiet stretches not counted)",
             "profile": "quick" if quick else "full",
             "parent_commit": parent_commit or "",
@@ -669,6 +674,7 @@ def main(argv=None) -> int:
             )
         ds = kernel_dataset(rows, stages, parent_commit, parent_note, args.quick)
         write_dataset(ds, path)
+        step, contact = ds["ns_per_step"], ds["ns_per_contact_step"]
         options.write_csv(
             path.with_suffix(".csv"),
             [
@@ -676,8 +682,8 @@ def main(argv=None) -> int:
                     "scene": name,
                     "version": version,
                     "n_body": int(ds["n_body"].sel(scene=name)),
-                    "ns_per_step": f"{float(ds['ns_per_step'].sel(scene=name, version=version)):.1f}",
-                    "ns_per_contact_step": f"{float(ds['ns_per_contact_step'].sel(scene=name, version=version)):.1f}",
+                    "ns_per_step": f"{float(step.sel(scene=name, version=version)):.1f}",
+                    "ns_per_contact_step": f"{float(contact.sel(scene=name, version=version)):.1f}",
                 }
                 for name in SCENES
                 for version in ("current", "parent")
@@ -687,7 +693,8 @@ def main(argv=None) -> int:
         for name in SCENES:
             cur = float(ds["ns_per_step"].sel(scene=name, version="current"))
             print(
-                f"{name}: {cur:.0f} ns/step, {float(ds['ns_per_contact_step'].sel(scene=name, version='current')):.0f}"
+                f"{name}: {cur:.0f} ns/step, "
+                f"{float(ds['ns_per_contact_step'].sel(scene=name, version='current')):.0f}"
                 f" ns/contact-step, x{float(ds['speedup'].sel(scene=name)):.2f} on the parent"
             )
         print(f"wrote {path} and {figure_path} in {time.perf_counter() - start:.0f} s")

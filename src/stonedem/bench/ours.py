@@ -44,8 +44,10 @@ from stonedem.validation.cases import block_scene
 VARIANTS = ("area", "point_dashpot", "point")
 VARIANT_TITLES = {
     "area": "overlap-area law (thesis), c_n calibrated to Housner's first impact",
-    "point_dashpot": "point contacts, no plastic landing, zeta calibrated to Housner's first impact",
-    "point": "point contacts with Housner's plastic landing, zeta 0.05 (the point law's scene defaults)",
+    "point_dashpot": "point contacts, no plastic landing, zeta calibrated to Housner's first "
+    "impact",
+    "point": "point contacts with Housner's plastic landing, zeta 0.05 (the point law's scene "
+    "defaults)",
 }
 POINT_DAMPING = 0.05  # zeta of the point law wherever it is not calibrated (its scene default)
 PULSE_DAMPING = 0.5  # area law on (b): c_n / critical
@@ -55,7 +57,8 @@ CALIBRATION_BRACKET = (1e-3, 3.0)
 
 
 def _run(spec, dt, dt_ratio, n_free_from=1):
-    """Simulate ``spec`` at dt (or dt_ratio x its stability limit); return (Trajectory, scene, result)."""
+    """Simulate ``spec`` at dt (or dt_ratio x its stability limit); return (Trajectory, scene,
+    result)."""
     if dt is None and dt_ratio is not None:
         dt = dt_ratio * stability_limit(scene_from_dict(spec))
     spec["solver"]["dt"] = "auto" if dt is None else float(dt)
@@ -105,7 +108,8 @@ def pulse_sliding(
     dt_ratio=None,
     sample_every=1e-3,
 ):
-    """A block under a rectangular base-acceleration pulse; x is the sliding relative to the base."""
+    """A block under a rectangular base-acceleration pulse; x is the sliding relative to the
+    base."""
     spec = block_scene(
         width,
         height,
@@ -191,7 +195,8 @@ def pulse_contact(variant, k_n):
 
 
 def column_contact(variant, k_n):
-    """Contact of scene (c): area c_n = 0.05 x critical of one drum on its bed joint; point zeta 0.05."""
+    """Contact of scene (c): area c_n = 0.05 x critical of one drum on its bed joint; point zeta
+    0.05."""
     _check_variant(variant)
     if variant == "area":
         drum_mass = cn.DENSITY * cn.COLUMN_WIDTH * cn.COLUMN_HEIGHT / cn.COLUMN_DRUMS * cn.DEPTH
@@ -209,12 +214,14 @@ def contact_damping(contact) -> tuple[float, float]:
 
 
 def critical_damping(k_n, width, mass):
-    """2 sqrt(k_n width m) [N s m-1]: critical dashpot of a block of mass m on a face of ``width``."""
+    """2 sqrt(k_n width m) [N s m-1]: critical dashpot of a block of mass m on a face of
+    ``width``."""
     return 2.0 * math.sqrt(k_n * width * mass)
 
 
 def first_impact_restitution(traj: Trajectory, width, height):
-    """Energy ratio of the first impact from the first two peaks (exact energies, thesis Eq. 5.2)."""
+    """Energy ratio of the first impact from the first two peaks (exact energies, thesis Eq.
+    5.2)."""
     _, peaks = cn.rocking_measures(traj.time, traj.theta[:, 0], n_impacts=1)
     theta0 = abs(traj.theta[0, 0])
     return float(analytic.restitution_from_peaks_exact(width, height, [theta0, peaks[0]])[0])

@@ -10,8 +10,8 @@ measure (:func:`stonedem.engine.measures.rocking_bodies`).
 
 - ``rocking_energy_ratio``: Housner's quantity. It is the rocking energy after the impact
   over the energy before, computed from successive peak angles by the exact rigid relation
-  (:func:`stonedem.reference.analytic.restitution_from_peaks_exact`) with the column's own alpha. For a
-  monolith this is exactly the kinetic energy ratio of Housner's impact (thesis Eq. 5.2).
+  (:func:`stonedem.reference.analytic.restitution_from_peaks_exact`) with the column's own alpha.
+  For a monolith this is exactly the kinetic energy ratio of Housner's impact (thesis Eq. 5.2).
   For a stack it is the ratio of an equivalent rigid column rocking through the mean drum
   rotation, which is exact only while the stack rocks as one body.
 - ``energy_ratio``: the total mechanical energy above rest (kinetic + potential + elastic
@@ -47,7 +47,8 @@ every ``kind: column`` structure of the config with taper 1. The tapered columns
 ``ramp_taper`` and the small-scale column with its own contact are left out. ``--quick``
 runs only the monolith and the 2-drum column, without capitals.
 
-    python -m stonedem.bench.restitution [--quick] [--out results/bench] [--config config/config.yaml]
+    python -m stonedem.bench.restitution [--quick] [--out results/bench] [--config
+    config/config.yaml]
 """
 
 from __future__ import annotations
@@ -92,7 +93,8 @@ AREA_STUDY = {"model": "area", "k_n": 1.0e10, "c_n": 1.0e4}
 LAW_TITLES = {
     "area_study": "overlap-area law, k_n 1e10 and c_n 1e4 (the study's contact until issue 12)",
     "area_undamped": "overlap-area law, k_n 1e10, c_n = c_t = 0",
-    "point": "point law, the study's contact (config defaults.contact; zeta 0.05, Housner's plastic landing)",
+    "point": "point law, the study's contact (config defaults.contact; zeta 0.05, Housner's "
+    "plastic landing)",
     "area_housner": "overlap-area law, k_n 1e10, c_n calibrated to Housner's ratio on the monolith",
 }
 
@@ -167,7 +169,8 @@ def study_columns(config: dict) -> list[Column]:
                 float(s.get("density", 2000.0)),
                 (float(cap.get("height", 0.6)), float(cap.get("width", 1.4))) if cap else None,
             )
-            # the study's own friction, not a swept value of one case (harmonic_frequency sweeps 0.3-0.7)
+            # the study's own friction, not a swept value of one case (harmonic_frequency sweeps
+            # 0.3-0.7)
             mu = float(
                 studies[name].get("friction", (config.get("defaults") or {}).get("friction", 0.5))
             )
@@ -203,7 +206,8 @@ class RigidColumn:
 
 
 def rigid_column(bodies: list[dict], gravity: float = analytic.G) -> RigidColumn:
-    """Housner's constants of the free bodies of a column built by :mod:`stonedem.engine.structures`.
+    """Housner's constants of the free bodies of a column built by
+    :mod:`stonedem.engine.structures`.
 
     Angular momentum about the landing corner is conserved at the impact. Before it the
     body turns at omega about the other corner O, so the momentum is (I_G + m (h^2 - b^2))
@@ -314,7 +318,8 @@ def impact_loss(
     dt=math.nan,
     dt_limit=math.nan,
 ) -> ImpactLoss:
-    """Energy ratios of the first ``n_impacts`` impacts from a rotation history (see the module doc).
+    """Energy ratios of the first ``n_impacts`` impacts from a rotation history (see the module
+    doc).
 
     theta: the mean drum rotation, positive leaning right [rad]; total: the mechanical
     energy above rest [J] (:func:`mechanical_energy`). The impact times and peaks come from
@@ -382,7 +387,8 @@ def free_rocking_loss(
 
 def housner_c_n(column: Column, k_n: float, n_impacts: int = N_IMPACTS) -> float:
     """c_n [N s m-1] of the area law at k_n that gives the monolith ``column`` Housner's ratio
-    per impact (geometric mean over n_impacts; :func:`stonedem.validation.cases.calibrate_restitution`)."""
+    per impact (geometric mean over n_impacts;
+    :func:`stonedem.validation.cases.calibrate_restitution`)."""
     if column.n_drums != 1 or column.capital:
         raise ValueError("the area law is calibrated on a monolith without a capital")
     mass = column.density * column.width * column.height  # unit depth
@@ -478,7 +484,8 @@ def restitution_table(
                 per_impact["energy_ratio"],
                 _attrs(
                     "1",
-                    "total mechanical energy (kinetic + potential + elastic, above rest) just before the next "
+                    "total mechanical energy (kinetic + potential + elastic, above rest) just "
+                    "before the next "
                     "impact / just before this one",
                 ),
             ),
@@ -487,8 +494,10 @@ def restitution_table(
                 per_impact["rocking_energy_ratio"],
                 _attrs(
                     "1",
-                    "rocking energy after / before the impact from successive peaks of the mean drum rotation, "
-                    "exact rigid relation with the column's alpha (Housner's ratio, thesis Eq. 5.2)",
+                    "rocking energy after / before the impact from successive peaks of the "
+                    "mean drum rotation, "
+                    "exact rigid relation with the column's alpha (Housner's ratio, thesis Eq. "
+                    "5.2)",
                 ),
             ),
             "energy_before_impact": (
@@ -496,7 +505,8 @@ def restitution_table(
                 per_impact["energy_before"],
                 _attrs(
                     "J",
-                    "total mechanical energy above rest just before the impact (halfway in time from the "
+                    "total mechanical energy above rest just before the impact (halfway in "
+                    "time from the "
                     "previous peak), per metre of depth",
                 ),
             ),
@@ -505,7 +515,8 @@ def restitution_table(
                 per_impact["energy_next"],
                 _attrs(
                     "J",
-                    "total mechanical energy above rest just before the next impact, per metre of depth",
+                    "total mechanical energy above rest just before the next impact, per metre "
+                    "of depth",
                 ),
             ),
             "impact_time": (
@@ -644,8 +655,10 @@ def restitution_table(
         attrs={
             "title": "impact loss: energy ratio per impact of the study's columns in free rocking",
             "source": code_version(),
-            "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} stonedem.bench.restitution",
-            "platform": f"python {platform.python_version()}, {os.cpu_count()} cores, {sys.platform}",
+            "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} "
+            "stonedem.bench.restitution",
+            "platform": f"python {platform.python_version()}, {os.cpu_count()} cores, "
+            f"{sys.platform}",
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
             "n_impacts": n_impacts,
             "theta0_over_alpha": THETA0_RATIO,
@@ -662,7 +675,8 @@ def restitution_table(
             "housner_energy_ratio_monolith": analytic.housner_restitution(
                 monolith.width, monolith.height
             ),
-            "monolith": f"{monolith.width:g} x {monolith.height:g} m, density {monolith.density:g} kg m-3",
+            "monolith": f"{monolith.width:g} x {monolith.height:g} m, density "
+            f"{monolith.density:g} kg m-3",
             "critical_damping_monolith": critical,
             "critical_damping_monolith_units": "N s m-1",
             "total_wall_seconds": wallclock.perf_counter() - start,
@@ -674,7 +688,8 @@ def restitution_table(
 
 
 def table(ds: xr.Dataset) -> str:
-    """Readable table: per column and law, Housner's ratio, the rocking and the total energy ratios."""
+    """Readable table: per column and law, Housner's ratio, the rocking and the total energy
+    ratios."""
     n = ds.sizes["impact"]
     width = 7 * n
     lines = [
@@ -755,7 +770,8 @@ def check_args(args):
         raise InputError(
             "--config",
             f"the study's contact (defaults.contact.model) is {model!r}",
-            "this benchmark runs the study's contact as the point law; give a config whose model is point",
+            "this benchmark runs the study's contact as the point law; give a config whose "
+            "model is point",
         )
     try:
         columns = study_columns(config)

@@ -199,7 +199,8 @@ def rounding_dataset(cases, systems, verdicts, thresholds, n_perturbations: int)
         data,
         coords=coords,
         attrs={
-            "title": "rounding sensitivity: the study's verdicts and thresholds with k_n changed in its last bits",
+            "title": "rounding sensitivity: the study's verdicts and thresholds with k_n "
+            "changed in its last bits",
             "source": code_version(),
             "machine": f"{os.cpu_count()} cores, {sys.platform}",
             "perturbation": "contact stiffness k_n times 1 - j 2^-52, j = 1..K",
@@ -294,7 +295,8 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
     if "study" in ds.dims:
         for k, study in enumerate(ds.study.values):
             lines.append(
-                f"{study}: {int(ds.study_cases[k])} cases, {int(ds.study_cases_changed[k])} with a verdict "
+                f"{study}: {int(ds.study_cases[k])} cases, {int(ds.study_cases_changed[k])} "
+                "with a verdict "
                 f"changed (at most {int(ds.study_verdicts_changed[k])} by one perturbation)"
             )
         per = [int(v) for v in np.atleast_1d(ds.attrs["verdicts_changed_per_perturbation"])]
@@ -303,7 +305,8 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
         for k, name in enumerate(ds.system.values):
             values = ", ".join(f"{v:.4g}" for v in ds.collapse_value.values[k])
             lines.append(
-                f"{name}: thresholds {values}; largest shift {100 * float(ds.threshold_shift[k]):.1f} % = "
+                f"{name}: thresholds {values}; largest shift "
+                f"{100 * float(ds.threshold_shift[k]):.1f} % = "
                 f"{float(ds.shift_in_brackets[k]):.2f} brackets"
             )
     return lines
@@ -330,7 +333,8 @@ def build_parser():
         "--limit",
         type=int,
         default=0,
-        help=f"at most this many grid cases and this many search systems, 0 to {MAX_LIMIT} (0: all)",
+        help=f"at most this many grid cases and this many search systems, 0 to {MAX_LIMIT} (0: "
+        "all)",
     )
     parser.add_argument(
         "--out",
@@ -366,11 +370,13 @@ def main(argv=None) -> int:
     def command():
         from stonedem.io.netcdf import code_version, write_dataset
 
-        code_version()  # the commit as the run starts (asked once a process): a checkout may move during it
+        # the commit as the run starts (asked once a process): a checkout may move during it
+        code_version()
         cases, systems, n_perturbations, jobs, path = check_args(args)
         start = time.perf_counter()
         print(
-            f"{len(cases)} cases and {len(systems)} threshold searches, each as configured and with "
+            f"{len(cases)} cases and {len(systems)} threshold searches, each as configured and "
+            "with "
             f"{n_perturbations} perturbation(s) of k_n in its last bits, on {jobs} process(es)",
             file=sys.stderr,
             flush=True,

@@ -10,13 +10,13 @@ unstable. ``python -m stonedem.bench.stability`` writes both to ``results/bench/
 ``results/figures/stability_map.png``.
 
 The contact law is the point law, point contacts at the face ends with Housner's plastic
-landing (``contact.model: point``, ``impact: plastic``), whose damping is the damping ratio zeta of each
-contact point, so the map's damping levels are zeta itself. ``model="area"`` (``--model
+landing (``contact.model: point``, ``impact: plastic``), whose damping is the damping ratio zeta of
+each contact point, so the map's damping levels are zeta itself. ``model="area"`` (``--model
 area``) maps the thesis' overlap-area law instead, with c_n = damping x critical
 (:func:`critical_damping`).
 
-The normal path (:func:`stonedem.engine.simulate.choose_time_step`) refuses dt > limit, so probes past
-the limit ask for it as an "automatic" step of ``dt_safety = ratio`` on a copy of the
+The normal path (:func:`stonedem.engine.simulate.choose_time_step`) refuses dt > limit, so probes
+past the limit ask for it as an "automatic" step of ``dt_safety = ratio`` on a copy of the
 scene (scene validation, which caps dt_safety at 1, is not rerun on a copy); the sample
 interval is a whole number of steps, so simulate's rounding keeps dt exactly.
 """
@@ -45,7 +45,8 @@ from stonedem.validation.cases import block_scene
 ROOT = Path(__file__).resolve().parents[3]
 K_N_VALUES = (1e7, 1e8, 1e9, 1e10)  # [N m-2]
 DT_RATIOS = (0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0)  # dt / stability limit
-# point law: zeta of each contact point; area law: c_n / (2 sqrt(k_n width m)) of the lightest free body
+# point law: zeta of each contact point; area law: c_n / (2 sqrt(k_n width m)) of the lightest free
+# body
 DAMPING_FRACTIONS = (0.0, 0.05, 0.5)
 CONTACT_MODELS = tuple(LAWS)
 SCENE_KINDS = ("block", "column", "colonnade")
@@ -71,7 +72,8 @@ def contact_spec(model: str, k_n: float, damping: float = 0.0) -> dict:
 def scene_spec(
     kind: str, k_n: float, damping: float = 0.0, duration: float = DURATION, model: str = "point"
 ) -> dict:
-    """Scene mapping of one map scene kind (block, column, colonnade); damping as in :func:`contact_spec`."""
+    """Scene mapping of one map scene kind (block, column, colonnade); damping as in
+    :func:`contact_spec`."""
     contact = contact_spec(model, k_n, damping)
     solver = {"duration": duration, "stop_on_collapse": False}
     if kind == "block":
@@ -148,7 +150,8 @@ def run_at_ratio(scene: Scene, ratio: float, sample_every: float = SAMPLE_EVERY)
 
 
 def min_width(x: np.ndarray, y: np.ndarray) -> float:
-    """Smallest width of a convex polygon [m]: its thickness, i.e. the depth of an overlap sliver."""
+    """Smallest width of a convex polygon [m]: its thickness, i.e. the depth of an overlap
+    sliver."""
     ex, ey = np.roll(x, -1) - x, np.roll(y, -1) - y
     length = np.hypot(ex, ey)
     keep = length > 1e-12
@@ -262,9 +265,11 @@ def stability_map(
                     done += 1
                     if progress:
                         print(
-                            f"\r  stability map {done}/{total}  {model} {kind} k_n {k_n:.0e} damping {frac:g} "
+                            f"\r  stability map {done}/{total}  {model} {kind} k_n {k_n:.0e} "
+                            f"damping {frac:g} "
                             f"dt {ratio:g} x limit: {'stable' if m['stable'] else 'UNSTABLE'} "
-                            f"(err {m['energy_error']:.1e})   wall {wallclock.perf_counter() - start:6.1f} s",
+                            f"(err {m['energy_error']:.1e})   wall "
+                            f"{wallclock.perf_counter() - start:6.1f} s",
                             end="",
                             file=sys.stderr,
                         )
@@ -498,7 +503,8 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
 
 
 def table(ds: xr.Dataset) -> str:
-    """Readable table: per scene, damping and k_n, the first unstable ratio and the worst stable error."""
+    """Readable table: per scene, damping and k_n, the first unstable ratio and the worst stable
+    error."""
     lines = [
         f"{'scene':10s} {'damping':>7s} {'k_n':>8s} {'limit [s]':>10s} {'unstable from':>13s} "
         f"{'max err (stable)':>16s} {'max overlap [m]':>15s}"
@@ -561,7 +567,8 @@ def build_parser():
 
 
 def check_args(args):
-    """(duration [s], folder, figure path, the studies' scenes), or an InputError before anything runs."""
+    """(duration [s], folder, figure path, the studies' scenes), or an InputError before anything
+    runs."""
     from stonedem.bench import options
 
     duration = options.number(
@@ -605,12 +612,14 @@ def main(argv=None) -> int:
         margin = auto_dt_margin(scenes)
         write_dataset(margin, out / "auto_dt_margin.nc")
         print(
-            f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} {'margin':>7s}"
+            f"\n{'study':30s} {'auto dt [s]':>11s} {'limit [s]':>10s} {'critical [s]':>12s} "
+            f"{'margin':>7s}"
         )
         for i, name in enumerate(margin.study.values):
             r = margin.isel(study=i)
             print(
-                f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} {float(r.dt_critical):12.3g} "
+                f"{name:30s} {float(r.dt_auto):11.3g} {float(r.dt_limit):10.3g} "
+                f"{float(r.dt_critical):12.3g} "
                 f"{float(r.margin):7.2f}"
             )
         return 0

@@ -35,7 +35,8 @@ fewer timings. The comparison (:func:`speedup_table`) is
 the best competitor's wall time over ours at equal or better error, for the best of our
 variants and for each.
 
-    python -m stonedem.bench.work_precision [--quick] [--scenes a a1 c] [--contacts point area] [--repeats 3]
+    python -m stonedem.bench.work_precision [--quick] [--scenes a a1 c] [--contacts point area]
+    [--repeats 3]
                                        [--out results/bench] [--figures results/figures]
 """
 
@@ -161,7 +162,8 @@ def _row(
 
 
 def timed(run, repeats=1):
-    """``run()`` (a Trajectory) ``repeats`` times; the first result, with the least wall time of all."""
+    """``run()`` (a Trajectory) ``repeats`` times; the first result, with the least wall time of
+    all."""
     traj = run()
     for _ in range(repeats - 1):
         traj.wall_seconds = min(traj.wall_seconds, run().wall_seconds)
@@ -169,7 +171,8 @@ def timed(run, repeats=1):
 
 
 def rocking_runs(run_block, repeats=1, scene="a"):
-    """Worst errors, summed cost and worst status of free rocking over :data:`canonical.ROCKING_BLOCKS`.
+    """Worst errors, summed cost and worst status of free rocking over
+    :data:`canonical.ROCKING_BLOCKS`.
 
     scene "a": each block to :func:`canonical.rocking_duration`, errors of the first three
     impacts and peaks; "a1": each block to :func:`canonical.first_impact_duration`, error of the
@@ -459,7 +462,8 @@ VARIABLES = {
     "steps": ("1", "time steps taken"),
     "status": (
         "1",
-        "worst run status of our engine (0 ok, 2 non-finite; stonedem.kernels.step), 0 for the others",
+        "worst run status of our engine (0 ok, 2 non-finite; stonedem.kernels.step), 0 for the "
+        "others",
     ),
     "error": ("1", "benchmark error of the run (see the scene's error attrs)"),
     "error_impact_time": (
@@ -499,7 +503,8 @@ BLOCK_VARIABLES = {
 
 
 def sweep_dataset(rows, column_duration) -> xr.Dataset:
-    """The runs as one self-describing dataset (dim ``run``; engine, contact, scene, k_n, dt as coords)."""
+    """The runs as one self-describing dataset (dim ``run``; engine, contact, scene, k_n, dt as
+    coords)."""
     from stonedem.io.netcdf import code_version
 
     n = len(rows)
@@ -583,20 +588,26 @@ def sweep_dataset(rows, column_duration) -> xr.Dataset:
             "machine": f"{os.cpu_count()} cores, {sys.platform}",
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
             **{f"scene_{s}": SCENE_TITLES[s] for s in SCENES},
-            "scene_a1_stop": f"each block runs {cn.FIRST_IMPACT_MARGIN:g} x its exact first impact time, sampled "
+            "scene_a1_stop": f"each block runs {cn.FIRST_IMPACT_MARGIN:g} x its exact first "
+            "impact time, sampled "
             f"every 1 ms; the impact: the first sign change of theta, as in (a)",
             "scene_c_duration": column_duration,
             "scene_c_pga": COLUMN_PGA,
             "scene_c_reference": f"same engine at dt / {cn.COLUMN_REFERENCE_REFINEMENT}",
             **{f"contact_{v}": ours.VARIANT_TITLES[v] for v in ours.VARIANTS},
-            "ours_rocking_damping": "area: c_n, point_dashpot: zeta, calibrated per block and k_n to Housner's "
+            "ours_rocking_damping": "area: c_n, point_dashpot: zeta, calibrated per block and "
+            "k_n to Housner's "
             "first-impact energy ratio at 0.1 x the stability limit "
             "(stonedem.bench.ours.calibrate_rocking_damping); point: zeta = 0.05",
-            "ours_pulse_damping": f"area: c_n = {ours.PULSE_DAMPING} x critical; point_dashpot, point: zeta = {ours.POINT_DAMPING}",
-            "ours_column_damping": f"area: c_n = {ours.COLUMN_DAMPING} x critical of one drum; point_dashpot, point: "
+            "ours_pulse_damping": f"area: c_n = {ours.PULSE_DAMPING} x critical; "
+            f"point_dashpot, point: zeta = {ours.POINT_DAMPING}",
+            "ours_column_damping": f"area: c_n = {ours.COLUMN_DAMPING} x critical of one drum; "
+            "point_dashpot, point: "
             f"zeta = {ours.POINT_DAMPING}",
-            "speedup": "speedup_[<variant>_]<scene>_error_<level>: best competitor's wall time / ours at error <= level, "
-            "for the best of our variants (no variant in the name) or one variant; NaN: one side never reaches it",
+            "speedup": "speedup_[<variant>_]<scene>_error_<level>: best competitor's wall time "
+            "/ ours at error <= level, "
+            "for the best of our variants (no variant in the name) or one variant; NaN: one "
+            "side never reaches it",
         },
     )
     table = speedup_table(ds)
@@ -628,7 +639,8 @@ def _ours_contacts(ds: xr.Dataset) -> list[str]:
 
 
 def fastest_table(ds: xr.Dataset) -> xr.DataArray:
-    """Least wall time per simulated second at error <= level: ours (best variant and each), pymunk, MuJoCo."""
+    """Least wall time per simulated second at error <= level: ours (best variant and each), pymunk,
+    MuJoCo."""
     scenes = [s for s in SCENES if (ds.scene == s).any()]
     rows = [f"ours_{c}" for c in _ours_contacts(ds)] + ["pymunk", "mujoco"]
     table = np.full((len(rows), len(scenes), len(ERROR_LEVELS)), math.nan)
@@ -675,7 +687,8 @@ VARIANT_STYLES = {"area": ("o", "-"), "point_dashpot": ("D", "-."), "point": ("v
 
 
 def plot_work_precision(ds: xr.Dataset, scene: str, path: Path) -> Path:
-    """Log-log wall time per simulated second against error, every engine and variant on one axes."""
+    """Log-log wall time per simulated second against error, every engine and variant on one
+    axes."""
     import matplotlib
 
     matplotlib.use("Agg")

@@ -73,7 +73,8 @@ def _segments_intersect(p1, p2, q1, q2) -> bool:
 
 
 def box_vertices(width: float, height: float, center=(0.0, 0.0), angle: float = 0.0) -> np.ndarray:
-    """Counter-clockwise corners of a width x height rectangle rotated by angle [rad] about its centre."""
+    """Counter-clockwise corners of a width x height rectangle rotated by angle [rad] about its
+    centre."""
     hw, hh = 0.5 * width, 0.5 * height
     local = np.array([[-hw, -hh], [hw, -hh], [hw, hh], [-hw, hh]])
     c, s = np.cos(angle), np.sin(angle)

@@ -109,7 +109,10 @@ def why_broken(broken: int, which: int, graph: Graph, names: list[str]) -> str:
         return f"{names[a]} and {names[b]}, apart at t = 0, came within the broad phase's margin"
     a, b = names[graph.pair_a[which]], names[graph.pair_b[which]]
     if broken == BROKEN_TURN:
-        return f"the contact faces of {a} and {b} turned {graph.turn_limit[which]:.3g} rad against each other"
+        return (
+            f"the contact faces of {a} and {b} turned {graph.turn_limit[which]:.3g} rad "
+            "against each other"
+        )
     if broken == BROKEN_FACES:
         return f"{a} and {b} touched on other faces than at t = 0"
     return ""

@@ -33,7 +33,8 @@ def bottom_centre(vertices: np.ndarray) -> np.ndarray:
 
 
 def supports(scene: Scene) -> list[int]:
-    """Index of the body each body rests on at t = 0 (the one just below its bottom centre), or -1."""
+    """Index of the body each body rests on at t = 0 (the one just below its bottom centre), or
+    -1."""
     posed = [posed_vertices(b) for b in scene.bodies]
     out = []
     for i, verts in enumerate(posed):
@@ -57,7 +58,8 @@ def _contains(vertices: np.ndarray, point: np.ndarray) -> bool:
 
 
 def relative_sliding(scene: Scene, x, y, theta, support: list[int]) -> np.ndarray:
-    """Sliding of each body along its support's top face since t = 0 (n_time, n_body) [m]; 0 without support.
+    """Sliding of each body along its support's top face since t = 0 (n_time, n_body) [m]; 0 without
+    support.
 
     The bottom-centre point of the body and the material point of the support under it at
     t = 0 are followed; their separation along the support's rotated x axis is the sliding
@@ -77,7 +79,8 @@ def relative_sliding(scene: Scene, x, y, theta, support: list[int]) -> np.ndarra
 class SlidingFrames(NamedTuple):
     """The material point each body's sliding follows (the bottom centre at t = 0), in the
     body's frame (body_x, body_y) and in its support's (support_x, support_y) [m], and their
-    separation along the support's x axis at t = 0 (offset) [m]; (n_body,) each, 0 without support."""
+    separation along the support's x axis at t = 0 (offset) [m]; (n_body,) each, 0 without
+    support."""
 
     body_x: np.ndarray
     body_y: np.ndarray
@@ -106,7 +109,8 @@ def sliding_frames(scene: Scene, support: list[int], x0, y0, theta0) -> SlidingF
 
 def _separation(frames: SlidingFrames, i, s, x, y, theta, xs=None, ys=None, thetas=None):
     """Separation of body i's followed point from its support s's along the support's x axis [m]:
-    poses (n_time, n_body), or body i's (x, y, theta) and the support's (xs, ys, thetas) (n_time,)."""
+    poses (n_time, n_body), or body i's (x, y, theta) and the support's (xs, ys, thetas)
+    (n_time,)."""
     if xs is None:
         x, y, theta, xs, ys, thetas = x[:, i], y[:, i], theta[:, i], x[:, s], y[:, s], theta[:, s]
     p_i = _world(frames.body_x[i], frames.body_y[i], x, y, theta)
@@ -148,9 +152,8 @@ def epistyle_bodies(scene: Scene) -> list[int]:
     return [i for i, b in enumerate(scene.bodies) if b.role == "epistyle"]
 
 
-ONSET_FRACTION = (
-    1.0 / 30.0
-)  # rocking onset: mean rotation above this share of theta_cr (thesis 6.3.1)
+# rocking onset: mean rotation above this share of theta_cr (thesis 6.3.1)
+ONSET_FRACTION = 1.0 / 30.0
 
 
 def rocking_onset_time(time, rocking, theta_cr) -> float:

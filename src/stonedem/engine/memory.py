@@ -17,9 +17,8 @@ DOUBLES_PER_SAMPLE = 32  # per output sample: energies, time, base motion, measu
 DOUBLES_PER_BODY = 8  # per sample and body: samples, relative motion, sliding (measured 5.8)
 CONTACT_DOUBLES = 24  # per pair of bodies: friction force and contact memory
 MEMORY_SHARE = 0.5  # of the available memory: numba, xarray and the OS need the rest
-MAX_RUN_BYTES = (
-    16 * 2**30
-)  # above this a run is refused on any machine (the same answer everywhere)
+# above this a run is refused on any machine (the same answer everywhere)
+MAX_RUN_BYTES = 16 * 2**30
 
 
 def run_bytes(n_samples: float, n_bodies: int) -> float:

@@ -241,7 +241,8 @@ def _span(vertices: np.ndarray, xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 
 def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
-    """The read-only bundle :func:`stonedem.kernels.step.run` reads: arrays, contact law, gravity, base motion."""
+    """The read-only bundle :func:`stonedem.kernels.step.run` reads: arrays, contact law, gravity,
+    base motion."""
     law = scene.contact
 
     def excitation(motion):

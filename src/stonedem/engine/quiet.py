@@ -23,9 +23,8 @@ from stonedem.engine.scene import Scene, posed_vertices
 from stonedem.entry import check_interrupt
 from stonedem.kernels import step
 
-QUIET_MARGIN = (
-    0.5  # the base counts as quiet below half the smallest acceleration that could move a body
-)
+# the base counts as quiet below half the smallest acceleration that could move a body
+QUIET_MARGIN = 0.5
 REST_SPEED = 1e-3  # [m s-1] a body slower than this relative to the base is at rest
 REST_SECONDS = 0.5  # [s] ... for this long in a row, with the base quiet for good: the run ends
 # times evaluated at once by the quiet scan and the carried fill: their memory stays a few

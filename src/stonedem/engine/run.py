@@ -1,8 +1,8 @@
 """A simulated scene as a self-describing dataset: run it and build its dataset.
 
 :func:`run_scene` refuses absurd requests (:func:`stonedem.engine.simulate.preflight`), runs the
-compiled loop (:func:`stonedem.engine.simulate.simulate`) and its checks, and turns the samples into an
-xarray Dataset (:func:`scene_dataset`) with units and long names from :mod:`stonedem.io.schema`,
+compiled loop (:func:`stonedem.engine.simulate.simulate`) and its checks, and turns the samples into
+an xarray Dataset (:func:`scene_dataset`) with units and long names from :mod:`stonedem.io.schema`,
 the full input as JSON in ``attrs["scene"]``, solver settings and the code version in
 attrs; :func:`stonedem.io.netcdf.write_dataset` writes it.
 
@@ -73,10 +73,10 @@ def run_scene(scene: Scene, progress: bool = False, first: RunResult | None = No
     """Simulate a scene and return its self-describing xarray Dataset (:func:`scene_dataset`).
     ``first``: the first attempt, already run (:func:`run_scenes`).
 
-    Refused before computing: :func:`stonedem.engine.simulate.preflight`. After it: a diverged run is an
-    error; a penetration or energy drift past its limit is the dataset's ``status`` and a warning.
-    With ``dt: auto`` a diverged run or an energy drift past its limit first halves dt_safety
-    and runs again, up to ENERGY_RETRIES times (attrs ``dt_safety`` as run,
+    Refused before computing: :func:`stonedem.engine.simulate.preflight`. After it: a diverged run
+    is an error; a penetration or energy drift past its limit is the dataset's ``status`` and a
+    warning. With ``dt: auto`` a diverged run or an energy drift past its limit first halves
+    dt_safety and runs again, up to ENERGY_RETRIES times (attrs ``dt_safety`` as run,
     ``dt_safety_requested``, ``dt_halvings``).
     """
     run = checked_run(scene, progress, first)
@@ -160,7 +160,8 @@ def response_measures(
     collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"
     t = ("time",)
     response = {
-        # peaks and first times over every step of the run, not the samples (stonedem.kernels.step.track)
+        # peaks and first times over every step of the run, not the samples
+        # (stonedem.kernels.step.track)
         "max_abs_theta": (("body",), result.peak_theta),
         "max_total_sliding": ((), result.max_total_sliding),
         "residual_total_sliding": ((), float(total_sliding[-1])),
@@ -196,8 +197,8 @@ def response_measures(
 def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -> xr.Dataset:
     """Dataset of one simulated scene: histories, energies, response measures, provenance.
 
-    ``checks``: :func:`stonedem.engine.simulate.run_checks` (computed here when not given); a penetrated
-    run is never reported as a collapse."""
+    ``checks``: :func:`stonedem.engine.simulate.run_checks` (computed here when not given); a
+    penetrated run is never reported as a collapse."""
     time = result.time
     names = scene.body_names
     d_v, _, _ = scene.vertical.evaluate(time)
@@ -247,7 +248,8 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
     attrs = {
         "title": f"stonedem rigid-block simulation: {scene.spec.get('name', 'scene')}",
         "source": code_version(),
-        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by stonedem.engine.simulate",
+        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} simulated by "
+        "stonedem.engine.simulate",
         "platform": f"python {platform.python_version()}, numba {numba.__version__}",
         "scene": bounded_json(scene.spec, "scene", check=check_interrupt),
         "excitation": bounded_json(
@@ -276,22 +278,27 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "at_rest_from_units": "s",
         "status": checks["status"],
         "energy_error": checks["energy_error"],
-        "energy_error_definition": "max |energy balance drift| / energy the run moves (stonedem.engine.simulate.energy_drift)",
+        "energy_error_definition": "max |energy balance drift| / energy the run moves "
+        "(stonedem.engine.simulate.energy_drift)",
         "energy_error_limit": float(ENERGY_TOLERANCE),
         "penetration": checks["penetration"],
-        "penetration_definition": "largest overlap of two bodies over the samples / the smaller body's area",
+        "penetration_definition": "largest overlap of two bodies over the samples / the "
+        "smaller body's area",
         "penetration_limit": float(PENETRATION_LIMIT),
         "wall_seconds": result.wall_seconds,
         "compile_seconds": result.compile_seconds,
         "compile_seconds_units": "s",
-        "compile_seconds_definition": "wall time to compile the time loop or load it from Numba's cache before its "
+        "compile_seconds_definition": "wall time to compile the time loop or load it from "
+        "Numba's cache before its "
         "first step, not in wall_seconds (the stepping)",
         "kernel": result.kernel,
-        "kernel_definition": "the compiled loop the run started on: contact_graph (the scene's face contacts, "
+        "kernel_definition": "the compiled loop the run started on: contact_graph (the scene's "
+        "face contacts, "
         "stonedem.kernels.contact_graph) or general (broad phase and separating axes)",
         "general_from": result.handover_time,
         "general_from_units": "s",
-        "general_from_definition": "time from which the general loop went on where the contact graph stopped "
+        "general_from_definition": "time from which the general loop went on where the contact "
+        "graph stopped "
         "holding, NaN: never",
         "general_because": result.handover_reason,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
@@ -324,8 +331,8 @@ def contact_attrs(scene: Scene) -> dict:
 # A tiny scene per compiled time loop whose run calls every compiled kernel a study run on that loop
 # calls, with the argument types of every study run (one specialisation each; tests/test_simulate.py
 # checks them against the study's cases): the point law runs on its contact graph
-# (stonedem.kernels.contact_graph), the area law on the general loop compiled with the area law alone
-# (stonedem.kernels.step.run_area); general_point is the general loop with the point law alone
+# (stonedem.kernels.contact_graph), the area law on the general loop compiled with the area law
+# alone (stonedem.kernels.step.run_area); general_point is the general loop with the point law alone
 # (run_point), where a point-law run goes on when its graph stops holding.
 WARM_SCENES = {
     loop: {

@@ -6,9 +6,9 @@ excitation, solver and output settings. Every field is checked once here, types 
 (no coercion of a string to a flag or a count), sizes against MAX_BODIES and the mass
 range; a bad one raises :class:`stonedem.errors.InputError` naming its dotted path. Defaults:
 the point contact law, k_n = 1e11 N/m2 per unit contact length, 5 % of critical damping per
-end and a plastic landing, stepped at the stability bound (README "Contact laws"); with ``model: area`` the thesis' k_n =
-1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone density 2000 kg/m3 (thesis
-Fig. 4.6), unit out-of-plane depth.
+end and a plastic landing, stepped at the stability bound (README "Contact laws"); with ``model:
+area`` the thesis' k_n = 1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone density 2000 kg/m3
+(thesis Fig. 4.6), unit out-of-plane depth.
 """
 
 from __future__ import annotations
@@ -68,8 +68,9 @@ SOLVER_DEFAULTS = {
     "skip_quiet": True,
     "kernel": "auto",
 }
-# auto: a point-law scene runs on its contact graph while that holds (stonedem.kernels.contact_graph),
-# then on the general loop; general: the general loop from the start
+# auto: a point-law scene runs on its contact graph while that holds
+# (stonedem.kernels.contact_graph), then on the general loop; general: the general loop from the
+# start
 KERNELS = ("auto", "general")
 OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
@@ -117,10 +118,10 @@ class ContactLaw:
     c_n: float  # normal dashpot of the area law [N s m-1]
     k_t: float  # tangential stiffness per contact [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
-    frame: str = "boundary"  # contact frame rule, area law: boundary | thesis (stonedem.kernels.overlap); point law: faces
-    model: str = (
-        "area"  # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
-    )
+    # contact frame rule, area law: boundary | thesis (stonedem.kernels.overlap); point law: faces
+    frame: str = "boundary"
+    # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
+    model: str = "area"
     damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
     impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
 
@@ -141,7 +142,8 @@ class Scene:
     dt: float | None  # None = choose automatically
     dt_safety: float
     stop_on_collapse: bool
-    skip_quiet: bool  # skip where the base is too quiet to move anything (stonedem.engine.quiet.quiet_steps)
+    # skip where the base is too quiet to move anything (stonedem.engine.quiet.quiet_steps)
+    skip_quiet: bool
     output_every: float
     spec: dict = field(repr=False)  # the fully defaulted input, for provenance
     kernel: str = "auto"  # solver.kernel: KERNELS
@@ -740,7 +742,8 @@ def posed_vertices(body: Body) -> np.ndarray:
 
 def box_pairs(lo: np.ndarray, hi: np.ndarray, margin: float) -> list[tuple[int, int]]:
     """Pairs (i < j) whose bounds (n, 2) [m], inflated by ``margin``, overlap: the engine's
-    sort-and-sweep (:func:`stonedem.kernels.broad_phase.find_candidate_pairs`), so set-up is O(N)."""
+    sort-and-sweep (:func:`stonedem.kernels.broad_phase.find_candidate_pairs`), so set-up is
+    O(N)."""
     from stonedem.kernels.broad_phase import find_candidate_pairs
 
     n = len(lo)

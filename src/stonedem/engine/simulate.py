@@ -117,7 +117,8 @@ body_graph = BodiesMemo(lambda scene, arrays: scene_graph(arrays))
 
 
 def run_time_step(scene: Scene) -> tuple[float, float]:
-    """(dt, stability limit) [s] of a run: :func:`choose_time_step`, sampled (:func:`sampled_step`)."""
+    """(dt, stability limit) [s] of a run: :func:`choose_time_step`, sampled
+    (:func:`sampled_step`)."""
     dt, limit = choose_time_step(scene)
     return sampled_step(scene, dt), limit
 
@@ -248,7 +249,8 @@ def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
     if not hasattr(dispatcher, "overloads"):
         return 0.0
     # Numba's own fingerprint of the arguments' types (what a call dispatches on): ~0.01 ms, where
-    # typing them (numba.typeof) takes ~1 ms a run, a fifth of what a search's run may cost in Python
+    # typing them (numba.typeof) takes ~1 ms a run, a fifth of what a search's run may cost in
+    # Python
     try:
         key = (id(dispatcher), tuple((type(arg), compute_fingerprint(arg)) for arg in args))
     except (
@@ -293,7 +295,8 @@ class RunResult:
     energy: np.ndarray  # (n_sample, N_ENERGY) [J], columns step.ENERGY_*
     n_contact: np.ndarray  # (n_sample,)
     status: int
-    collapse_sample: int  # first sample at or after the collapse (the last one when it stopped the run), -1: none
+    # first sample at or after the collapse (the last one when it stopped the run), -1: none
+    collapse_sample: int
     dt: float
     dt_limit: float
     out_every: int
@@ -301,25 +304,21 @@ class RunResult:
     steps_run: int  # steps integrated (the quiet lead and tail are not)
     wall_seconds: float  # the compiled loop's stepping, its compile not included
     arrays: SceneArrays  # the packed scene (its checks and dataset reuse it)
-    quiet_lead: float = (
-        0.0  # [s] of the start carried by the base, not integrated (settled, base quiet)
-    )
-    rest_time: float = (
-        math.nan
-    )  # [s] at rest on a quiet base from here on (not integrated), NaN if never
+    # [s] of the start carried by the base, not integrated (settled, base quiet)
+    quiet_lead: float = 0.0
+    # [s] at rest on a quiet base from here on (not integrated), NaN if never
+    rest_time: float = math.nan
     # running maxima over every step run (stonedem.kernels.step.track; a stretch the base
     # carries at rest adds nothing to them), slots step.PEAK_*, and each body's max |theta|
     peaks: np.ndarray = None  # (N_PEAK,)
     peak_theta: np.ndarray = None  # (n_body,) [rad]
     onset_step: int = -1  # first step at which rocking exceeds theta_cr / 30, -1: never
     collapse_step: int = -1  # first step at which the structure collapsed, -1: never
-    compile_seconds: float = (
-        0.0  # [s] compiling the loop or loading it from the cache, before its first step
-    )
+    # [s] compiling the loop or loading it from the cache, before its first step
+    compile_seconds: float = 0.0
     kernel: str = "general"  # the compiled loop it started on: contact_graph or general
-    handover_time: float = (
-        math.nan
-    )  # [s] from which the general loop took over from the graph's, NaN: never
+    # [s] from which the general loop took over from the graph's, NaN: never
+    handover_time: float = math.nan
     handover_reason: str = ""  # why (stonedem.engine.graph.why_broken)
 
     @property
@@ -334,7 +333,8 @@ class RunResult:
 
     @property
     def max_epistyle_displacement(self) -> float:
-        """Peak absolute value of the mean epistyle displacement relative to the base, over every step [m]."""
+        """Peak absolute value of the mean epistyle displacement relative to the base, over every
+        step [m]."""
         return float(self.peaks[step.PEAK_EPISTYLE])
 
     @property
@@ -394,11 +394,11 @@ class CompiledLoop:
     loaded: list = dataclasses.field(
         default_factory=list
     )  # the compiled loops ready for this run's bundles
-    # the scene's contact graph while it holds (stonedem.kernels.contact_graph), None: the general loop
+    # the scene's contact graph while it holds (stonedem.kernels.contact_graph), None: the general
+    # loop
     graph: contact_graph.Graph | None = None
-    handover_step: int = (
-        -1
-    )  # the step from which the general loop took over from the graph's, -1: none
+    # the step from which the general loop took over from the graph's, -1: none
+    handover_step: int = -1
     started_on: str = ""  # the loop of the first call: contact_graph or general ("": not called)
     broken: tuple = ()  # why the graph stopped holding: (contact_graph.BROKEN_*, pair or contact)
 
@@ -443,7 +443,8 @@ class CompiledLoop:
 
     def compiled(self, loop, args) -> None:
         """Before the first call of a compiled ``loop`` in this run: compile it for ``args`` or load
-        it from the cache (:func:`compile_for`), its time booked in cursor.compile, not as stepping."""
+        it from the cache (:func:`compile_for`), its time booked in cursor.compile, not as
+        stepping."""
         if loop not in self.loaded:
             self.cursor.compile += compile_for(loop, args, self.reporter)
             self.loaded.append(loop)
@@ -463,7 +464,8 @@ class CompiledLoop:
             stop = min(n_stop, n + size)
             start, compiled = wallclock.perf_counter(), cursor.compile
             status = self.steps(n, stop, step_first, rest_from)
-            # the chunk's stepping: a loop compiled (or loaded from the cache) before its first call is not in it
+            # the chunk's stepping: a loop compiled (or loaded from the cache) before its first call
+            # is not in it
             elapsed = wallclock.perf_counter() - start - (cursor.compile - compiled)
             cursor.ran(n, stop, status, n_steps, elapsed)
             n = stop
@@ -733,7 +735,8 @@ def energy_drift(result: RunResult) -> dict:
 
 
 def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str]:
-    """(deepest overlap / smaller body's area [1], its time [s], the two body names) over the samples."""
+    """(deepest overlap / smaller body's area [1], its time [s], the two body names) over the
+    samples."""
     from stonedem.kernels.penetration import deepest_overlap
 
     arrays = result.arrays
@@ -826,12 +829,12 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
     """(dt, stability limit [s], steps) of a scene, or an InputError before any computing.
 
     Refused: a scene whose bodies would fall freely (nothing driven, or a body with nothing
-    under it to land on: :func:`stonedem.engine.pack.landing_drops`), a stability limit that is not a positive finite time, more than MAX_STEPS
-    steps, more memory than the machine can give it (:func:`stonedem.engine.memory.run_bytes`
-    against :func:`stonedem.engine.memory.memory_budget`), and a step that resolves the excitation's
-    shortest period in fewer than MIN_STEPS_PER_PERIOD steps (it would read an 8 kHz
-    harmonic at its zeros). When output.every is what makes a run too long or too big, the
-    refusal names it and the smallest value that fits.
+    under it to land on: :func:`stonedem.engine.pack.landing_drops`), a stability limit that is not
+    a positive finite time, more than MAX_STEPS steps, more memory than the machine can give it
+    (:func:`stonedem.engine.memory.run_bytes` against :func:`stonedem.engine.memory.memory_budget`),
+    and a step that resolves the excitation's shortest period in fewer than MIN_STEPS_PER_PERIOD
+    steps (it would read an 8 kHz harmonic at its zeros). When output.every is what makes a run too
+    long or too big, the refusal names it and the smallest value that fits.
     """
     landing_drops(scene)
     dt, limit = choose_time_step(scene)
@@ -864,7 +867,8 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
             "solver.duration",
             f"{scene.duration:.3g} s at dt = {dt:.3g} s is {n_steps:.3g} steps, "
             f"over the limit {MAX_STEPS:.0e}",
-            f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften contact.k_n",
+            f"shorten the run, raise solver.dt_safety (now {scene.dt_safety:g}) or soften "
+            "contact.k_n",
         )
     n_out = output_samples(scene, dt)
     need = run_bytes(n_out, len(scene.bodies))

@@ -302,7 +302,8 @@ def colonnade(
 
 
 def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
-    """Base + a lower row with a continuous epistyle carrying an upper row of smaller columns (thesis 7.9).
+    """Base + a lower row with a continuous epistyle carrying an upper row of smaller columns
+    (thesis 7.9).
 
     lower, upper: colonnade keyword arguments of each row; the upper columns stand on the
     lower epistyle above the lower columns (same spacing) and carry their own epistyle.

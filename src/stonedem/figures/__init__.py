@@ -3,10 +3,10 @@
 Each figure is named after the thesis figure it regenerates (``thesis_fig_6_10``) and is a
 :class:`Figure`: the inputs it reads, named symbolically (``Cube("ramp_drums")``,
 ``Case(study, params)``, ``Table("table_7_1")``, ``Record(name)``), a drawing function and a
-caption. Each CSV table is a :class:`Reduction`: its input cubes and the stonedem.study.reduce function
-of them. The chapters list their entries (:mod:`.chapter6`, :mod:`.chapter7`; shared drawing
-in :mod:`.drawing`); :func:`figure_table` and :func:`reduction_table` keep those whose inputs
-are in the configured studies, inputs resolved; the workflow maps each input to its file
+caption. Each CSV table is a :class:`Reduction`: its input cubes and the stonedem.study.reduce
+function of them. The chapters list their entries (:mod:`.chapter6`, :mod:`.chapter7`; shared
+drawing in :mod:`.drawing`); :func:`figure_table` and :func:`reduction_table` keep those whose
+inputs are in the configured studies, inputs resolved; the workflow maps each input to its file
 (:func:`input_paths`).
 """
 

@@ -95,7 +95,8 @@ class Figure:
 
 @dataclass(frozen=True)
 class Reduction:
-    """A CSV table: a stonedem.study.reduce function of the input cubes, written by stonedem.io.atomic.write_csv."""
+    """A CSV table: a stonedem.study.reduce function of the input cubes, written by
+    stonedem.io.atomic.write_csv."""
 
     inputs: tuple  # Cube refs, in the order reduce() takes the cubes
     reduce: Callable  # reduce(*cubes) -> rows (list of dicts)

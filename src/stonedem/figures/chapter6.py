@@ -77,8 +77,10 @@ def rocking_then_sliding(cube: xr.Dataset) -> str:
     holds = low_ok == n and high_ok == n
     return (
         f"Thesis 6.1 ordering (rocking at low, sliding at high frequency): "
-        f"{'holds' if holds else 'does NOT hold'} on every curve: rocking dominates at the lowest frequency "
-        f"that moves the column on {low_ok} of {n} curves; at {f.max():g} Hz the base slides under a standing "
+        f"{'holds' if holds else 'does NOT hold'} on every curve: rocking dominates at the "
+        "lowest frequency "
+        f"that moves the column on {low_ok} of {n} curves; at {f.max():g} Hz the base slides "
+        "under a standing "
         f"column on {high_ok} of {n}."
     )
 
@@ -109,7 +111,8 @@ def _ramp_thresholds_figure(along, xlabel, title):
             holds = all(b >= a for a, b in zip(over, over[1:]))
             verdict = (
                 f"Thesis 6.3.2 ordering (taper raises the overturning PGA): "
-                f"{'holds' if holds else 'does NOT hold'}: {', '.join(f'{v:.3g}' for v in over)} m/s2."
+                f"{'holds' if holds else 'does NOT hold'}: "
+                f"{', '.join(f'{v:.3g}' for v in over)} m/s2."
             )
         _finish(fig, title, verdict)
         return _save(fig, path)
@@ -139,7 +142,8 @@ def _ramp_histories(along, title):
 
 
 def _frequency_figure(variable, ylabel, title, height=6.0):
-    """One curve per (amplitude or PGA) x friction of ``variable`` vs frequency (Fig. 6.1, 6.5, 6.6)."""
+    """One curve per (amplitude or PGA) x friction of ``variable`` vs frequency (Fig. 6.1, 6.5,
+    6.6)."""
 
     def draw(inputs, path):
         cube = load_cube(inputs[0])
@@ -176,7 +180,8 @@ def _frequency_figure(variable, ylabel, title, height=6.0):
 
 
 def _small_column_figure(inputs, path):
-    """Thesis Fig. 6.1: small-scale column, total sliding and rocking vs frequency, (a) per mu, (b) per PGA."""
+    """Thesis Fig. 6.1: small-scale column, total sliding and rocking vs frequency, (a) per mu, (b)
+    per PGA."""
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), constrained_layout=True)
     verdicts = []
     for col, (file, hue) in enumerate(zip(inputs, ("friction", "pga"))):
@@ -200,14 +205,16 @@ def _small_column_figure(inputs, path):
         verdicts.append(("(a) " if col == 0 else "(b) ") + rocking_then_sliding(cube))
     _finish(
         fig,
-        "Thesis Fig. 6.1: small-scale 7-block column (48 x 29 mm blocks) under harmonic base motion",
+        "Thesis Fig. 6.1: small-scale 7-block column (48 x 29 mm blocks) under harmonic base "
+        "motion",
         "\n".join(verdicts),
     )
     return _save(fig, path)
 
 
 def _spectra_figure(records, pgas):
-    """Thesis Fig. 6.14: 10 %-damped pseudo-acceleration spectra of the records scaled to their snapshot PGAs."""
+    """Thesis Fig. 6.14: 10 %-damped pseudo-acceleration spectra of the records scaled to their
+    snapshot PGAs."""
 
     def draw(inputs, path):
         fig, ax = plt.subplots(figsize=(6.5, 4.2), constrained_layout=True)
@@ -242,9 +249,12 @@ def figures(snap):
         "thesis_fig_6_1",
         Figure(
             "6.1",
-            "Total sliding and rocking of the small-scale 7-block column (thesis 5.2.2) vs harmonic frequency, "
-            "(a) for three friction coefficients at PGA 2.15 m/s2 and (b) for four PGAs at mu = 0.68. "
-            "Regenerates thesis Fig. 6.1; the verdict line checks 'rocking at low, sliding at high frequency'.",
+            "Total sliding and rocking of the small-scale 7-block column (thesis 5.2.2) vs "
+            "harmonic frequency, "
+            "(a) for three friction coefficients at PGA 2.15 m/s2 and (b) for four PGAs at mu "
+            "= 0.68. "
+            "Regenerates thesis Fig. 6.1; the verdict line checks 'rocking at low, sliding at "
+            "high frequency'.",
             (Cube("small_column_friction"), Cube("small_column_pga")),
             _small_column_figure,
         ),
@@ -258,7 +268,8 @@ def figures(snap):
                 "harmonic_frequency",
                 params,
                 f"Thesis Fig. {fig.replace('_', '.')}: 8-drum column, harmonic {f:g} Hz, 0.25 m",
-                f"Snapshots of the 8-drum 6 m x 1 m column under a {f:g} Hz, 0.25 m harmonic base displacement "
+                f"Snapshots of the 8-drum 6 m x 1 m column under a {f:g} Hz, 0.25 m harmonic "
+                "base displacement "
                 f"(mu = 0.48). Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -266,8 +277,10 @@ def figures(snap):
         "thesis_fig_6_5",
         Figure(
             "6.5",
-            "Ratio of the maximum total sliding to the base displacement amplitude vs frequency, 8-drum column, "
-            "per amplitude and friction coefficient (red x: collapsed). Regenerates thesis Fig. 6.5 (the thesis: "
+            "Ratio of the maximum total sliding to the base displacement amplitude vs "
+            "frequency, 8-drum column, "
+            "per amplitude and friction coefficient (red x: collapsed). Regenerates thesis "
+            "Fig. 6.5 (the thesis: "
             "the ratio tends to 1 at high frequency).",
             (Cube("harmonic_frequency", {"friction": None}),),
             _frequency_figure(
@@ -281,7 +294,8 @@ def figures(snap):
         "thesis_fig_6_6",
         Figure(
             "6.6",
-            "Maximum mean drum rotation (rocking) vs frequency, 8-drum column, per amplitude and friction "
+            "Maximum mean drum rotation (rocking) vs frequency, 8-drum column, per amplitude "
+            "and friction "
             "coefficient. Regenerates thesis Fig. 6.6.",
             (Cube("harmonic_frequency", {"friction": None}),),
             _frequency_figure(
@@ -298,7 +312,8 @@ def figures(snap):
                 fig.replace("_", "."),
                 "harmonic_drums",
                 {"n_drums": n},
-                f"Thesis Fig. {fig.replace('_', '.')}: {n}-drum column (drum height {6 / n:g} m), 0.5 Hz, 0.25 m",
+                f"Thesis Fig. {fig.replace('_', '.')}: {n}-drum column (drum height {6 / n:g} "
+                "m), 0.5 Hz, 0.25 m",
                 f"Snapshots of a {n}-drum 6 m x 1 m column under a 0.5 Hz, 0.25 m harmonic. "
                 f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
@@ -319,8 +334,10 @@ def figures(snap):
         "thesis_fig_6_10",
         Figure(
             "6.10",
-            "Base acceleration at which rocking starts (mean rotation > theta_cr/30) and at which the column "
-            "overturns, vs the number of drums, with the static value g b/h. Regenerates thesis Fig. 6.10.",
+            "Base acceleration at which rocking starts (mean rotation > theta_cr/30) and at "
+            "which the column "
+            "overturns, vs the number of drums, with the static value g b/h. Regenerates "
+            "thesis Fig. 6.10.",
             (RAMP_DRUMS,),
             _ramp_thresholds_figure(
                 "n_drums",
@@ -337,14 +354,16 @@ def figures(snap):
             "ramp_taper",
             [{"taper": t} for t in tapers],
             "Thesis Fig. 6.11: tapered 4-drum columns of equal mass",
-            "The tapered 4-drum columns (base/top width 1, 1.5, 2 at constant mass). Regenerates thesis Fig. 6.11.",
+            "The tapered 4-drum columns (base/top width 1, 1.5, 2 at constant mass). "
+            "Regenerates thesis Fig. 6.11.",
         ),
     )
     yield (
         "thesis_fig_6_12",
         Figure(
             "6.12",
-            "Mean rotation of the tapered columns vs the ramp's base acceleration. Regenerates thesis Fig. 6.12.",
+            "Mean rotation of the tapered columns vs the ramp's base acceleration. Regenerates "
+            "thesis Fig. 6.12.",
             (RAMP_TAPER,),
             _ramp_histories(
                 "taper", "Thesis Fig. 6.12: mean rotation of tapered columns under the ramp"
@@ -355,8 +374,10 @@ def figures(snap):
         "thesis_fig_6_13",
         Figure(
             "6.13",
-            "Acceleration to start rocking and to overturn vs taper W_b/W_t; the verdict line checks that "
-            "tapered columns need a higher PGA to overturn (thesis 6.3.2). Regenerates thesis Fig. 6.13.",
+            "Acceleration to start rocking and to overturn vs taper W_b/W_t; the verdict line "
+            "checks that "
+            "tapered columns need a higher PGA to overturn (thesis 6.3.2). Regenerates thesis "
+            "Fig. 6.13.",
             (RAMP_TAPER,),
             _ramp_thresholds_figure(
                 "taper",
@@ -373,7 +394,8 @@ def figures(snap):
             "thesis_fig_6_14",
             Figure(
                 "6.14",
-                "10 %-damped pseudo-acceleration spectra of the stand-in records scaled to the PGAs of the "
+                "10 %-damped pseudo-acceleration spectra of the stand-in records scaled to the "
+                "PGAs of the "
                 "standalone snapshots. Regenerates thesis Fig. 6.14.",
                 tuple(Record(n) for n in names),
                 _spectra_figure(names, pgas),
@@ -399,10 +421,13 @@ def figures(snap):
                 fig.replace("_", "."),
                 "snapshots_standalone",
                 params,
-                f"Thesis Fig. {fig.replace('_', '.')}: {n}-drum column, {rec.capitalize()} stand-in at PGA "
+                f"Thesis Fig. {fig.replace('_', '.')}: {n}-drum column, {rec.capitalize()} "
+                "stand-in at PGA "
                 f"{standalone[rec]:g} m/s2",
-                f"Snapshots of a {n}-drum standalone column under the {rec.capitalize()} stand-in record scaled to "
-                f"PGA {standalone[rec]:g} m/s2 (above our collapse PGA; the thesis' record needed a different PGA). "
+                f"Snapshots of a {n}-drum standalone column under the {rec.capitalize()} "
+                "stand-in record scaled to "
+                f"PGA {standalone[rec]:g} m/s2 (above our collapse PGA; the thesis' record "
+                "needed a different PGA). "
                 f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -416,10 +441,13 @@ def figures(snap):
                     "total_sliding",
                     "weak_joint",
                     {"n_drums": n, "weak_joint_mu": mu},
-                    f"Thesis Fig. {fig.replace('_', '.')}: {n}-block column, one joint at mu = {mu:g} "
+                    f"Thesis Fig. {fig.replace('_', '.')}: {n}-block column, one joint at mu = "
+                    f"{mu:g} "
                     f"(others 0.48), harmonic 0.5 Hz, 0.3 m",
-                    f"Total sliding history of a {n}-block column with one joint at friction {mu:g} (the rest 0.48), "
-                    f"one curve per position of that joint (0 = base joint), and its maximum per position. "
+                    f"Total sliding history of a {n}-block column with one joint at friction "
+                    f"{mu:g} (the rest 0.48), "
+                    "one curve per position of that joint (0 = base joint), and its maximum "
+                    "per position. "
                     f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
                 ),
             )

@@ -28,7 +28,8 @@ from stonedem.figures.drawing import (
 )
 from stonedem.study.reduce import epistyle_response, table_7_1
 
-# colonnade studies that vary one parameter at a time, reduced to the epistyle response (thesis 7.3-7.8)
+# colonnade studies that vary one parameter at a time, reduced to the epistyle response (thesis
+# 7.3-7.8)
 EPISTYLE_STUDIES = (
     "colonnade_arrangements",
     "colonnade_columns",
@@ -62,7 +63,8 @@ def heavier_epistyle_moves_less(cube: xr.Dataset) -> str:
     light, heavy = peak.sel(epistyle_density=rho.min()), peak.sel(epistyle_density=rho.max())
     holds = bool((heavy <= light).all())
     return (
-        f"Thesis 7.7 ordering (heavier epistyle moves less): {'holds' if holds else 'does NOT hold'} here: "
+        "Thesis 7.7 ordering (heavier epistyle moves less): "
+        f"{'holds' if holds else 'does NOT hold'} here: "
         f"max displacement {float(light.max()):.3g} m at {rho.min():g} kg/m3 vs "
         f"{float(heavy.max()):.3g} m at {rho.max():g} kg/m3."
     )
@@ -82,8 +84,10 @@ def _runs(cube: xr.Dataset, record, n: int) -> dict:
 
 
 def _standalone_vs_colonnade(inputs, path):
-    """Thesis Fig. 7.22: mean drum rotation of a standalone column and of a colonnade, same record and PGA
-    (the largest PGA both were run at that the colonnade survives: the searches share their hunt values)."""
+    """Thesis Fig. 7.22: mean drum rotation of a standalone column and of a colonnade, same record
+    and PGA (the largest PGA both were run at that the colonnade survives: the searches share their
+    hunt
+    values)."""
     single, row = load_cube(inputs[0]), load_cube(inputs[1])
     for cube in (single, row):
         if "rocking" not in cube:  # a search with histories: false keeps the runs' measures only
@@ -118,7 +122,8 @@ def _standalone_vs_colonnade(inputs, path):
     ax.legend(fontsize=8)
     _finish(
         fig,
-        f"Thesis Fig. 7.22: {n}-drum column alone and in a colonnade, {RECORD_LABEL.get(record, record)},\n"
+        f"Thesis Fig. 7.22: {n}-drum column alone and in a colonnade, "
+        f"{RECORD_LABEL.get(record, record)},\n"
         f"PGA {pga:g} m/s2 (the largest PGA run for both that the colonnade survives)",
     )
     return _save(fig, path)
@@ -170,14 +175,16 @@ def _table_7_1_figure(inputs, path):
     ax.legend(fontsize=8)
     _finish(
         fig,
-        f"Thesis Table 7.1 with stand-in records (ours: collapse threshold by search; {none:g} = none)",
+        f"Thesis Table 7.1 with stand-in records (ours: collapse threshold by search; {none:g} "
+        "= none)",
         table_7_1_orderings(rows),
     )
     return _save(fig, path)
 
 
 def table_7_1_orderings(rows: list[dict]) -> str:
-    """Thesis 6.4 / 7.2: Mexico < Kalamata < Athens, and a colonnade needs at least the column's PGA."""
+    """Thesis 6.4 / 7.2: Mexico < Kalamata < Athens, and a colonnade needs at least the column's
+    PGA."""
 
     def value(system, rec, n):
         for r in rows:
@@ -206,7 +213,8 @@ def table_7_1_orderings(rows: list[dict]) -> str:
                 row_ok = False
                 misses.append(f"{rec} {n} drums: colonnade {col:g} < column {single:g}")
     text = (
-        f"Lower predominant frequency -> lower collapse PGA: {'holds' if freq_ok else 'does NOT hold'}. "
+        "Lower predominant frequency -> lower collapse PGA: "
+        f"{'holds' if freq_ok else 'does NOT hold'}. "
         f"Colonnade >= standalone column: {'holds' if row_ok else 'does NOT hold'}."
     )
     return text + (" Misses: " + "; ".join(misses) if misses else "")
@@ -232,9 +240,12 @@ def figures(snap):
                 fig.replace("_", "."),
                 "snapshots_colonnade",
                 {"record": THESIS_RECORD[rec], "n_drums": n, "pga": pga},
-                f"Thesis Fig. {fig.replace('_', '.')}: colonnade of {n}-drum columns, {rec.capitalize()} stand-in",
-                f"Snapshots of a colonnade of three {n}-drum columns with one epistyle under the {rec.capitalize()} "
-                f"stand-in (PGA in the case name). Regenerates thesis Fig. {fig.replace('_', '.')}.",
+                f"Thesis Fig. {fig.replace('_', '.')}: colonnade of {n}-drum columns, "
+                f"{rec.capitalize()} stand-in",
+                f"Snapshots of a colonnade of three {n}-drum columns with one epistyle under "
+                f"the {rec.capitalize()} "
+                "stand-in (PGA in the case name). Regenerates thesis Fig. "
+                f"{fig.replace('_', '.')}.",
             ),
         )
     k = 7
@@ -249,10 +260,13 @@ def figures(snap):
                     fig.replace("_", "."),
                     "snapshots_capital",
                     {"record": THESIS_RECORD[rec], "n_drums": n, "pga": pga},
-                    f"Thesis Fig. {fig.replace('_', '.')}: colonnade, {n}-drum columns with capitals, "
+                    f"Thesis Fig. {fig.replace('_', '.')}: colonnade, {n}-drum columns with "
+                    "capitals, "
                     f"{rec.capitalize()} stand-in",
-                    f"Snapshots of a colonnade of three {n}-drum columns with capitals and an epistyle under the "
-                    f"{rec.capitalize()} stand-in. Regenerates thesis Fig. {fig.replace('_', '.')}.",
+                    f"Snapshots of a colonnade of three {n}-drum columns with capitals and an "
+                    "epistyle under the "
+                    f"{rec.capitalize()} stand-in. Regenerates thesis Fig. "
+                    f"{fig.replace('_', '.')}.",
                 ),
             )
     for fig, rec in (("7_19", "athens"), ("7_20", "kalamata"), ("7_21", "mexico")):
@@ -264,9 +278,11 @@ def figures(snap):
                 "epistyle_displacement",
                 "n_drums",
                 {"record": THESIS_RECORD[rec], "pga": snap.get("arrangements", {}).get(rec)},
-                f"Thesis Fig. {fig.replace('_', '.')}: epistyle displacement, colonnades of 1-3 drum columns, "
+                f"Thesis Fig. {fig.replace('_', '.')}: epistyle displacement, colonnades of "
+                "1-3 drum columns, "
                 f"{rec.capitalize()} stand-in",
-                f"Horizontal epistyle displacement relative to the base for colonnades of 1, 2 and 3-drum columns "
+                "Horizontal epistyle displacement relative to the base for colonnades of 1, 2 "
+                "and 3-drum columns "
                 f"under the {rec.capitalize()} stand-in scaled by the thesis' factor. "
                 f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
@@ -275,7 +291,8 @@ def figures(snap):
         "thesis_fig_7_22",
         Figure(
             "7.22",
-            "Mean drum rotation of a standalone column and of the same columns in a colonnade with an "
+            "Mean drum rotation of a standalone column and of the same columns in a colonnade "
+            "with an "
             "epistyle, same record and PGA. Regenerates thesis Fig. 7.22.",
             RECORD_STUDIES,
             _standalone_vs_colonnade,
@@ -288,7 +305,8 @@ def figures(snap):
             "colonnade_columns",
             [{"n_columns": c, "n_drums": 2} for c in (3, 4, 5)],
             "Thesis Fig. 7.23: arrangements of 3, 4 and 5 columns with a single epistyle",
-            "The simulated arrangements of 3, 4 and 5 two-drum columns with one epistyle. Regenerates thesis Fig. 7.23.",
+            "The simulated arrangements of 3, 4 and 5 two-drum columns with one epistyle. "
+            "Regenerates thesis Fig. 7.23.",
         ),
     )
     for fig, c in (("7_24", 3), ("7_25", 4), ("7_26", 5)):
@@ -300,8 +318,10 @@ def figures(snap):
                 "epistyle_displacement",
                 "n_drums",
                 {"n_columns": c},
-                f"Thesis Fig. {fig.replace('_', '.')}: {c} columns with a single epistyle, by number of drums",
-                f"Epistyle displacement of a colonnade of {c} columns with one epistyle, one curve per number of "
+                f"Thesis Fig. {fig.replace('_', '.')}: {c} columns with a single epistyle, by "
+                "number of drums",
+                f"Epistyle displacement of a colonnade of {c} columns with one epistyle, one "
+                "curve per number of "
                 f"drums. Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -331,7 +351,8 @@ def figures(snap):
             "colonnade_distance",
             [{"clear_distance": d, "n_drums": 1, "epistyle_type": "a"} for d in (1.5, 4.0)],
             "Thesis Fig. 7.31: the smallest and largest clear distance",
-            "Monolithic colonnades at the smallest and largest clear distance. Regenerates thesis Fig. 7.31.",
+            "Monolithic colonnades at the smallest and largest clear distance. Regenerates "
+            "thesis Fig. 7.31.",
         ),
     )
     yield (
@@ -342,8 +363,10 @@ def figures(snap):
             "epistyle_displacement",
             "clear_distance",
             {"epistyle_density": 10000.0},
-            "Thesis Fig. 7.32: clear distance with a heavy (10000 kg/m3) epistyle, monolithic columns",
-            "Epistyle displacement vs clear distance for monolithic columns carrying a heavier epistyle. "
+            "Thesis Fig. 7.32: clear distance with a heavy (10000 kg/m3) epistyle, monolithic "
+            "columns",
+            "Epistyle displacement vs clear distance for monolithic columns carrying a heavier "
+            "epistyle. "
             "Regenerates thesis Fig. 7.32.",
         ),
     )
@@ -356,8 +379,10 @@ def figures(snap):
                 "epistyle_displacement",
                 "epistyle_type",
                 {"n_columns": c},
-                f"Thesis Fig. {fig.replace('_', '.')}: {c} monolithic columns, epistyle types a-d (thesis Table 7.2)",
-                f"Epistyle displacement of {c} monolithic columns for epistyle types a-d (thesis Table 7.2). "
+                f"Thesis Fig. {fig.replace('_', '.')}: {c} monolithic columns, epistyle types "
+                "a-d (thesis Table 7.2)",
+                f"Epistyle displacement of {c} monolithic columns for epistyle types a-d "
+                "(thesis Table 7.2). "
                 f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -374,8 +399,10 @@ def figures(snap):
                     "epistyle_displacement",
                     "epistyle_density",
                     {"n_columns": c, "n_drums": n},
-                    f"Thesis Fig. {fig.replace('_', '.')}: epistyle mass, {c} columns of {n} drum(s)",
-                    f"Epistyle displacement for epistyle densities 5000-10000 kg/m3, {c} columns of {n} drum(s); the "
+                    f"Thesis Fig. {fig.replace('_', '.')}: epistyle mass, {c} columns of {n} "
+                    "drum(s)",
+                    f"Epistyle displacement for epistyle densities 5000-10000 kg/m3, {c} "
+                    f"columns of {n} drum(s); the "
                     f"verdict line checks thesis 7.7 (a heavier epistyle moves less). "
                     f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
                     check=heavier_epistyle_moves_less,
@@ -441,7 +468,8 @@ def figures(snap):
                 hue,
                 select,
                 f"Thesis Fig. {fig.replace('_', '.')}: {what}",
-                f"Epistyle displacement of colonnades, {what}. Regenerates thesis Fig. {fig.replace('_', '.')}.",
+                f"Epistyle displacement of colonnades, {what}. Regenerates thesis Fig. "
+                f"{fig.replace('_', '.')}.",
             ),
         )
     for fig, rec, scale in (("7_50", "athens", 9.0), ("7_51", "mexico", 1.5)):
@@ -451,8 +479,10 @@ def figures(snap):
                 fig.replace("_", "."),
                 "two_tier_records",
                 {"record": THESIS_RECORD[rec], "pga_scale": scale},
-                f"Thesis Fig. {fig.replace('_', '.')}: two-tier colonnade, {rec.capitalize()} stand-in",
-                f"Snapshots of the two-tier colonnade under the {rec.capitalize()} stand-in scaled by the thesis' "
+                f"Thesis Fig. {fig.replace('_', '.')}: two-tier colonnade, {rec.capitalize()} "
+                "stand-in",
+                f"Snapshots of the two-tier colonnade under the {rec.capitalize()} stand-in "
+                "scaled by the thesis' "
                 f"factor. Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -472,8 +502,10 @@ def figures(snap):
                 fig.replace("_", "."),
                 study,
                 {"frequency": f, "amplitude": a},
-                f"Thesis Fig. {fig.replace('_', '.')}: two-tier colonnade ({kind} columns), {f:g} Hz, {a:g} m",
-                f"Snapshots of the two-tier colonnade with {kind} columns under a {f:g} Hz, {a:g} m harmonic. "
+                f"Thesis Fig. {fig.replace('_', '.')}: two-tier colonnade ({kind} columns), "
+                f"{f:g} Hz, {a:g} m",
+                f"Snapshots of the two-tier colonnade with {kind} columns under a {f:g} Hz, "
+                f"{a:g} m harmonic. "
                 f"Regenerates thesis Fig. {fig.replace('_', '.')}.",
             ),
         )
@@ -481,8 +513,10 @@ def figures(snap):
         "table_7_1",
         Figure(
             "Table 7.1",
-            "Smallest collapsing PGA of each system found by hunt-and-fill search (bar: down to the largest "
-            "PGA below it that survived), ours vs the thesis' Table 7.1 (our records are stand-ins); the verdict line "
+            "Smallest collapsing PGA of each system found by hunt-and-fill search (bar: down "
+            "to the largest "
+            "PGA below it that survived), ours vs the thesis' Table 7.1 (our records are "
+            "stand-ins); the verdict line "
             "checks the frequency ordering and colonnade >= column.",
             (Table("table_7_1"),),
             _table_7_1_figure,

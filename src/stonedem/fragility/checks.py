@@ -177,7 +177,8 @@ def pulse_check(cube: xr.Dataset, structure: str, spec: dict) -> xr.Dataset:
         a_pgv,
         {
             "units": "1",
-            "long_name": "collapse a_p / (g tan alpha), a_p = omega_p PGV / 2 (one-sine pulse of the record's PGV)",
+            "long_name": "collapse a_p / (g tan alpha), a_p = omega_p PGV / 2 (one-sine pulse "
+            "of the record's PGV)",
         },
     )
     ds["collapse_ap_pga"] = (
@@ -190,7 +191,8 @@ def pulse_check(cube: xr.Dataset, structure: str, spec: dict) -> xr.Dataset:
         rigid,
         {
             "units": "1",
-            "long_name": "minimum overturning one-sine a_p / (g tan alpha) of the rigid block (Housner r)",
+            "long_name": "minimum overturning one-sine a_p / (g tan alpha) of the rigid block "
+            "(Housner r)",
         },
     )
     ds["censored"] = (
@@ -203,7 +205,8 @@ def pulse_check(cube: xr.Dataset, structure: str, spec: dict) -> xr.Dataset:
         "alpha": block.alpha,
         "p": block.p,
         "restitution": r,
-        "title": "single block under the near-field pulse records against rigid one-sine overturning",
+        "title": "single block under the near-field pulse records against rigid one-sine "
+        "overturning",
     }
     return ds
 
@@ -222,9 +225,11 @@ def pulse_rows(check: xr.Dataset) -> list[dict]:
             _row(
                 "pulse records vs one-sine theory",
                 f"{check.attrs['structure']}: {what}",
-                "a record topples the block near the rigid one-sine minimum of its pulse (ratio ~ 1); "
+                "a record topples the block near the rigid one-sine minimum of its pulse "
+                "(ratio ~ 1); "
                 "below it when the pulse comes with other cycles",
-                f"ours / rigid: median {med:.2f}, 10-90 % {lo:.2f}-{hi:.2f} over {ratio.size} records",
+                f"ours / rigid: median {med:.2f}, 10-90 % {lo:.2f}-{hi:.2f} over {ratio.size} "
+                "records",
                 None,
                 "a comparison, not a pass/fail: a record is not a one-sine pulse",
             )

@@ -129,8 +129,8 @@ def empirical_points(intensities, censored=None):
 
 def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
     """Lognormal fragility per structure, record set (each suite and all) and limit state, in
-    each intensity measure of the IDA cube (stonedem.fragility.ida.MEASURES: pga, pgv): median theta, beta,
-    their bootstrap bands, and the curve with its band on a grid of the measure."""
+    each intensity measure of the IDA cube (stonedem.fragility.ida.MEASURES: pga, pgv): median
+    theta, beta, their bootstrap bands, and the curve with its band on a grid of the measure."""
     import xarray as xr
 
     from stonedem.fragility.ida import MEASURES
@@ -205,7 +205,8 @@ def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
             beta,
             {
                 "units": "1",
-                "long_name": f"lognormal dispersion beta in {label} (standard deviation of ln {label})",
+                "long_name": f"lognormal dispersion beta in {label} (standard deviation of ln "
+                f"{label})",
             },
         )
         ds[f"beta_{measure}_band"] = (
@@ -234,7 +235,8 @@ def fragility_dataset(cube, samples: int = 1000, level: float = 0.90):
     )
     ds.attrs = {
         "title": "stonedem fragility curves (lognormal MLE over the IDA cube)",
-        "method": "maximum likelihood, right-censored records as lower bounds (stonedem.fragility.fit); "
+        "method": "maximum likelihood, right-censored records as lower bounds "
+        "(stonedem.fragility.fit); "
         f"percentile bootstrap over records, {samples} resamples",
         **{
             k: v

@@ -50,7 +50,8 @@ STRUCTURE_KEYS = (
 )
 # the search of every (structure, record): the Table 7.1 machinery, a 5 % bracket (the
 # record-to-record dispersion of collapse PGA, beta ~ 0.3-0.6, dwarfs it)
-# the IDA cube and fragility figures read the runs' measures only, so its search files keep no histories
+# the IDA cube and fragility figures read the runs' measures only, so its search files keep no
+# histories
 DEFAULT_SEARCH = {
     "parameter": "pga",
     "start": 1.0,

@@ -53,7 +53,8 @@ def history_line() -> str:
 
 
 def schema_variables(arrays: dict) -> dict[str, xr.Variable]:
-    """name -> (dims, data) as variables with the units and long names of :mod:`stonedem.io.schema`."""
+    """name -> (dims, data) as variables with the units and long names of
+    :mod:`stonedem.io.schema`."""
     return {
         name: xr.Variable(dims, data, attrs=attrs_for(name))
         for name, (dims, data) in arrays.items()

@@ -44,7 +44,8 @@ def _set_aside(path: str, err: BaseException) -> None:
         _WARNED.append(path)
         try:
             print(
-                f"warning: compiled-kernel cache file {path} is damaged ({type(err).__name__}); {what}, "
+                f"warning: compiled-kernel cache file {path} is damaged "
+                f"({type(err).__name__}); {what}, "
                 f"compiling the kernel again",
                 file=sys.stderr,
                 flush=True,

@@ -6,14 +6,16 @@ the time loop :func:`stonedem.kernels.step.run` takes named tuples of them), nev
 step, never print and never raise for physics: they return status codes that
 :mod:`stonedem.engine.simulate` turns into one-line errors.
 
-Who imports what: :mod:`stonedem.engine.simulate` is the only caller of :func:`stonedem.kernels.step.run`;
-:mod:`stonedem.engine.run`, :mod:`stonedem.validation.cases` and benchmarks of :mod:`stonedem.bench` read its
-ENERGY_* columns and STATUS_* codes. Outside the time loop, :mod:`stonedem.motion.excitation`
-evaluates base motion with :mod:`stonedem.kernels.excitation`, and :mod:`stonedem.engine.scene` and
-benchmarks of :mod:`stonedem.bench` call the broad phase and overlap kernels directly.
-:mod:`stonedem.reference.rigid_rocking` and :mod:`stonedem.reference.bouc_wen` are not part of the engine:
-they are compiled references that :mod:`stonedem.reference.analytic` wraps (the rigid block under a record
-and under a one-sine pulse; the Bouc-Wen sliding block).
+Who imports what: :mod:`stonedem.engine.simulate` is the only caller of
+:func:`stonedem.kernels.step.run`;
+:mod:`stonedem.engine.run`, :mod:`stonedem.validation.cases` and benchmarks of :mod:`stonedem.bench`
+read its ENERGY_* columns and STATUS_* codes. Outside the time loop,
+:mod:`stonedem.motion.excitation` evaluates base motion with :mod:`stonedem.kernels.excitation`, and
+:mod:`stonedem.engine.scene` and benchmarks of :mod:`stonedem.bench` call the broad phase and
+overlap kernels directly.
+:mod:`stonedem.reference.rigid_rocking` and :mod:`stonedem.reference.bouc_wen` are not part of the
+engine: they are compiled references that :mod:`stonedem.reference.analytic` wraps (the rigid block
+under a record and under a one-sine pulse; the Bouc-Wen sliding block).
 
 Numba checks a cached function against its own source file only, so a cached time loop
 would keep running an old copy of a changed kernel it calls. The cache therefore lives in

@@ -123,7 +123,8 @@ def candidate_pairs_into(
 
 @njit(**JIT_OPTIONS)
 def find_candidate_pairs(n_body, body_driven, lo_x, lo_y, hi_x, hi_y, margin, sweep_axis):
-    """:func:`candidate_pairs_into` into fresh buffers: pair_a, pair_b (n_pair,) int64, sorted by (a, b)."""
+    """:func:`candidate_pairs_into` into fresh buffers: pair_a, pair_b (n_pair,) int64, sorted by
+    (a, b)."""
     capacity = 4 * n_body + 16
     order = np.arange(n_body)
     while True:

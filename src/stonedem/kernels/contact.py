@@ -39,7 +39,9 @@ from stonedem.kernels.overlap import clip_convex_polygons, contact_frame, polygo
 # energy accumulator slots
 E_DAMPING = 0  # normal dashpot dissipation [J]
 E_TANGENTIAL = 1  # friction slip + tangential dashpot dissipation [J]
-E_BASE_WORK = 2  # work done by driven bodies on the others [J] (booked by the time loop and point_contact.plastic_impulse)
+# work done by driven bodies on the others [J] (booked by the time loop and
+# point_contact.plastic_impulse)
+E_BASE_WORK = 2
 N_ENERGY_ACC = 3
 
 # per-pair memory slots besides the elastic tangential force: the current step's forces
@@ -135,7 +137,8 @@ def relative_velocity(body_x, body_y, body_vx, body_vy, body_omega, a, b, px, py
 
 @njit(**INLINE_OPTIONS)
 def apply_force(a, b, body_x, body_y, px, py, fx, fy, force_x, force_y, torque):
-    """Force (fx, fy) on b at point p and its opposite on a, with their moments about the centroids."""
+    """Force (fx, fy) on b at point p and its opposite on a, with their moments about the
+    centroids."""
     force_x[b] += fx
     force_y[b] += fy
     torque[b] += (px - body_x[b]) * fy - (py - body_y[b]) * fx
@@ -192,7 +195,8 @@ def push_pair(
     base_force_x,
     base_force_y,
 ):
-    """Force (fx, fy) on b at p and its opposite on a; booked as base force if the other is driven."""
+    """Force (fx, fy) on b at p and its opposite on a; booked as base force if the other is
+    driven."""
     if body_driven[a]:
         base_force_x[b] += fx
         base_force_y[b] += fy
@@ -346,7 +350,8 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
 def contact_power(
     pair_a, pair_b, n_pair, pair_memory, body_x, body_y, body_vx, body_vy, body_omega
 ):
-    """(dashpot power, tangential work rate) [W] of this step's contact forces at the given velocities.
+    """(dashpot power, tangential work rate) [W] of this step's contact forces at the given
+    velocities.
 
     Called with the velocities at t_n (the mean of the two half-step velocities), the same
     ones whose kinetic energy the samples report, so the booking matches the integrator.

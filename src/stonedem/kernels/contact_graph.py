@@ -64,7 +64,8 @@ from stonedem.kernels.step import (
 )
 
 STATUS_GENERAL = 5  # the graph no longer holds: the general loop goes on from the step returned
-# why it no longer holds (run's fifth value; its sixth names the pair a * n_body + b, or the contact)
+# why it no longer holds (run's fifth value; its sixth names the pair a * n_body + b, or the
+# contact)
 HELD = 0
 BROKEN_PAIR = 1  # a pair outside the graph came within the broad phase's margin
 BROKEN_TURN = 2  # a contact's faces turned past its turn limit
@@ -72,7 +73,8 @@ BROKEN_FACES = 3  # a touching contact's edges of least overlap are no longer it
 
 
 class Graph(NamedTuple):
-    """A scene's face contacts, sorted by (a, b) as the general loop's broad phase sorts its pairs."""
+    """A scene's face contacts, sorted by (a, b) as the general loop's broad phase sorts its
+    pairs."""
 
     pair_a: np.ndarray  # bodies of each contact, a < b (n_contact,) int64
     pair_b: np.ndarray
@@ -353,7 +355,8 @@ def run_steps(
     to_sample = (out_every - step_start % out_every) % out_every
     for n in range(step_start, min(step_stop, n_steps + 1)):
         t = n * dt
-        # 1. driven bodies at the base pose of t_n; world vertices (no bounds: no broad phase to feed)
+        # 1. driven bodies at the base pose of t_n; world vertices (no bounds: no broad phase to
+        # feed)
         d_h, vel_h, _ = base_motion(
             t, h.kind, h.params, h.table_accel, h.table_vel, h.table_disp, h.table_dt
         )

@@ -35,7 +35,8 @@ KIND_TABLE = 5
 
 @njit(**NO_ALLOC_OPTIONS)
 def base_motion(t, kind, params, table_accel, table_vel, table_disp, table_dt):
-    """(d [m], v [m s-1], a [m s-2]) of the base at time t [s] for the given kind and params (4,)."""
+    """(d [m], v [m s-1], a [m s-2]) of the base at time t [s] for the given kind and params
+    (4,)."""
     if t < 0.0 or kind == KIND_NONE:
         return 0.0, 0.0, 0.0
     if kind == KIND_HARMONIC:

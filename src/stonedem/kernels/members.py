@@ -128,7 +128,8 @@ def stack(members: list[tuple], member_fastest: bool = False) -> tuple[tuple, np
         rest = {a.shape[1:] for a in arrays}
         if len(rest) > 1 or len({a.dtype for a in arrays}) > 1:
             raise ValueError(
-                f"{name}: members differ in shape {sorted(rest)} or type: they must share one structure"
+                f"{name}: members differ in shape {sorted(rest)} or type: they must share one "
+                "structure"
             )
         lengths[:, k] = [a.shape[0] for a in arrays]
         out = np.zeros(

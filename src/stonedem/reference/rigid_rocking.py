@@ -1,7 +1,8 @@
-"""The rigid rocking equation under a sampled accelerogram or one sine pulse, compiled (thesis 5.1.5).
+"""The rigid rocking equation under a sampled accelerogram or one sine pulse, compiled (thesis
+5.1.5).
 
-The same model as :func:`stonedem.reference.analytic.rigid_rocking_response` (Housner; Zhang and Makris:
-a rigid block that cannot slide, impacts that keep a fraction r of the kinetic energy),
+The same model as :func:`stonedem.reference.analytic.rigid_rocking_response` (Housner; Zhang and
+Makris: a rigid block that cannot slide, impacts that keep a fraction r of the kinetic energy),
 integrated in compiled code because the scipy version spends 4-5 s of Python per record
 (2 M right-hand-side calls) and the record_rocking validations call it ten times a study.
 The scipy version stays the reference; tests hold this one to it.
@@ -14,9 +15,9 @@ step, to 2^-60 of the step; the impact then multiplies theta' by sqrt(r) (thesis
 and the step goes on from there. Imported by :mod:`stonedem.reference.analytic` only.
 
 :func:`one_sine_pulse` is the same integrator under a_g = a_p sin(omega_p t) (evaluated
-exactly at every stage) for the pulse of :func:`stonedem.reference.analytic.rigid_one_sine_response`,
-which it replaces in the overturning thresholds: 5-7 s of ``solve_ivp`` per one_sine job.
-"""
+exactly at every stage) for the pulse of
+:func:`stonedem.reference.analytic.rigid_one_sine_response`, which it replaces in the overturning
+thresholds: 5-7 s of ``solve_ivp`` per one_sine job."""
 
 import math
 
@@ -191,8 +192,8 @@ PULSE_ENDED, PULSE_OVERTURNED, PULSE_AT_REST = 0, 1, 2  # how one_sine_pulse end
 def sine_uplift_instant(t, a_p, omega_p, onset, period):
     """First instant >= t in [0, period) where |a_p sin(omega_p t)| > onset, and the pivot
     side there (a_g > 0 tips onto the left pivot); (period, 0) if none. As
-    :func:`stonedem.reference.analytic._one_sine_uplift`: the windows (phi1, pi - phi1) and (pi + phi1,
-    2 pi - phi1) of the phase, phi1 = asin(onset / |a_p|)."""
+    :func:`stonedem.reference.analytic._one_sine_uplift`: the windows (phi1, pi - phi1) and (pi +
+    phi1, 2 pi - phi1) of the phase, phi1 = asin(onset / |a_p|)."""
     phi1 = math.asin(onset / abs(a_p))
     phase = omega_p * t
     sign_ap = 1.0 if a_p > 0.0 else -1.0

@@ -74,17 +74,22 @@ def slurm_settings_problem(
         return None  # sacct has a database to ask
     if status_command != "squeue":
         return (
-            "this SLURM cluster keeps no accounting (AccountingStorageType=accounting_storage/none), so sacct "
-            "cannot report the jobs and the run would wait for ever; set slurm-status-command: squeue "
+            "this SLURM cluster keeps no accounting "
+            "(AccountingStorageType=accounting_storage/none), so sacct "
+            "cannot report the jobs and the run would wait for ever; set slurm-status-command: "
+            "squeue "
             "in the profile (config/profiles/slurm/config.yaml)"
         )
     init = DEFAULT_INIT_SECONDS if init_seconds is None else init_seconds
     age = min_job_age(config)
     if age is None or age < 3 * init:
         return (
-            f"MinJobAge={age} s on this cluster is under 3 x slurm-init-seconds-before-status-checks "
-            f"({init} s), so the executor would fall back to sacct, which keeps no accounting here, and wait "
-            f"for ever; set slurm-init-seconds-before-status-checks: {max(1, (age or 0) // 3)} or less in the "
+            f"MinJobAge={age} s on this cluster is under 3 x "
+            "slurm-init-seconds-before-status-checks "
+            f"({init} s), so the executor would fall back to sacct, which keeps no accounting "
+            "here, and wait "
+            f"for ever; set slurm-init-seconds-before-status-checks: {max(1, (age or 0) // 3)} "
+            "or less in the "
             f"profile, or raise MinJobAge in slurm.conf"
         )
     return None
@@ -97,14 +102,18 @@ def slurm_tools_problem(
     missing = [tool for tool in TOOLS if which(tool) is None]
     if missing:
         return (
-            f"{', '.join(missing)} not found on PATH (the SLURM executor runs {', '.join(TOOLS)}; without "
-            f"one it waits for ever for jobs it never sent); run from a SLURM login node, or locally "
+            f"{', '.join(missing)} not found on PATH (the SLURM executor runs "
+            f"{', '.join(TOOLS)}; without "
+            "one it waits for ever for jobs it never sent); run from a SLURM login node, or "
+            "locally "
             f"without --profile config/profiles/slurm"
         )
     if not config:
         return (
-            f"scontrol show config did not answer within {PROBE_SECONDS} s: the SLURM controller cannot "
-            f"be reached from here. Check `scontrol ping`, or run locally without --profile config/profiles/slurm"
+            f"scontrol show config did not answer within {PROBE_SECONDS} s: the SLURM "
+            "controller cannot "
+            "be reached from here. Check `scontrol ping`, or run locally without --profile "
+            "config/profiles/slurm"
         )
     probe = (
         ["squeue", "--noheader", "--format=%i", "--name=stonedem-probe"]
@@ -124,8 +133,10 @@ def slurm_tools_problem(
         why = err.strerror
     if why:
         return (
-            f"{probe[0]}, the profile's status command, does not answer ({why}), so the run could not see "
-            f"its jobs finish. Check the SLURM controller, or run locally without --profile config/profiles/slurm"
+            f"{probe[0]}, the profile's status command, does not answer ({why}), so the run "
+            "could not see "
+            "its jobs finish. Check the SLURM controller, or run locally without --profile "
+            "config/profiles/slurm"
         )
     return None
 

@@ -10,7 +10,8 @@ that cannot be read (a truncated NetCDF file, a table that is not UTF-8), is a d
 named in one line.
 
     python -m stonedem.study.compare STUDY_A STUDY_B   # exit 0: the same; 1: the differences;
-                                                       # 2: bad arguments, or no study files in either
+                                                       # 2: bad arguments, or no study files in
+                                                       either
 """
 
 from __future__ import annotations
@@ -47,7 +48,8 @@ MAX_TABLE_BYTES = 256 * 2**20
 def result_files(directory: Path, kinds=KINDS) -> list[str]:
     """The study's files of ``kinds`` under ``directory``/results (paths relative to directory)."""
     results = Path(directory) / "results"
-    # a dangling link is a file that cannot be read (a difference), not no file (ignored: "the same")
+    # a dangling link is a file that cannot be read (a difference), not no file (ignored: "the
+    # same")
     found = [
         p
         for kind in kinds
@@ -118,7 +120,8 @@ def _text(path: Path):
         if size > MAX_TABLE_BYTES:
             return (
                 None,
-                f"{path} is {size / 2**20:.0f} MB, more than a study table holds ({MAX_TABLE_BYTES // 2**20} MB)",
+                f"{path} is {size / 2**20:.0f} MB, more than a study table holds "
+                f"({MAX_TABLE_BYTES // 2**20} MB)",
             )
         data = Path(path).read_bytes()
     except OSError as err:
@@ -201,7 +204,8 @@ def result_differences(
 
 
 def study_folder(path: str, field: str) -> Path:
-    """``path`` as a study folder (one holding a results folder), or the InputError saying why not."""
+    """``path`` as a study folder (one holding a results folder), or the InputError saying why
+    not."""
     real_path(path, field)  # a symlink loop: one line, not pathlib's RuntimeError
     folder = Path(path)
     if not folder.exists():
@@ -220,7 +224,8 @@ def study_folder(path: str, field: str) -> Path:
         raise InputError(
             field,
             f"{path} holds no results folder",
-            "give the folder a study ran in (it holds a results folder), not that results folder itself",
+            "give the folder a study ran in (it holds a results folder), not that results "
+            "folder itself",
         )
     return folder
 

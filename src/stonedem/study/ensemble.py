@@ -88,7 +88,8 @@ def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
 
 
 def member_value(system, value: float, j: int, perturbation: str = "stiffness") -> dict:
-    """Search system ``system`` run at ``value`` of its parameter by member j: {collapsed, dt [s]}."""
+    """Search system ``system`` run at ``value`` of its parameter by member j: {collapsed, dt
+    [s]}."""
     from stonedem.study.grid import search_case
 
     found = member_verdict(search_case(system, value), j, perturbation)
@@ -270,7 +271,10 @@ class _Tasks:
         else:
             case = self.cases[i]
             self.verdicts[i][self.column[j]] = result
-            what = f"{case.study}/{case.id} {self.label} {j}: {'collapsed' if result['collapsed'] else 'stands'}"
+            what = (
+                f"{case.study}/{case.id} {self.label} {j}: "
+                f"{'collapsed' if result['collapsed'] else 'stands'}"
+            )
         print(f"  [{self.done}/{self.total}] {what} ({seconds:.1f} s)", file=self.log, flush=True)
 
     def results(self, perturbation) -> MemberResults:
@@ -532,7 +536,8 @@ def ensemble_dataset(
             grid("n_runs", np.int32),
             {"units": "1", "long_name": "runs of the member's search"},
         )
-        rows = []  # (system, member, value, collapsed, phase): each search in its order, then the stripes
+        # (system, member, value, collapsed, phase): each search in its order, then the stripes
+        rows = []
         for i in range(len(systems)):
             for j, result in zip(results.members, results.searches[i]):
                 rows += [
@@ -564,7 +569,8 @@ def ensemble_dataset(
             "run",
             np.array(columns[4], dtype=object),
             {
-                "long_name": "phase of the run: the search's (hunt, bisect, fill; search: not kept) "
+                "long_name": "phase of the run: the search's (hunt, bisect, fill; search: not "
+                "kept) "
                 "or stripe (a stripe fill)"
             },
         )
@@ -572,7 +578,8 @@ def ensemble_dataset(
         data,
         coords=coords,
         attrs={
-            "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds with "
+            "title": f"ensemble of {len(members)} members: the study's verdicts and thresholds "
+            "with "
             f"{perturbation_summary(results.perturbation)} in the last bits",
             "members": int(len(members)),
             "first_member": int(members[0]) if len(members) else 0,
@@ -722,7 +729,8 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
     """What the ensemble holds and where its members disagree."""
     lines = [
         f"{ds.attrs['members']} members ({ds.attrs['perturbation']}, j = {ds.member.values[0]}.."
-        f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, {ds.sizes.get('system', 0)} "
+        f"{ds.member.values[-1]}), {ds.sizes.get('case', 0)} grid cases, "
+        f"{ds.sizes.get('system', 0)} "
         f"threshold searches, {ds.sizes.get('run', 0)} search and stripe runs, {wall_seconds:.0f} s"
     ]
     if "case" in ds.dims:
@@ -739,7 +747,8 @@ def summary_lines(ds: xr.Dataset, wall_seconds: float) -> list[str]:
             if distinct.size > 1 or (distinct.size and not np.isfinite(values).all()):
                 differ += 1
                 lines.append(
-                    f"  {name}: member thresholds {np.nanmin(values):.4g} ... {np.nanmax(values):.4g} "
+                    f"  {name}: member thresholds {np.nanmin(values):.4g} ... "
+                    f"{np.nanmax(values):.4g} "
                     f"({distinct.size} values)"
                 )
         lines.append(f"cells whose member thresholds differ: {differ} of {ds.sizes['system']}")
@@ -759,7 +768,8 @@ def build_parser():
         "--members",
         type=int,
         default=None,
-        help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the file's)",
+        help=f"K, members to run, 1 to {MAX_MEMBERS} (default 20; with --from-rounding: the "
+        "file's)",
     )
     parser.add_argument(
         "--first",
@@ -882,13 +892,15 @@ def main(argv=None) -> int:
     def command():
         from stonedem.io.netcdf import code_version, write_dataset
 
-        code_version()  # the commit as the run starts (asked once a process): a checkout may move during it
+        # the commit as the run starts (asked once a process): a checkout may move during it
+        code_version()
         plan = check_args(args)
         start = time.perf_counter()
         cases, systems = plan["cases"], plan["systems"]
         if plan["rounding"] is not None:
             print(
-                f"{len(cases)} cases and {len(systems)} threshold searches of {args.from_rounding}, "
+                f"{len(cases)} cases and {len(systems)} threshold searches of "
+                f"{args.from_rounding}, "
                 f"{len(plan['members'])} members: stripe fills on {plan['jobs']} process(es)",
                 file=sys.stderr,
                 flush=True,
@@ -896,7 +908,8 @@ def main(argv=None) -> int:
             results = from_rounding(plan["rounding"], cases, systems, plan["jobs"])
         else:
             print(
-                f"{len(cases)} cases and {len(systems)} threshold searches, members {plan['members'][0]}.."
+                f"{len(cases)} cases and {len(systems)} threshold searches, members "
+                f"{plan['members'][0]}.."
                 f"{plan['members'][-1]} ({plan['perturbation']}), on {plan['jobs']} process(es)",
                 file=sys.stderr,
                 flush=True,

@@ -14,9 +14,11 @@ up to four layers, each of which must pass:
 - F, fragility fits (when the files carry ``fit_theta``, ``fit_beta``, ``fit_n``):
   |d ln theta| and |d beta| <= 0.02 sqrt(100/n) (ENSEMBLES.md section 5).
 
-    python -m stonedem.study.equivalence BASELINE CANDIDATE [--layers A B C F] [--permutations 10000]
+    python -m stonedem.study.equivalence BASELINE CANDIDATE [--layers A B C F] [--permutations
+    10000]
         [--seed 0] [--alpha 0.005] [--out results/equivalence/equivalence.nc]
-    # exit 0: every layer run passes; 1: a layer fails or a requested one could not run; 2: bad input
+    # exit 0: every layer run passes; 1: a layer fails or a requested one could not run; 2: bad
+    input
 """
 
 from __future__ import annotations
@@ -87,7 +89,10 @@ def matched(baseline: xr.Dataset, candidate: xr.Dataset) -> xr.Dataset:
     """The candidate with its cases and systems in the baseline's order, or an InputError when
     the two files hold different cases, systems or search tolerances (made from another config)."""
     config = one_line(str(baseline.attrs.get("config", "not recorded")), 200)
-    fix = f"the candidate was made from another config: run it with the baseline's config, attrs `config` ({config})"
+    fix = (
+        "the candidate was made from another config: run it with the baseline's config, "
+        f"attrs `config` ({config})"
+    )
     for dim, what in (("case", "case"), ("system", "search system")):
         base, cand = _labels(baseline, dim), _labels(candidate, dim)
         if set(base) != set(cand):
@@ -131,7 +136,8 @@ def same_runs_warning(baseline: xr.Dataset, candidate: xr.Dataset) -> str:
     if source_b is None or source_b != source_c or not shared:
         return ""
     return one_line(
-        f"both files come from {source_b} and share members j = {_spans(shared)}: those are identical "
+        f"both files come from {source_b} and share members j = {_spans(shared)}: those are "
+        "identical "
         "runs, so the ensemble test is lenient; make the candidate on the changed code",
         300,
     )
@@ -200,7 +206,8 @@ def check_layer_c(
             "BASELINE, CANDIDATE",
             f"{k_b} + {k_n} members give {count} label assignments: p can never "
             f"reach alpha {alpha:g} (the smallest p is 1/{count}), so layer C could not fail",
-            f"run more members, C(K_B + K_N, K_N) >= {math.ceil(1.0 / alpha)} (K_B = 20 and K_N = 4 "
+            f"run more members, C(K_B + K_N, K_N) >= {math.ceil(1.0 / alpha)} (K_B = 20 and "
+            "K_N = 4 "
             "give 10 626), or leave layer C out: --layers A B",
         )
     if count > n_permutations and 1.0 / (n_permutations + 1) > alpha:
@@ -275,7 +282,8 @@ def layer_f(baseline: xr.Dataset, candidate: xr.Dataset) -> dict:
         raise InputError(
             "CANDIDATE",
             f"fit {example!r} is in one file only",
-            "the candidate was made from another config: run it with the baseline's config, attrs `config`",
+            "the candidate was made from another config: run it with the baseline's config, "
+            "attrs `config`",
         )
     candidate = candidate.sel(fit=baseline.fit.values)
     d_ln_theta = np.abs(
@@ -368,7 +376,8 @@ def judge(
         from stonedem.study.exact_checks import compare_layer_a
 
         passed, table = compare_layer_a(baseline, candidate, relative=relative)
-        # the regression measure: |candidate - baseline| / max(|baseline|, scale), held to `relative`
+        # the regression measure: |candidate - baseline| / max(|baseline|, scale), held to
+        # `relative`
         worst = _worst(
             [
                 relative * r["difference"] / r["allowed"]
@@ -381,7 +390,8 @@ def judge(
         record(
             "A",
             passed,
-            f"{len(table)} checks, worst {worst:.2g} of {relative:g} relative{_failures(table, 'check')}",
+            f"{len(table)} checks, worst {worst:.2g} of {relative:g} "
+            f"relative{_failures(table, 'check')}",
         )
         data.update(_table_variables(table, "check", CHECK_COLUMNS))
         coords["check"] = (
@@ -403,7 +413,8 @@ def judge(
         record(
             "B",
             passed,
-            f"{len(table)} scenes, worst {worst:.3g}x the floor of {factor:g}x{_failures(table, 'scene')}",
+            f"{len(table)} scenes, worst {worst:.3g}x the floor of "
+            f"{factor:g}x{_failures(table, 'scene')}",
         )
         data.update(_table_variables(table, "scene", SCENE_COLUMNS))
         coords["scene"] = (
@@ -681,7 +692,8 @@ def flip_lines(judgement: xr.Dataset) -> list[str]:
     if not flipped.size:
         return ["no candidate flips of cases the baseline members all agree on"]
     lines = [
-        f"{flipped.size} candidate flip(s) of cases the baseline members all agree on (not a failure; look at them):"
+        f"{flipped.size} candidate flip(s) of cases the baseline members all agree on (not a "
+        "failure; look at them):"
     ]
     for k in flipped:
         lines.append(

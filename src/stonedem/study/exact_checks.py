@@ -11,8 +11,8 @@ k_n x (1 - 2^-52) alone, and a two-block balance error by 3.6e-4 under every coo
 x (1 + 2^-52) (FLOOR_PERTURBATIONS).
 
 Layer B (:func:`layer_b`): the short-horizon scenes of
-:func:`stonedem.study.reference_scenes.short_horizon_members`, member 0's trajectories and the code's
-own last-bit floor per scene: the largest divergence from member 0 of the same scene under
+:func:`stonedem.study.reference_scenes.short_horizon_members`, member 0's trajectories and the
+code's own last-bit floor per scene: the largest divergence from member 0 of the same scene under
 any of its last-bit families (:func:`last_bit_families`: k_n, the structure's or block's width
 and height, the initial tilt, the excitation's amplitude; ENSEMBLES.md section 2.3). A
 candidate passes (:func:`compare_layer_b`) when each scene stays within 100 x the baseline's
@@ -364,7 +364,8 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
                 column("error"),
                 _attrs(
                     "1",
-                    "|value / reference - 1| (check_measure relative) or |value - reference| (absolute)",
+                    "|value / reference - 1| (check_measure relative) or |value - reference| "
+                    "(absolute)",
                 ),
             ),
             "check_tolerance": (
@@ -382,7 +383,8 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
                 column("scale"),
                 _attrs(
                     "1",
-                    "magnitude the baseline regression is relative to: |reference|, or 1 for a normalised error",
+                    "magnitude the baseline regression is relative to: |reference|, or 1 for a "
+                    "normalised error",
                 ),
             ),
             "check_floor": (
@@ -390,7 +392,8 @@ def layer_a(quick: bool = False, *, floor_members=(1, 2, 3), member: int = 0) ->
                 floor if floor_members else np.full(len(rows), np.nan),
                 _attrs(
                     "1",
-                    "largest |value change| under k_n x (1 - j 2^-52), and that with every coordinate x "
+                    "largest |value change| under k_n x (1 - j 2^-52), and that with every "
+                    "coordinate x "
                     "(1 + j 2^-52), j in floor_members (units: check_units)",
                 ),
             ),
@@ -690,7 +693,8 @@ def layer_b(
                 padded,
                 _attrs(
                     "1",
-                    f"member {member}: x [m], y [m], theta [rad] of each body (coordinate = 3 body + dof), NaN-padded",
+                    f"member {member}: x [m], y [m], theta [rad] of each body (coordinate = 3 "
+                    "body + dof), NaN-padded",
                 ),
             ),
             "coordinate_kind": (
@@ -712,7 +716,8 @@ def layer_b(
                 floor_position,
                 _attrs(
                     "m",
-                    "last-bit floor of positions: largest |divergence| of a variant of any family, at least "
+                    "last-bit floor of positions: largest |divergence| of a variant of any "
+                    "family, at least "
                     f"{FLOOR_ULPS} ulps of the largest |position|",
                 ),
             ),
@@ -721,7 +726,8 @@ def layer_b(
                 floor_rotation,
                 _attrs(
                     "rad",
-                    f"last-bit floor of rotations: largest |divergence|, at least {FLOOR_ULPS} ulps of max(1, |theta|)",
+                    f"last-bit floor of rotations: largest |divergence|, at least {FLOOR_ULPS} "
+                    "ulps of max(1, |theta|)",
                 ),
             ),
             "divergence_position": (
@@ -729,7 +735,8 @@ def layer_b(
                 divergence[:, 0, :],
                 _attrs(
                     "m",
-                    "largest |position difference| from member 0 of the variant (NaN: the scene has none)",
+                    "largest |position difference| from member 0 of the variant (NaN: the "
+                    "scene has none)",
                 ),
             ),
             "divergence_rotation": (
@@ -737,7 +744,8 @@ def layer_b(
                 divergence[:, 1, :],
                 _attrs(
                     "rad",
-                    "largest |rotation difference| from member 0 of the variant (NaN: the scene has none)",
+                    "largest |rotation difference| from member 0 of the variant (NaN: the "
+                    "scene has none)",
                 ),
             ),
             "family_position": (
@@ -745,7 +753,8 @@ def layer_b(
                 by_family[:, 0, :],
                 _attrs(
                     "m",
-                    "largest divergence_position of the family's variants (NaN: the scene has none)",
+                    "largest divergence_position of the family's variants (NaN: the scene has "
+                    "none)",
                 ),
             ),
             "family_rotation": (
@@ -753,7 +762,8 @@ def layer_b(
                 by_family[:, 1, :],
                 _attrs(
                     "rad",
-                    "largest divergence_rotation of the family's variants (NaN: the scene has none)",
+                    "largest divergence_rotation of the family's variants (NaN: the scene has "
+                    "none)",
                 ),
             ),
             "family_parameter": (
@@ -772,7 +782,8 @@ def layer_b(
                 "variant",
                 np.array(variant_names, dtype=object),
                 {
-                    "long_name": "stiffness_j: k_n x (1 - j 2^-52); <family>_+-j: family_parameter x (1 +- j 2^-52)"
+                    "long_name": "stiffness_j: k_n x (1 - j 2^-52); <family>_+-j: "
+                    "family_parameter x (1 +- j 2^-52)"
                 },
             ),
             "variant_family": (
@@ -787,7 +798,8 @@ def layer_b(
             ),
         },
         attrs={
-            "title": "stonedem equivalence layer B: short-horizon trajectories and their last-bit floors",
+            "title": "stonedem equivalence layer B: short-horizon trajectories and their "
+            "last-bit floors",
             "duration": float(duration),
             "duration_units": "s",
             "member": int(member),

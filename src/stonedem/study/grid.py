@@ -99,7 +99,8 @@ SCENE_KEYS = (
 )
 # study (and defaults) keys whose value must be a mapping before a case is built from it
 MAPPING_KEYS = ("structure", "contact", "excitation", "solver", "output", "weak_joint")
-# keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a scene's name
+# keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a
+# scene's name
 DEFAULT_KEYS = (
     "description",
     "bodies",
@@ -130,8 +131,9 @@ MAX_DRUMS = 100  # drums per column (the thesis: 8)
 MAX_COLUMNS = 50  # columns per row (the thesis: 5)
 MAX_DURATION = 3600.0  # [s] simulated time of one case (config/config.yaml: 92 s at most)
 MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.every (config: 9200)
-# bodies, steps and sample memory of each case: stonedem.engine.scene.MAX_BODIES, stonedem.engine.simulate.MAX_STEPS
-# and the memory budget (stonedem.engine.memory, checked in stonedem.engine.simulate.preflight, as stonedem run refuses them)
+# bodies, steps and sample memory of each case: stonedem.engine.scene.MAX_BODIES,
+# stonedem.engine.simulate.MAX_STEPS and the memory budget (stonedem.engine.memory, checked in
+# stonedem.engine.simulate.preflight, as stonedem run refuses them)
 
 # the values of each swept parameter (check_value); record: a name under the config's records:
 POSITIVE = (
@@ -240,9 +242,8 @@ def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
 
 
 ENSEMBLE_KEYS = ("members", "perturbation", "baseline_members")
-BASELINE_MEMBERS = (
-    20  # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
-)
+# ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
+BASELINE_MEMBERS = 20
 
 
 def ensemble_settings(config: dict, baseline: bool = False) -> tuple[int, str]:
@@ -563,7 +564,8 @@ def _case(study: str, base: dict, params: dict, origin: dict | None = None) -> C
 
 
 def _apply_weak_joint(scene: dict, where: str, joint_field: str | None = None) -> None:
-    """``weak_joint: {joint: j, mu: m}`` -> the per-interface friction of joint j of column 0 (thesis 6.5).
+    """``weak_joint: {joint: j, mu: m}`` -> the per-interface friction of joint j of column 0
+    (thesis 6.5).
 
     Joint 0 is between the base and the bottom drum, joint j between drums j-1 and j.
     """
@@ -604,8 +606,8 @@ def check_config(
 
     Every case's scene is built through the validation ``stonedem run`` uses
     (:func:`stonedem.engine.scene.scene_from_dict`, the excitation, the time step of
-    :func:`stonedem.engine.simulate.choose_time_step`), so a case that would fail in its job fails here;
-    a record must be a name under ``records:`` whose ``records_dir/<name>.nc`` exists (or is
+    :func:`stonedem.engine.simulate.choose_time_step`), so a case that would fail in its job fails
+    here; a record must be a name under ``records:`` whose ``records_dir/<name>.nc`` exists (or is
     extracted, ``extract_records``); sizes past the module's limits (MAX_*) are refused.
     ``schema``: the config's JSON schema: its other keys are checked first, studies and
     defaults after the cases (whose messages are the more precise).
@@ -745,15 +747,14 @@ def check_schema(config: dict, schema: Path | str, where=None) -> None:
 
 class _CaseChecker:
     """Builds each case's scene as its job would (run_case: scene_from_dict, then
-    stonedem.engine.simulate.preflight), the scene once per distinct scene without its excitation and
-    each excitation once."""
+    stonedem.engine.simulate.preflight), the scene once per distinct scene without its excitation
+    and each excitation once."""
 
     def __init__(self, records: dict, records_dir: Path, tilt: bool = False):
         self.records = records
         self.records_dir = records_dir
-        self.tilt = (
-            tilt  # ensemble: {perturbation: tilt}: the tilt members' bodies must be untilted
-        )
+        # ensemble: {perturbation: tilt}: the tilt members' bodies must be untilted
+        self.tilt = tilt
         self.excitations = {}  # excitation key -> (horizontal, vertical) BaseMotion | InputError
         self.scenes = {}  # scene key (no excitation, no name) -> Scene | InputError
 
@@ -847,7 +848,8 @@ class _CaseChecker:
                 InputError(
                     "output.every",
                     f"{built.output_every:g} s gives {built.duration / built.output_every:.3g}"
-                    f" samples over {built.duration:g} s, more than the limit of {MAX_OUTPUT_SAMPLES:.0e}",
+                    f" samples over {built.duration:g} s, more than the limit of "
+                    f"{MAX_OUTPUT_SAMPLES:.0e}",
                     "sample less often (stonedem.study.grid.MAX_OUTPUT_SAMPLES)",
                 )
             )
@@ -993,7 +995,8 @@ def run_cases_together(
 
 
 def case_scene(case: Case, base_dir: Path | str = "."):
-    """The case's Scene; a record's own length (plus the rest after it) when it gives no duration."""
+    """The case's Scene; a record's own length (plus the rest after it) when it gives no
+    duration."""
     from stonedem.engine.scene import scene_from_dict
     from stonedem.study.members import member_scene
 

@@ -19,11 +19,11 @@ from pathlib import Path
 
 from stonedem.study.grid import Case, natural_duration
 
-JOB_SECONDS = (
-    60.0  # estimated kernel seconds packed into one job (the estimate runs ~2.3x the measured time)
-)
+# estimated kernel seconds packed into one job (the estimate runs ~2.3x the measured time)
+JOB_SECONDS = 60.0
 STEP_SECONDS_PER_BODY = 1.1e-6  # kernel cost of one step per body, point law (measured: 0.7-1.1 us)
-# a search runs about this many cases (hunt ~4-7, five bisections, three fills: stonedem.study.search)
+# a search runs about this many cases (hunt ~4-7, five bisections, three fills:
+# stonedem.study.search)
 SEARCH_RUNS = 14
 
 
@@ -137,6 +137,7 @@ def job_summary(jobs: list[Job]) -> str:
     total = sum(j.cost for j in jobs)
     return (
         f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search_jobs} jobs, "
-        f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time estimated "
+        f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time "
+        "estimated "
         f"(~{math.ceil(total / 60)} min on one core)"
     )

@@ -156,7 +156,8 @@ def _excitation(cube: xr.Dataset) -> dict:
 
 
 def ramp_thresholds(cube: xr.Dataset, along: str) -> list[dict]:
-    """PGA to initiate rocking and to overturn under a linear acceleration ramp (thesis Fig. 6.10, 6.13).
+    """PGA to initiate rocking and to overturn under a linear acceleration ramp (thesis Fig. 6.10,
+    6.13).
 
     The ramp's acceleration at time t is rate x t, so the thresholds are rate times the
     rocking onset time (mean rotation > theta_cr / 30) and the collapse time.
@@ -200,7 +201,8 @@ def _plain(value):
 
 
 def frequency_response(cube: xr.Dataset) -> list[dict]:
-    """Total sliding and rocking vs harmonic frequency (thesis Fig. 6.1, 6.5, 6.6), one row per case.
+    """Total sliding and rocking vs harmonic frequency (thesis Fig. 6.1, 6.5, 6.6), one row per
+    case.
 
     ``sliding_to_base_ratio`` is the maximum total sliding over the displacement amplitude
     of the base (from the base history): near 1 when the base slides under a column that

@@ -2,8 +2,8 @@
 read once (stonedem.motion.excitation), one log line per case, and a store of finished cases.
 
 A Snakemake job starts Python, imports xarray and numba, reads its first record and loads
-the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one job
-(:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every grid
+the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one
+job (:func:`stonedem.study.jobs.plan_jobs`) and runs each threshold search in one job. Every grid
 case writes its own NetCDF file; a threshold search writes one file, its runs' measures and
 histories (:class:`stonedem.study.cube.RunPiece`), not each run's dataset. The *case store*
 keeps every finished case (and search file) under a key of its scene, its records' bytes and
@@ -213,8 +213,8 @@ def run_one(
 ) -> dict:
     """Simulate ``case`` into ``output`` (or restore it from the store); one log line.
 
-    Returns {collapsed, steps, kernel_seconds, compile_seconds, seconds, restored}, and with ``keep_dataset``
-    ``dataset``: the case dataset written (None when restored: read the file)."""
+    Returns {collapsed, steps, kernel_seconds, compile_seconds, seconds, restored}, and with
+    ``keep_dataset`` ``dataset``: the case dataset written (None when restored: read the file)."""
     output = Path(output)
     start = wallclock.perf_counter()
     restored = store.restore(case, output, log)
@@ -233,7 +233,8 @@ def run_one(
             log or sys.stderr,
             f"{label}{case.study}/{case.id}: restored from the case store; {info['verdict']}",
         )
-    else:  # the compile of the time loop (a cold cache's first case), apart from the kernel's stepping
+    # the compile of the time loop (a cold cache's first case), apart from the kernel's stepping
+    else:
         progress_print(
             log or sys.stderr,
             run_line(
@@ -380,7 +381,8 @@ def run_line(
     """A run's log line: its steps, kernel and compile time (above COMPILE_SHOWN), and verdict."""
     compiled = f"{compile_seconds:.1f} s compile, " if compile_seconds > COMPILE_SHOWN else ""
     return (
-        f"{label}{case.study}/{case.id}: {steps} steps, {kernel:.2f} s kernel, {compiled}{seconds:.2f} s in all; "
+        f"{label}{case.study}/{case.id}: {steps} steps, {kernel:.2f} s kernel, "
+        f"{compiled}{seconds:.2f} s in all; "
         f"{verdict}"
     )
 
@@ -544,7 +546,8 @@ def choose_device(wanted: str) -> tuple[str, str]:
         return "gpu", f"device: gpu ({why})"
     return (
         "cpu",
-        f"device: gpu asked for, but {why}: running the searches together on the CPU's cores instead",
+        f"device: gpu asked for, but {why}: running the searches together on the CPU's cores "
+        "instead",
     )
 
 

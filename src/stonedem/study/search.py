@@ -49,9 +49,8 @@ class SearchSettings:
     # hunt: each value this times the last (down when start collapses); 1.8 < 1.02**32, so
     # five bisections narrow a hunt step to a 2 % bracket (2.0 would need six)
     factor: float = 1.8
-    tolerance: float = (
-        0.02  # bracket: smallest collapse / largest survivor below it - 1 (>= FINEST_TOLERANCE)
-    )
+    # bracket: smallest collapse / largest survivor below it - 1 (>= FINEST_TOLERANCE)
+    tolerance: float = 0.02
     minimum: float = 0.125  # a collapse at start hunts down, at most to here
     maximum: float = 64.0  # no collapse up to here: the threshold lies above it
     fill: int = 3  # runs filling the widest gaps: below the threshold, above, below, ...

@@ -146,7 +146,8 @@ def fill_stripes(
             "search_parameter": parameter,
             "members": len(systems),
             "systems": " ".join(s.id for s in systems),
-            "method": "every value a member ran inside the zone [lowest survived, highest threshold], run by "
+            "method": "every value a member ran inside the zone [lowest survived, highest "
+            "threshold], run by "
             "every member (stonedem.study.stripes.missing_stripe_runs)",
         },
     )

@@ -1,8 +1,8 @@
 """Validation of the engine against the analytic solutions of thesis 5.1.
 
 Each validation builds its scenes, runs the engine, computes the reference with
-:mod:`stonedem.reference.analytic`, and returns a dataset holding both, the error and the tolerance, and
-a figure. ``stonedem validate`` runs them all and writes ``<out>/<name>.nc``, ``<name>.png`` and
+:mod:`stonedem.reference.analytic`, and returns a dataset holding both, the error and the tolerance,
+and a figure. ``stonedem validate`` runs them all and writes ``<out>/<name>.nc``, ``<name>.png`` and
 ``summary.csv``; the tests call the same functions on the same or smaller grids.
 
 | name                 | thesis | reference                                         | tolerance |
@@ -125,7 +125,8 @@ def block_scene(
 
 
 def contact_attrs(contact, **area):
-    """Dataset attrs naming the contact law of a validation: the point mapping, or the area law's k_n, c_n."""
+    """Dataset attrs naming the contact law of a validation: the point mapping, or the area law's
+    k_n, c_n."""
     if contact is None:
         return {"contact_model": "area", **area}
     return {"contact_model": contact["model"], **{k: v for k, v in contact.items() if k != "model"}}
@@ -174,8 +175,8 @@ def zero_crossings(time, theta):
 def rigid_free_rocking(time, width, height, r, theta0, step=1e-3):
     """Rotation [rad] of a rigid block released from rest at theta0, sampled on ``time``.
 
-    The rigid rocking equation (:func:`stonedem.reference.analytic.rigid_rocking_response`, no ground
-    motion) with the angular velocity scaled by sqrt(r) at each impact (thesis Eq. 5.2).
+    The rigid rocking equation (:func:`stonedem.reference.analytic.rigid_rocking_response`, no
+    ground motion) with the angular velocity scaled by sqrt(r) at each impact (thesis Eq. 5.2).
     Integrated on a grid of ``step`` [s] (the solver's largest step is the sample spacing,
     so a fine output grid is slow) and interpolated linearly onto ``time``.
     """
@@ -399,8 +400,8 @@ NEWMARK_CASES = (
 def newmark_history(time, a_p, t_p, mu):
     """Exact relative displacement [m] of a rigid block under a rectangular pulse, on ``time``.
 
-    The rigid-plastic block (:func:`stonedem.reference.analytic.rigid_plastic_sliding`) under a_p for
-    0 <= t < t_p, then 0: the motion whose maximum is Newmark's Eq. 5.5 (thesis Fig. 5.8).
+    The rigid-plastic block (:func:`stonedem.reference.analytic.rigid_plastic_sliding`) under a_p
+    for 0 <= t < t_p, then 0: the motion whose maximum is Newmark's Eq. 5.5 (thesis Fig. 5.8).
     The pulse's end is a repeated instant (a jump), so the solution is exact at ``time``.
     """
     time = np.asarray(time, dtype=float)
@@ -735,7 +736,8 @@ def record_rocking(
                 np.array([b[0] for b in bands]) / peaks_ref - 1.0,
                 _attrs(
                     "1",
-                    f"lowest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1",
+                    f"lowest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / "
+                    "peak_rigid - 1",
                 ),
             ),
             "peak_rigid_band_high": (
@@ -743,7 +745,8 @@ def record_rocking(
                 np.array([b[1] for b in bands]) / peaks_ref - 1.0,
                 _attrs(
                     "1",
-                    f"highest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / peak_rigid - 1",
+                    f"highest rigid peak over scale x (1 +- {ROCKING_SCALE_BAND:g}) / "
+                    "peak_rigid - 1",
                 ),
             ),
             "peak_relative_error_vs_c_n": (
@@ -772,8 +775,10 @@ def record_rocking(
             "peak_error": err,
             "alpha": alpha,
             "scales_within_tolerance": int(np.sum(np.abs(errors) <= tol)),
-            "note": "histories are those of case_scale; multi-impact rocking is sensitive: see peak_relative_error, "
-            "and peak_rigid_band_low/high for how far the rigid peak itself moves over a 1 % change of the scale",
+            "note": "histories are those of case_scale; multi-impact rocking is sensitive: see "
+            "peak_relative_error, "
+            "and peak_rigid_band_low/high for how far the rigid peak itself moves over a 1 % "
+            "change of the scale",
         },
     )
     ok = abs(err) <= tol and peaks_ref[i_case] < alpha
@@ -996,8 +1001,8 @@ def one_sine_run(
     """Engine run of one block under the one-sine pulse a_p sin(omega_p t), 0 <= t < 2 pi / omega_p.
 
     ``amplitude`` is a_p / (g tan alpha), ``omega_ratio`` omega_p / p (the engine's
-    ``sine_pulse``: the pulse of :func:`stonedem.reference.analytic.rigid_one_sine_response`, base at rest
-    at t = 0). Friction 10 (no sliding, as the rigid model), no stop at the engine's
+    ``sine_pulse``: the pulse of :func:`stonedem.reference.analytic.rigid_one_sine_response`, base
+    at rest at t = 0). Friction 10 (no sliding, as the rigid model), no stop at the engine's
     collapse angle alpha (the pulse can bring a block back from beyond it), a base wide
     enough to carry the fallen block; the run lasts the pulse plus ``free_time`` / p.
     Returns (RunResult, pulse duration [s]).
@@ -1093,9 +1098,9 @@ def one_sine_engine_outcome(
 def engine_min_overturning(overturns, guess, step=1.01, rel_tol=1e-3, cap=50.0):
     """Smallest amplitude a_p / (g tan alpha) for which ``overturns(amplitude)`` -> (bool, mode).
 
-    As :func:`stonedem.reference.analytic.rigid_one_sine_min_overturning`, a hunt on a geometric grid then a
-    bisection, but started at 0.9 x ``guess`` (the exact threshold) to save runs: upwards by
-    ``step`` until the block overturns, or downwards until it does not (1, no uplift, is
+    As :func:`stonedem.reference.analytic.rigid_one_sine_min_overturning`, a hunt on a geometric
+    grid then a bisection, but started at 0.9 x ``guess`` (the exact threshold) to save runs:
+    upwards by ``step`` until the block overturns, or downwards until it does not (1, no uplift, is
     safe); beyond 10 % from ``guess`` the hunt strides by step^4. Then bisection of (lo, hi]
     to ``rel_tol``. Returns (the upper end of the bracket, inf if nothing up to ``cap``
     overturns; mode there; number of runs).
@@ -1148,17 +1153,18 @@ def one_sine_overturning(
     map_ratios=ONE_SINE_MAP_RATIOS,
     map_amplitudes=ONE_SINE_MAP_AMPLITUDES,
 ):
-    """Smallest overturning one-sine pulse vs the exact rigid block with the same restitution (5.1.5).
+    """Smallest overturning one-sine pulse vs the exact rigid block with the same restitution
+    (5.1.5).
 
     For each block and omega_p / p the engine's smallest overturning amplitude a_p / (g tan
     alpha) (:func:`engine_min_overturning`, to ``rel_tol``) against the exact event-driven
-    rigid solution :func:`stonedem.reference.analytic.rigid_one_sine_min_overturning` (1e-4), within 1 %.
-    The same restitution: the point law's plastic impact is Housner's, so its reference
+    rigid solution :func:`stonedem.reference.analytic.rigid_one_sine_min_overturning` (1e-4), within
+    1 %. The same restitution: the point law's plastic impact is Housner's, so its reference
     takes Housner's r (the engine's r, measured on free rocking from alpha/2 over four
     impacts, is stored); the area law (k_n) has its c_n calibrated per block to Housner's r
     and its reference takes the engine's measured r. Also the overturning map (safe /
-    overturned after an impact / without one, :data:`stonedem.reference.analytic.ONE_SINE_MODES`) of block
-    ``map_block`` on ``map_ratios`` x ``map_amplitudes`` (None: no map), engine and exact.
+    overturned after an impact / without one, :data:`stonedem.reference.analytic.ONE_SINE_MODES`) of
+    block ``map_block`` on ``map_ratios`` x ``map_amplitudes`` (None: no map), engine and exact.
     """
     tol = 0.01
     shape = (len(blocks), len(omega_ratios))
@@ -1310,7 +1316,10 @@ def one_sine_overturning(
             _attrs("1", "pulse amplitude a_p / (g tan alpha) of the overturning map"),
         )
     if contact is None:
-        reference = "exact rigid block with the engine's measured r (area law, c_n calibrated to Housner's r)"
+        reference = (
+            "exact rigid block with the engine's measured r (area law, c_n calibrated "
+            "to Housner's r)"
+        )
     else:
         reference = "exact rigid block with Housner's r (the point law's plastic impact)"
     ds = xr.Dataset(
@@ -1322,13 +1331,15 @@ def one_sine_overturning(
             "friction": 10.0,
             "density": ONE_SINE_DENSITY,
             "restitution_reference": reference,
-            "pulse": "a_g = a_p sin(omega_p t) for 0 <= t < 2 pi / omega_p (sine_pulse), block at rest at t = 0",
+            "pulse": "a_g = a_p sin(omega_p t) for 0 <= t < 2 pi / omega_p (sine_pulse), block "
+            "at rest at t = 0",
             "threshold_rel_tol_engine": rel_tol,
             "threshold_rel_tol_exact": 1e-4,
             "hunt_step": 1.01,
             "map_block": labels[map_block] if map_block is not None else "none",
             "map_agreement": agreement,
-            "impact": f"a change of side of the rotation (|theta| > {ONE_SINE_IMPACT_EPS:g} alpha) before it falls",
+            "impact": f"a change of side of the rotation (|theta| > {ONE_SINE_IMPACT_EPS:g} "
+            "alpha) before it falls",
         },
     )
     worst = float(np.abs(err).max())
@@ -1364,7 +1375,8 @@ PENA_C_SWEEP = (1.0e5, 3.0e5, 1.0e6, 3.0e6, 1.0e7)  # thesis Fig. 5.21 [N s m-1]
 
 
 def free_rocking(c_n, k_n, duration, every, block=PENA_BLOCK):
-    """(time [s], rotation [rad], positive leaning right) of a block released from rest at theta0."""
+    """(time [s], rotation [rad], positive leaning right) of a block released from rest at
+    theta0."""
     spec = block_scene(
         block["width"],
         block["height"],
@@ -1380,7 +1392,8 @@ def free_rocking(c_n, k_n, duration, every, block=PENA_BLOCK):
 
 
 def first_impact_restitution(theta, block=PENA_BLOCK):
-    """Energy ratio of the first impact from the first two peaks (thesis Eq. 5.2, exact energies)."""
+    """Energy ratio of the first impact from the first two peaks (thesis Eq. 5.2, exact
+    energies)."""
     peaks = rocking_peaks(theta)
     if len(peaks) < 2:
         return float("nan")
@@ -1539,7 +1552,8 @@ def pena_block(
             "first_quarter_period_exact": cmp["first_quarter_exact"],
             "min_fraction": min_fraction,
             **{f"block_{k}": v for k, v in PENA_BLOCK.items()},
-            "note": "experiment of Pena et al. not available: reference is the rigid rocking equation",
+            "note": "experiment of Pena et al. not available: reference is the rigid rocking "
+            "equation",
         },
     )
     worst_peak = float(np.abs(peak_err).max())
@@ -1575,7 +1589,8 @@ THESIS_5_1 = {
 
 
 def point_law_variant(check):
-    """check run with the engine's default point law, described as such (``stonedem validate --list``)."""
+    """check run with the engine's default point law, described as such (``stonedem validate
+    --list``)."""
     variant = partial(check, contact=POINT_CONTACT)
     variant.__doc__ = check.__doc__.splitlines()[0].rstrip(".") + "; point law."
     return variant

@@ -138,7 +138,8 @@ MODE_COLOURS = ("#f2f2f2", "#f4a259", "#bc4b51")  # safe, overturned after an im
 
 
 def _mode_map(ax, ds, name, title):
-    """One overturning map (mode codes of stonedem.reference.analytic.ONE_SINE_MODES) as coloured cells."""
+    """One overturning map (mode codes of stonedem.reference.analytic.ONE_SINE_MODES) as coloured
+    cells."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
 
     codes = ds[name]
@@ -165,7 +166,8 @@ def _log_amplitude_axis(ax):
 
 
 def _one_sine(ds, ax):
-    """Thresholds (engine markers over the exact line, both blocks) and the maps, exact and engine."""
+    """Thresholds (engine markers over the exact line, both blocks) and the maps, exact and
+    engine."""
     from matplotlib.patches import Patch
 
     fig = ax.figure
@@ -183,7 +185,8 @@ def _one_sine(ds, ax):
             ds.threshold_engine[i],
             "o",
             color=line.get_color(),
-            label=f"{block}: engine (worst {100 * float(np.abs(ds.relative_error[i]).max()):.2g} %)",
+            label=f"{block}: engine (worst "
+            f"{100 * float(np.abs(ds.relative_error[i]).max()):.2g} %)",
         )
     _log_amplitude_axis(curves)
     curves.set_xlabel(label(ds.omega_ratio))
@@ -238,7 +241,8 @@ DRAWERS = {
 
 
 def _pena(ds, ax):
-    """Thesis Fig. 5.20: engine at the checked k_n, rigid rocking equation, engine at the thesis k_n."""
+    """Thesis Fig. 5.20: engine at the checked k_n, rigid rocking equation, engine at the thesis
+    k_n."""
     ax.plot(
         ds.time,
         ds.theta_rigid,
@@ -396,7 +400,8 @@ def _fig_5_13(ds, fig):
 
 
 def _two_blocks_figure(theta0):
-    """Thesis Fig. 5.15 / 5.17: both blocks' rotations from theta0, and the energy balance checked."""
+    """Thesis Fig. 5.15 / 5.17: both blocks' rotations from theta0, and the energy balance
+    checked."""
 
     def draw(ds, fig):
         c = ds.sel(theta0=theta0, method="nearest")
@@ -466,15 +471,18 @@ CAPTIONS = {
     "thesis_fig_5_5": "Reduction of the maximum rotation angle of each cycle due to impact",
     "thesis_fig_5_7": "Normalized maximum relative displacements of a rigid body on a surface "
     "with friction mu, under rectangular acceleration pulses",
-    "thesis_fig_5_8": "Time-history relative displacements of a sliding block under rectangular pulse accelerations",
+    "thesis_fig_5_8": "Time-history relative displacements of a sliding block under "
+    "rectangular pulse accelerations",
     "thesis_fig_5_10": "Sliding response of a rigid body under an earthquake excitation "
     "(Northridge 1994 MUL009 stand-in)",
-    "thesis_fig_5_13": "Rocking response of a rigid body under earthquake excitations (Northridge stand-in "
+    "thesis_fig_5_13": "Rocking response of a rigid body under earthquake excitations "
+    "(Northridge stand-in "
     "for Bucharest 1977)",
     "thesis_fig_5_15": "Rotation of the two bodies released from 0.1 rad",
     "thesis_fig_5_17": "Rotation of Block 1 from an initial rotation angle of 0.15 rad",
     "thesis_fig_5_20": "Rotation of the rigid body (Pena granite block) obtained numerically",
-    "thesis_fig_5_21": "The effect of the contact damping coefficient on the free vibration of a rigid body",
+    "thesis_fig_5_21": "The effect of the contact damping coefficient on the free vibration of "
+    "a rigid body",
 }
 
 

@@ -1,9 +1,10 @@
-"""Wall case files (YAML): reading, strict validation, problem-size limits, and the model they describe.
+"""Wall case files (YAML): reading, strict validation, problem-size limits, and the model they
+describe.
 
 ```yaml
-panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight: 20000.0}
-joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength, cohesion
-restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
+panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight:
+20000.0} joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength,
+cohesion restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
 load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
 ```
 
@@ -154,9 +155,8 @@ SOLVER_RULES = {
     "control_block": ("int", 0, MAX_BLOCKS),
 }
 assert set(SOLVER_RULES) == SOLVER_KEYS, "every solver setting has a rule"
-MIN_FIRST_STEP = (
-    1e-12  # [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
-)
+# [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
+MIN_FIRST_STEP = 1e-12
 
 # a number written as text: YAML 1.1 reads 1.0e9 (no exponent sign) as a string
 _NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
@@ -345,7 +345,8 @@ MODEL_BYTES_PER_INTERFACE = 2400.0
 
 @dataclass
 class ProblemSize:
-    """Estimated size of a case before anything is built (an upper bound when openings remove blocks)."""
+    """Estimated size of a case before anything is built (an upper bound when openings remove
+    blocks)."""
 
     n_blocks: float
     n_interfaces: float
@@ -358,7 +359,8 @@ class ProblemSize:
 
     def describe(self, blocks: bool = True) -> str:
         text = (
-            f"{self.n_interfaces:.3g} interfaces, {self.n_dofs:.3g} DOFs, ~{_bytes(self.memory_bytes)}, "
+            f"{self.n_interfaces:.3g} interfaces, {self.n_dofs:.3g} DOFs, "
+            f"~{_bytes(self.memory_bytes)}, "
             f"~{self.factor_seconds:.2g} s per stiffness factorization"
         )
         return f"{self.n_blocks:.3g} blocks, {text}" if blocks else text
@@ -455,7 +457,8 @@ class CaseInput:
 
 
 def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
-    """Validate a case mapping (strict types, ranges, known keys, problem size) without building it."""
+    """Validate a case mapping (strict types, ranges, known keys, problem size) without building
+    it."""
     spec = copy.deepcopy(_mapping(spec, where))
     _keys(spec, TOP_KEYS, "", required=("panel", "joints", "restraints", "load"))
     if "name" in spec:
@@ -1069,7 +1072,10 @@ def check_load_paths(ci: CaseInput, panel, fixed, lines) -> None:
         if ln.edge not in edges or ln.distance
     ]
     why = f"a support acts only on the blocks on {' and '.join(where)}"
-    fix = "shrink or move the opening so that blocks join these to a support, or support an edge they touch"
+    fix = (
+        "shrink or move the opening so that blocks join these to a support, or support an "
+        "edge they touch"
+    )
     if not ci.openings:  # not reached: a running-bond panel without openings is all joined
         raise InputError("restraints", f"{who} no load path to a support ({why})", fix)
     order, removed = _blame(ci, panel, cut)

@@ -1,4 +1,5 @@
-"""Command line: ``stonedem wall CASE.yaml -o OUT.nc [--limit]`` (also ``python3 -m stonedem.wall ...``).
+"""Command line: ``stonedem wall CASE.yaml -o OUT.nc [--limit]`` (also ``python3 -m stonedem.wall
+...``).
 
 ``--limit`` adds the collapse multiplier by limit analysis (``stonedem.wall.limit_analysis``) to
 the dataset and the summary line.
@@ -42,7 +43,8 @@ def _arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
-    """Register ``wall`` on the ``stonedem`` sub-command parsers; sets ``func`` to ``command_wall``."""
+    """Register ``wall`` on the ``stonedem`` sub-command parsers; sets ``func`` to
+    ``command_wall``."""
     parser = _arguments(subparsers.add_parser("wall", help=HELP, description=HELP))
     parser.set_defaults(func=command_wall)
     return parser
@@ -104,7 +106,8 @@ def command_wall(args) -> int:
         if args.limit:
             la = ds["lambda_limit_analysis"]
             print(
-                f"limit analysis: {float(la):.4g} on the joint caps at lambda_max ({la.attrs['status']}, "
+                f"limit analysis: {float(la):.4g} on the joint caps at lambda_max "
+                f"({la.attrs['status']}, "
                 f"{la.attrs['seconds']:.1f} s); {ds.attrs['limit_analysis_verdict']}",
                 file=sys.stderr,
             )
@@ -112,7 +115,8 @@ def command_wall(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python3 -m stonedem.wall``: the shared exit conventions of :func:`stonedem.entry.guarded`."""
+    """``python3 -m stonedem.wall``: the shared exit conventions of
+    :func:`stonedem.entry.guarded`."""
     from stonedem.entry import Parser, guarded
 
     parser = _arguments(Parser(prog="stonedem wall", description=HELP))

@@ -64,7 +64,8 @@ def _flat(*arrays):
 
 
 def smooth_plus(x, eps):
-    """C1 positive part: 0 for x <= 0, x^2 / (2 eps) up to eps, x - eps/2 beyond (eps = 0: max(x, 0)).
+    """C1 positive part: 0 for x <= 0, x^2 / (2 eps) up to eps, x - eps/2 beyond (eps = 0: max(x,
+    0)).
 
     Regularises the capacities of an interface near zero compression (N_eps): the friction,
     bending and torsion caps then vanish smoothly, without a kink, as a joint opens.

@@ -65,7 +65,8 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
     attrs = {
         "title": f"stonedem 3D rigid-block wall pushover: {case.name}",
         "source": code_version(),
-        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} stonedem.wall.pushover",
+        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} "
+        "stonedem.wall.pushover",
         "case": bounded_json(spec, "case", check=check_interrupt),
         "case_name": case.name,
         "load_kind": case.load_kind,
@@ -97,7 +98,8 @@ def wall_dataset(case, result, pressure_units="Pa") -> xr.Dataset:
         # every plateau (and end past a peak) the path met, with the limit analysis on its caps
         "plateau_checks": "; ".join(result.plateau_checks) or "none",
         "wall_seconds": result.wall_seconds,
-        "solver": "generalized displacement control (load-weighted mean displacement), bordered Newton "
+        "solver": "generalized displacement control (load-weighted mean displacement), "
+        "bordered Newton "
         "with the consistent tangent of the Eq. 9-14 return map (forward differences) and "
         "residual line search; banded LU (LAPACK dgbtrf), sparse LU (scipy splu) for a wide band",
         "solver_settings": json.dumps(result.settings, sort_keys=True),
@@ -147,7 +149,8 @@ def add_limit_analysis(ds, at_limit, dead_load=None):
     gap = float(ds.lambda_max) / at_limit.lambda_limit - 1
     ds.attrs["pushover_vs_limit_analysis"] = gap
     ds.attrs["limit_analysis_verdict"] = (
-        f"plateau proven: lambda_max within {ORACLE_TOLERANCE:.0%} of the limit analysis on its caps"
+        f"plateau proven: lambda_max within {ORACLE_TOLERANCE:.0%} of the limit analysis on "
+        "its caps"
         if abs(gap) <= ORACLE_TOLERANCE
         else f"plateau NOT proven: lambda_max {gap:+.1%} from the limit analysis on its caps"
     )

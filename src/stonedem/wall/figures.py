@@ -13,7 +13,8 @@ STATE_COLOURS = {0: "tab:green", 1: "red", 2: "magenta", 3: "darkviolet", 4: "bl
 
 
 def damage_map(ax, ds, scale=None):
-    """Wall elevation: block outlines shaded by out-of-plane displacement, joints coloured by state."""
+    """Wall elevation: block outlines shaded by out-of-plane displacement, joints coloured by
+    state."""
     from matplotlib.patches import Rectangle
 
     q = ds.displacement_at_limit.values

@@ -91,7 +91,8 @@ def domain_excess(f, F, M, alpha):
 
 def supporting_planes(f, F, c_T, u, v, alpha, which, turn=0.0):
     """CSR rows over (f, lambda) and upper bounds of the tangent planes at the radial
-    projections of interfaces ``which``: n_u (cos phi f1 + sin phi f2) + n_v sign m3 / c_T <= b F."""
+    projections of interfaces ``which``: n_u (cos phi f1 + sin phi f2) + n_v sign m3 / c_T <= b
+    F."""
     ub, vb = radial_boundary_points(u[which], v[which], alpha[which])
     n_u, n_v = tangent_normals(ub, vb, alpha[which])
     phi = np.arctan2(f[which, 1], f[which, 0]) + turn

@@ -152,9 +152,8 @@ class PushoverResult:
     dead_state: np.ndarray
     interface_forces_at_max: np.ndarray
     settings: dict
-    limit_reached: bool = (
-        True  # False: the path ended before a limit (lambda_max is not a limit load)
-    )
+    # False: the path ended before a limit (lambda_max is not a limit load)
+    limit_reached: bool = True
     limit_note: str = ""  # why not, and what to raise
     # each plateau the path reached and the limit analysis on the caps at its peak (a plateau
     # more than ORACLE_TOLERANCE below it was a pause, not the limit: the path went on)
@@ -387,7 +386,8 @@ def _newton(
 
 
 class BandLU:
-    """LU with partial pivoting of a banded matrix (LAPACK dgbtrf / dgbtrs), with splu's ``solve``."""
+    """LU with partial pivoting of a banded matrix (LAPACK dgbtrf / dgbtrs), with splu's
+    ``solve``."""
 
     def __init__(self, K, lower, upper):
         coo = K.tocoo()

@@ -111,5 +111,6 @@ def limit_load_row(ds):
 def limit_load_table(paths):
     from stonedem.io.netcdf import open_result
 
-    # a result left unreadable by a crash is removed with one line: the next snakemake call remakes it
+    # a result left unreadable by a crash is removed with one line: the next snakemake call remakes
+    # it
     return [limit_load_row(open_result(p)) for p in paths]

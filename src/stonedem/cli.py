@@ -13,13 +13,13 @@ import sys
 from pathlib import Path
 
 from stonedem.entry import Parser, check_output_path, exit_now, guarded, progress_print
-from stonedem.errors import InputError
+from stonedem.errors import InputError, doc_summary
 from stonedem.figures import snapshots
 from stonedem.version import __version__
 
 DESCRIPTION = "stonedem: rigid-block simulations of ancient columns, colonnades and masonry walls."
 EPILOG = """examples:
-  stonedem run scene.yaml -o out.nc        simulate one scene (format: README "Scene files")
+  stonedem run scene.yaml -o out.nc        simulate one scene (format: docs/guide/scenes.md)
   stonedem validate --list                 the thesis 5.1 validations
   stonedem record info athens_standin_kocaeli_arc000
   stonedem wall config/walls/<case>.yaml -o wall.nc
@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="command", title="commands")
 
     run = sub.add_parser("run", help="simulate one scene file and write a NetCDF dataset")
-    run.add_argument("scene", type=Path, help="scene YAML file (format: README)")
+    run.add_argument("scene", type=Path, help="scene YAML file (format: docs/guide/scenes.md)")
     run.add_argument("-o", "--output", type=Path, required=True, help="output NetCDF file")
     run.add_argument(
         "--set",
@@ -149,7 +149,7 @@ def command_validate(args) -> int:
 
     if args.list:
         for name, func in validation.VALIDATIONS.items():
-            print(f"{name:26s} {func.__doc__.splitlines()[0]}")
+            print(f"{name:26s} {doc_summary(func.__doc__)}")
         return 0
     check_output_path(
         args.output / "x.nc", "-o/--output"

@@ -43,6 +43,12 @@ def one_line(text: str, limit: int = 600) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+def doc_summary(doc: str | None) -> str:
+    """A docstring's summary: its first paragraph as one line (a long summary is wrapped over
+    several lines in the source), "" for none."""
+    return " ".join((doc or "").strip().split("\n\n")[0].split())
+
+
 def plain_number(value):
     """A number of any kind Python or numpy has (``np.float32(0.6)``, ``np.int64(3)``, a 0-d
     array) as a Python int or float, so that checkers need know only those two; anything else,

@@ -24,14 +24,14 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 
 from stonedem.entry import Parser, check_output_path, guarded
-from stonedem.errors import InputError, one_line
+from stonedem.errors import InputError, doc_summary, one_line
 from stonedem.io.atomic import write_csv, write_text  # noqa: F401 - the scripts' writers
 
 
 def parser(prog: str, doc: str | None = None, **kwargs) -> Parser:
     """An argparse parser whose usage errors are one line with exit 2
     (:class:`stonedem.entry.Parser`)."""
-    description = doc.strip().splitlines()[0] if doc else None
+    description = doc_summary(doc) or None
     return Parser(prog=prog, description=description, **kwargs)
 
 

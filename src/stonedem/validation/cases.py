@@ -38,6 +38,7 @@ from stonedem.engine.laws import LAWS
 from stonedem.engine.run import run_scene
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
+from stonedem.errors import doc_summary
 from stonedem.io.atomic import write_text
 from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.motion.excitation import RECORDS_DIR
@@ -1592,7 +1593,7 @@ def point_law_variant(check):
     """check run with the engine's default point law, described as such (``stonedem validate
     --list``)."""
     variant = partial(check, contact=POINT_CONTACT)
-    variant.__doc__ = check.__doc__.splitlines()[0].rstrip(".") + "; point law."
+    variant.__doc__ = doc_summary(check.__doc__).rstrip(".") + "; point law."
     return variant
 
 

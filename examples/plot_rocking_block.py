@@ -12,7 +12,7 @@ its rocking decays as Housner's rigid block predicts.
 # %%
 # The scene
 # ---------
-# A scene is a YAML file or, as here, a dict with the same keys (README "Scene files").
+# A scene is a YAML file or, as here, a dict with the same keys (docs/guide/scenes.md).
 # Units are SI: m, kg, s, rad. The base is ``driven`` (it follows the excitation, here
 # none); ``tilt`` rotates the block about its bottom-right corner at t = 0. No ``contact``
 # is given, so the engine's default applies: the point contact law with Housner's plastic

@@ -283,7 +283,7 @@ def test_soft_contact_sinking_is_penetration_not_collapse():
 
 
 def test_tall_undamped_stack_at_the_limit_reports_its_energy_drift():
-    # README "Stability": 30 undamped drums at dt_safety 1.0 drift 3.9 % (point law)
+    # docs/method/checks.md, "Stability": 30 undamped drums at dt_safety 1.0 drift 3.9 % (point law)
     spec = column(
         structure={"n_drums": 30},
         contact={"model": "point", "k_n": 1e10, "damping": 0.0, "impact": "none"},

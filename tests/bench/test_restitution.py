@@ -70,7 +70,7 @@ def test_impact_loss_recovers_a_known_restitution():
 
 
 def test_point_law_first_impact_matches_housner_on_the_monolith():
-    """Measured 0.9196 against Housner's 0.9206 (README "Contact laws")."""
+    """Measured 0.9196 against Housner's 0.9206 (docs/method/engine.md, "Contact laws")."""
     scene, rigid, theta0 = rs.rocking_scene(MONOLITH, POINT, n_impacts=1)
     assert scene.contact.model == "point" and scene.contact.impact == "plastic"
     res = simulate(scene)

@@ -29,7 +29,7 @@ WITHIN = [
     "chee_liang_2_3",
     "chee_liang_14_15",
 ]
-MISSES = {  # measured on this machine; reasons in README "Masonry walls"
+MISSES = {  # measured on this machine; reasons in docs/results/walls.md
     "orduna_case2": "0.191 vs 0.215 (-11 %; Orduna & Lourenco's limit analysis 0.193)",
     "s5": "0.297 vs 0.350 (-15 %)",
     "chee_liang_8_12": "19.7 vs 25.0 kPa (-21 %)",

@@ -88,8 +88,9 @@ rule bench_skipping:
         "../scripts/bench.py"
 
 
-# energy ratio per impact of the study's columns under each contact law (README "Impact
-# loss"); quick: the monolith and the 2-drum column (~20 s), full: every column (~2 min)
+# energy ratio per impact of the study's columns under each contact law
+# (docs/results/benchmarks.md, "Impact loss"); quick: the monolith and the 2-drum column
+# (~20 s), full: every column (~2 min)
 rule bench_restitution:
     input:
         "config/config.yaml",

@@ -111,7 +111,8 @@ def checked_run(scene: Scene, progress: bool = False, first: RunResult | None = 
         diverged = result.status == step.STATUS_NONFINITE
         checks = None if diverged else run_checks(scene, result)
         # an automatic step whose run diverges or drifts past the energy tolerance is halved
-        # and the run repeated (README "Contact laws": the stable step is 1.4-2.9x the bound)
+        # and the run repeated (docs/method/engine.md, "Contact laws": the stable step is 1.4-2.9x
+        # the bound)
         retry_worthy = diverged or checks["status"] == "energy balance error"
         halved = dataclasses.replace(scene, dt_safety=0.5 * scene.dt_safety)
         if scene.dt is not None or not retry_worthy or retry == ENERGY_RETRIES or not _fits(halved):

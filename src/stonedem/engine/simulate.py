@@ -685,7 +685,7 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
 
 # a run whose energy balance drifts by more than this share of the energy it moves says so
 # (status and stderr); measured: every run at dt <= the stability limit stays under it
-# (README "Stability"), so a larger drift flags a contact or step problem
+# (docs/method/checks.md, "Stability"), so a larger drift flags a contact or step problem
 ENERGY_TOLERANCE = 0.01
 ENERGY_FLOOR = 1e-3  # smallest energy scale of energy_error, x initial kinetic + potential energy
 # an overlap of two bodies beyond this share of the smaller one's area is not a contact
@@ -785,7 +785,8 @@ def run_checks(scene: Scene, result: RunResult) -> dict:
     }
 
 
-# resources a run may ask for; above them it is refused before computing (README "Limits")
+# resources a run may ask for; above them it is refused before computing (docs/guide/scenes.md, its
+# table of limits)
 MAX_STEPS = 2e8  # ~50x the study's longest case; 3-30 min of kernel time at 1-10 us/step
 # the memory a run needs (samples, dataset, write) against a share of the machine's:
 # stonedem.engine.memory.run_bytes and memory_budget

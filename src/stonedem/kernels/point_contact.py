@@ -25,7 +25,8 @@ length"); no overlap polygon is clipped:
   (moment = W b / 2), not at the Winkler layer's b / 6;
 - each end's dashpot is c = 2 zeta sqrt(K m), m the lighter free body of the pair
   (``contact.damping``), so the landing corner of a rocking block loses a
-  stiffness-independent share of its energy at impact (calibrated to Housner, README);
+  stiffness-independent share of its energy at impact (calibrated to Housner,
+  docs/method/engine.md);
 - the stored energy is sum K d^2 / 2, conservative for a fixed face (a vertex-edge law).
 
 Each end also has its own tangential spring (k_t / 2) and dashpot (c_t / 2) capped by

@@ -24,7 +24,7 @@ import numpy as np
 from stonedem.errors import InputError
 from stonedem.units import G_STANDARD  # [m s-2], PEER convention for records in g
 
-# --- limits on record files (hostile or mistaken input; README "Ground-motion records") ----
+# --- limits on record files (hostile or mistaken input; docs/guide/records.md) ----
 # Spectra cost ~20 us per sample and damping on this machine, the predominant frequency
 # ~25 us per sample: 500 000 samples (e.g. 500 s at 1 kHz, 40x the longest committed
 # record) keep `stonedem record info` under a minute and a record's arrays under 10 MB each.

@@ -16,7 +16,9 @@ from stonedem.io.schema import missing_metadata
 
 @pytest.fixture(scope="module")
 def rocking_dataset():
-    return run_scene(load_scene("tests/data/scenes/rocking_block.yaml", ["solver.duration=0.5"]))
+    return run_scene(
+        load_scene("tests/data/scenes/rocking_block.yaml", overrides=["solver.duration=0.5"])
+    )
 
 
 def test_every_variable_and_coordinate_has_units_and_long_name(rocking_dataset):

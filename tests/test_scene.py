@@ -51,7 +51,9 @@ def test_tilt_about_bottom_right_leans_onto_that_corner():
 
 
 def test_set_overrides_nested_fields_and_list_items_by_name():
-    scene = load_scene(SCENE, ["solver.duration=1.5", "contact.c_n=200", "bodies.block.mass=10"])
+    scene = load_scene(
+        SCENE, overrides=["solver.duration=1.5", "contact.c_n=200", "bodies.block.mass=10"]
+    )
     assert scene.duration == 1.5 and scene.contact.c_n == 200.0 and scene.bodies[1].mass == 10.0
 
 

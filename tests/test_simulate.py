@@ -11,14 +11,14 @@ SCENE = "tests/data/scenes/rocking_block.yaml"
 
 
 def test_same_scene_gives_bit_identical_histories():
-    scene = load_scene(SCENE, ["solver.duration=1.0"])
+    scene = load_scene(SCENE, overrides=["solver.duration=1.0"])
     a, b = simulate(scene), simulate(scene)
     assert np.array_equal(a.x, b.x) and np.array_equal(a.theta, b.theta)
     assert np.array_equal(a.energy, b.energy)
 
 
 def test_chunking_does_not_change_the_result():
-    scene = load_scene(SCENE, ["solver.duration=0.5"])
+    scene = load_scene(SCENE, overrides=["solver.duration=0.5"])
     a, b = simulate(scene, chunks=1), simulate(scene, chunks=7)
     assert np.array_equal(a.theta, b.theta), "progress chunks must not alter the run"
 
@@ -64,7 +64,7 @@ def test_eight_drum_column_stays_stable_without_excitation():
 def test_rocking_block_dataset_is_self_describing_and_balanced():
     from stonedem.io.schema import missing_metadata
 
-    ds = run_scene(load_scene(SCENE, ["solver.duration=2.0"]))
+    ds = run_scene(load_scene(SCENE, overrides=["solver.duration=2.0"]))
     assert missing_metadata(ds) == []
     assert ds.attrs["dt"] <= ds.attrs["dt_stability_limit"]
     # c_n = 0, mu = 10: the balance closes to 1 % of the rocking energy (28.7 J)
@@ -241,12 +241,12 @@ def test_the_loop_is_compiled_apart_from_its_timed_stepping(monkeypatch):
     import stonedem.engine.simulate as simulate_module
     from stonedem.kernels import step
 
-    ds = run_scene(load_scene(SCENE, ["solver.duration=0.05"]))
+    ds = run_scene(load_scene(SCENE, overrides=["solver.duration=0.05"]))
     assert ds.attrs["compile_seconds"] >= 0.0 and ds.attrs["wall_seconds"] >= 0.0
     assert ds.attrs["compile_seconds_units"] == "s"
     loop = step.run_area if ds.attrs["contact_model"] == "area" else step.run_point
     loaded = len(loop.overloads)
-    again = simulate(load_scene(SCENE, ["solver.duration=0.05"]))
+    again = simulate(load_scene(SCENE, overrides=["solver.duration=0.05"]))
     assert again.compile_seconds == 0.0 and len(loop.overloads) == loaded
     monkeypatch.setattr(simulate_module.Progress, "COMPILE_NOTICE_SECONDS", 0.02)
     out = io.StringIO()

@@ -144,14 +144,14 @@ def _freeze_spec(scene):
 # --- the 2D engine --------------------------------------------------------------------------
 
 
-def load_scene(source, base_dir=None, overrides=None) -> Scene:
+def load_scene(source, *, overrides=None, base_dir=None) -> Scene:
     """A validated scene from a YAML file or a mapping.
 
     Parameters
     ----------
     source : str, os.PathLike or Mapping
         The path of a scene YAML file, or the scene as a mapping with the same keys (the
-        format of README "Scene files": ``bodies`` or ``structure``, ``contact``,
+        format of docs/guide/scenes.md: ``bodies`` or ``structure``, ``contact``,
         ``excitation``, ``solver``, ...). Lengths in m, masses in kg, angles in rad,
         accelerations in m s-2, times in s. A mapping is copied, never changed.
     base_dir : str or os.PathLike, optional
@@ -203,7 +203,7 @@ def load_scene(source, base_dir=None, overrides=None) -> Scene:
             "give the folder the scene's relative file names are in",
         )
     if _is_path(source):
-        return _freeze_spec(load_scene_file(source, overrides, base_dir))
+        return _freeze_spec(load_scene_file(source, overrides=overrides, base_dir=base_dir))
     if isinstance(source, Mapping):
         spec = _thawed(source)  # a copy, tuples as lists
         apply_overrides(spec, overrides)

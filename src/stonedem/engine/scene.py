@@ -6,9 +6,9 @@ excitation, solver and output settings. Every field is checked once here, types 
 (no coercion of a string to a flag or a count), sizes against MAX_BODIES and the mass
 range; a bad one raises :class:`stonedem.errors.InputError` naming its dotted path. Defaults:
 the point contact law, k_n = 1e11 N/m2 per unit contact length, 5 % of critical damping per
-end and a plastic landing, stepped at the stability bound (README "Contact laws"); with ``model:
-area`` the thesis' k_n = 1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone density 2000 kg/m3
-(thesis Fig. 4.6), unit out-of-plane depth.
+end and a plastic landing, stepped at the stability bound (docs/method/engine.md, "Contact laws");
+with ``model: area`` the thesis' k_n = 1e8 N/m2 and c_n = 1e3 N s/m (thesis 3.8, 5.1.2); stone
+density 2000 kg/m3 (thesis Fig. 4.6), unit out-of-plane depth.
 """
 
 from __future__ import annotations
@@ -153,7 +153,7 @@ class Scene:
         return [b.name for b in self.bodies]
 
 
-def load_scene(path: str | Path, overrides=None, base_dir: str | Path | None = None) -> Scene:
+def load_scene(path: str | Path, *, overrides=None, base_dir: str | Path | None = None) -> Scene:
     """Read a scene YAML file, apply overrides (:func:`apply_overrides`), validate; see
     :func:`scene_from_dict`. Records and other files are looked up from ``base_dir``, by
     default the scene file's folder."""
@@ -394,7 +394,7 @@ def scaled_bodies(bodies, factor: float) -> tuple:
 
 
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
-    """Validate a scene mapping (the YAML format documented in README) and build a Scene."""
+    """Validate a scene mapping (the YAML format of docs/guide/scenes.md) and build a Scene."""
     spec = copy.deepcopy(spec)
     check_keys(spec, TOP_KEYS, "")
     for key in ("name", "description"):

@@ -987,8 +987,3 @@ def main(argv: list[str] | None = None) -> int:
 def main_animate(argv: list[str] | None = None) -> int:
     """``stonedem animate`` with its arguments (without the word animate)."""
     return main(["animate", *(sys.argv[1:] if argv is None else argv)])
-
-
-def main_snapshots(argv: list[str] | None = None) -> int:
-    """``stonedem snapshots`` with its arguments (without the word snapshots)."""
-    return main(["snapshots", *(sys.argv[1:] if argv is None else argv)])

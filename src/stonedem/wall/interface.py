@@ -66,18 +66,6 @@ def torsion_strength_with_bending(normal_force, mu, l1, l2, m1, m2):
     return torsion_constant(r1, r2) * mu * n
 
 
-def shear_torsion_admissible(f1, f2, m3, f_su, m3_u, alpha):
-    """Value of (|m3|/m3u)^alpha + (f1^2 + f2^2)/f_su^2 (manuscript Eq. 14 / A5); <= 1 is safe."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return (np.abs(m3) / m3_u) ** alpha + (f1**2 + f2**2) / f_su**2
-
-
-def alpha_from_table(l1_over_l2, shear_direction="f1"):
-    """Table A1 exponent, log-linear interpolation in l1/l2 (``f1``, ``f2`` or ``f1=f2``)."""
-    col = {"f1": 1, "f2": 2, "f1=f2": 3}[shear_direction]
-    return float(np.interp(np.log(l1_over_l2), np.log(TABLE_A1[:, 0]), TABLE_A1[:, col]))
-
-
 @dataclass
 class SpringHistory:
     """Resultants per step of a spring sub-model push: forces [N], moments [N m]."""

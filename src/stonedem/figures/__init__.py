@@ -12,10 +12,8 @@ inputs are in the configured studies, inputs resolved; the workflow maps each in
 
 from __future__ import annotations
 
-import matplotlib
+import importlib
 
-matplotlib.use("Agg")  # before the chapters import pyplot: files only, no display
-from stonedem.figures import chapter6, chapter7  # noqa: E402
 from stonedem.figures.catalogue import (
     Case,
     Cube,
@@ -23,13 +21,17 @@ from stonedem.figures.catalogue import (
     Record,
     Reduction,
     Table,
-    available,  # noqa: E402
+    available,
     input_paths,
 )
-from stonedem.figures.chapter6 import rocking_then_sliding  # noqa: E402
-from stonedem.figures.chapter7 import heavier_epistyle_moves_less, table_7_1_orderings  # noqa: E402
 
-CHAPTERS = (chapter6, chapter7)
+# the chapters (and matplotlib and xarray with them) load on first use (PEP 562), so that
+# ``stonedem --help`` and ``--version``, which import stonedem.figures.snapshots, stay light
+_LAZY = {
+    "rocking_then_sliding": "stonedem.figures.chapter6",
+    "heavier_epistyle_moves_less": "stonedem.figures.chapter7",
+    "table_7_1_orderings": "stonedem.figures.chapter7",
+}
 
 __all__ = [
     "CHAPTERS",
@@ -50,15 +52,31 @@ __all__ = [
 ]
 
 
+def chapters() -> tuple:
+    """The chapter modules whose entries make the catalogue (imported on first call)."""
+    return (
+        importlib.import_module("stonedem.figures.chapter6"),
+        importlib.import_module("stonedem.figures.chapter7"),
+    )
+
+
+def __getattr__(name: str):
+    if name == "CHAPTERS":
+        return chapters()
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'stonedem.figures' has no attribute {name!r}")
+
+
 def figures(config: dict | None = None) -> dict[str, Figure]:
     """Every figure of the catalogue, inputs unresolved (``config``: its snapshot_pgas)."""
     snap = (config or {}).get("snapshot_pgas", {})
-    return {name: figure for chapter in CHAPTERS for name, figure in chapter.figures(snap)}
+    return {name: figure for chapter in chapters() for name, figure in chapter.figures(snap)}
 
 
 def tables() -> dict[str, Reduction]:
     """Every CSV table of the catalogue, inputs unresolved."""
-    return {name: table for chapter in CHAPTERS for name, table in chapter.tables()}
+    return {name: table for chapter in chapters() for name, table in chapter.tables()}
 
 
 def reduction_table(studies: dict) -> dict[str, Reduction]:

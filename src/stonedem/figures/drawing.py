@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
@@ -17,6 +18,10 @@ from stonedem.figures.catalogue import Case, Cube, Figure
 from stonedem.io.atomic import write_atomically
 from stonedem.io.netcdf import open_result
 from stonedem.study.cube import member_summary
+
+# files only, no display: every chapter imports this module, so whichever of them comes first
+# sets the backend before it draws (switching is allowed until a figure exists)
+matplotlib.use("Agg")
 
 THESIS_RECORD = {
     "athens": "athens_standin_kocaeli_arc000",

@@ -196,12 +196,17 @@ def load_scene(source, *, overrides=None, base_dir=None) -> Scene:
         raise TypeError(
             f"base_dir: expected a folder path (str or os.PathLike), got {type(base_dir).__name__}"
         )
-    if base_dir is not None and not Path(base_dir).is_dir():
-        raise InputError(
-            "base_dir",
-            f"{one_line(str(base_dir), 200)} is not a folder",
-            "give the folder the scene's relative file names are in",
-        )
+    if base_dir is not None:
+        try:
+            folder = Path(base_dir).is_dir()
+        except (OSError, ValueError):  # a name too long for the filesystem, a NUL byte
+            folder = False
+        if not folder:
+            raise InputError(
+                "base_dir",
+                f"{one_line(str(base_dir), 200)} is not a folder",
+                "give the folder the scene's relative file names are in",
+            )
     if _is_path(source):
         return _freeze_spec(load_scene_file(source, overrides=overrides, base_dir=base_dir))
     if isinstance(source, Mapping):

@@ -9,10 +9,12 @@ from stonedem.wall.panel import build_panel
 def test_general_form_equals_eq_a2_a3_for_regular_interfaces():
     panel = build_panel(0.081, 0.21, 0.07, 4, 4)
     Hi, Hj = block_blocks(panel)
+    compared = 0
     for k in range(panel.n_interfaces):
         i, j = panel.first[k], panel.second[k]
         mid = 0.5 * (panel.centre[i] + panel.centre[j])
         if np.allclose(mid, panel.centroid[k]):
+            compared += 1
             dy = panel.centre[j] - panel.centre[i]
             H = interface_matrix(dy[0], dy[1])
             np.testing.assert_allclose(
@@ -21,6 +23,9 @@ def test_general_form_equals_eq_a2_a3_for_regular_interfaces():
                 atol=1e-15,
                 err_msg=f"interface {k}: H vs manuscript Eq. A2-A3",
             )
+    # Eq. A2-A3 holds where the interface's centroid is midway between the block centres:
+    # 28 of this panel's 38 interfaces (the others are the half-lapped bed joints)
+    assert compared >= panel.n_interfaces // 2, (compared, panel.n_interfaces)
 
 
 def test_rigid_body_motion_gives_no_relative_displacement():

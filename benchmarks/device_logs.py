@@ -6,14 +6,14 @@ so what they measured is in the lines it printed as it went (``ensemble_run*.txt
 printed). This reads those lines back; the settings of each section are the run's own, from
 the folder's README.
 
-    python benchmarks/device_logs.py [--folder benchmarks/device/h100-2026-11-27]
+    python -m benchmarks.device_logs [--folder benchmarks/device/h100-2026-11-27]
 """
 
 import re
 import sys
 from pathlib import Path
 
-from stonedem.bench import options
+from benchmarks import options
 
 LINE = re.compile(r"^\s+(\S+)\s+(\d+) members\s+(\S+) member-steps/s\s+(\S+) ns each$")
 # (log, the section's marker or None for the whole log): layout, NVVM contraction, members per block
@@ -78,7 +78,7 @@ def rows(folder: Path) -> list[dict]:
 
 
 def build_parser():
-    parser = options.parser("python benchmarks/device_logs.py", __doc__)
+    parser = options.parser("python -m benchmarks.device_logs", __doc__)
     parser.add_argument(
         "--folder",
         type=options.path_arg,

@@ -6,7 +6,7 @@ epistyle under a 20 s accelerogram. Each scene runs once to warm the compile cac
 timed on one core; (b) is also rerun at dt / 2 to show the result changes by < 1 %.
 Prints a table and writes results/bench/engine_speed.nc (and .csv).
 
-    python benchmarks/engine_speed.py [--out results/bench]
+    python -m benchmarks.engine_speed [--out results/bench]
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from stonedem.bench import options  # noqa: E402
+from benchmarks import options  # noqa: E402
 from stonedem.engine.scene import load_scene, scene_from_dict  # noqa: E402
 from stonedem.engine.simulate import simulate  # noqa: E402
 from stonedem.io.atomic import write_atomically  # noqa: E402
@@ -117,7 +117,7 @@ SCENE_A = ROOT / "tests" / "data" / "scenes" / "rocking_block.yaml"
 
 
 def build_parser():
-    parser = options.parser("python benchmarks/engine_speed.py", __doc__)
+    parser = options.parser("python -m benchmarks.engine_speed", __doc__)
     parser.add_argument(
         "--out",
         type=options.path_arg,

@@ -36,7 +36,7 @@ script also resamples the runs on disk (:func:`resampled_rates`, ``--resamples``
 (layers A and B of the unchanged code agree with the baseline exactly, so a null draw's false
 alarms are layer C's).
 
-    python benchmarks/equivalence_calibration.py --baseline
+    python -m benchmarks.equivalence_calibration --baseline
     benchmarks/ensemble/2026-11-28/ensemble.nc
         [--config CONFIG] [--draws 10] [--only null shift flips friction edge_normal tilt] [--jobs
         2] [--work results/bench/calibration] [--out results/bench/calibration/calibration.nc]
@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -674,7 +674,7 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
 def build_parser():
     import argparse
 
-    parser = options.parser("python benchmarks/equivalence_calibration.py", __doc__)
+    parser = options.parser("python -m benchmarks.equivalence_calibration", __doc__)
     parser.add_argument(
         "--baseline", type=options.path_arg, required=True, help="the baseline ensemble file"
     )

@@ -24,7 +24,7 @@ the repository root of the commit named, with ``--config config/config.yaml --jo
   ``candidate-friction-00.nc`` of benchmarks/equivalence_calibration.py: stiffness members with
   the base motion x 1.02, every friction coefficient x 1.01).
 
-    python benchmarks/geometry_band.py --work DIR [--out
+    python -m benchmarks.geometry_band --work DIR [--out
     benchmarks/ensemble/2026-11-29/geometry_band.nc]
 
 Writes one row per draw: members, each layer's verdict, S_v and p_v, S_T and p_T, the answer.
@@ -206,16 +206,16 @@ def band_dataset(work: Path) -> xr.Dataset:
             "(issue 45)",
             "alpha": 0.005,
             "source": code_version(),
-            "command": "python benchmarks/geometry_band.py " + " ".join(sys.argv[1:]),
+            "command": "python -m benchmarks.geometry_band " + " ".join(sys.argv[1:]),
         },
     )
     return ds
 
 
 def main(argv=None) -> int:
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python benchmarks/geometry_band.py", __doc__)
+    parser = options.parser("python -m benchmarks.geometry_band", __doc__)
     parser.add_argument(
         "--work", type=options.path_arg, required=True, help="folder of the candidate files"
     )

@@ -3,8 +3,8 @@
 # device time, starts included):
 #   1. the full IDA on the GPU (`snakemake fragility --config device=gpu`), timed from cold
 #      caches: compile included;
-#   2. the GPU against the CPU ensemble and the engine (stonedem.bench.gpu_check);
-#   3. throughput against members (stonedem.bench.ensemble).
+#   2. the GPU against the CPU ensemble and the engine (benchmarks.gpu_check);
+#   3. throughput against members (benchmarks.ensemble).
 #
 #   bash benchmarks/gpu_device_run.sh          # writes under $OUT (default results/device)
 #
@@ -37,11 +37,11 @@ tail -5 "$OUT/ida_gpu.log"
 grep -h "device\|finished\|searches" results/logs/jobs/search_ida_*.log 2>/dev/null | tail -12
 
 stamp "2. GPU against CPU (gpu_check)"
-timeout "${CHECK_SECONDS:-150}" python3 -m stonedem.bench.gpu_check --records "${CHECK_RECORDS:-20}" --out "$OUT" 2>&1 \
+timeout "${CHECK_SECONDS:-150}" python3 -m benchmarks.gpu_check --records "${CHECK_RECORDS:-20}" --out "$OUT" 2>&1 \
     | tee "$OUT/gpu_check.txt"
 
 stamp "3. throughput against members"
-timeout "${ENSEMBLE_SECONDS:-100}" python3 -m stonedem.bench.ensemble --out "$OUT" --figure "$OUT/ensemble_throughput.png" 2>&1 \
+timeout "${ENSEMBLE_SECONDS:-100}" python3 -m benchmarks.ensemble --out "$OUT" --figure "$OUT/ensemble_throughput.png" 2>&1 \
     | tee "$OUT/ensemble.txt"
 stamp "done"
 # at most 8 files come back: the small ones above, and one archive of the IDA's outputs and logs

@@ -1,6 +1,6 @@
 """Is the GPU's full-record agreement within the CPU's own rounding noise? (issue 44, item 7)
 
-The H100 run of ``stonedem.bench.gpu_check`` (benchmarks/device/h100-2026-11-27/gpu_check.nc)
+The H100 run of ``benchmarks.gpu_check`` (benchmarks/device/h100-2026-11-27/gpu_check.nc)
 compared the GPU's and its host CPU's collapse verdicts on 160 members (``ida_column_1_drum``,
 FEMA far-field FF01a ... FF10b x PGA 1 ... 15 m/s2) and found 3 that differ (98.1 %). This
 runs the same cases on this machine's CPU as K members, k_n x (1 - j 2^-52), j = 0..K-1
@@ -20,7 +20,7 @@ candidate (ENSEMBLES.md sections 2.2 and 4; :mod:`stonedem.study.permutation`):
 Writes the CPU verdicts (case x member) with the H100's beside them, and the statistics, to
 ``--out`` (atomically); ``--reuse`` re-reads such a file instead of running the members.
 
-    python benchmarks/gpu_equivalence.py [--members 8] [--jobs 2] [--records 20]
+    python -m benchmarks.gpu_equivalence [--members 8] [--jobs 2] [--records 20]
         [--gpu-check benchmarks/device/h100-2026-11-27/gpu_check.nc] [--reuse FILE]
         [--out results/bench/gpu_equivalence.nc]
 
@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.errors import InputError
 
 GPU_CHECK = Path("benchmarks/device/h100-2026-11-27/gpu_check.nc")
@@ -453,7 +453,7 @@ def reused(path: Path) -> tuple[list[dict], np.ndarray, np.ndarray, xr.Dataset, 
 
 
 def build_parser():
-    parser = options.parser("python benchmarks/gpu_equivalence.py", __doc__)
+    parser = options.parser("python -m benchmarks.gpu_equivalence", __doc__)
     parser.add_argument(
         "--members",
         type=int,
@@ -498,7 +498,7 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
 
     def command():
-        from stonedem.bench.gpu_check import PGAS, RECORDS, full_record_cases
+        from benchmarks.gpu_check import PGAS, RECORDS, full_record_cases
         from stonedem.io.netcdf import code_version, write_dataset
         from stonedem.study.ensemble import machine
 
@@ -554,7 +554,7 @@ def main(argv=None) -> int:
                 "machine": machine(),
                 "cpu_wall_seconds": time.perf_counter() - start,
                 "config": str(args.config),
-                "members_run_by": "python benchmarks/gpu_equivalence.py",
+                "members_run_by": "python -m benchmarks.gpu_equivalence",
             }
         host = device["attrs"]
         attrs.update(

@@ -9,7 +9,7 @@ process's wall time less the compiled loop's (each run's ``wall_seconds`` and
 the dataset or piece, and the files written. The commits alternate, best of ``--repeats``.
 Writes ``results/bench/run_overhead.nc`` and prints one line per commit and the ratio.
 
-    python benchmarks/run_overhead.py [--parent HEAD~1|none] [--repeats 3] [--out
+    python -m benchmarks.run_overhead [--parent HEAD~1|none] [--repeats 3] [--out
     results/bench/run_overhead.nc]
 """
 
@@ -110,7 +110,7 @@ def main(argv=None) -> int:
 
 def commit_of(rev: str, field: str) -> str:
     """The full hash of ``rev``, or a one-line InputError naming ``field``."""
-    from stonedem.bench.kernel import ParentUnavailable, resolve_commit
+    from benchmarks.kernel import ParentUnavailable, resolve_commit
     from stonedem.errors import InputError
 
     try:

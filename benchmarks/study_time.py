@@ -8,7 +8,7 @@ same session, so the parent's time checks the machine's speed. Writes
 results/bench/study_time.csv (target, version, commit, wall seconds, exit status, jobs): the
 rows of this target and config replace those of an earlier run, the other targets' rows stay.
 
-    python benchmarks/study_time.py [--parent 55e0c02|none] [--target all] [--configfile
+    python -m benchmarks.study_time [--parent 55e0c02|none] [--target all] [--configfile
     config/quick.yaml]
                                     [--out results/bench/study_time.csv] [--out-clones FOLDER]
 
@@ -26,7 +26,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.entry import check_output_path
 from stonedem.errors import InputError
 
@@ -34,9 +34,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def commit_of(rev: str) -> str:
-    """The full hash of ``rev`` (:func:`stonedem.bench.kernel.resolve_commit`), or one line naming
+    """The full hash of ``rev`` (:func:`benchmarks.kernel.resolve_commit`), or one line naming
     the option."""
-    from stonedem.bench.kernel import ParentUnavailable, resolve_commit
+    from benchmarks.kernel import ParentUnavailable, resolve_commit
 
     try:
         return resolve_commit(rev, ROOT)
@@ -93,7 +93,7 @@ def run_target(commit: str, target: str, configfiles: list[str], workdir: Path) 
 
 
 def main(argv=None) -> int:
-    parser = options.parser("python benchmarks/study_time.py", __doc__)
+    parser = options.parser("python -m benchmarks.study_time", __doc__)
     parser.add_argument(
         "--parent",
         default="HEAD~1",

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy import optimize
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.wall.interface import TABLE_A1, SpringInterface, fit_alpha, ramp, torsion_constant
 
 DIRECTIONS = {"f1": 0.0, "f2": math.pi / 2, "f1=f2": math.pi / 4}
@@ -109,7 +109,7 @@ def fits(points):
 
 
 def build_parser():
-    parser = options.parser("python benchmarks/table_a1_fits.py", __doc__)
+    parser = options.parser("python -m benchmarks.table_a1_fits", __doc__)
     parser.add_argument("--quick", action="store_true", help="grids of 8 and 16 springs only")
     parser.add_argument(
         "-o",

@@ -8,7 +8,7 @@ run by member j as the baseline runs it (quiet lead skipped), by the same member
 quiet lead integrated (``skip_quiet`` off, no tilt), and by the two tilt signs (j even: -1e-6
 rad, odd: +1e-6 rad; a tilted scene integrates its quiet lead anyway).
 
-    python benchmarks/tilt_quiet_probe.py [--systems ID ...] [--member 20]
+    python -m benchmarks.tilt_quiet_probe [--systems ID ...] [--member 20]
         [--out benchmarks/ensemble/2026-11-28/tilt_quiet_probe.nc]
 """
 
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.errors import InputError
 
 SYSTEMS = ("rec-kalamata_standin_izmit_izt270_drums-1", "rec-athens_standin_kocaeli_arc000_drums-1")
@@ -75,7 +75,7 @@ def probe(system, member: int) -> dict:
 
 
 def main(argv=None) -> int:
-    parser = options.parser("python benchmarks/tilt_quiet_probe.py", __doc__)
+    parser = options.parser("python -m benchmarks.tilt_quiet_probe", __doc__)
     parser.add_argument(
         "--systems",
         nargs="+",

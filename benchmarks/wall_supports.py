@@ -24,7 +24,7 @@ with the case file as given and with one detail changed at a time:
 Prints λ (or p in kPa) and the error against the manuscript's DEM column per variant and
 writes ``results/walls/supports.csv``.
 
-    python benchmarks/wall_supports.py [--only chee_liang_2_3 s5 ...] [--out results/walls]
+    python -m benchmarks.wall_supports [--only chee_liang_2_3 s5 ...] [--out results/walls]
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.wall.case import case_from_dict, read_case
 from stonedem.wall.pushover import ConvergenceError, pushover
 
@@ -217,7 +217,7 @@ def run(spec, name, law=None, transform=None, lever=None):
 
 
 def build_parser():
-    ap = options.parser("python benchmarks/wall_supports.py", __doc__)
+    ap = options.parser("python -m benchmarks.wall_supports", __doc__)
     ap.add_argument(
         "--only",
         nargs="*",

@@ -7,7 +7,7 @@ DEM is met, the solver status and the run time; beside them the limit analysis o
 model (``stonedem.wall.limit_analysis``) on the pushover's caps at its peak (the oracle) and on
 the dead-load caps. Writes ``results/walls/benchmark.csv``.
 
-    python benchmarks/wall_tables.py [--only orduna_case1 s11 ...] [--max-seconds 150] [--out
+    python -m benchmarks.wall_tables [--only orduna_case1 s11 ...] [--max-seconds 150] [--out
     results/walls] [--secant]
 """
 
@@ -18,7 +18,7 @@ import sys
 import time
 from pathlib import Path
 
-from stonedem.bench import options
+from benchmarks import options
 from stonedem.wall.case import load_case
 from stonedem.wall.dataset import add_limit_analysis, wall_dataset
 from stonedem.wall.limit_analysis import limit_multiplier
@@ -102,7 +102,7 @@ MAX_SECONDS = 86_400.0  # [s] a day per case
 
 
 def build_parser():
-    ap = options.parser("python benchmarks/wall_tables.py", __doc__)
+    ap = options.parser("python -m benchmarks.wall_tables", __doc__)
     ap.add_argument(
         "--only",
         nargs="*",

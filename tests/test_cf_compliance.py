@@ -49,7 +49,7 @@ def cf_errors(path) -> list[str]:
 def outputs(tmp_path_factory):
     """{kind: path} of one small file of each kind, written as the workflow writes them."""
     import stonedem
-    from stonedem.bench import ensemble
+    from benchmarks import ensemble
     from stonedem.fragility.fit import fragility_dataset
     from stonedem.fragility.ida import ida_cube
     from stonedem.io.netcdf import write_dataset

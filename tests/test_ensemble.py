@@ -4,11 +4,11 @@ side give every scene exactly the run simulate gives it."""
 import numpy as np
 import pytest
 
-from stonedem.bench.kernel import SCENES
 from stonedem.engine.ensemble import run_ensemble
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.errors import InputError
+from stonedem.study.reference_scenes import SCENES
 
 FIELDS = ("time", "x", "y", "theta", "energy", "n_contact", "peaks", "peak_theta")
 SCALARS = (

@@ -25,7 +25,7 @@ TOLERANCE = 1e-9
 CHILD = textwrap.dedent("""
     import json, sys
     import numpy as np
-    from stonedem.bench.kernel import SCENES
+    from stonedem.study.reference_scenes import SCENES
     from stonedem.engine import ensemble
     from stonedem.engine.scene import scene_from_dict
     from stonedem.engine.simulate import simulate
@@ -162,9 +162,9 @@ def test_unknown_device_is_refused_in_one_line():
 
 
 def test_gpu_without_one_says_why(monkeypatch):
-    from stonedem.bench.kernel import SCENES
     from stonedem.engine.scene import scene_from_dict
     from stonedem.kernels import gpu
+    from stonedem.study.reference_scenes import SCENES
 
     monkeypatch.setattr(gpu, "gpu_available", lambda: (False, "no CUDA GPU or driver found"))
     with pytest.raises(RuntimeError, match="^device gpu: no CUDA GPU"):

@@ -327,41 +327,33 @@ def test_fuzz_argv_of_every_subcommand(arena, command, data):
 # --- benchmark scripts ------------------------------------------------------------------
 
 BENCH_MODULES = [
-    "stonedem.bench.contact_cost",
-    "stonedem.bench.ensemble",
-    "stonedem.bench.fuzz",
-    "stonedem.bench.gpu_check",
-    "stonedem.bench.kernel",
-    "stonedem.bench.restitution",
-    "stonedem.bench.rounding",
-    "stonedem.bench.skipping",
-    "stonedem.bench.stability",
-    "stonedem.bench.work_precision",
-    "stonedem.study.ensemble",
-]
-BENCH_SCRIPTS = [
-    "device_logs",
-    "engine_speed",
-    "equivalence_calibration",
-    "study_time",
-    "table_a1_fits",
-    "tilt_quiet_probe",
-    "wall_supports",
-    "wall_tables",
-]
+    f"benchmarks.{name}"
+    for name in (
+        "contact_cost",
+        "device_logs",
+        "engine_speed",
+        "ensemble",
+        "equivalence_calibration",
+        "fuzz",
+        "gpu_check",
+        "kernel",
+        "restitution",
+        "rounding",
+        "skipping",
+        "stability",
+        "study_time",
+        "table_a1_fits",
+        "tilt_quiet_probe",
+        "wall_supports",
+        "wall_tables",
+        "work_precision",
+    )
+] + ["stonedem.study.ensemble"]
 
 
 @functools.cache
 def _bench_main(name):
-    if name in BENCH_SCRIPTS:
-        spec = importlib.util.spec_from_file_location(
-            f"bench_{name}", ROOT / "benchmarks" / f"{name}.py"
-        )
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-    else:
-        module = importlib.import_module(name)
-    return module.main
+    return importlib.import_module(name).main
 
 
 @functools.cache
@@ -395,15 +387,15 @@ def _bench_options(main) -> dict:
 
 # output options that name a file (the others name a folder)
 FILE_OUTPUTS = {
-    ("stonedem.bench.fuzz", "--out"),
-    ("table_a1_fits", "--output"),
-    ("stonedem.bench.stability", "--figure"),
-    ("stonedem.bench.kernel", "--figure"),
-    ("stonedem.bench.ensemble", "--figure"),
-    ("study_time", "--out"),
+    ("benchmarks.fuzz", "--out"),
+    ("benchmarks.table_a1_fits", "--output"),
+    ("benchmarks.stability", "--figure"),
+    ("benchmarks.kernel", "--figure"),
+    ("benchmarks.ensemble", "--figure"),
+    ("benchmarks.study_time", "--out"),
     ("stonedem.study.ensemble", "--out"),
-    ("equivalence_calibration", "--out"),
-    ("tilt_quiet_probe", "--out"),
+    ("benchmarks.equivalence_calibration", "--out"),
+    ("benchmarks.tilt_quiet_probe", "--out"),
 }
 # wrong for any number, count, name or input file an option may take
 BAD_VALUES = ["nan", "-inf", "inf", "1e309", "-1", "abc", "", "0x10", "é", "1e3e3"]
@@ -416,7 +408,7 @@ def _bad_values(script, option, files) -> list[str]:
     return BAD_VALUES + [files[k] for k in ("folder", "garbage", "latin1", "sparse", "missing")]
 
 
-@pytest.mark.parametrize("script", BENCH_MODULES + BENCH_SCRIPTS)
+@pytest.mark.parametrize("script", BENCH_MODULES)
 @settings(suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(data=st.data())
 def test_fuzz_argv_of_every_benchmark_refuses_bad_values_first(arena, script, data):

@@ -5,12 +5,13 @@ Every ``import`` and ``from ... import`` of ``stonedem`` in ``src/stonedem`` is 
 each; packages on one row may not import each other):
 
     version, errors, units < io < entry < options < kernels < reference < motion < engine
-    < validation < study < fragility < figures | bench < api < cli < __main__ and the package face
+    < validation < study < fragility < figures < api < cli < __main__ and the package face
 
 ``wall`` stands beside the stack and imports only ``version``, ``errors``, ``entry`` and
 ``io``; only the public face (``api``) and the command line import it. ``api`` (what a
 script needs) may import everything below it; only the command line and the package face
-import it.
+import it. The benchmarks (``benchmarks/``, not installed) sit above all of it: the package
+never imports them.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ LAYERS = [
     {"validation"},
     {"study"},
     {"fragility"},
-    {"figures", "bench"},
+    {"figures"},
     {"api"},
     {"cli"},
     {"__main__", ""},  # "": the package's own __init__, its public face
@@ -172,4 +173,18 @@ def test_a_low_layer_loads_no_engine(package):
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     ).stdout
     loaded = set(ast.literal_eval(out.strip()))
-    assert not loaded & {"engine", "study", "validation", "fragility", "figures", "bench"}, loaded
+    assert not loaded & {"engine", "study", "validation", "fragility", "figures"}, loaded
+
+
+def test_the_package_never_imports_the_benchmarks():
+    """benchmarks/ is not installed, so an import of it from src would fail in a wheel."""
+    wrong = []
+    for module, path in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module]
+            wrong += [f"{module} -> {n}" for n in names if n.split(".")[0] == "benchmarks"]
+    assert not wrong, wrong

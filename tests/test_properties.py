@@ -14,11 +14,11 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from stonedem.bench.stability import critical_damping, energy_drift, overlap_depths
+from benchmarks.stability import critical_damping, energy_drift, overlap_depths
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
 
-# energy balance drift / energy the run moves (stonedem.bench.stability.energy_drift); measured
+# energy balance drift / energy the run moves (benchmarks.stability.energy_drift); measured
 # over 600 random examples: |drift| at most 2.1e-3, energy created at most 8e-4
 ENERGY_TOLERANCE = 0.01
 # deepest overlap between two bodies / drum height; measured over 600 random examples: at

@@ -150,10 +150,10 @@ def test_unstable_dt_message_names_the_limit():
 
 
 def test_an_overlap_far_along_a_row_of_bodies_is_found():
-    from stonedem.bench.contact_cost import drum_wall_scene
     from stonedem.errors import InputError
+    from tests.scenes import drum_wall
 
-    spec = drum_wall_scene(30, 2)
+    spec = drum_wall(30, 2)
     last = spec["bodies"][-1]
     # the top drum of the last column sinks 1 cm into the one below
     last["box"]["center"][1] -= 0.01

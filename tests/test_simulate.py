@@ -150,9 +150,9 @@ def test_stability_limit_from_broad_phase_pairs_equals_the_all_pairs_scan(monkey
     import itertools
 
     import stonedem.engine.simulate as sim
-    from stonedem.bench.contact_cost import drum_wall_scene
+    from tests.scenes import drum_wall
 
-    scene = scene_from_dict(drum_wall_scene(6, 4))  # 24 drums in 6 columns, gaps between them
+    scene = scene_from_dict(drum_wall(6, 4))  # 24 drums in 6 columns, gaps between them
     fast = sim.stability_limit(scene)
     monkeypatch.setattr(
         sim, "box_pairs", lambda lo, hi, margin: list(itertools.combinations(range(len(lo)), 2))

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.bench import rounding
+from benchmarks import rounding
 from stonedem.study import ensemble
 from stonedem.study.grid import config_cases, load_config, run_case
 

@@ -1,6 +1,6 @@
 """Command lines: every option and output path checked before anything runs.
 
-Shared by the ``main`` of every :mod:`stonedem.bench` module, the study's commands
+Shared by the ``main`` of every :mod:`benchmarks` module, the study's commands
 (:mod:`stonedem.study.ensemble`, :mod:`stonedem.study.equivalence`), ``benchmarks/*.py`` and
 ``workflow/scripts/bench.py``, with the conventions of :mod:`stonedem.entry`: a bad option is
 refused in one line, ``error: <field>: <problem>; <fix>``, exit 2, before any computing, and

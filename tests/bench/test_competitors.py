@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.bench import canonical as cn
+from benchmarks import canonical as cn
 from stonedem.reference import analytic
 from stonedem.validation.cases import zero_crossings
 
@@ -22,7 +22,7 @@ DT = 1e-3
 
 @pytest.fixture(scope="module", params=["pymunk", "mujoco"])
 def engine(request):
-    from stonedem.bench.work_precision import competitor
+    from benchmarks.work_precision import competitor
 
     pytest.importorskip(request.param)
     return competitor(request.param)

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from stonedem.bench import contact_cost as cc
+from benchmarks import contact_cost as cc
 
 
 @pytest.mark.parametrize(

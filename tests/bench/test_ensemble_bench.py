@@ -1,9 +1,9 @@
-"""The ensemble throughput benchmark (stonedem.bench.ensemble, issue 33) writes a
+"""The ensemble throughput benchmark (benchmarks.ensemble, issue 33) writes a
 self-describing dataset whose numbers add up."""
 
 import numpy as np
 
-from stonedem.bench import ensemble
+from benchmarks import ensemble
 from stonedem.io.netcdf import open_result
 from stonedem.io.schema import missing_metadata
 

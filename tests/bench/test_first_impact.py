@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.bench import canonical as cn
-from stonedem.bench import ours, pymunk_engine, work_precision
-from stonedem.bench.work_precision import QUICK, run_sweep, speedup_table
+from benchmarks import canonical as cn
+from benchmarks import ours, pymunk_engine, work_precision
+from benchmarks.work_precision import QUICK, run_sweep, speedup_table
 from stonedem.io.schema import missing_metadata
 from stonedem.reference import analytic
 

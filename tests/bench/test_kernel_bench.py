@@ -1,9 +1,9 @@
-"""The kernel benchmark's parent checkouts (stonedem.bench.kernel): the cache keeps only the
+"""The kernel benchmark's parent checkouts (benchmarks.kernel): the cache keeps only the
 most recently used ones."""
 
 import os
 
-from stonedem.bench.kernel import prune_parents
+from benchmarks.kernel import prune_parents
 
 
 def test_prune_parents_keeps_the_most_recently_used(tmp_path):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.bench import restitution as rs
+from benchmarks import restitution as rs
 from stonedem.engine.simulate import simulate
 from stonedem.engine.structures import build_structure
 from stonedem.io.netcdf import write_dataset

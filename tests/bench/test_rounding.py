@@ -1,4 +1,4 @@
-"""The rounding-sensitivity benchmark (stonedem.bench.rounding): what it perturbs, what it
+"""The rounding-sensitivity benchmark (benchmarks.rounding): what it perturbs, what it
 counts, and its command line."""
 
 import math
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from stonedem.bench import rounding
+from benchmarks import rounding
 from stonedem.engine.run import run_scene
 from stonedem.study.grid import config_cases, load_config
 

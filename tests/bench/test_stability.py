@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 import stonedem.kernels.step
-from stonedem.bench import stability
+from benchmarks import stability
 from stonedem.cli import main as cli_main
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import choose_time_step, stability_limit

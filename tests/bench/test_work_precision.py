@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from stonedem.bench import canonical as cn
-from stonedem.bench import ours, pymunk_engine
-from stonedem.bench.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
+from benchmarks import canonical as cn
+from benchmarks import ours, pymunk_engine
+from benchmarks.work_precision import NO_VARIANT, QUICK, run_sweep, speedup_table
 from stonedem.engine.scene import scene_from_dict
 from stonedem.io.schema import missing_metadata
 

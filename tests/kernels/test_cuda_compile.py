@@ -23,12 +23,12 @@ def test_the_member_kernel_compiles_to_ptx(monkeypatch):
     import numba.cuda.dispatcher as dispatcher
     from numba import cuda, typeof
 
-    from stonedem.bench.kernel import SCENES
     from stonedem.engine.ensemble import pair_capacity
     from stonedem.engine.scene import scene_from_dict
     from stonedem.engine.simulate import plan_run
     from stonedem.kernels import gpu, step
     from stonedem.kernels.members import stack
+    from stonedem.study.reference_scenes import SCENES
 
     try:
         from numba.cuda.cudadrv import nvvm

@@ -4,15 +4,14 @@
 # config bench_profile: full (the sweeps) or quick (a few points per engine: CI).
 import shlex
 
-import stonedem.bench.work_precision
-
+# the scenes of benchmarks/work_precision.py (SCENES), one figure each: named here, not
+# imported, so that the workflow parses where benchmarks/ is not (a copy of the rules); the
+# job checks that its module writes exactly these files (workflow/scripts/bench.py)
+WORK_PRECISION_SCENES = ("a", "a1", "b", "c")
 BENCH_QUICK = config.get("bench_profile", "full") == "quick"
 BENCH_OUTPUTS = {
     "bench_work_precision": ["results/bench/work_precision.nc"]
-    + [
-        f"results/figures/work_precision_{scene}.png"
-        for scene in stonedem.bench.work_precision.SCENES
-    ],
+    + [f"results/figures/work_precision_{scene}.png" for scene in WORK_PRECISION_SCENES],
     "bench_contact_cost": ["results/bench/contact_cost.nc", "results/figures/contact_cost.png"],
     "bench_stability": [
         "results/bench/stability_map.nc",
@@ -103,7 +102,7 @@ rule bench_restitution:
     params:
         quick="--quick" if BENCH_QUICK else "",
     shell:
-        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.restitution {params.quick} --config {input} "
+        "NUMBA_NUM_THREADS=1 python -m benchmarks.restitution {params.quick} --config {input} "
         "--out {output} > {log} 2>&1"
 
 
@@ -118,7 +117,7 @@ rule bench_fuzz:
     params:
         quick="--quick" if BENCH_QUICK else "",
     shell:
-        "python -m stonedem.bench.fuzz {params.quick} --out {output} > {log} 2>&1"
+        "python -m benchmarks.fuzz {params.quick} --out {output} > {log} 2>&1"
 
 
 # ns per step of the compiled loop, stage by stage, for six scenes from a lone block to a row
@@ -144,7 +143,7 @@ rule bench_kernel:
             else ""
         ),
     shell:
-        "NUMBA_NUM_THREADS=1 python -m stonedem.bench.kernel {params.quick} {params.parent} "
+        "NUMBA_NUM_THREADS=1 python -m benchmarks.kernel {params.quick} {params.parent} "
         "--out $(dirname {output.dataset}) --figure {output.figure} > {log} 2>&1"
 
 
@@ -163,7 +162,7 @@ rule bench_gpu:
     params:
         quick="--quick" if BENCH_QUICK else "",
     shell:
-        "python -m stonedem.bench.ensemble {params.quick} --out $(dirname {output.dataset}) "
+        "python -m benchmarks.ensemble {params.quick} --out $(dirname {output.dataset}) "
         "--figure {output.figure} > {log} 2>&1"
 
 
@@ -188,7 +187,7 @@ rule bench_rounding:
             else "--config config/config.yaml --perturbations 7"
         ),
     shell:
-        "python -m stonedem.bench.rounding {params.args} --jobs {threads} "
+        "python -m benchmarks.rounding {params.args} --jobs {threads} "
         "--out $(dirname {output}) > {log} 2>&1"
 
 

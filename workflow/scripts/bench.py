@@ -1,4 +1,4 @@
-"""Snakemake script of workflow/rules/bench.smk: one stonedem.bench module per rule, thin.
+"""Snakemake script of workflow/rules/bench.smk: one benchmarks module per rule, thin.
 
 The benchmark modules time one thread (none of their loops is parallel).
 Each rule's outputs must be the files its module writes (the module is told their folders):
@@ -8,8 +8,11 @@ exit 2, before anything runs; the job's exit status is the module's.
 
 import os
 import sys
+from pathlib import Path
 
 sm = snakemake
+# the benchmarks are a package of the checkout, not installed: import them from its root
+sys.path.insert(0, str(Path(sm.scriptdir).resolve().parents[1]))
 sys.stderr = open(sm.log[0], "w")
 sys.stdout = sys.stderr
 quick = ["--quick"] if sm.params.quick else []
@@ -17,7 +20,7 @@ d = os.path.dirname
 
 
 def bench_work_precision():
-    from stonedem.bench import work_precision
+    from benchmarks import work_precision
 
     out, figures = d(sm.output[0]), d(sm.output[1])
     expected = [os.path.join(out, "work_precision.nc")] + [
@@ -27,7 +30,7 @@ def bench_work_precision():
 
 
 def bench_contact_cost():
-    from stonedem.bench import contact_cost
+    from benchmarks import contact_cost
 
     root = d(d(sm.output[0]))
     expected = [
@@ -38,7 +41,7 @@ def bench_contact_cost():
 
 
 def bench_stability():
-    from stonedem.bench import stability
+    from benchmarks import stability
 
     out = d(sm.output[0])
     expected = [
@@ -50,7 +53,7 @@ def bench_stability():
 
 
 def bench_skipping():
-    from stonedem.bench import skipping
+    from benchmarks import skipping
 
     out = d(sm.output[0])
     limit = ["--limit", "4"] if sm.params.quick else []

@@ -8,10 +8,10 @@ step, never print and never raise for physics: they return status codes that
 
 Who imports what: :mod:`stonedem.engine.simulate` is the only caller of
 :func:`stonedem.kernels.step.run`;
-:mod:`stonedem.engine.run`, :mod:`stonedem.validation.cases` and benchmarks of :mod:`stonedem.bench`
+:mod:`stonedem.engine.run`, :mod:`stonedem.validation.cases` and benchmarks of :mod:`benchmarks`
 read its ENERGY_* columns and STATUS_* codes. Outside the time loop,
 :mod:`stonedem.motion.excitation` evaluates base motion with :mod:`stonedem.kernels.excitation`, and
-:mod:`stonedem.engine.scene` and benchmarks of :mod:`stonedem.bench` call the broad phase and
+:mod:`stonedem.engine.scene` and benchmarks of :mod:`benchmarks` call the broad phase and
 overlap kernels directly.
 :mod:`stonedem.reference.rigid_rocking` and :mod:`stonedem.reference.bouc_wen` are not part of the
 engine: they are compiled references that :mod:`stonedem.reference.analytic` wraps (the rigid block

@@ -15,7 +15,7 @@ the issue's file contract (a ``member`` dim; ``case``, ``system``, ``run`` table
         [--first 0] [--perturbation stiffness] [--jobs 2] [--checks full|quick|none]
         [--from-rounding rounding.nc] --out ensemble.nc
 
-``--from-rounding`` takes a :mod:`stonedem.bench.rounding` file (its perturbations 0..K are
+``--from-rounding`` takes a :mod:`benchmarks.rounding` file (its perturbations 0..K are
 members 0..K of the stiffness perturbation) instead of running the members again: its
 searches are replayed from their collapse maps, so only the stripe fills and the checks run.
 """
@@ -50,7 +50,7 @@ RECORDS = Path("records")  # the cases' records, from the repository root (as th
 MAX_JOBS = 256
 CHECKS = ("full", "quick", "none")
 STRIPE = "stripe"  # run_phase of a stripe fill
-ROUNDING_FIX = "give a rounding.nc of python -m stonedem.bench.rounding"
+ROUNDING_FIX = "give a rounding.nc of python -m benchmarks.rounding"
 
 
 class MemberResults(NamedTuple):
@@ -305,12 +305,12 @@ def stripe_requests(members, run_values, thresholds, survived) -> list[tuple[int
 
 
 def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
-    """A :mod:`stonedem.bench.rounding` file, in memory, with what :func:`from_rounding` reads
+    """A :mod:`benchmarks.rounding` file, in memory, with what :func:`from_rounding` reads
     (perturbations 0..K, the cases' verdicts, the searches' collapse maps and brackets), or an
     InputError naming ``field``."""
     from stonedem import options
 
-    ds = options.read_netcdf(path, field, "rounding.nc of stonedem.bench.rounding", ROUNDING_FIX)
+    ds = options.read_netcdf(path, field, "rounding.nc of benchmarks.rounding", ROUNDING_FIX)
     if "perturbation" not in ds.dims:
         raise InputError(field, f"{path} has no perturbation dimension", ROUNDING_FIX)
     needed = [
@@ -345,7 +345,7 @@ def from_rounding(
     rounding, cases, systems, jobs: int = 1, log=sys.stderr, stripes: bool = True
 ) -> MemberResults:
     """The results :func:`run_members` gives for ``cases`` and ``systems`` (the config's, in
-    its order) with members 0..K, read from a :mod:`stonedem.bench.rounding` file of the same
+    its order) with members 0..K, read from a :mod:`benchmarks.rounding` file of the same
     cases (its path, or the dataset :func:`read_rounding` gave) instead of run: its
     perturbations 0..K are the stiffness members 0..K. Each search is replayed from its
     collapse map (the rule picks each next value, the map gives its outcome: the same values,
@@ -795,7 +795,7 @@ def build_parser():
         "--from-rounding",
         type=options.path_arg,
         default=None,
-        help="a rounding.nc of stonedem.bench.rounding: its runs are the members' "
+        help="a rounding.nc of benchmarks.rounding: its runs are the members' "
         "(stiffness, j = 0..K)",
     )
     parser.add_argument(

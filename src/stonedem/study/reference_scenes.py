@@ -1,8 +1,8 @@
 """The reference scenes the benchmarks and the equivalence test share: a lone rocking block,
 columns of 1, 8 and 30 drums and colonnades under the Athens stand-in, at the study's contact
-settings (:data:`SCENES`, timed by :mod:`stonedem.bench.kernel`), and the short-horizon members
+settings (:data:`SCENES`, timed by :mod:`benchmarks.kernel`), and the short-horizon members
 built from them (:func:`short_horizon_members`: layer B of :mod:`stonedem.study.exact_checks`,
-and the GPU checks of :mod:`stonedem.bench.gpu_check`)."""
+and the GPU checks of :mod:`benchmarks.gpu_check`)."""
 
 from __future__ import annotations
 

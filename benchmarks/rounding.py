@@ -13,7 +13,7 @@ bracket, the result was never determined more finely than that by the engine as 
 any change of the arithmetic in the last bits (another compiler, CPU, libm, or a faster
 formula for the same physics) moves it as much.
 
-    python -m stonedem.bench.rounding [--config config/config.yaml] [--perturbations 3] [--jobs 2]
+    python -m benchmarks.rounding [--config config/config.yaml] [--perturbations 3] [--jobs 2]
 """
 
 from __future__ import annotations
@@ -313,9 +313,9 @@ def summary_lines(ds: xr.Dataset) -> list[str]:
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.rounding", __doc__)
+    parser = options.parser("python -m benchmarks.rounding", __doc__)
     options.add_study_arguments(parser)
     parser.add_argument(
         "--perturbations",
@@ -348,7 +348,7 @@ def build_parser():
 def check_args(args):
     """(grid cases, search systems, K, jobs, output path), every scene built once (records
     found), or an InputError before anything runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     n_perturbations = options.number(
         args.perturbations, "--perturbations", lo=1, hi=MAX_PERTURBATIONS, whole=True, example="3"
@@ -363,7 +363,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

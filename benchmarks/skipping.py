@@ -6,7 +6,7 @@ skipping the quiet lead and the at-rest tail (:func:`stonedem.engine.quiet.quiet
 the compiled loop's wall time and steps, and the response measures of each way, so the
 table shows what each skip saves and that the answers do not move (the error bound).
 
-    python -m stonedem.bench.skipping [--config config/quick.yaml] [--out results/bench]
+    python -m benchmarks.skipping [--config config/quick.yaml] [--out results/bench]
 """
 
 from __future__ import annotations
@@ -160,9 +160,9 @@ RECORDS = Path("records")  # the cases' records, from the repository root (as th
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.skipping", __doc__)
+    parser = options.parser("python -m benchmarks.skipping", __doc__)
     parser.add_argument(
         "--config",
         type=options.path_arg,
@@ -190,7 +190,7 @@ def build_parser():
 def check_args(args):
     """(cases, output path), every case's scene built once (records found), or an InputError
     before anything runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     limit = options.number(args.limit, "--limit", lo=0, hi=MAX_LIMIT, whole=True, example="4")
     path = options.output_folder(args.out, "--out", files=("skipping.nc",)) / "skipping.nc"
@@ -209,7 +209,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options, config, cases and output path checked first (one line, exit 2); then the runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -235,6 +235,6 @@ def column_record():
 
     import xarray as xr
 
-    path = Path(__file__).resolve().parents[3] / "records" / f"{COLUMN_RECORD}.nc"
+    path = Path(__file__).resolve().parents[1] / "records" / f"{COLUMN_RECORD}.nc"
     with xr.open_dataset(path) as rec:
         return rec["time"].values.astype(float), rec["acceleration"].values.astype(float)

@@ -1,21 +1,21 @@
 """Work-precision benchmark: wall time per simulated second against error (issue 6, DESIGN §6).
 
-Scenes (:mod:`stonedem.bench.canonical`): (a) free rocking, error = worst relative error of the
+Scenes (:mod:`benchmarks.canonical`): (a) free rocking, error = worst relative error of the
 first three impact times and peaks against the exact rigid block (worst of two blocks);
 (a1) free rocking to the first impact, the blocks of (a) released from the same tilt, error =
 worst over the two blocks of |t_1 / exact t_1 - 1|, the relative error of the first impact
-time (:func:`stonedem.bench.canonical.first_impact_error`);
+time (:func:`benchmarks.canonical.first_impact_error`);
 (b) pulse sliding, error = |u_max / Newmark - 1|; (c) an 8-drum column under a record,
 error = worst of the rotation and sliding histories against the same engine at dt / 16.
 Engines, in the same process and run: ours, with three contact variants
-(:data:`stonedem.bench.ours.VARIANTS`: the thesis' overlap-area law with a calibrated dashpot,
+(:data:`benchmarks.ours.VARIANTS`: the thesis' overlap-area law with a calibrated dashpot,
 point contacts with a calibrated dashpot, point contacts with Housner's plastic landing
 and zeta 0.05), each a sweep of k_n and dt as a fraction of the stability limit; pymunk
-(:mod:`stonedem.bench.pymunk_engine`) and MuJoCo (:mod:`stonedem.bench.mujoco_engine`), each over
+(:mod:`benchmarks.pymunk_engine`) and MuJoCo (:mod:`benchmarks.mujoco_engine`), each over
 dt.
 
 How the runs of (a1) stop: every engine runs each block for a fixed duration,
-:data:`stonedem.bench.canonical.FIRST_IMPACT_MARGIN` (1.2) x the exact rigid block's first
+:data:`benchmarks.canonical.FIRST_IMPACT_MARGIN` (1.2) x the exact rigid block's first
 impact time (0.349 s and 0.847 s, so 0.419 s and 1.017 s; 1.436 simulated seconds in all),
 sampled every 1 ms as in (a); the impact is the first sign change of theta, linearly
 interpolated between samples, exactly as (a) detects each of its impacts (no sign change
@@ -35,7 +35,7 @@ fewer timings. The comparison (:func:`speedup_table`) is
 the best competitor's wall time over ours at equal or better error, for the best of our
 variants and for each.
 
-    python -m stonedem.bench.work_precision [--quick] [--scenes a a1 c] [--contacts point area]
+    python -m benchmarks.work_precision [--quick] [--scenes a a1 c] [--contacts point area]
     [--repeats 3]
                                        [--out results/bench] [--figures results/figures]
 """
@@ -52,8 +52,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench import canonical as cn
-from stonedem.bench import ours
+from benchmarks import canonical as cn
+from benchmarks import ours
 from stonedem.reference import analytic
 
 SCENES = ("a", "a1", "b", "c")
@@ -115,9 +115,9 @@ QUICK = {
 def competitor(name):
     """The adapter module of a competing engine (imported only when it runs)."""
     if name == "pymunk":
-        from stonedem.bench import pymunk_engine as module
+        from benchmarks import pymunk_engine as module
     elif name == "mujoco":
-        from stonedem.bench import mujoco_engine as module
+        from benchmarks import mujoco_engine as module
     else:
         raise ValueError(f"unknown engine {name!r}")
     return module
@@ -598,7 +598,7 @@ def sweep_dataset(rows, column_duration) -> xr.Dataset:
             "ours_rocking_damping": "area: c_n, point_dashpot: zeta, calibrated per block and "
             "k_n to Housner's "
             "first-impact energy ratio at 0.1 x the stability limit "
-            "(stonedem.bench.ours.calibrate_rocking_damping); point: zeta = 0.05",
+            "(benchmarks.ours.calibrate_rocking_damping); point: zeta = 0.05",
             "ours_pulse_damping": f"area: c_n = {ours.PULSE_DAMPING} x critical; "
             f"point_dashpot, point: zeta = {ours.POINT_DAMPING}",
             "ours_column_damping": f"area: c_n = {ours.COLUMN_DAMPING} x critical of one drum; "
@@ -797,9 +797,9 @@ MAX_REPEATS = 100
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.work_precision", __doc__)
+    parser = options.parser("python -m benchmarks.work_precision", __doc__)
     parser.add_argument("--quick", action="store_true", help="a few points per engine (CI)")
     parser.add_argument(
         "--scenes",
@@ -840,7 +840,7 @@ def build_parser():
 def check_args(args):
     """(scenes, contacts, repeats, dataset path, {scene: figure path}), or an InputError before
     anything runs; the record of scene (c) is looked up too."""
-    from stonedem.bench import options
+    from benchmarks import options
     from stonedem.engine.scene import scene_from_dict
 
     scenes = options.chosen(args.scenes, "--scenes", SCENES)
@@ -877,7 +877,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options and output paths checked first (one line, exit 2); then the sweep."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -6,7 +6,7 @@ whether each run stays stable: finite, and the energy balance (kinetic + potenti
 elastic + dissipated - base work) drifting by less than :data:`ENERGY_TOLERANCE` of the
 scene's initial energy. :func:`auto_dt_margin` measures, for one scene of every study in
 ``config/config.yaml``, how far the automatic step sits below the step where runs go
-unstable. ``python -m stonedem.bench.stability`` writes both to ``results/bench/`` and draws
+unstable. ``python -m benchmarks.stability`` writes both to ``results/bench/`` and draws
 ``results/figures/stability_map.png``.
 
 The contact law is the point law, point contacts at the face ends with Housner's plastic
@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench.ours import critical_damping as critical_damping_of
+from benchmarks.ours import critical_damping as critical_damping_of
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene, box_pairs, scene_from_dict
 from stonedem.engine.simulate import RunResult, choose_time_step, simulate, stability_limit
@@ -42,7 +42,7 @@ from stonedem.kernels import step
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES, clip_convex_polygons
 from stonedem.validation.cases import block_scene
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 K_N_VALUES = (1e7, 1e8, 1e9, 1e10)  # [N m-2]
 DT_RATIOS = (0.1, 0.25, 0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0)  # dt / stability limit
 # point law: zeta of each contact point; area law: c_n / (2 sqrt(k_n width m)) of the lightest free
@@ -318,7 +318,7 @@ def stability_map(
             "sample_every": SAMPLE_EVERY,
             "harmonic": str(HARMONIC),
             "description": "short runs at dt = dt_ratio x stability limit; stable = finite and "
-            "energy_error < energy_tolerance (stonedem.bench.stability.energy_drift)",
+            "energy_error < energy_tolerance (benchmarks.stability.energy_drift)",
         },
     )
     ds["dt_limit"] = var(
@@ -444,7 +444,7 @@ def auto_dt_margin(scenes: dict | None = None, progress: bool = True) -> xr.Data
             "energy_tolerance": ENERGY_TOLERANCE,
             "duration": DURATION,
             "description": "unstable = non-finite or energy_error >= energy_tolerance in a short "
-            "run (stonedem.bench.stability.energy_drift)",
+            "run (benchmarks.stability.energy_drift)",
         },
     )
 
@@ -495,7 +495,7 @@ def plot_stability_map(ds: xr.Dataset, path) -> Path:
     axes[0][0].set_ylabel("dt / stability limit")
     axes[0][-1].legend(fontsize=6, loc="lower right", ncol=1)
     fig.tight_layout()
-    from stonedem.bench.options import save_figure
+    from benchmarks.options import save_figure
 
     path = save_figure(fig, path, dpi=120)
     plt.close(fig)
@@ -529,9 +529,9 @@ DURATION_RANGE = (0.0, 60.0)  # [s] of each run of the map, lower end excluded
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.stability", __doc__)
+    parser = options.parser("python -m benchmarks.stability", __doc__)
     parser.add_argument(
         "--out",
         type=options.path_arg,
@@ -569,7 +569,7 @@ def build_parser():
 def check_args(args):
     """(duration [s], folder, figure path, the studies' scenes), or an InputError before anything
     runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     duration = options.number(
         args.duration,
@@ -590,7 +590,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options and output paths checked first (one line, exit 2); then the map and the margins."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -22,7 +22,7 @@ For each scene of :data:`SCENES` (a lone rocking block, columns of 1, 8 and 30 d
 Writes results/bench/kernel.nc (and .csv) and results/figures/kernel_cost.png (ns per step
 against bodies). One thread; timings want a quiet machine.
 
-    python -m stonedem.bench.kernel [--quick] [--parent REV|none] [--out results/bench] [--figure
+    python -m benchmarks.kernel [--quick] [--parent REV|none] [--out results/bench] [--figure
     PNG]
 """
 
@@ -46,7 +46,7 @@ from stonedem.kernels.contact import contact_power
 from stonedem.kernels.integrate import central_difference_step
 from stonedem.study.reference_scenes import RECORD, SCENES  # noqa: F401 - the benchmark's scenes
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 STAGES = (
     "place",
     "watch",
@@ -396,9 +396,9 @@ def time_engines(source: Path, specs: dict) -> dict:
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.kernel", __doc__)
+    parser = options.parser("python -m benchmarks.kernel", __doc__)
     parser.add_argument(
         "--quick", action="store_true", help="2 simulated seconds per scene, not 10 (CI)"
     )
@@ -547,7 +547,7 @@ def figure(ds, path: Path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from stonedem.bench.options import save_figure
+    from benchmarks.options import save_figure
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     order = np.argsort(ds["n_body"].values)
@@ -578,7 +578,7 @@ def figure(ds, path: Path):
 
 
 def main(argv=None) -> int:
-    from stonedem.bench import options
+    from benchmarks import options
     from stonedem.errors import InputError
 
     args = build_parser().parse_args(argv)

@@ -1,4 +1,4 @@
-"""The canonical benchmark scenes (:mod:`stonedem.bench.canonical`) run in MuJoCo.
+"""The canonical benchmark scenes (:mod:`benchmarks.canonical`) run in MuJoCo.
 
 Model. Each block is a box geom (DEPTH deep, DENSITY) on its own body with a planar joint
 set, the usual MuJoCo way of making a 2D model: slide x, slide z, then a hinge through the
@@ -62,7 +62,7 @@ import time as _time
 import mujoco
 import numpy as np
 
-from stonedem.bench.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
+from benchmarks.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
 
 SOLIMP = "0.99 0.999 0.0001 0.5 2"
 FRICTION_TIMECONST = 0.02  # [s] solreffriction: MuJoCo's default time constant, see above

@@ -47,7 +47,7 @@ every ``kind: column`` structure of the config with taper 1. The tapered columns
 ``ramp_taper`` and the small-scale column with its own contact are left out. ``--quick``
 runs only the monolith and the 2-drum column, without capitals.
 
-    python -m stonedem.bench.restitution [--quick] [--out results/bench] [--config
+    python -m benchmarks.restitution [--quick] [--out results/bench] [--config
     config/config.yaml]
 """
 
@@ -66,8 +66,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from stonedem.bench.canonical import rocking_measures
-from stonedem.bench.ours import critical_damping
+from benchmarks.canonical import rocking_measures
+from benchmarks.ours import critical_damping
 from stonedem.engine.laws import DEFAULT_LAW
 from stonedem.engine.laws import LAWS as CONTACT_LAWS
 from stonedem.engine.measures import rocking_bodies
@@ -81,7 +81,7 @@ from stonedem.reference import analytic
 from stonedem.study.grid import config_cases
 from stonedem.validation.cases import calibrate_restitution
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 N_IMPACTS = 4
 THETA0_RATIO = 0.5  # release at theta0 = THETA0_RATIO x alpha of the whole column
 SAMPLE_EVERY = 1e-3  # [s]
@@ -323,7 +323,7 @@ def impact_loss(
 
     theta: the mean drum rotation, positive leaning right [rad]; total: the mechanical
     energy above rest [J] (:func:`mechanical_energy`). The impact times and peaks come from
-    :func:`stonedem.bench.canonical.rocking_measures` (sign changes, parabola-refined peaks).
+    :func:`benchmarks.canonical.rocking_measures` (sign changes, parabola-refined peaks).
     From the first half cycle whose peak is below ``min_fraction`` x theta0, everything is
     NaN, and so is whatever the run ended before (the energy ratio of impact n needs
     impact n + 1).
@@ -558,7 +558,7 @@ def restitution_table(
             ),
         },
         coords={
-            "law": ("law", laws, _attrs("1", "contact law (stonedem.bench.restitution.LAWS)")),
+            "law": ("law", laws, _attrs("1", "contact law (benchmarks.restitution.LAWS)")),
             "contact_model": (
                 "law",
                 [contacts[law]["model"] for law in laws],
@@ -656,7 +656,7 @@ def restitution_table(
             "title": "impact loss: energy ratio per impact of the study's columns in free rocking",
             "source": code_version(),
             "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')} "
-            "stonedem.bench.restitution",
+            "benchmarks.restitution",
             "platform": f"python {platform.python_version()}, {os.cpu_count()} cores, "
             f"{sys.platform}",
             "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
@@ -719,9 +719,9 @@ def table(ds: xr.Dataset) -> str:
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.restitution", __doc__)
+    parser = options.parser("python -m benchmarks.restitution", __doc__)
     parser.add_argument(
         "--out",
         type=options.path_arg,
@@ -748,7 +748,7 @@ def build_parser():
 
 def check_args(args):
     """(output path, config, columns, monolith), or an InputError before anything runs."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     options.chosen(args.laws, "--laws", LAWS)
     out = Path(args.out)
@@ -797,7 +797,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options, output path and config checked first (one line, exit 2); then the table."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -3,7 +3,7 @@ CPU's own last-bit ensemble. No simulation here: the statistics on small made-up
 whose answers are worked out by hand, the whole command through ``--reuse``, and its
 refusals (one line, exit 2, nothing written)."""
 
-import importlib.util
+import importlib
 from pathlib import Path
 
 import numpy as np
@@ -12,19 +12,10 @@ import xarray as xr
 
 from stonedem.io.netcdf import write_dataset
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
-def _script():
-    spec = importlib.util.spec_from_file_location(
-        "benchmarks_gpu_equivalence", ROOT / "benchmarks" / "gpu_equivalence.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-ge = _script()
+ge = importlib.import_module("benchmarks.gpu_equivalence")
 
 # 4 cases x 4 CPU members: case 0 never collapses, case 1 always, case 2 splits 2/4, case 3 1/4
 CPU = np.array([[0, 0, 0, 0], [1, 1, 1, 1], [1, 0, 1, 0], [0, 0, 0, 1]], dtype=np.int8)

@@ -1,4 +1,4 @@
-"""The canonical benchmark scenes (:mod:`stonedem.bench.canonical`) run in pymunk 7 (Chipmunk2D).
+"""The canonical benchmark scenes (:mod:`benchmarks.canonical`) run in pymunk 7 (Chipmunk2D).
 
 Stepping: one ``Space.step(dt)`` Python call per fixed step, pymunk's fastest stepping API
 (broad phase, narrow phase, sequential-impulse solve and integration all run in C). The
@@ -49,7 +49,7 @@ import time
 import numpy as np
 import pymunk
 
-from stonedem.bench.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
+from benchmarks.canonical import DENSITY, DEPTH, ROCKING_FRICTION, G, Trajectory
 
 COLLISION_SLOP = 1e-4  # [m] allowed overlap (pymunk default 0.1); see module docstring
 ITERATIONS = 20  # solver passes per step (pymunk default 10); see module docstring

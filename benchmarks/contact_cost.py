@@ -20,7 +20,7 @@ thesis' overlap-area law instead (k_n = 1e8 N/m2, c_n = 5e4 N s/m). For each siz
   every one of the n(n-1)/2 pairs through the narrow phase's AABB rejection (O(N^2)), each
   per call (= per step if it ran every step; the engine's Verlet list sweeps far less often).
 
-    python -m stonedem.bench.contact_cost [--quick] [--model point|area] [--out results]
+    python -m benchmarks.contact_cost [--quick] [--model point|area] [--out results]
 
 writes results/bench/contact_cost.nc and results/figures/contact_cost.png.
 """
@@ -39,7 +39,7 @@ import numpy as np
 
 from stonedem.errors import InputError
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 
 # free bodies: 99 columns of 10 drums and the base stay under stonedem.engine.scene.MAX_BODIES (1000
 # free bodies were refused once that limit came in)
@@ -703,9 +703,9 @@ TARGET_RANGE = (0.0, 600.0)  # [s] kernel wall time per size, lower end excluded
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.contact_cost", __doc__)
+    parser = options.parser("python -m benchmarks.contact_cost", __doc__)
     parser.add_argument(
         "--quick", action="store_true", help="sizes 1, 10, 100 and a tiny duration (CI)"
     )
@@ -743,7 +743,7 @@ def build_parser():
 def check_args(args):
     """(sizes, duration [s], target [s], nc path, png path), or an InputError before anything
     runs."""
-    from stonedem.bench import options
+    from benchmarks import options
     from stonedem.engine.scene import MAX_BODIES
 
     if args.sizes is not None:
@@ -801,7 +801,7 @@ def check_args(args):
 
 def main(argv=None) -> int:
     """Options and output paths checked first (one line, exit 2); then the benchmark."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

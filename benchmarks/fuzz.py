@@ -1,6 +1,6 @@
 """Fuzz benchmark: every fuzz suite at 10 000 examples per test (issue 13).
 
-``python -m stonedem.bench.fuzz [--quick] --out results/bench/fuzz.nc``: runs the tests named
+``python -m benchmarks.fuzz [--quick] --out results/bench/fuzz.nc``: runs the tests named
 ``*fuzz*`` under tests/ with the hypothesis profile ``fuzz`` (10 000 examples per test;
 ``--quick``: the ``ci`` profile, 100), and writes per test the examples run (passing,
 failing, invalid as hypothesis counts them), its outcome and wall time. Exit 1 if any
@@ -22,7 +22,7 @@ import xarray as xr
 from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, write_dataset
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[1]
 # hypothesis' statistics line, e.g. "- 10000 passing examples, 0 failing examples, 12 invalid
 # examples"
 COUNTS = re.compile(r"(\d+) passing examples?, (\d+) failing examples?, (\d+) invalid examples?")
@@ -107,9 +107,9 @@ def fuzz_dataset(rows: list[dict], profile: str) -> xr.Dataset:
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.fuzz", __doc__)
+    parser = options.parser("python -m benchmarks.fuzz", __doc__)
     parser.add_argument(
         "--quick", action="store_true", help="the ci profile (100 examples per test)"
     )
@@ -124,7 +124,7 @@ def build_parser():
 
 def main(argv: list[str] | None = None) -> int:
     """Options and output path checked first (one line, exit 2); then the fuzz suites."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -12,7 +12,7 @@ CUDA simulator).
 
 Writes results/bench/gpu_check.nc; prints one line per check and exits 1 when one fails.
 
-    python -m stonedem.bench.gpu_check [--quick] [--records N] [--out results/bench]
+    python -m benchmarks.gpu_check [--quick] [--records N] [--out results/bench]
 """
 
 from __future__ import annotations
@@ -185,9 +185,9 @@ def check_dataset(
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.gpu_check", __doc__)
+    parser = options.parser("python -m benchmarks.gpu_check", __doc__)
     parser.add_argument(
         "--quick",
         action="store_true",
@@ -209,7 +209,7 @@ def build_parser():
 
 
 def main(argv=None) -> int:
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 

@@ -1,4 +1,4 @@
-"""The canonical scenes (:mod:`stonedem.bench.canonical`) in our engine, for a contact law and dt.
+"""The canonical scenes (:mod:`benchmarks.canonical`) in our engine, for a contact law and dt.
 
 Each scene function takes the scene's ``contact:`` mapping (:mod:`stonedem.engine.scene`; e.g.
 ``{"model": "point", "k_n": 1e10}``), builds the scene dict, runs
@@ -32,8 +32,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from stonedem.bench import canonical as cn
-from stonedem.bench.canonical import Trajectory
+from benchmarks import canonical as cn
+from benchmarks.canonical import Trajectory
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate, stability_limit

@@ -1,13 +1,13 @@
 """Throughput of the ensemble engine: member-steps per second against the number of members
 (issue 33), on one CPU thread, on every CPU thread and on the GPU where one can run the loop.
 
-Members are one structure of :data:`stonedem.bench.kernel.SCENES` under its record, each at
+Members are one structure of :data:`benchmarks.kernel.SCENES` under its record, each at
 its own PGA (spread over PGA_SPAN, as an IDA's runs are), run by
 :func:`stonedem.engine.ensemble.run_ensemble`. Each point is the best of ``--repeats`` calls
 after one call that compiles; a member-step is one time step of one member. Writes
 results/bench/ensemble.nc and results/figures/ensemble_throughput.png.
 
-    python -m stonedem.bench.ensemble [--quick] [--scene column_8] [--members 1 2 4 ...] [--out
+    python -m benchmarks.ensemble [--quick] [--scene column_8] [--members 1 2 4 ...] [--out
     results/bench]
 """
 
@@ -34,7 +34,7 @@ MAX_MEMBERS = 100_000
 
 def member_scenes(scene: str, n: int, duration: float) -> list:
     """n members of one structure at PGAs spread over PGA_SPAN."""
-    from stonedem.bench.kernel import SCENES
+    from benchmarks.kernel import SCENES
     from stonedem.engine.scene import scene_from_dict
 
     out = []
@@ -167,7 +167,7 @@ def figure(ds: xr.Dataset, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from stonedem.bench.options import save_figure
+    from benchmarks.options import save_figure
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     for name in ds["backend"].values:
@@ -192,9 +192,9 @@ def figure(ds: xr.Dataset, path: Path) -> None:
 
 
 def build_parser():
-    from stonedem.bench import options
+    from benchmarks import options
 
-    parser = options.parser("python -m stonedem.bench.ensemble", __doc__)
+    parser = options.parser("python -m benchmarks.ensemble", __doc__)
     parser.add_argument(
         "--quick",
         action="store_true",
@@ -203,7 +203,7 @@ def build_parser():
     parser.add_argument(
         "--scene",
         default="column_8",
-        help="a scene of stonedem.bench.kernel.SCENES (default column_8)",
+        help="a scene of benchmarks.kernel.SCENES (default column_8)",
     )
     parser.add_argument(
         "--members",
@@ -245,12 +245,12 @@ def build_parser():
 
 def main(argv=None) -> int:
     """Options and output paths checked first (one line, exit 2); then the timings."""
-    from stonedem.bench import options
+    from benchmarks import options
 
     args = build_parser().parse_args(argv)
 
     def command():
-        from stonedem.bench.kernel import SCENES
+        from benchmarks.kernel import SCENES
         from stonedem.errors import InputError
         from stonedem.io.netcdf import write_dataset
 

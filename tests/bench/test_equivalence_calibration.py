@@ -3,7 +3,7 @@ the changes they claim to be (base motion x 1.02 exactly, friction x 1.01 everyw
 draw flips exactly three verdicts the baseline never splits, the rates carry exact binomial
 intervals, and an earlier draw is reused only when it is that draw."""
 
-import importlib.util
+import importlib
 from pathlib import Path
 
 import numpy as np
@@ -12,17 +12,12 @@ import xarray as xr
 
 from stonedem.engine.scene import scene_from_dict
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
 def calibration():
-    spec = importlib.util.spec_from_file_location(
-        "benchmarks_equivalence_calibration", ROOT / "benchmarks" / "equivalence_calibration.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return importlib.import_module("benchmarks.equivalence_calibration")
 
 
 def column(excitation, **extra):

@@ -118,7 +118,7 @@ LONGEST_FIRST = (
     "tests/kernels/test_step.py",  # 40 s (compiles step.run and step.run_steps)
     "tests/faults/test_cluster_faults.py",  # 38 s
     "tests/faults/test_cli_faults.py",  # 33 s
-    "tests/test_validation.py",  # 27 s
+    "tests/validation/test_cases.py",  # 27 s
 )
 
 

@@ -211,7 +211,7 @@ def study_files(tmp_path_factory):
     from stonedem.study.cube import search_dataset
     from stonedem.study.grid import Case, combine_cases
     from stonedem.study.search import Run, SearchSettings, summary
-    from tests.test_ida import COLUMN, _search_file
+    from tests.fragility.test_ida import COLUMN, _search_file
 
     d = tmp_path_factory.mktemp("study")
     runs = [Run(1.0, False, "hunt"), Run(1.8, True, "hunt"), Run(1.4, False, "bisect")]

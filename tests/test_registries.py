@@ -149,7 +149,7 @@ def test_a_new_limit_state_is_one_row(monkeypatch, tmp_path):
     from stonedem.figures.fragility import fragility_curves_figure
     from stonedem.fragility.fit import fragility_dataset
     from stonedem.fragility.ida import LIMIT_STATES, LimitState, ida_cube
-    from tests.test_ida import COLUMN, _search_file
+    from tests.fragility.test_ida import COLUMN, _search_file
 
     monkeypatch.setitem(
         LIMIT_STATES,

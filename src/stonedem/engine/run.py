@@ -330,11 +330,11 @@ def contact_attrs(scene: Scene) -> dict:
 
 
 # A tiny scene per compiled time loop whose run calls every compiled kernel a study run on that loop
-# calls, with the argument types of every study run (one specialisation each; tests/test_simulate.py
-# checks them against the study's cases): the point law runs on its contact graph
-# (stonedem.kernels.contact_graph), the area law on the general loop compiled with the area law
-# alone (stonedem.kernels.step.run_area); general_point is the general loop with the point law alone
-# (run_point), where a point-law run goes on when its graph stops holding.
+# calls, with the argument types of every study run (one specialisation each;
+# tests/engine/test_simulate.py checks them against the study's cases): the point law runs on its
+# contact graph (stonedem.kernels.contact_graph), the area law on the general loop compiled with the
+# area law alone (stonedem.kernels.step.run_area); general_point is the general loop with the point
+# law alone (run_point), where a point-law run goes on when its graph stops holding.
 WARM_SCENES = {
     loop: {
         "name": f"warm_compile_{loop}",

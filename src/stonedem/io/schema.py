@@ -122,7 +122,7 @@ WALL_VARIABLES = {
     ),
 }
 
-# the two solvers' names are disjoint (tests/test_dataset.py), so one lookup serves both
+# the two solvers' names are disjoint (tests/io/test_netcdf.py), so one lookup serves both
 VARIABLES = {**SCENE_VARIABLES, **WALL_VARIABLES}
 
 # what a study cube (stonedem.study.grid.combine_cases) keeps of each case: its scalar measures,

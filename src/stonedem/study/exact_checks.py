@@ -20,7 +20,7 @@ floor.
 
 Left out: ``record_rocking`` (chaotic near uplift: its reference band stays a test, not a
 regression) and the checks the test suite marks as known misses (the area law's one-sine
-threshold at omega_p / p = 2, -6.9 %; tests/test_validation_one_sine.py): a check that fails
+threshold at omega_p / p = 2, -6.9 %; tests/validation/test_one_sine.py): a check that fails
 its reference today would fail every candidate.
 """
 
@@ -43,7 +43,7 @@ FACTOR_A = 100.0  # or this many times the check's own last-bit floor, where tha
 # of the code's geometric arithmetic moves those bits
 FLOOR_PERTURBATIONS = ("stiffness", "geometry")
 RAMP_RATE = 0.5  # [m s-3] the study's ramp (config ramp_drums; thesis Fig. 6.10)
-RAMP_TOLERANCE = 1e-3  # relative, as tests/test_validation_point.py holds the ramp's overturning
+RAMP_TOLERANCE = 1e-3  # relative, as tests/validation/test_point.py holds the ramp's overturning
 RAMP_CONTACTS = {
     "ramp_point_study": {"model": "point", "k_n": 1e10},  # the study's contact
     "ramp_point": None,
@@ -223,7 +223,7 @@ def rigid_ramp_thresholds(width=1.0, height=6.0, rate=RAMP_RATE, step=1e-5, dura
 
     The rigid rocking equation with Housner's r (stonedem.reference.analytic); onset where
     |theta| first exceeds alpha / 30 (the engine's onset, thesis 6.3.1), overturning where it
-    reaches alpha (the engine's collapse angle, tests/test_validation_point.py).
+    reaches alpha (the engine's collapse angle, tests/validation/test_point.py).
     """
     from stonedem.engine.measures import ONSET_FRACTION
     from stonedem.reference import analytic

@@ -10,7 +10,7 @@ from stonedem.figures import figure_table, figures, input_paths, reduction_table
 from stonedem.study.grid import config_cases, load_config
 from tests.workflow_files import catalogue_paths, made_by_a_rule, rule_outputs
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 # command-line entry points whose default output folder is under results/
 CLI_DEFAULTS = {
     "cli.py",

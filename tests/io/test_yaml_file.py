@@ -135,7 +135,7 @@ def test_the_study_config_keeps_its_anchors():
 
     from stonedem.study.grid import MAX_CONFIG_BYTES
 
-    path = Path(__file__).parents[1] / "config" / "config.yaml"
+    path = Path(__file__).parents[2] / "config" / "config.yaml"
     config = read_yaml_mapping(path, "a config file", MAX_CONFIG_BYTES, FIX)
     with open(path) as handle:
         assert config == yaml.safe_load(handle)

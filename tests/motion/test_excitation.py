@@ -314,7 +314,7 @@ def test_the_package_ships_the_records():
 
 
 def test_records_that_broke_the_baseline_correction(tmp_path):
-    # found by tests/test_fuzz_records.py: subnormal samples overflowed the baseline fit to
+    # found by tests/motion/test_fuzz_records.py: subnormal samples overflowed the baseline fit to
     # inf (it now works on acc / 2^k)
     tiny = tmp_path / "tiny.txt"
     tiny.write_text("0 0\n0.005 2.2e-313\n")

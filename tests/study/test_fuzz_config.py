@@ -34,7 +34,7 @@ from stonedem.study.grid import (
     load_config,
 )
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCHEMA = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 RECORDS = ROOT / "records"
 BASE = load_config(ROOT / "config" / "config.yaml", ROOT / "tests" / "workflow" / "config.yaml")

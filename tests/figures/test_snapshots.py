@@ -16,7 +16,7 @@ from stonedem.errors import InputError
 from stonedem.figures import snapshots
 from stonedem.io.netcdf import write_dataset
 
-ROCKING_BLOCK = Path(__file__).parent / "data" / "scenes" / "rocking_block.yaml"
+ROCKING_BLOCK = Path(__file__).parents[1] / "data" / "scenes" / "rocking_block.yaml"
 HARMONIC = {"kind": "harmonic", "frequency": 0.5, "amplitude": 0.25}
 COLUMN = {  # collapses at about 2.5 s and the run stops there
     "name": "column-4-drums",

@@ -14,7 +14,7 @@ from stonedem.validation import cases as validation
 
 POINT_VALIDATIONS = [name for name in validation.VALIDATIONS if name.endswith("_point")]
 # one_sine_overturning_point (20-40 s) is checked at three pulses by
-# tests/test_validation_one_sine.py; its full run is within 0.29 % everywhere (worst: omega_p/p = 8
+# tests/validation/test_one_sine.py; its full run is within 0.29 % everywhere (worst: omega_p/p = 8
 # on 0.5 x 2 m; README)
 FULL_RUNS = [name for name in POINT_VALIDATIONS if name != "one_sine_overturning_point"]
 # measured with the engine's defaults (stonedem.validation.cases.POINT_CONTACT: k_n 1e11, dt_safety

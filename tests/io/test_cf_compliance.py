@@ -56,9 +56,9 @@ def outputs(tmp_path_factory):
     from stonedem.study.grid import case_table, combine_cases, run_case
     from stonedem.study.runner import CaseStore, run_search
     from stonedem.validation.cases import VALIDATIONS, write_result
+    from tests.fragility.test_ida import COLUMN, _search_file
+    from tests.study.test_runner import BLOCK
     from tests.test_api import small_wall
-    from tests.test_case_runner import BLOCK
-    from tests.test_ida import COLUMN, _search_file
 
     folder = tmp_path_factory.mktemp("cf")
     out = {}

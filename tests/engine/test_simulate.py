@@ -287,7 +287,7 @@ def test_the_warm_compile_covers_every_loop_and_type_of_the_study(monkeypatch):
         "stonedem.kernels.step",
         "stonedem.kernels.contact_graph",
     }
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     config = load_config(
         root / "config" / "config.yaml", root / "tests" / "workflow" / "config.yaml"
     )

@@ -12,7 +12,7 @@ from stonedem.study import stripe_fill
 from stonedem.study.grid import config_cases, load_config
 from stonedem.study.runner import CaseStore
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ The trajectory itself is the same when the step is: a given dt, or an automatic 
 is rounded down to divide a fixed 1 ms clock (stonedem.engine.simulate.STEP_CLOCK) rather
 than output.every. The quiet-skipping path detects rest at the samples
 (stonedem.engine.quiet), so these scenes turn skip_quiet off and the comparison is exact;
-with it on, the difference is what tests/test_skip_quiet.py bounds.
+with it on, the difference is what tests/engine/test_quiet.py bounds.
 """
 
 import dataclasses

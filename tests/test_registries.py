@@ -20,7 +20,8 @@ from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import choose_time_step
 from stonedem.kernels import excitation as kx
 from stonedem.motion import excitation
-from stonedem.motion.excitation import EXCITATIONS, BaseMotion, Excitation, record_to_table
+from stonedem.motion.excitation import EXCITATIONS, BaseMotion, Excitation
+from stonedem.motion.records import record_to_table
 
 BLOCK = {
     "bodies": [

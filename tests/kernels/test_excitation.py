@@ -48,7 +48,7 @@ def test_pulses_are_continuous_at_their_end_and_rest_before_zero():
 
 
 def test_table_integrates_piecewise_linear_acceleration_exactly():
-    from stonedem.motion.excitation import record_to_table
+    from stonedem.motion.records import record_to_table
 
     t = np.arange(0, 2.0001, 0.01)
     a = np.sin(3 * t) + 0.5 * (t > 1.0)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from stonedem.errors import InputError
-from stonedem.motion.excitation import excitation_from_spec, excitation_pair, read_record
+from stonedem.motion.excitation import excitation_from_spec, excitation_pair
+from stonedem.motion.records import read_record
 
 REC = "tests/data/records/synthetic_two_column.txt"
 
@@ -284,7 +285,7 @@ def test_a_special_file_is_not_a_record(tmp_path):
 def test_records_resolve_from_the_installed_package_data(tmp_path, monkeypatch):
     import shutil
 
-    from stonedem.motion import excitation as ground_motion
+    from stonedem.motion import records as ground_motion
 
     installed = tmp_path / "site" / "stonedem" / "_records"
     installed.mkdir(parents=True)
@@ -336,7 +337,7 @@ def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_g
 ):
     import shutil
 
-    from stonedem.motion import excitation as ground_motion
+    from stonedem.motion import records as ground_motion
 
     shutil.copy("records/northridge_1994_mul009.nc", tmp_path / "quake.nc")
     monkeypatch.chdir(tmp_path)

@@ -29,7 +29,8 @@ from hypothesis import strategies as st
 
 from stonedem.errors import InputError
 from stonedem.motion import records
-from stonedem.motion.excitation import UNIT_FACTORS, excitation_from_spec, read_record
+from stonedem.motion.excitation import excitation_from_spec
+from stonedem.motion.records import UNIT_FACTORS, read_record
 
 FIELD = "excitation.file"
 FIELDS = (FIELD, "excitation.units", "excitation.dt")

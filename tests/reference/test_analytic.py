@@ -564,7 +564,7 @@ def test_compiled_rigid_rocking_matches_the_scipy_integrator(scale):
     falling block is where the integration stopped, not a peak)."""
     import xarray as xr
 
-    from stonedem.motion.excitation import RECORDS_DIR
+    from stonedem.motion.records import RECORDS_DIR
 
     with xr.open_dataset(RECORDS_DIR / "northridge_1994_mul009.nc") as rec:
         a = scale * rec["acceleration"].values.astype(float)

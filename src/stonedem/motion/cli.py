@@ -3,7 +3,7 @@
 Every argument is checked before the record is read (``--units``, ``--dt``, ``--damping``,
 the record's path, then ``--plot`` with :func:`stonedem.entry.check_output_path`: not the
 record itself, not a folder, in a writable folder, a .png, .pdf or .svg), the record is
-read with the checks of :func:`stonedem.motion.excitation.read_record` (limits in
+read with the checks of :func:`stonedem.motion.records.read_record` (limits in
 :mod:`stonedem.motion.records`), and the plot is written atomically. Bad input raises
 :class:`stonedem.errors.InputError` (one line, exit 2 under :func:`stonedem.entry.guarded`).
 """
@@ -91,7 +91,7 @@ def command_record_info(args) -> int:
     from stonedem.entry import check_output_path
     from stonedem.io.atomic import write_atomically
     from stonedem.motion import records
-    from stonedem.motion.excitation import check_units, read_record, resolve_record
+    from stonedem.motion.records import check_units, read_record, resolve_record
 
     # every argument first, before anything is read or computed
     units = check_units(args.units, "--units")

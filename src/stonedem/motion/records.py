@@ -8,11 +8,18 @@ displacement returns to rest, integrates exactly (acceleration linear between sa
 scales to a target PGA, and computes the predominant frequency (peak of the Konno-Ohmachi
 smoothed Fourier amplitude) and pseudo-acceleration response spectra at any damping
 (exact piecewise-linear SDOF recurrence of Nigam and Jennings).
+
+A scene's record is found by name or path (:func:`resolve_record`: the checkout's
+``records/``, then the records installed with the package) and read from plain text (two
+columns time, acceleration; or one column with ``dt``), ``.AT2`` or NetCDF (``acceleration``
+on ``time``) with every check of :func:`read_record`; :mod:`stonedem.motion.excitation` reads
+each once per file and settings a process and makes a base motion of it.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import re
 from array import array
 from dataclasses import dataclass, field
@@ -21,7 +28,7 @@ from typing import Iterator
 
 import numpy as np
 
-from stonedem.errors import InputError
+from stonedem.errors import InputError, check_number
 from stonedem.units import G_STANDARD  # [m s-2], PEER convention for records in g
 
 # --- limits on record files (hostile or mistaken input; docs/guide/records.md) ----
@@ -530,3 +537,428 @@ def record_dataset(record: Record, name: str, attrs: dict | None = None):
             "end correction over the last 10 %",
         },
     )
+
+
+# --- reading a record file: by name or path, text or NetCDF, checked (stonedem.motion.excitation
+# builds a base motion of it) -------------------------------------------------------------
+
+UNIT_FACTORS = {
+    "m/s2": 1.0,
+    "m s-2": 1.0,
+    "m/s^2": 1.0,
+    "g": G_STANDARD,
+    "cm/s2": 0.01,
+    "cm s-2": 0.01,
+    "gal": 0.01,
+}
+RECORD_SUFFIXES = (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat")
+TIME_UNITS = ("s", "sec", "second", "seconds")  # accepted units of a NetCDF record's time
+
+
+def checkout_records_dir() -> Path | None:
+    """The top-level ``records/`` of a source checkout this module runs from (editable install)."""
+    here = Path(__file__).resolve()
+    root = here.parents[3]
+    if (
+        here.parents[2].name == "src"
+        and (root / "pyproject.toml").is_file()
+        and (root / "records").is_dir()
+    ):
+        return root / "records"
+    return None
+
+
+def packaged_records_dir() -> Path | None:
+    """The records installed as package data ``stonedem._records`` (``pip install .``), if any.
+
+    pyproject.toml maps the package ``stonedem._records`` onto the top-level ``records/`` folder
+    and ships its ``*.nc``; found through the import system (importlib), so it is wherever
+    ``stonedem`` was installed. None in a checkout (there ``stonedem._records`` is a placeholder).
+    """
+    import importlib.util
+
+    try:
+        spec = importlib.util.find_spec("stonedem._records")
+    except (ImportError, ValueError):
+        return None
+    for location in (spec.submodule_search_locations or []) if spec else []:
+        folder = Path(location)
+        if folder.is_dir() and any(folder.glob("*.nc")):
+            return folder
+    return None
+
+
+def record_folders() -> list[Path]:
+    """Where record names are looked up: the checkout's records/, then the installed records."""
+    folders = []
+    for folder in (checkout_records_dir(), packaged_records_dir()):
+        if folder is not None and folder not in folders:
+            folders.append(folder)
+    return folders
+
+
+_folders = record_folders()
+RECORDS_DIR = _folders[0] if _folders else Path(__file__).resolve().parents[3] / "records"
+
+
+MAX_NAME_CHARS = 4096
+
+
+# (name, base_dir, working folder, the records folders' finders) -> the record file found for
+# it: the lookup stats up to a dozen paths (0.65 ms), now once a process while the file is there
+_RESOLVED: dict = {}
+
+
+def resolve_record(name: str, field: str, base_dir: Path) -> Path:
+    """A record path: as given, relative to the scene, or by name in a records folder.
+
+    Names are looked up (with or without a suffix of :data:`RECORD_SUFFIXES`) in the
+    checkout's ``records/`` and in the records installed with the package
+    (:func:`record_folders`), so ``athens_standin_kocaeli_arc000`` works from any install.
+    The path must be a regular file; anything else is a one-line InputError naming ``field``.
+    """
+    if isinstance(name, Path):
+        name = str(name)
+    if not isinstance(name, str):
+        raise InputError(
+            field, f"expected a file name or path, got {shown(repr(name))}", "give a record file"
+        )
+    if not name.strip():
+        raise InputError(
+            field, "empty record name", "give a path or a record name, e.g. northridge_1994_mul009"
+        )
+    if "\0" in name or len(name) > MAX_NAME_CHARS:
+        raise InputError(
+            field,
+            f"'{shown(name)}' is not a usable file name"
+            + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
+            "give a path or a record name",
+        )
+    key = (name, str(base_dir), os.getcwd(), checkout_records_dir, packaged_records_dir)
+    found = _RESOLVED.get(key)
+    if found is not None and found.is_file():  # a search resolves its record once a run
+        return found
+    folders = record_folders()
+    candidates = [Path(name), Path(base_dir) / name, *(folder / name for folder in folders)]
+    for folder in (Path(base_dir), *folders):
+        for ext in RECORD_SUFFIXES:
+            candidates.append(folder / f"{name}{ext}")
+    not_files, dangling = [], []
+    for path in candidates:
+        try:
+            if path.is_file():
+                if len(_RESOLVED) >= 256:
+                    _RESOLVED.clear()
+                _RESOLVED[key] = path
+                return path
+            if path.exists():
+                not_files.append(path)
+            elif path.is_symlink():  # a link to nothing, or a symlink loop
+                dangling.append(path)
+        except (OSError, ValueError):
+            continue
+    if dangling and not not_files:
+        raise InputError(
+            field,
+            f"{shown(dangling[0])} is a symbolic link that cannot be followed (a loop, or "
+            "to nothing)",
+            "give the record file itself",
+        )
+    if not_files:
+        raise InputError(
+            field,
+            f"{shown(not_files[0])} is not a record file"
+            + (" (a folder)" if not_files[0].is_dir() else ""),
+            "give a record file",
+        )
+    known = sorted({p.stem for folder in folders for p in folder.glob("*.nc")})
+    where = " or ".join(str(f) for f in folders) or "records/ (none installed)"
+    listing = f" ({', '.join(known[:8])}{', ...' if len(known) > 8 else ''})" if known else ""
+    raise InputError(
+        field, f"record '{shown(name)}' not found", f"give a path or a name in {where}{listing}"
+    )
+
+
+def check_units(units, field: str) -> str | None:
+    """The units name (stripped, lower case) when known, None when not given, else an InputError."""
+    if units is None:
+        return None
+    if not isinstance(units, str) or units.strip().lower() not in UNIT_FACTORS:
+        raise InputError(
+            field, f"unknown units {shown(repr(units))}", f"use one of {', '.join(UNIT_FACTORS)}"
+        )
+    return units.strip().lower()
+
+
+def read_record(
+    path: Path,
+    field: str,
+    units: str | None = None,
+    dt: float | None = None,
+    *,
+    units_field: str | None = None,
+    dt_field: str | None = None,
+):
+    """(time [s] from 0, acceleration [m s-2], metadata) of a NetCDF, .AT2 or text record, checked.
+
+    ``units`` and ``dt`` are for records that do not carry them (text); a NetCDF record with
+    a ``units`` attribute and an .AT2 (in g, DT in its header) carry their own, and a
+    conflicting ``units`` or ``dt`` is refused naming ``units_field`` / ``dt_field``
+    (default: the scene's keys beside ``field``). Limits: :mod:`stonedem.motion.records`
+    ``MAX_RECORD_*``."""
+    path = Path(path)
+    base = field.rsplit(".", 1)[0] + "." if "." in field else ""
+    units_field = units_field or f"{base}units"
+    dt_field = dt_field or f"{base}dt"
+    units_label, dt_label = (
+        units_field.rsplit(".", 1)[-1],
+        dt_field.rsplit(".", 1)[-1],
+    )  # key or --option
+    units = check_units(units, units_field)
+    if dt is not None:
+        dt = check_dt(check_number(dt, dt_field, positive=True), dt_field, "time step")
+    name = shown(path.name)
+    meta: dict = {}
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
+        from stonedem.motion.records import read_at2
+
+        rec = read_at2(path, field)
+        if units is not None and UNIT_FACTORS[units] != G_STANDARD:
+            raise InputError(
+                units_field,
+                f"{name} is a PEER .AT2 record in g, {units_label} gives '{units}'",
+                "drop the units: an .AT2 record carries its own",
+            )
+        time, accel, file_units = rec.time, rec.acceleration, "m/s2"
+        meta = {"title": rec.meta.get("title", "")}
+    elif suffix == ".nc":
+        time, accel, file_units, meta = _read_netcdf(path, field, units, units_field)
+    else:
+        time, accel, header_dt = _read_text_record(path, field)
+        if time is None:
+            if dt is not None and header_dt is not None and not _same_step(dt, header_dt):
+                raise InputError(
+                    dt_field,
+                    f"{name} declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
+                    "drop one of them",
+                )
+            step = dt if dt is not None else header_dt
+            if step is None:
+                raise InputError(
+                    field,
+                    f"{name} has one column and no time step",
+                    "add a header line 'dt = 0.01' or the key dt:",
+                )
+            check_dt(step, dt_field if dt is not None else field, f"{name}: dt =")
+            time = np.arange(len(accel)) * step
+            dt = None  # used
+        file_units = units or "m/s2"
+    with np.errstate(over="ignore", invalid="ignore"):
+        accel = accel * UNIT_FACTORS[file_units]
+    _check_record(time, accel, field, path)
+    file_dt = float((time[-1] - time[0]) / (len(time) - 1))
+    if dt is not None and not _same_step(dt, file_dt):
+        raise InputError(
+            dt_field,
+            f"{name} has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
+            "drop dt: it is only for one-column text records",
+        )
+    if time[0] != 0.0:
+        meta["time_shift"] = float(-time[0])
+        time = time - time[0]
+    return time, accel, meta
+
+
+def _same_step(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-6 * max(abs(a), abs(b))
+
+
+def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
+    """(time, acceleration, units name, meta) of a NetCDF record, every failure an InputError."""
+    import warnings
+
+    import xarray as xr
+
+    name = shown(path.name)
+    check_record_file(
+        path, field, max_bytes=2**62
+    )  # regular file; size is bounded per variable below
+    fix = "store 'acceleration' [m s-2] on a 'time' coordinate [s] (see records/README.md)"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False, cache=False)
+    except Exception as err:  # netCDF4, h5netcdf and scipy raise many types on junk
+        raise InputError(
+            field,
+            f"{name} is not a readable NetCDF file ({_reason(err)})",
+            "give a NetCDF record, or a text or .AT2 record with its own suffix",
+        ) from None
+    with ds:
+        if "acceleration" not in ds.variables:
+            have = ", ".join(shown(v, 30) for v in list(ds.variables)[:6]) or "none"
+            raise InputError(field, f"{name} has no variable 'acceleration' (it has: {have})", fix)
+        var = ds.variables["acceleration"]
+        if tuple(var.dims) != ("time",):
+            raise InputError(
+                field,
+                f"{name}: 'acceleration' has dimensions {shown(tuple(var.dims))}, expected (time,)",
+                fix,
+            )
+        if "time" not in ds.variables or tuple(ds.variables["time"].dims) != ("time",):
+            raise InputError(field, f"{name} has no 'time' coordinate for 'acceleration'", fix)
+        tvar = ds.variables["time"]
+        check_samples(int(var.size), field, path.name)
+        for label, v in (("acceleration", var), ("time", tvar)):
+            if v.dtype.kind not in "iuf":
+                raise InputError(
+                    field, f"{name}: '{label}' holds {shown(v.dtype)}, not real numbers", fix
+                )
+        file_units = var.attrs.get("units")
+        if file_units is not None:
+            if not isinstance(file_units, str) or file_units.strip().lower() not in UNIT_FACTORS:
+                raise InputError(
+                    field,
+                    f"{name}: unknown acceleration units {shown(repr(file_units))}",
+                    f"use one of {', '.join(UNIT_FACTORS)}",
+                )
+            file_units = file_units.strip().lower()
+            if units is not None and UNIT_FACTORS[units] != UNIT_FACTORS[file_units]:
+                raise InputError(
+                    units_field,
+                    f"{name} declares its acceleration in '{shown(file_units)}', "
+                    f"{units_field.rsplit('.', 1)[-1]} gives '{units}'",
+                    "drop the units: a NetCDF record carries its own",
+                )
+        else:
+            file_units = units or "m s-2"
+        time_units = tvar.attrs.get("units", "s")
+        if not isinstance(time_units, str) or time_units.strip().lower() not in TIME_UNITS:
+            raise InputError(
+                field,
+                f"{name}: time units {shown(repr(time_units))}, expected s",
+                "store time in seconds (units: s)",
+            )
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                accel = np.asarray(var.values, dtype=float)
+                time = np.asarray(tvar.values, dtype=float)
+        except Exception as err:
+            raise InputError(
+                field, f"{name}: cannot read 'acceleration' ({_reason(err)})", fix
+            ) from None
+        meta = {
+            k: shown(v, 200)
+            for k, v in ds.attrs.items()
+            if k in ("title", "event", "station", "component", "source")
+        }
+    return time, accel, file_units, meta
+
+
+_DT_HEADER = re.compile(r"^#*\s*dt\s*[=:]\s*(\S*)", re.IGNORECASE)
+
+
+def _read_text_record(path: Path, field: str):
+    """(time or None, acceleration, dt from a header line or None) of a text record."""
+    name = shown(path.name)
+    values = array("d")
+    header_dt, n_cols, n_rows = None, None, 0
+    for number, line in text_lines(path, field):
+        stripped = line.strip()
+        header = _DT_HEADER.match(stripped)
+        if header:
+            try:
+                value = float(header.group(1).rstrip(",;"))
+            except ValueError:
+                raise InputError(
+                    field,
+                    f"{name} line {number}: bad dt header '{shown(stripped, 40)}'",
+                    "write dt = 0.01",
+                ) from None
+            if header_dt is not None and value != header_dt:
+                raise InputError(
+                    field,
+                    f"{name} line {number}: a second dt header ({value:g} s after {header_dt:g} s)",
+                    "keep one dt header",
+                )
+            header_dt = value
+            continue
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        parts = text.replace(",", " ").replace(";", " ").split()
+        try:
+            row = [float(p) for p in parts]
+        except ValueError:
+            raise InputError(
+                field,
+                f"{name} line {number}: non-numeric value in '{shown(text, 40)}'",
+                "give numbers only (comments start with #; a PEER record must end in .AT2)",
+            ) from None
+        if n_cols is None:
+            n_cols = len(row)
+            if n_cols not in (1, 2):
+                raise InputError(
+                    field,
+                    f"{name} line {number}: {n_cols} columns",
+                    "give time and acceleration, or acceleration alone with dt",
+                )
+        elif len(row) != n_cols:
+            raise InputError(
+                field, f"{name} line {number}: {len(row)} columns, expected {n_cols}", "fix the row"
+            )
+        n_rows += 1
+        check_samples(n_rows, field, path.name)
+        values.extend(row)
+    if not n_rows:
+        raise InputError(field, f"{name} holds no samples", "give at least two samples")
+    data = np.frombuffer(values, dtype=float).reshape(n_rows, n_cols)
+    if n_cols == 2:
+        return data[:, 0].copy(), data[:, 1].copy(), header_dt
+    return None, data[:, 0].copy(), header_dt
+
+
+def _check_record(time, accel, field, path):
+    name = shown(path.name)
+    if len(accel) < 2:
+        raise InputError(field, f"{name}: fewer than 2 samples", "give a longer record")
+    check_samples(len(accel), field, path.name)
+    bad = np.flatnonzero(~np.isfinite(accel) | ~np.isfinite(time))
+    if len(bad):
+        raise InputError(
+            field, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record"
+        )
+    with np.errstate(over="ignore", invalid="ignore"):
+        steps = np.diff(time)
+    if not np.all(np.isfinite(steps)):
+        raise InputError(
+            field, f"{name}: time values too large to take differences", "give time in s from 0"
+        )
+    if np.any(steps <= 0):
+        i = int(np.flatnonzero(steps <= 0)[0])
+        raise InputError(
+            field,
+            f"{name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
+            "sort the samples and remove duplicates",
+        )
+    h = float((time[-1] - time[0]) / (len(time) - 1))
+    if np.ptp(steps) > 1e-6 * h:
+        raise InputError(
+            field,
+            f"{name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
+            "resample to a uniform step first (not done here)",
+        )
+    check_dt(h, field, f"{name}: time step")
+    check_pga(accel, field, path.name)
+
+
+def record_to_table(time, accel):
+    """Acceleration samples -> (accel, exact node velocity, exact node displacement, step [s])."""
+    from stonedem.motion.records import integrate
+
+    accel = np.ascontiguousarray(accel, dtype=float)
+    h = float((time[-1] - time[0]) / (len(time) - 1))
+    vel, disp = integrate(np.arange(len(accel)) * h, accel)
+    return accel, vel, disp, h

@@ -41,7 +41,7 @@ from stonedem.engine.simulate import simulate
 from stonedem.errors import doc_summary
 from stonedem.io.atomic import write_text
 from stonedem.io.netcdf import code_version, open_result, write_dataset
-from stonedem.motion.excitation import RECORDS_DIR
+from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
 

@@ -70,7 +70,7 @@ def full_record_cases(n_records: int | None, pgas, config_path: Path):
 
 def full_records(cases) -> dict:
     """Verdicts and peak rotations of every case on the GPU and on the CPU ensemble."""
-    from stonedem.study.grid import run_cases_together
+    from stonedem.study.runner import run_cases_together
 
     out = {}
     for device in ("gpu", "cpu"):

@@ -91,7 +91,7 @@ def judge(cpu: np.ndarray, candidate: np.ndarray) -> dict:
 def cpu_members(cases, k: int, jobs: int, log=sys.stderr) -> tuple[np.ndarray, np.ndarray]:
     """(collapsed (case, member) int8, peak rotation (case, member) [rad]) of every case run
     by members j = 0..k-1 over ``jobs`` processes (:func:`stonedem.study.ensemble.run_members`:
-    :func:`stonedem.study.grid.case_scene`, :func:`~stonedem.study.members.member_scene`,
+    :func:`stonedem.study.runner.case_scene`, :func:`~stonedem.study.members.member_scene`,
     :func:`stonedem.engine.run.run_scene`), one progress line per run on ``log``."""
     from stonedem.study.ensemble import run_members
 

@@ -36,9 +36,9 @@ OUTPUT = "rounding.nc"
 
 
 def perturbed_scene(case, j: int, base_dir: Path = RECORDS):
-    """The case's Scene (:func:`stonedem.study.grid.case_scene`) with its contact law's k_n
+    """The case's Scene (:func:`stonedem.study.runner.case_scene`) with its contact law's k_n
     times stiffness_factor(j)."""
-    from stonedem.study.grid import case_scene
+    from stonedem.study.runner import case_scene
 
     return member_scene(case_scene(case, base_dir), j)
 

@@ -21,7 +21,8 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.study.grid import config_cases, run_case
+from stonedem.study.grid import config_cases
+from stonedem.study.runner import run_case
 
 WAYS = {
     "everything": {"stop_on_collapse": False, "skip_quiet": False},

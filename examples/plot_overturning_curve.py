@@ -24,7 +24,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import stonedem
-from stonedem.study.grid import case_table, combine_cases, run_case
+from stonedem.study.cube import combine_cases
+from stonedem.study.grid import case_table
+from stonedem.study.runner import run_case
 
 defaults = {
     "contact": {"model": "point", "k_n": 1.0e10},
@@ -48,7 +50,7 @@ print(f"{len(cases)} cases:", ", ".join(case.id for case in cases))
 # Run the cases and combine them
 # ------------------------------
 # Each case is one simulation whose dataset carries its parameters as scalar coordinates;
-# :func:`stonedem.study.grid.combine_cases` merges the case files into the cube.
+# :func:`stonedem.study.cube.combine_cases` merges the case files into the cube.
 workdir = tempfile.TemporaryDirectory(prefix="stonedem_cube_")  # removed when the script ends
 folder = Path(workdir.name)
 paths = [stonedem.write_dataset(run_case(case), folder / f"{case.id}.nc") for case in cases]

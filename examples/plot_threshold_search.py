@@ -24,7 +24,8 @@ import matplotlib.pyplot as plt
 
 import stonedem
 from stonedem.study.cube import search_dataset
-from stonedem.study.grid import case_table, run_case, search_case
+from stonedem.study.grid import case_table, search_case
+from stonedem.study.runner import run_case
 from stonedem.study.search import next_value, search, summary
 
 defaults = {
@@ -57,7 +58,7 @@ print("first value to run:", next_value([], settings))
 # --------------
 # :func:`stonedem.study.search.search` calls ``collapses(value, phase)`` until the search
 # is done; each call simulates the system at that PGA (:func:`~stonedem.study.grid.search_case`
-# makes the case, :func:`~stonedem.study.grid.run_case` runs it) and keeps its file.
+# makes the case, :func:`~stonedem.study.runner.run_case` runs it) and keeps its file.
 workdir = tempfile.TemporaryDirectory(prefix="stonedem_search_")  # removed when the script ends
 folder = Path(workdir.name)
 files = {}

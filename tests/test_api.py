@@ -191,7 +191,7 @@ def test_run_wall_refuses_bad_input_naming_the_field(case, message):
 
 
 def case_file(path, pga, collapsed, rocking):
-    """A case file as stonedem.study.grid.run_case writes it (the variables a cube keeps)."""
+    """A case file as stonedem.study.runner.run_case writes it (the variables a cube keeps)."""
     ds = xr.Dataset(
         {
             "collapsed": ((), float(collapsed), {"units": "1", "long_name": "collapsed"}),
@@ -208,8 +208,8 @@ def study_files(tmp_path_factory):
     """One file of each kind, written by the project's own functions and writer."""
     from stonedem.fragility.fit import fragility_dataset
     from stonedem.fragility.ida import ida_cube
-    from stonedem.study.cube import search_dataset
-    from stonedem.study.grid import Case, combine_cases
+    from stonedem.study.cube import combine_cases, search_dataset
+    from stonedem.study.grid import Case
     from stonedem.study.search import Run, SearchSettings, summary
     from tests.fragility.test_ida import COLUMN, _search_file
 

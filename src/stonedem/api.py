@@ -50,7 +50,7 @@ FILE_KINDS = {
     "cube": (
         "stonedem study cube",
         "a study cube",
-        "stonedem.study.grid.combine_cases (snakemake: a study's cube)",
+        "stonedem.study.cube.combine_cases (snakemake: a study's cube)",
         "open_cube",
     ),
     "search": (
@@ -470,7 +470,7 @@ def open_cube(path) -> xr.Dataset:
     Parameters
     ----------
     path : str or os.PathLike
-        A cube written by :func:`stonedem.study.grid.combine_cases` (a grid study) or
+        A cube written by :func:`stonedem.study.cube.combine_cases` (a grid study) or
         :func:`stonedem.study.cube.combine_searches` (a threshold-search study), as the
         workflow writes one per study.
 

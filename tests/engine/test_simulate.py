@@ -270,7 +270,8 @@ def test_the_warm_compile_covers_every_loop_and_type_of_the_study(monkeypatch):
 
     import stonedem.engine.simulate as simulate_module
     from stonedem.engine.run import STUDY_LOOPS, WARM_SCENES
-    from stonedem.study.grid import case_scene, config_cases, load_config, search_case
+    from stonedem.study.grid import config_cases, load_config, search_case
+    from stonedem.study.runner import case_scene
 
     seen = []
     real = simulate_module.compile_for

@@ -8,7 +8,8 @@ import pytest
 
 from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result
-from stonedem.study.grid import case_table, combine_cases
+from stonedem.study.cube import combine_cases
+from stonedem.study.grid import case_table
 from stonedem.study.runner import CaseStore, run_cases
 from tests.faults.small_study import same_data
 

@@ -13,7 +13,8 @@ import textwrap
 
 import pytest
 
-from stonedem.study.grid import case_table, combine_cases
+from stonedem.study.cube import combine_cases
+from stonedem.study.grid import case_table
 from stonedem.study.runner import CaseStore, run_cases, source_fingerprint
 from tests.faults.small_study import as_plain_owner, read_only, same_data
 

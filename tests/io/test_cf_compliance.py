@@ -53,8 +53,9 @@ def outputs(tmp_path_factory):
     from stonedem.fragility.fit import fragility_dataset
     from stonedem.fragility.ida import ida_cube
     from stonedem.io.netcdf import write_dataset
-    from stonedem.study.grid import case_table, combine_cases, run_case
-    from stonedem.study.runner import CaseStore, run_search
+    from stonedem.study.cube import combine_cases
+    from stonedem.study.grid import case_table
+    from stonedem.study.runner import CaseStore, run_case, run_search
     from stonedem.validation.cases import VALIDATIONS, write_result
     from tests.fragility.test_ida import COLUMN, _search_file
     from tests.study.test_runner import BLOCK

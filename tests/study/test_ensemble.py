@@ -14,7 +14,8 @@ import xarray as xr
 
 from benchmarks import rounding
 from stonedem.study import ensemble
-from stonedem.study.grid import config_cases, load_config, run_case
+from stonedem.study.grid import config_cases, load_config
+from stonedem.study.runner import run_case
 
 ROOT = Path(__file__).resolve().parents[2]
 # two cheap grid cases (ramps, ~0.1 s each) and one cheap search (5 runs to a 10 % bracket)

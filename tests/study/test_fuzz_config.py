@@ -5,8 +5,8 @@ mutates the real config (config/config.yaml under tests/workflow/config.yaml: ev
 one to three cases each) with wrong types, negative, zero, NaN and huge values, unknown keys,
 missing structures, unknown records, added, removed and reordered grid keys. Each mutated
 config is either refused with one InputError line naming a path of the config, or accepted,
-and then every case's scene builds as its job builds it (``stonedem.study.grid.run_case`` up to the
-simulation: natural duration, ``scene_from_dict``, the time step) and every input of every
+and then every case's scene builds as its job builds it (``stonedem.study.runner.run_case`` up to
+the simulation: natural duration, ``scene_from_dict``, the time step) and every input of every
 figure and table is made by a rule. ``HYPOTHESIS_PROFILE=fuzz`` runs 10 000 examples per test.
 """
 
@@ -327,10 +327,10 @@ def _assert_dag_builds(config: dict, tables: dict) -> None:
 
 
 def _assert_cases_run(tables: dict) -> None:
-    """Each case's scene builds as stonedem.study.grid.run_case builds it before it simulates."""
+    """Each case's scene builds as stonedem.study.runner.run_case builds it before it simulates."""
     from stonedem.engine.scene import scene_from_dict
     from stonedem.engine.simulate import choose_time_step
-    from stonedem.study.grid import natural_duration
+    from stonedem.study.runner import natural_duration
 
     for cases in tables.values():
         for case in cases:

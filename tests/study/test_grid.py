@@ -5,8 +5,10 @@ import pytest
 import xarray as xr
 
 from stonedem.errors import InputError
-from stonedem.study.grid import case_id, case_table, combine_cases, run_case
+from stonedem.study.cube import combine_cases
+from stonedem.study.grid import case_id, case_table
 from stonedem.study.reduce import table_7_1
+from stonedem.study.runner import run_case
 
 STUDY = {
     "structure": {"kind": "column", "height": 6.0, "width": 1.0},

@@ -10,14 +10,7 @@ import xarray as xr
 from stonedem.engine.scene import GEOMETRY_SCALE, initial_pose, posed_vertices, scene_from_dict
 from stonedem.errors import InputError
 from stonedem.study.cube import member_summary
-from stonedem.study.grid import (
-    case_scene,
-    check_config,
-    config_cases,
-    ensemble_settings,
-    load_config,
-    run_case,
-)
+from stonedem.study.grid import check_config, config_cases, ensemble_settings, load_config
 from stonedem.study.members import (
     RELATIVE_STEP,
     TILT,
@@ -26,6 +19,7 @@ from stonedem.study.members import (
     scale_factor,
     stiffness_factor,
 )
+from stonedem.study.runner import case_scene, run_case
 
 SCHEMA = "workflow/schemas/config.schema.yaml"
 COLUMN = {

@@ -7,7 +7,9 @@ settings; the study's figures print the same checks over the whole grid.
 
 import numpy as np
 
-from stonedem.study.grid import case_table, combine_cases, run_case
+from stonedem.study.cube import combine_cases
+from stonedem.study.grid import case_table
+from stonedem.study.runner import run_case
 
 DEFAULTS = {
     "contact": {"k_n": 1.0e10, "c_n": 1.0e4},
@@ -52,8 +54,8 @@ def collapse_fraction(name, study, members):
     ordering there is a statement about fractions, not about one draw
     (docs/method/equivalence.md)."""
     from stonedem.engine.run import checked_run, response_measures
-    from stonedem.study.grid import case_scene
     from stonedem.study.members import member_scene
+    from stonedem.study.runner import case_scene
 
     (case,) = case_table(name, study, DEFAULTS)
     verdicts = []

@@ -409,7 +409,8 @@ def test_a_search_builds_each_later_run_from_its_first_scene_and_gets_the_scene_
     built anew, sharing the bodies; every field is what case_scene gives, the provenance too."""
     import dataclasses
 
-    from stonedem.study.grid import SearchScenes, case_scene, search_case
+    from stonedem.study.grid import search_case
+    from stonedem.study.runner import SearchScenes, case_scene
 
     (system,) = case_table(
         "block",

@@ -1,10 +1,9 @@
 """Snakemake script: a batch of studies' case files (or searches, with an ensemble's stripe
-fills) -> their cubes (stonedem.study.grid.combine_cases, stonedem.study.cube.combine_searches)."""
+fills) -> their cubes (stonedem.study.cube.combine_cases, stonedem.study.cube.combine_searches)."""
 
 from stonedem.entry import workflow_log
 from stonedem.io.netcdf import write_dataset
-from stonedem.study.cube import combine_searches
-from stonedem.study.grid import combine_cases
+from stonedem.study.cube import combine_cases, combine_searches
 from stonedem.study.stripe_fill import stripe_pieces
 
 workflow_log(snakemake.log[0])

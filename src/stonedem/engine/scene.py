@@ -552,7 +552,7 @@ def scene_with_excitation(scene: Scene, spec: dict, base_dir: Path | str = ".") 
     """:func:`scene_from_dict` of ``spec`` when it differs from ``scene.spec`` only in its
     ``excitation`` and ``name``: the scene's bodies, law and settings as they are (checked
     once, shared), its base motion built and checked from ``spec``. A threshold search's runs
-    differ only so (stonedem.study.grid.SearchScenes); the bodies' identity lets the plan
+    differ only so (stonedem.study.runner.SearchScenes); the bodies' identity lets the plan
     reuse what depends on them alone (stonedem.engine.simulate)."""
     own = {key: copy.deepcopy(spec[key]) for key in ("excitation", "name") if key in spec}
     horizontal, vertical = base_motions(own, base_dir)

@@ -39,7 +39,7 @@ class BodiesMemo:
     """The last value of ``function(scene, *args)``, a function of the scene's bodies and
     contact law alone, kept while the next scene has the same bodies (the same tuple, held
     here so its id is not reused) and an equal law: a run's preflight and plan ask twice, and a
-    threshold search's runs share their bodies (stonedem.study.grid.SearchScenes)."""
+    threshold search's runs share their bodies (stonedem.study.runner.SearchScenes)."""
 
     def __init__(self, function):
         self.function = function

@@ -125,7 +125,7 @@ WALL_VARIABLES = {
 # the two solvers' names are disjoint (tests/io/test_netcdf.py), so one lookup serves both
 VARIABLES = {**SCENE_VARIABLES, **WALL_VARIABLES}
 
-# what a study cube (stonedem.study.grid.combine_cases) keeps of each case: its scalar measures,
+# what a study cube (stonedem.study.cube.combine_cases) keeps of each case: its scalar measures,
 # its time histories (NaN after a case stopped at collapse or ended), and the case
 # attributes every case agrees on
 CUBE_MEASURES = (

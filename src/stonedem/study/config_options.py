@@ -43,9 +43,9 @@ def study_config(
 
 
 def check_case_scenes(cases, records: Path) -> None:
-    """Build every case's scene once, as its run will (:func:`stonedem.study.grid.case_scene`),
+    """Build every case's scene once, as its run will (:func:`stonedem.study.runner.case_scene`),
     without running it: an InputError names the case and the field."""
-    from stonedem.study.grid import case_scene
+    from stonedem.study.runner import case_scene
 
     for case in cases:
         try:

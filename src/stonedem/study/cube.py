@@ -1,5 +1,6 @@
-"""Datasets of threshold searches: one system's runs (a ``run`` dimension, sorted by the
-searched value) with its bracket, and a study's systems combined into its cube.
+"""Study cubes: a grid study's case files combined (:func:`combine_cases`), and the datasets of
+threshold searches: one system's runs (a ``run`` dimension, sorted by the searched value) with
+its bracket, and a study's systems combined into its cube.
 
 In a search study's cube the searched parameter (e.g. ``pga``) is a coordinate on
 (system parameters..., run), not a dimension: each system ran its own values.
@@ -15,18 +16,7 @@ import xarray as xr
 from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result, schema_variables
 from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS, SEARCH_VARIABLES
-from stonedem.study.grid import (
-    CASE_PARAMETERS,
-    MEMBER,
-    PARAMETERS,
-    Case,
-    case_parameters,
-    case_piece,
-    collapse_fraction,
-    described_like,
-    on_parameter_dimensions,
-    shared_case_attrs,
-)
+from stonedem.study.grid import CASE_PARAMETERS, MEMBER, PARAMETERS, Case
 from stonedem.study.search import Run
 
 
@@ -232,3 +222,105 @@ def member_summary(cube: xr.Dataset) -> xr.Dataset:
     out["collapsed"] = collapse_fraction(cube["collapsed"])
     out.attrs = {**cube.attrs, "members": int(cube.sizes[MEMBER])}
     return out
+
+
+# --- a grid study's cube from its cases' files (moved from stonedem.study.grid) -------------
+
+
+def case_piece(ds: xr.Dataset) -> xr.Dataset:
+    """What a cube keeps of one case file: its measures and histories, its swept parameters
+    as scalar coordinates, output times rounded (cases of different dt sample the same
+    times to within rounding)."""
+    params = case_parameters(ds)
+    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
+    small = ds[names].load()
+    small = small.reset_coords(
+        [c for c in small.coords if c not in params and c != "time"], drop=True
+    )
+    if "time" in small.coords:
+        small = small.assign_coords(
+            time=("time", np.round(small["time"].values, 9), small["time"].attrs)
+        )
+    return small
+
+
+def case_parameters(ds: xr.Dataset) -> list[str]:
+    """The parameters of a case (or search) file: its scalar coordinates in CASE_PARAMETERS."""
+    return [k for k in CASE_PARAMETERS if k in ds.coords and ds[k].ndim == 0]
+
+
+def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
+    """``piece`` with its scalar parameters as dimensions of length one, ready to merge;
+    strings as objects (merging fixed-width unicode truncates 'per_span' to the width of 'a')."""
+    piece = piece.expand_dims(params)
+    return piece.assign_coords(
+        {k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"}
+    )
+
+
+def shared_case_attrs(attrs: list[dict]) -> dict:
+    """The case attributes a cube keeps: those of CUBE_SHARED_ATTRS every case agrees on."""
+    shared = None
+    for case_attrs in attrs:
+        case_attrs = {k: case_attrs[k] for k in CUBE_SHARED_ATTRS if k in case_attrs}
+        shared = (
+            case_attrs
+            if shared is None
+            else {
+                k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)
+            }
+        )
+    return shared or {}
+
+
+def described_like(cube: xr.Dataset, path) -> xr.Dataset:
+    """``cube`` (merged, attributes dropped) with the variable attributes of the file it was
+    combined from first, and each swept parameter's units and long name (PARAMETERS)."""
+    with open_result(path) as first:
+        for name in cube.variables:
+            if name in first.variables and name not in CASE_PARAMETERS:
+                cube[name].attrs = dict(first[name].attrs)
+    for name in cube.coords:
+        if name in CASE_PARAMETERS:
+            _, units, long_name, _ = CASE_PARAMETERS[name]
+            cube[name].attrs.update(units=units, long_name=long_name)
+    return cube
+
+
+def collapse_fraction(collapsed: xr.DataArray) -> xr.DataArray:
+    """The share of an ensemble's members that collapsed, per case (NaN where none ran)."""
+    return collapsed.mean(MEMBER).assign_attrs(
+        units="1",
+        long_name=f"collapse fraction over the ensemble's {collapsed.sizes[MEMBER]} members",
+    )
+
+
+def combine_cases(paths, description: str = "") -> xr.Dataset:
+    """Study cube: each case's measures and histories on dimensions named by the swept parameters.
+
+    Cases are merged by coordinates with an outer join, so a study of listed cases (not a
+    full grid) gives a cube with NaN where a combination was not run.
+    """
+    pieces, attrs = [], []
+    for path in paths:
+        with open_result(path) as ds:
+            pieces.append(on_parameter_dimensions(case_piece(ds), case_parameters(ds)))
+            attrs.append(dict(ds.attrs))
+    if not pieces:
+        raise InputError("cases", "no case files to combine", "run the study's cases first")
+    cube = described_like(
+        xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0]
+    )
+    if (
+        MEMBER in cube.dims
+    ):  # an ensemble (issue 44): the verdicts stay per member, beside their share
+        cube["collapse_fraction"] = collapse_fraction(cube["collapsed"])
+    # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
+    shared = shared_case_attrs(attrs)
+    cube.attrs = {
+        **shared,
+        "title": f"stonedem study cube: {shared.get('study', '')}",
+        "n_cases": len(pieces),
+        "description": description,
+    }
+    return cube

@@ -76,7 +76,7 @@ def member_verdict(case, j: int, perturbation: str = "stiffness") -> dict:
     """One grid case run by member j: {collapsed, max_rocking [rad], dt [s]} (the run's
     measures, without building its dataset)."""
     from stonedem.engine.run import checked_run, response_measures
-    from stonedem.study.grid import case_scene
+    from stonedem.study.runner import case_scene
 
     run = checked_run(member_scene(case_scene(case, RECORDS), j, perturbation))
     measures = response_measures(run.scene, run.result, run.checks)
@@ -849,7 +849,7 @@ def check_args(args) -> dict:
     )
     cases, systems = config_options.chosen_cases(config, known, args.studies, RECORDS)
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
-        from stonedem.study.grid import case_scene
+        from stonedem.study.runner import case_scene
 
         for case in cases + systems:
             try:

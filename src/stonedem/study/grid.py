@@ -4,8 +4,10 @@ A study in ``config/config.yaml`` names a base scene (structure, friction, conta
 excitation, solver) and a grid of swept parameters; the case table is the Cartesian product
 of the grid. Each parameter maps to one field of the scene (``PARAMETERS``), carries units
 and a long name, and becomes a scalar coordinate of the case dataset and a dimension of the
-study cube (:func:`combine_cases`). Case ids are built from the parameter values, so a case
-is fully described by its id and Snakemake reruns exactly what changed.
+study cube (:func:`stonedem.study.cube.combine_cases`). Case ids are built from the parameter
+values, so a case is fully described by its id and Snakemake reruns exactly what changed. The
+config's checks are here too (:func:`check_config`); a case's run is
+:func:`stonedem.study.runner.run_case`.
 """
 
 from __future__ import annotations
@@ -20,12 +22,9 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 
 from stonedem.engine.structures import EPISTYLE_TYPES
 from stonedem.errors import InputError
-from stonedem.io.netcdf import open_result
-from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS
 from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.motion.suites import record_file_name
 from stonedem.study.search import SearchSettings
@@ -910,7 +909,6 @@ def _built(cache: dict, spec, build, field: str, prefix: str, fix: str):
 
 
 def _key(spec) -> str:
-    import json
 
     return json.dumps(spec, sort_keys=True, default=repr)
 
@@ -974,197 +972,3 @@ def _located(
     in_study, in_defaults = depth(study), depth(defaults)
     where = "defaults" if in_defaults > in_study else f"studies.{case.study}"
     return InputError(f"{where}.{field}" if field else where, problem, error.fix)
-
-
-def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
-    """Simulate one case: the scene's dataset with the swept parameters as scalar coordinates."""
-    from stonedem.engine.run import run_scene
-
-    return case_dataset(case, run_scene(case_scene(case, base_dir)))
-
-
-def run_cases_together(
-    cases: list[Case], base_dir: Path | str = ".", device: str = "cpu"
-) -> list[xr.Dataset]:
-    """:func:`run_case` of each case, simulated side by side on ``device``
-    (:func:`stonedem.engine.run.run_scenes`; on the GPU the cases must share a structure)."""
-    from stonedem.engine.run import run_scenes
-
-    scenes = [case_scene(case, base_dir) for case in cases]
-    return [case_dataset(case, ds) for case, ds in zip(cases, run_scenes(scenes, device=device))]
-
-
-def case_scene(case: Case, base_dir: Path | str = "."):
-    """The case's Scene; a record's own length (plus the rest after it) when it gives no
-    duration."""
-    from stonedem.engine.scene import scene_from_dict
-    from stonedem.study.members import member_scene
-
-    scene_spec, member = scene_without_member(copy.deepcopy(case.scene))
-    solver = scene_spec.setdefault("solver", {})
-    if solver.get("duration") is None:
-        solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
-    scene = scene_from_dict(scene_spec, base_dir=base_dir)
-    return (
-        scene if member is None else member_scene(scene, member["member"], member["perturbation"])
-    )
-
-
-class SearchScenes:
-    """The Scenes of one threshold search's runs, each what :func:`case_scene` gives: the first
-    built in full, every later one from it with only its base motion built anew
-    (:func:`stonedem.engine.scene.scene_with_excitation`), since a search sweeps an excitation
-    parameter alone (SEARCH_PARAMETERS) and keeps the member. The runs then share the first's
-    bodies, which lets each plan reuse what depends on the bodies alone."""
-
-    def __init__(self, base_dir: Path | str = "."):
-        self.base_dir = base_dir
-        self.first = None
-
-    def __call__(self, case: Case):
-        from stonedem.engine.scene import scene_with_excitation
-
-        if self.first is None:
-            self.first = case_scene(case, self.base_dir)
-            return self.first
-        return scene_with_excitation(self.first, scene_without_member(case.scene)[0], self.base_dir)
-
-
-def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
-    """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
-    for key, value in case.params.items():
-        _, units, long_name, _ = CASE_PARAMETERS[key]
-        ds = ds.assign_coords(
-            {key: xr.Variable((), value, {"units": units, "long_name": long_name})}
-        )
-    ds.attrs.update(study=case.study, case=case.id)
-    if "ensemble" in case.scene:
-        ds.attrs["ensemble_perturbation"] = case.scene["ensemble"]["perturbation"]
-    return ds
-
-
-def natural_duration(excitation: dict | None, base_dir) -> float:
-    """A record's own length, plus REST_AFTER_RECORD for the structure to come to rest, when
-    a case gives no duration."""
-    from stonedem.motion.excitation import excitation_pair
-
-    # a search's runs differ only in the scale, which leaves the length as it is
-    key = json.dumps(
-        [{k: v for k, v in (excitation or {}).items() if k not in ("pga", "scale")}, str(base_dir)],
-        sort_keys=True,
-        default=repr,
-    )
-    if key not in _DURATIONS:
-        horizontal, _ = excitation_pair(excitation, Path(base_dir))
-        if horizontal.duration is None:
-            raise InputError(
-                "solver.duration",
-                "missing and the excitation has no natural length",
-                "give solver: {duration: ...} in the study",
-            )
-        if len(_DURATIONS) >= 64:
-            _DURATIONS.clear()
-        _DURATIONS[key] = horizontal.duration
-    return _DURATIONS[key] + REST_AFTER_RECORD
-
-
-_DURATIONS: dict = {}  # natural_duration's excitations' lengths [s] in this process
-
-
-def case_piece(ds: xr.Dataset) -> xr.Dataset:
-    """What a cube keeps of one case file: its measures and histories, its swept parameters
-    as scalar coordinates, output times rounded (cases of different dt sample the same
-    times to within rounding)."""
-    params = case_parameters(ds)
-    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
-    small = ds[names].load()
-    small = small.reset_coords(
-        [c for c in small.coords if c not in params and c != "time"], drop=True
-    )
-    if "time" in small.coords:
-        small = small.assign_coords(
-            time=("time", np.round(small["time"].values, 9), small["time"].attrs)
-        )
-    return small
-
-
-def case_parameters(ds: xr.Dataset) -> list[str]:
-    """The parameters of a case (or search) file: its scalar coordinates in CASE_PARAMETERS."""
-    return [k for k in CASE_PARAMETERS if k in ds.coords and ds[k].ndim == 0]
-
-
-def on_parameter_dimensions(piece: xr.Dataset, params: list[str]) -> xr.Dataset:
-    """``piece`` with its scalar parameters as dimensions of length one, ready to merge;
-    strings as objects (merging fixed-width unicode truncates 'per_span' to the width of 'a')."""
-    piece = piece.expand_dims(params)
-    return piece.assign_coords(
-        {k: piece[k].astype(object) for k in params if piece[k].dtype.kind == "U"}
-    )
-
-
-def shared_case_attrs(attrs: list[dict]) -> dict:
-    """The case attributes a cube keeps: those of CUBE_SHARED_ATTRS every case agrees on."""
-    shared = None
-    for case_attrs in attrs:
-        case_attrs = {k: case_attrs[k] for k in CUBE_SHARED_ATTRS if k in case_attrs}
-        shared = (
-            case_attrs
-            if shared is None
-            else {
-                k: v for k, v in shared.items() if k in case_attrs and str(case_attrs[k]) == str(v)
-            }
-        )
-    return shared or {}
-
-
-def described_like(cube: xr.Dataset, path) -> xr.Dataset:
-    """``cube`` (merged, attributes dropped) with the variable attributes of the file it was
-    combined from first, and each swept parameter's units and long name (PARAMETERS)."""
-    with open_result(path) as first:
-        for name in cube.variables:
-            if name in first.variables and name not in CASE_PARAMETERS:
-                cube[name].attrs = dict(first[name].attrs)
-    for name in cube.coords:
-        if name in CASE_PARAMETERS:
-            _, units, long_name, _ = CASE_PARAMETERS[name]
-            cube[name].attrs.update(units=units, long_name=long_name)
-    return cube
-
-
-def collapse_fraction(collapsed: xr.DataArray) -> xr.DataArray:
-    """The share of an ensemble's members that collapsed, per case (NaN where none ran)."""
-    return collapsed.mean(MEMBER).assign_attrs(
-        units="1",
-        long_name=f"collapse fraction over the ensemble's {collapsed.sizes[MEMBER]} members",
-    )
-
-
-def combine_cases(paths, description: str = "") -> xr.Dataset:
-    """Study cube: each case's measures and histories on dimensions named by the swept parameters.
-
-    Cases are merged by coordinates with an outer join, so a study of listed cases (not a
-    full grid) gives a cube with NaN where a combination was not run.
-    """
-    pieces, attrs = [], []
-    for path in paths:
-        with open_result(path) as ds:
-            pieces.append(on_parameter_dimensions(case_piece(ds), case_parameters(ds)))
-            attrs.append(dict(ds.attrs))
-    if not pieces:
-        raise InputError("cases", "no case files to combine", "run the study's cases first")
-    cube = described_like(
-        xr.merge(pieces, join="outer", compat="no_conflicts", combine_attrs="drop"), paths[0]
-    )
-    if (
-        MEMBER in cube.dims
-    ):  # an ensemble (issue 44): the verdicts stay per member, beside their share
-        cube["collapse_fraction"] = collapse_fraction(cube["collapsed"])
-    # per-case settings (dt, status, ...) stay in the case files; the cube keeps the shared ones
-    shared = shared_case_attrs(attrs)
-    cube.attrs = {
-        **shared,
-        "title": f"stonedem study cube: {shared.get('study', '')}",
-        "n_cases": len(pieces),
-        "description": description,
-    }
-    return cube

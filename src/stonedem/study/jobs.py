@@ -16,7 +16,8 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
-from stonedem.study.grid import Case, natural_duration
+from stonedem.study.grid import Case
+from stonedem.study.runner import natural_duration
 
 # estimated kernel seconds packed into one job (the estimate runs ~2.3x the measured time)
 JOB_SECONDS = 60.0

@@ -1,5 +1,6 @@
-"""Run many cases in one job: one interpreter start, one compiled-cache load, each record
-read once (stonedem.motion.excitation), one log line per case, and a store of finished cases.
+"""Run a case (:func:`run_case`: its scene, its run, its dataset) and many cases in one job:
+one interpreter start, one compiled-cache load, each record read once
+(stonedem.motion.records), one log line per case, and a store of finished cases.
 
 A Snakemake job starts Python, imports xarray and numba, reads its first record and loads
 the compiled kernels (1.0-1.5 s) before its first step, so the workflow packs cheap cases into one
@@ -20,6 +21,7 @@ skipped), and the case is simulated again.
 from __future__ import annotations
 
 import contextlib
+import copy
 import dataclasses
 import hashlib
 import json
@@ -32,15 +34,15 @@ from pathlib import Path
 import xarray as xr
 
 from stonedem.entry import progress_print
+from stonedem.errors import InputError
 from stonedem.io.netcdf import write_dataset
 from stonedem.motion.suites import record_file_name
 from stonedem.study.cube import RunPiece, dataset_piece, run_piece, search_dataset
 from stonedem.study.grid import (
+    CASE_PARAMETERS,
+    REST_AFTER_RECORD,
     Case,
-    SearchScenes,
-    case_scene,
-    run_case,
-    run_cases_together,
+    scene_without_member,
     search_case,
 )
 from stonedem.study.search import Run, replay, search, search_together, summary
@@ -413,7 +415,7 @@ def run_searches(
     """The threshold searches of ``systems`` together, in rounds
     (:func:`stonedem.study.search.search_together`): each round's runs restored from the store
     where they are, the others simulated side by side on ``device``
-    (:func:`stonedem.study.grid.run_cases_together`). Each search's runs, run files and
+    (:func:`stonedem.study.runner.run_cases_together`). Each search's runs, run files and
     summary are those :func:`run_search` gives: a run is written (and kept in the store) once
     it is on the search's path; the speculative runs off it are dropped. The summary's attrs
     say the device and the plan. ``runs_dirs`` None: no run files, and each search file kept
@@ -580,3 +582,101 @@ def library_versions() -> dict[str, str]:
         "numpy_version": np.__version__,
         "numba_cuda_version": cuda,
     }
+
+
+# --- one case: its scene, its run and its dataset (moved from stonedem.study.grid) ----------
+
+
+def run_case(case: Case, base_dir: Path | str = ".") -> xr.Dataset:
+    """Simulate one case: the scene's dataset with the swept parameters as scalar coordinates."""
+    from stonedem.engine.run import run_scene
+
+    return case_dataset(case, run_scene(case_scene(case, base_dir)))
+
+
+def run_cases_together(
+    cases: list[Case], base_dir: Path | str = ".", device: str = "cpu"
+) -> list[xr.Dataset]:
+    """:func:`run_case` of each case, simulated side by side on ``device``
+    (:func:`stonedem.engine.run.run_scenes`; on the GPU the cases must share a structure)."""
+    from stonedem.engine.run import run_scenes
+
+    scenes = [case_scene(case, base_dir) for case in cases]
+    return [case_dataset(case, ds) for case, ds in zip(cases, run_scenes(scenes, device=device))]
+
+
+def case_scene(case: Case, base_dir: Path | str = "."):
+    """The case's Scene; a record's own length (plus the rest after it) when it gives no
+    duration."""
+    from stonedem.engine.scene import scene_from_dict
+    from stonedem.study.members import member_scene
+
+    scene_spec, member = scene_without_member(copy.deepcopy(case.scene))
+    solver = scene_spec.setdefault("solver", {})
+    if solver.get("duration") is None:
+        solver["duration"] = natural_duration(scene_spec.get("excitation"), base_dir)
+    scene = scene_from_dict(scene_spec, base_dir=base_dir)
+    return (
+        scene if member is None else member_scene(scene, member["member"], member["perturbation"])
+    )
+
+
+class SearchScenes:
+    """The Scenes of one threshold search's runs, each what :func:`case_scene` gives: the first
+    built in full, every later one from it with only its base motion built anew
+    (:func:`stonedem.engine.scene.scene_with_excitation`), since a search sweeps an excitation
+    parameter alone (SEARCH_PARAMETERS) and keeps the member. The runs then share the first's
+    bodies, which lets each plan reuse what depends on the bodies alone."""
+
+    def __init__(self, base_dir: Path | str = "."):
+        self.base_dir = base_dir
+        self.first = None
+
+    def __call__(self, case: Case):
+        from stonedem.engine.scene import scene_with_excitation
+
+        if self.first is None:
+            self.first = case_scene(case, self.base_dir)
+            return self.first
+        return scene_with_excitation(self.first, scene_without_member(case.scene)[0], self.base_dir)
+
+
+def case_dataset(case: Case, ds: xr.Dataset) -> xr.Dataset:
+    """A scene's dataset as the case's: its swept parameters as scalar coordinates."""
+    for key, value in case.params.items():
+        _, units, long_name, _ = CASE_PARAMETERS[key]
+        ds = ds.assign_coords(
+            {key: xr.Variable((), value, {"units": units, "long_name": long_name})}
+        )
+    ds.attrs.update(study=case.study, case=case.id)
+    if "ensemble" in case.scene:
+        ds.attrs["ensemble_perturbation"] = case.scene["ensemble"]["perturbation"]
+    return ds
+
+
+def natural_duration(excitation: dict | None, base_dir) -> float:
+    """A record's own length, plus REST_AFTER_RECORD for the structure to come to rest, when
+    a case gives no duration."""
+    from stonedem.motion.excitation import excitation_pair
+
+    # a search's runs differ only in the scale, which leaves the length as it is
+    key = json.dumps(
+        [{k: v for k, v in (excitation or {}).items() if k not in ("pga", "scale")}, str(base_dir)],
+        sort_keys=True,
+        default=repr,
+    )
+    if key not in _DURATIONS:
+        horizontal, _ = excitation_pair(excitation, Path(base_dir))
+        if horizontal.duration is None:
+            raise InputError(
+                "solver.duration",
+                "missing and the excitation has no natural length",
+                "give solver: {duration: ...} in the study",
+            )
+        if len(_DURATIONS) >= 64:
+            _DURATIONS.clear()
+        _DURATIONS[key] = horizontal.duration
+    return _DURATIONS[key] + REST_AFTER_RECORD
+
+
+_DURATIONS: dict = {}  # natural_duration's excitations' lengths [s] in this process

@@ -13,6 +13,9 @@ import re
 import sys
 from pathlib import Path
 
+# run as a file (python benchmarks/x.py) as well as a module (python -m benchmarks.x)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
 from benchmarks import options
 
 LINE = re.compile(r"^\s+(\S+)\s+(\d+) members\s+(\S+) member-steps/s\s+(\S+) ns each$")

@@ -23,6 +23,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+# run as a file (python benchmarks/x.py) as well as a module (python -m benchmarks.x)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
 ROOT = Path(__file__).resolve().parents[1]
 
 # runs in the commit's own checkout (PYTHONPATH): prints one JSON line

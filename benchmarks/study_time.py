@@ -26,6 +26,9 @@ import tempfile
 import time
 from pathlib import Path
 
+# run as a file (python benchmarks/x.py) as well as a module (python -m benchmarks.x)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
 from benchmarks import options
 from stonedem.entry import check_output_path
 from stonedem.errors import InputError

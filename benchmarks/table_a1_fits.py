@@ -26,6 +26,9 @@ import sys
 import time
 from pathlib import Path
 
+# run as a file (python benchmarks/x.py) as well as a module (python -m benchmarks.x)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
 import numpy as np
 from scipy import optimize
 

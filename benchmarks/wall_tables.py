@@ -18,6 +18,9 @@ import sys
 import time
 from pathlib import Path
 
+# run as a file (python benchmarks/x.py) as well as a module (python -m benchmarks.x)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
 from benchmarks import options
 from stonedem.wall.case import load_case
 from stonedem.wall.dataset import add_limit_analysis, wall_dataset

@@ -130,3 +130,15 @@ def test_the_schema_and_the_table_come_from_the_rows():
     assert table[2] == "| `k_n` | number | N m-2 | > 0 and <= 1e+16 | 1e+11 | give k_n in N/m2 |"
     assert "| `k_t` | number | N m-1 | > 0 and <= 1e+18 | k_n x 1 m |  |" in table
     assert table[-1] == "| (top) | rule | | | | give k_n or dt, not both |"
+
+
+def test_an_absent_section_is_checked_as_empty():
+    solver = Spec((Field("duration", "number", "s", "(0, inf)", REQUIRED, "give it in s"),))
+    top = Spec((Field("solver", "mapping", spec=solver, default={}),))
+    with pytest.raises(InputError, match=r"^solver\.duration: missing; give it in s"):
+        top.check({})
+    output = Spec((Field("every", "number", "s", "(0, inf)", 0.001),))
+    given = Spec((Field("output", "mapping", spec=output, default={}),)).check({})
+    assert given == {"output": {"every": 0.001}}
+    # an optional section (default None) stays absent
+    assert Spec((Field("output", "mapping", spec=output),)).check({}) == {"output": None}

@@ -384,6 +384,10 @@ class Spec:
             if f.key not in mapping or (mapping[f.key] is None and not f.auto):
                 if f.required:
                     raise InputError(name, "missing", f.hint or "add this field")
+                if f.kind == "mapping" and f.spec is not None and f.default == {}:
+                    # an absent section is an empty one: its own defaults and required keys
+                    values[f.key] = f.spec.check({}, name)
+                    continue
                 values[f.key] = f.default_for(values)
             else:
                 values[f.key] = f.check(mapping[f.key], name)

@@ -18,6 +18,8 @@ from stonedem.engine.laws import LAWS, Law
 from stonedem.engine.run import run_scene
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import choose_time_step
+from stonedem.errors import InputError
+from stonedem.io.spec import Field
 from stonedem.kernels import excitation as kx
 from stonedem.motion import excitation
 from stonedem.motion.excitation import EXCITATIONS, BaseMotion, Excitation
@@ -115,26 +117,39 @@ def test_the_time_step_resolves_a_new_kind(triangle):
 
 
 def test_a_new_contact_law_is_one_row(monkeypatch):
-    """A point law without the plastic landing and with its own defaults and step safety."""
+    """A point law with a parameter of its own (its dashpot in percent of critical), no plastic
+    landing, its own defaults and step safety: its row here, the point kernel reused (a law of
+    its own adds its kernel and its branch in stonedem.kernels.step.run: three files)."""
+    percent = Field("zeta_percent", "number", "%", "[0, 1000]", 20.0, "give a percentage")
     monkeypatch.setitem(
         LAWS,
         "soft_point",
         Law(
             code=LAWS["point"].code,
-            defaults={"k_n": 1.0e9, "damping": 0.2},
+            k_n=1.0e9,
+            own=(percent,),
+            kernel_params=lambda v: (v["zeta_percent"] / 100.0, 0.0),
             dt_safety=0.5,
             arm2=0.25,
             frames=("faces",),
             frame="faces",
             describe="toy: point contacts, no landing rule",
-            damping_key="damping",
-            pair_dashpot=LAWS["point"].pair_dashpot,
+            damping_key="zeta_percent",
+            pair_dashpot=lambda law, length, mass: (
+                4.0 * law.zeta_percent / 100.0 * math.sqrt(0.5 * law.k_n * length * mass)
+            ),
             hint="soft_point (a toy)",
         ),
     )
     scene = scene_from_dict({**BLOCK, "contact": {"model": "soft_point"}})
-    assert (scene.contact.k_n, scene.contact.damping, scene.contact.impact) == (1e9, 0.2, "none")
-    assert scene.dt_safety == 0.5 and scene.spec["contact"]["damping"] == 0.2
+    assert scene.contact.params == {
+        "k_n": 1e9,
+        "zeta_percent": 20.0,
+        "k_t": 1e9,
+        "c_t": 0.0,
+        "frame": "faces",
+    }
+    assert scene.dt_safety == 0.5 and scene.spec["contact"]["zeta_percent"] == 20.0
     ds = run_scene(scene)
     assert ds.attrs["contact_law"] == "toy: point contacts, no landing rule"
     assert ds.attrs["contact_model"] == "soft_point" and ds.attrs["contact_impact"] == "none"
@@ -142,8 +157,13 @@ def test_a_new_contact_law_is_one_row(monkeypatch):
     mass = scene.bodies[1].mass
     settle = 1.0 - float(ds.y.sel(body="block").isel(time=-1))
     assert settle == pytest.approx(mass * scene.gravity / (1e9 * 0.5), rel=0.05)
-    with pytest.raises(Exception, match="not used by the soft_point model"):
+    # its parameter is checked by its field, and the other laws' keys are refused by name
+    with pytest.raises(InputError, match=r"^contact\.zeta_percent: must be >= 0 and <= 1000"):
+        scene_from_dict({**BLOCK, "contact": {"model": "soft_point", "zeta_percent": -5}})
+    with pytest.raises(InputError, match="contact.c_n: not used by the soft_point model"):
         scene_from_dict({**BLOCK, "contact": {"model": "soft_point", "c_n": 1.0}})
+    with pytest.raises(InputError, match="contact.zeta_percent: not used by the point model"):
+        scene_from_dict({**BLOCK, "contact": {"model": "point", "zeta_percent": 1.0}})
 
 
 def test_a_new_limit_state_is_one_row(monkeypatch, tmp_path):

@@ -25,7 +25,7 @@ def call(
     pair_ft = np.zeros((2, 2))
     pair_ft[0, 1] = ft
     law = step.Law(
-        kind=step.CONTACT_AREA, k_n=k_n, damping=c_n, impact=False, k_t=k_t, c_t=c_t, frame_rule=0
+        kind=step.CONTACT_AREA, k_n=k_n, k_t=k_t, c_t=c_t, frame_rule=0, params=np.array([c_n])
     )
     # masses do not enter the area law
     model, state, work = law_bundles(
@@ -80,7 +80,7 @@ def test_forces_conserve_angular_momentum_for_a_corner_contact():
     start = np.array([0, 4, 8])
     centres = np.array([[0.0, -0.25], block.mean(axis=0)])
     law = step.Law(
-        kind=step.CONTACT_AREA, k_n=1e8, damping=1e4, impact=False, k_t=1e8, c_t=1e3, frame_rule=0
+        kind=step.CONTACT_AREA, k_n=1e8, k_t=1e8, c_t=1e3, frame_rule=0, params=np.array([1e4])
     )
     model, state, work = law_bundles(
         verts,

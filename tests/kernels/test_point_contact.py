@@ -36,11 +36,10 @@ def forces(base, block, mass=100.0, damping=0.0, vel=(0.0, 0.0, 0.0), impact=Fal
     law = step.Law(
         kind=step.CONTACT_POINT,
         k_n=K_N,
-        damping=damping,
-        impact=impact,
         k_t=K_N,
         c_t=0.0,
         frame_rule=0,
+        params=np.array([damping, 1.0 if impact else 0.0]),
     )
     model, state, work = law_bundles(
         verts,

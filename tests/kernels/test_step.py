@@ -59,11 +59,10 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         law=step.Law(
             kind=step.CONTACT_AREA,
             k_n=1e8,
-            damping=0.0,
-            impact=False,
             k_t=1e6,
             c_t=0.0,
             frame_rule=FRAME_BOUNDARY,
+            params=np.array([0.0]),
         ),
         horizontal=still,
         vertical=still,

@@ -276,11 +276,10 @@ def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
         law=step.Law(
             kind=LAWS[law.model].code,
             k_n=law.k_n,
-            damping=LAWS[law.model].kernel_damping(law),
-            impact=law.impact == "plastic",
             k_t=law.k_t,
             c_t=law.c_t,
             frame_rule=FRAME_RULES[law.frame],
+            params=np.array(LAWS[law.model].kernel_params(law.params), dtype=np.float64),
         ),
         horizontal=excitation(scene.horizontal),
         vertical=excitation(scene.vertical),

@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 
 from stonedem.engine import geometry
-from stonedem.engine.laws import DEFAULT_LAW, LAWS
+from stonedem.engine.laws import DEFAULT_LAW, LAWS, ContactLaw
 from stonedem.errors import InputError, check_number, check_text, plain_number
+from stonedem.io.spec import got, show
 from stonedem.io.yaml_file import parse_yaml_text, read_yaml_mapping
 from stonedem.motion.excitation import BaseMotion, excitation_pair
 from stonedem.units import GRAVITY
@@ -108,22 +109,6 @@ class Body:
     @property
     def centroid(self) -> np.ndarray:
         return geometry.centroid(self.vertices)
-
-
-@dataclass(frozen=True)
-class ContactLaw:
-    """Soft contact law (thesis Eq. 3.4-3.6)."""
-
-    k_n: float  # normal stiffness per unit overlap area (area) or contact length (point) [N m-2]
-    c_n: float  # normal dashpot of the area law [N s m-1]
-    k_t: float  # tangential stiffness per contact [N m-1]
-    c_t: float  # tangential dashpot [N s m-1]
-    # contact frame rule, area law: boundary | thesis (stonedem.kernels.overlap); point law: faces
-    frame: str = "boundary"
-    # area (thesis, stonedem.kernels.contact) | point (stonedem.kernels.point_contact)
-    model: str = "area"
-    damping: float = 0.0  # point law: dashpot of each contact point, fraction of critical [1]
-    impact: str = "plastic"  # point law: a landing point stops plastically (Housner) | none
 
 
 @dataclass(frozen=True)
@@ -296,83 +281,36 @@ def _integer(value, field: str, minimum: int) -> int:
     return int(value)
 
 
-# keys every law reads, then each law's own (its row of stonedem.engine.laws.LAWS)
-LAW_KEYS = tuple(dict.fromkeys(key for row in LAWS.values() for key in row.own_keys))
-CONTACT_KEYS = ("model", "k_n", "k_t", "c_t", "frame", *LAW_KEYS)
-IMPACT_RULES = ("plastic", "none")
-# above these a value is taken for a units mistake
-CONTACT_LIMITS = {"k_n": 1e16, "c_n": 1e16, "damping": 100.0, "k_t": 1e18, "c_t": 1e16}
-
-
-def _contact_law(contact_spec: dict) -> ContactLaw:
+def contact_law(contact: dict) -> ContactLaw:
     """The scene's ``contact:`` mapping checked against its law's row (stonedem.engine.laws)."""
-    check_keys(contact_spec, CONTACT_KEYS, "contact")
+    contact = {} if contact is None else contact
+    if not isinstance(contact, dict):
+        raise InputError("contact", f"expected a mapping, got {got(contact)}", CONTACT_FIX)
     # no model: point, unless c_n is given (a dashpot only the area law has: a scene written
     # for the thesis' law before the point law became the default keeps its meaning)
-    model = contact_spec.get("model", "area" if "c_n" in contact_spec else DEFAULT_LAW)
+    model = contact.get("model", "area" if "c_n" in contact else DEFAULT_LAW)
     if not isinstance(model, str) or model not in LAWS:
         raise InputError(
             "contact.model",
-            f"unknown contact model {model!r}",
+            f"unknown contact model {show(model)}",
             "use " + " or ".join(row.hint for row in LAWS.values()),
         )
     row = LAWS[model]
-    for key in LAW_KEYS:
-        if key in contact_spec and key not in row.defaults:
-            other = next(name for name, r in LAWS.items() if key in r.defaults)
+    for key in contact:
+        owner = next((name for name, r in LAWS.items() if key in r.own_keys), None)
+        if owner is not None and key not in row.own_keys:
             raise InputError(
                 f"contact.{key}",
                 f"not used by the {model} model",
-                f"drop it, or set contact.model: {other}",
+                f"drop it, or set contact.model: {owner}",
             )
-    k_n = check_number(contact_spec.get("k_n", row.defaults["k_n"]), "contact.k_n", positive=True)
-    c_n = check_number(
-        contact_spec.get("c_n", row.defaults.get("c_n", 0.0)), "contact.c_n", nonnegative=True
-    )
-    damping = check_number(
-        contact_spec.get("damping", row.defaults.get("damping", 0.0)),
-        "contact.damping",
-        nonnegative=True,
-    )
-    # default: the tangential stiffness of a 1 m long face contact, k_n x 1 m
-    k_t = check_number(contact_spec.get("k_t", k_n * 1.0), "contact.k_t", positive=True)
-    c_t = check_number(contact_spec.get("c_t", c_n), "contact.c_t", nonnegative=True)
-    frame = contact_spec.get("frame", row.frames[0])
-    if not isinstance(frame, str) or frame not in row.frames:
-        if row.frame is not None:
-            raise InputError(
-                "contact.frame",
-                f"the {model} model's frame is its own ({row.frame})",
-                "drop contact.frame, or set contact.model: "
-                + " or ".join(name for name, r in LAWS.items() if r.frame is None),
-            )
-        raise InputError(
-            "contact.frame", f"unknown frame rule '{frame}'", f"use {' or '.join(row.frames)}"
-        )
-    frame = row.frame or frame
-    impact = contact_spec.get("impact", row.defaults.get("impact", "none"))
-    if not isinstance(impact, str) or impact not in IMPACT_RULES:
-        raise InputError(
-            "contact.impact",
-            f"unknown impact rule {impact!r}",
-            "use plastic (a landing point stops, Housner) or none (dashpots only)",
-        )
-    for key, value in (
-        ("k_n", k_n),
-        ("c_n", c_n),
-        ("damping", damping),
-        ("k_t", k_t),
-        ("c_t", c_t),
-    ):
-        if value > CONTACT_LIMITS[key]:
-            raise InputError(
-                f"contact.{key}",
-                f"{value:.3g} is above the limit {CONTACT_LIMITS[key]:g}",
-                "give SI units (k_n in N/m2 per m of contact, c_n in N s/m, damping as a fraction)",
-            )
-    return ContactLaw(
-        k_n=k_n, c_n=c_n, k_t=k_t, c_t=c_t, frame=frame, model=model, damping=damping, impact=impact
-    )
+    values = row.spec.check(contact, "contact")
+    del values["model"]
+    values["frame"] = row.frame or values["frame"]
+    return ContactLaw(model, values)
+
+
+CONTACT_FIX = "write contact: {model: point, k_n: 1.0e11}"
 
 
 # Every coordinate of the scenes scene_from_dict builds, times this (1.0: as given). The
@@ -436,7 +374,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
-    contact = _contact_law(_mapping(spec, "contact", "write contact: {model: point, k_n: 1.0e11}"))
+    contact = contact_law(spec.get("contact"))
     model = contact.model
 
     pair_friction = {}
@@ -501,14 +439,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         density=density,
         gravity=gravity,
         friction=friction,
-        contact={
-            "model": model,
-            "k_n": contact.k_n,
-            **{key: getattr(contact, key) for key in LAWS[model].own_keys},
-            "k_t": contact.k_t,
-            "c_t": contact.c_t,
-            "frame": contact.frame,
-        },
+        contact={"model": model, **contact.params},
         solver=solver,
         output=output,
     )

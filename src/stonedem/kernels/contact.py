@@ -227,7 +227,7 @@ def area_contact_forces(model, state, work, n_pair, dt, want_energy):
     Inlined into the loop by Numba, so handing it the bundles costs nothing.
     """
     law = model.law
-    k_n, c_n, k_t, c_t, frame_rule = law.k_n, law.damping, law.k_t, law.c_t, law.frame_rule
+    k_n, c_n, k_t, c_t, frame_rule = law.k_n, law.params[0], law.k_t, law.c_t, law.frame_rule
     vert_start, body_driven, pair_mu = model.vert_start, model.body_driven, model.pair_mu
     body_x, body_y = state.body_x, state.body_y
     body_vx, body_vy, body_omega = state.body_vx, state.body_vy, state.body_omega

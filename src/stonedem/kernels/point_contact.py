@@ -390,7 +390,8 @@ def face_contact_forces(model, state, work, a, b, ka, kb, dt, want_energy, store
     which chooses the faces; a kernel that knows them (:mod:`stonedem.kernels.contact_graph`)
     calls this directly."""
     law = model.law
-    k_n, damping, impact, k_t, c_t = law.k_n, law.damping, law.impact, law.k_t, law.c_t
+    k_n, k_t, c_t = law.k_n, law.k_t, law.c_t
+    damping, impact = law.params[0], law.params[1] != 0.0  # zeta [1], a plastic landing
     vert_start, body_driven, body_mass, body_inertia = (
         model.vert_start,
         model.body_driven,
@@ -602,10 +603,10 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     world vertices and bounds of work and its first n_pair candidate pairs, writes every
     body's edges (:func:`world_edges`), adds to work's force, torque and base-force
     accumulators and to state's contact memory and energy accumulators. The law
-    (model.law): k_n, the normal stiffness per unit contact length [N m-2]; damping, the
-    dashpot of each end as a fraction of critical, zeta [1]; k_t, c_t, each contact's
-    tangential spring [N m-1] and dashpot [N s m-1], half of each per end; impact: if true,
-    an end that starts to touch lands plastically (:func:`plastic_impulse`) and the depth it
+    (model.law): k_n, the normal stiffness per unit contact length [N m-2]; k_t, c_t, each
+    contact's tangential spring [N m-1] and dashpot [N s m-1], half of each per end; params:
+    the dashpot of each end as a fraction of critical, zeta [1], then the landing rule: if
+    non-zero, an end that starts to touch lands plastically (:func:`plastic_impulse`) and the depth it
     reached within that step is forgiven (a plastic offset that only shrinks), so the
     landing neither bounces nor depends on dt. dt [s]: the time step.
     Returns (n_contact, stored elastic energy [J], evaluated only when want_energy).

@@ -99,18 +99,16 @@ N_EVENT = 2
 
 class Law(NamedTuple):
     """The contact law of a scene (:mod:`stonedem.kernels.contact`,
-    :mod:`stonedem.kernels.point_contact`)."""
+    :mod:`stonedem.kernels.point_contact`): what every law reads, then the law's own values
+    as one array, in the order of its row's own fields (:mod:`stonedem.engine.laws`)."""
 
     kind: int  # CONTACT_AREA or CONTACT_POINT
     k_n: float  # normal stiffness: per unit overlap area (area) or contact length (point) [N m-2]
-    damping: (
-        float  # normal dashpot: c_n [N s m-1] (area) or a fraction of critical, zeta [1] (point)
-    )
-    # point law: a landing end stops plastically (stonedem.kernels.point_contact.plastic_impulse)
-    impact: bool
     k_t: float  # tangential stiffness [N m-1]
     c_t: float  # tangential dashpot [N s m-1]
     frame_rule: int  # FRAME_BOUNDARY or FRAME_THESIS (stonedem.kernels.overlap)
+    # area: (c_n [N s m-1],); point: (zeta [1], 1.0 when a landing end stops plastically)
+    params: np.ndarray
 
 
 class Excitation(NamedTuple):

@@ -32,11 +32,27 @@ import numpy as np
 
 from stonedem.engine.scene import scaled_bodies
 from stonedem.errors import InputError
+from stonedem.io.spec import Field
 
 RELATIVE_STEP = 2.0**-52  # member j lowers k_n by j x this, relative
 TILT = 1.0e-6  # [rad] the tilt of the "tilt" perturbation
 PERTURBATIONS = ("stiffness", "tilt", "geometry")
 MAX_MEMBERS = 1000  # j < 1000: k_n moves by < 2.3e-13 relative, still far below any physics
+
+MEMBER = Field(
+    "member",
+    "integer",
+    range=f"[0, {MAX_MEMBERS - 1}]",
+    hint=f"give 0 ... {MAX_MEMBERS - 1} (stonedem.study.members.MAX_MEMBERS)",
+    doc="the member index j",
+)
+PERTURBATION = Field(
+    "perturbation",
+    "choice",
+    default=PERTURBATIONS[0],
+    choices=PERTURBATIONS,
+    doc="what member j changes besides k_n (stonedem.study.members)",
+)
 
 
 # what each perturbation's members change, in words: (for an ensemble file's title, what its
@@ -68,40 +84,28 @@ def stiffness_factor(j: int) -> float:
 
 def check_member(j, field: str = "member") -> int:
     """A member index 0 <= j < MAX_MEMBERS, or an InputError naming ``field``."""
-    if isinstance(j, bool) or not isinstance(j, (int, np.integer)):
-        raise InputError(
-            field, f"expected an integer member index, got {j!r}", f"give 0 ... {MAX_MEMBERS - 1}"
-        )
-    if not 0 <= j < MAX_MEMBERS:
-        raise InputError(
-            field,
-            f"must be 0 ... {MAX_MEMBERS - 1}, got {j}",
-            f"give 0 ... {MAX_MEMBERS - 1} (stonedem.study.members.MAX_MEMBERS)",
-        )
-    return int(j)
+    return MEMBER.check(j, field)
 
 
 def check_perturbation(kind, field: str = "ensemble.perturbation") -> str:
-    if kind not in PERTURBATIONS:
-        raise InputError(
-            field, f"unknown perturbation {kind!r}", f"use one of {', '.join(PERTURBATIONS)}"
-        )
-    return kind
+    """One of PERTURBATIONS, or an InputError naming ``field``."""
+    return PERTURBATION.check(kind, field)
 
 
-def member_scene(scene, j: int, perturbation: str = "stiffness"):
+def member_scene(scene, j: int, perturbation: str = "stiffness", field: str = ""):
     """The Scene of member ``j``: ``scene`` itself for j = 0, else its k_n times
     stiffness_factor(j) and, for ``tilt``, the structure tilted by TILT, for ``geometry``,
-    every vertex scaled by scale_factor(j) (module docstring)."""
+    every vertex scaled by scale_factor(j) (module docstring). ``field`` names the
+    perturbation in a refusal (default ``ensemble.perturbation``)."""
     j = check_member(j)
     check_perturbation(perturbation)
     if j == 0:
         return scene
-    contact = dataclasses.replace(scene.contact, k_n=scene.contact.k_n * stiffness_factor(j))
+    contact = scene.contact.replace(k_n=scene.contact.k_n * stiffness_factor(j))
     scene = dataclasses.replace(scene, contact=contact)
     if perturbation == "tilt":
         scene = dataclasses.replace(
-            scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT)
+            scene, bodies=tilted_bodies(scene.bodies, TILT if j % 2 else -TILT, field)
         )
     elif perturbation == "geometry":
         scene = dataclasses.replace(scene, bodies=scaled_bodies(scene.bodies, scale_factor(j)))
@@ -113,13 +117,14 @@ def scale_factor(j: int) -> float:
     return 1.0 + j * RELATIVE_STEP
 
 
-def tilted_bodies(bodies, angle: float) -> tuple:
+def tilted_bodies(bodies, angle: float, field: str = "") -> tuple:
     """Every body that is not driven, rotated rigidly by ``angle`` [rad] (counter-clockwise >
-    0) about the free bodies' lowest left corner (angle > 0) or lowest right corner (< 0)."""
+    0) about the free bodies' lowest left corner (angle > 0) or lowest right corner (< 0);
+    ``field`` names the perturbation in a refusal (default ``ensemble.perturbation``)."""
     free = [b for b in bodies if not b.driven]
     if any(b.tilt_angle != 0.0 for b in free):
         raise InputError(
-            "ensemble.perturbation",
+            field or "ensemble.perturbation",
             "a tilt member of a scene whose bodies are tilted already",
             "use perturbation: stiffness",
         )

@@ -24,56 +24,18 @@ import numpy as np
 
 from stonedem.engine import geometry
 from stonedem.engine.laws import DEFAULT_LAW, LAWS, ContactLaw
-from stonedem.errors import InputError, check_number, check_text, plain_number
-from stonedem.io.spec import got, show
+from stonedem.errors import InputError
+from stonedem.io.spec import REQUIRED, Derived, Field, Spec, exactly_one, got, not_both, show
 from stonedem.io.yaml_file import parse_yaml_text, read_yaml_mapping
 from stonedem.motion.excitation import BaseMotion, excitation_pair
 from stonedem.units import GRAVITY
 
-TOP_KEYS = {
-    "name": "scene name",
-    "description": "free text",
-    "bodies": "list of bodies",
-    "structure": "a built structure (stonedem.engine.structures)",
-    "depth": "out-of-plane depth [m]",
-    "density": "default density [kg m-3]",
-    "gravity": "acceleration of gravity [m s-2]",
-    "friction": "default friction coefficient mu [1]",
-    "interface_friction": "per-interface friction [{bodies: [a, b], mu}]",
-    "contact": "contact law {k_n, c_n, k_t, c_t}",
-    "excitation": "base motion",
-    "solver": "{duration, dt, dt_safety, stop_on_collapse, skip_quiet, kernel}",
-    "output": "{every}",
-}
-BODY_KEYS = (
-    "name",
-    "box",
-    "polygon",
-    "mass",
-    "density",
-    "driven",
-    "tilt",
-    "velocity",
-    "friction",
-    "role",
-    "column",
-    "tier",
-)
 ROLES = ("base", "drum", "capital", "epistyle", "block")
 TILT_PIVOTS = ("bottom_left", "bottom_right", "centroid")
-SOLVER_DEFAULTS = {
-    "duration": None,
-    "dt": "auto",
-    "dt_safety": "auto",
-    "stop_on_collapse": True,
-    "skip_quiet": True,
-    "kernel": "auto",
-}
 # auto: a point-law scene runs on its contact graph while that holds
 # (stonedem.kernels.contact_graph), then on the general loop; general: the general loop from the
 # start
 KERNELS = ("auto", "general")
-OUTPUT_DEFAULTS = {"every": 0.001}
 MAX_BODY_VERTICES = 24
 # a scene of more bodies is refused: the contact memory is n^2 x 20 doubles (160 MB at 1000)
 MAX_BODIES = 1000
@@ -87,6 +49,138 @@ MAX_COORDINATE = 1e5
 # bodies may touch at t = 0 but not overlap by more than this share of the smaller area
 INITIAL_OVERLAP_TOLERANCE = 1e-6
 MAX_TEXT = 1000  # characters of the scene's name and description (stored in every output)
+
+BOX = Spec(
+    (
+        Field("width", "number", "m", "(0, inf)", REQUIRED, "give the width in m"),
+        Field("height", "number", "m", "(0, inf)", REQUIRED, "give the height in m"),
+        Field("center", "numbers", "m", length=2, default=[0.0, 0.0], hint="write center: [x, y]"),
+        Field("angle", "number", "rad", default=0.0, doc="rotation about the centre, ccw"),
+    )
+)
+POLYGON = Spec(
+    (
+        Field(
+            "vertices",
+            "list",
+            "m",
+            default=REQUIRED,
+            hint="list at least 3 [x, y] corners in order",
+            doc=f"3 to {MAX_BODY_VERTICES} [x, y] corners of a convex polygon, in order",
+        ),
+    )
+)
+TILT = Spec(
+    (
+        Field("angle", "number", "rad", default=REQUIRED, hint="give the tilt angle in rad"),
+        Field(
+            "about",
+            "any",
+            default="centroid",
+            doc="pivot: bottom_left or bottom_right (lean onto that corner), centroid or [x, y]",
+        ),
+    )
+)
+BODY = Spec(
+    (
+        Field("name", "text", limit=200, doc="body name, unique (default body<i>)"),
+        Field("box", "mapping", spec=BOX, doc="a rectangle"),
+        Field("polygon", "mapping", spec=POLYGON, doc="a convex polygon"),
+        Field("mass", "number", "kg", "(0, inf)", doc="mass (or density)"),
+        Field("density", "number", "kg m-3", "(0, inf)", doc="density (default: the scene's)"),
+        Field("driven", "flag", default=False, doc="moves with the base"),
+        Field("tilt", "mapping", spec=TILT, doc="initial tilt"),
+        Field(
+            "velocity",
+            "numbers",
+            "m s-1, m s-1, rad s-1",
+            length=3,
+            hint="give [vx, vy, omega] in [m/s, m/s, rad/s]",
+            doc="initial velocity",
+        ),
+        Field("friction", "number", "1", "[0, inf)", doc="friction with its supports"),
+        Field(
+            "role",
+            "choice",
+            choices=ROLES,
+            default=Derived(
+                "base if driven, else block", lambda v: "base" if v["driven"] else "block"
+            ),
+        ),
+        Field("column", "integer", range="[-1, inf)", default=-1, doc="column index, -1: none"),
+        Field("tier", "integer", range="[0, inf)", default=0, doc="tier of a two-tier colonnade"),
+    ),
+    rules=(
+        exactly_one("box", "polygon", fix="describe the shape once"),
+        not_both("mass", "density"),
+    ),
+)
+INTERFACE = Spec(
+    (
+        Field("bodies", "list", default=REQUIRED, hint="write bodies: [a, b]"),
+        Field("mu", "number", "1", "[0, inf)", REQUIRED, "give the friction coefficient mu"),
+    )
+)
+SOLVER = Spec(
+    (
+        Field("duration", "number", "s", "(0, inf)", REQUIRED, "give the simulated time in s"),
+        Field("dt", "number", "s", "(0, inf)", auto=True, doc="time step (auto: stable bound)"),
+        Field(
+            "dt_safety",
+            "number",
+            "1",
+            "(0, 1]",
+            auto=True,
+            hint="use a fraction of the stability limit, e.g. 0.25",
+            doc="share of the stability limit (auto: the law's)",
+        ),
+        Field("stop_on_collapse", "flag", default=True),
+        Field("skip_quiet", "flag", default=True, doc="skip a base too quiet to move anything"),
+        Field(
+            "kernel",
+            "choice",
+            choices=KERNELS,
+            default="auto",
+            hint="auto: the contact graph where it holds",
+        ),
+    )
+)
+PIVOT = Field("about", "numbers", "m", length=2, hint="write about: [x, y]")
+OUTPUT = Spec((Field("every", "number", "s", "(0, inf)", 0.001, doc="output interval"),))
+SCENE = Spec(
+    (
+        Field("name", "text", limit=MAX_TEXT, doc="scene name"),
+        Field("description", "text", limit=MAX_TEXT, one_line=False, doc="free text"),
+        Field(
+            "bodies",
+            "list",
+            default=[],
+            hint="write bodies: [{name: block, box: {width: 1, height: 2}}, ...]",
+            doc="the bodies (keys: bodies[])",
+        ),
+        Field("structure", "any", doc="a built structure (stonedem.engine.structures)"),
+        Field("depth", "number", "m", "(0, inf)", 1.0, doc="out-of-plane depth"),
+        Field("density", "number", "kg m-3", "(0, inf)", 2000.0, doc="default density"),
+        Field("gravity", "number", "m s-2", "[0, inf)", GRAVITY, doc="acceleration of gravity"),
+        Field("friction", "number", "1", "[0, inf)", 0.5, doc="default friction coefficient"),
+        Field(
+            "interface_friction",
+            "list",
+            spec=INTERFACE,
+            default=[],
+            hint="write interface_friction: [{bodies: [a, b], mu: 0.6}]",
+            doc="friction of named pairs",
+        ),
+        Field("contact", "any", doc="the contact law: the keys of its row (stonedem.engine.laws)"),
+        Field("excitation", "any", doc="the base motion (stonedem.motion.excitation)"),
+        Field("solver", "mapping", spec=SOLVER),  # checked after the bodies
+        Field("output", "mapping", spec=OUTPUT),  # checked after the bodies
+    )
+)
+# provenance: a scene's solver: and output: as given over these (auto stays "auto")
+SOLVER_DEFAULTS = {f.key: "auto" if f.auto else f.default_for({}) for f in SOLVER.fields}
+SOLVER_DEFAULTS["duration"] = None
+OUTPUT_DEFAULTS = OUTPUT.defaults()
 
 
 @dataclass(frozen=True)
@@ -240,47 +334,6 @@ def _list_index(node: list, part: str, key: str, label: str = "--set") -> int:
     raise InputError(f"{label} {key}", f"no list item '{part}'", "use an index or a body name")
 
 
-def check_keys(mapping, allowed, where: str) -> None:
-    """``mapping`` is a mapping whose keys are all in ``allowed``, or an InputError naming
-    ``where`` (or ``where.key``)."""
-    if not isinstance(mapping, dict):
-        raise InputError(
-            where,
-            f"expected a mapping, got {type(mapping).__name__}",
-            f"allowed keys: {', '.join(allowed)}",
-        )
-    for key in mapping:
-        if key not in allowed:
-            raise InputError(
-                f"{where}.{key}" if where else str(key),
-                "unknown key",
-                f"allowed keys: {', '.join(allowed)}",
-            )
-
-
-def _mapping(spec: dict, key: str, fix: str) -> dict:
-    """spec[key] as a (copied) mapping; absent or null: {}."""
-    value = spec.get(key)
-    if value is None:
-        return {}
-    if not isinstance(value, dict):
-        raise InputError(key, f"expected a mapping, got {type(value).__name__} {value!r:.40}", fix)
-    return dict(value)
-
-
-def _is_auto(value) -> bool:
-    return value is None or (isinstance(value, str) and value == "auto")
-
-
-def _integer(value, field: str, minimum: int) -> int:
-    value = plain_number(value)
-    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-        raise InputError(
-            field, f"expected an integer >= {minimum}, got {value!r}", f"give e.g. {minimum}"
-        )
-    return int(value)
-
-
 def contact_law(contact: dict) -> ContactLaw:
     """The scene's ``contact:`` mapping checked against its law's row (stonedem.engine.laws)."""
     contact = {} if contact is None else contact
@@ -333,23 +386,12 @@ def scaled_bodies(bodies, factor: float) -> tuple:
 
 def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     """Validate a scene mapping (the YAML format of docs/guide/scenes.md) and build a Scene."""
+    if not isinstance(spec, dict):
+        raise InputError("scene", f"expected a mapping, got {got(spec)}", "start with bodies:")
     spec = copy.deepcopy(spec)
-    check_keys(spec, TOP_KEYS, "")
-    for key in ("name", "description"):
-        if key in spec:
-            check_text(spec[key], key, MAX_TEXT, one_line=key == "name")
-    depth = check_number(spec.get("depth", 1.0), "depth", positive=True)
-    density = check_number(spec.get("density", 2000.0), "density", positive=True)
-    gravity = check_number(spec.get("gravity", GRAVITY), "gravity", nonnegative=True)
-    friction = check_number(spec.get("friction", 0.5), "friction", nonnegative=True)
-
-    body_specs = spec.get("bodies") or []
-    if not isinstance(body_specs, list):
-        raise InputError(
-            "bodies",
-            f"expected a list of bodies, got {type(body_specs).__name__}",
-            "write bodies: [{name: block, box: {width: 1, height: 2}}, ...]",
-        )
+    top = SCENE.check(spec)  # solver: and output: come after the bodies (a scene lacking both
+    # hears of its bodies first)
+    body_specs = top["bodies"]
     if "structure" in spec:
         from stonedem.engine.structures import build_structure
 
@@ -362,7 +404,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
             f"{len(body_specs)} bodies exceed the limit {MAX_BODIES}",
             "split the scene; contact memory grows as the square of the body count",
         )
-    bodies = tuple(_body(b, i, density, depth) for i, b in enumerate(body_specs))
+    bodies = tuple(_body(b, i, top["density"], top["depth"]) for i, b in enumerate(body_specs))
     if GEOMETRY_SCALE.get() != 1.0:
         bodies = scaled_bodies(bodies, GEOMETRY_SCALE.get())
     names = [b.name for b in bodies]
@@ -375,86 +417,43 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         raise InputError("bodies", "every body is driven", "leave at least one body free")
 
     contact = contact_law(spec.get("contact"))
-    model = contact.model
-
     pair_friction = {}
-    interface_friction = spec.get("interface_friction") or []
-    if not isinstance(interface_friction, list):
-        raise InputError(
-            "interface_friction",
-            f"expected a list, got {type(interface_friction).__name__}",
-            "write interface_friction: [{bodies: [a, b], mu: 0.6}]",
-        )
-    for i, item in enumerate(interface_friction):
-        where = f"interface_friction[{i}]"
-        check_keys(item, ("bodies", "mu"), where)
-        pair = item.get("bodies")
-        if not isinstance(pair, list) or len(pair) != 2:
-            raise InputError(f"{where}.bodies", "expected two body names", "write bodies: [a, b]")
-        for name in pair:
-            if not isinstance(name, str) or name not in names:
-                raise InputError(
-                    f"{where}.bodies",
-                    f"no body named '{name}'",
-                    f"known bodies: {', '.join(names)}",
-                )
-        pair_friction[tuple(sorted(pair))] = check_number(
-            item.get("mu"), f"{where}.mu", nonnegative=True
-        )
+    for i, item in enumerate(top["interface_friction"]):
+        pair = item["bodies"]
+        if len(pair) != 2 or not all(isinstance(n, str) and n in names for n in pair):
+            raise InputError(
+                f"interface_friction[{i}].bodies",
+                f"expected two body names, got {show(pair)}",
+                f"known bodies: {', '.join(names)}",
+            )
+        pair_friction[tuple(sorted(pair))] = item["mu"]
 
-    solver = {**SOLVER_DEFAULTS, **_mapping(spec, "solver", "write solver: {duration: 10}")}
-    check_keys(solver, SOLVER_DEFAULTS, "solver")
-    if solver["duration"] is None:
-        raise InputError("solver.duration", "missing", "give the simulated time in s")
-    duration = check_number(solver["duration"], "solver.duration", positive=True)
-    dt = None if _is_auto(solver["dt"]) else check_number(solver["dt"], "solver.dt", positive=True)
-    dt_safety = (
-        LAWS[model].dt_safety
-        if _is_auto(solver["dt_safety"])
-        else check_number(solver["dt_safety"], "solver.dt_safety", positive=True)
-    )
-    if dt_safety > 1.0:
-        raise InputError(
-            "solver.dt_safety",
-            f"{dt_safety} > 1 exceeds the stability limit",
-            "use a fraction of the limit, e.g. 0.25",
-        )
-    for key in ("stop_on_collapse", "skip_quiet"):
-        if not isinstance(solver[key], bool):
-            raise InputError(f"solver.{key}", "expected true or false", "write true or false")
-    if solver["kernel"] not in KERNELS:
-        raise InputError(
-            "solver.kernel",
-            f"unknown kernel {solver['kernel']!r}",
-            f"use one of {', '.join(KERNELS)} (auto: the contact graph where it holds)",
-        )
-    output = {**OUTPUT_DEFAULTS, **_mapping(spec, "output", "write output: {every: 0.01}")}
-    check_keys(output, OUTPUT_DEFAULTS, "output")
-    every = check_number(output["every"], "output.every", positive=True)
-
+    solver = SOLVER.check(spec.get("solver"), "solver")
+    every = OUTPUT.check(spec.get("output"), "output")["every"]
     horizontal, vertical = base_motions(spec, base_dir)
-
     spec.update(
-        depth=depth,
-        density=density,
-        gravity=gravity,
-        friction=friction,
-        contact={"model": model, **contact.params},
-        solver=solver,
-        output=output,
+        depth=top["depth"],
+        density=top["density"],
+        gravity=top["gravity"],
+        friction=top["friction"],
+        contact={"model": contact.model, **contact.params},
+        solver={**SOLVER_DEFAULTS, **(spec.get("solver") or {})},
+        output={**OUTPUT_DEFAULTS, **(spec.get("output") or {})},
     )
     scene = Scene(
         bodies=bodies,
         contact=contact,
-        friction=friction,
+        friction=top["friction"],
         pair_friction=pair_friction,
-        gravity=gravity,
-        depth=depth,
+        gravity=top["gravity"],
+        depth=top["depth"],
         horizontal=horizontal,
         vertical=vertical,
-        duration=duration,
-        dt=dt,
-        dt_safety=dt_safety,
+        duration=solver["duration"],
+        dt=solver["dt"],
+        dt_safety=LAWS[contact.model].dt_safety
+        if solver["dt_safety"] is None
+        else solver["dt_safety"],
         stop_on_collapse=solver["stop_on_collapse"],
         skip_quiet=solver["skip_quiet"],
         output_every=every,
@@ -467,9 +466,13 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
 
 def base_motions(spec: dict, base_dir: Path | str) -> tuple[BaseMotion, BaseMotion]:
     """The (horizontal, vertical) base motion of a scene mapping's ``excitation``, checked."""
-    excitation = _mapping(
-        spec, "excitation", "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}"
-    )
+    excitation = {} if spec.get("excitation") is None else spec["excitation"]
+    if not isinstance(excitation, dict):
+        raise InputError(
+            "excitation",
+            f"expected a mapping, got {got(excitation)}",
+            "write excitation: {kind: harmonic, amplitude: 2, frequency: 1}",
+        )
     if not isinstance(excitation.get("kind", "none"), str):
         raise InputError(
             "excitation.kind",
@@ -493,90 +496,30 @@ def scene_with_excitation(scene: Scene, spec: dict, base_dir: Path | str = ".") 
 
 
 def _body(spec: dict, index: int, density: float, depth: float) -> Body:
-    where = f"bodies[{index}]"
-    check_keys(spec, BODY_KEYS, where)
-    name = spec.get("name", f"body{index}")
-    if not isinstance(name, str) or not name or not name.isprintable() or len(name) > 200:
-        raise InputError(
-            f"{where}.name",
-            f"expected a short printable name, got {name!r:.60}",
-            "give a short text name",
-        )
-    where = f"bodies[{index}] ({name})"
-    if ("box" in spec) == ("polygon" in spec):
-        raise InputError(where, "give exactly one of box: or polygon:", "describe the shape once")
-    if "box" in spec:
-        box = spec["box"]
-        check_keys(box, ("width", "height", "center", "angle"), f"{where}.box")
-        width = check_number(box.get("width"), f"{where}.box.width", positive=True)
-        height = check_number(box.get("height"), f"{where}.box.height", positive=True)
-        center = box.get("center", [0.0, 0.0])
-        if not isinstance(center, (list, tuple)) or len(center) != 2:
-            raise InputError(f"{where}.box.center", "expected [x, y]", "write center: [x, y]")
-        center = [check_number(c, f"{where}.box.center") for c in center]
-        angle = check_number(box.get("angle", 0.0), f"{where}.box.angle")
-        vertices = geometry.box_vertices(width, height, center, angle)
+    name = spec.get("name", f"body{index}") if isinstance(spec, dict) else None
+    if name is not None:
+        name = BODY["name"].check(name, f"bodies[{index}].name")
+        if not name:
+            raise InputError(f"bodies[{index}].name", "is empty", "give a short text name")
+    where = f"bodies[{index}] ({name})" if name else f"bodies[{index}]"
+    body = BODY.check(spec, where)
+    if body["box"] is not None:
+        box = body["box"]
+        vertices = geometry.box_vertices(box["width"], box["height"], box["center"], box["angle"])
     else:
-        poly = spec["polygon"]
-        check_keys(poly, ("vertices",), f"{where}.polygon")
-        raw = poly.get("vertices")
-        if not isinstance(raw, list) or len(raw) < 3:
-            raise InputError(
-                f"{where}.polygon.vertices",
-                "need at least 3 [x, y] vertices",
-                "list the corners in order",
-            )
-        try:
-            vertices = np.array([[float(v[0]), float(v[1])] for v in raw])
-            if any(len(v) != 2 for v in raw):
-                raise ValueError
-        except (TypeError, ValueError, IndexError):
-            raise InputError(
-                f"{where}.polygon.vertices", "every vertex must be [x, y]", "list numbers in pairs"
-            ) from None
-        if not np.all(np.isfinite(vertices)):
-            raise InputError(
-                f"{where}.polygon.vertices", "non-finite coordinate", "give finite numbers"
-            )
-        if len(vertices) > MAX_BODY_VERTICES:
-            raise InputError(
-                f"{where}.polygon.vertices",
-                f"{len(vertices)} vertices",
-                f"use at most {MAX_BODY_VERTICES}",
-            )
-        if not geometry.is_simple(vertices):
-            raise InputError(
-                f"{where}.polygon",
-                "self-intersecting polygon",
-                "order the vertices around the boundary",
-            )
-        if geometry.signed_area(vertices) < 0.0:
-            vertices = vertices[::-1].copy()
-        if abs(geometry.signed_area(vertices)) <= 1e-14:
-            raise InputError(f"{where}.polygon", "zero area", "give a polygon with area")
-        if not geometry.is_convex(vertices):
-            raise InputError(
-                f"{where}.polygon", "non-convex polygon", "split it into convex bodies"
-            )
+        vertices = _polygon(body["polygon"]["vertices"], f"{where}.polygon")
 
     reach = float(np.max(np.abs(vertices)))
-    if (
-        not reach <= MAX_COORDINATE
-    ):  # a width of 1e300 gave "mass: 503 kg (inertia nan) is outside ..."
+    if not reach <= MAX_COORDINATE:  # a width of 1e300 gave "mass: 503 kg (inertia nan) ..."
         raise InputError(
-            f"{where}.{'box' if 'box' in spec else 'polygon.vertices'}",
+            f"{where}.{'box' if body['box'] is not None else 'polygon.vertices'}",
             f"a corner lies {reach:.3g} m from the origin, past {MAX_COORDINATE:g} m",
             "place the bodies near the origin, in metres",
         )
 
     area = geometry.signed_area(vertices) * depth  # volume [m3]
     polar = geometry.polar_moment_about_centroid(vertices) * depth
-    if "mass" in spec and "density" in spec:
-        raise InputError(where, "give mass or density, not both", "remove one")
-    if "mass" in spec:
-        mass = check_number(spec["mass"], f"{where}.mass", positive=True)
-    else:
-        mass = check_number(spec.get("density", density), f"{where}.density", positive=True) * area
+    mass = body["mass"] if body["mass"] is not None else (body["density"] or density) * area
     inertia = mass * polar / area if area > 0.0 else 0.0  # uniform distribution over the polygon
     if not (MIN_MASS <= mass <= MAX_MASS and inertia > 0.0 and np.isfinite(inertia)):
         raise InputError(
@@ -585,50 +528,47 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
             "check mass, density, depth and the body's size (SI units)",
         )
 
-    driven = spec.get("driven", False)
-    if not isinstance(driven, bool):
-        raise InputError(f"{where}.driven", "expected true or false", "write true or false")
-    role = spec.get("role", "base" if driven else "block")
-    if not isinstance(role, str) or role not in ROLES:
-        raise InputError(
-            f"{where}.role", f"unknown role '{role}'", f"use one of {', '.join(ROLES)}"
-        )
-    column = _integer(spec.get("column", -1), f"{where}.column", -1)
-    tier = _integer(spec.get("tier", 0), f"{where}.tier", 0)
-    mu = spec.get("friction")
-    mu = None if mu is None else check_number(mu, f"{where}.friction", nonnegative=True)
-
     tilt_angle, tilt_pivot = 0.0, geometry.centroid(vertices)
-    if "tilt" in spec:
-        tilt = spec["tilt"]
-        check_keys(tilt, ("angle", "about"), f"{where}.tilt")
-        angle = check_number(tilt.get("angle"), f"{where}.tilt.angle")
-        tilt_angle, tilt_pivot = _tilt(
-            vertices, angle, tilt.get("about", "centroid"), f"{where}.tilt.about"
-        )
-        if driven:
+    if body["tilt"] is not None:
+        if body["driven"]:
             raise InputError(f"{where}.tilt", "a driven body cannot be tilted", "remove tilt:")
-    velocity = spec.get("velocity")
-    if velocity is not None:
-        if not isinstance(velocity, (list, tuple)) or len(velocity) != 3:
-            raise InputError(
-                f"{where}.velocity", "expected [vx, vy, omega]", "give [m/s, m/s, rad/s]"
-            )
-        velocity = tuple(check_number(v, f"{where}.velocity") for v in velocity)
+        tilt = body["tilt"]
+        tilt_angle, tilt_pivot = _tilt(
+            vertices, tilt["angle"], tilt["about"], f"{where}.tilt.about"
+        )
+    velocity = body["velocity"]
     return Body(
-        name=name,
+        name=name if name is not None else f"body{index}",
         vertices=vertices,
         mass=mass,
         inertia=inertia,
-        driven=driven,
-        role=role,
-        column=column,
-        tier=tier,
-        friction=mu,
+        driven=body["driven"],
+        role=body["role"],
+        column=body["column"],
+        tier=body["tier"],
+        friction=body["friction"],
         tilt_angle=tilt_angle,
         tilt_pivot=tilt_pivot,
-        velocity=velocity,
+        velocity=None if velocity is None else tuple(velocity),
     )
+
+
+def _polygon(raw: list, where: str) -> np.ndarray:
+    """The counter-clockwise corners of a ``polygon:`` body's vertices, or an InputError: 3 to
+    MAX_BODY_VERTICES [x, y] pairs of finite numbers, a simple convex polygon with area."""
+    field = f"{where}.vertices"
+    if len(raw) < 3 or len(raw) > MAX_BODY_VERTICES:
+        raise InputError(field, f"{len(raw)} vertices", f"give 3 to {MAX_BODY_VERTICES} [x, y]")
+    pair = Field("vertex", "numbers", "m", length=2, hint="list numbers in pairs")
+    vertices = np.array([pair.check(v, f"{field}[{i}]") for i, v in enumerate(raw)])
+    for bad, problem, fix in (
+        (not geometry.is_simple(vertices), "self-intersecting", "order them around the boundary"),
+        (abs(geometry.signed_area(vertices)) <= 1e-14, "zero area", "give a polygon with area"),
+        (not geometry.is_convex(vertices), "non-convex polygon", "split it into convex bodies"),
+    ):
+        if bad:
+            raise InputError(where, problem, fix)
+    return vertices if geometry.signed_area(vertices) > 0.0 else vertices[::-1].copy()
 
 
 def _tilt(vertices: np.ndarray, angle: float, about, where: str):
@@ -638,11 +578,11 @@ def _tilt(vertices: np.ndarray, angle: float, about, where: str):
     about bottom_right the body turns clockwise. An explicit [x, y] pivot turns it
     counter-clockwise by ``angle``.
     """
-    if isinstance(about, (list, tuple)) and len(about) == 2:
-        return angle, np.array([check_number(about[0], where), check_number(about[1], where)])
+    if isinstance(about, (list, tuple)):
+        return angle, np.array(PIVOT.check(about, where))
     if about not in TILT_PIVOTS:
         raise InputError(
-            where, f"unknown pivot '{about}'", f"use one of {', '.join(TILT_PIVOTS)} or [x, y]"
+            where, f"unknown pivot {show(about)}", f"use one of {', '.join(TILT_PIVOTS)} or [x, y]"
         )
     if about == "centroid":
         return angle, geometry.centroid(vertices)

@@ -10,41 +10,16 @@ the epistyle of a lower one (7.9).
 
 from __future__ import annotations
 
-import inspect
-import math
+from dataclasses import dataclass
+from typing import Callable
 
-from stonedem.errors import InputError, plain_number
+from stonedem.errors import InputError
+from stonedem.io.spec import REQUIRED, Field, Spec, got
 
 EPISTYLE_TYPES = ("a", "b", "c", "d", "per_span")
 # a structure of more bodies is refused before it is built (stonedem.engine.scene.MAX_BODIES is the
 # scene's limit; the pair memory grows as n^2)
 MAX_COUNT = 1000
-
-
-def _positive(value, field):
-    value = plain_number(value)
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float))
-        or not value > 0
-        or not math.isfinite(value)
-    ):
-        raise InputError(
-            field,
-            f"must be a positive finite number, got {value!r}",
-            "give a value > 0 in SI units",
-        )
-    return float(value)
-
-
-def _count(value, field):
-    """An integer count 1..MAX_COUNT."""
-    value = plain_number(value)
-    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_COUNT:
-        raise InputError(
-            field, f"must be an integer from 1 to {MAX_COUNT}, got {value!r}", "give 1, 2, 3, ..."
-        )
-    return value
 
 
 def _box(name, width, height, cx, y_bottom, density, **extra):
@@ -58,12 +33,12 @@ def _box(name, width, height, cx, y_bottom, density, **extra):
 
 def base_body(width, height=0.5, center_x=0.0):
     """The driven base: a width x height box whose top face is at y = 0."""
-    width = _positive(width, "structure.base_width")
+    width, height = float(width), float(height)
     return {
         "name": "base",
         "box": {
             "width": width,
-            "height": _positive(height, "structure.base_height"),
+            "height": height,
             "center": [center_x, -height / 2],
         },
         "density": 2700.0,
@@ -99,11 +74,6 @@ def column(
     taper: bottom / top width of the shaft (1 = rectangular drums); capital: None or
     {height, width} [m], a box on the top drum.
     """
-    n_drums = _count(n_drums, "structure.n_drums")
-    height = _positive(height, "structure.height")
-    width = _positive(width, "structure.width")
-    density = _positive(density, "structure.density")
-    taper = _positive(taper, "structure.taper")
     bottom, top = shaft_widths(taper, width)
     drum_h = height / n_drums
     bodies = []
@@ -126,14 +96,7 @@ def column(
                 {"name": name, "polygon": {"vertices": vertices}, "density": density, **extra}
             )
     if capital is not None:
-        if not isinstance(capital, dict) or set(capital) - {"height", "width"}:
-            raise InputError(
-                "structure.capital",
-                f"expected {{height, width}}, got {capital!r}",
-                "write capital: {height: 0.6, width: 1.4}",
-            )
-        ch = _positive(capital.get("height", 0.6), "structure.capital.height")
-        cw = _positive(capital.get("width", 1.4), "structure.capital.width")
+        ch, cw = capital.get("height", 0.6), capital.get("width", 1.4)
         bodies.append(
             _box(
                 f"{prefix}c{column_index}_cap",
@@ -201,28 +164,14 @@ def colonnade_row(
     d: two epistyles between those centre lines, jointed as in b;
     per_span: one epistyle per span, centre line to centre line (the input file of Fig. 4.6).
     """
-    n_columns = _count(n_columns, "structure.n_columns")
-    n_drums = _count(n_drums, "structure.n_drums")
     if n_columns * n_drums > MAX_COUNT:
         raise InputError(
             "structure.n_columns",
             f"{n_columns} columns x {n_drums} drums exceed {MAX_COUNT} bodies",
             "use fewer columns or drums",
         )
-    if not isinstance(epistyle_type, str) or epistyle_type not in EPISTYLE_TYPES:
-        raise InputError(
-            "structure.epistyle_type",
-            f"unknown type {epistyle_type!r}",
-            f"use one of {', '.join(EPISTYLE_TYPES)} (thesis Table 7.2)",
-        )
-    clear_distance = _positive(clear_distance, "structure.clear_distance")
-    epistyle_height = _positive(epistyle_height, "structure.epistyle_height")
-    epistyle_density = _positive(
-        epistyle_density if epistyle_density is not None else density, "structure.epistyle_density"
-    )
-    bottom, top = shaft_widths(
-        _positive(taper, "structure.taper"), _positive(width, "structure.width")
-    )
+    epistyle_density = epistyle_density if epistyle_density is not None else density
+    bottom, top = shaft_widths(taper, width)
     spacing = spacing if spacing is not None else bottom + clear_distance
     xs = [(k - (n_columns - 1) / 2.0) * spacing for k in range(n_columns)]
     bodies = []
@@ -298,7 +247,7 @@ def colonnade(
     )
     xs = [x for b in row for x, _ in _vertices(b)]
     span = max(xs) - min(xs)
-    return [base_body(span + 2 * _positive(base_margin, "structure.base_margin"))] + row
+    return [base_body(span + 2 * base_margin)] + row
 
 
 def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
@@ -310,19 +259,6 @@ def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
     Defaults: lower 3 columns of 6 m x 1 m with a type a epistyle; upper 3 columns of
     3 m x 0.6 m with a type a epistyle of 0.4 m.
     """
-    for name, tier in (("lower", lower), ("upper", upper)):
-        if tier is not None and not isinstance(tier, dict):
-            raise InputError(
-                f"structure.{name}",
-                f"expected a mapping, got {type(tier).__name__}",
-                "write e.g. {n_columns: 3, n_drums: 2}",
-            )
-        allowed = list(inspect.signature(colonnade_row).parameters)
-        for key in tier or {}:
-            if key not in allowed:
-                raise InputError(
-                    f"structure.{name}.{key}", "unknown key", f"allowed keys: {', '.join(allowed)}"
-                )
     lower = {"n_columns": 3, "epistyle_type": "a", **(lower or {})}
     upper = {
         "n_columns": lower["n_columns"],
@@ -332,10 +268,6 @@ def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
         "epistyle_type": "a",
         **(upper or {}),
     }
-    for key in ("y0", "prefix", "column_offset", "spacing"):
-        for tier in (lower, upper):
-            if key in tier:
-                raise InputError(f"structure.{key}", "set by the builder", "remove it")
     if upper["n_columns"] != lower["n_columns"]:
         raise InputError(
             "structure.upper.n_columns",
@@ -364,48 +296,120 @@ def two_tier_colonnade(lower=None, upper=None, base_margin=2.0):
     for body in up:
         body["tier"] = 1
     xs = [x for b in low + up for x, _ in _vertices(b)]
-    return (
-        [base_body(max(xs) - min(xs) + 2 * _positive(base_margin, "structure.base_margin"))]
-        + low
-        + up
+    return [base_body(max(xs) - min(xs) + 2 * base_margin)] + low + up
+
+
+# the keys of a structure: what each builder takes, with units and ranges
+N_DRUMS = Field("n_drums", "integer", "", f"[1, {MAX_COUNT}]", 1, doc="drums per column")
+CAPITAL = Spec(
+    (
+        Field("height", "number", "m", "(0, inf)", 0.6, doc="capital height"),
+        Field("width", "number", "m", "(0, inf)", 1.4, doc="capital width"),
     )
+)
+COLUMN_KEYS = (
+    Field("height", "number", "m", "(0, inf)", 6.0, doc="shaft height, split into equal drums"),
+    Field("width", "number", "m", "(0, inf)", 1.0, doc="mean shaft width"),
+    Field("density", "number", "kg m-3", "(0, inf)", 2000.0, doc="stone density"),
+    Field("taper", "number", "1", "(0, inf)", 1.0, doc="bottom / top shaft width"),
+    Field("capital", "mapping", spec=CAPITAL, doc="a box on the top drum {height, width}"),
+)
+ROW_KEYS = (
+    Field("n_columns", "integer", "", f"[1, {MAX_COUNT}]", 3, doc="columns in the row"),
+    N_DRUMS,
+    *COLUMN_KEYS[:2],
+    Field("clear_distance", "number", "m", "(0, inf)", 2.0, doc="between shaft faces at the base"),
+    Field(
+        "epistyle_type",
+        "choice",
+        choices=EPISTYLE_TYPES,
+        default="a",
+        hint="thesis Table 7.2",
+        doc="epistyle layout (thesis Table 7.2)",
+    ),
+    Field("epistyle_height", "number", "m", "(0, inf)", 0.8, doc="epistyle height"),
+    Field("epistyle_density", "number", "kg m-3", "(0, inf)", doc="default: density"),
+    *COLUMN_KEYS[2:],
+)
+BASE_MARGIN = Field("base_margin", "number", "m", "(0, inf)", 2.0, doc="base beyond the row")
+# a row of a two-tier colonnade: only the keys given (the builder has its own per-tier defaults)
+TIER = Spec(
+    tuple(
+        Field(f.key, f.kind, f.units, f.range, None, f.hint, f.choices, spec=f.spec, doc=f.doc)
+        for f in ROW_KEYS
+    )
+)
+
+
+@dataclass(frozen=True)
+class Structure:
+    """One kind of ``structure:``: its builder and the keys it takes."""
+
+    build: Callable  # checked keys -> body list in the scene format
+    spec: Spec
+    doc: str
+
+
+def _tiers(lower, upper, base_margin):
+    given = {}
+    for name, tier in (("lower", lower), ("upper", upper)):
+        given[name] = {
+            k: v for k, v in TIER.check(tier, f"structure.{name}").items() if v is not None
+        }
+    return two_tier_colonnade(given["lower"], given["upper"], base_margin)
 
 
 BUILDERS = {
-    "column": standalone_column,
-    "colonnade": colonnade,
-    "two_tier_colonnade": two_tier_colonnade,
+    "column": Structure(
+        lambda v: standalone_column(**v),
+        Spec(
+            (
+                Field(
+                    "n_drums", "integer", "", f"[1, {MAX_COUNT}]", REQUIRED, "give e.g. n_drums: 4"
+                ),
+                *COLUMN_KEYS,
+                Field("base_width", "number", "m", "(0, inf)", 4.0, doc="width of the driven base"),
+            )
+        ),
+        "base + one column (thesis chapter 6)",
+    ),
+    "colonnade": Structure(
+        lambda v: colonnade(**v),
+        Spec((*ROW_KEYS, BASE_MARGIN)),
+        "base + a row of columns with epistyles (thesis chapter 7)",
+    ),
+    "two_tier_colonnade": Structure(
+        lambda v: _tiers(**v),
+        Spec(
+            (
+                Field("lower", "mapping", spec=TIER, doc="the lower row's colonnade keys"),
+                Field("upper", "mapping", spec=TIER, doc="the upper row's colonnade keys"),
+                BASE_MARGIN,
+            )
+        ),
+        "base + a lower row carrying an upper row (thesis 7.9)",
+    ),
 }
+KIND = Field(
+    "kind",
+    "choice",
+    choices=tuple(BUILDERS),
+    default=REQUIRED,
+    hint=f"use one of {', '.join(BUILDERS)}",
+)
 
 
 def build_structure(spec: dict) -> list[dict]:
-    """Bodies of ``{kind: column | colonnade | two_tier_colonnade, ...keyword arguments}``."""
+    """Bodies of ``{kind: column | colonnade | two_tier_colonnade, ...its keys}``."""
     if not isinstance(spec, dict):
         raise InputError(
             "structure",
-            f"expected a mapping, got {type(spec).__name__}",
+            f"expected a mapping, got {got(spec)}",
             "write structure: {kind: column, n_drums: 4}",
         )
     if "kind" not in spec:
-        raise InputError("structure.kind", "missing", f"use one of {', '.join(BUILDERS)}")
-    spec = dict(spec)
-    kind = spec.pop("kind")
-    if not isinstance(kind, str) or kind not in BUILDERS:
-        raise InputError(
-            "structure.kind", f"unknown kind {kind!r}", f"use one of {', '.join(BUILDERS)}"
-        )
-    builder = BUILDERS[kind]
-    allowed = list(inspect.signature(builder).parameters)
-    for key in spec:
-        if key not in allowed:
-            raise InputError(
-                f"structure.{key}", f"unknown key for {kind}", f"allowed keys: {', '.join(allowed)}"
-            )
-    missing = [
-        name
-        for name, par in inspect.signature(builder).parameters.items()
-        if par.default is inspect.Parameter.empty and name not in spec
-    ]
-    if missing:
-        raise InputError(f"structure.{missing[0]}", "missing", f"give it, e.g. {missing[0]}: 4")
-    return builder(**spec)
+        raise InputError("structure.kind", "missing", KIND.hint)
+    row = BUILDERS[KIND.check(spec["kind"], "structure.kind")]
+    values = Spec((KIND, *row.spec.fields)).check(spec, "structure")
+    del values["kind"]
+    return row.build(values)

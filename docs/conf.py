@@ -1,7 +1,8 @@
 # Sphinx configuration of the stonedem documentation.
 # Build: python3 -m pip install -e '.[docs]' && python3 -m sphinx -W -b html docs docs/_build/html
 # Pages are MyST Markdown; the results pages read their tables from results/ at build time
-# (docs/_ext/results_tables.py); the gallery runs every script of examples/ (sphinx-gallery).
+# (docs/_ext/results_tables.py), the key tables from the input specs (docs/_ext/input_keys.py);
+# the gallery runs every script of examples/ (sphinx-gallery).
 import sys
 from pathlib import Path
 
@@ -23,6 +24,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx_gallery.gen_gallery",
     "results_tables",
+    "input_keys",
 ]
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}

@@ -158,7 +158,7 @@ class Field:
         if isinstance(self.default, Derived):
             return self.default.text
         if self.default is None:
-            return "auto" if self.auto else "none"
+            return "auto" if self.auto else "—"
         if isinstance(self.default, bool):
             return "true" if self.default else "false"
         if isinstance(self.default, float):

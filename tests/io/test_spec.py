@@ -64,6 +64,7 @@ def test_values_are_checked_and_defaulted():
         ({"n": "3"}, "contact.n: must be an integer, got text '3'"),
         ({"n": True}, "contact.n: must be an integer, got a boolean True"),
         ({"n": 0}, "contact.n: must be >= 1 and <= 100, got 0; give a value >= 1 and <= 100"),
+        ({"n": 10**400}, "contact.n: must be >= 1 and <= 100, got 100000000000000000..."),
         ({"center": [1]}, "contact.center: expected a list of 2 numbers, got a list [1]; write"),
         ({"center": [1, "a"]}, "contact.center[1]: expected a number"),
         ({"on": "yes"}, "contact.on: expected true or false, got text 'yes'"),

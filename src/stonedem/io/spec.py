@@ -198,7 +198,7 @@ def _in_range(f: Field, x, name: str):
         _fail(
             f,
             name,
-            f"must be {range_words(f.range)}, got {x:g}{units}",
+            f"must be {range_words(f.range)}, got {show(x) if isinstance(x, int) else f'{x:g}'}{units}",
             f.hint or f"give a value {range_words(f.range, f.units)}",
         )
     return x

@@ -26,6 +26,7 @@ from pathlib import Path
 from stonedem.entry import Parser, check_output_path, guarded
 from stonedem.errors import InputError, doc_summary, one_line
 from stonedem.io.atomic import write_csv, write_text  # noqa: F401 - the scripts' writers
+from stonedem.io.spec import Field, got, parse_range, range_words, show
 
 
 def parser(prog: str, doc: str | None = None, **kwargs) -> Parser:
@@ -55,6 +56,34 @@ def run(command: Callable[[], int | None]) -> int:
 # --- numbers and choices ------------------------------------------------------------------
 
 
+def checked(f: Field, value, types: tuple = (int, float), exact: tuple | None = None):
+    """``value`` checked as the declared field ``f`` (:mod:`stonedem.io.spec`), when a parser or a
+    script gave it: only a number of ``types`` (never text or a bool, which a YAML field may
+    take), finite; a whole number beyond 2**53 is compared exactly with ``exact`` = (lo, hi)
+    (default: the field's range), as the kit's bounds are floats and it cannot show such a
+    number."""
+    lo, hi, lo_open, hi_open = parse_range(f.range)
+    lo, hi = exact or (lo, hi)
+    problem = None
+    if isinstance(value, bool) or not isinstance(value, types):
+        problem = (
+            f"expected {'an integer' if f.kind == 'integer' else 'a number'}, got {got(value)}"
+        )
+    elif isinstance(value, float) and not math.isfinite(value):
+        problem = f"{value} is not finite"
+    elif isinstance(value, int) and f.kind == "integer" and abs(value) > 2**53:
+        above, below = (
+            (value >= hi) if hi_open else (value > hi),
+            (value <= lo) if lo_open else (value < lo),
+        )
+        if not (above or below):
+            return int(value)
+        problem = f"{show(value)} is too {'large' if above else 'small'}"
+    if problem:
+        raise InputError(f.key, problem, f.hint)
+    return f.check(value)
+
+
 def number(
     value,
     field: str,
@@ -68,29 +97,23 @@ def number(
 ):
     """``value`` if it is a finite number within [lo, hi] ((lo, hi] when lo_open; a whole number
     when whole), else an InputError naming ``field``."""
+    bounds = f"{'(' if lo_open else '['}{_bound(lo)}, {_bound(hi)}]"
+    kind = "a whole number" if whole else "a finite number"
+    give = f"give {kind} {range_words(bounds, unit)}".rstrip()
+    declared = Field(
+        field,
+        "integer" if whole else "number",
+        units=unit,
+        range=bounds,
+        hint=give + (f", e.g. {example}" if example else ""),
+    )
+    exact = (-math.inf if lo is None else lo, math.inf if hi is None else hi)
+    checked(declared, value, exact=exact)
+    return int(value) if whole else float(value)  # as given: -0.0 stays -0.0
 
-    def refuse(problem: str):
-        span = []
-        if lo is not None:
-            span.append(f"{'>' if lo_open else '>='} {lo:g}")
-        if hi is not None:
-            span.append(f"<= {hi:g}")
-        kind = "a whole number" if whole else "a finite number"
-        give = f"give {kind} {' and '.join(span)}{(' ' + unit) if unit else ''}".rstrip()
-        raise InputError(field, problem, give + (f", e.g. {example}" if example else ""))
 
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        refuse(f"expected a number, got {one_line(repr(value), 60)}")
-    shown = one_line(repr(value), 40)  # an int of 400 digits has no float
-    if isinstance(value, float) and not math.isfinite(value):
-        refuse(f"{value} is not finite")
-    if whole and isinstance(value, float) and not value.is_integer():
-        refuse(f"{shown} is not a whole number")
-    if lo is not None and (value <= lo if lo_open else value < lo):
-        refuse(f"{shown} is too small")
-    if hi is not None and value > hi:
-        refuse(f"{shown} is too large")
-    return int(value) if whole else float(value)
+def _bound(x) -> str:
+    return "" if x is None else repr(float(x))  # repr: the exact float, e.g. 9.223372036854776e+18
 
 
 def chosen(
@@ -102,14 +125,12 @@ def chosen(
     values = list(values or [])
     if not values and not empty_ok:
         raise InputError(field, "none given", f"give one or more of {', '.join(allowed)}")
+    choice = Field(field, "choice", choices=tuple(allowed))
     for value in values:
-        if value not in allowed:
-            raise InputError(
-                field, f"unknown {one_line(repr(value), 80)}", f"choose from {', '.join(allowed)}"
-            )
-    for value in values:
-        if values.count(value) > 1:
-            raise InputError(field, f"{value} given twice", "give each once")
+        choice.check(value)
+    twice = next((value for value in values if values.count(value) > 1), None)
+    if twice is not None:
+        raise InputError(field, f"{twice} given twice", "give each once")
     return values
 
 
@@ -133,16 +154,12 @@ def _kind(path: Path, field: str) -> str:
     except FileNotFoundError:
         return "missing"
     except NotADirectoryError:
-        raise InputError(
-            field,
-            f"{_shown(path)}: a file on the way is used as a folder",
-            "give a path through folders",
-        ) from None
+        problem, fix = ": a file on the way is used as a folder", "give a path through folders"
     except OSError as err:
-        raise InputError(
-            field, f"{_shown(path)} cannot be looked at ({err.strerror})", "give another path"
-        ) from None
-    return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else "other"
+        problem, fix = f" cannot be looked at ({err.strerror})", "give another path"
+    else:
+        return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else "other"
+    raise InputError(field, f"{_shown(path)}{problem}", fix)
 
 
 def output_file(
@@ -200,20 +217,20 @@ def output_folder(path: str | Path, field: str, files: Iterable[str]) -> Path:
     for name in files:
         check_output_path(path / name, field)  # names too long, a file on the way, no write access
     if _kind(path, field) not in ("missing", "folder"):
-        raise InputError(
-            field, f"{_shown(path)} is a file, not a folder", "give a folder for the results"
-        )
-    for name in files:
-        target = path / name
-        if _kind(target, field) == "folder":
-            raise InputError(
-                field,
-                f"{_shown(target)} is a folder, where the result file {name} goes",
-                "remove that folder or give another output folder",
-            )
-        if target.suffix.lower() == ".nc" and _kind(target, field) != "missing":
-            _replaceable_netcdf(target, field)
-    return path
+        problem, fix = "is a file, not a folder", "give a folder for the results"
+    else:
+        for name in files:
+            target = path / name
+            kind = _kind(target, field)
+            if kind == "folder":
+                path, problem = target, f"is a folder, where the result file {name} goes"
+                fix = "remove that folder or give another output folder"
+                break
+            if target.suffix.lower() == ".nc" and kind != "missing":
+                _replaceable_netcdf(target, field)
+        else:
+            return path
+    raise InputError(field, f"{_shown(path)} {problem}", fix)
 
 
 def input_file(path: str | Path, field: str, what: str = "file") -> Path:
@@ -221,15 +238,11 @@ def input_file(path: str | Path, field: str, what: str = "file") -> Path:
     path = Path(path)
     _plain(path, field)
     kind = _kind(path, field)
-    if kind == "missing":
-        raise InputError(field, f"{_shown(path)} not found", f"give the path of a {what}")
-    if kind != "file":
-        raise InputError(
-            field, f"{_shown(path)} is not a regular file", f"give the path of a {what}"
-        )
-    if not os.access(path, os.R_OK):
-        raise InputError(field, f"{_shown(path)} is not readable", f"give a readable {what}")
-    return path
+    if kind == "file" and os.access(path, os.R_OK):
+        return path
+    problem = {"missing": "not found", "file": "is not readable"}.get(kind, "is not a regular file")
+    fix = f"give a readable {what}" if kind == "file" else f"give the path of a {what}"
+    raise InputError(field, f"{_shown(path)} {problem}", fix)
 
 
 def read_netcdf(path: str | Path, field: str, what: str, fix: str):
@@ -244,17 +257,16 @@ def read_netcdf(path: str | Path, field: str, what: str, fix: str):
     shown = one_line(str(path), 200)
     with open(path, "rb") as handle:
         head = handle.read(8)
-    if not head.startswith(NETCDF_MAGIC):
-        raise InputError(field, f"{shown} is not a NetCDF file", fix)
-    try:
-        with xr.open_dataset(path, decode_times=False) as ds:
-            return ds.load()
-    except (KeyboardInterrupt, MemoryError):
-        raise
-    except Exception as err:  # noqa: BLE001 - whatever a damaged file makes the backend raise
-        raise InputError(
-            field, f"{shown} cannot be read ({type(err).__name__}: {one_line(str(err), 120)})", fix
-        ) from None
+    problem = "is not a NetCDF file"
+    if head.startswith(NETCDF_MAGIC):
+        try:
+            with xr.open_dataset(path, decode_times=False) as ds:
+                return ds.load()
+        except (KeyboardInterrupt, MemoryError):
+            raise
+        except Exception as err:  # noqa: BLE001 - whatever a damaged file makes the backend raise
+            problem = f"cannot be read ({type(err).__name__}: {one_line(str(err), 120)})"
+    raise InputError(field, f"{shown} {problem}", fix)
 
 
 # --- writing --------------------------------------------------------------------------------

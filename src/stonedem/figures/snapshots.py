@@ -19,7 +19,10 @@ on (time, body) and nothing else, numeric and finite (a run stonedem wrote never
 non-finite position: a diverged run is refused, so NaN or infinite positions mean a damaged
 or foreign file and are refused, not skipped), ``time`` finite and increasing, ``body_role``
 on (body), ``attrs.scene`` a JSON mapping that the scene loader accepts with the dataset's
-bodies. Titles are plain text: a ``$`` is drawn as a dollar sign, never read as TeX.
+bodies. The options are declared once, as the :mod:`stonedem.io.spec` rows
+:data:`SNAPSHOT_OPTIONS` and :data:`ANIMATE_OPTIONS`, the dataset's variables in the table
+:data:`CASE_VARIABLES`. Titles are plain text: a ``$`` is drawn as a dollar sign, never
+read as TeX.
 
 matplotlib is used through its object API on an Agg canvas (no pyplot, no global backend
 switch), and xarray and matplotlib are imported only when drawing, so ``stonedem --help`` stays
@@ -39,6 +42,8 @@ import numpy as np
 
 from stonedem.errors import InputError, one_line
 from stonedem.io.atomic import write_atomically
+from stonedem.io.spec import Field, Spec
+from stonedem.options import checked
 
 ROLE_COLOURS = {
     "base": "#9a9a9a",  # grey ground slab
@@ -98,135 +103,111 @@ def open_case(path: str | Path):
 def check_case_path(path: str | Path) -> Path:
     """The case path when it names an existing regular file, else an InputError."""
     path = Path(path)
-    field = one_line(str(path), 200)
+    problem, fix = None, "give a case dataset (.nc from stonedem run)"
     if not str(path).isprintable():
-        raise InputError(field, "contains control characters", "give a plain path")
-    try:
-        info = path.stat()
-    except FileNotFoundError:
-        raise InputError(
-            field, "case file not found", "check the path (a .nc file from stonedem run)"
-        ) from None
-    except OSError as err:  # a name too long, a loop of links, a folder without access
-        raise InputError(
-            field,
-            f"cannot be read ({err.strerror})",
-            "check the path (a .nc file from stonedem run)",
-        ) from None
-    if stat.S_ISDIR(info.st_mode):
-        raise InputError(
-            field, "is a folder, not a case file", "give a case dataset (.nc from stonedem run)"
-        )
-    if not stat.S_ISREG(info.st_mode):
-        raise InputError(field, "not a regular file", "give a case dataset (.nc from stonedem run)")
+        problem, fix = "contains control characters", "give a plain path"
+    else:
+        try:
+            mode = path.stat().st_mode
+        except FileNotFoundError:
+            problem, fix = "case file not found", "check the path (a .nc file from stonedem run)"
+        except OSError as err:  # a name too long, a loop of links, a folder without access
+            problem = f"cannot be read ({err.strerror})"
+            fix = "check the path (a .nc file from stonedem run)"
+        else:
+            if stat.S_ISDIR(mode):
+                problem = "is a folder, not a case file"
+            elif not stat.S_ISREG(mode):
+                problem = "not a regular file"
+    if problem:
+        raise InputError(one_line(str(path), 200), problem, fix)
     return path
+
+
+# the variables the drawings read: their dimensions (two in either order; () a scalar) and
+# the largest |value| a stonedem run writes (None: not checked as finite, only as numbers)
+CASE_VARIABLES = {
+    "x": (("time", "body"), MAX_POSITION),
+    "y": (("time", "body"), MAX_POSITION),
+    "theta": (("time", "body"), MAX_ROTATION),
+    "time": (("time",), math.inf),
+    "body": (("body",), None),
+    "body_role": (("body",), None),
+    "base_displacement": (("time",), math.inf),  # the optional ones from here
+    "collapsed": ((), None),
+    "collapse_time": ((), None),
+}
+NUMERIC = ("time", *REQUIRED_VARIABLES, "base_displacement", "collapsed", "collapse_time")
 
 
 def check_case(ds, where: str = "dataset") -> None:
     """Refuse a dataset lacking what the drawings need, or holding it in another shape.
 
-    Checked: the histories ``x``, ``y``, ``theta`` on (time, body) only, numeric, finite and
-    within MAX_POSITION / MAX_ROTATION; ``time`` on (time), finite and increasing; ``body``
-    and ``body_role`` on (body); ``base_displacement``, ``collapsed`` and ``collapse_time``
-    when present; ``attrs.scene`` a JSON mapping the scene loader accepts, whose bodies are
-    the dataset's. Each refusal names the field.
+    Checked (:data:`CASE_VARIABLES`): the histories ``x``, ``y``, ``theta`` on (time, body)
+    only, numeric, finite and within MAX_POSITION / MAX_ROTATION; ``time`` on (time), finite
+    and increasing; ``body`` and ``body_role`` on (body); ``base_displacement``, ``collapsed``
+    and ``collapse_time`` when present; ``attrs.scene`` a JSON mapping the scene loader
+    accepts, whose bodies are the dataset's. Each refusal names the field.
     """
-
-    def field(name):
-        return f"{where}: {name}"
-
-    rerun = "give a dataset written by stonedem run"
-    variables = getattr(ds, "variables", None)
-    if variables is None:
-        raise InputError(where, "not an xarray Dataset", "give a dataset written by stonedem run")
-    for name in REQUIRED_VARIABLES + REQUIRED_COORDS:
-        if name not in variables:
-            raise InputError(field(name), "missing, so this is not a stonedem case dataset", rerun)
-    shapes = {name: {"time", "body"} for name in REQUIRED_VARIABLES}
-    shapes.update({"time": {"time"}, "body": {"body"}, "body_role": {"body"}})
-    for name, dims in shapes.items():
-        got = tuple(ds[name].dims)
-        if set(got) != dims or len(got) != len(dims):
-            raise InputError(
-                field(name),
-                f"has dimensions {got}, expected {tuple(sorted(dims, reverse=True))}",
-                rerun,
-            )
-    n_time, n_body = ds.sizes["time"], ds.sizes["body"]
-    if n_time < 1:
-        raise InputError(field("time"), "no samples", "re-run the case")
-    if n_body < 1:
-        raise InputError(field("body"), "no bodies", rerun)
-    time = _numeric(ds, "time", where)
-    if not np.all(np.isfinite(time)):
-        raise InputError(field("time"), "holds non-finite values", rerun)
-    if n_time > 1 and not np.all(np.diff(time) > 0):
-        raise InputError(field("time"), "is not increasing", rerun)
-    limits = {"x": MAX_POSITION, "y": MAX_POSITION, "theta": MAX_ROTATION}
-    for name in REQUIRED_VARIABLES:
-        values = _numeric(ds, name, where, ("time", "body"))
-        bad = ~np.isfinite(values)
-        if bad.any():
-            i, k = np.argwhere(bad)[0]
-            first = f"body {_shown(ds['body'].values[k])} at t = {time[i]:g} s"
-            raise InputError(
-                field(name),
-                f"{int(bad.sum())} non-finite values (the first of "
-                f"{first}); stonedem never writes one",
-                "give an undamaged dataset written by stonedem run",
-            )
-        if np.abs(values).max() > limits[name]:
-            raise InputError(
-                field(name),
-                f"holds values beyond +-{limits[name]:g}",
-                "give an undamaged dataset written by stonedem run",
-            )
-    if "base_displacement" in variables:
-        if tuple(ds["base_displacement"].dims) != ("time",):
-            raise InputError(
-                field("base_displacement"),
-                f"has dimensions {tuple(ds['base_displacement'].dims)}, expected ('time',)",
-                rerun,
-            )
-        if not np.all(np.isfinite(_numeric(ds, "base_displacement", where))):
-            raise InputError(field("base_displacement"), "holds non-finite values", rerun)
-    for name in ("collapsed", "collapse_time"):
-        if name in variables and ds[name].ndim != 0:
-            raise InputError(
-                field(name), f"has dimensions {tuple(ds[name].dims)}, expected a scalar", rerun
-            )
-    if "collapsed" in variables:
-        flag = float(_numeric(ds, "collapsed", where))
-        if flag not in (0.0, 1.0):
-            raise InputError(field("collapsed"), f"must be 0 or 1, got {flag:g}", rerun)
-    if "collapse_time" in variables:
-        end = float(_numeric(ds, "collapse_time", where))
-        slack = 0.5 * (time[1] - time[0]) if n_time > 1 else 0.0
-        if math.isfinite(end) and not (time[0] - slack <= end <= time[-1] + slack):
-            raise InputError(
-                field("collapse_time"),
-                f"{end:g} s is outside the run ({time[0]:g} to {time[-1]:g} s)",
-                rerun,
-            )
-    if "scene" not in ds.attrs:
-        raise InputError(
-            field("attrs.scene"),
-            "missing, so the body outlines cannot be rebuilt",
-            "re-run the case with stonedem run (it stores the scene)",
-        )
+    problem = next(_case_problems(ds), None)
+    if problem is not None:
+        name, text = problem
+        field = f"{where}: {name}" if name else where
+        raise InputError(field, text, "give a dataset written by stonedem run")
     body_polygons(ds, where)  # the scene loader's verdict on attrs.scene
 
 
-def _numeric(ds, name: str, where: str, dims: tuple[str, ...] | None = None) -> np.ndarray:
-    """A variable's values as floats (in ``dims`` order); an InputError if they are not numbers."""
-    values = (ds[name].transpose(*dims) if dims else ds[name]).values
-    if values.dtype.kind not in "biuf":
-        raise InputError(
-            f"{where}: {name}",
-            f"holds {values.dtype} values, not numbers",
-            "give a dataset written by stonedem run",
-        )
-    return np.asarray(values, dtype=float)
+def _case_problems(ds):
+    """(variable, problem) for each way ``ds`` fails :func:`check_case`, in the order checked;
+    the first one is the refusal (a later check may rely on the earlier ones)."""
+    variables = getattr(ds, "variables", None)
+    if variables is None:
+        yield "", "not an xarray Dataset"
+        return
+    for name in REQUIRED_VARIABLES + REQUIRED_COORDS:
+        if name not in variables:
+            yield name, "missing, so this is not a stonedem case dataset"
+    for name, (dims, _) in CASE_VARIABLES.items():
+        shape = tuple(ds[name].dims) if name in variables else dims
+        if sorted(shape) != sorted(dims):
+            yield name, f"has dimensions {shape}, expected {dims or 'a scalar'}"
+    if ds.sizes["time"] < 1:
+        yield "time", "no samples"
+    if ds.sizes["body"] < 1:
+        yield "body", "no bodies"
+    values = {}
+    for name in (n for n in NUMERIC if n in variables):
+        dims, bound = CASE_VARIABLES[name]
+        raw = ds[name].transpose(*dims).values
+        if raw.dtype.kind not in "biuf":
+            yield name, f"holds {raw.dtype} values, not numbers"
+        values[name] = value = np.asarray(raw, dtype=float)
+        if bound is not None and not np.all(np.isfinite(value)):
+            bad = ~np.isfinite(value)
+            first = _first_bad(ds, name, bad, values["time"])
+            yield name, f"{int(bad.sum())} non-finite values ({first}); stonedem never writes one"
+        if bound is not None and np.abs(value).max() > bound:
+            yield name, f"holds values beyond +-{bound:g} (a damaged file)"
+        if name == "time" and len(value) > 1 and not np.all(np.diff(value) > 0):
+            yield name, "is not increasing"
+    time = values["time"]
+    if "collapsed" in values and float(values["collapsed"]) not in (0.0, 1.0):
+        yield "collapsed", f"must be 0 or 1, got {float(values['collapsed']):g}"
+    end = float(values.get("collapse_time", math.nan))
+    slack = 0.5 * (time[1] - time[0]) if len(time) > 1 else 0.0
+    if math.isfinite(end) and not (time[0] - slack <= end <= time[-1] + slack):
+        yield "collapse_time", f"{end:g} s is outside the run ({time[0]:g} to {time[-1]:g} s)"
+
+
+def _first_bad(ds, name: str, bad: np.ndarray, time: np.ndarray) -> str:
+    """Where the first non-finite value of a variable lies, for a message."""
+    index = np.argwhere(bad)[0]
+    if name == "time":
+        return f"the first at sample {index[0]}"
+    at = f"at t = {time[index[0]]:g} s"
+    if len(index) > 1:
+        return f"the first of body {_shown(ds['body'].values[index[1]])} {at}"
+    return f"the first {at}"
 
 
 def _shown(value) -> str:
@@ -250,20 +231,13 @@ def body_polygons(ds, where: str = "dataset") -> list[np.ndarray]:
     from stonedem.engine.scene import scene_from_dict
 
     field = f"{where}: attrs.scene"
-    if "scene" not in ds.attrs:
-        raise InputError(
-            field,
-            "the dataset has no scene attribute",
-            "use a dataset written by stonedem run (it stores the scene as JSON)",
-        )
     spec = _scene_spec(ds, where)
     spec["excitation"] = {"kind": "none"}
+    problem = None
     try:
         scene = scene_from_dict(spec)
     except InputError as err:
-        raise InputError(
-            f"{field}.{err.field}", err.problem, "re-run the case with stonedem run"
-        ) from None
+        field, problem = f"{field}.{err.field}", err.problem
     except (
         TypeError,
         ValueError,
@@ -273,36 +247,37 @@ def body_polygons(ds, where: str = "dataset") -> list[np.ndarray]:
         OverflowError,
         RecursionError,
     ) as err:
-        raise InputError(
-            field,
-            f"not a scene the loader accepts ({type(err).__name__})",
-            "re-run the case with stonedem run",
-        ) from None
-    names = [str(b) for b in ds["body"].values]
-    if scene.body_names != names:
-        raise InputError(
-            f"{where}: body",
-            "the dataset's bodies differ from those of its scene",
-            "re-run the case with stonedem run",
-        )
+        problem = f"not a scene the loader accepts ({type(err).__name__})"
+    else:
+        if scene.body_names != [str(b) for b in ds["body"].values]:
+            field = f"{where}: body"
+            problem = "the dataset's bodies differ from those of its scene"
+    if problem:
+        raise InputError(field, problem, "re-run the case with stonedem run")
     return [body.vertices - body.centroid for body in scene.bodies]
 
 
 def _scene_spec(ds, where: str = "dataset") -> dict:
     """``attrs["scene"]`` read as a JSON mapping, or an InputError naming it."""
-    field = f"{where}: attrs.scene"
-    text = ds.attrs.get("scene")
-    if not isinstance(text, (str, bytes)):
+    text, spec = ds.attrs.get("scene"), None
+    if "scene" not in ds.attrs:
+        problem = "missing, so the body outlines cannot be rebuilt"
+    elif not isinstance(text, (str, bytes)):
+        problem = f"a {type(text).__name__}, not JSON text"
+    else:
+        try:
+            spec = json.loads(text)
+        except (TypeError, ValueError, RecursionError):
+            problem = "not valid JSON"
+        else:
+            problem = (
+                None if isinstance(spec, dict) else f"JSON {type(spec).__name__}, not a mapping"
+            )
+    if problem:
         raise InputError(
-            field, f"a {type(text).__name__}, not JSON text", "re-run the case with stonedem run"
-        )
-    try:
-        spec = json.loads(text)
-    except (TypeError, ValueError, RecursionError):
-        raise InputError(field, "not valid JSON", "re-run the case with stonedem run") from None
-    if not isinstance(spec, dict):
-        raise InputError(
-            field, f"JSON {type(spec).__name__}, not a mapping", "re-run the case with stonedem run"
+            f"{where}: attrs.scene",
+            problem,
+            "re-run the case with stonedem run (it stores the scene as JSON)",
         )
     return spec
 
@@ -369,16 +344,10 @@ def snapshot_samples(ds, times=None, n: int = 6) -> np.ndarray:
 
 def _check_times(targets: np.ndarray, time: np.ndarray) -> None:
     """Every asked time inside the run (half a sample of slack at each end)."""
-    if targets.size == 0:
-        raise InputError("--times", "no times given", "give one or more times in s")
     slack = 0.5 * (time[1] - time[0]) if len(time) > 1 else 0.0
-    for t in targets:
-        if not (time[0] - slack <= t <= time[-1] + slack):
-            raise InputError(
-                "--times",
-                f"{t:g} s is outside the run",
-                f"give times from {time[0]:g} to {time[-1]:g} s",
-            )
+    run = f"[{float(time[0] - slack)!r}, {float(time[-1] + slack)!r}]"  # repr: the exact floats
+    hint = f"give times inside the run, from {time[0]:g} to {time[-1]:g} s"
+    Field("--times", "numbers", units="s", range=run, hint=hint).check(targets.tolist())
 
 
 def _frame_step(every: float, time: np.ndarray) -> int:
@@ -386,12 +355,8 @@ def _frame_step(every: float, time: np.ndarray) -> int:
     if len(time) < 2:
         return 1
     span = float(time[-1] - time[0])
-    if every > span:
-        raise InputError(
-            "--every",
-            f"{every:g} s is longer than the run ({span:g} s)",
-            f"give a time step of at most {span:g} s",
-        )
+    hint = f"give a time step of at most the run's length, {span:g} s"
+    Field("--every", units="s", range=f"(0, {span!r}]", hint=hint).check(every)
     interval = span / (len(time) - 1)  # mean sample interval (stonedem samples evenly)
     return max(1, round(every / interval))
 
@@ -736,108 +701,107 @@ def _gif_writer(fps: float):
 # --- options ------------------------------------------------------------------------------
 
 
+TITLE = Field(
+    "--title",
+    "text",
+    limit=MAX_TITLE,
+    doc=f"figure title, plain text of at most {MAX_TITLE} characters",
+)
+SNAPSHOT_OPTIONS = Spec(
+    (
+        Field(
+            "-n",
+            "integer",
+            range=f"[1, {MAX_PANELS}]",
+            default=6,
+            hint=f"give a whole number from 1 to {MAX_PANELS}, e.g. -n 6",
+            doc=f"number of panels, evenly spread, 1 to {MAX_PANELS}",
+        ),
+        Field(
+            "--times",
+            "numbers",
+            units="s",
+            limit=MAX_PANELS,
+            hint=f"give 1 to {MAX_PANELS} times in s, e.g. --times 0 1 2",
+            doc=f"draw at these times [s] instead (nearest samples; at most {MAX_PANELS}, "
+            "inside the run)",
+        ),
+        TITLE,
+    ),
+    doc="stonedem snapshots",
+)
+ANIMATE_OPTIONS = Spec(
+    (
+        Field(
+            "--fps",
+            units="frames/s",
+            range=f"[{FPS_RANGE[0]!r}, {FPS_RANGE[1]!r}]",
+            default=20.0,
+            hint=f"give a number from {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g}, e.g. --fps 20",
+            doc=f"frames per second, {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g}",
+        ),
+        Field(
+            "--max-frames",
+            "integer",
+            range=f"[1, {MAX_FRAMES}]",
+            default=300,
+            hint=f"give a whole number from 1 to {MAX_FRAMES}, e.g. --max-frames 300",
+            doc=f"at most this many frames, 1 to {MAX_FRAMES}",
+        ),
+        Field(
+            "--every",
+            units="s",
+            range="(0, inf)",
+            hint="give a finite time > 0 s, e.g. --every 0.05",
+            doc="simulated time between frames [s], > 0 and at most the run's length",
+        ),
+        TITLE,
+    ),
+    doc="stonedem animate",
+)
+# what a script may pass for a number option (numpy's too; never text or a bool)
+_WHOLE = (int, np.integer)
+_REAL = (int, float, np.integer, np.floating)
+
+
 def check_panels(n) -> int:
     """``-n``: a whole number from 1 to MAX_PANELS."""
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_PANELS:
-        raise InputError(
-            "-n", f"must be a whole number from 1 to {MAX_PANELS}, got {n!r}", "give e.g. -n 6"
-        )
-    return int(n)
+    return checked(SNAPSHOT_OPTIONS["-n"], n, _WHOLE)
 
 
 def check_times(times) -> np.ndarray:
     """``--times``: 1 to MAX_PANELS finite times [s] (whether they fall in the run is checked
     with the dataset)."""
-    try:
-        targets = np.atleast_1d(np.asarray(times, dtype=float))
-    except (TypeError, ValueError):
-        raise InputError(
-            "--times", f"expected numbers, got {times!r}", "give times in s, e.g. --times 0 1 2"
-        ) from None
-    if targets.ndim != 1 or targets.size == 0:
-        raise InputError("--times", "no times given", "give one or more times in s")
-    if targets.size > MAX_PANELS:
-        raise InputError(
-            "--times",
-            f"{targets.size} times, more than the {MAX_PANELS} panels a strip holds",
-            f"give at most {MAX_PANELS} times",
-        )
-    for t in targets:
-        if not math.isfinite(t):
-            raise InputError(
-                "--times", f"{t} is not a finite time", "give times in s inside the run"
-            )
+    field = SNAPSHOT_OPTIONS["--times"]
+    try:  # a single time or numeric text, as numpy reads them
+        times = np.atleast_1d(np.asarray(times, dtype=float)).tolist()
+    except (TypeError, ValueError, OverflowError):
+        pass  # the kit refuses it as given
+    targets = np.asarray(field.check(times), dtype=float)
+    if targets.size == 0:
+        raise InputError("--times", "no times given", field.hint)
     return targets
 
 
 def check_fps(fps) -> float:
     """``--fps``: a finite number in FPS_RANGE."""
-    lo, hi = FPS_RANGE
-    if (
-        isinstance(fps, bool)
-        or not isinstance(fps, (int, float, np.integer, np.floating))
-        or not (math.isfinite(fps) and lo <= fps <= hi)
-    ):
-        raise InputError(
-            "--fps",
-            f"must be a number from {lo:g} to {hi:g} frames per second, got {fps!r}",
-            "give e.g. --fps 20",
-        )
-    return float(fps)
+    return checked(ANIMATE_OPTIONS["--fps"], fps, _REAL)
 
 
 def check_max_frames(value) -> int:
     """``--max-frames``: a whole number from 1 to MAX_FRAMES."""
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, np.integer))
-        or not 1 <= value <= MAX_FRAMES
-    ):
-        raise InputError(
-            "--max-frames",
-            f"must be a whole number from 1 to {MAX_FRAMES}, got {value!r}",
-            "give e.g. --max-frames 300",
-        )
-    return int(value)
+    return checked(ANIMATE_OPTIONS["--max-frames"], value, _WHOLE)
 
 
 def check_every(every) -> float | None:
     """``--every``: None or a finite time > 0 [s] (at most the run's length: checked with the
     dataset)."""
-    if every is None:
-        return None
-    if (
-        isinstance(every, bool)
-        or not isinstance(every, (int, float, np.integer, np.floating))
-        or not (math.isfinite(every) and every > 0)
-    ):
-        raise InputError(
-            "--every", f"must be a finite time > 0 s, got {every!r}", "give e.g. --every 0.05"
-        )
-    return float(every)
+    return None if every is None else checked(ANIMATE_OPTIONS["--every"], every, _REAL)
 
 
 def check_title(title) -> str | None:
     """``--title``: None or printable text of at most MAX_TITLE characters (drawn as plain text)."""
-    if title is None:
-        return None
-    if not isinstance(title, str):
-        raise InputError(
-            "--title", f"expected text, got {type(title).__name__}", "give a title in quotes"
-        )
-    if len(title) > MAX_TITLE:
-        raise InputError(
-            "--title",
-            f"{len(title)} characters, more than {MAX_TITLE}",
-            f"give a title of at most {MAX_TITLE} characters",
-        )
-    if not title.isprintable():
-        raise InputError(
-            "--title",
-            f"holds control characters: {one_line(title, 80)}",
-            "give a title of printable characters on one line",
-        )
-    return title
+    return None if title is None else TITLE.check(title)
 
 
 # --- files --------------------------------------------------------------------------------
@@ -848,22 +812,16 @@ def _output_path(path, suffix: str, field: str, case=None) -> Path:
     creates nothing: the folder is made when the picture is written."""
     from stonedem.entry import check_output_path
 
-    path = Path(path)
-    text = str(path)
-    if not text.isprintable():
-        raise InputError(
-            field, f"{one_line(text, 200)} contains control characters", "give a plain file name"
-        )
-    if path.name.lower() == suffix:  # ".gif" alone: pathlib sees a hidden file, no suffix
-        raise InputError(
-            field,
-            f"'{one_line(text, 200)}' has no name before {suffix}",
-            f"give a name such as out{suffix}",
-        )
-    if path.suffix.lower() != suffix:
-        raise InputError(
-            field, f"'{one_line(text, 200)}' does not end in {suffix}", f"name the output *{suffix}"
-        )
+    path, problem = Path(path), None
+    shown = one_line(str(path), 200)
+    if not str(path).isprintable():
+        problem, fix = f"{shown} contains control characters", "give a plain file name"
+    elif path.name.lower() == suffix:  # ".gif" alone: pathlib sees a hidden file, no suffix
+        problem, fix = f"'{shown}' has no name before {suffix}", f"give a name such as out{suffix}"
+    elif path.suffix.lower() != suffix:
+        problem, fix = f"'{shown}' does not end in {suffix}", f"name the output *{suffix}"
+    if problem:
+        raise InputError(field, problem, fix)
     return check_output_path(path, field, inputs=[case] if case is not None else [])
 
 
@@ -871,7 +829,8 @@ def _output_path(path, suffix: str, field: str, case=None) -> Path:
 
 
 def add_parser(subparsers) -> None:
-    """Add ``stonedem snapshots`` and ``stonedem animate`` to a parser's subcommands.
+    """Add ``stonedem snapshots`` and ``stonedem animate`` to a parser's subcommands, their
+    options from :data:`SNAPSHOT_OPTIONS` and :data:`ANIMATE_OPTIONS`.
 
     Each sets ``handler``, a function of the parsed arguments returning the exit status
     (it raises InputError on bad input, which stonedem's main prints and turns into exit 2).
@@ -885,27 +844,9 @@ def add_parser(subparsers) -> None:
         default=None,
         help="output PNG (default: CASE_snapshots.png beside the case)",
     )
-    strip.add_argument(
-        "-n",
-        type=int,
-        default=6,
-        help=f"number of panels, evenly spread, 1 to {MAX_PANELS} (default 6)",
-    )
-    strip.add_argument(
-        "--times",
-        type=float,
-        nargs="+",
-        default=None,
-        metavar="T",
-        help=f"draw at these times [s] instead (nearest samples; at most "
-        f"{MAX_PANELS}, inside the run)",
-    )
-    strip.add_argument(
-        "--title",
-        default=None,
-        help=f"figure title, plain text of at most {MAX_TITLE} characters "
-        "(default: from the dataset)",
-    )
+    _add_option(strip, SNAPSHOT_OPTIONS["-n"], type=int)
+    _add_option(strip, SNAPSHOT_OPTIONS["--times"], "", type=float, nargs="+", metavar="T")
+    _add_option(strip, TITLE, "default: from the dataset")
     strip.set_defaults(handler=command_snapshots)
 
     movie = subparsers.add_parser("animate", help="animate a case (GIF)")
@@ -917,33 +858,26 @@ def add_parser(subparsers) -> None:
         default=None,
         help="output GIF (default: CASE.gif beside the case)",
     )
-    movie.add_argument(
-        "--fps",
+    _add_option(movie, ANIMATE_OPTIONS["--fps"], type=float)
+    _add_option(movie, ANIMATE_OPTIONS["--max-frames"], type=int)
+    _add_option(
+        movie,
+        ANIMATE_OPTIONS["--every"],
+        "default: spread over --max-frames",
         type=float,
-        default=20.0,
-        help=f"frames per second, {FPS_RANGE[0]:g} to {FPS_RANGE[1]:g} (default 20)",
-    )
-    movie.add_argument(
-        "--max-frames",
-        type=int,
-        default=300,
-        help=f"at most this many frames, 1 to {MAX_FRAMES} (default 300)",
-    )
-    movie.add_argument(
-        "--every",
-        type=float,
-        default=None,
         metavar="DT",
-        help="simulated time between frames [s], > 0 and at most the run's length "
-        "(default: spread over --max-frames)",
     )
-    movie.add_argument(
-        "--title",
-        default=None,
-        help=f"figure title, plain text of at most {MAX_TITLE} characters "
-        "(default: from the dataset)",
-    )
+    _add_option(movie, TITLE, "default: from the dataset")
     movie.set_defaults(handler=command_animate)
+
+
+def _add_option(parser, field: Field, default: str | None = None, **kwargs) -> None:
+    """An option declared by ``field``: its default, and its doc as the help, followed by
+    ``(default)`` (default: the field's own; "" for none)."""
+    if default is None:
+        default = f"default {field.shown_default()}"
+    text = field.doc + (f" ({default})" if default else "")
+    parser.add_argument(field.key, default=field.default, help=text, **kwargs)
 
 
 def command_snapshots(args) -> int:

@@ -19,9 +19,8 @@ from stonedem.engine.run import run_scene
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import choose_time_step
 from stonedem.errors import InputError
-from stonedem.io.spec import Field
+from stonedem.io.spec import REQUIRED, Field, Spec
 from stonedem.kernels import excitation as kx
-from stonedem.motion import excitation
 from stonedem.motion.excitation import EXCITATIONS, BaseMotion, Excitation
 from stonedem.motion.records import record_to_table
 
@@ -40,10 +39,10 @@ BLOCK = {
 }
 
 
-def _triangle_pulse(spec, field, base_dir):
-    """a(t) rises linearly to ``accel`` at T/2 and back to 0 at T = ``duration``: a table motion."""
-    a_p = excitation._num(spec, "accel", field)
-    t_p = excitation._num(spec, "duration", field, positive=True)
+def _triangle_pulse(values, field, base_dir):
+    """a(t) rises linearly to ``accel`` at T/2 and back to 0 at T = ``duration``: a table motion
+    (``values``: the row's keys, already checked)."""
+    a_p, t_p = values["accel"], values["duration"]
     time = np.linspace(0.0, t_p, 3)
     table_a, table_v, table_d, h = record_to_table(time, np.array([0.0, a_p, 0.0]))
     return BaseMotion(
@@ -58,7 +57,12 @@ def _triangle_pulse(spec, field, base_dir):
 
 
 TRIANGLE = Excitation(
-    {"accel": "m s-2", "duration": "s"},
+    Spec(
+        (
+            Field("accel", units="m s-2", default=REQUIRED, hint="give the peak in m/s2"),
+            Field("duration", units="s", range="(0, inf)", default=REQUIRED),
+        )
+    ),
     _triangle_pulse,
     lambda d: f"triangle pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
     pga=lambda m: float(np.abs(m.table_accel).max()),

@@ -220,7 +220,7 @@ def test_a_conflicting_dt_is_refused(tmp_path):
 @pytest.mark.parametrize(
     "value, message",
     [
-        (None, "expected a file name or path"),
+        (None, "give at least one of file: or component:"),  # null is an absent key
         (["a"], "expected a file name or path"),
         (True, "expected a file name or path"),
         ("", "empty record name"),

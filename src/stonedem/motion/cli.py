@@ -16,12 +16,15 @@ from pathlib import Path
 
 import numpy as np
 
-from stonedem.errors import InputError, check_number
+from stonedem.errors import InputError
+from stonedem.io.spec import Field
 
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 # spectra cost ~20 us per sample and damping (stonedem.motion.records.MAX_RECORD_SAMPLES)
 MAX_DAMPINGS = 10
 DEFAULT_DAMPING = (0.05, 0.10)
+DAMPINGS = Field("--damping", "list", limit=MAX_DAMPINGS, doc="damping ratios of the spectra")
+DAMPING = Field("--damping", range="(0, 1)", hint="give damping ratios between 0 and 1, e.g. 0.05")
 
 
 def add_parser(subparsers) -> None:
@@ -66,38 +69,20 @@ def check_dampings(values) -> list[float]:
     """Damping ratios in (0, 1), at most MAX_DAMPINGS of them, or an InputError naming --damping."""
     if values is None:
         return list(DEFAULT_DAMPING)
-    if not values:
+    if not values:  # argparse (nargs="+") never gives this; a direct caller may
         raise InputError("--damping", "no value given", "give ratios such as 0.05 0.10")
-    if len(values) > MAX_DAMPINGS:
-        raise InputError(
-            "--damping",
-            f"{len(values)} values, at most {MAX_DAMPINGS}",
-            "give fewer damping ratios",
-        )
-    out = []
-    for value in values:
-        z = check_number(value, "--damping")
-        if not 0 < z < 1:
-            raise InputError(
-                "--damping",
-                f"{z:g} is not a damping ratio",
-                "give values between 0 and 1, e.g. 0.05",
-            )
-        out.append(z)
-    return out
+    return [DAMPING.check(value) for value in DAMPINGS.check(values)]
 
 
 def command_record_info(args) -> int:
     from stonedem.entry import check_output_path
     from stonedem.io.atomic import write_atomically
     from stonedem.motion import records
-    from stonedem.motion.records import check_units, read_record, resolve_record
+    from stonedem.motion.records import RECORD_KEYS, check_units, read_record, resolve_record
 
     # every argument first, before anything is read or computed
     units = check_units(args.units, "--units")
-    dt = None
-    if args.dt is not None:
-        dt = records.check_dt(check_number(args.dt, "--dt", positive=True), "--dt", "time step")
+    dt = RECORD_KEYS["dt"].check(args.dt, "--dt") if args.dt is not None else None
     dampings = check_dampings(args.damping)
     if args.plot is not None and not str(args.plot).strip():
         raise InputError("--plot", "empty path", "give a file name ending in .png")

@@ -14,18 +14,22 @@ solver's step.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
-from stonedem.errors import InputError, check_number
+from stonedem.errors import InputError
+from stonedem.io.spec import REQUIRED, Field, Spec, exactly_one, got
 from stonedem.kernels import excitation as kx
 from stonedem.motion.records import (
     G_STANDARD,
     MAX_RECORD_PGA,
+    RECORD_KEYS,
     check_units,
+    first_key,
     read_record,
     record_to_table,
     resolve_record,
@@ -93,63 +97,57 @@ class Excitation:
 
     A new kind is its branch in :func:`stonedem.kernels.excitation.base_motion` (or an
     existing kernel kind, e.g. a table) and one row here; scene parsing, the time step, the
-    quiet-base plan, dataset attributes and plot labels all read the row.
+    quiet-base plan, dataset attributes and plot labels all read the row. Its ``spec``
+    declares the keys of its scene mapping besides ``kind`` (:mod:`stonedem.io.spec`); they
+    are checked before ``build`` runs, which gets the checked values.
     """
 
-    keys: dict  # key -> units of its scene mapping (besides "kind")
-    build: Callable  # (spec, field, base_dir) -> BaseMotion, the spec's keys already checked
+    spec: Spec  # the keys of its scene mapping besides "kind"
+    build: Callable  # (checked values, field, base_dir) -> BaseMotion
     describe: Callable  # description -> words for labels, e.g. "ramp 0.5 m/s2 per s"
     pga: Callable = lambda m: 0.0  # BaseMotion -> peak |a| [m s-2]
     duration: Callable = lambda m: None  # BaseMotion -> natural length [s] or None
     period: Callable = lambda m: math.inf  # BaseMotion -> shortest period to resolve [s]
+    keys: Spec = field(init=False, repr=False, compare=False)  # spec with "kind" first
 
-
-def _num(spec, key, where, positive=False, required=True, default=None):
-    if key not in spec:
-        if required:
-            units = EXCITATIONS[spec["kind"]].keys.get(key, "")  # a kind's build checks its keys
-            raise InputError(f"{where}.{key}", "missing", f"give {key} [{units}]")
-        return default
-    return check_number(spec[key], f"{where}.{key}", positive=positive)
+    def __post_init__(self):
+        kind = Field("kind", "any", default=REQUIRED, doc="the excitation kind (EXCITATIONS)")
+        keys = Spec((kind, *self.spec.fields), self.spec.rules, self.spec.doc)
+        object.__setattr__(self, "keys", keys)
 
 
 # a base motion faster than this is taken for a units mistake (kHz for Hz); the step must
 # also resolve it (stonedem.engine.simulate.MIN_STEPS_PER_PERIOD)
 MAX_EXCITATION_FREQUENCY = 1000.0  # [Hz]
 
+FREQUENCY = Field(
+    "frequency",
+    units="Hz",
+    range=f"(0, {MAX_EXCITATION_FREQUENCY:g}]",
+    default=REQUIRED,
+    hint="give the frequency in Hz",
+    doc="frequency of the motion",
+)
+ACCEL = Field(
+    "accel",
+    units="m s-2",
+    default=REQUIRED,
+    hint="give the peak acceleration in m/s2",
+    doc="peak acceleration of the pulse",
+)
 
-def _frequency(spec: dict, field: str) -> float:
-    f = _num(spec, "frequency", field, positive=True)
-    if f > MAX_EXCITATION_FREQUENCY:
-        raise InputError(
-            f"{field}.frequency",
-            f"{f:g} Hz is above the limit {MAX_EXCITATION_FREQUENCY:g} Hz",
-            "give the frequency in Hz",
-        )
-    return f
 
-
-def _none(spec: dict, field: str, base_dir: Path) -> BaseMotion:
+def _none(v: dict, field: str, base_dir: Path) -> BaseMotion:
     return BaseMotion(kx.KIND_NONE, np.zeros(4), description={"kind": "none"})
 
 
-def _harmonic(spec: dict, field: str, base_dir: Path) -> BaseMotion:
-    f = _frequency(spec, field)
-    if ("amplitude" in spec) == ("pga" in spec):
-        raise InputError(
-            f"{field}.amplitude",
-            "give exactly one of amplitude [m] and pga [m s-2]",
-            "write amplitude: 0.25 or pga: 2.15",
-        )
-    if "pga" in spec:  # thesis 6.1 sweeps frequency at a fixed peak acceleration: A = PGA / w^2
-        amp = _num(spec, "pga", field, positive=True) / (2 * math.pi * f) ** 2
+def _harmonic(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    f = v["frequency"]
+    if v["pga"] is not None:  # thesis 6.1 sweeps frequency at a fixed peak acceleration
+        amp = v["pga"] / (2 * math.pi * f) ** 2  # A = PGA / w^2
     else:
-        amp = _num(spec, "amplitude", field)
-    cycles = _num(spec, "ramp_cycles", field, required=False, default=1.0)
-    if cycles < 0:
-        raise InputError(
-            f"{field}.ramp_cycles", f"must be >= 0, got {cycles}", "give 0 (abrupt) or more"
-        )
+        amp = v["amplitude"]
+    cycles = v["ramp_cycles"]
     if not math.isfinite(amp * (2 * math.pi * f) ** 2):
         raise InputError(
             f"{field}.amplitude",
@@ -172,9 +170,8 @@ def _harmonic(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     )
 
 
-def _rect_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
-    a_p = _num(spec, "accel", field)
-    t_p = _num(spec, "duration", field, positive=True)
+def _rect_pulse(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    a_p, t_p = v["accel"], v["duration"]
     return BaseMotion(
         kx.KIND_RECT_PULSE,
         np.array([a_p, t_p, 0.0, 0.0]),
@@ -188,9 +185,8 @@ def _rect_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     )
 
 
-def _sine_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
-    a_p = _num(spec, "accel", field)
-    f = _frequency(spec, field)
+def _sine_pulse(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    a_p, f = v["accel"], v["frequency"]
     return BaseMotion(
         kx.KIND_SINE_PULSE,
         np.array([a_p, 2 * math.pi * f, 1.0 / f, 0.0]),
@@ -204,8 +200,8 @@ def _sine_pulse(spec: dict, field: str, base_dir: Path) -> BaseMotion:
     )
 
 
-def _ramp(spec: dict, field: str, base_dir: Path) -> BaseMotion:
-    rate = _num(spec, "rate", field)
+def _ramp(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    rate = v["rate"]
     return BaseMotion(
         kx.KIND_RAMP,
         np.array([rate, 0.0, 0.0, 0.0]),
@@ -230,16 +226,55 @@ def _table_period(m: BaseMotion) -> float:
 
 
 EXCITATIONS: dict[str, Excitation] = {
-    "none": Excitation({}, _none, lambda d: "no base motion"),
+    "none": Excitation(Spec(()), _none, lambda d: "no base motion"),
     "harmonic": Excitation(
-        {"frequency": "Hz", "amplitude": "m", "pga": "m s-2", "ramp_cycles": "1"},
+        Spec(
+            (
+                FREQUENCY,
+                Field("amplitude", units="m", doc="displacement amplitude"),
+                Field(
+                    "pga",
+                    units="m s-2",
+                    range="(0, inf)",
+                    hint="give the peak acceleration in m/s2",
+                    doc="peak acceleration instead of amplitude: amplitude = pga / (2 pi f)^2",
+                ),
+                Field(
+                    "ramp_cycles",
+                    units="1",
+                    range="[0, inf)",
+                    default=1.0,
+                    hint="give 0 (abrupt) or more",
+                    doc="cycles over which the amplitude ramps up from 0",
+                ),
+            ),
+            rules=(
+                first_key(
+                    exactly_one(
+                        "amplitude", "pga", fix="write amplitude: 0.25 (m) or pga: 2.15 (m/s2)"
+                    )
+                ),
+            ),
+        ),
         _harmonic,
         lambda d: f"harmonic {d['frequency']:g} Hz x {d['amplitude']:g} m",
         pga=lambda m: abs(m.params[0]) * m.params[1] ** 2,
         period=_angular_period,
     ),
     "rect_pulse": Excitation(
-        {"accel": "m s-2", "duration": "s"},
+        Spec(
+            (
+                ACCEL,
+                Field(
+                    "duration",
+                    units="s",
+                    range="(0, inf)",
+                    default=REQUIRED,
+                    hint="give the pulse length in s",
+                    doc="length of the pulse",
+                ),
+            )
+        ),
         _rect_pulse,
         lambda d: f"rectangular pulse {d['accel']:g} m/s2 x {d['duration']:g} s",
         pga=lambda m: abs(m.params[0]),
@@ -247,25 +282,31 @@ EXCITATIONS: dict[str, Excitation] = {
         period=lambda m: float(m.params[1]),
     ),
     "sine_pulse": Excitation(
-        {"accel": "m s-2", "frequency": "Hz"},
+        Spec((ACCEL, FREQUENCY)),
         _sine_pulse,
         lambda d: f"sine pulse {d['accel']:g} m/s2 at {d['frequency']:g} Hz",
         pga=lambda m: abs(m.params[0]),
         duration=lambda m: float(m.params[2]),
         period=_angular_period,
     ),
-    "ramp": Excitation({"rate": "m s-3"}, _ramp, lambda d: f"ramp {d['rate']:g} m/s2 per s"),
+    "ramp": Excitation(
+        Spec(
+            (
+                Field(
+                    "rate",
+                    units="m s-3",
+                    default=REQUIRED,
+                    hint="give the rate in m/s2 per s",
+                    doc="rate of the base acceleration",
+                ),
+            )
+        ),
+        _ramp,
+        lambda d: f"ramp {d['rate']:g} m/s2 per s",
+    ),
     "record": Excitation(
-        {
-            "file": "",
-            "component": "",
-            "scale": "1",
-            "pga": "m s-2",
-            "units": "",
-            "dt": "s",
-            "baseline": "",
-        },
-        lambda spec, field, base_dir: _record_motion(spec, field, Path(base_dir)),
+        RECORD_KEYS,
+        lambda v, field, base_dir: _record_motion(v, field, Path(base_dir)),
         lambda d: f"record {Path(str(d.get('file', '?'))).stem}",
         pga=_table_pga,
         duration=_table_duration,
@@ -287,118 +328,72 @@ def excitation_label(desc: dict) -> str:
 def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[BaseMotion, BaseMotion]:
     """(horizontal, vertical) base motions of an ``excitation:`` mapping; vertical from its
     ``vertical:`` key."""
-    spec = dict(spec or {"kind": "none"})
-    vertical = spec.pop("vertical", None)
+    spec = spec or {"kind": "none"}
+    vertical = None
+    if isinstance(spec, Mapping):
+        spec = dict(spec)
+        vertical = spec.pop("vertical", None)
     horizontal = excitation_from_spec(spec, "excitation", base_dir)
-    if vertical is not None and not isinstance(vertical, dict):
-        raise InputError("excitation.vertical", "expected a mapping", "write vertical: {kind: ...}")
     return horizontal, excitation_from_spec(vertical, "excitation.vertical", base_dir)
 
 
 def excitation_from_spec(
     spec: dict | None, field: str = "excitation", base_dir: Path = Path(".")
 ) -> BaseMotion:
-    """Validate one excitation mapping and build its BaseMotion (its row of EXCITATIONS)."""
+    """Check one excitation mapping against its row of EXCITATIONS (its ``kind``, then the
+    row's keys) and build its BaseMotion."""
     if spec is None:
         spec = {"kind": "none"}
-    if not isinstance(spec, dict):
-        raise InputError(field, "expected a mapping", "write {kind: none | harmonic | ...}")
-    kind = spec.get("kind")
-    if not isinstance(kind, str) or kind not in EXCITATIONS:
+    if not isinstance(spec, Mapping):  # the kit's mapping field gives no kind-specific fix
         raise InputError(
-            f"{field}.kind", f"unknown kind {kind!r}", f"use one of {', '.join(EXCITATIONS)}"
+            field, f"expected a mapping, got {got(spec)}", "write {kind: none | harmonic | ...}"
         )
-    allowed = ("kind", *EXCITATIONS[kind].keys)
-    for key in spec:
-        if key not in allowed:
-            raise InputError(
-                f"{field}.{key}",
-                f"unknown key for kind {kind}",
-                f"allowed keys: {', '.join(allowed)}",
-            )
-    return EXCITATIONS[kind].build(spec, field, Path(base_dir))
+    kinds = Field("kind", "choice", choices=tuple(EXCITATIONS))  # rows may be added at run time
+    row = EXCITATIONS[kinds.check(spec.get("kind"), f"{field}.kind")]
+    return row.build(row.keys.check(spec, field), field, Path(base_dir))
 
 
-def _record_motion(spec: dict, field: str, base_dir: Path) -> BaseMotion:
-    if "file" not in spec and "component" in spec:  # a suite component names its suite (FF07a)
+def _record_motion(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    name, component, baseline = v["file"], v["component"], v["baseline"]
+    if component is not None:  # a suite component names its suite (FF07a)
         from stonedem.motion.suites import SUITES, suite_of
 
-        suite = suite_of(spec["component"])
+        suite = suite_of(component)
         if suite is None:
             raise InputError(
                 f"{field}.component",
-                f"{shown(repr(spec['component']))} is not a FEMA P695 component name",
+                f"{shown(repr(component))} is not a FEMA P695 component name",
                 f"write e.g. FF07a (prefixes {', '.join(p for _, p in SUITES.values())}"
-                ", record number, a or b), or give file:",
+                ", record number, a or b)" + (", or give file:" if name is None else ""),
             )
-        spec = {**spec, "file": f"suites/{suite}"}
-    if "file" not in spec:
-        raise InputError(
-            f"{field}.file", "missing", "give the record file (path or name in records/)"
-        )
-    if "scale" in spec and "pga" in spec:
-        raise InputError(field, "give scale or pga, not both", "remove one of them")
-    name = spec["file"]
-    if isinstance(name, bool) or not isinstance(name, (str, int, Path)):
-        raise InputError(
-            f"{field}.file",
-            f"expected a file name or path, got {shown(repr(name))}",
-            "write file: northridge_1994_mul009 or file: path/to/record.AT2",
-        )
-    units = check_units(spec.get("units"), f"{field}.units")
-    dt = _num(spec, "dt", field, positive=True, required=False)
-    baseline = spec.get("baseline", True)
-    if not isinstance(baseline, bool):
-        raise InputError(f"{field}.baseline", "expected true or false", "write baseline: true")
-    target = _num(spec, "pga", field, positive=True) if "pga" in spec else None
-    if target is not None and target > MAX_RECORD_PGA:
-        raise InputError(
-            f"{field}.pga",
-            f"{target:g} m/s2 is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit",
-            "give a ground acceleration in m/s2",
-        )
-    scale = _num(spec, "scale", field, required=False, default=1.0)
-    component = spec.get("component")
-    if component is not None:
-        if not isinstance(component, str) or not component:
-            raise InputError(
-                f"{field}.component",
-                f"expected a component name, got {shown(repr(component))}",
-                "write component: FF07a (a record of a suite file, records/suites/)",
-            )
-        if units is not None or dt is not None:
-            raise InputError(
-                f"{field}.component",
-                "a suite component carries its own units and dt",
-                "drop units and dt",
-            )
-    path = resolve_record(str(name), f"{field}.file", base_dir)
-    time, accel, meta = corrected_record(path, field, units, dt, baseline, component)
+        name = f"suites/{suite}" if name is None else name
+    units = check_units(v["units"], f"{field}.units")
+    path = resolve_record(name, f"{field}.file", base_dir)
+    time, accel, meta = corrected_record(path, field, units, v["dt"], baseline, component)
     pga_raw = float(np.abs(accel).max())
-    if target is not None:
+    scale = v["scale"]
+    if v["pga"] is not None:
         if pga_raw == 0.0:
             raise InputError(
                 f"{field}.pga",
                 "the record is all zeros" + (" after baseline correction" if baseline else ""),
                 "use a record with motion",
             )
-        scale = target / pga_raw
+        scale = v["pga"] / pga_raw
     accel = accel * scale
     pga = float(np.abs(accel).max())
     if not pga <= MAX_RECORD_PGA:
         limit = f"{MAX_RECORD_PGA / G_STANDARD:g} g limit (stonedem.motion.records.MAX_RECORD_PGA)"
-        if "scale" in spec:
-            raise InputError(
-                f"{field}.scale",
-                f"the scaled record's peak {pga:.4g} m/s2 is above the {limit}",
-                "give a smaller scale",
+        key, what, fix = (
+            ("scale", "the scaled record's peak is", "give a smaller scale")
+            if v["scale"] != 1.0  # else the baseline correction raised the peak
+            else (
+                "file",
+                f"{shown(path.name)}: baseline correction raises the peak to",
+                "give baseline: false, or a longer record",
             )
-        raise InputError(
-            f"{field}.file",
-            f"{shown(path.name)}: baseline correction raises the peak to "
-            f"{pga:.4g} m/s2, above the {limit}",
-            "give baseline: false, or a longer record",
         )
+        raise InputError(f"{field}.{key}", f"{what} {pga:.4g} m/s2, above the {limit}", fix)
     table_a, table_v, table_d, h = record_to_table(time, accel)
     description = {
         "kind": "record",

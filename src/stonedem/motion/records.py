@@ -24,11 +24,12 @@ import re
 from array import array
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterator
+from typing import Iterator, NoReturn
 
 import numpy as np
 
-from stonedem.errors import InputError, check_number
+from stonedem.errors import InputError
+from stonedem.io.spec import Field, Rule, Spec, at_least_one, not_both
 from stonedem.units import G_STANDARD  # [m s-2], PEER convention for records in g
 
 # --- limits on record files (hostile or mistaken input; docs/guide/records.md) ----
@@ -41,6 +42,7 @@ MAX_LINE_CHARS = 10_000  # a text or .AT2 line; longer is binary or has no line 
 MIN_RECORD_DT = 1e-4  # [s] 10 kHz; below it the exact spectrum recurrence loses digits
 MAX_RECORD_DT = 1.0  # [s] above it there is nothing left of an earthquake's 0.1-25 Hz band
 MAX_RECORD_PGA = 100.0 * G_STANDARD  # [m s-2] 100 g: no ground motion; wrong units or junk
+DT_FIX = "give the record's real time step; resample records finer than 10 kHz"
 
 
 def shown(text, limit: int = 60) -> str:
@@ -52,6 +54,17 @@ def shown(text, limit: int = 60) -> str:
         for ch in text[:limit]
     )
     return out + "..." if cut else out
+
+
+def file_error(field: str, name, problem: str, fix: str, line: int | None = None) -> NoReturn:
+    """Raise the one-line InputError of a record file's content, naming ``field``:
+    ``<file name>[ line N]: <problem>; <fix>`` (every refusal of a file's content has this
+    shape)."""
+    at = f" line {line}" if line is not None else ""
+    raise InputError(field, f"{shown(name)}{at}: {problem}", fix) from None
+
+
+UNREADABLE = "give a readable record file"
 
 
 def check_record_file(path: Path, field: str, max_bytes: int | None = None) -> int:
@@ -66,18 +79,15 @@ def check_record_file(path: Path, field: str, max_bytes: int | None = None) -> i
     try:
         info = os.stat(path)
     except (OSError, ValueError) as err:
-        raise InputError(
-            field,
-            f"{shown(path.name)}: cannot read ({_reason(err)})",
-            "give a readable record file",
-        ) from None
+        file_error(field, path.name, f"cannot read ({_reason(err)})", UNREADABLE)
     if not stat.S_ISREG(info.st_mode):
-        raise InputError(field, f"{shown(path.name)} is not a regular file", "give a record file")
+        file_error(field, path.name, "not a regular file", "give a record file")
     if info.st_size > max_bytes:
-        raise InputError(
+        file_error(
             field,
-            f"{shown(path.name)} is {info.st_size / 2**20:.0f} MB, above the "
-            f"{max_bytes / 2**20:.0f} MB limit for text records",
+            path.name,
+            f"{info.st_size / 2**20:.0f} MB, above the {max_bytes / 2**20:.0f} MB limit for "
+            "text records",
             f"give at most {MAX_RECORD_SAMPLES} samples (stonedem.motion.records.MAX_RECORD_BYTES)",
         )
     return info.st_size
@@ -97,13 +107,10 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
     :data:`MAX_LINE_CHARS`, bytes that are not UTF-8.
     """
     check_record_file(path, field)
-    name = shown(path.name)
     try:
         handle = open(path, "rb")
     except OSError as err:
-        raise InputError(
-            field, f"{name}: cannot read ({_reason(err)})", "give a readable record file"
-        ) from None
+        file_error(field, path.name, f"cannot read ({_reason(err)})", UNREADABLE)
     chunk = MAX_LINE_CHARS * 4 + 2  # bytes: a UTF-8 character takes at most 4
     with handle:
         number = 0
@@ -111,33 +118,37 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
             try:
                 raw = handle.readline(chunk)
             except OSError as err:
-                raise InputError(
-                    field, f"{name}: cannot read ({_reason(err)})", "give a readable record file"
-                ) from None
+                file_error(field, path.name, f"cannot read ({_reason(err)})", UNREADABLE)
             if not raw:
                 return
             number += 1
             if b"\0" in raw:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} line {number}: a NUL byte, this is a binary file",
+                    path.name,
+                    "a NUL byte, this is a binary file",
                     "give a text record (or a NetCDF one named .nc)",
+                    number,
                 )
             text = None
             if len(raw) < chunk or raw.endswith(b"\n"):
                 try:
                     text = raw.decode("utf-8")
                 except UnicodeDecodeError as err:
-                    raise InputError(
+                    file_error(
                         field,
-                        f"{name} line {number}: byte {err.start + 1} is not UTF-8 text",
+                        path.name,
+                        f"byte {err.start + 1} is not UTF-8 text",
                         "save the record as UTF-8 or ASCII text",
-                    ) from None
+                        number,
+                    )
             if text is None or len(text.rstrip("\r\n")) > MAX_LINE_CHARS:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} line {number} is longer than {MAX_LINE_CHARS} characters",
+                    path.name,
+                    f"longer than {MAX_LINE_CHARS} characters",
                     "give one sample (or one .AT2 row) per line, ending in a line feed",
+                    number,
                 )
             if number == 1 and text.startswith("\ufeff"):
                 text = text[1:]  # a byte order mark
@@ -147,26 +158,25 @@ def text_lines(path: Path, field: str) -> Iterator[tuple[int, str]]:
 def check_samples(count: int, field: str, name: str) -> None:
     """An InputError naming ``field`` when a record has more than MAX_RECORD_SAMPLES samples."""
     if count > MAX_RECORD_SAMPLES:
-        raise InputError(
+        file_error(
             field,
-            f"{shown(name)}: more than {MAX_RECORD_SAMPLES} samples "
+            name,
+            f"more than {MAX_RECORD_SAMPLES} samples "
             f"(the limit, stonedem.motion.records.MAX_RECORD_SAMPLES)",
             "cut or resample the record to a coarser step first",
         )
 
 
 def check_dt(dt: float, field: str, what: str) -> float:
-    """``dt`` [s] when finite and within [MIN_RECORD_DT, MAX_RECORD_DT], else an InputError."""
-    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-        raise InputError(
-            field, f"{what} {dt!r} s is not a positive finite time step", "give dt > 0 in s"
-        )
-    if not MIN_RECORD_DT <= dt <= MAX_RECORD_DT:
+    """``dt`` [s] of a record file (its header or its time column) when within
+    [MIN_RECORD_DT, MAX_RECORD_DT], else an InputError; ``what`` says where it was read. A dt
+    key or option is the field RECORD_KEYS["dt"], the same range."""
+    if not (isinstance(dt, (int, float)) and MIN_RECORD_DT <= dt <= MAX_RECORD_DT):  # NaN too
         raise InputError(
             field,
             f"{what} {dt:g} s is outside [{MIN_RECORD_DT:g}, {MAX_RECORD_DT:g}] s "
             "(stonedem.motion.records.MIN_RECORD_DT, MAX_RECORD_DT)",
-            "give the record's real time step; resample records finer than 10 kHz",
+            DT_FIX,
         )
     return float(dt)
 
@@ -223,23 +233,24 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
             if number == 3:
                 units_line = line.upper()
                 if "UNITS OF G" not in units_line and not re.search(r"\bG\b", units_line):
-                    raise InputError(
+                    file_error(
                         where,
-                        f"{name}: header line 3 does not declare units of g: "
-                        f"'{shown(line.strip(), 50)}'",
+                        path.name,
+                        f"header line 3 does not declare units of g: '{shown(line.strip(), 50)}'",
                         "PEER AT2 files hold acceleration in g",
                     )
             if number == 4:
                 match = _NPTS_NEW.search(line) or _NPTS_OLD.search(line)
                 if match is None:
-                    raise InputError(
+                    file_error(
                         where,
-                        f"{name}: header line 4 has no NPTS and DT: '{shown(line.strip(), 50)}'",
+                        path.name,
+                        f"header line 4 has no NPTS and DT: '{shown(line.strip(), 50)}'",
                         "expected 'NPTS= n, DT= dt SEC' or 'n dt NPTS, DT'",
                     )
                 npts, dt = int(match.group(1)), float(match.group(2))
                 if npts < 2:
-                    raise InputError(where, f"{name}: NPTS = {npts}", "need at least 2 points")
+                    file_error(where, path.name, f"NPTS = {npts}", "need at least 2 points")
                 check_samples(npts, where, path.name)
                 check_dt(dt, where, f"{name}: header DT =")
             continue
@@ -247,33 +258,33 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
             try:
                 value = float(token)
             except ValueError:
-                raise InputError(
+                file_error(
                     where,
-                    f"{name} line {number}: non-numeric value '{shown(token, 20)}'",
+                    path.name,
+                    f"non-numeric value '{shown(token, 20)}'",
                     "the data block holds numbers only",
-                ) from None
+                    number,
+                )
             if count < npts:
                 values.append(value)
             count += 1
     if len(header) < 4 or count == 0:
-        raise InputError(
+        file_error(
             where,
-            f"{name}: an AT2 file needs 4 header lines and data",
+            path.name,
+            "an AT2 file needs 4 header lines and data",
             "check the file is a PEER .AT2",
         )
     if count != npts:
-        raise InputError(
+        file_error(
             where,
-            f"{name}: header declares NPTS = {npts} but {count} values were read",
+            path.name,
+            f"header declares NPTS = {npts} but {count} values were read",
             "the file is truncated or the header is wrong",
         )
     with np.errstate(over="ignore"):  # 1e308 g is inf m/s2, refused just below
         accel = np.frombuffer(values, dtype=float) * G_STANDARD
-    bad = np.flatnonzero(~np.isfinite(accel))
-    if len(bad):
-        raise InputError(
-            where, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record"
-        )
+    _check_finite(where, path.name, accel)
     check_pga(accel, where, path.name)
     title = shown(header[1].strip(), 200)
     return Record(
@@ -288,13 +299,21 @@ def read_at2(path: str | Path, field_name: str = "file") -> Record:
     )
 
 
+def _check_finite(field: str, name: str, *arrays) -> None:
+    """An InputError at the first sample where one of ``arrays`` is NaN or infinite."""
+    bad = np.flatnonzero(~np.logical_and.reduce([np.isfinite(a) for a in arrays]))
+    if len(bad):
+        file_error(field, name, f"NaN or infinite value at sample {bad[0]}", "clean the record")
+
+
 def check_pga(accel, field: str, name: str) -> None:
     """An InputError naming ``field`` when a record's peak exceeds MAX_RECORD_PGA."""
     peak = float(np.abs(accel).max()) if len(accel) else 0.0
     if not peak <= MAX_RECORD_PGA:
-        raise InputError(
+        file_error(
             field,
-            f"{shown(name)}: peak acceleration {peak:.4g} m/s2 ({peak / G_STANDARD:.3g} g) "
+            name,
+            f"peak acceleration {peak:.4g} m/s2 ({peak / G_STANDARD:.3g} g) "
             f"is above the {MAX_RECORD_PGA / G_STANDARD:g} g limit "
             "(stonedem.motion.records.MAX_RECORD_PGA)",
             "check the units (units: g, cm/s2, m/s2) or the file's values",
@@ -428,6 +447,15 @@ def predominant_frequency(time, accel, f_min=0.1, f_max=25.0, b=20.0) -> float:
     return float(centres[np.nanargmax(smooth)])
 
 
+# the arguments of response_spectrum (stonedem record info's --damping is checked the same)
+SPECTRUM_KEYS = Spec(
+    (
+        Field("periods", "numbers", "s", "(0, inf)", hint="give positive periods"),
+        Field("damping", "number", "1", "[0, 1)", hint="give a damping ratio, e.g. 0.05"),
+    )
+)
+
+
 def response_spectrum(time, accel, periods, damping: float = 0.05):
     """Pseudo-acceleration spectrum PSA = omega^2 max|u| [m s-2] of a SDOF oscillator.
 
@@ -437,14 +465,9 @@ def response_spectrum(time, accel, periods, damping: float = 0.05):
     a = np.asarray(accel, dtype=float)
     dt = float(time[1] - time[0])
     periods = np.asarray(periods, dtype=float)
-    if not (math.isfinite(damping) and 0.0 <= damping < 1.0):
-        raise InputError(
-            "damping", f"{damping!r} is not a damping ratio in [0, 1)", "give e.g. 0.05"
-        )
-    if not np.all(np.isfinite(periods) & (periods > 0)):
-        raise InputError("periods", "periods must be finite and > 0 s", "give positive periods")
+    SPECTRUM_KEYS["periods"].check(periods.ravel())
+    z = SPECTRUM_KEYS["damping"].check(damping)
     w = 2.0 * np.pi / periods
-    z = float(damping)
     wd = w * np.sqrt(1.0 - z * z)
     e = np.exp(-z * w * dt)
     s, c = np.sin(wd * dt), np.cos(wd * dt)
@@ -555,6 +578,83 @@ RECORD_SUFFIXES = (".nc", ".AT2", ".at2", ".txt", ".csv", ".dat")
 TIME_UNITS = ("s", "sec", "second", "seconds")  # accepted units of a NetCDF record's time
 
 
+class KeyRule(Rule):
+    """A rule of the kit whose refusal names its first key (``excitation.file``, as the scene's
+    messages always have), and that takes a null value for an absent key, as a field does."""
+
+    def check(self, mapping, where: str) -> None:
+        given = {k: v for k, v in mapping.items() if v is not None}
+        super().check(given, f"{where}.{self.keys[0]}" if where else self.keys[0])
+
+
+def first_key(rule: Rule) -> KeyRule:
+    """``rule`` (exactly_one, not_both, ...) refused as :class:`KeyRule`."""
+    return KeyRule(rule.name, rule.keys, rule.problem, rule.fix)
+
+
+_SUITE_UNITS = "drop {}: a suite component carries its own units and dt"
+
+# the keys of a ``kind: record`` excitation (stonedem.motion.excitation); the file, its units
+# and the dt are checked against the file itself by read_record
+RECORD_KEYS = Spec(
+    (
+        Field(
+            "file",
+            "any",
+            hint="give the record file: a path, or a name in records/",
+            doc="the record: a path (from the scene's folder) or a name in records/ "
+            "(.nc, .AT2, text)",
+        ),
+        Field(
+            "component",
+            "any",  # its name is checked by stonedem.motion.suites.suite_of
+            doc="a FEMA P695 component (FF07a); without file, read from its suite file",
+        ),
+        Field("scale", units="1", default=1.0, doc="factor on the record's acceleration"),
+        Field(
+            "pga",
+            units="m s-2",
+            range=f"(0, {MAX_RECORD_PGA!r}]",
+            hint="give a peak ground acceleration in m/s2 (above the "
+            f"{MAX_RECORD_PGA / G_STANDARD:g} g limit it is a units mistake)",
+            doc="the record scaled to this peak ground acceleration",
+        ),
+        Field(
+            "units",
+            "any",
+            hint=f"use one of {', '.join(UNIT_FACTORS)}",
+            doc="acceleration units of a text record: m/s2 (default), g, cm/s2 (.AT2 and "
+            "NetCDF records carry their own)",
+        ),
+        Field(
+            "dt",
+            units="s",
+            range=f"[{MIN_RECORD_DT!r}, {MAX_RECORD_DT!r}]",
+            hint=DT_FIX,
+            doc="time step of a one-column text record",
+        ),
+        Field(
+            "baseline",
+            "flag",
+            default=True,
+            doc="baseline correction, so the base ends at rest (false: as recorded)",
+        ),
+    ),
+    rules=(
+        first_key(
+            at_least_one(
+                "file",
+                "component",
+                fix="give the record file (path or name in records/), or a suite component",
+            )
+        ),
+        not_both("scale", "pga", fix="remove one of them"),
+        first_key(not_both("component", "units", fix=_SUITE_UNITS.format("units"))),
+        first_key(not_both("component", "dt", fix=_SUITE_UNITS.format("dt"))),
+    ),
+)
+
+
 def checkout_records_dir() -> Path | None:
     """The top-level ``records/`` of a source checkout this module runs from (editable install)."""
     here = Path(__file__).resolve()
@@ -617,22 +717,12 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     (:func:`record_folders`), so ``athens_standin_kocaeli_arc000`` works from any install.
     The path must be a regular file; anything else is a one-line InputError naming ``field``.
     """
-    if isinstance(name, Path):
-        name = str(name)
-    if not isinstance(name, str):
+    if isinstance(name, (Path, int)) and not isinstance(name, bool):
+        name = str(name)  # a path from a script; a number from YAML (file: 2024)
+    problem = _unusable_name(name)
+    if problem:
         raise InputError(
-            field, f"expected a file name or path, got {shown(repr(name))}", "give a record file"
-        )
-    if not name.strip():
-        raise InputError(
-            field, "empty record name", "give a path or a record name, e.g. northridge_1994_mul009"
-        )
-    if "\0" in name or len(name) > MAX_NAME_CHARS:
-        raise InputError(
-            field,
-            f"'{shown(name)}' is not a usable file name"
-            + (" (a NUL character)" if "\0" in name else f" (over {MAX_NAME_CHARS} characters)"),
-            "give a path or a record name",
+            field, problem, "give a record file's path or name, e.g. northridge_1994_mul009"
         )
     key = (name, str(base_dir), os.getcwd(), checkout_records_dir, packaged_records_dir)
     found = _RESOLVED.get(key)
@@ -657,19 +747,15 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
                 dangling.append(path)
         except (OSError, ValueError):
             continue
-    if dangling and not not_files:
-        raise InputError(
-            field,
-            f"{shown(dangling[0])} is a symbolic link that cannot be followed (a loop, or "
-            "to nothing)",
-            "give the record file itself",
-        )
     if not_files:
-        raise InputError(
+        folder = " (a folder)" if not_files[0].is_dir() else ""
+        file_error(field, not_files[0], f"not a record file{folder}", "give a record file")
+    if dangling:
+        file_error(
             field,
-            f"{shown(not_files[0])} is not a record file"
-            + (" (a folder)" if not_files[0].is_dir() else ""),
-            "give a record file",
+            dangling[0],
+            "a symbolic link that cannot be followed (a loop, or to nothing)",
+            "give the record file itself",
         )
     known = sorted({p.stem for folder in folders for p in folder.glob("*.nc")})
     where = " or ".join(str(f) for f in folders) or "records/ (none installed)"
@@ -677,6 +763,18 @@ def resolve_record(name: str, field: str, base_dir: Path) -> Path:
     raise InputError(
         field, f"record '{shown(name)}' not found", f"give a path or a name in {where}{listing}"
     )
+
+
+def _unusable_name(name) -> str:
+    """What is wrong with a record name, "" when nothing."""
+    if not isinstance(name, str):
+        return f"expected a file name or path, got {shown(repr(name))}"
+    if not name.strip():
+        return "empty record name"
+    if "\0" in name or len(name) > MAX_NAME_CHARS:
+        why = "a NUL character" if "\0" in name else f"over {MAX_NAME_CHARS} characters"
+        return f"'{shown(name)}' is not a usable file name ({why})"
+    return ""
 
 
 def check_units(units, field: str) -> str | None:
@@ -715,8 +813,7 @@ def read_record(
         dt_field.rsplit(".", 1)[-1],
     )  # key or --option
     units = check_units(units, units_field)
-    if dt is not None:
-        dt = check_dt(check_number(dt, dt_field, positive=True), dt_field, "time step")
+    dt = RECORD_KEYS["dt"].check(dt, dt_field) if dt is not None else None
     name = shown(path.name)
     meta: dict = {}
     suffix = path.suffix.lower()
@@ -725,9 +822,10 @@ def read_record(
 
         rec = read_at2(path, field)
         if units is not None and UNIT_FACTORS[units] != G_STANDARD:
-            raise InputError(
+            file_error(
                 units_field,
-                f"{name} is a PEER .AT2 record in g, {units_label} gives '{units}'",
+                path.name,
+                f"a PEER .AT2 record in g, {units_label} gives '{units}'",
                 "drop the units: an .AT2 record carries its own",
             )
         time, accel, file_units = rec.time, rec.acceleration, "m/s2"
@@ -738,16 +836,18 @@ def read_record(
         time, accel, header_dt = _read_text_record(path, field)
         if time is None:
             if dt is not None and header_dt is not None and not _same_step(dt, header_dt):
-                raise InputError(
+                file_error(
                     dt_field,
-                    f"{name} declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
+                    path.name,
+                    f"declares dt = {header_dt:g} s, {dt_label} gives {dt:g} s",
                     "drop one of them",
                 )
             step = dt if dt is not None else header_dt
             if step is None:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} has one column and no time step",
+                    path.name,
+                    "one column and no time step",
                     "add a header line 'dt = 0.01' or the key dt:",
                 )
             check_dt(step, dt_field if dt is not None else field, f"{name}: dt =")
@@ -759,9 +859,10 @@ def read_record(
     _check_record(time, accel, field, path)
     file_dt = float((time[-1] - time[0]) / (len(time) - 1))
     if dt is not None and not _same_step(dt, file_dt):
-        raise InputError(
+        file_error(
             dt_field,
-            f"{name} has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
+            path.name,
+            f"has a time step of {file_dt:g} s, {dt_label} gives {dt:g} s",
             "drop dt: it is only for one-column text records",
         )
     if time[0] != 0.0:
@@ -780,7 +881,7 @@ def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
 
     import xarray as xr
 
-    name = shown(path.name)
+    name = path.name
     check_record_file(
         path, field, max_bytes=2**62
     )  # regular file; size is bounded per variable below
@@ -790,44 +891,42 @@ def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
             warnings.simplefilter("ignore")
             ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False, cache=False)
     except Exception as err:  # netCDF4, h5netcdf and scipy raise many types on junk
-        raise InputError(
+        file_error(
             field,
-            f"{name} is not a readable NetCDF file ({_reason(err)})",
+            name,
+            f"not a readable NetCDF file ({_reason(err)})",
             "give a NetCDF record, or a text or .AT2 record with its own suffix",
-        ) from None
+        )
     with ds:
         if "acceleration" not in ds.variables:
             have = ", ".join(shown(v, 30) for v in list(ds.variables)[:6]) or "none"
-            raise InputError(field, f"{name} has no variable 'acceleration' (it has: {have})", fix)
+            file_error(field, name, f"no variable 'acceleration' (it has: {have})", fix)
         var = ds.variables["acceleration"]
         if tuple(var.dims) != ("time",):
-            raise InputError(
-                field,
-                f"{name}: 'acceleration' has dimensions {shown(tuple(var.dims))}, expected (time,)",
-                fix,
-            )
+            dims = shown(tuple(var.dims))
+            file_error(field, name, f"'acceleration' has dimensions {dims}, expected (time,)", fix)
         if "time" not in ds.variables or tuple(ds.variables["time"].dims) != ("time",):
-            raise InputError(field, f"{name} has no 'time' coordinate for 'acceleration'", fix)
+            file_error(field, name, "no 'time' coordinate for 'acceleration'", fix)
         tvar = ds.variables["time"]
-        check_samples(int(var.size), field, path.name)
+        check_samples(int(var.size), field, name)
         for label, v in (("acceleration", var), ("time", tvar)):
             if v.dtype.kind not in "iuf":
-                raise InputError(
-                    field, f"{name}: '{label}' holds {shown(v.dtype)}, not real numbers", fix
-                )
+                file_error(field, name, f"'{label}' holds {shown(v.dtype)}, not real numbers", fix)
         file_units = var.attrs.get("units")
         if file_units is not None:
             if not isinstance(file_units, str) or file_units.strip().lower() not in UNIT_FACTORS:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name}: unknown acceleration units {shown(repr(file_units))}",
+                    name,
+                    f"unknown acceleration units {shown(repr(file_units))}",
                     f"use one of {', '.join(UNIT_FACTORS)}",
                 )
             file_units = file_units.strip().lower()
             if units is not None and UNIT_FACTORS[units] != UNIT_FACTORS[file_units]:
-                raise InputError(
+                file_error(
                     units_field,
-                    f"{name} declares its acceleration in '{shown(file_units)}', "
+                    name,
+                    f"declares its acceleration in '{shown(file_units)}', "
                     f"{units_field.rsplit('.', 1)[-1]} gives '{units}'",
                     "drop the units: a NetCDF record carries its own",
                 )
@@ -835,9 +934,10 @@ def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
             file_units = units or "m s-2"
         time_units = tvar.attrs.get("units", "s")
         if not isinstance(time_units, str) or time_units.strip().lower() not in TIME_UNITS:
-            raise InputError(
+            file_error(
                 field,
-                f"{name}: time units {shown(repr(time_units))}, expected s",
+                name,
+                f"time units {shown(repr(time_units))}, expected s",
                 "store time in seconds (units: s)",
             )
         try:
@@ -846,9 +946,7 @@ def _read_netcdf(path: Path, field: str, units: str | None, units_field: str):
                 accel = np.asarray(var.values, dtype=float)
                 time = np.asarray(tvar.values, dtype=float)
         except Exception as err:
-            raise InputError(
-                field, f"{name}: cannot read 'acceleration' ({_reason(err)})", fix
-            ) from None
+            file_error(field, name, f"cannot read 'acceleration' ({_reason(err)})", fix)
         meta = {
             k: shown(v, 200)
             for k, v in ds.attrs.items()
@@ -862,7 +960,7 @@ _DT_HEADER = re.compile(r"^#*\s*dt\s*[=:]\s*(\S*)", re.IGNORECASE)
 
 def _read_text_record(path: Path, field: str):
     """(time or None, acceleration, dt from a header line or None) of a text record."""
-    name = shown(path.name)
+    name = path.name
     values = array("d")
     header_dt, n_cols, n_rows = None, None, 0
     for number, line in text_lines(path, field):
@@ -872,16 +970,20 @@ def _read_text_record(path: Path, field: str):
             try:
                 value = float(header.group(1).rstrip(",;"))
             except ValueError:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} line {number}: bad dt header '{shown(stripped, 40)}'",
+                    name,
+                    f"bad dt header '{shown(stripped, 40)}'",
                     "write dt = 0.01",
-                ) from None
+                    number,
+                )
             if header_dt is not None and value != header_dt:
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} line {number}: a second dt header ({value:g} s after {header_dt:g} s)",
+                    name,
+                    f"a second dt header ({value:g} s after {header_dt:g} s)",
                     "keep one dt header",
+                    number,
                 )
             header_dt = value
             continue
@@ -892,28 +994,30 @@ def _read_text_record(path: Path, field: str):
         try:
             row = [float(p) for p in parts]
         except ValueError:
-            raise InputError(
+            file_error(
                 field,
-                f"{name} line {number}: non-numeric value in '{shown(text, 40)}'",
+                name,
+                f"non-numeric value in '{shown(text, 40)}'",
                 "give numbers only (comments start with #; a PEER record must end in .AT2)",
-            ) from None
+                number,
+            )
         if n_cols is None:
             n_cols = len(row)
             if n_cols not in (1, 2):
-                raise InputError(
+                file_error(
                     field,
-                    f"{name} line {number}: {n_cols} columns",
+                    name,
+                    f"{n_cols} columns",
                     "give time and acceleration, or acceleration alone with dt",
+                    number,
                 )
         elif len(row) != n_cols:
-            raise InputError(
-                field, f"{name} line {number}: {len(row)} columns, expected {n_cols}", "fix the row"
-            )
+            file_error(field, name, f"{len(row)} columns, expected {n_cols}", "fix the row", number)
         n_rows += 1
-        check_samples(n_rows, field, path.name)
+        check_samples(n_rows, field, name)
         values.extend(row)
     if not n_rows:
-        raise InputError(field, f"{name} holds no samples", "give at least two samples")
+        file_error(field, name, "no samples", "give at least two samples")
     data = np.frombuffer(values, dtype=float).reshape(n_rows, n_cols)
     if n_cols == 2:
         return data[:, 0].copy(), data[:, 1].copy(), header_dt
@@ -921,37 +1025,35 @@ def _read_text_record(path: Path, field: str):
 
 
 def _check_record(time, accel, field, path):
-    name = shown(path.name)
+    name = path.name
     if len(accel) < 2:
-        raise InputError(field, f"{name}: fewer than 2 samples", "give a longer record")
-    check_samples(len(accel), field, path.name)
-    bad = np.flatnonzero(~np.isfinite(accel) | ~np.isfinite(time))
-    if len(bad):
-        raise InputError(
-            field, f"{name}: NaN or infinite value at sample {bad[0]}", "clean the record"
-        )
+        file_error(field, name, "fewer than 2 samples", "give a longer record")
+    check_samples(len(accel), field, name)
+    _check_finite(field, name, accel, time)
     with np.errstate(over="ignore", invalid="ignore"):
         steps = np.diff(time)
     if not np.all(np.isfinite(steps)):
-        raise InputError(
-            field, f"{name}: time values too large to take differences", "give time in s from 0"
+        file_error(
+            field, name, "time values too large to take differences", "give time in s from 0"
         )
     if np.any(steps <= 0):
         i = int(np.flatnonzero(steps <= 0)[0])
-        raise InputError(
+        file_error(
             field,
-            f"{name}: time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
+            name,
+            f"time not increasing at sample {i + 1} (t = {time[i + 1]:g} s)",
             "sort the samples and remove duplicates",
         )
     h = float((time[-1] - time[0]) / (len(time) - 1))
     if np.ptp(steps) > 1e-6 * h:
-        raise InputError(
+        file_error(
             field,
-            f"{name}: non-uniform time step ({steps.min():g} to {steps.max():g} s)",
+            name,
+            f"non-uniform time step ({steps.min():g} to {steps.max():g} s)",
             "resample to a uniform step first (not done here)",
         )
-    check_dt(h, field, f"{name}: time step")
-    check_pga(accel, field, path.name)
+    check_dt(h, field, f"{shown(name)}: time step")
+    check_pga(accel, field, name)
 
 
 def record_to_table(time, accel):

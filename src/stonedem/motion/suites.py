@@ -18,10 +18,12 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
+from stonedem.io.spec import Field
 from stonedem.motion.records import (
     SPECTRUM_PERIODS,
     Record,
     baseline_correct,
+    file_error,
     integrate,
     predominant_frequency,
     response_spectrum,
@@ -246,12 +248,11 @@ def record_file_name(spec) -> str | None:
     return f"suites/{suite}" if spec.get("kind") == "record" and suite else None
 
 
+SUITE = Field("suite", "choice", choices=tuple(SUITES), doc="a FEMA P695 record suite")
+
+
 def suite_path(suite: str) -> Path:
-    if suite not in SUITES:
-        raise InputError(
-            "suite", f"unknown record suite {suite!r}", f"use one of {', '.join(SUITES)}"
-        )
-    return SUITES_DIR / f"{suite}.nc"
+    return SUITES_DIR / f"{SUITE.check(suite)}.nc"
 
 
 def load_suite(suite: str) -> xr.Dataset:
@@ -265,26 +266,27 @@ def read_suite_file(path: Path, field: str) -> xr.Dataset:
     try:
         with xr.open_dataset(path) as ds:
             ds = ds.load()
-    except FileNotFoundError:
-        raise InputError(
-            field, f"record suite {path} not found", "restore it: git checkout -- records/suites"
-        ) from None
     except (OSError, ValueError, RuntimeError, KeyError) as err:
         reason = " ".join(str(err).split())[:120]
+        what = (
+            "not found"
+            if isinstance(err, FileNotFoundError)
+            else f"is damaged ({type(err).__name__}: {reason})"
+        )
         raise InputError(
-            field,
-            f"record suite {path} is damaged ({type(err).__name__}: {reason})",
-            f"restore it: git checkout -- {path}",
+            field, f"record suite {path} {what}", f"restore it: git checkout -- {path}"
         ) from None
     if "record" not in ds.dims or "acceleration" not in ds:
-        raise InputError(
+        file_error(
             field,
-            f"{path.name} is not a record suite (no record dimension)",
-            "give a file of records/suites/, or drop component",
+            path.name,
+            "not a record suite (no record dimension)",
+            SUITE_FILE_FIX + ", or drop component",
         )
     return ds
 
 
+SUITE_FILE_FIX = "give a file of records/suites/"
 _SUITE_MEMO: dict = {}  # (path, size, mtime) -> the suite file's arrays (a job reads each once)
 
 
@@ -313,11 +315,9 @@ def read_component(path: Path, name: str, field: str = "excitation"):
     except InputError:
         raise
     except (OSError, ValueError, KeyError) as err:
-        raise InputError(
-            f"{field}.file",
-            f"{path.name} is not a readable NetCDF file ({err})",
-            "give a file of records/suites/",
-        ) from None
+        file_error(
+            f"{field}.file", path.name, f"not a readable NetCDF file ({err})", SUITE_FILE_FIX
+        )
     names = suite["names"]
     if name not in names:
         raise InputError(

@@ -19,6 +19,7 @@ statistics and verdicts.
 
 from __future__ import annotations
 
+import dataclasses
 import time as wallclock
 
 import numba
@@ -40,10 +41,14 @@ from stonedem.engine.simulate import (
 )
 from stonedem.entry import check_interrupt, deferred_signals
 from stonedem.errors import InputError
+from stonedem.io.spec import Field
 from stonedem.kernels import step
 from stonedem.kernels.ensemble import run_members
 
 DEVICES = ("cpu", "gpu")
+DEVICE = Field("device", "choice", default="cpu", choices=DEVICES, doc="where the members run")
+# the upper bound is the threads Numba has (NUMBA_NUM_THREADS), filled in at the call
+THREADS = Field("threads", "integer", range="[1, inf)", doc="threads (default: all Numba has)")
 
 
 def run_ensemble(
@@ -53,23 +58,14 @@ def run_ensemble(
     compiled loops of all of them run side by side on ``threads`` threads (default: all
     Numba has, NUMBA_NUM_THREADS), or on the GPU (``device="gpu"``, one thread per member;
     a RuntimeError says why when none can run it)."""
-    if device not in DEVICES:
-        raise InputError(
-            "device",
-            f"expected one of {', '.join(DEVICES)}, got {device!r}",
-            "give device='cpu' or 'gpu'",
-        )
+    device = DEVICE.check(device)
     available = numba.config.NUMBA_NUM_THREADS
-    if threads is not None and (
-        isinstance(threads, bool)
-        or not isinstance(threads, (int, np.integer))
-        or not 1 <= threads <= available
-    ):
-        raise InputError(
-            "threads",
-            f"expected a whole number 1 ... {available}, got {threads!r}",
-            f"give e.g. threads={available}, or leave it out",
-        )
+    if threads is not None:
+        threads = dataclasses.replace(
+            THREADS,
+            range=f"[1, {available}]",
+            hint=f"give e.g. threads={available}, or leave it out",
+        ).check(threads)
     scenes = list(scenes)
     for i, scene in enumerate(scenes):
         if not isinstance(scene, Scene):

@@ -41,25 +41,30 @@ class LognormalFit:
 
 
 def _check(intensities, censored):
+    """(intensities, censored flags) as flat arrays, or the InputError of the first problem."""
     x = np.asarray(intensities, dtype=float).ravel()
     c = np.zeros(x.size, bool) if censored is None else np.asarray(censored, dtype=bool).ravel()
     if c.size != x.size:
-        raise InputError(
-            "censored", f"{c.size} flags for {x.size} intensities", "give one flag per record"
+        field, problem, fix = (
+            "censored",
+            f"{c.size} flags for {x.size} intensities",
+            "give one flag per record",
         )
-    if x.size < 2 or not np.all(np.isfinite(x) & (x > 0)):
-        raise InputError(
+    elif x.size < 2 or not np.all(np.isfinite(x) & (x > 0)):
+        field, problem, fix = (
             "intensities",
             "need at least two finite positive intensities",
             "give the IDA intensity of every record",
         )
-    if c.all():
-        raise InputError(
+    elif c.all():
+        field, problem, fix = (
             "censored",
             "every record is censored: no limit state was reached",
             "raise the search maximum",
         )
-    return x, c
+    else:
+        return x, c
+    raise InputError(field, problem, fix)
 
 
 def fit_lognormal(intensities, censored=None) -> LognormalFit:

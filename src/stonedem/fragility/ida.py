@@ -14,6 +14,7 @@ the record scaled. ``stonedem.fragility.fit`` fits the curves.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Callable
@@ -21,33 +22,88 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from stonedem.engine.scene import check_keys
 from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result
+from stonedem.io.spec import REQUIRED, Field, Spec, got
 from stonedem.motion.suites import SUITES, load_suite
 
 STUDY_PREFIX = "ida_"
-FRAGILITY_KEYS = (
-    "description",
-    "structures",
-    "suites",
-    "components",
-    "run_structures",
-    "search",
-    "job_seconds",
-    "bootstrap",
-    "pulse_check",
+DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into one job
+# the config's fragility: section (pulse_check: one of the structures, checked at the call)
+FRAGILITY = Spec(
+    (
+        Field("description", "any", doc="what the IDA is for"),
+        Field(
+            "structures",
+            "mapping",
+            REQUIRED,
+            hint="write structures: {column_3_drums: {structure: {kind: column, ...}}}",
+            doc="{name: scene keys}: each structure becomes the search study ida_<name>",
+        ),
+        Field(
+            "suites",
+            "list",
+            default=list(SUITES),
+            hint=f"use some of {', '.join(SUITES)}",
+            doc="the FEMA P695 record suites (records/suites/)",
+        ),
+        Field(
+            "components",
+            "list",
+            hint="list components by name, e.g. FF01a",
+            doc="the suites' components to run (default: all)",
+        ),
+        Field(
+            "run_structures",
+            "list",
+            hint="list structures by name",
+            doc="the structures to run (default: all)",
+        ),
+        Field(
+            "search",
+            "mapping",
+            default={},
+            hint="write search: {tolerance: 0.05, ...}",
+            doc="the search settings over DEFAULT_SEARCH",
+        ),
+        Field(
+            "job_seconds",
+            "number",
+            "s",
+            "[1, 86400]",
+            DEFAULT_JOB_SECONDS,
+            hint=f"give e.g. job_seconds: {DEFAULT_JOB_SECONDS:g}",
+            doc="estimated kernel seconds of searches packed into one job",
+        ),
+        Field(
+            "bootstrap",
+            "integer",
+            range="[10, 100000]",
+            default=1000,
+            hint="give e.g. bootstrap: 1000",
+            doc="bootstrap samples of each fit",
+        ),
+        Field("pulse_check", "text", hint="name one of the structures", doc="its structure"),
+    )
 )
-STRUCTURE_KEYS = (
-    "structure",
-    "friction",
-    "contact",
-    "solver",
-    "output",
-    "interface_friction",
-    "suites",
-    "description",
+# a structure's keys: scene keys (checked as its study's cases), its suites, a description
+STRUCTURE = Spec(
+    tuple(
+        Field(key, "any")
+        for key in (
+            "structure",
+            "friction",
+            "contact",
+            "solver",
+            "output",
+            "interface_friction",
+            "suites",
+            "description",
+        )
+    )
 )
+SUITE = Field("suite", "choice", choices=SUITES)
+COMPONENT = Field("component", "text")
 # the search of every (structure, record): the Table 7.1 machinery, a 5 % bracket (the
 # record-to-record dispersion of collapse PGA, beta ~ 0.3-0.6, dwarfs it)
 # the IDA cube and fragility figures read the runs' measures only, so its search files keep no
@@ -62,7 +118,6 @@ DEFAULT_SEARCH = {
     "max_runs": 20,
     "histories": False,
 }
-DEFAULT_JOB_SECONDS = 120.0  # estimated kernel seconds of searches packed into one job
 
 
 @dataclass(frozen=True)
@@ -120,54 +175,46 @@ def fragility_studies(config: dict) -> dict[str, dict]:
     if spec is None:
         return {}
     where = "fragility"
-    check_keys(spec, FRAGILITY_KEYS, where)
-    structures = spec.get("structures")
-    if not isinstance(structures, dict) or not structures:
-        raise InputError(
-            f"{where}.structures",
-            "expected a mapping of structures",
-            "write structures: {column_3_drums: {structure: {kind: column, ...}}}",
+    FRAGILITY.check_keys(spec, where)
+    structures = _given(FRAGILITY["structures"], spec.get("structures"), f"{where}.structures")
+    search = spec.get("search")
+    search = (
+        {} if search is None else _given(FRAGILITY["search"], search, f"{where}.search", empty=True)
+    )
+    pulse_check = dataclasses.replace(
+        FRAGILITY["pulse_check"], kind="choice", choices=tuple(structures), hint=""
+    )
+    values = FRAGILITY.replace(pulse_check).check(spec, where)
+    suites = _given(
+        FRAGILITY["suites"], spec.get("suites", values["suites"]), f"{where}.suites", SUITE
+    )
+    chosen = list(structures)
+    if values["run_structures"] is not None:
+        structure = Field("structure", "choice", choices=tuple(structures))
+        chosen = _given(
+            FRAGILITY["run_structures"],
+            values["run_structures"],
+            f"{where}.run_structures",
+            structure,
         )
-    suites = _suites(spec.get("suites", list(SUITES)), f"{where}.suites")
-    components = spec.get("components")
-    chosen = _names(spec.get("run_structures"), f"{where}.run_structures", structures, "structures")
-    if spec.get("pulse_check") is not None and spec["pulse_check"] not in structures:
-        raise InputError(
-            f"{where}.pulse_check",
-            f"unknown structure {spec['pulse_check']!r}",
-            f"name one of {', '.join(structures)}",
-        )
-    for key, low, high in (("job_seconds", 1.0, 86400.0), ("bootstrap", 10, 100000)):
-        value = spec.get(key)
-        if value is not None and (
-            isinstance(value, bool)
-            or not isinstance(value, (int, float))
-            or not low <= value <= high
-        ):
-            raise InputError(
-                f"{where}.{key}",
-                f"expected a number {low:g} ... {high:g}, got {value!r}",
-                f"give e.g. {key}: {DEFAULT_JOB_SECONDS:g}"
-                if key == "job_seconds"
-                else f"give e.g. {key}: 1000",
-            )
     every = suite_components(list(SUITES))  # {component: suite}, each suite file read once
+    components = values["components"]
     if components is not None:
-        components = _names(components, f"{where}.components", None, "components")
-        for i, name in enumerate(components):
-            if name not in every:
-                raise InputError(
-                    f"{where}.components[{i}]",
-                    f"{name!r} is not a FEMA P695 component",
-                    "use names of records/suites/, e.g. FF01a, NP01b, NN15a",
-                )
-    search = {**DEFAULT_SEARCH, **_mapping(spec.get("search"), f"{where}.search")}
+        components = _given(FRAGILITY["components"], components, f"{where}.components", COMPONENT)
+        unknown = next((i for i, name in enumerate(components) if name not in every), None)
+        if unknown is not None:
+            raise InputError(
+                f"{where}.components[{unknown}]",
+                f"{components[unknown]!r} is not a FEMA P695 component",
+                "use names of records/suites/, e.g. FF01a, NP01b, NN15a",
+            )
+    search = {**DEFAULT_SEARCH, **search}
     studies = {}
     for name in chosen:
         body = structures[name]
         place = f"{where}.structures.{name}"
-        check_keys(body, STRUCTURE_KEYS, place)
-        own = _suites(body.get("suites", suites), f"{place}.suites")
+        STRUCTURE.check_keys(body, place)
+        own = _given(FRAGILITY["suites"], body.get("suites", suites), f"{place}.suites", SUITE)
         names = [n for n in (every if components is None else components) if every[n] in own]
         if not names:
             raise InputError(
@@ -186,41 +233,15 @@ def fragility_studies(config: dict) -> dict[str, dict]:
     return studies
 
 
-def _mapping(value, where):
-    if value is None:
-        return {}
-    if not isinstance(value, dict):
-        raise InputError(
-            where, f"expected a mapping, got {value!r}", "write search: {tolerance: 0.05, ...}"
-        )
-    return value
-
-
-def _suites(value, where):
-    if not isinstance(value, list) or not value:
-        raise InputError(
-            where, f"expected a list of suites, got {value!r}", f"use some of {', '.join(SUITES)}"
-        )
-    for i, suite in enumerate(value):
-        if suite not in SUITES:
-            raise InputError(
-                f"{where}[{i}]", f"unknown suite {suite!r}", f"use one of {', '.join(SUITES)}"
-            )
-    return list(value)
-
-
-def _names(value, where, known, what):
-    if value is None:
-        return list(known)
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        raise InputError(where, f"expected a list of names, got {value!r}", f"list {what} by name")
-    if known is not None:
-        for i, v in enumerate(value):
-            if v not in known:
-                raise InputError(
-                    f"{where}[{i}]", f"unknown {what[:-1]} {v!r}", f"use one of {', '.join(known)}"
-                )
-    return list(value)
+def _given(f: Field, value, where: str, item: Field | None = None, empty: bool = False):
+    """``value`` as the list or mapping field ``f``, refused with the field's own hint (the
+    kit's mapping refusal has a generic one) and, unless ``empty``, when empty (the kit has no
+    least count); a list's items checked as ``item``."""
+    shape = dict if f.kind == "mapping" else list
+    if not isinstance(value, shape) or not (value or empty):
+        kind = f"{'' if empty else 'non-empty '}{'mapping' if shape is dict else 'list'}"
+        raise InputError(where, f"expected a {kind}, got {got(value)}", f.hint)
+    return value if item is None else [item.check(v, f"{where}[{i}]") for i, v in enumerate(value)]
 
 
 def fragility_config(config: dict) -> dict:

@@ -203,31 +203,24 @@ def result_differences(
     ]
 
 
-def study_folder(path: str, field: str) -> Path:
-    """``path`` as a study folder (one holding a results folder), or the InputError saying why
-    not."""
+def study_folder(path: str, field: str, other: Path | None = None) -> Path:
+    """``path`` as a study folder (one holding a results folder), not the folder ``other``
+    (the one compared with it), or the InputError saying why not."""
     real_path(path, field)  # a symlink loop: one line, not pathlib's RuntimeError
     folder = Path(path)
+    fix = "give the folder a study ran in (it holds a results folder)"
     if not folder.exists():
-        raise InputError(
-            field,
-            f"{path}: no such folder",
-            "give the folder a study ran in (it holds a results folder)",
-        )
-    if not folder.is_dir():
-        raise InputError(
-            field,
-            f"{path} is a file, not a folder",
-            "give the folder a study ran in (it holds a results folder)",
-        )
-    if not (folder / "results").is_dir():
-        raise InputError(
-            field,
-            f"{path} holds no results folder",
-            "give the folder a study ran in (it holds a results folder), not that results "
-            "folder itself",
-        )
-    return folder
+        problem = f"{path}: no such folder"
+    elif not folder.is_dir():
+        problem = f"{path} is a file, not a folder"
+    elif not (folder / "results").is_dir():
+        problem = f"{path} holds no results folder"
+        fix += ", not that results folder itself"
+    elif other is not None and folder.resolve() == other.resolve():
+        problem, fix = f"{path} is the folder STUDY_A names", "compare two different study folders"
+    else:
+        return folder
+    raise InputError(field, problem, fix)
 
 
 def main(argv=None) -> int:
@@ -239,13 +232,8 @@ def main(argv=None) -> int:
                 f"expected two study folders, got {len(args)}",
                 "python -m stonedem.study.compare STUDY_A STUDY_B",
             )
-        a, b = study_folder(args[0], "STUDY_A"), study_folder(args[1], "STUDY_B")
-        if a.resolve() == b.resolve():
-            raise InputError(
-                "STUDY_B",
-                f"{args[1]} is the folder STUDY_A names",
-                "compare two different study folders",
-            )
+        a = study_folder(args[0], "STUDY_A")
+        b = study_folder(args[1], "STUDY_B", other=a)
         files = file_differences(a, b, clock_columns=True)
         if not files:  # two runs that both made nothing are not the same run
             raise InputError(

@@ -23,6 +23,7 @@ searches are replayed from their collapse maps, so only the stripe fills and the
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import math
 import os
@@ -35,8 +36,11 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError
+from stonedem.io.spec import Field, Spec
+from stonedem.study import members as members_module
 from stonedem.study.members import (
     MAX_MEMBERS,
+    PERTURBATION,
     PERTURBATIONS,
     check_member,
     check_perturbation,
@@ -311,8 +315,6 @@ def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
     from stonedem import options
 
     ds = options.read_netcdf(path, field, "rounding.nc of benchmarks.rounding", ROUNDING_FIX)
-    if "perturbation" not in ds.dims:
-        raise InputError(field, f"{path} has no perturbation dimension", ROUNDING_FIX)
     needed = [
         name
         for dim, names in (
@@ -333,12 +335,15 @@ def read_rounding(path, field: str = "--from-rounding") -> xr.Dataset:
         for name in names
         if name not in ds.variables
     ]
-    if needed:
-        raise InputError(field, f"{path} lacks {', '.join(needed)}", ROUNDING_FIX)
-    members = [int(j) for j in ds.perturbation.values]
-    if members != list(range(len(members))):
-        raise InputError(field, f"perturbations {members} are not 0..K", ROUNDING_FIX)
-    return ds
+    if "perturbation" not in ds.dims:
+        problem = f"{path} has no perturbation dimension"
+    elif needed:
+        problem = f"{path} lacks {', '.join(needed)}"
+    elif [int(j) for j in ds.perturbation.values] != list(range(ds.sizes["perturbation"])):
+        problem = f"perturbations {[int(j) for j in ds.perturbation.values]} are not 0..K"
+    else:
+        return ds
+    raise InputError(field, problem, ROUNDING_FIX)
 
 
 def from_rounding(
@@ -436,12 +441,11 @@ def ensemble_dataset(
     ``case``, ``system`` and ``run`` dimensions), with the exact checks (layer A) and the
     short-horizon trajectories (layer B) of :mod:`stonedem.study.exact_checks` unless
     ``checks`` is "none" ("quick": layer A's quick set). ``attrs`` go on top of the file's."""
-    from stonedem import options
     from stonedem.io.netcdf import code_version
     from stonedem.study.grid import PARAMETERS
     from stonedem.study.runner import library_versions
 
-    checks = options.chosen([checks], "checks", CHECKS)[0]
+    checks = OPTIONS["--checks"].check(checks, "checks")
     members = np.array(results.members, dtype=np.int32)
     coords = {
         "member": (
@@ -805,6 +809,28 @@ def build_parser():
 
 
 DEFAULT_MEMBERS = 20
+# the options a run takes, as check_args checks them (--members: at most MAX_MEMBERS - --first)
+OPTIONS = Spec(
+    (
+        Field("--jobs", "integer", range=f"[1, {MAX_JOBS}]", hint="give e.g. --jobs 2"),
+        Field("--checks", "choice", default="full", choices=CHECKS, doc="layers A and B"),
+        dataclasses.replace(PERTURBATION, key="--perturbation"),
+        Field(
+            "--first",
+            "integer",
+            range=f"[0, {MAX_MEMBERS - 1}]",
+            default=0,
+            hint="give e.g. --first 20",
+        ),
+        Field(
+            "--members",
+            "integer",
+            range=f"[1, {MAX_MEMBERS}]",
+            default=DEFAULT_MEMBERS,
+            hint="give e.g. --members 20",
+        ),
+    )
+)
 
 
 def check_args(args) -> dict:
@@ -813,12 +839,9 @@ def check_args(args) -> dict:
     from stonedem import options
     from stonedem.study import config_options
 
-    jobs = options.number(args.jobs, "--jobs", lo=1, hi=MAX_JOBS, whole=True, example="2")
-    checks = options.chosen([args.checks], "--checks", CHECKS)[0]
-    perturbation = check_perturbation(args.perturbation, "--perturbation")
-    first = options.number(
-        args.first, "--first", lo=0, hi=MAX_MEMBERS - 1, whole=True, example="20"
-    )
+    names = ("--jobs", "--checks", "--perturbation", "--first")
+    values = OPTIONS.check({k: getattr(args, k[2:]) for k in names})
+    jobs, checks, perturbation, first = (values[k] for k in names)
     rounding = None
     if args.from_rounding is not None:
         rounding = read_rounding(args.from_rounding)
@@ -830,14 +853,12 @@ def check_args(args) -> dict:
                 "leave --members, --first and --perturbation out",
             )
     else:
-        count = options.number(
-            DEFAULT_MEMBERS if args.members is None else args.members,
-            "--members",
-            lo=1,
-            hi=MAX_MEMBERS - first,
-            whole=True,
-            example="20",
-        )
+        most = MAX_MEMBERS - first
+        count = dataclasses.replace(
+            OPTIONS["--members"],
+            range=f"[1, {most}]",
+            hint=f"give 1 ... {most} (j < {MAX_MEMBERS} from --first {first})",
+        ).check(DEFAULT_MEMBERS if args.members is None else args.members)
         members = list(range(first, first + count))
     config_paths = [Path(args.config).parent / "config.yaml", Path(args.config)]
     config, known = config_options.study_config(args.config, RECORDS)
@@ -851,13 +872,10 @@ def check_args(args) -> dict:
     if perturbation != "stiffness":  # a tilt refuses a scene tilted already: here, not in a worker
         from stonedem.study.runner import case_scene
 
-        for case in cases + systems:
-            try:
-                member_scene(case_scene(case, RECORDS), max(members[-1], 1), perturbation)
-            except InputError as err:
-                raise InputError(
-                    f"--perturbation: {case.study}/{case.id}", err.problem, err.fix
-                ) from None
+        for case in cases + systems:  # members.member_scene: a benchmark may patch ours
+            scene = case_scene(case, RECORDS)
+            where = f"--perturbation: {case.study}/{case.id}"
+            members_module.member_scene(scene, max(members[-1], 1), perturbation, where)
     return {
         "cases": cases,
         "systems": systems,

@@ -32,6 +32,7 @@ import numpy as np
 import xarray as xr
 
 from stonedem.errors import InputError, one_line
+from stonedem.io.spec import Field, Spec
 
 LAYERS = ("A", "B", "C", "F")
 LAYER_NAMES = {"A": "exact checks", "B": "short horizon", "C": "ensemble", "F": "fragility fits"}
@@ -43,6 +44,35 @@ MAX_PERMUTATIONS = 1_000_000
 OUTPUT = Path("results/equivalence/equivalence.nc")
 MAKE_CANDIDATE = "python -m stonedem.study.ensemble --members 4 --out cand.nc"
 FIT_VARIABLES = ("fit_theta", "fit_beta", "fit_n")
+# the command's numbers (--seed: an int64, below 2**63)
+ARGS = Spec(
+    (
+        Field(
+            "--permutations",
+            "integer",
+            range=f"[1, {MAX_PERMUTATIONS}]",
+            default=PERMUTATIONS,
+            hint=f"give e.g. --permutations {PERMUTATIONS}",
+            doc="random label assignments, when there are more than that many",
+        ),
+        Field(
+            "--seed",
+            "integer",
+            range=f"[0, {2**63})",
+            default=0,
+            hint="give e.g. --seed 0",
+            doc="seed of the random assignments",
+        ),
+        Field(
+            "--alpha",
+            "number",
+            range="(0, 0.5]",
+            default=ALPHA,
+            hint=f"give e.g. --alpha {ALPHA}",
+            doc="reject when either p <= alpha",
+        ),
+    )
+)
 
 
 # --- reading the two files ----------------------------------------------------------------
@@ -57,43 +87,42 @@ def read_ensemble(path: str | Path, field: str) -> xr.Dataset:
     make = f"give an ensemble file, written by {MAKE_CANDIDATE}"
     ds = options.read_netcdf(path, field, "ensemble NetCDF file", make)
     shown = one_line(str(path), 200)
-    if "member" not in ds.dims:
-        raise InputError(
-            field, f"{shown} is not an ensemble file: it has no dimension 'member'", make
-        )
     wanted = {"case": ("collapsed",), "system": ("threshold", "search_tolerance")}
-    for dim, names in wanted.items():
-        missing = [n for n in names if dim in ds.dims and n not in ds.variables]
-        if missing:
-            raise InputError(
-                field,
-                f"{shown} is not an ensemble file: it has a '{dim}' dimension but no "
-                f"{', '.join(missing)}",
-                make,
-            )
-    if not any(dim in ds.dims for dim in wanted):
-        raise InputError(
-            field,
-            f"{shown} is not an ensemble file: neither grid cases (collapsed(case, member)) "
-            "nor searches (threshold(system, member))",
-            make,
+    missing = {
+        dim: [n for n in names if n not in ds.variables]
+        for dim, names in wanted.items()
+        if dim in ds.dims
+    }
+    lacking = next(((dim, names) for dim, names in missing.items() if names), None)
+    if "member" not in ds.dims:
+        problem = "it has no dimension 'member'"
+    elif lacking:
+        problem = f"it has a '{lacking[0]}' dimension but no {', '.join(lacking[1])}"
+    elif not missing:
+        problem = (
+            "neither grid cases (collapsed(case, member)) nor searches (threshold(system, member))"
         )
-    return ds
+    else:
+        return ds
+    raise InputError(field, f"{shown} is not an ensemble file: {problem}", make)
 
 
 def _labels(ds: xr.Dataset, dim: str) -> list[str]:
     return [str(v) for v in ds[dim].values] if dim in ds.dims else []
 
 
-def matched(baseline: xr.Dataset, candidate: xr.Dataset) -> xr.Dataset:
-    """The candidate with its cases and systems in the baseline's order, or an InputError when
-    the two files hold different cases, systems or search tolerances (made from another config)."""
+def matched(baseline: xr.Dataset, candidate: xr.Dataset, dims=("case", "system")) -> xr.Dataset:
+    """The candidate with its cases, systems (or other ``dims``: "fit") in the baseline's order,
+    or an InputError when the two files hold different ones or different search tolerances
+    (made from another config), or the baseline names one twice."""
     config = one_line(str(baseline.attrs.get("config", "not recorded")), 200)
+    field, problem = "CANDIDATE", ""
     fix = (
         "the candidate was made from another config: run it with the baseline's config, "
         f"attrs `config` ({config})"
     )
-    for dim, what in (("case", "case"), ("system", "search system")):
+    for dim in dims:
+        what = {"system": "search system"}.get(dim, dim)
         base, cand = _labels(baseline, dim), _labels(candidate, dim)
         if set(base) != set(cand):
             only_base, only_cand = sorted(set(base) - set(cand)), sorted(set(cand) - set(base))
@@ -102,27 +131,24 @@ def matched(baseline: xr.Dataset, candidate: xr.Dataset) -> xr.Dataset:
                 if only_base
                 else f"{what} {only_cand[0]!r} is in the candidate only"
             )
-            raise InputError(
-                "CANDIDATE", f"{example} ({len(only_base) + len(only_cand)} {what}s differ)", fix
-            )
-        if len(set(base)) != len(base):
-            raise InputError(
-                "BASELINE",
-                f"{what}s named twice in one file",
-                "give an ensemble file of distinct names",
-            )
+            problem = f"{example} ({len(only_base) + len(only_cand)} {what}s differ)"
+        elif len(set(base)) != len(base):
+            field, problem = "BASELINE", f"{what}s named twice in one file"
+            fix = "give an ensemble file of distinct names"
+        if problem:
+            break
         if base:
             candidate = candidate.sel({dim: baseline[dim].values})
-    if "system" in baseline.dims:
+    if not problem and "system" in dims and "system" in baseline.dims:
         tb, tc = baseline.search_tolerance.values, candidate.search_tolerance.values
         if not np.array_equal(tb, tc):
             k = int(np.flatnonzero(tb != tc)[0])
-            raise InputError(
-                "CANDIDATE",
+            problem = (
                 f"search {_labels(baseline, 'system')[k]!r} has tolerance {tc[k]:g}, "
-                f"the baseline's {tb[k]:g}",
-                fix,
+                f"the baseline's {tb[k]:g}"
             )
+    if problem:
+        raise InputError(field, problem, fix)
     return candidate
 
 
@@ -188,34 +214,34 @@ def check_layer_c(
     """Layer C needs at least two members on each side (a permutation of one run is no test),
     and enough label assignments that p can reach alpha at all: the smallest p is
     1 / C(K_B + K_N, K_N) when every assignment is tried, 1 / (n_permutations + 1) otherwise."""
-    for field, ds, fix in (
-        ("BASELINE", baseline, "give the stored K = 20 baseline"),
-        ("CANDIDATE", candidate, f"make it with {MAKE_CANDIDATE}"),
-    ):
-        k = int(ds.sizes["member"])
-        if k < 2:
-            raise InputError(
-                field,
-                f"{k} member: the ensemble test (layer C) needs at least 2 in each file",
-                f"{fix}, or leave layer C out: --layers A B",
-            )
     k_b, k_n = int(baseline.sizes["member"]), int(candidate.sizes["member"])
     count = math.comb(k_b + k_n, k_n)
-    if count <= n_permutations and 1.0 / count > alpha:
-        raise InputError(
-            "BASELINE, CANDIDATE",
+    leave_out = "or leave layer C out: --layers A B"
+    if k_b < 2 or k_n < 2:
+        field, k, fix = (
+            ("BASELINE", k_b, "give the stored K = 20 baseline")
+            if k_b < 2
+            else ("CANDIDATE", k_n, f"make it with {MAKE_CANDIDATE}")
+        )
+        problem = f"{k} member: the ensemble test (layer C) needs at least 2 in each file"
+        fix += f", {leave_out}"
+    elif count <= n_permutations and 1.0 / count > alpha:
+        field = "BASELINE, CANDIDATE"
+        problem = (
             f"{k_b} + {k_n} members give {count} label assignments: p can never "
-            f"reach alpha {alpha:g} (the smallest p is 1/{count}), so layer C could not fail",
+            f"reach alpha {alpha:g} (the smallest p is 1/{count}), so layer C could not fail"
+        )
+        fix = (
             f"run more members, C(K_B + K_N, K_N) >= {math.ceil(1.0 / alpha)} (K_B = 20 and "
-            "K_N = 4 "
-            "give 10 626), or leave layer C out: --layers A B",
+            f"K_N = 4 give 10 626), {leave_out}"
         )
-    if count > n_permutations and 1.0 / (n_permutations + 1) > alpha:
-        raise InputError(
-            "--permutations",
-            f"{n_permutations} random assignments: p can never reach alpha {alpha:g}",
-            f"give at least {math.ceil(1.0 / alpha)}, e.g. {PERMUTATIONS}",
-        )
+    elif count > n_permutations and 1.0 / (n_permutations + 1) > alpha:
+        field = "--permutations"
+        problem = f"{n_permutations} random assignments: p can never reach alpha {alpha:g}"
+        fix = f"give at least {math.ceil(1.0 / alpha)}, e.g. {PERMUTATIONS}"
+    else:
+        return
+    raise InputError(field, problem, fix)
 
 
 # --- the layers -------------------------------------------------------------------------------
@@ -276,16 +302,7 @@ def layer_f(baseline: xr.Dataset, candidate: xr.Dataset) -> dict:
     (n the baseline's records), or an InputError when the two files hold different fits."""
     from stonedem.study.permutation import fit_shift_tolerance
 
-    base, cand = _labels(baseline, "fit"), _labels(candidate, "fit")
-    if set(base) != set(cand):
-        example = sorted(set(base) ^ set(cand))[0]
-        raise InputError(
-            "CANDIDATE",
-            f"fit {example!r} is in one file only",
-            "the candidate was made from another config: run it with the baseline's config, "
-            "attrs `config`",
-        )
-    candidate = candidate.sel(fit=baseline.fit.values)
+    candidate = matched(baseline, candidate, ("fit",))
     d_ln_theta = np.abs(
         np.log(candidate.fit_theta.values.astype(float))
         - np.log(baseline.fit_theta.values.astype(float))
@@ -779,18 +796,8 @@ def main(argv=None) -> int:
 
         start = time.perf_counter()
         layers = None if args.layers is None else options.chosen(args.layers, "--layers", LAYERS)
-        n_permutations = options.number(
-            args.permutations,
-            "--permutations",
-            lo=1,
-            hi=MAX_PERMUTATIONS,
-            whole=True,
-            example=str(PERMUTATIONS),
-        )
-        seed = options.number(args.seed, "--seed", lo=0, hi=2**63 - 1, whole=True, example="0")
-        alpha = options.number(
-            args.alpha, "--alpha", lo=0.0, hi=0.5, lo_open=True, example=str(ALPHA)
-        )
+        values = ARGS.check({k: getattr(args, k[2:]) for k in ARGS.keys})
+        n_permutations, seed, alpha = values["--permutations"], values["--seed"], values["--alpha"]
         baseline = read_ensemble(args.baseline, "BASELINE")
         candidate = read_ensemble(args.candidate, "CANDIDATE")
         if Path(args.baseline).resolve() == Path(args.candidate).resolve():

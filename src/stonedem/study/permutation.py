@@ -21,12 +21,14 @@ ones. Reject if either p <= alpha (0.005 each: family-wise false alarms <= 1 %).
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 
 import numpy as np
 
 from stonedem.errors import InputError
+from stonedem.io.spec import Field
 
 # A search that found no collapse up to its maximum (threshold NaN) lies above every value
 # run; its ln T is +inf. Two infinite medians are the same (shift 0); a finite median against
@@ -39,45 +41,57 @@ VERDICT_FLOOR = 0.01
 # a permuted sum and the observed one of the same numbers may differ in their last bits
 TIE = 1e-9
 
+# the test's settings, as permutation_test and fit_shift_tolerance take them
+N_PERMUTATIONS = Field(
+    "n_permutations", "integer", range="[1, inf)", default=10_000, hint="give e.g. 10000"
+)
+ALPHA = Field("alpha", "number", range="(0, 1)", default=0.005, hint="give e.g. 0.005")
+RECORDS = Field("n", "number", range="[1, inf)", hint="give the records of the fit")
+# the searches' relative bracket, one per system (a scalar is every system's); its length is
+# the systems', filled in at the call
+TOLERANCE = Field(
+    "tolerance", "numbers", range="(0, inf)", hint="give the searches' tolerance, e.g. 0.02"
+)
 
-def _group(name, array, rows=None):
-    """A (row, member) float array; a flat empty array is (0, 0)."""
+# what the values of a (row, member) group must be: (test, problem, fix)
+GROUP_VALUES = {
+    "verdicts": (
+        lambda a: np.all((a == 0) | (a == 1)),
+        "verdicts must be 0 (stands) or 1 (collapsed)",
+        "give the collapsed flags",
+    ),
+    "thresholds": (
+        lambda a: not (np.any(a[np.isfinite(a)] <= 0) or np.any(np.isneginf(a))),
+        "thresholds must be positive (NaN for no collapse up to the maximum)",
+        "give each member's smallest collapsing value",
+    ),
+}
+
+
+def _group(name, array, values, rows=None):
+    """A (row, member) float array of ``values`` (a key of GROUP_VALUES) with ``rows`` rows
+    (when given); a flat empty array is (0, 0)."""
     a = np.asarray(array, dtype=float)
     if a.ndim == 1 and a.size == 0:
         a = a.reshape(0, 0)
+    valid, problem, fix = GROUP_VALUES[values]
     if a.ndim != 2:
-        raise InputError(
-            name,
-            f"expected a (row, member) array, got shape {a.shape}",
-            "give one column per member",
-        )
-    if rows is not None and a.shape[0] != rows:
-        raise InputError(
-            name,
-            f"{a.shape[0]} rows where the other group has {rows}",
-            "give both groups the same cases or systems, in the same order",
-        )
-    return a
+        problem = f"expected a (row, member) array, got shape {a.shape}"
+        fix = "give one column per member"
+    elif rows is not None and a.shape[0] != rows:
+        problem = f"{a.shape[0]} rows where the other group has {rows}"
+        fix = "give both groups the same cases or systems, in the same order"
+    elif valid(a):
+        return a
+    raise InputError(name, problem, fix)
 
 
 def _verdicts(name, array, rows=None):
-    a = _group(name, array, rows)
-    if not np.all((a == 0) | (a == 1)):
-        raise InputError(
-            name, "verdicts must be 0 (stands) or 1 (collapsed)", "give the collapsed flags"
-        )
-    return a
+    return _group(name, array, "verdicts", rows)
 
 
 def _thresholds(name, array, rows=None):
-    a = _group(name, array, rows)
-    if np.any(a[np.isfinite(a)] <= 0) or np.any(np.isneginf(a)):
-        raise InputError(
-            name,
-            "thresholds must be positive (NaN for no collapse up to the maximum)",
-            "give each member's smallest collapsing value",
-        )
-    return a
+    return _group(name, array, "thresholds", rows)
 
 
 def _log_thresholds(a):
@@ -87,16 +101,10 @@ def _log_thresholds(a):
 
 
 def _tolerances(tolerance, systems):
-    t = np.asarray(tolerance, dtype=float)
-    if t.ndim == 0:
-        t = np.full(systems, float(t))
-    if t.shape != (systems,) or not np.all(np.isfinite(t) & (t > 0)):
-        raise InputError(
-            "tolerance",
-            f"expected a positive relative bracket, or one per system ({systems})",
-            "give the searches' tolerance, e.g. 0.02",
-        )
-    return t
+    """The searches' relative brackets, one per system: ``tolerance`` checked as TOLERANCE."""
+    if np.ndim(tolerance) == 0:
+        return np.full(systems, dataclasses.replace(TOLERANCE, kind="number").check(tolerance))
+    return np.asarray(dataclasses.replace(TOLERANCE, length=systems).check(tolerance))
 
 
 def _verdict_statistic(pooled, candidate_sums, k_cand, k_base):
@@ -124,7 +132,7 @@ def verdict_distance(base_collapsed, cand_collapsed) -> float:
     cand = _verdicts("cand_collapsed", cand_collapsed, base.shape[0])
     if base.shape[0] == 0:
         return 0.0
-    _need_members(base, cand)
+    _members(base.shape[1], cand.shape[1])
     pooled = np.concatenate([base, cand], axis=1)
     return float(
         _verdict_statistic(pooled, cand.sum(axis=1, keepdims=True), cand.shape[1], base.shape[1])[0]
@@ -140,7 +148,7 @@ def threshold_shifts(base_thresholds, cand_thresholds, tolerance) -> np.ndarray:
     cand = _thresholds("cand_thresholds", cand_thresholds, base.shape[0])
     if base.shape[0] == 0:
         return np.zeros(0)
-    _need_members(base, cand)
+    _members(base.shape[1], cand.shape[1])
     brackets = np.log1p(_tolerances(tolerance, base.shape[0]))
     return _shift(
         np.median(_log_thresholds(cand), axis=1), np.median(_log_thresholds(base), axis=1), brackets
@@ -152,13 +160,20 @@ def threshold_shift(base_thresholds, cand_thresholds, tolerance) -> float:
     return float(threshold_shifts(base_thresholds, cand_thresholds, tolerance).sum())
 
 
-def _need_members(base, cand):
-    if base.shape[1] == 0 or cand.shape[1] == 0:
-        raise InputError(
-            "members",
-            f"{base.shape[1]} baseline and {cand.shape[1]} candidate members",
-            "give each group at least one member",
+def _members(k_base, k_cand, thresholds=None):
+    """Each group has a member, and (``thresholds``: the runs of the two groups' threshold
+    arrays) the same runs in both of its arrays."""
+    field, fix = "members", "give each group at least one member"
+    problem = f"{k_base} baseline and {k_cand} candidate members"
+    if thresholds is not None and thresholds != (k_base, k_cand):
+        field, fix = "base_thresholds", "give both arrays of a group the same runs"
+        problem = (
+            f"verdicts of {k_base} + {k_cand} runs but thresholds of "
+            f"{thresholds[0]} + {thresholds[1]}"
         )
+    elif k_base and k_cand:
+        return
+    raise InputError(field, problem, fix)
 
 
 def _nth_smallest(sorted_values, picked_ranks, n):
@@ -245,18 +260,8 @@ def permutation_test(
     cases every baseline run agrees on where some candidate run disagrees (to list, not to
     fail on).
     """
-    if (
-        isinstance(n_permutations, bool)
-        or not isinstance(n_permutations, (int, np.integer))
-        or n_permutations < 1
-    ):
-        raise InputError(
-            "n_permutations",
-            f"expected a positive whole number, got {n_permutations!r}",
-            "give e.g. 10000",
-        )
-    if not (isinstance(alpha, (int, float)) and 0 < alpha < 1):
-        raise InputError("alpha", f"expected a number in (0, 1), got {alpha!r}", "give e.g. 0.005")
+    n_permutations = N_PERMUTATIONS.check(n_permutations)
+    alpha = ALPHA.check(alpha)
     base_v = _verdicts("base_collapsed", base_collapsed)
     cand_v = _verdicts("cand_collapsed", cand_collapsed, base_v.shape[0])
     base_t = _thresholds("base_thresholds", base_thresholds)
@@ -278,19 +283,7 @@ def permutation_test(
         }
     k_base = base_v.shape[1] if has_cases else base_t.shape[1]
     k_cand = cand_v.shape[1] if has_cases else cand_t.shape[1]
-    if has_cases and has_systems and (base_t.shape[1] != k_base or cand_t.shape[1] != k_cand):
-        raise InputError(
-            "base_thresholds",
-            f"verdicts of {k_base} + {k_cand} runs but thresholds of "
-            f"{base_t.shape[1]} + {cand_t.shape[1]}",
-            "give both arrays of a group the same runs",
-        )
-    if k_base == 0 or k_cand == 0:
-        raise InputError(
-            "members",
-            f"{k_base} baseline and {k_cand} candidate members",
-            "give each group at least one member",
-        )
+    _members(k_base, k_cand, (base_t.shape[1], cand_t.shape[1]) if has_systems else None)
     total = k_base + k_cand
     picks, exact, n_assignments = _assignments(
         total, k_cand, int(n_permutations), np.random.default_rng(seed)
@@ -341,13 +334,4 @@ def fit_shift_tolerance(n) -> float:
     """How far a fragility fit over ``n`` records may move between code versions, in ln theta
     and in beta: 0.02 sqrt(100 / n) (ENSEMBLES.md section 5: about 8 sd of the measured
     rounding movement, 1/4 of the bootstrap 90 % half-width at n = 100)."""
-    if (
-        isinstance(n, bool)
-        or not isinstance(n, (int, float, np.integer, np.floating))
-        or not n >= 1
-        or not math.isfinite(n)
-    ):
-        raise InputError(
-            "n", f"expected a number of records >= 1, got {n!r}", "give the records of the fit"
-        )
-    return 0.02 * math.sqrt(100.0 / float(n))
+    return 0.02 * math.sqrt(100.0 / RECORDS.check(n))

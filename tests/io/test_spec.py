@@ -143,3 +143,27 @@ def test_an_absent_section_is_checked_as_empty():
     assert given == {"output": {"every": 0.001}}
     # an optional section (default None) stays absent
     assert Spec((Field("output", "mapping", spec=output),)).check({}) == {"output": None}
+
+
+def test_strict_fields_take_plain_numbers_only():
+    n = Field("n", "integer", range="[1, 10]", strict=True)
+    x = Field("x", "number", "s", "(0, inf)", strict=True)
+    assert n.check(3) == 3 and x.check(np.float64(2.0)) == 2.0
+    with pytest.raises(InputError, match=r"^n: must be an integer, got a number 3\.0"):
+        n.check(3.0)
+    with pytest.raises(InputError, match=r"^x: expected a number, got text '1\.0e3'"):
+        x.check("1.0e3")
+
+
+def test_item_counts_and_plain_items():
+    names = Field("names", "list", spec=Field("name", "choice", choices=("a", "b")), min_items=1)
+    assert names.check(["a", "b"]) == ["a", "b"]
+    with pytest.raises(InputError, match=r"^names: none given, at least 1 needed"):
+        names.check([])
+    with pytest.raises(InputError, match=r"^names\[1\]: unknown value 'c'; use one of: a, b"):
+        names.check(["a", "c"])
+    table = Field("t", "mapping", min_items=1, hint="write t: {a: 1}")
+    with pytest.raises(InputError, match=r"^t: expected a mapping, got nothing \(null\); write t"):
+        table.check(None)
+    with pytest.raises(InputError, match=r"^t: none given, at least 1 needed; write t: \{a: 1\}"):
+        table.check({})

@@ -63,7 +63,7 @@ def kind_name(value) -> str:
 
 def got(value) -> str:
     """``text 'abc'``: a value's kind and a short repr, for "expected ..., got ..."."""
-    return f"{kind_name(value)} {show(value)}"
+    return kind_name(value) if value is None else f"{kind_name(value)} {show(value)}"
 
 
 @dataclass(frozen=True)
@@ -107,8 +107,10 @@ class Field:
     :data:`REQUIRED`; ``hint`` is the fix a refusal gives, ``doc`` what the key is (the docs'
     meaning column; default the hint). ``auto``: ``auto`` or null stands for "choose for me"
     and checks to None. ``limit`` is the text length (``text``) or the item count (``list``,
-    ``numbers`` takes exactly ``length`` items when set); ``spec`` checks a ``mapping`` value
-    or each item of a ``list``.
+    ``numbers`` takes exactly ``length`` items when set, and a list or a mapping at least
+    ``min_items``); ``spec`` checks a ``mapping`` value, or each item of a ``list`` (a Spec for
+    mappings, a Field for plain items). ``strict``: a number must be a number (no numeric
+    text) and an integer an int (no whole float), for values a parser or script gives.
     """
 
     key: str
@@ -121,8 +123,10 @@ class Field:
     auto: bool = False
     limit: int | None = None
     length: int | None = None
-    spec: Spec | None = None
+    spec: Spec | Field | None = None
     one_line: bool = True  # text: no line breaks
+    min_items: int = 0
+    strict: bool = False
     doc: str = ""  # what the key is, for the docs and the schema (default: the hint)
 
     def __post_init__(self):
@@ -179,7 +183,7 @@ def _fail(f: Field, name: str, problem: str, fix: str = ""):
 
 def _number_value(f: Field, value, name: str, what: str = "a number"):
     value = plain_number(value)
-    if isinstance(value, str) and NUMERIC_TEXT.fullmatch(value.strip()):
+    if isinstance(value, str) and not f.strict and NUMERIC_TEXT.fullmatch(value.strip()):
         value = float(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         units = f" in {f.units}" if f.units not in ("", "1") else ""
@@ -198,10 +202,14 @@ def _in_range(f: Field, x, name: str):
         _fail(
             f,
             name,
-            f"must be {range_words(f.range)}, got {show(x) if isinstance(x, int) else f'{x:g}'}{units}",
+            f"must be {range_words(f.range)}, got {_shown_number(x)}{units}",
             f.hint or f"give a value {range_words(f.range, f.units)}",
         )
     return x
+
+
+def _shown_number(x) -> str:
+    return show(x) if isinstance(x, int) else f"{x:g}"  # an int may be beyond float range
 
 
 def _check_number(f: Field, value, name: str) -> float:
@@ -211,7 +219,7 @@ def _check_number(f: Field, value, name: str) -> float:
 def _check_integer(f: Field, value, name: str) -> int:
     x = plain_number(value)
     # a whole float (YAML 3.0) is a count; text ("3") and flags (true) are not
-    if isinstance(x, float) and math.isfinite(x) and x == int(x):
+    if isinstance(x, float) and not f.strict and math.isfinite(x) and x == int(x):
         x = int(x)
     if isinstance(x, bool) or not isinstance(x, int):
         _fail(f, name, f"must be an integer, got {got(value)}", f.hint or "give a whole number")
@@ -240,16 +248,29 @@ def _check_numbers(f: Field, value, name: str) -> list:
     if not isinstance(value, list) or (f.length is not None and len(value) != f.length):
         shape = f"a list of {f.length} numbers" if f.length else "a list of numbers"
         _fail(f, name, f"expected {shape}, got {got(value)}")
-    if f.limit is not None and len(value) > f.limit:
-        _fail(f, name, f"{len(value)} items exceed the limit {f.limit}")
+    _count_items(f, value, name)
     return [_check_number(f, v, f"{name}[{i}]") for i, v in enumerate(value)]
+
+
+def _count_items(f: Field, value, name: str) -> None:
+    if f.limit is not None and len(value) > f.limit:
+        _fail(f, name, f"{len(value)} items exceed the limit {f.limit}", f"give at most {f.limit}")
+    if len(value) < f.min_items:
+        few = "none given" if not value else f"{len(value)} given"
+        _fail(f, name, f"{few}, at least {f.min_items} needed")
 
 
 def _check_mapping(f: Field, value, name: str):
     if f.spec is not None:
         return f.spec.check(value, name)
     if not isinstance(value, Mapping):
-        _fail(f, name, f"expected a mapping, got {got(value)}", "write it as {key: value, ...}")
+        _fail(
+            f,
+            name,
+            f"expected a mapping, got {got(value)}",
+            f.hint or "write it as {key: value, ...}",
+        )
+    _count_items(f, value, name)
     return dict(value)
 
 
@@ -257,8 +278,7 @@ def _check_list(f: Field, value, name: str) -> list:
     value = plain_list(value)
     if not isinstance(value, list):
         _fail(f, name, f"expected a list, got {got(value)}", f.hint or "write it as [item, ...]")
-    if f.limit is not None and len(value) > f.limit:
-        _fail(f, name, f"{len(value)} items exceed the limit {f.limit}", f"give at most {f.limit}")
+    _count_items(f, value, name)
     if f.spec is None:
         return list(value)
     return [f.spec.check(item, f"{name}[{i}]") for i, item in enumerate(value)]
@@ -482,7 +502,7 @@ def _rows(spec: Spec, prefix: str) -> list[str]:
             f"| `{key}` | {f.shown_kind()} | {units} | {range_words(f.range)} "
             f"| {f.shown_default()} | {meaning} |"
         )
-        if f.spec is not None:
+        if isinstance(f.spec, Spec):
             out += _rows(f.spec, f"{key}{'[]' if f.kind == 'list' else ''}.")
     for rule in spec.rules:
         out.append(f"| {prefix or '(top)'} | rule | | | | {rule.words()} |")

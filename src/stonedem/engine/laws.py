@@ -8,7 +8,7 @@ dispatch of :func:`stonedem.kernels.step.run` and its row here.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import Callable
 
@@ -61,7 +61,6 @@ class Law:
     pair_dashpot: Callable
     hint: str  # how to choose it, for error messages
     c_t: object = 0.0  # the default tangential dashpot (a value or a Derived)
-    doc: str = field(default="", compare=False)
 
     @cached_property
     def spec(self) -> Spec:
@@ -138,10 +137,9 @@ LAWS: dict[str, Law] = {
     ),
     # the contact face's two end vertices, each 2 zeta sqrt(K m) with K = k_n l / 2; the frame
     # is its two faces' ("boundary" is what files written before that recorded for it).
-    # dt_safety 1: its thresholds and impacts do not move from 0.25 to 1.0 (ramp 6 x 1 m, 1-8
-    # drums: 2.5205 -> 2.520 m/s2) and its stable step is 1.4-2.9x the bound; at 1.0 with k_n
-    # 1e11 a case costs 0.8x the area law's at 1e10 and 0.25. An auto step that drifts or
-    # diverges is halved (stonedem.engine.run).
+    # dt_safety 1: its thresholds and impacts do not move from 0.25 to 1.0, and its stable step
+    # is above the bound (measured: docs/notebook.md, "Measurements moved out of the code"). An
+    # auto step that drifts or diverges is halved (stonedem.engine.run).
     "point": Law(
         code=step.CONTACT_POINT,
         k_n=1.0e11,

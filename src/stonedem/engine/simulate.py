@@ -202,8 +202,8 @@ class Progress:
         with self.lock:
             if self.busy:
                 self.noticed = True
-                # measured on 2 cores: ~29 s for the general loop (one contact law), 22 s for the
-                # contact-graph loop; a cache load 0.05 s
+                # the times the message gives: docs/notebook.md, "Measurements moved out of the
+                # code"
                 self.stream = progress_print(
                     self.stream,
                     "  compiling the time loop (first run after install or an "

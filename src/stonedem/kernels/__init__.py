@@ -41,8 +41,8 @@ NO_ALLOC_OPTIONS = {**JIT_OPTIONS, "_nrt": False}
 # Small kernels the step calls: inlined into their caller, so a call does not pass every
 # array as seven words on the stack. LLVM declined to on its own; ``forceinline`` marks them
 # always-inline for LLVM. Numba's own inlining (``inline="always"``) types every inlined copy
-# again: the area-law loop's cold compile took 30.8 s with it, 25.0 s with this, bit for bit
-# the same results.
+# again and compiles slower, for the same results bit for bit (docs/notebook.md, "Measurements
+# moved out of the code").
 INLINE_OPTIONS = {**NO_ALLOC_OPTIONS, "forceinline": True}
 
 

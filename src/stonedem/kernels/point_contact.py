@@ -36,9 +36,9 @@ conservative. If both ends stand clear while the polygons still overlap (a corne
 a corner of another face, rare), the overlap polygon is clipped and the pair falls back to
 the area law's k_n A at its centroid, so nothing can tunnel.
 
-Cost (8-drum column, one core): clipping the overlap polygon and its boundary-normal frame
-took 430 ns of the ~800 ns per contact and step; the separating-axis test took ~45 ns of the
-~110 left per pair, and with the kept faces ~10.
+Clipping the overlap polygon and its frame was most of a contact-step's cost; the
+separating-axis test and the kept faces are what is left (measured: docs/notebook.md,
+"Measurements moved out of the code").
 """
 
 import numpy as np
@@ -606,13 +606,13 @@ def point_contact_forces(model, state, work, n_pair, dt, want_energy):
     (model.law): k_n, the normal stiffness per unit contact length [N m-2]; k_t, c_t, each
     contact's tangential spring [N m-1] and dashpot [N s m-1], half of each per end; params:
     the dashpot of each end as a fraction of critical, zeta [1], then the landing rule: if
-    non-zero, an end that starts to touch lands plastically (:func:`plastic_impulse`) and the depth it
-    reached within that step is forgiven (a plastic offset that only shrinks), so the
-    landing neither bounces nor depends on dt. dt [s]: the time step.
+    non-zero, an end that starts to touch lands plastically (:func:`plastic_impulse`) and the
+    depth it reached within that step is forgiven (a plastic offset that only shrinks), so
+    the landing neither bounces nor depends on dt. dt [s]: the time step.
     Returns (n_contact, stored elastic energy [J], evaluated only when want_energy).
 
-    Inlined into the loop by Numba, so handing it the bundles costs nothing (as a call it
-    took ~85 ns a step to pass its 41 arguments). work.face_cache keeps each pair slot's
+    Inlined into the loop by Numba, so handing it the bundles costs nothing (a call would pass
+    its 41 arguments every step). work.face_cache keeps each pair slot's
     separating axes between steps (:func:`keep_faces`, :func:`faces_hold`; a sweep forgets
     them); a bundle whose cache has fewer rows than n_pair keeps none.
     """

@@ -714,8 +714,8 @@ def rigid_rocking_response_compiled(
 ) -> RockingResponse:
     """:func:`rigid_rocking_response` from rest, by the compiled integrator of
     :mod:`stonedem.reference.rigid_rocking` (classical Runge-Kutta, ``substeps`` steps per sample
-    interval, impacts located by bisection): ~100x faster, same answer to ~1e-9 rad on the
-    validation records (tests/reference/test_analytic.py holds it to the scipy version)."""
+    interval, impacts located by bisection), for speed; tests/reference/test_analytic.py holds
+    it to the scipy version."""
     from stonedem.reference.rigid_rocking import (
         rocking_history,
     )  # compiled: imported only when used
@@ -978,7 +978,7 @@ def rigid_one_sine_response_compiled(
     """:func:`rigid_one_sine_response` (with early stop) by the compiled integrator
     :func:`stonedem.reference.rigid_rocking.one_sine_pulse`: classical Runge-Kutta on ``steps``
     steps per pulse, events by bisection; the free rocking after the pulse decided by energy
-    as there. About 200x faster; tests/reference/test_analytic.py holds it to the scipy version."""
+    as there. For speed; tests/reference/test_analytic.py holds it to the scipy version."""
     from stonedem.reference.rigid_rocking import PULSE_AT_REST, PULSE_OVERTURNED, one_sine_pulse
 
     _check_one_sine_input(a_p, omega_p, r)

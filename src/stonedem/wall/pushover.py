@@ -408,8 +408,8 @@ def _factor(K, state=None):
     """LU of K; a singular or non-finite matrix is a ConvergenceError, not a crash.
 
     A wall's DOFs are numbered course by course, so K is banded (half-bandwidth 26-95 on the
-    table walls, n = 231-1810): a dense-band LU is 1.4-4.9x faster than SuperLU there. A
-    matrix whose band is wider than a quarter of its size goes to SuperLU.
+    table walls), where a dense-band LU beats SuperLU (docs/notebook.md, "Measurements moved
+    out of the code"). A matrix whose band is wider than a quarter of its size goes to SuperLU.
     """
     if not np.all(np.isfinite(K.data)):
         raise ConvergenceError("non-finite stiffness matrix", state)

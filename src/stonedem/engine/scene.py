@@ -83,7 +83,7 @@ TILT = Spec(
 )
 BODY = Spec(
     (
-        Field("name", "text", limit=200, doc="body name, unique (default body<i>)"),
+        Field("name", "text", limit=200, doc="body name, unique (default: body0, body1, ...)"),
         Field("box", "mapping", spec=BOX, doc="a rectangle"),
         Field("polygon", "mapping", spec=POLYGON, doc="a convex polygon"),
         Field("mass", "number", "kg", "(0, inf)", doc="mass (or density)"),

@@ -505,5 +505,6 @@ def _rows(spec: Spec, prefix: str) -> list[str]:
         if isinstance(f.spec, Spec):
             out += _rows(f.spec, f"{key}{'[]' if f.kind == 'list' else ''}.")
     for rule in spec.rules:
-        out.append(f"| {prefix or '(top)'} | rule | | | | {rule.words()} |")
+        where = f"`{prefix.rstrip('.')}`" if prefix else "(top)"
+        out.append(f"| {where} | rule | | | | {rule.words()} |")
     return out

@@ -134,7 +134,7 @@ def test_a_strip_held_at_the_top_line_collapses_at_the_hinge_below_its_top_cours
         (
             {"edge": "left", "fix": "out_of_plane", "at": "offset", "offset": 5.0},
             "restraints[1].offset",
-            "out of range",
+            "must be >= 0 and < ",
         ),
         (
             {"edge": "left", "fix": "out_of_plane", "at": "middle"},

@@ -2,21 +2,25 @@
 describe.
 
 ```yaml
-panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13, unit_weight:
-20000.0} joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength,
-cohesion restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
+panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13,
+        unit_weight: 20000.0}
+joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength, cohesion
+restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
 load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
 ```
 
-Three stages, each refusing bad input with an InputError naming the dotted field and the fix
-(exit status 2):
+Every key is one row of :data:`CASE_SPEC` (units, range, default, meaning), checked with the
+declared-input kit (:mod:`stonedem.io.spec`); ``key_table(CASE_SPEC)`` prints them. Three
+stages, each refusing bad input with an InputError naming the dotted field and the fix (exit
+status 2):
 
 - :func:`read_case`: the file (exists, a regular file, at most ``MAX_CASE_BYTES``, UTF-8, YAML
   without duplicate keys, a mapping);
-- :func:`check_case`: every field type-checked strictly (a bool is a YAML bool, an integer an
-  integer, a number finite and inside its range ``RANGES``; unknown keys refused with the
-  known ones) and the problem size estimated (:func:`estimate_size`) and held to
-  ``MAX_BLOCKS`` and ``MAX_MEMORY_BYTES`` -- nothing is built yet;
+- :func:`check_case`: every field checked against :data:`CASE_SPEC` (a bool is a YAML bool, an
+  integer an integer, a number finite and inside its range; unknown keys refused with the
+  known ones), then the checks across fields and against the geometry, and the problem size
+  estimated (:func:`estimate_size`) and held to ``MAX_BLOCKS`` and ``MAX_MEMORY_BYTES`` --
+  nothing is built yet;
 - :func:`build_case`: the panel, loads, restraints and the :class:`WallModel`.
 
 Supports follow the geometry, and every block needs a load path to one
@@ -36,15 +40,15 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
-import re
-import reprlib
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stonedem.errors import InputError, check_text, plain_number
+from stonedem.errors import InputError, plain_number
+from stonedem.io.spec import NUMERIC_TEXT, REQUIRED, Derived, Field, Spec, got, plain_list, show
 from stonedem.io.yaml_file import printable as _printable
 from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel
@@ -68,43 +72,6 @@ MAX_OPENINGS = 100  # openings are tested against every block in Python
 MAX_POINT_LOADS = 10_000  # load.extra_vertical[*].count: one Python pass over the top course each
 MAX_TEXT = 2000  # characters of name / description / reference labels
 
-TOP_KEYS = {"name", "description", "panel", "joints", "restraints", "load", "solver", "reference"}
-PANEL_KEYS = {
-    "block",
-    "blocks_per_course",
-    "courses",
-    "unit_weight",
-    "joint_thickness",
-    "first_course_offset",
-    "openings",
-    "lintel_strength",
-}
-BLOCK_KEYS = {"a", "b", "s"}
-JOINT_KEYS = {"kind", "mu", "k_n", "k_t", "tensile_strength", "cohesion", "alpha"}
-# interface-law switches (the whole panel; not per support joint): manuscript Fig. 10 and Eq. 13
-LAW_KEYS = {"torsion_under_bending": ("all", "no_tension"), "bending_release": ("own", "both")}
-RESTRAINT_KEYS = {"edge", "fix", "support", "joint", "dead_load", "at", "offset", "hold"}
-# where a block restraint acts: pins at the edge blocks' centres, or a straight line along the
-# panel edge (at its mid-thickness), or parallel to it ``offset`` metres inside
-RESTRAINT_AT = ("centre", "edge", "offset")
-# what a restraint line holds: the displacement of its points out of plane, or all of it
-LINE_COMPONENTS = {"out_of_plane": (2,), "translations": (0, 1, 2)}
-LOAD_KEYS = {"kind", "direction", "extra_vertical", "extra_in_live_load"}
-EXTRA_KEYS = {"count", "force", "edge"}
-OPENING_KEYS = {"x", "y"}
-SOLVER_KEYS = set(SolverSettings().as_dict()) | {"control_block"}
-# manuscript reference values (free of effect on the run; the dataset carries them)
-REFERENCE_NUMBERS = {
-    "L",
-    "H",
-    "p_dem",
-    "lambda_dem",
-    "lambda_fem",
-    "lambda_limit_analysis",
-    "lambda_analytic",
-}
-REFERENCE_LISTS = {"p_experiment", "lambda_experiment"}  # a number or a list of numbers
-REFERENCE_KEYS = REFERENCE_NUMBERS | REFERENCE_LISTS | {"table", "case", "n"}
 FIX_DOFS = {
     "all": (0, 1, 2, 3, 4, 5),
     "translations": (0, 1, 2),
@@ -112,210 +79,748 @@ FIX_DOFS = {
     "rotations": (3, 4, 5),
 }
 DIRECTIONS = {"out_of_plane": 2, "in_plane": 0}
-
-# allowed ranges [lo, hi] (SI units); ``lo_open``: lo itself excluded. Wide enough for any
-# masonry wall, narrow enough that the arithmetic stays finite and the run meaningful.
-RANGES = {
-    "length": (1e-3, 100.0, False),  # block sides a, b, s [m]
-    "unit_weight": (1.0, 1e6, False),  # [N/m3] (brick ~18e3, steel 77e3)
-    "coordinate": (0.0, 1e4, False),  # opening corners [m]
-    "mu": (0.0, 10.0, True),
-    "stiffness": (1e3, 1e16, False),  # k_n, k_t [N/m3]
-    "alpha": (1.0, 10.0, False),  # Eq. 14 exponent (Table A1: 1.5-2.6); >= 1 keeps it convex
-    "stress": (0.0, 1e10, False),  # tensile strength, cohesion, lintel strength [Pa]
-    "force": (0.0, 1e10, False),  # point loads [N]
-    "reference": (0.0, 1e12, True),
-}
-# solver settings: (kind, lo, hi, lo_open); "int" counts, "switch" 0/1 (or false/true)
-SOLVER_RULES = {
-    "tolerance": ("number", 1e-12, 0.1, False),  # finer: rounding (~1e-15) blamed the restraints
-    "max_iterations": ("int", 2, 10_000),  # a Newton step converges at iteration 2 at the earliest
-    "dead_load_iterations": ("int", 2, 100_000),
-    "max_steps": ("int", 1, 1_000_000),
-    "max_displacement": ("number", 0.0, 1e3, False),  # 0: the wall thickness s
-    "first_step": ("number", 0.0, 1e3, False),  # 0: automatic
-    "growth": ("number", 1.0, 10.0, False),
-    "easy_iterations": ("int", 0, 10_000),
-    "max_failures": ("int", 1, 1000),
-    "accept_tolerance": ("number", 0.0, 1.0, True),
-    "work_control": ("switch",),
-    "consistent": ("switch",),
-    "residual_stiffness": ("number", 0.0, 1.0, True),  # 0 would leave yielded DOFs singular
-    "extrapolate": ("switch",),
-    "reuse_ratio": ("number", 0.0, 1.0, False),
-    "drop_ratio": ("number", 0.0, 1.0, False),
-    "plateau_steps": ("int", 1, 1_000_000),
-    "plateau_tolerance": ("number", 0.0, 1.0, False),
-    "max_seconds": ("number", 0.0, 1e7, False),  # 0: no budget
-    "secant": ("switch",),
-    "load_step": ("number", 0.0, 1e12, False),  # 0: automatic
-    "min_load_step": ("number", 0.0, 1.0, True),
-    "singular_ratio": ("number", 1.0, 1e15, True),
-    "secant_refresh": ("int", 0, 10_000),
-    "control_block": ("int", 0, MAX_BLOCKS),
-}
-assert set(SOLVER_RULES) == SOLVER_KEYS, "every solver setting has a rule"
+# where a block restraint acts: pins at the edge blocks' centres, or a straight line along the
+# panel edge (at its mid-thickness), or parallel to it ``offset`` metres inside
+RESTRAINT_AT = ("centre", "edge", "offset")
+# what a restraint line holds: the displacement of its points out of plane, or all of it
+LINE_COMPONENTS = {"out_of_plane": (2,), "translations": (0, 1, 2)}
+# interface-law switches (the whole panel; not per support joint): manuscript Fig. 10 and Eq. 13
+LAW_KEYS = ("torsion_under_bending", "bending_release")
 # [m] a set first_step: 0 (automatic) or at least this (1e-12 ran as 1e-5 did)
 MIN_FIRST_STEP = 1e-12
 
-# a number written as text: YAML 1.1 reads 1.0e9 (no exponent sign) as a string
-_NUMERIC = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+# --- kinds the kit lacks ------------------------------------------------------------------
 
 
-# --- value checks -------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Own(Field):
+    """A field of a kind the kit lacks, checked by ``own(field, value, name)`` -> (value, problem);
+    a problem is refused with the field's hint as the fix. ``shown`` is its kind in the docs."""
 
-_REPR = reprlib.Repr()
-_REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple, _REPR.maxset = 2, 3, 3, 3, 3
-_REPR.maxstring, _REPR.maxother, _REPR.maxlong = 40, 40, 40
+    own: Callable | None = None
+    shown: str = ""
 
-
-def _show(value, limit=40) -> str:
-    """A short one-line repr of a user value for a message (bounded work: a YAML alias bomb
-    of nested lists is not expanded)."""
-    text = _printable(_REPR.repr(value))
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _kind_name(value) -> str:
-    if value is None:
-        return "nothing (null)"
-    return {
-        bool: "a boolean",
-        int: "an integer",
-        float: "a number",
-        str: "text",
-        list: "a list",
-        dict: "a mapping",
-    }.get(type(value), type(value).__name__)
-
-
-def _mapping(value, field, allow_none=False):
-    if value is None and allow_none:
-        return {}
-    if not isinstance(value, dict):
-        raise InputError(
-            field,
-            f"expected a mapping, got {_kind_name(value)} {_show(value)}",
-            "write it as {key: value, ...}",
-        )
-    return value
-
-
-def _list(value, field, allow_none=False, max_items=None):
-    if value is None and allow_none:
-        return []
-    if not isinstance(value, list):
-        raise InputError(
-            field,
-            f"expected a list, got {_kind_name(value)} {_show(value)}",
-            "write it as [item, ...] or as '- item' lines",
-        )
-    if max_items is not None and len(value) > max_items:
-        raise InputError(
-            field, f"{len(value)} items exceed the limit {max_items}", f"give at most {max_items}"
-        )
-    return value
-
-
-def _keys(spec, allowed, field, required=()):
-    _mapping(spec, field)
-    for key in spec:
-        if key not in allowed:
-            key = _printable(key if isinstance(key, str) else repr(key))[:60]
-            name = f"{field}.{key}" if field else key
-            raise InputError(name, "unknown key", f"use one of: {', '.join(sorted(allowed))}")
-    for key in required:
-        if key not in spec:
-            raise InputError(f"{field}.{key}" if field else key, "missing", "add this field")
-
-
-def _choice(value, options, field):
-    if not isinstance(value, str) or value not in options:
-        raise InputError(
-            field, f"unknown value {_show(value)}", f"use one of: {', '.join(options)}"
-        )
-    return value
-
-
-def _bool(value, field):
-    """A real YAML boolean (true/false); the string "false" or the number 0 is refused."""
-    if not isinstance(value, bool):
-        raise InputError(
-            field,
-            f"expected true or false, got {_kind_name(value)} {_show(value)}",
-            "write true or false without quotes",
-        )
-    return value
-
-
-def _as_number(value, field, what="a number"):
-    value = plain_number(value)
-    if isinstance(value, str) and _NUMERIC.fullmatch(value):
-        value = float(value)
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(
-            field,
-            f"expected {what}, got {_kind_name(value)} {_show(value)}",
-            f"give {what} (SI units)",
-        )
-    if isinstance(value, int):
-        if abs(value) > 1e300:
-            raise InputError(
-                field, f"{_show(value)} is out of range", "give a number of sensible size"
-            )
+    def check(self, value, where: str = ""):
+        name = where or self.key
+        value, problem = self.own(self, value, name)
+        if problem:
+            raise InputError(name, problem, self.hint)
         return value
-    if not math.isfinite(value):
-        raise InputError(field, f"{value} is not finite", "give a finite number")
-    return value
+
+    def shown_kind(self) -> str:
+        return self.shown
 
 
-def _range_text(lo, hi, lo_open):
-    return f"{'>' if lo_open else '>='} {lo:g} and <= {hi:g}"
+def _zero_or_one(f: Field, value, name: str):
+    """0 or 1 (false or true, or numeric text), as a float like the settings' switches."""
+    x = plain_number(value)
+    if isinstance(x, str) and NUMERIC_TEXT.fullmatch(x):
+        x = float(x)
+    if type(value) is not bool and (type(x) not in (int, float) or x not in (0, 1)):
+        return value, f"expected 0 or 1, got {got(value)}"
+    return float(x), ""
 
 
-def _number(value, field, lo, hi, lo_open=False, units=""):
-    """A finite float in [lo, hi] (``lo_open``: lo excluded)."""
-    x = float(_as_number(value, field)) + 0.0  # -0.0 -> 0.0
-    if x < lo or x > hi or (lo_open and x == lo):
-        raise InputError(
-            field,
-            f"{x:g}{units} is out of range",
-            f"give a value {_range_text(lo, hi, lo_open)}{units}",
+def _number_or_list(f: Field, value, name: str):
+    """One number, or a non-empty list of them, each in the field's range."""
+    if isinstance(plain_list(value), list):
+        values = Field.check(f, value, name)  # the kit's list of numbers
+        return values, "" if values else "empty list"
+    return Field(f.key, "number", f.units, f.range).check(value, name), ""
+
+
+def _label(f: Field, value, name: str):
+    """Text (one line) or an integer, e.g. ``S11`` or ``1``."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        return value, ""
+    if isinstance(value, str):
+        return Field.check(f, value, name), ""
+    return value, f"expected a label, got {got(value)}"
+
+
+# --- the case file, declared --------------------------------------------------------------
+
+LENGTH = "[1e-3, 100]"  # [m] block sides: any masonry unit
+STRESS = "[0, 1e10]"  # [Pa] tensile strength, cohesion, lintel strength
+FORCE = "[0, 1e10]"  # [N] point loads
+STIFFNESS = "[1e3, 1e16]"  # [N/m3] k_n, k_t
+REFERENCE = "(0, 1e12]"  # manuscript reference values
+
+BLOCK_SPEC = Spec(
+    (
+        Field("a", "number", "m", LENGTH, REQUIRED, doc="block height (one course)"),
+        Field("b", "number", "m", LENGTH, REQUIRED, doc="block length along the course"),
+        Field("s", "number", "m", LENGTH, REQUIRED, doc="block thickness (the wall's)"),
+    ),
+    doc="the block",
+)
+OPENING_SPEC = Spec(
+    tuple(
+        Field(
+            axis,
+            "numbers",
+            "m",
+            "[0, 1e4]",
+            REQUIRED,
+            length=2,
+            hint=f"give [start, end] in metres from the panel's {corner}, e.g. [0.2, 0.5]",
+            doc=f"{what} of the opening, from the panel's {corner}",
         )
-    return x
+        for axis, what, corner in (
+            ("x", "horizontal extent [start, end]", "left edge"),
+            ("y", "vertical extent [start, end]", "base"),
+        )
+    ),
+    doc="a rectangular opening",
+)
+PANEL_SPEC = Spec(
+    (
+        Field("block", "mapping", default=REQUIRED, spec=BLOCK_SPEC, doc="the block: a, b and s"),
+        Field(
+            "blocks_per_course",
+            "number",
+            "",
+            "[1, 1e12]",
+            REQUIRED,
+            doc="blocks along a course, a whole or half number (the courses are staggered)",
+        ),
+        Field("courses", "integer", "", "[1, 1e12]", REQUIRED, doc="courses, base to top"),
+        Field(
+            "unit_weight",
+            "number",
+            "N/m3",
+            "[1, 1e6]",
+            REQUIRED,
+            doc="unit weight of the masonry (brick ~18e3, steel 77e3)",
+        ),
+        Field(
+            "joint_thickness",
+            "number",
+            "m",
+            "[0, 100]",
+            0.0,
+            doc="thickness of the joints between blocks, at most the block's a and b",
+        ),
+        Field(
+            "first_course_offset",
+            "flag",
+            default=False,
+            doc="start the first course with a half block (the second one otherwise)",
+        ),
+        Field(
+            "openings",
+            "list",
+            limit=MAX_OPENINGS,
+            default=[],
+            spec=OPENING_SPEC,
+            hint="give a list of {x: [start, end], y: [bottom, top]}",
+            doc="rectangular openings: the blocks whose centres lie inside are left out",
+        ),
+        Field(
+            "lintel_strength",
+            "number",
+            "Pa",
+            STRESS,
+            0.0,
+            doc="tensile strength of the head joints of the course over each opening (a lintel)",
+        ),
+    ),
+    doc="the panel: a running-bond wall of equal blocks",
+)
 
 
-def _ranged(value, field, rule, units=""):
-    lo, hi, lo_open = RANGES[rule]
-    return _number(value, field, lo, hi, lo_open, units)
+def _cohesion(v: dict):
+    # manuscript Eq. 10: shear strength mu (f_t - f_n), i.e. cohesion c = mu sigma_t
+    return None if v["tensile_strength"] is None else v["mu"] * v["tensile_strength"]
 
 
-def _integer(value, field, lo, hi):
-    """An integer in [lo, hi]; a float or numeric text must have an exact integral value."""
-    x = _as_number(value, field, "an integer")
-    if isinstance(x, float):
-        if x != int(x):
-            raise InputError(field, f"{x:g} is not a whole number", "give an integer")
-        x = int(x)
-    if x < lo or x > hi:
-        raise InputError(field, f"{x} is out of range", f"give an integer >= {lo} and <= {hi}")
-    return x
+JOINT_FIELDS = (
+    Field("mu", "number", "", "(0, 10]", REQUIRED, doc="friction coefficient"),
+    Field("k_n", "number", "N/m3", STIFFNESS, REQUIRED, doc="normal stiffness per unit area"),
+    Field("k_t", "number", "N/m3", STIFFNESS, REQUIRED, doc="shear stiffness per unit area"),
+    Field(
+        "tensile_strength",
+        "number",
+        "Pa",
+        STRESS,
+        doc="tensile strength: required for a mortar joint, none (or 0) for a dry one",
+    ),
+    Field(
+        "cohesion",
+        "number",
+        "Pa",
+        STRESS,
+        Derived("mu x tensile_strength", _cohesion),
+        doc="cohesion of a mortar joint (manuscript Eq. 10)",
+    ),
+    Field(
+        "alpha",
+        "number",
+        "",
+        "[1, 10]",
+        1.5,
+        doc="exponent of the shear-torsion domain (Eq. 14; Table A1: 1.5-2.6); >= 1: convex",
+    ),
+)
+JOINTS_SPEC = Spec(
+    (
+        Field("kind", "choice", default=REQUIRED, choices=("dry", "mortar"), doc="joint kind"),
+        *JOINT_FIELDS,
+        Field(
+            "torsion_under_bending",
+            "choice",
+            default="all",
+            choices=("all", "no_tension"),
+            doc="which joints keep their torsion strength while they open in bending (Fig. 10)",
+        ),
+        Field(
+            "bending_release",
+            "choice",
+            default="own",
+            choices=("own", "both"),
+            doc="a joint opening in bending releases its own rotation or both (Eq. 13)",
+        ),
+    ),
+    doc="the joints of the whole panel (the support joints too, unless a restraint sets its own)",
+)
+# a support joint's own values: each absent one is the joints' (cohesion: mu x tensile_strength)
+SUPPORT_JOINT_SPEC = Spec(
+    tuple(
+        dataclasses.replace(f, default=None, doc=f"{f.doc}; default: the joints'")
+        for f in JOINT_FIELDS
+    ),
+    doc="a support joint's own law values",
+)
+RESTRAINT_SPEC = Spec(
+    (
+        Field("edge", "choice", default=REQUIRED, choices=EDGES, doc="the panel edge it holds"),
+        Field(
+            "fix",
+            "choice",
+            default=REQUIRED,
+            choices=tuple(FIX_DOFS),
+            doc="what it holds: all DOFs, the translations, the out-of-plane one or the rotations",
+        ),
+        Field(
+            "support",
+            "choice",
+            default=Derived(
+                "joint on the base, else block",
+                lambda v: "joint" if v["edge"] == "base" else "block",
+            ),
+            choices=("joint", "block"),
+            doc="joint: an interface to a rigid support along the edge (fix: all); block: the "
+            "edge blocks are held",
+        ),
+        Field(
+            "joint",
+            "mapping",
+            default={},
+            spec=SUPPORT_JOINT_SPEC,
+            doc="a support joint's own law values, in place of the joints' (support: joint)",
+        ),
+        Field(
+            "dead_load",
+            "flag",
+            default=False,
+            doc="also hold while the self-weight is applied (a base restraint always does)",
+        ),
+        Field(
+            "at",
+            "choice",
+            default="centre",
+            choices=RESTRAINT_AT,
+            doc="where a block restraint acts: pins at the edge blocks' centres, a line along "
+            "the edge (mid-thickness), or a line offset inside (support: block)",
+        ),
+        Field(
+            "offset",
+            "number",
+            "m",
+            "[0, inf)",
+            doc="distance of the line from the edge (at: offset)",
+        ),
+        Field(
+            "hold",
+            "choice",
+            default="line",
+            choices=("line", "points"),
+            doc="a restraint line holds every point of its chords, or the middle of each chord "
+            "(a row of pins)",
+        ),
+    ),
+    doc="one restraint of the panel",
+)
+EXTRA_SPEC = Spec(
+    (
+        Field(
+            "count",
+            "integer",
+            "",
+            f"[1, {MAX_POINT_LOADS}]",
+            REQUIRED,
+            doc="point loads, evenly spaced along the top course",
+        ),
+        Field("force", "number", "N", FORCE, REQUIRED, doc="downward force of each point load"),
+        Field("edge", "choice", default="top", choices=("top",), doc="the edge they bear on"),
+    ),
+    doc="point loads on the top course",
+)
+LOAD_SPEC = Spec(
+    (
+        Field(
+            "kind",
+            "choice",
+            default=REQUIRED,
+            choices=("proportional", "pressure"),
+            doc="the live load: lambda x the self-weight (proportional), or a pressure lambda "
+            "[Pa] on the face",
+        ),
+        Field(
+            "direction",
+            "choice",
+            default="out_of_plane",
+            choices=tuple(DIRECTIONS),
+            doc="direction of the live load (a pressure acts out of plane)",
+        ),
+        Field(
+            "extra_vertical",
+            "list",
+            limit=100,
+            default=[],
+            spec=EXTRA_SPEC,
+            hint="give a list of {count: n, force: N}",
+            doc="point loads on the top course, added to the self-weight",
+        ),
+        Field(
+            "extra_in_live_load",
+            "flag",
+            default=False,
+            doc="the point loads also enter a proportional live load",
+        ),
+    ),
+    doc="the loads: the self-weight first (dead load), then the live load lambda x ...",
+)
+_S = SolverSettings()
 
 
-def _switch(value, field):
-    """A 0/1 solver switch (or false/true)."""
-    if isinstance(value, bool):
-        return float(value)
-    x = _as_number(value, field, "0 or 1")
-    if x not in (0, 1):
-        raise InputError(field, f"{_show(value)} is not 0 or 1", "give 0 (off) or 1 (on)")
-    return float(x)
+def _setting(key: str, kind: str, interval: str, doc: str, units: str = "") -> Field:
+    """A solver setting, its default the settings' own."""
+    return Field(key, kind, units, interval, getattr(_S, key), doc=doc)
 
 
-def _text(value, field, max_len=MAX_TEXT, one_line=True):
-    return check_text(
-        value, field, max_len, one_line, describe=lambda v: f"{_kind_name(v)} {_show(v)}"
+def _switch(key: str, doc: str) -> Field:
+    hint = "give 0 (off) or 1 (on)"
+    return _Own(
+        key, "any", default=getattr(_S, key), hint=hint, doc=doc, own=_zero_or_one, shown="0 \\| 1"
     )
+
+
+SOLVER_SPEC = Spec(
+    (
+        # finer than 1e-12: rounding (~1e-15) was blamed on the restraints
+        _setting(
+            "tolerance",
+            "number",
+            "[1e-12, 0.1]",
+            "residual norm / reference load norm at convergence",
+        ),
+        # a Newton step converges at iteration 2 at the earliest
+        _setting("max_iterations", "integer", "[2, 10000]", "iterations before a step is halved"),
+        _setting(
+            "dead_load_iterations",
+            "integer",
+            "[2, 100000]",
+            "iterations of the dead load (load control, secant matrix)",
+        ),
+        _setting("max_steps", "integer", "[1, 1e6]", "steps of the pushover at most"),
+        _setting(
+            "max_displacement",
+            "number",
+            "[0, 1e3]",
+            "control displacement at which to stop; 0: the wall thickness s",
+            "m",
+        ),
+        _setting(
+            "first_step",
+            "number",
+            "[0, 1e3]",
+            f"first control increment; 0: automatic, else at least {MIN_FIRST_STEP:g} m",
+            "m",
+        ),
+        _setting("growth", "number", "[1, 10]", "step growth after an easy step"),
+        _setting(
+            "easy_iterations",
+            "integer",
+            "[0, 10000]",
+            "a step is easy when it converged within this many iterations",
+        ),
+        _setting(
+            "max_failures",
+            "integer",
+            "[1, 1000]",
+            "consecutive failed (halved) steps before accepting or giving up",
+        ),
+        _setting("accept_tolerance", "number", "(0, 1]", "residual accepted after max_failures"),
+        _switch("work_control", "1: step the load-weighted mean displacement, 0: the control DOF"),
+        _switch("consistent", "1: consistent (return-map) tangent, 0: the secant of Eq. 13-14"),
+        # 0 would leave yielded DOFs singular
+        _setting(
+            "residual_stiffness",
+            "number",
+            "(0, 1]",
+            "fraction of the stiffness kept on yielded components (iteration matrix)",
+        ),
+        _switch(
+            "extrapolate", "1: start a step from the last increment, scaled; 0: from the last state"
+        ),
+        _setting(
+            "reuse_ratio",
+            "number",
+            "[0, 1]",
+            "keep the LU while an iteration cuts the residual below this x; 0: refactor always",
+        ),
+        _setting(
+            "drop_ratio", "number", "[0, 1]", "stop when lambda falls below this x lambda_max"
+        ),
+        _setting(
+            "plateau_steps",
+            "integer",
+            "[1, 1e6]",
+            "stop after this many steps (and twice the displacement) ...",
+        ),
+        _setting(
+            "plateau_tolerance",
+            "number",
+            "[0, 1]",
+            "... in which lambda rose by less than this fraction",
+        ),
+        _setting(
+            "max_seconds",
+            "number",
+            "[0, 1e7]",
+            "wall-clock budget of the live-load phase; 0: none",
+            "s",
+        ),
+        _switch(
+            "secant",
+            "1: the manuscript's load-controlled secant scheme (2.3), 0: displacement control",
+        ),
+        _setting(
+            "load_step",
+            "number",
+            "[0, 1e12]",
+            "first load increment (secant scheme); 0: 1/50 of the elastic-limit estimate",
+        ),
+        _setting(
+            "min_load_step",
+            "number",
+            "(0, 1]",
+            "stop refining when the increment falls below this x the first one",
+        ),
+        _setting(
+            "singular_ratio",
+            "number",
+            "(1, 1e15]",
+            "unbounded: incremental flexibility over this x the initial one",
+        ),
+        _setting(
+            "secant_refresh",
+            "integer",
+            "[0, 10000]",
+            "> 0: also rebuild the secant matrix every this many iterations",
+        ),
+        Field(
+            "control_block",
+            "integer",
+            "",
+            f"[0, {MAX_BLOCKS}]",
+            doc="block whose displacement controls the steps; default: the solver picks one",
+        ),
+    ),
+    doc="the pushover solver's settings (stonedem.wall.settings.SolverSettings)",
+)
+assert set(SOLVER_SPEC.keys) == set(_S.as_dict()) | {"control_block"}, "every setting a row"
+REFERENCE_SPEC = Spec(
+    (
+        Field("table", "integer", "", "[1, 10000]", doc="manuscript table of the case"),
+        _Own(
+            "case",
+            "text",
+            limit=200,
+            hint="give text, e.g. S11, or an integer",
+            doc="case label in that table",
+            own=_label,
+            shown="text \\| integer",
+        ),
+        Field(
+            "n", "integer", "", "[1, 10000]", doc="the table's n: blocks per course of the specimen"
+        ),
+        *(
+            Field(key, "number", "", REFERENCE, doc=doc)
+            for key, doc in (
+                ("L", "panel length [m]"),
+                ("H", "panel height [m]"),
+                ("p_dem", "limit pressure of the manuscript's DEM [Pa]"),
+                ("lambda_dem", "limit load multiplier of the manuscript's DEM"),
+                ("lambda_fem", "limit load multiplier of its FEM reference"),
+                ("lambda_limit_analysis", "limit load multiplier of its limit analysis"),
+                ("lambda_analytic", "closed-form limit load multiplier"),
+            )
+        ),
+        *(
+            _Own(
+                key,
+                "numbers",
+                "",
+                REFERENCE,
+                limit=100,
+                hint="give a number or a list of numbers",
+                doc=doc,
+                own=_number_or_list,
+                shown="number \\| list of numbers",
+            )
+            for key, doc in (
+                ("p_experiment", "experimental limit pressure(s) [Pa]"),
+                ("lambda_experiment", "experimental limit load multiplier(s)"),
+            )
+        ),
+    ),
+    doc="manuscript reference values: no effect on the run; the dataset carries them",
+)
+CASE_SPEC = Spec(
+    (
+        Field("name", "text", limit=200, doc="case name (default: the file's stem)"),
+        Field(
+            "description",
+            "text",
+            limit=MAX_TEXT,
+            one_line=False,
+            doc="free text, may run over lines",
+        ),
+        Field(
+            "panel",
+            "mapping",
+            default=REQUIRED,
+            spec=PANEL_SPEC,
+            doc="the panel: its block, size and openings",
+        ),
+        Field("joints", "mapping", default=REQUIRED, spec=JOINTS_SPEC, doc="the law of the joints"),
+        Field(
+            "restraints",
+            "list",
+            default=REQUIRED,
+            limit=100,
+            spec=RESTRAINT_SPEC,
+            hint="give a list of restraints, e.g. [{edge: base, fix: all}]",
+            doc="the supports of the panel",
+        ),
+        Field(
+            "load",
+            "mapping",
+            default=REQUIRED,
+            spec=LOAD_SPEC,
+            doc="the self-weight and the live load",
+        ),
+        Field(
+            "solver", "mapping", default={}, spec=SOLVER_SPEC, doc="the pushover solver's settings"
+        ),
+        Field("reference", "mapping", spec=REFERENCE_SPEC, doc="manuscript reference values"),
+    ),
+    doc="a wall case file",
+)
+
+
+# --- checks across fields (code: they depend on other values or on the geometry) ----------
+
+
+@dataclass(frozen=True)
+class Across:
+    """A check across the checked values of one mapping: ``refused(values)`` is true when the
+    value of ``key`` ("": the mapping itself) is refused; ``problem`` may name values
+    (``{at}``, ``{fix!r}``)."""
+
+    key: str
+    refused: Callable[[dict], bool]
+    problem: str
+    fix: str
+
+
+def _across(checks, values: dict, where: str) -> None:
+    for c in checks:
+        if c.refused(values):
+            name = ".".join(part for part in (where, c.key) if part)
+            raise InputError(name, c.problem.format(**values), c.fix)
+
+
+def _within(value, name: str, interval: str, units: str = "", hint: str = "", kind="number"):
+    """``value`` checked against a range known only from the geometry (a kit field made on
+    the spot, ``interval`` like ``"[0, 0.63)"``)."""
+    return Field(name, kind, units, interval, hint=hint).check(value, name)
+
+
+TOP_CHECKS = (
+    Across(
+        "restraints",
+        lambda v: not v["restraints"],
+        "expected a non-empty list",
+        "e.g. [{edge: base, fix: all}]",
+    ),
+)
+PANEL_CHECKS = (
+    Across(
+        "blocks_per_course",
+        lambda v: abs(2 * v["blocks_per_course"] - round(2 * v["blocks_per_course"])) > 1e-9,
+        "{blocks_per_course:g} is not a multiple of 0.5",
+        "give a whole or half number of blocks >= 1",
+    ),
+    Across(
+        "lintel_strength",
+        lambda v: v["lintel_strength"] and not v["openings"],
+        "lintels act only over openings",
+        "remove it or add panel.openings",
+    ),
+)
+# one axis of an opening: {lo, hi, extent} (the panel's length or height)
+OPENING_CHECKS = (
+    Across("", lambda v: v["hi"] <= v["lo"], "end {hi:g} <= start {lo:g}", "give start < end"),
+    Across(
+        "",
+        lambda v: v["lo"] >= v["extent"],
+        "starts at {lo:g} m, outside the panel (0 to {extent:.4g} m)",
+        "give the opening in metres from the panel's bottom left corner",
+    ),
+)
+SUPPORT_JOINT_CHECKS = tuple(
+    Across(
+        key,
+        lambda v, key=key: v["kind"] == "dry" and v.get(key),
+        "a dry joint has no tensile strength or cohesion",
+        "remove it or use kind: mortar",
+    )
+    for key in ("tensile_strength", "cohesion")
+)
+JOINT_CHECKS = (
+    *SUPPORT_JOINT_CHECKS,
+    Across(
+        "tensile_strength",
+        lambda v: v["kind"] == "mortar" and v["tensile_strength"] is None,
+        "missing for a mortar joint",
+        "add it in Pa",
+    ),
+)
+# values: the restraint's, ``given`` (the keys written) and ``seen`` (the support joints' edges
+# so far)
+RESTRAINT_CHECKS = (
+    Across(
+        "hold",
+        lambda v: "hold" in v["given"] and v["at"] == "centre",
+        "only for a restraint line (at: edge or offset)",
+        "remove it or set at: edge",
+    ),
+    Across(
+        "offset",
+        lambda v: "offset" in v["given"] and v["at"] != "offset",
+        "only for at: offset (this restraint is at: {at})",
+        "remove it or set at: offset",
+    ),
+    Across(
+        "at",
+        lambda v: v["support"] == "joint" and "at" in v["given"],
+        "a support joint is the whole edge interface",
+        "remove it, or set support: block for a restraint line",
+    ),
+    Across(
+        "fix",
+        lambda v: v["support"] == "joint" and v["fix"] != "all",
+        "{fix!r} with support: joint",
+        "a support joint is a fixed rigid support: use fix: all, or support: block",
+    ),
+    Across(
+        "dead_load",
+        lambda v: v["support"] == "joint" and "dead_load" in v["given"],
+        "only for support: block (a support joint always acts)",
+        "remove it or set support: block",
+    ),
+    Across(
+        "edge",
+        lambda v: v["support"] == "joint" and v["edge"] in v["seen"],
+        "a second support joint on the {edge} edge",
+        "give each edge one support joint",
+    ),
+    Across(
+        "joint",
+        lambda v: v["support"] == "block" and "joint" in v["given"],
+        "only for support: joint",
+        "remove it or set support: joint",
+    ),
+    Across(
+        "fix",
+        lambda v: (
+            v["support"] == "block" and v["at"] != "centre" and v["fix"] not in LINE_COMPONENTS
+        ),
+        "{fix!r} on a restraint line (at: {at}): a line holds the displacement of its points, "
+        "not rotations",
+        "use fix: out_of_plane or translations, or at: centre",
+    ),
+    Across(
+        "offset",
+        lambda v: v["at"] == "offset" and "offset" not in v["given"],
+        "missing for at: offset",
+        "give the line's distance from the edge in metres",
+    ),
+)
+LOAD_CHECKS = (
+    Across(
+        "direction",
+        lambda v: v["kind"] == "pressure" and v["direction"] != "out_of_plane",
+        "pressure acts out of plane",
+        "use direction: out_of_plane",
+    ),
+)
+SOLVER_CHECKS = (
+    # 1e-300 ran to lambda_max 4e-270, exit 0
+    Across(
+        "first_step",
+        lambda v: 0.0 < v["first_step"] < MIN_FIRST_STEP,
+        f"{{first_step:g}} m is below {MIN_FIRST_STEP:g} m, where rounding steers the path",
+        f"give 0 (automatic) or a step >= {MIN_FIRST_STEP:g} m",
+    ),
+)
+
+
+def _loose(spec: Spec, mapping, where: str = "") -> None:
+    """Refuse, before the kit checks ``mapping``, what the kit reads more loosely than a case
+    file is written: a null where a value is due (the kit takes it for an absent key; a null
+    is an empty list or mapping only where that is the default), numeric text with spaces
+    around it (the kit strips them), and an integer past 1e300 (the kit cannot print it)."""
+    if not isinstance(mapping, Mapping):
+        return
+    for key, value in mapping.items():
+        f = spec.by_key.get(key)
+        if f is None:
+            continue  # an unknown key: the kit names it
+        name = f"{where}.{key}" if where else key
+        problem, fix = "", f.hint
+        x = plain_number(value)
+        items = plain_list(value) if isinstance(plain_list(value), list) else [value]
+        padded = [t for t in items if isinstance(t, str) and t != t.strip()]
+        if value is None and not isinstance(f.default, (list, dict)):
+            if f.kind != "mapping":
+                f.check(None, name)  # refused in the kit's (or the field's own) words
+            problem, fix = f"expected a mapping, got {got(None)}", "write it as {key: value, ...}"
+        elif f.kind in ("number", "numbers") and padded:
+            problem, fix = f"expected a number, got {got(padded[0])}", "write the number alone"
+        elif f.kind == "integer" and type(x) is int and abs(x) > 1e300:
+            problem, fix = f"{show(value)} is out of range", "give a number of sensible size"
+        if problem:
+            raise InputError(name, problem, fix)
+        if f.spec is not None and f.kind == "mapping":
+            _loose(f.spec, value, name)
+        elif f.spec is not None and isinstance(plain_list(value), list):
+            for k, item in enumerate(plain_list(value)[: f.limit]):
+                _loose(f.spec, item, f"{name}[{k}]")
 
 
 # --- reading ------------------------------------------------------------------------------
@@ -458,232 +963,92 @@ class CaseInput:
 
 def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
     """Validate a case mapping (strict types, ranges, known keys, problem size) without building
-    it."""
-    spec = copy.deepcopy(_mapping(spec, where))
-    _keys(spec, TOP_KEYS, "", required=("panel", "joints", "restraints", "load"))
-    if "name" in spec:
-        name = _text(spec["name"], "name", max_len=200)
-    if "description" in spec:
-        _text(spec["description"], "description", one_line=False)
+    it: :data:`CASE_SPEC`, then the checks across fields and against the geometry."""
+    Field(where, "mapping").check(spec, where)
+    spec = copy.deepcopy(spec)
+    _loose(CASE_SPEC, spec)
+    v = CASE_SPEC.check(spec)
+    _across(TOP_CHECKS, v, "")
+    p, j, ld = v["panel"], v["joints"], v["load"]
+    sol = v["solver"] or SOLVER_SPEC.defaults()
+    name = name if v["name"] is None else v["name"]
 
-    p = spec["panel"]
-    _keys(p, PANEL_KEYS, "panel", required=("block", "blocks_per_course", "courses", "unit_weight"))
-    _keys(p["block"], BLOCK_KEYS, "panel.block", required=("a", "b", "s"))
-    a, b, s = (_ranged(p["block"][k], f"panel.block.{k}", "length", " m") for k in "abs")
+    a, b, s = (p["block"][key] for key in "abs")
+    _across(PANEL_CHECKS, p, "panel")
     # the size limit (n_blocks, memory) is checked below, from the estimate
-    n_len = _number(p["blocks_per_course"], "panel.blocks_per_course", 1.0, 1e12)
-    if abs(2 * n_len - round(2 * n_len)) > 1e-9:
-        raise InputError(
-            "panel.blocks_per_course",
-            f"{n_len:g} is not a multiple of 0.5",
-            "give a whole or half number of blocks >= 1",
-        )
-    n_len = round(2 * n_len) / 2
-    courses = _integer(p["courses"], "panel.courses", 1, 10**12)
-    gamma = _ranged(p["unit_weight"], "panel.unit_weight", "unit_weight", " N/m3")
-    e = _number(p.get("joint_thickness", 0.0), "panel.joint_thickness", 0.0, min(a, b), units=" m")
-    offset = _bool(p.get("first_course_offset", False), "panel.first_course_offset")
-    length, height = n_len * (b + e), courses * (a + e)
+    n_len = round(2 * p["blocks_per_course"]) / 2
+    e = _within(p["joint_thickness"], "panel.joint_thickness", f"[0, {min(a, b)!r}]", "m")
+    length, height = n_len * (b + e), p["courses"] * (a + e)
     openings = []
-    for k, o in enumerate(
-        _list(p.get("openings"), "panel.openings", allow_none=True, max_items=MAX_OPENINGS)
-    ):
-        f = f"panel.openings[{k}]"
-        _keys(o, OPENING_KEYS, f, required=("x", "y"))
-        box = {}
+    for k, o in enumerate(p["openings"]):
         for ax, extent in (("x", length), ("y", height)):
-            v = o[ax]
-            if not isinstance(v, list) or len(v) != 2:
-                raise InputError(
-                    f"{f}.{ax}",
-                    f"expected [start, end] in metres, got {_show(v)}",
-                    "give two numbers, e.g. [0.2, 0.5]",
-                )
-            lo, hi = (_ranged(x, f"{f}.{ax}", "coordinate", " m") for x in v)
-            if hi <= lo:
-                raise InputError(f"{f}.{ax}", f"end {hi:g} <= start {lo:g}", "give start < end")
-            if lo >= extent:
-                raise InputError(
-                    f"{f}.{ax}",
-                    f"starts at {lo:g} m, outside the panel (0 to {extent:.4g} m)",
-                    "give the opening in metres from the panel's bottom left corner",
-                )
-            box[ax] = (lo, hi)
-        openings.append(box)
-    lintel = _ranged(p.get("lintel_strength", 0.0), "panel.lintel_strength", "stress", " Pa")
-    if lintel and not openings:
-        raise InputError(
-            "panel.lintel_strength",
-            "lintels act only over openings",
-            "remove it or add panel.openings",
-        )
+            lo, hi = o[ax]
+            _across(
+                OPENING_CHECKS, {"lo": lo, "hi": hi, "extent": extent}, f"panel.openings[{k}].{ax}"
+            )
+        openings.append({ax: tuple(o[ax]) for ax in "xy"})
 
-    j = spec["joints"]
-    _keys(j, JOINT_KEYS | set(LAW_KEYS), "joints", required=("kind", "mu", "k_n", "k_t"))
-    kind = _choice(j["kind"], ("dry", "mortar"), "joints.kind")
-    law = {
-        key: _choice(j.get(key, options[0]), options, f"joints.{key}")
-        for key, options in LAW_KEYS.items()
-    }
-    j = {key: val for key, val in j.items() if key not in LAW_KEYS}
-    joint = _joint_props(j, kind, "joints")
+    kind = j["kind"]
+    _across(JOINT_CHECKS, j, "joints")
+    joint = _joint(j, kind)
+    law = {key: j[key] for key in LAW_KEYS}
 
-    restraints = _list(spec["restraints"], "restraints", max_items=100)
-    if not restraints:
-        raise InputError("restraints", "expected a non-empty list", "e.g. [{edge: base, fix: all}]")
     support_edges, block_fix, support_joint, dead_fix, lines = [], {}, {}, set(), []
-    for k, r in enumerate(restraints):
+    for k, (given, r) in enumerate(zip(spec["restraints"], v["restraints"])):
         f = f"restraints[{k}]"
-        _keys(r, RESTRAINT_KEYS, f, required=("edge", "fix"))
-        edge = _choice(r["edge"], EDGES, f"{f}.edge")
-        fix = _choice(r["fix"], tuple(FIX_DOFS), f"{f}.fix")
-        support = _choice(
-            r.get("support", "joint" if edge == "base" else "block"),
-            ("joint", "block"),
-            f"{f}.support",
-        )
-        at = _choice(r.get("at", "centre"), RESTRAINT_AT, f"{f}.at")
-        if "hold" in r and at == "centre":
-            raise InputError(
-                f"{f}.hold",
-                "only for a restraint line (at: edge or offset)",
-                "remove it or set at: edge",
-            )
-        if "offset" in r and at != "offset":
-            raise InputError(
-                f"{f}.offset",
-                f"only for at: offset (this restraint is at: {at})",
-                "remove it or set at: offset",
-            )
-        if support == "joint" and "at" in r:
-            raise InputError(
-                f"{f}.at",
-                "a support joint is the whole edge interface",
-                "remove it, or set support: block for a restraint line",
-            )
-        if support == "joint":
-            if fix != "all":
-                raise InputError(
-                    f"{f}.fix",
-                    f"{fix!r} with support: joint",
-                    "a support joint is a fixed rigid support: use fix: all, or support: block",
-                )
-            if "dead_load" in r:
-                raise InputError(
-                    f"{f}.dead_load",
-                    "only for support: block (a support joint always acts)",
-                    "remove it or set support: block",
-                )
-            if edge in support_edges:
-                raise InputError(
-                    f"{f}.edge",
-                    f"a second support joint on the {edge} edge",
-                    "give each edge one support joint",
-                )
+        _across(RESTRAINT_CHECKS, {**r, "given": given, "seen": support_edges}, f)
+        edge, fix, at = r["edge"], r["fix"], r["at"]
+        if r["support"] == "joint":
             support_edges.append(edge)
-            over = _mapping(r.get("joint"), f"{f}.joint", allow_none=True)
-            _keys(over, JOINT_KEYS - {"kind"}, f"{f}.joint")
-            support_joint[edge] = _joint_props({**j, **over}, kind, f"{f}.joint", given=over)
+            own = {key: x for key, x in r["joint"].items() if x is not None}
+            _across(SUPPORT_JOINT_CHECKS, {**own, "kind": kind}, f"{f}.joint")
+            merged = {**j, **own}
+            if "cohesion" not in own and "cohesion" not in spec["joints"]:
+                merged["cohesion"] = _cohesion(merged)
+            support_joint[edge] = _joint(merged, kind)
+        elif at == "centre":
+            block_fix.setdefault(edge, set()).update(FIX_DOFS[fix])
+            if r["dead_load"]:
+                dead_fix.add(edge)
         else:
-            if "joint" in r:
-                raise InputError(
-                    f"{f}.joint", "only for support: joint", "remove it or set support: joint"
+            from stonedem.wall.restraints import LineRestraint  # scipy: only for a line
+
+            distance = 0.0
+            if at == "offset":
+                extent = length if edge in ("left", "right") else height
+                distance = _within(
+                    r["offset"],
+                    f"{f}.offset",
+                    f"[0, {extent!r})",
+                    "m",
+                    "give a distance inside the panel",
                 )
-            # dead_load: true -> this restraint also acts while the self-weight is applied
-            # (a base restraint always does: it carries the self-weight)
-            dead = _bool(r.get("dead_load", False), f"{f}.dead_load")
-            if at == "centre":
-                block_fix.setdefault(edge, set()).update(FIX_DOFS[fix])
-                if dead:
-                    dead_fix.add(edge)
-            else:
-                if fix not in LINE_COMPONENTS:
-                    raise InputError(
-                        f"{f}.fix",
-                        f"{fix!r} on a restraint line (at: {at}): a line holds "
-                        "the displacement of its points, not rotations",
-                        "use fix: out_of_plane or translations, or at: centre",
-                    )
-                distance = 0.0
-                if at == "offset":
-                    if "offset" not in r:
-                        raise InputError(
-                            f"{f}.offset",
-                            "missing for at: offset",
-                            "give the line's distance from the edge in metres",
-                        )
-                    extent = length if edge in ("left", "right") else height
-                    distance = _number(r["offset"], f"{f}.offset", 0.0, extent, units=" m")
-                    if distance >= extent:
-                        raise InputError(
-                            f"{f}.offset",
-                            f"{distance:g} m is outside the panel ({extent:.4g} m across)",
-                            "give a distance inside the panel",
-                        )
-                from stonedem.wall.restraints import LineRestraint
+            base = r["dead_load"] or edge == "base"
+            lines.append(LineRestraint(edge, LINE_COMPONENTS[fix], distance, base, r["hold"]))
 
-                hold = _choice(r.get("hold", "line"), ("line", "points"), f"{f}.hold")
-                lines.append(
-                    LineRestraint(
-                        edge, LINE_COMPONENTS[fix], distance, dead or edge == "base", hold
-                    )
-                )
+    _across(LOAD_CHECKS, ld, "load")
+    extras = [(x["count"], x["force"], x["edge"]) for x in ld["extra_vertical"]]
 
-    ld = spec["load"]
-    _keys(ld, LOAD_KEYS, "load", required=("kind",))
-    load_kind = _choice(ld["kind"], ("proportional", "pressure"), "load.kind")
-    direction = _choice(ld.get("direction", "out_of_plane"), tuple(DIRECTIONS), "load.direction")
-    if load_kind == "pressure" and direction != "out_of_plane":
-        raise InputError(
-            "load.direction", "pressure acts out of plane", "use direction: out_of_plane"
-        )
-    extras = []
-    for k, x in enumerate(
-        _list(ld.get("extra_vertical"), "load.extra_vertical", allow_none=True, max_items=100)
-    ):
-        f = f"load.extra_vertical[{k}]"
-        _keys(x, EXTRA_KEYS, f, required=("count", "force"))
-        cnt = _integer(x["count"], f"{f}.count", 1, MAX_POINT_LOADS)
-        force = _ranged(x["force"], f"{f}.force", "force", " N")
-        extras.append((cnt, force, _choice(x.get("edge", "top"), ("top",), f"{f}.edge")))
-    extra_live = _bool(ld.get("extra_in_live_load", False), "load.extra_in_live_load")
-
-    sol = _mapping(spec.get("solver"), "solver", allow_none=True)
-    _keys(sol, SOLVER_KEYS, "solver")
+    _across(SOLVER_CHECKS, sol, "solver")
     settings = SolverSettings()
-    control_block = None
-    for key, val in sol.items():
-        rule = SOLVER_RULES[key]
-        f = f"solver.{key}"
-        if rule[0] == "int":
-            v = _integer(val, f, rule[1], rule[2])
-        elif rule[0] == "switch":
-            v = _switch(val, f)
-        else:
-            v = _number(val, f, *rule[1:])
-        if (
-            key == "first_step" and 0.0 < v < MIN_FIRST_STEP
-        ):  # 1e-300 ran to lambda_max 4e-270, exit 0
-            raise InputError(
-                f,
-                f"{v:g} m is below {MIN_FIRST_STEP:g} m, where rounding steers the path",
-                f"give 0 (automatic) or a step >= {MIN_FIRST_STEP:g} m",
-            )
-        if key == "control_block":
-            control_block = v
-        else:
+    for key, value in sol.items():
+        if key != "control_block":
             # keep the type of the default (int counts; float otherwise, 0/1 switches included)
-            setattr(settings, key, type(getattr(settings, key))(v))
+            setattr(settings, key, type(getattr(settings, key))(value))
 
-    if "reference" in spec:
-        _check_reference(spec["reference"])
-
-    size = check_size(estimate_size(n_len, courses, support_edges, settings.max_steps, offset))
-    if control_block is not None and control_block >= size.n_blocks:
-        raise InputError(
+    size = check_size(
+        estimate_size(
+            n_len, p["courses"], support_edges, settings.max_steps, p["first_course_offset"]
+        )
+    )
+    control_block = sol["control_block"]
+    if control_block is not None:
+        control_block = _within(
+            control_block,
             "solver.control_block",
-            f"{control_block} >= {size.n_blocks:.0f} blocks",
-            "give a block index of the panel",
+            f"[0, {size.n_blocks!r})",
+            hint="give a block index of the panel",
+            kind="integer",
         )
     return CaseInput(
         spec,
@@ -692,12 +1057,12 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         b,
         s,
         n_len,
-        courses,
-        gamma,
+        p["courses"],
+        p["unit_weight"],
         e,
-        offset,
+        p["first_course_offset"],
         openings,
-        lintel,
+        p["lintel_strength"],
         kind,
         joint,
         law,
@@ -706,82 +1071,27 @@ def check_case(spec, name: str = "wall", where: str = "case") -> CaseInput:
         block_fix,
         dead_fix,
         lines,
-        load_kind,
-        direction,
+        ld["kind"],
+        ld["direction"],
         extras,
-        extra_live,
+        ld["extra_in_live_load"],
         settings,
         control_block,
         size,
     )
 
 
-def _check_reference(ref):
-    _keys(ref, REFERENCE_KEYS, "reference")
-    for key, val in ref.items():
-        f = f"reference.{key}"
-        if key in REFERENCE_NUMBERS:
-            _ranged(val, f, "reference")
-        elif key in REFERENCE_LISTS:
-            if isinstance(val, list):
-                _list(val, f, max_items=100)
-            for k, x in enumerate(val if isinstance(val, list) else [val]):
-                _ranged(x, f"{f}[{k}]" if isinstance(val, list) else f, "reference")
-            if isinstance(val, list) and not val:
-                raise InputError(f, "empty list", "give a number or a list of numbers")
-        elif key in ("table", "n"):
-            _integer(val, f, 1, 10_000)
-        else:  # case label: text or an integer
-            if isinstance(val, bool) or not isinstance(val, (str, int)):
-                raise InputError(
-                    f,
-                    f"expected a label, got {_kind_name(val)} {_show(val)}",
-                    "give text, e.g. S11",
-                )
-            if isinstance(val, str):
-                _text(val, f, max_len=200)
-
-
-def _joint_props(j, kind, field, given=None):
-    """Joint properties of ``j``; ``given`` (support-joint overrides) names which keys the
-    error should point at under ``field`` (the rest were checked under joints already)."""
-
-    def name(key):
-        return field if given is None or key in given else "joints"
-
-    mu = _ranged(j["mu"], f"{name('mu')}.mu", "mu")
-    k_n = _ranged(j["k_n"], f"{name('k_n')}.k_n", "stiffness", " N/m3")
-    k_t = _ranged(j["k_t"], f"{name('k_t')}.k_t", "stiffness", " N/m3")
-    alpha = _ranged(j.get("alpha", 1.5), f"{name('alpha')}.alpha", "alpha")
-    if kind == "dry":
-        for key in ("tensile_strength", "cohesion"):
-            if key in j and _ranged(j[key], f"{name(key)}.{key}", "stress", " Pa") != 0.0:
-                raise InputError(
-                    f"{name(key)}.{key}",
-                    "a dry joint has no tensile strength or cohesion",
-                    "remove it or use kind: mortar",
-                )
-        sig_t, coh = 0.0, 0.0
-    else:
-        if "tensile_strength" not in j:
-            raise InputError(
-                f"{field}.tensile_strength", "missing for a mortar joint", "add it in Pa"
-            )
-        sig_t = _ranged(
-            j["tensile_strength"], f"{name('tensile_strength')}.tensile_strength", "stress", " Pa"
-        )
-        # manuscript Eq. 10: shear strength mu (f_t - f_n), i.e. cohesion c = mu sigma_t
-        if "cohesion" in j:
-            coh = _ranged(j["cohesion"], f"{name('cohesion')}.cohesion", "stress", " Pa")
-        else:
-            coh = mu * sig_t
+def _joint(v: dict, kind: str) -> dict:
+    """The law values of a joint, in the order :func:`build_case` reads them: a dry joint has
+    neither tensile strength nor cohesion."""
+    dry = kind == "dry"
     return {
-        "mu": mu,
-        "k_n": k_n,
-        "k_t": k_t,
-        "alpha": alpha,
-        "tensile_strength": sig_t,
-        "cohesion": coh,
+        "mu": v["mu"],
+        "k_n": v["k_n"],
+        "k_t": v["k_t"],
+        "alpha": v["alpha"],
+        "tensile_strength": 0.0 if dry else v["tensile_strength"],
+        "cohesion": 0.0 if dry else v["cohesion"],
     }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from contextlib import contextmanager
 from datetime import datetime, timezone
 
 import numpy as np
@@ -165,50 +166,49 @@ def run_case(case, output=None, progress=None, limit_analysis=False) -> xr.Datas
     """Run the pushover of a built case (:func:`stonedem.wall.case.build_case`) and, with
     ``limit_analysis``, the LP of the same model (:func:`add_limit_analysis`); optionally write
     the NetCDF atomically (a SIGINT/SIGTERM during the run or the write leaves no file)."""
-    from stonedem.errors import InputError
     from stonedem.wall.pushover import ConvergenceError, DeadLoadError, pushover
 
-    try:
-        result = pushover(case.model, case.settings, case.control_block, progress=progress)
-    except DeadLoadError as err:
-        raise InputError(
-            "restraints",
-            f"leave a mechanism at lambda = 0: {err}",
-            "hold the wall from below, e.g. add {edge: base, fix: all}",
-        ) from err
-    except ConvergenceError as err:  # the live load cannot be started from the dead-load state
-        raise InputError(
-            "restraints",
-            f"the live load cannot be applied: {err}",
-            "check the restraints and the load direction",
-        ) from err
+    # a failure of the run that the input causes, as the one-line refusal of that input; the
+    # live load cannot be started from the dead-load state, or the dead load finds a mechanism
+    with _refused(ConvergenceError, lambda err: f"the live load cannot be applied: {err}"):
+        with _refused(DeadLoadError, lambda err: f"leave a mechanism at lambda = 0: {err}", _BELOW):
+            result = pushover(case.model, case.settings, case.control_block, progress=progress)
     ds = wall_dataset(case, result)
     if limit_analysis:
         from stonedem.wall.limit_analysis import LimitAnalysisError, limit_multiplier
 
-        try:
+        with _refused(LimitAnalysisError, lambda err: f"the limit analysis has no answer: {err}"):
             at_limit = limit_multiplier(
                 case.model,
                 caps_at=result.interface_forces_at_max,
                 lambda_tolerance=LIMIT_ANALYSIS_TOLERANCE,
             )
-        except LimitAnalysisError as err:
-            raise InputError(
-                "restraints",
-                f"the limit analysis has no answer: {err}",
-                "check the restraints and the load direction",
-            ) from err
         add_limit_analysis(ds, at_limit)
     if output is not None:
-        try:
+        # disk full, folder removed meanwhile, ...: one line, no file
+        with _refused(
+            OSError,
+            lambda err: f"cannot write {output} ({err.strerror or err})",
+            "give a path on a writable disk with free space",
+            "-o/--output",
+        ):
             write_dataset(ds, output)
-        except OSError as err:  # disk full, folder removed meanwhile, ...: one line, no file
-            raise InputError(
-                "-o/--output",
-                f"cannot write {output} ({err.strerror or err})",
-                "give a path on a writable disk with free space",
-            ) from err
     return ds
+
+
+_BELOW = "hold the wall from below, e.g. add {edge: base, fix: all}"
+
+
+@contextmanager
+def _refused(kind, problem, fix="check the restraints and the load direction", field="restraints"):
+    """An error of ``kind`` raised inside, as an InputError naming ``field`` with
+    ``problem(error)`` and the fix."""
+    from stonedem.errors import InputError
+
+    try:
+        yield
+    except kind as err:
+        raise InputError(field, problem(err), fix) from err
 
 
 def run_case_file(path, output=None, progress=None, limit_analysis=False) -> xr.Dataset:

@@ -23,8 +23,9 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stonedem.errors import InputError, one_line, plain_number
+from stonedem.errors import InputError, one_line
 from stonedem.io.netcdf import write_dataset
+from stonedem.io.spec import plain_number
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -14,13 +14,14 @@ gives numbers as text (``1.0e9``), and an import must stay cheap (docs/notebook.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 import reprlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from stonedem.errors import InputError, check_text, one_line, plain_number
+from stonedem.errors import InputError, one_line
 
 KINDS = ("number", "integer", "flag", "text", "choice", "numbers", "mapping", "list", "any")
 
@@ -39,6 +40,44 @@ _RANGE = re.compile(r"^\s*([\[(])\s*([^,\s]*)\s*,\s*([^,\s]*)\s*([\])])\s*$")
 _REPR = reprlib.Repr()
 _REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple, _REPR.maxset = 2, 3, 3, 3, 3
 _REPR.maxstring, _REPR.maxother, _REPR.maxlong = 40, 40, 40
+
+
+def plain_number(value):
+    """A number of any kind Python or numpy has (``np.float32(0.6)``, ``np.int64(3)``, a 0-d
+    array) as a Python int or float, so that checkers need know only those two; anything else,
+    bools (``np.True_`` too) included, comes back unchanged for the checker to refuse."""
+    if (
+        getattr(value, "ndim", None) == 0
+        and hasattr(value, "item")
+        and not isinstance(value, (int, float))
+    ):
+        value = value.item()  # numpy scalars and 0-d arrays; np.bool_ gives a bool
+    if type(value) in (bool, int, float):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    return value
+
+
+def check_text(value, field: str, max_len: int, one_line: bool = True, describe=None) -> str:
+    """Free text of at most ``max_len`` printable characters (``one_line=False``: line breaks
+    and tabs too), or an InputError naming ``field``; ``describe(value)`` words a non-text
+    value in the message (default: its type's name)."""
+    if not isinstance(value, str):
+        got = describe(value) if describe else type(value).__name__
+        raise InputError(field, f"expected text, got {got}", "give text in quotes")
+    if len(value) > max_len:
+        raise InputError(field, f"{len(value)} characters exceed the limit {max_len}", "shorten it")
+    bad = next((c for c in value if not c.isprintable() and (one_line or c not in "\n\t")), None)
+    if bad is not None:
+        raise InputError(
+            field,
+            f"contains the control character {bad!r}",
+            "give printable text" + (" on one line" if one_line else ""),
+        )
+    return value
 
 
 def show(value, limit: int = 40) -> str:

@@ -47,8 +47,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stonedem.errors import InputError, plain_number
-from stonedem.io.spec import NUMERIC_TEXT, REQUIRED, Derived, Field, Spec, got, plain_list, show
+from stonedem.errors import InputError
+from stonedem.io.spec import (
+    NUMERIC_TEXT,
+    REQUIRED,
+    Derived,
+    Field,
+    Spec,
+    got,
+    plain_list,
+    plain_number,
+    show,
+)
 from stonedem.io.yaml_file import printable as _printable
 from stonedem.io.yaml_file import read_yaml_mapping
 from stonedem.wall.panel import EDGES, KIND_HEAD, KIND_SUPPORT, SUPPORT, build_panel

@@ -323,7 +323,7 @@ def test_a_plan_reuses_what_depends_on_the_bodies_alone_while_the_bodies_are_the
         ).horizontal,
     )
     assert memo(scene) == memo(louder) == stability_limit(scene) and len(calls) == 1
-    stiffer = dataclasses.replace(scene, contact=dataclasses.replace(scene.contact, k_n=4.0e9))
+    stiffer = dataclasses.replace(scene, contact=scene.contact.replace(k_n=4.0e9))
     assert memo(stiffer) == stability_limit(stiffer) < stability_limit(scene) and len(calls) == 2
     rebuilt = scene_from_dict(spec)  # equal bodies, another tuple: computed again
     assert memo(rebuilt) == stability_limit(scene) and len(calls) == 3

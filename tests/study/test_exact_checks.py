@@ -223,7 +223,7 @@ def test_area_law_layer_b_refuses_k_n_times_1_plus_1e_minus_6_not_a_fresh_member
 
     def stiffer(scene):
         return dataclasses.replace(
-            scene, contact=dataclasses.replace(scene.contact, k_n=scene.contact.k_n * (1 + 1e-6))
+            scene, contact=scene.contact.replace(k_n=scene.contact.k_n * (1 + 1e-6))
         )
 
     passed, table = candidate(stiffer)

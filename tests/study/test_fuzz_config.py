@@ -22,13 +22,11 @@ from hypothesis import given, note
 from hypothesis import strategies as st
 
 from stonedem.errors import InputError
+from stonedem.io.spec import parse_range
 from stonedem.study.grid import (
     CASE_ID_PATTERN,
-    CHOICES,
-    COUNTS,
-    NONNEGATIVE,
     PARAMETERS,
-    POSITIVE,
+    SWEPT,
     check_config,
     config_cases,
     load_config,
@@ -90,10 +88,12 @@ def plausible(key: str):
         return st.sampled_from(RECORD_NAMES)
     if key == "component":
         return st.sampled_from(["FF01a", "NP03b", "NN15a"])
-    if key in CHOICES:
-        return st.sampled_from(CHOICES[key])
-    if key in COUNTS:
-        return st.integers(COUNTS[key][0], min(COUNTS[key][0] + 7, COUNTS[key][1]))
+    field = SWEPT[key]
+    if field.kind == "choice":
+        return st.sampled_from(field.choices)
+    if field.kind == "integer":
+        low, high = (int(x) for x in parse_range(field.range)[:2])
+        return st.integers(low, min(low + 7, high))
     low, high = {
         "pga": (0.5, 16.0),
         "pga_scale": (0.5, 9.0),
@@ -104,13 +104,11 @@ def plausible(key: str):
         "taper": (1.0, 2.0),
         "friction": (0.2, 1.0),
         "weak_joint_mu": (0.0, 0.5),
-    }[key]
+    }.get(key, (0.5, 2.0))  # a new parameter: refused by name, or a case that builds
     return st.floats(low, high).map(lambda v: round(v, 3))
 
 
-assert set(PARAMETERS) == {"record", "component", *CHOICES, *COUNTS, *POSITIVE, *NONNEGATIVE}, (
-    "a parameter without a value rule"
-)
+assert set(PARAMETERS) == set(SWEPT.keys), "a parameter without a value rule"
 
 SCENE_FIELDS = [
     ("friction",),
@@ -476,13 +474,17 @@ def test_the_real_configs_pass_and_the_schema_knows_every_parameter():
         _assert_dag_builds(config, tables)
     schema = yaml.safe_load(SCHEMA.read_text())
     study = schema["properties"]["studies"]["additionalProperties"]["properties"]
-    assert (
-        set(study["grid"]["properties"])
-        == set(PARAMETERS)
-        == set(study["cases"]["items"]["properties"])
+    assert study["grid"]["$ref"] == "#/$defs/grid" and study["cases"]["items"]["$ref"] == (
+        "#/$defs/case"
     )
-    for key, (low, high) in COUNTS.items():
+    assert (
+        set(schema["$defs"]["grid"]["properties"])
+        == set(PARAMETERS)
+        == set(schema["$defs"]["case"]["properties"])
+    )
+    for key in ("n_drums", "n_columns", "weak_joint"):
+        low, high = parse_range(SWEPT[key].range)[:2]
         assert (schema["$defs"][key]["minimum"], schema["$defs"][key]["maximum"]) == (low, high), (
             key
         )
-    assert schema["$defs"]["epistyle_type"]["enum"] == list(CHOICES["epistyle_type"])
+    assert schema["$defs"]["epistyle_type"]["enum"] == list(SWEPT["epistyle_type"].choices)

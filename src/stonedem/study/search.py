@@ -21,11 +21,13 @@ few levels ahead. Replayed on the known outcomes, the rule then makes exactly th
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Callable
 
 from stonedem.errors import InputError
+from stonedem.io.spec import NUMERIC_TEXT, Field, Spec, got
 
 # search statuses (summary()["status"])
 BRACKETED = "bracketed"  # smallest collapse within tolerance of the largest survivor below it
@@ -38,6 +40,36 @@ ROUNDING = "bracketed as narrow as the rounding allows, wider than the tolerance
 SIGNIFICANT_DIGITS = 4  # values run are rounded to this (a 2 % bracket needs 3)
 # the narrowest bracket every search reaches: one unit in the last digit at 1.000...
 FINEST_TOLERANCE = 10.0 ** (1 - SIGNIFICANT_DIGITS)
+
+
+# --- config values as the config's YAML schema types them (here: grid imports this module) ---
+# The kit also reads numeric text ("1.0e9") as a number, a whole float (3.0) as a count and a
+# null as an absent key, for scripts and YAML 1.1; a config value keeps its YAML type, as the
+# case ids and the scenes have it, so typed and checked refuse those.
+YAML_NUMBER = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
+
+
+def typed(f: Field, value, where: str):
+    """``f.check(value, where)``, refusing numeric text for a number and a float for an integer;
+    a null is refused unless the field's kind is ``any``."""
+    problem = None
+    if f.kind == "number" and isinstance(value, str) and NUMERIC_TEXT.fullmatch(value.strip()):
+        problem, fix = f"expected a number, got {got(value)}", YAML_NUMBER
+    elif f.kind == "integer" and isinstance(value, float):
+        problem, fix = f"must be an integer, got {got(value)}", f.hint or "give a whole number"
+    if problem:
+        raise InputError(where, problem, fix)
+    return f.check(value, where)
+
+
+def checked(spec: Spec, mapping, where: str, nullable=()) -> dict:
+    """``spec.check(mapping, where)`` (defaults filled in), each given value first checked by
+    :func:`typed`; a null stands for an absent key only for the ``nullable`` keys."""
+    spec.check_keys(mapping, where)
+    for f in spec.fields:  # in the rows' order, as the kit checks them
+        if f.key in mapping and (mapping[f.key] is not None or f.key not in nullable):
+            typed(f, mapping[f.key], f"{where}.{f.key}" if where else f.key)
+    return spec.check(mapping, where)
 
 
 @dataclass(frozen=True)
@@ -59,98 +91,97 @@ class SearchSettings:
     histories: bool = True
 
     @classmethod
-    def from_config(cls, spec, where: str, parameters) -> "SearchSettings":
-        """From a study's ``search:`` mapping; an InputError names the field and the fix."""
-        if not isinstance(spec, dict):
-            raise InputError(
-                where,
-                f"expected a mapping, got {spec!r}",
-                "write search: {parameter: pga, start: 1.0, tolerance: 0.02}",
+    def from_config(cls, spec, where: str, parameters=None) -> "SearchSettings":
+        """From a study's ``search:`` mapping (:data:`SEARCH`; ``parameters``: those it may
+        search, default :data:`SEARCH_PARAMETERS`); an InputError names the field and the fix."""
+        rows = SEARCH
+        if parameters is not None and tuple(parameters) != SEARCH_PARAMETERS:
+            rows = SEARCH.replace(
+                dataclasses.replace(SEARCH["parameter"], choices=tuple(parameters))
             )
-        known = {f.name: f for f in fields(cls)}
-        for key in spec:
-            if key not in known:
-                raise InputError(
-                    f"{where}.{key}", "unknown key", f"allowed keys: {', '.join(known)}"
-                )
-        parameter = spec.get("parameter", cls.parameter)
-        if parameter not in parameters:
-            raise InputError(
-                f"{where}.parameter",
-                f"unknown parameter {parameter!r}",
-                f"use a numeric study parameter such as {', '.join(parameters)}",
-            )
-        values = {}
-        for key in ("start", "factor", "tolerance", "minimum", "maximum"):
-            value = spec.get(key, getattr(cls, key))
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, (int, float))
-                or not math.isfinite(value)
-                or value <= 0
-            ):
-                raise InputError(
-                    f"{where}.{key}",
-                    f"expected a positive number, got {value!r}",
-                    "give a positive finite number",
-                )
-            values[key] = float(value)
-        for key, low, high in (("fill", 0, 100), ("max_runs", 1, 1000)):
-            value = spec.get(key, getattr(cls, key))
-            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-                raise InputError(
-                    f"{where}.{key}",
-                    f"expected an integer {low} ... {high}, got {value!r}",
-                    f"give an integer {low} ... {high}",
-                )
-            values[key] = value
-        histories = spec.get("histories", cls.histories)
-        if not isinstance(histories, bool):
-            raise InputError(
-                f"{where}.histories",
-                f"expected true or false, got {histories!r}",
-                "write histories: false to keep the runs' measures only",
-            )
-        values["histories"] = histories
-        if values["tolerance"] >= 1.0:
-            raise InputError(
-                f"{where}.tolerance",
-                f"{values['tolerance']:g} is not a relative width < 1",
-                "give e.g. tolerance: 0.02 (2 %)",
-            )
-        check_tolerance(values["tolerance"], f"{where}.tolerance")
+        values = checked(rows, spec, where)
+        # across the fields: the hunt, the bracket and the run budget must fit together
+        problem = None
         if values["factor"] <= 1.0 + values["tolerance"]:
-            raise InputError(
-                f"{where}.factor",
-                f"{values['factor']:g} must exceed 1 + tolerance",
-                "hunt in steps wider than the bracket, e.g. factor: 1.8",
+            key, problem = "factor", f"{values['factor']:g} must exceed 1 + tolerance"
+            fix = SEARCH["factor"].hint
+        elif not values["minimum"] <= values["start"] <= values["maximum"]:
+            key, problem = (
+                "start",
+                (
+                    f"{values['start']:g} outside minimum ... maximum "
+                    f"({values['minimum']:g} ... {values['maximum']:g})"
+                ),
             )
-        if not values["minimum"] <= values["start"] <= values["maximum"]:
-            raise InputError(
-                f"{where}.start",
-                f"{values['start']:g} outside minimum ... maximum "
-                f"({values['minimum']:g} ... {values['maximum']:g})",
-                "start inside the range",
+            fix = "start inside the range"
+        elif values["max_runs"] < _runs_needed(values):
+            key, problem = (
+                "max_runs",
+                (
+                    f"{values['max_runs']} runs cannot hunt over "
+                    f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance"
+                ),
             )
-        if values["max_runs"] < _runs_needed(values):
-            raise InputError(
-                f"{where}.max_runs",
-                f"{values['max_runs']} runs cannot hunt over "
-                f"{values['minimum']:g} ... {values['maximum']:g} and bisect to the tolerance",
-                f"allow at least {_runs_needed(values)} runs",
-            )
-        return cls(parameter=parameter, **values)
+            fix = f"allow at least {_runs_needed(values)} runs"
+        if problem:
+            raise InputError(f"{where}.{key}", problem, fix)
+        return cls(**values)
 
 
-def check_tolerance(tolerance: float, field: str) -> None:
-    """Refuse a tolerance the rounded values cannot bracket (the search would stop wider)."""
-    if tolerance < FINEST_TOLERANCE:
-        raise InputError(
-            field,
-            f"{tolerance:g} is finer than the search resolves (values run are rounded to "
-            f"{SIGNIFICANT_DIGITS} significant digits)",
-            f"give tolerance >= {FINEST_TOLERANCE:g}, the finest the search can do",
-        )
+# parameters a threshold search may sweep: the intensity measures of the excitation
+SEARCH_PARAMETERS = ("pga", "pga_scale", "amplitude")
+_D = SearchSettings  # the defaults
+# a study's search: (config ``search:``), one row per setting of SearchSettings
+SEARCH = Spec(
+    (
+        Field(
+            "parameter",
+            "choice",
+            choices=SEARCH_PARAMETERS,
+            default=_D.parameter,
+            doc="the searched parameter (default pga); not in the study's grid or cases",
+        ),
+        Field("start", range="(0, inf)", default=_D.start, doc="first value of the hunt"),
+        Field(
+            "factor",
+            range="(1, inf)",
+            default=_D.factor,
+            hint="hunt in steps wider than the bracket, e.g. factor: 1.8",
+            doc="hunt step: each value this times the last",
+            units="1",
+        ),
+        Field(
+            "tolerance",
+            range=f"[{FINEST_TOLERANCE:g}, 1)",
+            default=_D.tolerance,
+            hint=f"give tolerance >= {FINEST_TOLERANCE:g}, the finest the search can do (values "
+            f"run are rounded to {SIGNIFICANT_DIGITS} significant digits), and < 1, e.g. 0.02",
+            doc="bracket width: smallest collapse / largest survivor below it - 1; at least "
+            f"{FINEST_TOLERANCE:g}, the finest the search's {SIGNIFICANT_DIGITS}-digit values "
+            "resolve (stonedem.study.search.FINEST_TOLERANCE)",
+            units="1",
+        ),
+        Field("minimum", range="(0, inf)", default=_D.minimum, doc="lowest value the hunt tries"),
+        Field("maximum", range="(0, inf)", default=_D.maximum, doc="highest value the hunt tries"),
+        Field(
+            "fill",
+            "integer",
+            range="[0, 100]",
+            default=_D.fill,
+            doc="runs filling the widest gaps below the threshold",
+        ),
+        Field("max_runs", "integer", range="[1, 1000]", default=_D.max_runs, doc="runs at most"),
+        Field(
+            "histories",
+            "flag",
+            default=_D.histories,
+            hint="write histories: false to keep the runs' measures only",
+            doc="keep the runs' histories in the search file",
+        ),
+    )
+)
+# search_together's runs per search and round
+WIDTH = Field("width", "integer", range="[1, inf)", hint="give e.g. width=8")
 
 
 def _runs_needed(v: dict) -> int:
@@ -278,10 +309,7 @@ def search_together(
     round): ``run_many([(search, value, phase), ...])`` simulates them all at once and returns
     whether each collapsed. Returns each search's runs, as :func:`search` makes them, and the
     number of rounds."""
-    if isinstance(width, bool) or not isinstance(width, int) or width < 1:
-        raise InputError(
-            "width", f"expected a whole number >= 1, got {width!r}", "give e.g. width=8"
-        )
+    typed(WIDTH, width, "width")
     outcomes: list[dict[float, bool]] = [{} for _ in settings]
     rounds = 0
     while True:

@@ -28,6 +28,8 @@ import numpy as np
 from scipy import special
 
 from stonedem.errors import InputError
+from stonedem.io.spec import Field
+from stonedem.study.search import typed
 
 # probit statuses (probit_fit()["status"])
 FITTED = "fitted"
@@ -45,42 +47,56 @@ BETA_AT_MAXIMUM = "beta at its upper bound"  # collapse falls with PGA: the fit 
 BETA_MIN = 1e-4
 BETA_MAX = 5.0
 
+# the bootstrap's settings (bootstrap_band)
+N_BOOT = Field("n_boot", "integer", range="[1, inf)", hint="give e.g. 1000")
+LEVEL = Field("level", range="(0, 1)", hint="give e.g. 0.90")
+
+
+def _require(ok, field: str, problem: str, fix: str) -> None:
+    """Refuse a run table that is not one (its arrays' shapes, values and agreement)."""
+    if not ok:
+        raise InputError(field, problem, fix)
+
 
 def _runs(values, members, collapsed):
     """The run table as float, int64 and int8 arrays; an InputError for anything else."""
     arrays = []
     for name, data in (("values", values), ("members", members), ("collapsed", collapsed)):
         array = np.asarray(data)
-        if array.ndim != 1:
-            raise InputError(
-                name,
-                f"expected one entry per run, got an array of shape {array.shape}",
-                "give a flat array of the run table",
-            )
+        _require(
+            array.ndim == 1,
+            name,
+            f"expected one entry per run, got an array of shape {array.shape}",
+            "give a flat array of the run table",
+        )
         arrays.append(array)
     v, m, c = arrays
-    if not v.size == m.size == c.size:
-        raise InputError(
-            "values",
-            f"{v.size} values, {m.size} members and {c.size} collapse flags",
-            "give one value, member and collapse flag per run",
-        )
+    _require(
+        v.size == m.size == c.size,
+        "values",
+        f"{v.size} values, {m.size} members and {c.size} collapse flags",
+        "give one value, member and collapse flag per run",
+    )
     v = v.astype(float)
-    if not np.all(np.isfinite(v) & (v > 0)):
-        raise InputError(
-            "values",
-            "every run value must be finite and positive",
-            "give the searched PGA of each run",
-        )
-    if m.size and not (np.issubdtype(m.dtype, np.integer) or np.all(m == np.round(m))):
-        raise InputError(
-            "members", "member indices must be integers", "give the member index j of each run"
-        )
+    _require(
+        np.all(np.isfinite(v) & (v > 0)),
+        "values",
+        "every run value must be finite and positive",
+        "give the searched PGA of each run",
+    )
+    _require(
+        not m.size or np.issubdtype(m.dtype, np.integer) or np.all(m == np.round(m)),
+        "members",
+        "member indices must be integers",
+        "give the member index j of each run",
+    )
     c = c.astype(float)
-    if not np.all((c == 0) | (c == 1)):
-        raise InputError(
-            "collapsed", "collapse flags must be 0 or 1", "give 1 for a collapse, 0 for a survivor"
-        )
+    _require(
+        np.all((c == 0) | (c == 1)),
+        "collapsed",
+        "collapse flags must be 0 or 1",
+        "give 1 for a collapse, 0 for a survivor",
+    )
     return v, m.astype(np.int64), c.astype(np.int8)
 
 
@@ -121,16 +137,15 @@ def _per_member(name, data, member_ids):
     coordinate, increasing)."""
     if isinstance(data, dict):
         missing = [int(j) for j in member_ids if int(j) not in data]
-        if missing:
-            raise InputError(name, f"no entry for members {missing}", "give one value per member")
+        _require(not missing, name, f"no entry for members {missing}", "give one value per member")
         return np.array([data[int(j)] for j in member_ids], dtype=float)
     array = np.asarray(data, dtype=float)
-    if array.shape != member_ids.shape:
-        raise InputError(
-            name,
-            f"{array.size} values for the {member_ids.size} members of the runs",
-            "give one value per member, in increasing member order",
-        )
+    _require(
+        array.shape == member_ids.shape,
+        name,
+        f"{array.size} values for the {member_ids.size} members of the runs",
+        "give one value per member, in increasing member order",
+    )
     return array
 
 
@@ -150,12 +165,18 @@ def missing_stripe_runs(values, members, thresholds, survived, member_ids=None):
     flags = np.zeros(np.shape(values), np.int8)  # outcomes play no part in the zone
     v, m, _ = _runs(values, members, flags)
     ids = np.unique(m) if member_ids is None else np.asarray(member_ids, dtype=np.int64).ravel()
-    if np.unique(ids).size != ids.size:
-        raise InputError("member_ids", "member indices repeat", "give each member once")
-    if not np.all(np.isin(m, ids)):
-        raise InputError(
-            "members", "a run belongs to a member not in member_ids", "list every member"
-        )
+    _require(
+        np.unique(ids).size == ids.size,
+        "member_ids",
+        "member indices repeat",
+        "give each member once",
+    )
+    _require(
+        np.all(np.isin(m, ids)),
+        "members",
+        "a run belongs to a member not in member_ids",
+        "list every member",
+    )
     upper = _per_member("thresholds", thresholds, ids)
     lower = _per_member("survived", survived, ids)
     if v.size == 0:
@@ -163,10 +184,7 @@ def missing_stripe_runs(values, members, thresholds, survived, member_ids=None):
     ends = []
     for j, up, low in zip(ids, upper, lower):
         mine = v[m == j]
-        if mine.size == 0:
-            raise InputError(
-                "members", f"member {j} has no runs", "give every member's search runs"
-            )
+        _require(mine.size, "members", f"member {j} has no runs", "give every member's search runs")
         ends.append(
             (low if np.isfinite(low) else mine.min(), up if np.isfinite(up) else mine.max())
         )
@@ -353,22 +371,24 @@ def probit_fit(levels, n_runs, n_collapses) -> dict:
     a = np.asarray(levels, dtype=float)
     n = np.asarray(n_runs)
     k = np.asarray(n_collapses)
-    if not (a.ndim == n.ndim == k.ndim == 1) or not a.size == n.size == k.size:
-        raise InputError(
-            "levels",
-            f"{a.size} levels, {n.size} run counts and {k.size} collapse counts",
-            "give one run count and one collapse count per level",
-        )
-    if not np.all(np.isfinite(a) & (a > 0)):
-        raise InputError(
-            "levels", "levels must be finite and positive", "give the PGA of each stripe"
-        )
-    if not (np.all(n == np.round(n)) and np.all(k == np.round(k)) and np.all((0 <= k) & (k <= n))):
-        raise InputError(
-            "n_collapses",
-            "counts must be whole numbers with 0 <= collapses <= runs",
-            "give the runs and collapses at each level",
-        )
+    _require(
+        a.ndim == n.ndim == k.ndim == 1 and a.size == n.size == k.size,
+        "levels",
+        f"{a.size} levels, {n.size} run counts and {k.size} collapse counts",
+        "give one run count and one collapse count per level",
+    )
+    _require(
+        np.all(np.isfinite(a) & (a > 0)),
+        "levels",
+        "levels must be finite and positive",
+        "give the PGA of each stripe",
+    )
+    _require(
+        np.all(n == np.round(n)) and np.all(k == np.round(k)) and np.all((0 <= k) & (k <= n)),
+        "n_collapses",
+        "counts must be whole numbers with 0 <= collapses <= runs",
+        "give the runs and collapses at each level",
+    )
     a50, beta, code, ll = _fit_rows(
         np.log(a)[None, :], n[None, :].astype(float), k[None, :].astype(float)
     )
@@ -389,12 +409,8 @@ def bootstrap_band(values, members, collapsed, n_boot=1000, level=0.90, seed=0):
     everything collapsed as a50 = 0 (the fit lies beyond the levels run); the band ends are
     order statistics (no interpolation across an infinity). NaN band where the fit of the
     data itself has no a50."""
-    if isinstance(n_boot, bool) or not isinstance(n_boot, (int, np.integer)) or n_boot < 1:
-        raise InputError(
-            "n_boot", f"expected a positive whole number, got {n_boot!r}", "give e.g. 1000"
-        )
-    if not (isinstance(level, (int, float)) and 0 < level < 1):
-        raise InputError("level", f"expected a number in (0, 1), got {level!r}", "give e.g. 0.90")
+    typed(N_BOOT, n_boot, "n_boot")
+    typed(LEVEL, level, "level")
     v, m, c = _runs(values, members, collapsed)
     member_ids, levels, ran, hit = _member_table(v, m, c)
     x = np.log(levels)
@@ -446,16 +462,18 @@ def threshold_band(values, members, collapsed, thresholds, n_boot=1000, level=0.
     v, m, c = _runs(values, members, collapsed)
     t = np.asarray(thresholds, dtype=float).ravel()
     member_ids = np.unique(m)
-    if t.size != member_ids.size:
-        raise InputError(
-            "thresholds",
-            f"{t.size} thresholds for the {member_ids.size} members of the runs",
-            "give one search threshold per member (NaN for none)",
-        )
-    if np.any(np.isfinite(t) & (t <= 0)) or np.any(np.isneginf(t)):
-        raise InputError(
-            "thresholds", "thresholds must be positive (NaN for none)", "give each member's upper"
-        )
+    _require(
+        t.size == member_ids.size,
+        "thresholds",
+        f"{t.size} thresholds for the {member_ids.size} members of the runs",
+        "give one search threshold per member (NaN for none)",
+    )
+    _require(
+        not (np.any(np.isfinite(t) & (t <= 0)) or np.any(np.isneginf(t))),
+        "thresholds",
+        "thresholds must be positive (NaN for none)",
+        "give each member's upper",
+    )
     levels, n, k = stripes(v, m, c)
     fit = probit_fit(levels, n, k)
     low, high = bootstrap_band(v, m, c, n_boot=n_boot, level=level, seed=seed)

@@ -11,6 +11,7 @@ duplicate keys (PyYAML keeps the last one silently), before a single value is us
 
 from __future__ import annotations
 
+import stat
 from pathlib import Path
 
 import yaml
@@ -160,26 +161,21 @@ def read_bytes_checked(path: str | Path, what: str, max_bytes: int) -> bytes:
     where = printable(path)
     try:
         info = path.stat()
-    except FileNotFoundError:
-        raise InputError(where, f"{what} not found", "check the path") from None
-    except OSError as err:
-        raise InputError(
-            where, f"cannot read {what} ({err.strerror})", "give a readable file"
-        ) from None
-    if path.is_dir():
-        raise InputError(where, f"is a folder, not {what}", f"give the path of {what}")
-    if not path.is_file():
-        raise InputError(where, "is not a regular file", f"give the path of {what}")
-    if info.st_size > max_bytes:
-        raise InputError(
-            where,
-            f"{info.st_size} bytes exceed the limit of {max_bytes} for {what}",
-            f"give {what}; is this the right file?",
-        )
-    try:
+        if stat.S_ISDIR(info.st_mode):
+            raise InputError(where, f"is a folder, not {what}", f"give the path of {what}")
+        if not stat.S_ISREG(info.st_mode):  # a FIFO or a device: reading it could hang
+            raise InputError(where, "is not a regular file", f"give the path of {what}")
+        if info.st_size > max_bytes:
+            raise InputError(
+                where,
+                f"{info.st_size} bytes exceed the limit of {max_bytes} for {what}",
+                f"give {what}; is this the right file?",
+            )
         with open(path, "rb") as handle:
             return handle.read(max_bytes + 1)[:max_bytes]
-    except OSError as err:
+    except FileNotFoundError:
+        raise InputError(where, f"{what} not found", "check the path") from None
+    except OSError as err:  # no permission, a loop of links, a file that went away mid-read
         raise InputError(
             where, f"cannot read {what} ({err.strerror})", "give a readable file"
         ) from None

@@ -30,8 +30,8 @@ def column(duration=1.0, every=0.01, **extra):
 @pytest.mark.parametrize(
     "field, value, message",
     [
-        ("name", ["lol"] * 3, "name: expected text, got list"),
-        ("description", {"a": 1}, "description: expected text, got dict"),
+        ("name", ["lol"] * 3, "name: expected text, got a list"),
+        ("description", {"a": 1}, "description: expected text, got a mapping"),
         ("name", "x" * (MAX_TEXT + 1), "name: 1001 characters exceed the limit 1000"),
         ("description", "y" * 5000, "description: 5000 characters exceed the limit 1000"),
         ("name", "two\nlines", r"name: contains the control character '\\n'"),

@@ -151,7 +151,9 @@ def test_strict_fields_take_plain_numbers_only():
     assert n.check(3) == 3 and x.check(np.float64(2.0)) == 2.0
     with pytest.raises(InputError, match=r"^n: must be an integer, got a number 3\.0"):
         n.check(3.0)
-    with pytest.raises(InputError, match=r"^x: expected a number, got text '1\.0e3'"):
+    with pytest.raises(
+        InputError, match=r"^x: expected a number, got text '1\.0e3'; write it as a"
+    ):
         x.check("1.0e3")
 
 

@@ -35,6 +35,7 @@ REQUIRED = _Required()  # a Field default: the key must be given
 
 # a number written as text: YAML 1.1 reads 1.0e9 (no sign in the exponent) as a string
 NUMERIC_TEXT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+YAML_NUMBER = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
 _RANGE = re.compile(r"^\s*([\[(])\s*([^,\s]*)\s*,\s*([^,\s]*)\s*([\])])\s*$")
 
 _REPR = reprlib.Repr()
@@ -222,7 +223,9 @@ def _fail(f: Field, name: str, problem: str, fix: str = ""):
 
 def _number_value(f: Field, value, name: str, what: str = "a number"):
     value = plain_number(value)
-    if isinstance(value, str) and not f.strict and NUMERIC_TEXT.fullmatch(value.strip()):
+    if isinstance(value, str) and NUMERIC_TEXT.fullmatch(value.strip()):
+        if f.strict:
+            _fail(f, name, f"expected {what}, got {got(value)}", YAML_NUMBER)
         value = float(value)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         units = f" in {f.units}" if f.units not in ("", "1") else ""

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from stonedem.errors import InputError
-from stonedem.io.spec import NUMERIC_TEXT, Field, Spec, got
+from stonedem.io.spec import Field, Spec
 
 # search statuses (summary()["status"])
 BRACKETED = "bracketed"  # smallest collapse within tolerance of the largest survivor below it
@@ -46,20 +46,10 @@ FINEST_TOLERANCE = 10.0 ** (1 - SIGNIFICANT_DIGITS)
 # The kit also reads numeric text ("1.0e9") as a number, a whole float (3.0) as a count and a
 # null as an absent key, for scripts and YAML 1.1; a config value keeps its YAML type, as the
 # case ids and the scenes have it, so typed and checked refuse those.
-YAML_NUMBER = "write it as a YAML number (YAML 1.1 reads 1.0e9 as text: write 1.0e+9)"
-
-
 def typed(f: Field, value, where: str):
-    """``f.check(value, where)``, refusing numeric text for a number and a float for an integer;
-    a null is refused unless the field's kind is ``any``."""
-    problem = None
-    if f.kind == "number" and isinstance(value, str) and NUMERIC_TEXT.fullmatch(value.strip()):
-        problem, fix = f"expected a number, got {got(value)}", YAML_NUMBER
-    elif f.kind == "integer" and isinstance(value, float):
-        problem, fix = f"must be an integer, got {got(value)}", f.hint or "give a whole number"
-    if problem:
-        raise InputError(where, problem, fix)
-    return f.check(value, where)
+    """``f.check(value, where)`` as a strict field: a config number must be written as one
+    (not as text), an integer as an integer (not 3.0)."""
+    return dataclasses.replace(f, strict=True).check(value, where)
 
 
 def checked(spec: Spec, mapping, where: str, nullable=()) -> dict:

@@ -1,20 +1,42 @@
 """The config schema's generated $defs (stonedem.study.schema) and the typed checks."""
 
 import math
+from pathlib import Path
 
 import pytest
 import yaml
 
 from stonedem.errors import InputError
 from stonedem.study.grid import PARAMETERS, SWEPT, check_value
-from stonedem.study.schema import SCHEMA_FILE, generated_defs, main, render
+from stonedem.study.schema import generated_defs, main, render
 from stonedem.study.search import SEARCH
+
+ROOT = Path(__file__).resolve().parents[2]
+SCHEMA_FILE = ROOT / "workflow" / "schemas" / "config.schema.yaml"
 
 
 def test_the_committed_schema_is_what_the_rows_generate():
     text = SCHEMA_FILE.read_text()
     assert render(text) == text, "run python -m stonedem.study.schema"
-    assert main(["--check"]) == 0
+    assert main([str(SCHEMA_FILE), "--check"]) == 0
+
+
+def test_the_command_refuses_in_one_line_and_writes_only_when_stale(tmp_path, capsys):
+    stale = tmp_path / "config.schema.yaml"
+    text = SCHEMA_FILE.read_text()
+    stale.write_text(text.replace("$defs/pga", "$defs/nothing"))
+    assert main([str(stale), "--check"]) == 1
+    assert main([str(stale)]) == 0 and stale.read_text() == text
+    for bad, message in (
+        (tmp_path / "none.yaml", "the config schema not found"),
+        (tmp_path, "is a folder, not the config schema"),
+    ):
+        assert main([str(bad)]) == 2
+        assert message in capsys.readouterr().err
+    other = tmp_path / "other.yaml"
+    other.write_text("a: 1\n")
+    assert main([str(other)]) == 2 and other.read_text() == "a: 1\n"
+    assert "SCHEMA: has no generated block" in capsys.readouterr().err
     defs = yaml.safe_load(text)["$defs"]
     assert {key: defs[key] for key in generated_defs()} == generated_defs()
     assert set(defs["grid"]["properties"]) == set(PARAMETERS) == set(SWEPT.keys)

@@ -173,8 +173,12 @@ SCENE = Spec(
         ),
         Field("contact", "any", doc="the contact law: the keys of its row (stonedem.engine.laws)"),
         Field("excitation", "any", doc="the base motion (stonedem.motion.excitation)"),
-        Field("solver", "mapping", spec=SOLVER),  # checked after the bodies
-        Field("output", "mapping", spec=OUTPUT),  # checked after the bodies
+        Field(
+            "solver", "mapping", doc="time stepping (keys: solver., below)"
+        ),  # its keys: after the bodies
+        Field(
+            "output", "mapping", doc="sampling of the histories (keys: output., below)"
+        ),  # its keys: after the bodies
     )
 )
 # provenance: a scene's solver: and output: as given over these (auto stays "auto")

@@ -142,6 +142,7 @@ def test_a_new_contact_law_is_one_row(monkeypatch):
             pair_dashpot=lambda law, length, mass: (
                 4.0 * law.zeta_percent / 100.0 * math.sqrt(0.5 * law.k_n * length * mass)
             ),
+            loop=LAWS["point"].loop,
             hint="soft_point (a toy)",
         ),
     )

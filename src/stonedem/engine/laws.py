@@ -1,8 +1,11 @@
 """Contact laws: one row each, read by every consumer (scene parsing, packing, the time step,
 dataset attributes and the benchmarks).
 
-A new law is its kernel (``stonedem/kernels/<law>.py``), its branch in the contact-law
-dispatch of :func:`stonedem.kernels.step.run` and its row here.
+A new law is three files: its kernel (``stonedem/kernels/<law>.py``), its branch in
+:mod:`stonedem.kernels.step` (its force call in ``run_under_law`` and a ``run_<law>`` loop
+compiled with it alone) and its row here, which declares its own keys and names that loop.
+Every other consumer reads the row (tests/test_registries.py adds a toy law with a key of its
+own).
 """
 
 from __future__ import annotations
@@ -59,6 +62,7 @@ class Law:
     damping_key: str  # the key of its damping: c_n [N s m-1] or zeta [1]
     # (ContactLaw, face length [m], body mass [kg]) -> normal dashpot [N s m-1]
     pair_dashpot: Callable
+    loop: Callable  # the general loop compiled with this law alone (stonedem.kernels.step.run_*)
     hint: str  # how to choose it, for error messages
     c_t: object = 0.0  # the default tangential dashpot (a value or a Derived)
 
@@ -132,6 +136,7 @@ LAWS: dict[str, Law] = {
         describe="overlap area, thesis Eq. 3.4-3.6",
         damping_key="c_n",
         pair_dashpot=lambda law, length, mass: law.c_n,
+        loop=step.run_area,
         hint="area (thesis overlap area)",
         c_t=Derived("c_n", lambda v: v["c_n"]),
     ),
@@ -171,6 +176,12 @@ LAWS: dict[str, Law] = {
         pair_dashpot=lambda law, length, mass: (
             4.0 * law.damping * math.sqrt(0.5 * law.k_n * length * mass)
         ),
+        loop=step.run_point,
         hint="point (vertex contacts, default)",
     ),
 }
+
+
+def general_loop(code: int) -> Callable:
+    """The compiled general loop of the law whose kernel is ``code`` (a row's CONTACT_*)."""
+    return next(row.loop for row in LAWS.values() if row.code == code)

@@ -24,7 +24,7 @@ from numba._dispatcher import compute_fingerprint
 from stonedem.engine import geometry
 from stonedem.engine.graph import contact_graph as scene_graph
 from stonedem.engine.graph import why_broken
-from stonedem.engine.laws import LAWS
+from stonedem.engine.laws import LAWS, general_loop
 from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
@@ -436,7 +436,7 @@ class CompiledLoop:
             cursor.collapse,
         )
         # the general loop with the scene's law alone: the other law's code is never compiled
-        loop = step.run_point if self.model.law.kind == step.CONTACT_POINT else step.run_area
+        loop = general_loop(self.model.law.kind)
         self.compiled(loop, args)
         status, cursor.n_sample, cursor.collapse = loop(*args)
         return status

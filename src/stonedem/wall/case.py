@@ -1,13 +1,11 @@
 """Wall case files (YAML): reading, strict validation, problem-size limits, and the model they
-describe.
+describe. A case file::
 
-```yaml
-panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13,
-        unit_weight: 20000.0}
-joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}   # mortar: add tensile_strength, cohesion
-restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
-load: {kind: proportional, direction: out_of_plane}      # or {kind: pressure}
-```
+    panel: {block: {a: 0.081, b: 0.210, s: 0.070}, blocks_per_course: 3, courses: 13,
+            unit_weight: 20000.0}
+    joints: {kind: dry, mu: 0.7, k_n: 2.4e9, k_t: 1.0e9}  # mortar: add tensile_strength, cohesion
+    restraints: [{edge: base, fix: all}, {edge: left, fix: translations, at: edge}]
+    load: {kind: proportional, direction: out_of_plane}     # or {kind: pressure}
 
 Every key is one row of :data:`CASE_SPEC` (units, range, default, meaning), checked with the
 declared-input kit (:mod:`stonedem.io.spec`); ``key_table(CASE_SPEC)`` prints them. Three

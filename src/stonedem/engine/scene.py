@@ -146,6 +146,7 @@ SOLVER = Spec(
     )
 )
 PIVOT = Field("about", "numbers", "m", length=2, hint="write about: [x, y]")
+VERTEX = Field("vertex", "numbers", "m", length=2, hint="list numbers in pairs")
 OUTPUT = Spec((Field("every", "number", "s", "(0, inf)", 0.001, doc="output interval"),))
 SCENE = Spec(
     (
@@ -548,8 +549,7 @@ def _polygon(raw: list, where: str) -> np.ndarray:
     field = f"{where}.vertices"
     if len(raw) < 3 or len(raw) > MAX_BODY_VERTICES:
         raise InputError(field, f"{len(raw)} vertices", f"give 3 to {MAX_BODY_VERTICES} [x, y]")
-    pair = Field("vertex", "numbers", "m", length=2, hint="list numbers in pairs")
-    vertices = np.array([pair.check(v, f"{field}[{i}]") for i, v in enumerate(raw)])
+    vertices = np.array([VERTEX.check(v, f"{field}[{i}]") for i, v in enumerate(raw)])
     for bad, problem, fix in (
         (not geometry.is_simple(vertices), "self-intersecting", "order them around the boundary"),
         (abs(geometry.signed_area(vertices)) <= 1e-14, "zero area", "give a polygon with area"),

@@ -10,6 +10,7 @@ the epistyle of a lower one (7.9).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -333,12 +334,7 @@ ROW_KEYS = (
 )
 BASE_MARGIN = Field("base_margin", "number", "m", "(0, inf)", 2.0, doc="base beyond the row")
 # a row of a two-tier colonnade: only the keys given (the builder has its own per-tier defaults)
-TIER = Spec(
-    tuple(
-        Field(f.key, f.kind, f.units, f.range, None, f.hint, f.choices, spec=f.spec, doc=f.doc)
-        for f in ROW_KEYS
-    )
-)
+TIER = Spec(tuple(dataclasses.replace(f, default=None) for f in ROW_KEYS))
 
 
 @dataclass(frozen=True)

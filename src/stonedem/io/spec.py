@@ -17,8 +17,9 @@ import math
 import numbers
 import re
 import reprlib
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 from stonedem.errors import InputError, one_line
@@ -115,6 +116,7 @@ class Derived:
     value: Callable[[dict], Any]
 
 
+@lru_cache(maxsize=None)  # a field's range is read at every check of it
 def parse_range(text: str) -> tuple:
     """``"(0, 1e16]"`` -> (0.0, 1e16, low_open, high_open); an empty bound is unbounded."""
     if not text:
@@ -462,12 +464,6 @@ class Spec:
             if not f.required:
                 out[f.key] = f.default_for(out)
         return out
-
-    def replace(self, *fields: Field, rules: Sequence | None = None) -> Spec:
-        """This spec with some fields replaced (same key) or added at the end."""
-        new = {f.key: f for f in self.fields}
-        new.update({f.key: f for f in fields})
-        return Spec(tuple(new.values()), tuple(self.rules if rules is None else rules), self.doc)
 
 
 def check(spec: Spec, mapping, where: str = "") -> dict:

@@ -17,7 +17,7 @@ import math
 import numbers
 import re
 import reprlib
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -464,6 +464,12 @@ class Spec:
             if not f.required:
                 out[f.key] = f.default_for(out)
         return out
+
+    def replace(self, *fields: Field, rules: Sequence | None = None) -> Spec:
+        """This spec with some fields replaced (same key) or added at the end."""
+        new = {f.key: f for f in self.fields}
+        new.update({f.key: f for f in fields})
+        return Spec(tuple(new.values()), tuple(self.rules if rules is None else rules), self.doc)
 
 
 def check(spec: Spec, mapping, where: str = "") -> dict:

@@ -14,6 +14,7 @@ from stonedem.fragility.ida import (
     LIMIT_STATES,
     check_fragility,
     first_exceedance,
+    fragility_comparisons,
     fragility_studies,
     ida_cube,
 )
@@ -67,6 +68,25 @@ def test_bad_fragility_config_names_its_field(fragility, field):
     with pytest.raises(InputError) as err:
         check_fragility(config)
     assert err.value.field == field
+
+
+def test_compared_structures_are_checked_and_left_out_when_not_run():
+    config = _config(compare={"pair": ["col", "col2"]})
+    config["fragility"]["structures"]["col2"] = COLUMN
+    assert fragility_comparisons(config) == {"pair": ["col", "col2"]}
+    config["fragility"]["run_structures"] = ["col"]  # the quick profile's subset
+    assert fragility_comparisons(config) == {}
+    for compare, field in (
+        ({"pair": ["col", "nope"]}, "fragility.compare.pair[1]"),
+        ({"pair": ["col"]}, "fragility.compare.pair"),
+        ({"pair": ["col", "col"]}, "fragility.compare.pair"),
+        ({"a b": ["col", "col2"]}, "fragility.compare.a b"),
+        ([["col", "col2"]], "fragility.compare"),
+    ):
+        config["fragility"]["compare"] = compare
+        with pytest.raises(InputError) as err:
+            fragility_comparisons(config)
+        assert err.value.field == field
 
 
 def test_a_structure_error_is_named_under_fragility_structures():
@@ -186,6 +206,11 @@ def test_cube_and_fits_from_searches(tmp_path):
     assert colonnade and all(r["holds"] == "yes" for r in colonnade)
     order = [r for r in checks if r["check"] == "limit states in order"]
     assert order and all(r["holds"] == "yes" for r in order)
+    # the two structures' collapse curves on one figure (fragility.compare)
+    from stonedem.figures.fragility import comparison_figure
+
+    comparison_figure(fits, ["col", "colonnade"], tmp_path / "compare.png")
+    assert (tmp_path / "compare.png").stat().st_size > 10_000
 
 
 def test_pulse_check_places_records_in_makris_vassiliou_coordinates(tmp_path):

@@ -104,6 +104,7 @@ def fragility_requested():
 # the IDA over the FEMA P695 suites (config fragility:): a threshold-search study per
 # structure (stonedem.fragility.ida), several searches per job (fragility.job_seconds of estimated work)
 FRAGILITY_STUDIES = {}
+FRAGILITY_COMPARISONS = {}  # {name: structures} drawn on one figure (fragility.compare)
 if config.get("fragility") is not None and fragility_requested():
     try:  # every case checked by the main process; a cluster job only rebuilds the tables
         if getattr(workflow, "is_main_process", True):
@@ -115,6 +116,7 @@ if config.get("fragility") is not None and fragility_requested():
         FRAGILITY_STUDIES = {
             name: {case.id: case for case in cases} for name, cases in tables.items()
         }
+        FRAGILITY_COMPARISONS = stonedem.fragility.ida.fragility_comparisons(config)
     except InputError as error:
         print(f"Bad config: {error}", file=sys.stderr)
         sys.exit(2)

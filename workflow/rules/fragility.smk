@@ -32,6 +32,7 @@ FRAGILITY_OUTPUTS = (
     + PULSE_FILE
     + [f"results/figures/fragility_{name}.png" for name in FRAGILITY_STRUCTURES]
     + ["results/figures/fragility_medians.png"]
+    + [f"results/figures/fragility_compare_{name}.png" for name in FRAGILITY_COMPARISONS]
 )
 
 
@@ -105,6 +106,15 @@ rule fragility_figures:
             category="Fragility (IDA over the FEMA P695 suites)",
             labels={"figure": "collapse medians and the pulse check"},
         ),
+        compared=[
+            report(
+                f"results/figures/fragility_compare_{name}.png",
+                caption="../report/fragility_compare.rst",
+                category="Fragility (IDA over the FEMA P695 suites)",
+                labels={"figure": f"fragility of {', '.join(names)}"},
+            )
+            for name, names in FRAGILITY_COMPARISONS.items()
+        ],
     log:
         "results/logs/fragility/fragility_figures.log",
     benchmark:
@@ -115,5 +125,6 @@ rule fragility_figures:
         "../envs/stonedem.yaml"
     params:
         structures=FRAGILITY_STRUCTURES,
+        compared=list(FRAGILITY_COMPARISONS.values()),
     script:
         "../scripts/fragility_figures.py"

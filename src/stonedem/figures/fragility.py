@@ -156,3 +156,43 @@ def medians_figure(fits: xr.Dataset, pulse: xr.Dataset | None, path):
         )
     _finish(fig, "IDA over the FEMA P695 suites: collapse medians and the pulse-record check")
     return _save(fig, path)
+
+
+def comparison_figure(fits: xr.Dataset, structures: list, path):
+    """Columns: limit states. Each structure's lognormal curve of PGA over all its records,
+    with its 90 % bootstrap band: variants of one structure (linked, tilted) side by side
+    (config ``fragility.compare``)."""
+    states = [str(s) for s in fits.limit_state.values]
+    fig, axes = plt.subplots(
+        1, len(states), figsize=(3.1 * len(states), 3.2), squeeze=False, layout="constrained"
+    )
+    grid = fits["pga_grid"].values
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, state in enumerate(states):
+        ax = axes[0, j]
+        for k, structure in enumerate(structures):
+            sel = fits.sel(structure=structure, record_set="all", limit_state=state)
+            p = sel["probability_pga"].values
+            if not np.isfinite(p).any():
+                continue
+            colour = colours[k % len(colours)]
+            ax.plot(
+                grid,
+                p,
+                color=colour,
+                lw=1.5,
+                label=f"{structure}: {float(sel['median_pga']):.3g} m s-2, "
+                f"beta {float(sel['beta_pga']):.2f}",
+            )
+            band = sel["probability_pga_band"].values
+            ax.fill_between(grid, band[0], band[1], color=colour, alpha=0.15, lw=0)
+        ax.set_xscale("log")
+        ax.set_xlim(grid[0], grid[-1])
+        ax.set_ylim(0, 1)
+        ax.grid(alpha=0.3)
+        ax.set_title(LIMIT_STATES[state].label if state in LIMIT_STATES else state, fontsize=8)
+        ax.set_xlabel("PGA [m s-2]", fontsize=8)
+        ax.legend(fontsize=5.5, loc="upper left")
+    axes[0, 0].set_ylabel("P(exceeded)")
+    _finish(fig, f"Fragility of {', '.join(structures)}: all records, 90 % bootstrap bands")
+    return _save(fig, path)

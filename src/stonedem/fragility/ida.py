@@ -84,6 +84,14 @@ FRAGILITY = Spec(
             doc="bootstrap samples of each fit",
         ),
         Field("pulse_check", "text", hint="name one of the structures", doc="its structure"),
+        Field(
+            "compare",
+            "mapping",
+            default={},
+            hint="write compare: {links: [column_3_drums, column_3_drums_titanium]}",
+            doc="{name: structures} drawn side by side in results/figures/fragility_compare_<name>"
+            ".png (variants of one structure: linked, tilted)",
+        ),
     )
 )
 # a structure's keys: scene keys (checked as its study's cases), its suites, a description
@@ -242,6 +250,42 @@ def _given(f: Field, value, where: str, item: Field | None = None, empty: bool =
         kind = f"{'' if empty else 'non-empty '}{'mapping' if shape is dict else 'list'}"
         raise InputError(where, f"expected a {kind}, got {got(value)}", f.hint)
     return value if item is None else [item.check(v, f"{where}[{i}]") for i, v in enumerate(value)]
+
+
+def fragility_comparisons(config: dict) -> dict[str, list[str]]:
+    """{name: structures} of the config's ``fragility.compare``, each two or more of its
+    structures; a comparison naming a structure the run leaves out (``run_structures``) is not
+    drawn."""
+    from stonedem.study.grid import NAME_PATTERN
+
+    spec = config.get("fragility") or {}
+    compare = spec.get("compare")
+    if compare is None:
+        return {}
+    where = "fragility.compare"
+    compare = _given(FRAGILITY["compare"], compare, where, empty=True)
+    structures = tuple(spec.get("structures") or ())
+    run = spec.get("run_structures") or structures
+    structure = Field("structure", "choice", choices=structures)
+    drawn = {}
+    for name, names in compare.items():
+        place = f"{where}.{name}"
+        if not isinstance(name, str) or not NAME_PATTERN.fullmatch(name):
+            raise InputError(
+                place, "a comparison's name is a file name", "use letters, digits, _ and -"
+            )
+        if not isinstance(names, list) or len(names) < 2:
+            raise InputError(
+                place,
+                f"expected a list of two or more structures, got {got(names)}",
+                FRAGILITY["compare"].hint,
+            )
+        names = [structure.check(n, f"{place}[{i}]") for i, n in enumerate(names)]
+        if len(set(names)) < len(names):
+            raise InputError(place, "a structure is named twice", "name each structure once")
+        if all(n in run for n in names):
+            drawn[name] = names
+    return drawn
 
 
 def fragility_config(config: dict) -> dict:

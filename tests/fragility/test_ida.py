@@ -211,6 +211,15 @@ def test_cube_and_fits_from_searches(tmp_path):
 
     comparison_figure(fits, ["col", "colonnade"], tmp_path / "compare.png")
     assert (tmp_path / "compare.png").stat().st_size > 10_000
+    # one record a structure fits nothing: the figures say so instead of failing
+    from stonedem.figures.fragility import medians_figure
+
+    unfit = fits.copy(deep=True)
+    for name in ("median_pga", "median_pga_band", "probability_pga", "probability_pga_band"):
+        unfit[name].values[:] = np.nan
+    medians_figure(unfit, None, tmp_path / "medians.png")
+    comparison_figure(unfit, ["col", "colonnade"], tmp_path / "compare_unfit.png")
+    assert (tmp_path / "medians.png").exists() and (tmp_path / "compare_unfit.png").exists()
 
 
 def test_pulse_check_places_records_in_makris_vassiliou_coordinates(tmp_path):

@@ -113,7 +113,10 @@ def medians_figure(fits: xr.Dataset, pulse: xr.Dataset | None, path):
         )
     ax.set_xticks(np.arange(len(structures)), structures, rotation=20, fontsize=7)
     ax.set_ylabel("median collapse PGA [m s-2]")
-    ax.set_yscale("log")
+    if np.isfinite(fits.median_pga.sel(limit_state="collapse").values).any():
+        ax.set_yscale("log")
+    else:  # too few records with a collapse to fit (a lognormal needs two)
+        ax.text(0.5, 0.5, "no fit: too few collapses", ha="center", transform=ax.transAxes)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     ax.set_title("median collapse PGA, 90 % bootstrap band", fontsize=8)
@@ -192,7 +195,10 @@ def comparison_figure(fits: xr.Dataset, structures: list, path):
         ax.grid(alpha=0.3)
         ax.set_title(LIMIT_STATES[state].label if state in LIMIT_STATES else state, fontsize=8)
         ax.set_xlabel("PGA [m s-2]", fontsize=8)
-        ax.legend(fontsize=5.5, loc="upper left")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=5.5, loc="upper left")
+        else:  # a lognormal needs two records with the state exceeded
+            ax.text(0.5, 0.5, "no fit", ha="center", transform=ax.transAxes)
     axes[0, 0].set_ylabel("P(exceeded)")
     _finish(fig, f"Fragility of {', '.join(structures)}: all records, 90 % bootstrap bands")
     return _save(fig, path)

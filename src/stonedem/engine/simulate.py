@@ -931,8 +931,11 @@ def energy_drift(result: RunResult) -> dict:
     initial energy would hide large errors; a column settling before a record starts moves
     only a few J). energy_created: max drift on the same scale. energy_error_total: max
     abs(drift) / initial kinetic + potential energy (datum: the base's top). All NaN if not
-    finite.
+    finite. A sequence's (``result.parts``): the largest of its parts', each measured as a run
+    of its own from the state handed over (two records drift twice as far as one).
     """
+    if result.parts is not None:
+        return parts_drift(result)
     e = result.energy
     kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
     work = e[:, step.ENERGY_BASE_WORK]
@@ -959,6 +962,22 @@ def energy_drift(result: RunResult) -> dict:
         "energy_created": float(drift.max() / moved),
         "energy_error_total": float(np.abs(drift).max() / total),
     }
+
+
+def parts_drift(result: RunResult) -> dict:
+    """:func:`energy_drift` of each part of a sequence, from the sample handed over (base work
+    counted from there), the largest of each figure (NaN if any is)."""
+    worst: dict = {}
+    first, last = result.parts["first_sample"], result.parts["last_sample"]
+    for k, (a, b) in enumerate(zip(first, last)):
+        if b < 0:
+            continue
+        e = result.energy[(a - 1 if k else 0) : b + 1].copy()
+        e[:, step.ENERGY_BASE_WORK] -= e[0, step.ENERGY_BASE_WORK]
+        drift = energy_drift(dataclasses.replace(result, energy=e, parts=None))
+        for key, value in drift.items():
+            worst[key] = value if math.isnan(value) else max(worst.get(key, value), value)
+    return worst
 
 
 def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str]:

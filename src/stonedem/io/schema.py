@@ -165,6 +165,15 @@ CUBE_MEASURES = (
     "max_epistyle_displacement",
     "theta_cr",
 )
+# ... and of a sequence's case (excitation: {kind: sequence}), on its ``part`` dimension
+CUBE_PART_MEASURES = (
+    "part_max_rocking",
+    "part_max_total_sliding",
+    "part_residual_total_sliding",
+    "part_residual_rocking",
+    "part_collapsed",
+    "part_run",
+)
 CUBE_HISTORIES = (
     "rocking",
     "total_sliding",

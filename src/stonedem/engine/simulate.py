@@ -808,15 +808,19 @@ def simulate_sequence(scene: Scene, progress: bool = False, chunks: int | None =
     over (:class:`Handover`): residual sliding, rotation, open joints and contact memory
     carry over, the time loop stays compiled, and a rest at rest is carried, not integrated.
     Every part runs at the sequence's step (its shortest period and the scene's stability
-    limit). The samples are joined on the sequence's clock, in the frame of its composite
-    base motion (:func:`stonedem.motion.excitation.sequence_offsets`); a part that collapses
-    (and stops) ends the sequence. ``RunResult.parts`` holds what each part did."""
+    limit); a duration shorter than the sequence ends it early. The samples are joined on the
+    sequence's clock, in the frame of its composite base motion
+    (:func:`stonedem.motion.excitation.sequence_offsets`); a part that collapses (and stops)
+    ends the sequence. ``RunResult.parts`` holds what each part did."""
     motion = scene.horizontal
     dt, _ = run_time_step(scene)
     results, start = [], None
     for k, part in enumerate(motion.parts):
         t0 = motion.starts[k]
+        if k > 0 and t0 >= scene.duration:  # a shorter run than the sequence (preflight
+            break  # refuses one; a test or a script may run its start)
         t1 = motion.starts[k + 1] if k + 1 < len(motion.parts) else scene.duration
+        t1 = min(t1, scene.duration)
         part_scene = dataclasses.replace(scene, horizontal=part, duration=t1 - t0, dt=dt)
         result = simulate(part_scene, progress, chunks, start=start, keep_end=True)
         results.append(result)

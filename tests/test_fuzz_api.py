@@ -109,7 +109,19 @@ def perturbed_scene(draw):
         "solver": dict(SHORT_SCENE["solver"]),
     }
     where = draw(
-        st.sampled_from(["friction", "gravity", "mass", "width", "duration", "name", "none"])
+        st.sampled_from(
+            [
+                "friction",
+                "gravity",
+                "mass",
+                "width",
+                "duration",
+                "name",
+                "none",
+                "sequence_parts",
+                "sequence_rest",
+            ]
+        )
     )
     value = draw(
         st.one_of(st.sampled_from(NUMBERS), st.sampled_from([None, "abc", [1, 2], {"a": 1}]))
@@ -120,6 +132,10 @@ def perturbed_scene(draw):
         spec["bodies"][1]["mass"] = value
     elif where == "width":
         spec["bodies"][1]["box"]["width"] = value
+    elif where.startswith("sequence_"):  # an excitation sequence (issue 48) within 0.02 s
+        pulse = {"kind": "rect_pulse", "accel": 2.0, "duration": 0.005}
+        spec["excitation"] = {"kind": "sequence", "parts": [pulse, pulse], "rest": 0.004}
+        spec["excitation"][where.removeprefix("sequence_")] = value
     elif where == "duration":
         spec["solver"]["duration"] = (
             value if not isinstance(value, (int, float)) or abs(value) < 0.05 else 0.02

@@ -39,6 +39,19 @@ BASES = [
         "excitation": {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 3.0},
         "output": {"every": 0.01},
     },
+    {  # an earthquake sequence (issue 48): a pulse, then a record, each with a rest
+        "structure": {"kind": "column", "n_drums": 2},
+        "excitation": {
+            "kind": "sequence",
+            "parts": [
+                {"kind": "rect_pulse", "accel": 3.0, "duration": 0.2},
+                {"kind": "record", "file": "athens_standin_kocaeli_arc000", "pga": 3.0},
+            ],
+            "rest": 2.0,
+        },
+        "solver": {"duration": 40.0},
+        "output": {"every": 0.01},
+    },
 ]
 
 JUNK = st.one_of(

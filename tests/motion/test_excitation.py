@@ -355,3 +355,69 @@ def test_a_record_found_once_is_found_again_without_a_search_until_its_file_is_g
     first.unlink()
     with pytest.raises(InputError, match="record 'quake' not found"):
         ground_motion.resolve_record("quake", "excitation.file", tmp_path)
+
+
+# --- sequences (issue 48): parts back to back with a rest -----------------------------------
+
+PULSE = {"kind": "rect_pulse", "accel": 3.0, "duration": 0.5}
+
+
+def test_sequence_windows_labels_and_composite_motion():
+    m = excitation_from_spec({"kind": "sequence", "parts": [PULSE, PULSE], "rest": 2.0})
+    assert m.starts == (0.0, 2.5) and m.duration == pytest.approx(5.0)
+    assert m.pga == 3.0 and m.shortest_period == 0.5
+    assert "sequence of 2" in m.label and "rest 2 s" in m.label
+    # the second pulse starts on the velocity and displacement the first left
+    d, v, a = m.evaluate(np.array([0.25, 1.0, 2.5, 2.75, 10.0]))
+    assert a.tolist() == [3.0, 0.0, 3.0, 3.0, 0.0]
+    assert v[1] == pytest.approx(1.5) and v[3] == pytest.approx(1.5 + 0.75)
+    assert v[4] == pytest.approx(3.0)
+    d_end = 0.5 * 3.0 * 0.25 + 1.5 * 2.0  # first pulse, then coasting to t = 2.5
+    assert d[2] == pytest.approx(d_end, rel=1e-15)
+    assert d[3] == pytest.approx(d_end + 1.5 * 0.25 + 0.5 * 3.0 * 0.25**2, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    "spec, field, words",
+    [
+        ({"kind": "sequence"}, "excitation.parts", "missing"),
+        ({"kind": "sequence", "parts": []}, "excitation.parts", "at least 1"),
+        ({"kind": "sequence", "parts": PULSE}, "excitation.parts", "expected a list"),
+        ({"kind": "sequence", "parts": [PULSE] * 21}, "excitation.parts", "limit 20"),
+        ({"kind": "sequence", "parts": [PULSE], "rest": -1}, "excitation.rest", ""),
+        ({"kind": "sequence", "parts": [PULSE], "rest": "long"}, "excitation.rest", ""),
+        (
+            {"kind": "sequence", "parts": [{"kind": "harmonic", "frequency": 1, "amplitude": 0.1}]},
+            "excitation.parts[0].kind",
+            "no natural length",
+        ),
+        (
+            {"kind": "sequence", "parts": [PULSE, {"kind": "ramp", "rate": 1.0}]},
+            "excitation.parts[1].kind",
+            "no natural length",
+        ),
+        (
+            {"kind": "sequence", "parts": [{"kind": "sequence", "parts": [PULSE]}]},
+            "excitation.parts[0].kind",
+            "inside a sequence",
+        ),
+        (
+            {"kind": "sequence", "parts": [{**PULSE, "vertical": PULSE}]},
+            "excitation.parts[0].vertical",
+            "horizontal parts only",
+        ),
+        ({"kind": "sequence", "parts": [{**PULSE, "accel": "x"}]}, "excitation.parts[0].accel", ""),
+        ({"kind": "sequence", "parts": [7]}, "excitation.parts[0]", "mapping"),
+    ],
+)
+def test_bad_sequences_give_one_line_naming_the_key(spec, field, words):
+    with pytest.raises(InputError) as err:
+        excitation_from_spec(spec)
+    assert err.value.field == field and words in str(err.value), str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_sequence_refuses_a_vertical_motion():
+    with pytest.raises(InputError) as err:
+        excitation_pair({"kind": "sequence", "parts": [PULSE], "vertical": PULSE})
+    assert err.value.field == "excitation.vertical"

@@ -700,3 +700,12 @@ def test_compiled_one_sine_refuses_bad_input():
         analytic.rigid_one_sine_response_compiled(1.0, 1.0, w, h, 1.5)
     with pytest.raises(ValueError, match="omega_p"):
         analytic.rigid_one_sine_response_compiled(math.nan, 1.0, w, h, 0.8)
+
+
+def test_sequence_pulse_residual_sliding_adds_newmark_u_max():
+    u = analytic.newmark_pulse_max_sliding(0.5 * G, 1.0, 0.3)
+    res = analytic.sequence_pulse_residual_sliding(0.5 * G, 1.0, 0.3, 3)
+    assert res.shape == (3,)
+    assert np.allclose(res, [u, 2 * u, 3 * u], rtol=0, atol=1e-15)
+    # below the sliding threshold nothing accumulates
+    assert np.all(analytic.sequence_pulse_residual_sliding(0.2 * G, 1.0, 0.3, 2) == 0.0)

@@ -37,6 +37,7 @@ from stonedem.errors import InputError
 from stonedem.io.netcdf import code_version, schema_variables
 from stonedem.io.provenance import bounded_json
 from stonedem.kernels import step
+from stonedem.motion.excitation import KIND_SEQUENCE, excitation_label
 
 # times an automatic step is halved for a run that diverges or drifts past the energy tolerance
 ENERGY_RETRIES = 2
@@ -62,7 +63,12 @@ def run_scenes(
     scenes = list(scenes)
     for scene in scenes:
         preflight(scene)
-    results = run_ensemble(scenes, threads=threads, device=device)
+    # a sequence runs part by part (stonedem.engine.simulate.simulate_sequence), alone
+    alone = [scene.horizontal.kind == KIND_SEQUENCE for scene in scenes]
+    together = iter(
+        run_ensemble([s for s, a in zip(scenes, alone) if not a], threads=threads, device=device)
+    )
+    results = [None if a else next(together) for a in alone]
     datasets = [run_scene(scene, first=result) for scene, result in zip(scenes, results)]
     for ds in datasets:
         ds.attrs["device"] = device
@@ -176,12 +182,19 @@ def response_measures(
             result.max_epistyle_displacement if epistyles else float("nan"),
         ),
     }
+    if result.parts is not None:
+        response.update(part_measures(scene, result, free))
     if not histories:
         return response
     d_h, v_h, a_h = scene.horizontal.evaluate(time)
     rocking = np.abs(result.theta[:, measures.rocking_bodies(scene)]).mean(axis=1)
     rel = result.x - result.x[0] - d_h[:, None]
     epi = rel[:, epistyles].mean(axis=1) if epistyles else np.full(len(time), np.nan)
+    if result.parts is not None:
+        part_of = np.full(len(time), -1, dtype=np.int32)
+        for k, (a, b) in enumerate(zip(result.parts["first_sample"], result.parts["last_sample"])):
+            part_of[a : b + 1] = k if a >= 0 else -1
+        response["sequence_part"] = (t, part_of)
     return {
         "base_displacement": (t, d_h),
         "base_velocity": (t, v_h),
@@ -192,6 +205,52 @@ def response_measures(
         "rocking": (t, rocking),
         "epistyle_displacement": (t, epi),
         **response,
+    }
+
+
+def part_measures(scene: Scene, result: RunResult, free: np.ndarray) -> dict:
+    """A sequence's measures per part (dimension ``part``): peaks over the part's window,
+    residuals at its end (the end of its rest), the part it collapsed in. Sliding and
+    rocking are measured from the sequence's start, so a residual carries into the next
+    part's peak."""
+    parts = result.parts
+    ran = parts["last_sample"] >= 0
+    rows = parts["last_sample"][ran]
+    support = measures.supports(scene)
+    sliding = measures.relative_sliding(
+        scene,
+        result.x[np.r_[0, rows]],
+        result.y[np.r_[0, rows]],
+        result.theta[np.r_[0, rows]],
+        support,
+    )[1:]
+    residual_sliding = np.full(len(ran), np.nan)
+    residual_sliding[ran] = np.abs(sliding[:, free]).sum(axis=1)
+    residual_rocking = np.full(len(ran), np.nan)
+    rocking = measures.rocking_bodies(scene)
+    residual_rocking[ran] = np.abs(result.theta[rows][:, rocking]).mean(axis=1)
+    p = ("part",)
+    return {
+        "part_max_rocking": (p, parts["max_rocking"]),
+        "part_max_total_sliding": (p, parts["max_total_sliding"]),
+        "part_max_epistyle_displacement": (p, parts["max_epistyle_displacement"]),
+        "part_residual_total_sliding": (p, residual_sliding),
+        "part_residual_rocking": (p, residual_rocking),
+        "part_collapsed": (p, parts["collapsed"]),
+        "part_collapse_time": (p, parts["collapse_time"]),
+        "part_at_rest_from": (p, parts["at_rest_from"]),
+        "part_run": (p, parts["run"]),
+    }
+
+
+def sequence_coords(scene: Scene, result: RunResult) -> dict:
+    """The ``part`` coordinates of a sequence's dataset: index, start time, description."""
+    motion = scene.horizontal
+    labels = [excitation_label(p.description) for p in motion.parts]
+    return {
+        "part": (("part",), np.arange(len(motion.parts), dtype=np.int32)),
+        "part_start": (("part",), np.asarray(result.parts["start"], dtype=float)),
+        "part_description": (("part",), np.array(labels, dtype=object)),
     }
 
 
@@ -244,6 +303,7 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
             "body_mass": (("body",), np.array([b.mass for b in scene.bodies])),
             "body_inertia": (("body",), np.array([b.inertia for b in scene.bodies])),
             "body_support": (("body",), np.array(measures.supports(scene), dtype=np.int32)),
+            **({} if result.parts is None else sequence_coords(scene, result)),
         }
     )
     attrs = {

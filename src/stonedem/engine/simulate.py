@@ -32,7 +32,9 @@ from stonedem.engine.scene import Scene, box_pairs, posed_vertices
 from stonedem.entry import check_interrupt, deferred_signals, progress_print
 from stonedem.errors import InputError
 from stonedem.kernels import contact_graph, step
-from stonedem.kernels.contact import N_ENERGY_ACC, N_MEMORY
+from stonedem.kernels import excitation as kx
+from stonedem.kernels.contact import E_BASE_WORK, N_ENERGY_ACC, N_MEMORY
+from stonedem.motion.excitation import KIND_SEQUENCE, sequence_offsets
 
 
 class BodiesMemo:
@@ -284,6 +286,26 @@ def compile_for(dispatcher, args, progress: Progress | None = None) -> float:
 _READY: set = set()
 
 
+@dataclass(frozen=True)
+class Handover:
+    """The end state of a run, the frame moved with its base so that the base is back at 0
+    and at rest: poses and velocities of the bodies relative to the base, the contacts'
+    memory (elastic tangential forces, contact state) and the energy accumulators. What
+    :func:`simulate` starts a later run from (``start=``): a sequence's next part, or a
+    second earthquake run by hand. A driven body is at its reference pose."""
+
+    x: np.ndarray  # (n_body,) [m]
+    y: np.ndarray
+    theta: np.ndarray  # [rad]
+    vx: np.ndarray  # [m s-1]
+    vy: np.ndarray
+    omega: np.ndarray  # [rad s-1]
+    pair_ft: np.ndarray  # (n_body, n_body) [N]
+    pair_memory: np.ndarray  # (n_body, n_body, N_MEMORY)
+    energy_acc: np.ndarray  # (N_ENERGY_ACC,) [J]
+    at_rest: bool  # the run ended at rest on a quiet base (its tail carried, not integrated)
+
+
 @dataclass
 class RunResult:
     """Raw samples of one run, before they become a dataset."""
@@ -320,6 +342,11 @@ class RunResult:
     # [s] from which the general loop took over from the graph's, NaN: never
     handover_time: float = math.nan
     handover_reason: str = ""  # why (stonedem.engine.graph.why_broken)
+    # the state at the end, in the frame of the base brought back to rest at 0: what a later
+    # run starts from (simulate(scene, start=...)); None unless asked for
+    end: Handover | None = None
+    # a sequence's parts (simulate_sequence): per-part arrays, None for a single motion
+    parts: dict | None = None
 
     @property
     def max_rocking(self) -> float:
@@ -526,6 +553,7 @@ class Plan:
     step_first: int = 0
     quiet_lead: float = 0.0
     status: int = step.STATUS_OK
+    keep_end: bool = False  # finish_run hands the end state over (RunResult.end)
 
 
 def uses_graph(scene: Scene) -> bool:
@@ -534,8 +562,9 @@ def uses_graph(scene: Scene) -> bool:
     return scene.kernel == "auto" and LAWS[scene.contact.model].code == step.CONTACT_POINT
 
 
-def plan_run(scene: Scene, progress: bool = False) -> Plan:
-    """Time step, packed scene, bundles and quiet phases of one run; nothing integrated yet."""
+def plan_run(scene: Scene, progress: bool = False, start: Handover | None = None) -> Plan:
+    """Time step, packed scene, bundles and quiet phases of one run; nothing integrated yet.
+    ``start``: the state it starts from (:func:`start_state`), else the scene's at rest."""
     dt, limit = run_time_step(scene)
     arrays = pack_scene(scene)  # once per run: the checks and the dataset reuse it
     n_steps = int(math.ceil(scene.duration / dt - 1e-9))
@@ -552,13 +581,80 @@ def plan_run(scene: Scene, progress: bool = False) -> Plan:
     loop = CompiledLoop(
         kernel_model(scene, arrays),
         settings,
-        initial_state(arrays),
+        initial_state(arrays) if start is None else start_state(arrays, start),
         cursor,
         Progress() if progress else None,
         graph=body_graph(scene, arrays) if uses_graph(scene) else None,
     )
     n_first, n_rest = quiet_steps(scene, dt, n_steps, out_every)
+    if start is not None:
+        n_first, n_rest = 0, handed_rest_step(scene, dt, n_steps)
     return Plan(scene, arrays, loop, dt, limit, n_first, n_rest)
+
+
+def handed_rest_step(scene: Scene, dt: float, n_steps: int) -> int:
+    """Step from which the base is still for good, for a run started from a handed-over state:
+    the end of its motions' natural lengths (the quiet threshold of
+    :func:`stonedem.engine.quiet.quiet_steps` holds for the reference pose only, not a leaning
+    or slid one); a motion without one never is."""
+    lengths = [m.duration for m in (scene.horizontal, scene.vertical) if m.kind != kx.KIND_NONE]
+    if not scene.skip_quiet or any(length is None for length in lengths):
+        return n_steps + 1
+    return min(n_steps + 1, int(math.ceil(max(lengths, default=0.0) / dt)) + 1)
+
+
+def start_state(arrays: SceneArrays, start: Handover) -> step.State:
+    """The kernel's state at t = 0 from a handed-over end state (:class:`Handover`): the free
+    bodies' poses and velocities, the contacts' memory and the energy accumulators; the
+    driven bodies at their reference poses. The running peaks and events start afresh."""
+    state = initial_state(arrays)
+    if start.pair_ft.shape != state.pair_ft.shape:
+        raise InputError(
+            "start",
+            f"a state of {len(start.x)} bodies for a scene of {len(state.body_x)}",
+            "start from the end of a run of the same bodies",
+        )
+    free = ~arrays.body_driven
+    for name in ("x", "y", "theta", "vx", "vy", "omega"):
+        getattr(state, f"body_{name}")[free] = getattr(start, name)[free]
+    state.pair_ft[:] = start.pair_ft
+    state.pair_memory[:] = start.pair_memory
+    state.energy_acc[:] = start.energy_acc
+    return state
+
+
+def end_state(plan: Plan, settled: int, last: int) -> Handover:
+    """The state at the run's end as a :class:`Handover`: a run at rest on a quiet base (from
+    step ``last``, sample ``settled``) carried to its end first; then the frame moved with the
+    base so that it is back at 0 and at rest (a rectangular pulse leaves it moving), the
+    kinetic and potential energy that takes booked as base work so the balance goes on."""
+    state, scene, arrays = plan.loop.state, plan.scene, plan.arrays
+    state = step.State(*(np.array(a, copy=True) for a in state))
+    samples, n = plan.loop.cursor.samples, plan.loop.cursor.n_sample
+    n_end = int(samples.step[n - 1]) if n > 0 else 0
+    at_rest = settled >= 0
+    if at_rest:
+        settled_state(scene, arrays, samples, settled, last, state, n_end, plan.dt)
+    free = ~arrays.body_driven
+    t_end = np.array([n_end * plan.dt])
+    d_h, v_h, _ = scene.horizontal.evaluate(t_end)
+    d_v, v_v, _ = scene.vertical.evaluate(t_end)
+    x, y = state.body_x.copy(), state.body_y.copy()
+    vx, vy = state.body_vx.copy(), state.body_vy.copy()
+    x[free], y[free] = x[free] - d_h[0], y[free] - d_v[0]
+    vx[free], vy[free] = vx[free] - v_h[0], vy[free] - v_v[0]
+    x[~free], y[~free] = arrays.ref_x[~free], arrays.ref_y[~free]
+    vx[~free], vy[~free] = 0.0, 0.0
+    m = np.where(free, arrays.body_mass, 0.0)
+    changed = 0.5 * np.sum(m * (vx**2 + vy**2 - state.body_vx**2 - state.body_vy**2))
+    changed += scene.gravity * np.sum(m * (y - state.body_y))
+    energy_acc = state.energy_acc.copy()
+    energy_acc[E_BASE_WORK] += changed
+    theta, omega = state.body_theta.copy(), state.body_omega.copy()
+    theta[~free], omega[~free] = arrays.ref_theta[~free], 0.0
+    return Handover(
+        x, y, theta, vx, vy, omega, state.pair_ft, state.pair_memory, energy_acc, at_rest
+    )
 
 
 def settle_phase(plan: Plan) -> tuple[int, int, int, int] | None:
@@ -614,7 +710,9 @@ def finish_run(plan: Plan) -> RunResult:
     cursor, state, settings = plan.loop.cursor, plan.loop.state, plan.loop.settings
     dt, n_steps, status = plan.dt, settings.n_steps, plan.status
     rest_time = math.nan
+    settled, last = -1, -1
     if status == step.STATUS_AT_REST:  # the quiet tail; the kernel samples the last step too
+        settled = cursor.n_sample - 1
         cursor.n_sample, last = carry(
             plan.scene,
             plan.arrays,
@@ -626,6 +724,7 @@ def finish_run(plan: Plan) -> RunResult:
             including=True,
         )
         rest_time, status = last * dt, step.STATUS_OK
+    end = end_state(plan, settled, last) if plan.keep_end else None
     n, samples = cursor.n_sample, cursor.samples
     return RunResult(
         time=samples.step[:n] * dt,
@@ -656,10 +755,17 @@ def finish_run(plan: Plan) -> RunResult:
         handover_reason=why_broken(*plan.loop.broken, plan.scene.body_names)
         if plan.loop.broken
         else "",
+        end=end,
     )
 
 
-def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) -> RunResult:
+def simulate(
+    scene: Scene,
+    progress: bool = False,
+    chunks: int | None = None,
+    start: Handover | None = None,
+    keep_end: bool = False,
+) -> RunResult:
     """Run a scene to its duration (or its collapse) and return the samples.
 
     With ``skip_quiet`` (:func:`stonedem.engine.quiet.quiet_steps`): the scene first settles
@@ -668,8 +774,20 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
     integration resumes at the sample before the first loud instant; once the base is quiet
     for good and every body is at rest on it, the remaining samples are filled the same way.
     ``chunks``: calls of the compiled loop, for tests (default 1: chunks of CHUNK_SECONDS).
+    ``start``: a state handed over by an earlier run (its ``end``, :class:`Handover`), the run
+    integrated from t = 0 on (no quiet lead) and at rest once its motion has ended;
+    ``keep_end``: the result's ``end`` is its end state, for a later run to start from. A
+    sequence of motions (``excitation: {kind: sequence}``) runs part by part
+    (:func:`simulate_sequence`).
     """
-    plan = plan_run(scene, progress)
+    if scene.horizontal.kind == KIND_SEQUENCE:
+        if start is not None:
+            raise InputError(
+                "start", "a sequence starts at rest", "start each part's scene instead"
+            )
+        return simulate_sequence(scene, progress, chunks)
+    plan = plan_run(scene, progress, start)
+    plan.keep_end = keep_end
     try:
         phase = settle_phase(plan)
         if phase is not None:
@@ -681,6 +799,119 @@ def simulate(scene: Scene, progress: bool = False, chunks: int | None = None) ->
         if plan.loop.reporter is not None:
             plan.loop.reporter.finish()
     return finish_run(plan)
+
+
+def simulate_sequence(scene: Scene, progress: bool = False, chunks: int | None = None) -> RunResult:
+    """Run a sequence of motions (``excitation: {kind: sequence}``) part by part, each part
+    a run of its own motion over its window (its natural length and the rest after it; the
+    last part to the scene's duration), started from the state the part before it handed
+    over (:class:`Handover`): residual sliding, rotation, open joints and contact memory
+    carry over, the time loop stays compiled, and a rest at rest is carried, not integrated.
+    Every part runs at the sequence's step (its shortest period and the scene's stability
+    limit); a duration shorter than the sequence ends it early. The samples are joined on the
+    sequence's clock, in the frame of its composite base motion
+    (:func:`stonedem.motion.excitation.sequence_offsets`); a part that collapses (and stops)
+    ends the sequence. ``RunResult.parts`` holds what each part did."""
+    motion = scene.horizontal
+    dt, _ = run_time_step(scene)
+    results, start = [], None
+    for k, part in enumerate(motion.parts):
+        t0 = motion.starts[k]
+        if k > 0 and t0 >= scene.duration:  # a shorter run than the sequence (preflight
+            break  # refuses one; a test or a script may run its start)
+        t1 = motion.starts[k + 1] if k + 1 < len(motion.parts) else scene.duration
+        t1 = min(t1, scene.duration)
+        part_scene = dataclasses.replace(scene, horizontal=part, duration=t1 - t0, dt=dt)
+        result = simulate(part_scene, progress, chunks, start=start, keep_end=True)
+        results.append(result)
+        if result.status != step.STATUS_OK:
+            break
+        start = result.end
+    return join_parts(scene, results)
+
+
+def join_parts(scene: Scene, results: list[RunResult]) -> RunResult:
+    """One RunResult of a sequence's part runs: samples on the sequence's clock (each part's
+    first sample, the state handed over, left out), positions in the frame of the composite
+    base motion, running peaks the largest of the parts', first events the first part's to
+    have one (to the nearest step), and ``parts``: per-part arrays over every part of the
+    sequence (NaN for parts not run after a collapse)."""
+    motion = scene.horizontal
+    offsets = sequence_offsets(motion)
+    first, dt = results[0], results[0].dt
+    n_part = len(motion.parts)
+    pieces, n_sample, collapse_sample = [], 0, -1
+    parts = {
+        "start": np.array(motion.starts, dtype=float),
+        "run": np.zeros(n_part, dtype=np.int8),
+        "first_sample": np.full(n_part, -1, dtype=np.int64),
+        "last_sample": np.full(n_part, -1, dtype=np.int64),
+        "max_rocking": np.full(n_part, np.nan),
+        "max_total_sliding": np.full(n_part, np.nan),
+        "max_epistyle_displacement": np.full(n_part, np.nan),
+        "collapsed": np.zeros(n_part, dtype=np.int8),
+        "collapse_time": np.full(n_part, np.nan),
+        "at_rest_from": np.full(n_part, np.nan),
+    }
+    onset_step = collapse_step = -1
+    for k, r in enumerate(results):
+        t0 = motion.starts[k]
+        keep = slice(None) if k == 0 else slice(1, None)
+        local = r.time[keep]
+        shift = offsets[k][0] + offsets[k][1] * local
+        pieces.append(
+            (t0 + local, r.x[keep] + shift[:, None], r.y[keep], r.theta[keep])
+            + (r.energy[keep], r.n_contact[keep])
+        )
+        if collapse_sample < 0 and r.collapse_sample >= 0:
+            collapse_sample = n_sample + r.collapse_sample - (0 if k == 0 else 1)
+        parts["run"][k] = 1
+        parts["first_sample"][k] = n_sample
+        n_sample += len(local)
+        parts["last_sample"][k] = n_sample - 1
+        parts["max_rocking"][k] = r.max_rocking
+        parts["max_total_sliding"][k] = r.max_total_sliding
+        parts["max_epistyle_displacement"][k] = r.max_epistyle_displacement
+        parts["collapsed"][k] = int(r.collapse_step >= 0)
+        parts["collapse_time"][k] = t0 + r.collapse_time
+        parts["at_rest_from"][k] = t0 + r.rest_time
+        if onset_step < 0 and r.onset_step >= 0:
+            onset_step = int(round(t0 / dt)) + r.onset_step
+        if collapse_step < 0 and r.collapse_step >= 0:
+            collapse_step = int(round(t0 / dt)) + r.collapse_step
+    time, x, y, theta, energy, n_contact = (np.concatenate(a) for a in zip(*pieces))
+    last = results[-1]
+    handover = next((r for r in results if r.handover_reason), None)
+    return RunResult(
+        time=time,
+        x=x,
+        y=y,
+        theta=theta,
+        energy=energy,
+        n_contact=n_contact,
+        status=last.status,
+        collapse_sample=collapse_sample,
+        dt=dt,
+        dt_limit=first.dt_limit,
+        out_every=first.out_every,
+        n_steps=sum(r.n_steps for r in results),
+        steps_run=sum(r.steps_run for r in results),
+        wall_seconds=sum(r.wall_seconds for r in results),
+        arrays=first.arrays,
+        quiet_lead=first.quiet_lead,
+        rest_time=motion.starts[len(results) - 1] + last.rest_time,
+        peaks=np.max([r.peaks for r in results], axis=0),
+        peak_theta=np.max([r.peak_theta for r in results], axis=0),
+        onset_step=onset_step,
+        collapse_step=collapse_step,
+        compile_seconds=sum(r.compile_seconds for r in results),
+        kernel=first.kernel,
+        handover_time=math.nan
+        if handover is None
+        else motion.starts[results.index(handover)] + handover.handover_time,
+        handover_reason="" if handover is None else handover.handover_reason,
+        parts=parts,
+    )
 
 
 # a run whose energy balance drifts by more than this share of the energy it moves says so
@@ -704,8 +935,11 @@ def energy_drift(result: RunResult) -> dict:
     initial energy would hide large errors; a column settling before a record starts moves
     only a few J). energy_created: max drift on the same scale. energy_error_total: max
     abs(drift) / initial kinetic + potential energy (datum: the base's top). All NaN if not
-    finite.
+    finite. A sequence's (``result.parts``): the largest of its parts', each measured as a run
+    of its own from the state handed over (two records drift twice as far as one).
     """
+    if result.parts is not None:
+        return parts_drift(result)
     e = result.energy
     kinetic, potential = e[:, step.ENERGY_KINETIC], e[:, step.ENERGY_POTENTIAL]
     work = e[:, step.ENERGY_BASE_WORK]
@@ -732,6 +966,22 @@ def energy_drift(result: RunResult) -> dict:
         "energy_created": float(drift.max() / moved),
         "energy_error_total": float(np.abs(drift).max() / total),
     }
+
+
+def parts_drift(result: RunResult) -> dict:
+    """:func:`energy_drift` of each part of a sequence, from the sample handed over (base work
+    counted from there), the largest of each figure (NaN if any is)."""
+    worst: dict = {}
+    first, last = result.parts["first_sample"], result.parts["last_sample"]
+    for k, (a, b) in enumerate(zip(first, last)):
+        if b < 0:
+            continue
+        e = result.energy[(a - 1 if k else 0) : b + 1].copy()
+        e[:, step.ENERGY_BASE_WORK] -= e[0, step.ENERGY_BASE_WORK]
+        drift = energy_drift(dataclasses.replace(result, energy=e, parts=None))
+        for key, value in drift.items():
+            worst[key] = value if math.isnan(value) else max(worst.get(key, value), value)
+    return worst
 
 
 def penetration(scene: Scene, result: RunResult) -> tuple[float, float, str, str]:
@@ -838,6 +1088,14 @@ def preflight(scene: Scene) -> tuple[float, float, int]:
     long or too big, the refusal names it and the smallest value that fits.
     """
     landing_drops(scene)
+    motion = scene.horizontal
+    if motion.kind == KIND_SEQUENCE and scene.duration < motion.duration * (1 - 1e-12):
+        raise InputError(
+            "solver.duration",
+            f"{scene.duration:.6g} s ends before the sequence's last rest does "
+            f"({motion.duration:.6g} s: its parts and their rests)",
+            f"give solver.duration >= {motion.duration:.6g} s",
+        )
     dt, limit = choose_time_step(scene)
     if not (math.isfinite(limit) and limit > 0.0 and dt > 0.0):
         raise InputError(

@@ -67,6 +67,33 @@ SCENE_VARIABLES = {
         "maximum absolute epistyle displacement relative to the base (NaN: no epistyle)",
     ),
     "max_abs_theta": ("rad", "maximum absolute rotation of each body"),
+    # an excitation sequence (stonedem.engine.run.part_measures): one row per part
+    "part": ("1", "part of the excitation sequence"),
+    "part_start": ("s", "start time of the part's window (its motion, then its rest)"),
+    "part_description": ("1", "the part's motion"),
+    "sequence_part": ("1", "part of the excitation sequence the sample belongs to"),
+    "part_max_rocking": ("rad", "maximum rocking over the part's window"),
+    "part_max_total_sliding": (
+        "m",
+        "maximum total sliding (since the sequence's start) over the part's window",
+    ),
+    "part_max_epistyle_displacement": (
+        "m",
+        "maximum absolute epistyle displacement relative to the base over the part's window",
+    ),
+    "part_residual_total_sliding": (
+        "m",
+        "total sliding since the sequence's start at the end of the part's rest",
+    ),
+    "part_residual_rocking": ("rad", "mean absolute drum rotation at the end of the part's rest"),
+    "part_collapsed": ("1", "1 when the structure collapsed in the part's window"),
+    "part_collapse_time": ("s", "time of collapse in the part's window (NaN: none)"),
+    "part_at_rest_from": (
+        "s",
+        "time from which the structure was at rest on the quiet base in the part's rest "
+        "(NaN: never, integrated to the end)",
+    ),
+    "part_run": ("1", "1 when the part was run (0: after a collapse that stopped the run)"),
 }
 
 # the 3D wall solver (stonedem.wall.dataset.wall_dataset); lambda's units are the case's load units
@@ -137,6 +164,15 @@ CUBE_MEASURES = (
     "rocking_onset_time",
     "max_epistyle_displacement",
     "theta_cr",
+)
+# ... and of a sequence's case (excitation: {kind: sequence}), on its ``part`` dimension
+CUBE_PART_MEASURES = (
+    "part_max_rocking",
+    "part_max_total_sliding",
+    "part_residual_total_sliding",
+    "part_residual_rocking",
+    "part_collapsed",
+    "part_run",
 )
 CUBE_HISTORIES = (
     "rocking",

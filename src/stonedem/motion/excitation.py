@@ -48,10 +48,15 @@ class BaseMotion:
     table_disp: np.ndarray = field(default_factory=lambda: np.zeros(1))  # [m]
     table_dt: float = 1.0  # [s]
     description: dict = field(default_factory=dict)  # "kind": its row of EXCITATIONS
+    # a sequence (KIND_SEQUENCE): its parts' motions and the start of each part's window [s]
+    parts: tuple = ()
+    starts: tuple = ()
 
     def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Displacement [m], velocity [m s-1], acceleration [m s-2] at times t [s]."""
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t, dtype=float)))
+        if self.kind == KIND_SEQUENCE:
+            return _sequence_evaluate(self, t)
         if self.kind == kx.KIND_NONE:  # at rest, as base_motion gives it, without the call
             out = np.zeros((3, t.shape[0]))
             return out[0], out[1], out[2]
@@ -209,6 +214,90 @@ def _ramp(v: dict, field: str, base_dir: Path) -> BaseMotion:
     )
 
 
+# a sequence of base motions (one row below): Python runs each part as its own kernel motion
+# (stonedem.engine.simulate.simulate_sequence), so the kernel never sees this kind
+KIND_SEQUENCE = -1
+MAX_SEQUENCE_PARTS = 20
+
+
+def sequence_offsets(m: BaseMotion) -> list[tuple[float, float]]:
+    """(displacement [m], velocity [m s-1]) of a sequence's base at the start of each part:
+    what the parts before it left (a rectangular pulse leaves the base moving)."""
+    out, d, v = [], 0.0, 0.0
+    for k, part in enumerate(m.parts):
+        out.append((d, v))
+        if k + 1 < len(m.parts):
+            length = m.starts[k + 1] - m.starts[k]
+            d_e, v_e, _ = part.evaluate(np.array([length]))
+            d, v = d + v * length + float(d_e[0]), v + float(v_e[0])
+    return out
+
+
+def _sequence_evaluate(m: BaseMotion, t: np.ndarray):
+    """The composite motion of a sequence: part k from its start t_k on, added to the
+    displacement and velocity the parts before it left (D_k + V_k (t - t_k))."""
+    out = np.zeros((3, t.shape[0]))
+    ends = (*m.starts[1:], math.inf)
+    for k, (part, (d0, v0)) in enumerate(zip(m.parts, sequence_offsets(m))):
+        inside = t < ends[k] if k == 0 else (t >= m.starts[k]) & (t < ends[k])
+        if not inside.any():
+            continue
+        s = t[inside] - m.starts[k]
+        d, v, a = part.evaluate(s)
+        out[0, inside] = d0 + v0 * s + d
+        out[1, inside] = v0 + v
+        out[2, inside] = a
+    return out[0], out[1], out[2]
+
+
+def _sequence(v: dict, field: str, base_dir: Path) -> BaseMotion:
+    rest, parts, starts, start = v["rest"], [], [], 0.0
+    for i, item in enumerate(v["parts"]):
+        where = f"{field}.parts[{i}]"
+        if isinstance(item, Mapping) and item.get("kind") == "sequence":
+            raise InputError(
+                f"{where}.kind", "a sequence inside a sequence", "list its parts in the outer one"
+            )
+        if isinstance(item, Mapping) and "vertical" in item:
+            raise InputError(
+                f"{where}.vertical",
+                "a sequence runs horizontal parts only",
+                "remove vertical: from the part",
+            )
+        part = excitation_from_spec(item, where, base_dir)
+        if part.duration is None:
+            raise InputError(
+                f"{where}.kind",
+                f"{part.description.get('kind')} has no natural length to end a part",
+                "use a record, rect_pulse or sine_pulse",
+            )
+        parts.append(part)
+        starts.append(start)
+        start += part.duration + rest
+    description = {
+        "kind": "sequence",
+        "rest": rest,
+        "rest_units": "s",
+        "parts": [p.description for p in parts],
+        "part_start": starts,
+        "part_start_units": "s",
+        "pga": max(p.pga for p in parts),
+        "pga_units": "m s-2",
+    }
+    return BaseMotion(
+        KIND_SEQUENCE,
+        np.zeros(4),
+        description=description,
+        parts=tuple(parts),
+        starts=tuple(starts),
+    )
+
+
+def _sequence_describe(d: dict) -> str:
+    words = "; ".join(excitation_label(p) for p in d["parts"])
+    return f"sequence of {len(d['parts'])} ({words}), rest {d['rest']:g} s"
+
+
 def _angular_period(m: BaseMotion) -> float:
     return 2.0 * math.pi / m.params[1] if m.params[1] > 0.0 else math.inf
 
@@ -312,6 +401,35 @@ EXCITATIONS: dict[str, Excitation] = {
         duration=_table_duration,
         period=_table_period,
     ),
+    "sequence": Excitation(
+        Spec(
+            (
+                Field(
+                    "parts",
+                    "list",
+                    default=REQUIRED,
+                    limit=MAX_SEQUENCE_PARTS,
+                    min_items=1,
+                    hint="write parts: [{kind: record, ...}, {kind: record, ...}]",
+                    doc="the motions run back to back, each a record, rect_pulse or "
+                    "sine_pulse mapping",
+                ),
+                Field(
+                    "rest",
+                    units="s",
+                    range="[0, 3600]",
+                    default=20.0,
+                    hint="give the quiet time after each part in s, long enough to settle",
+                    doc="quiet base after each part",
+                ),
+            )
+        ),
+        _sequence,
+        _sequence_describe,
+        pga=lambda m: max(p.pga for p in m.parts),
+        duration=lambda m: m.starts[-1] + m.parts[-1].duration + m.description["rest"],
+        period=lambda m: min(p.shortest_period for p in m.parts),
+    ),
 }
 
 
@@ -334,6 +452,12 @@ def excitation_pair(spec: dict | None, base_dir: Path = Path(".")) -> tuple[Base
         spec = dict(spec)
         vertical = spec.pop("vertical", None)
     horizontal = excitation_from_spec(spec, "excitation", base_dir)
+    if horizontal.kind == KIND_SEQUENCE and vertical is not None:
+        raise InputError(
+            "excitation.vertical",
+            "a sequence runs horizontal parts only",
+            "remove vertical: or run the parts as separate scenes",
+        )
     return horizontal, excitation_from_spec(vertical, "excitation.vertical", base_dir)
 
 

@@ -1116,3 +1116,32 @@ def rigid_one_sine_spectrum(
             overturned[i, j], peak[i, j] = res.overturned, res.peak
             mode[i, j] = ONE_SINE_MODES.index(res.mode)
     return OneSineSpectrum(ratios, amps, overturned, mode, peak)
+
+
+# --- beyond the thesis: earthquake sequences (issue 48) ---------------------------------------
+
+
+def sequence_pulse_residual_sliding(a_p, T_p, mu, n_pulses, g=G):
+    """Residual sliding of a rigid block after each of ``n_pulses`` rectangular pulses in a row.
+
+    Each pulse (a_p for T_p, then 0) is followed by a rest long enough for the block to
+    stop (at t_p a_p / (mu g) after the pulse's start, thesis 5.1.3). The block then rests on
+    a base moving at a constant velocity, and a rigid-plastic block's motion relative to the
+    base is invariant under a translation and a Galilean boost of the base, so each pulse
+    adds Newmark's u_max (thesis Eq. 5.5, :func:`newmark_pulse_max_sliding`): the residual
+    after pulse k is k u_max.
+
+    Parameters
+    ----------
+    a_p: pulse amplitude [m s-2]
+    T_p: pulse duration [s]
+    mu: Coulomb friction coefficient [-]
+    n_pulses: number of pulses [-]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    (n_pulses,) residual sliding after each pulse's rest [m].
+    """
+    u_max = float(newmark_pulse_max_sliding(a_p, T_p, mu, g=g))
+    return u_max * np.arange(1, int(n_pulses) + 1, dtype=float)

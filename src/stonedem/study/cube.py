@@ -15,7 +15,13 @@ import xarray as xr
 
 from stonedem.errors import InputError
 from stonedem.io.netcdf import open_result, schema_variables
-from stonedem.io.schema import CUBE_HISTORIES, CUBE_MEASURES, CUBE_SHARED_ATTRS, SEARCH_VARIABLES
+from stonedem.io.schema import (
+    CUBE_HISTORIES,
+    CUBE_MEASURES,
+    CUBE_PART_MEASURES,
+    CUBE_SHARED_ATTRS,
+    SEARCH_VARIABLES,
+)
 from stonedem.study.grid import CASE_PARAMETERS, MEMBER, PARAMETERS, Case
 from stonedem.study.search import Run
 
@@ -70,7 +76,11 @@ def dataset_piece(ds: xr.Dataset) -> RunPiece:
     """The piece of a run's case dataset (a file of a grid or a full search run)."""
     small = case_piece(ds)
     params = {name: small[name].values.item() for name in case_parameters(ds)}
-    variables = {name: (small[name].dims, small[name].values) for name in small.data_vars}
+    variables = {
+        name: (small[name].dims, small[name].values)
+        for name in small.data_vars
+        if "part" not in small[name].dims  # a sequence's per-part measures: grid cubes only
+    }
     time = small["time"].values if "time" in small.coords else np.zeros(0)
     return RunPiece(
         params,
@@ -232,10 +242,10 @@ def case_piece(ds: xr.Dataset) -> xr.Dataset:
     as scalar coordinates, output times rounded (cases of different dt sample the same
     times to within rounding)."""
     params = case_parameters(ds)
-    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES if v in ds]
+    names = [v for v in CUBE_MEASURES + CUBE_HISTORIES + CUBE_PART_MEASURES if v in ds]
     small = ds[names].load()
     small = small.reset_coords(
-        [c for c in small.coords if c not in params and c != "time"], drop=True
+        [c for c in small.coords if c not in params and c not in ("time", "part")], drop=True
     )
     if "time" in small.coords:
         small = small.assign_coords(

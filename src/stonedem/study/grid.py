@@ -170,6 +170,27 @@ _ROWS = (
             doc="friction coefficient at the weak joint",
         ),
     ),
+    # an earthquake sequence (excitation: {kind: sequence}): its first and second parts' PGA
+    (
+        "excitation.parts[0].pga",
+        "main",
+        Field(
+            "mainshock_pga",
+            units="m s-2",
+            range="(0, inf)",
+            doc="peak ground acceleration of the sequence's first record (the mainshock)",
+        ),
+    ),
+    (
+        "excitation.parts[1].pga",
+        "after",
+        Field(
+            "aftershock_pga",
+            units="m s-2",
+            range="(0, inf)",
+            doc="peak ground acceleration of the sequence's second record (the aftershock)",
+        ),
+    ),
 )
 # one value of each swept parameter
 SWEPT = Spec(tuple(f for _, _, f in _ROWS), doc="the swept parameters of a study's grid and cases")
@@ -399,8 +420,27 @@ def _set(spec: dict, dotted: str, value) -> None:
     node = spec
     parts = dotted.split(".")
     for part in parts[:-1]:
-        node = node.setdefault(part, {})
+        key, _, index = part.partition("[")  # parts[0]: an item of a list the study gives
+        node = node.setdefault(key, {})
+        if index:
+            node = _item(node, int(index.rstrip("]")), dotted)
     node[parts[-1]] = value
+
+
+def _item(node, index: int, dotted: str):
+    """Item ``index`` of the list at a swept parameter's path, or an InputError."""
+    key = dotted.split("[")[0]
+    if not isinstance(node, list) or index >= len(node):
+        raise InputError(
+            key,
+            f"{dotted} sets item {index}, and the study gives no such item",
+            f"give {key}: a list of {index + 1} or more mappings in the study",
+        )
+    if not isinstance(node[index], dict):
+        raise InputError(
+            f"{key}[{index}]", f"expected a mapping, got {got(node[index])}", "write {kind: ...}"
+        )
+    return node[index]
 
 
 def case_table(name: str, study: dict, defaults: dict | None = None) -> list[Case]:
@@ -559,7 +599,11 @@ def _case(study: str, base: dict, params: dict, origin: dict | None = None) -> C
     scene = copy.deepcopy(base)
     scene["name"] = f"{study}/{case_id(params)}"
     for k, v in params.items():
-        _set(scene, PARAMETERS[k][0], v)
+        try:
+            _set(scene, PARAMETERS[k][0], v)
+        except InputError as error:  # a list item the study does not give (parts[1])
+            where = (origin or {}).get(k, f"studies.{study}")
+            raise InputError(where, error.problem, error.fix) from None
     _apply_weak_joint(scene, f"studies.{study}", (origin or {}).get("weak_joint"))
     return Case(study, case_id(params) or "base", params, scene)
 

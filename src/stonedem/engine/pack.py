@@ -103,7 +103,8 @@ def pack_scene(scene: Scene) -> SceneArrays:
     for g in groups.values():
         members = np.flatnonzero(body_group == g)
         verts = np.vstack([bodies[i].vertices for i in members])
-        lean = float(np.mean([bodies[i].lean for i in members]))
+        leans = [bodies[i].lean for i in members]
+        lean = leans[0] if len(set(leans)) == 1 else float(np.mean(leans))
         if lean != 0.0:  # a leaning group's slenderness is its upright one (structure.tilt)
             verts = rotate_about(verts, lean, (0.0, 0.0))
             group_lean[g] = -lean

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 
@@ -44,17 +43,10 @@ from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation import tilt
+from stonedem.validation.result import ValidationResult
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
-
-
-@dataclass
-class ValidationResult:
-    name: str
-    dataset: xr.Dataset
-    passed: bool
-    summary: dict = field(default_factory=dict)
-    error: float = float("nan")  # the number held to attrs["tolerance"] (summary table)
 
 
 def _attrs(units, long_name):
@@ -1603,6 +1595,7 @@ VALIDATIONS = {
     **THESIS_5_1,
     **{f"{name}_point": point_law_variant(check) for name, check in THESIS_5_1.items()},
     "pena_block": pena_block,
+    **tilt.CHECKS,
 }
 
 

@@ -52,6 +52,7 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         pair_mu=np.full((1, 1), 0.5),
         body_group=np.zeros(1, dtype=np.int64),
         group_theta_cr=np.full(1, np.pi / 4),
+        group_lean=np.zeros(1),
         fall_depth=np.full(1, 1e9),
         margin=0.1,
         sweep_axis=1,

@@ -137,18 +137,29 @@ def standalone_column(
     if abs(tilt) >= own:
         raise InputError(
             "structure.tilt",
-            f"|{tilt:g}| rad reaches the column's own slenderness atan(b/h) = {own:.4g} rad: "
-            "its centre of mass is past its toe and it cannot stand",
+            f"|{tilt:g}| rad reaches the column's own {own:.4g} rad (atan(b/h) of a plain "
+            "shaft): its centre of mass is past its toe and it cannot stand",
             f"give |tilt| < {own:.4g} rad",
         )
     return lean(bodies, tilt)
 
 
 def column_alpha(bodies) -> float:
-    """atan(b/h) [rad] of upright bodies taken together (their bounding box; thesis Eq. 6.2)."""
-    xy = [v for b in bodies for v in _vertices(b)]
-    xs, ys = [v[0] for v in xy], [v[1] for v in xy]
-    return math.atan2(max(xs) - min(xs), max(ys) - min(ys))
+    """The angle [rad] an upright column (its bodies, standing on y = 0, centred on x = 0, of one
+    density) leans to before its centre of mass passes its toe: atan((b_0 / 2) / y_c), b_0 the
+    bottom width of its lowest body, y_c the height of its centre of mass. atan(b/h) (thesis
+    Eq. 6.2) for a rectangular shaft; a capital raises y_c, a taper widens b_0."""
+    area = moment = 0.0
+    for body in bodies:
+        v = _vertices(body)
+        for (x0, y0), (x1, y1) in zip(v, v[1:] + v[:1]):
+            cross = x0 * y1 - x1 * y0
+            area += cross / 2.0
+            moment += cross * (y0 + y1) / 6.0
+    low = _vertices(bodies[0])
+    bottom = min(y for _, y in low)
+    xs = [x for x, y in low if y == bottom]
+    return math.atan2((max(xs) - min(xs)) / 2.0, moment / area)
 
 
 def lean(bodies, tilt, pivot=(0.0, 0.0)) -> list[dict]:

@@ -257,6 +257,29 @@ def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
     assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70
 
 
+@pytest.mark.parametrize("lean, first", [(-0.01, 87), (0.01, 47), (0.0, 67)])
+def test_a_leaning_group_collapses_sooner_toward_its_lean(lean, first):
+    # the box turns counter-clockwise at 0.5 rad/s from its rest pose; its group's rest pose
+    # is turned by ``lean`` from upright (structure.tilt): collapse once |theta + lean| passes
+    # 0.0333 rad, at 0.0433 rad away from the lean (-0.01) and 0.0233 toward it (+0.01)
+    n_steps, dt = 1000, 1e-3
+    model, settings, state, samples = box_bundles(n_steps, dt)
+    model = model._replace(group_theta_cr=np.full(1, 0.0333), group_lean=np.full(1, lean))
+    status, _, _ = step.run(
+        model,
+        settings._replace(stop_on_collapse=True),
+        state,
+        samples,
+        0,
+        n_steps + 1,
+        0,
+        n_steps + 1,
+        0,
+        -1,
+    )
+    assert status == step.STATUS_COLLAPSED and state.events[step.EVENT_COLLAPSE] == first
+
+
 def block_run_bundles(tilt, duration):
     """(arrays, model, settings, n_steps) of a 0.4 x 1.6 m block tilted by ``tilt`` [rad] on
     the ground under the point law, ``duration`` [s], a sample every 0.01 s, no stopping."""

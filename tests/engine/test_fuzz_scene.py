@@ -52,6 +52,28 @@ BASES = [
         "solver": {"duration": 40.0},
         "output": {"every": 0.01},
     },
+    # a leaning column (structure.tilt, issue 48) and a body that leans (lean)
+    {
+        "structure": {"kind": "column", "n_drums": 2, "tilt": -0.03, "base_width": 3.0},
+        "friction": 0.6,
+        "excitation": {"kind": "ramp", "rate": 0.5},
+        "solver": {"duration": 0.5},
+    },
+    {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 2.0, "height": 0.2, "center": [0, -0.1]},
+                "driven": True,
+            },
+            {
+                "name": "block",
+                "box": {"width": 0.3, "height": 1.0, "center": [0, 0.5]},
+                "lean": 0.02,
+            },
+        ],
+        "solver": {"duration": 0.5},
+    },
 ]
 
 JUNK = st.one_of(

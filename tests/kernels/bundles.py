@@ -38,6 +38,7 @@ def law_bundles(
         pair_mu=np.full((n, n), float(mu)),
         body_group=np.full(n, -1, dtype=np.int64),
         group_theta_cr=np.zeros(0),
+        group_lean=np.zeros(0),
         fall_depth=np.full(n, 1e9),
         margin=0.01,
         sweep_axis=1,

@@ -52,6 +52,7 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         pair_mu=np.full((1, 1), 0.5),
         body_group=np.zeros(1, dtype=np.int64),
         group_theta_cr=np.full(1, np.pi / 4),
+        group_lean=np.zeros(1),
         fall_depth=np.full(1, 1e9),
         margin=0.1,
         sweep_axis=1,
@@ -254,6 +255,29 @@ def test_a_collapse_between_samples_is_sampled_at_its_step_and_stops_the_run():
     )
     assert status == step.STATUS_OK and n_sample == 101
     assert state2.events[step.EVENT_COLLAPSE] == 67 and samples2.step[collapse_sample] == 70
+
+
+@pytest.mark.parametrize("lean, first", [(-0.01, 87), (0.01, 47), (0.0, 67)])
+def test_a_leaning_group_collapses_sooner_toward_its_lean(lean, first):
+    # the box turns counter-clockwise at 0.5 rad/s from its rest pose; its group's rest pose
+    # is turned by ``lean`` from upright (structure.tilt): collapse once |theta + lean| passes
+    # 0.0333 rad, at 0.0433 rad away from the lean (-0.01) and 0.0233 toward it (+0.01)
+    n_steps, dt = 1000, 1e-3
+    model, settings, state, samples = box_bundles(n_steps, dt)
+    model = model._replace(group_theta_cr=np.full(1, 0.0333), group_lean=np.full(1, lean))
+    status, _, _ = step.run(
+        model,
+        settings._replace(stop_on_collapse=True),
+        state,
+        samples,
+        0,
+        n_steps + 1,
+        0,
+        n_steps + 1,
+        0,
+        -1,
+    )
+    assert status == step.STATUS_COLLAPSED and state.events[step.EVENT_COLLAPSE] == first
 
 
 def block_run_bundles(tilt, duration):

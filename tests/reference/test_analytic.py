@@ -709,3 +709,40 @@ def test_sequence_pulse_residual_sliding_adds_newmark_u_max():
     assert np.allclose(res, [u, 2 * u, 3 * u], rtol=0, atol=1e-15)
     # below the sliding threshold nothing accumulates
     assert np.all(analytic.sequence_pulse_residual_sliding(0.2 * G, 1.0, 0.3, 2) == 0.0)
+
+
+# --- leaning columns (issue 48) ----------------------------------------------------------
+
+
+def _toe_moment(a, width, height, tilt, toward_lean):
+    """Moment [per unit mass] about the toe the block turns on of gravity and the inertial
+    force -a (x), the block leaning toward +x by tilt (turned clockwise about its bottom
+    centre); positive: it uplifts."""
+    c, s = math.cos(tilt), math.sin(tilt)
+    # toe toward the lean: bottom right; away: bottom left (upright frame, from the centroid)
+    toe = (width / 2 if toward_lean else -width / 2, -height / 2)
+    tx, ty = c * toe[0] + s * toe[1], -s * toe[0] + c * toe[1]  # turned clockwise
+    # force per unit mass: gravity (0, -g) and the inertial force; a pushes toward the toe's side
+    fx = a if toward_lean else -a
+    # moment of the force applied at the centroid about the toe: r x F with r = -toe
+    moment = (-tx) * (-G) - (-ty) * fx
+    return moment if toward_lean else -moment
+
+
+@pytest.mark.parametrize("tilt", [0.0, 0.01, 0.05, 0.1])
+@pytest.mark.parametrize("toward_lean", [True, False])
+def test_leaning_tipping_acceleration_balances_moments_about_the_toe(tilt, toward_lean):
+    width, height = 1.0, 6.0
+    a = analytic.leaning_tipping_acceleration(width, height, tilt, toward_lean, g=G)
+    root = brentq(_toe_moment, 0.0, 20.0, args=(width, height, tilt, toward_lean), xtol=1e-14)
+    assert a == pytest.approx(root, rel=1e-10)
+    level = analytic.leaning_tipping_acceleration(width, height, 0.0, g=G)
+    assert level == pytest.approx(G / 6.0, rel=1e-12)
+    assert (a <= level) if toward_lean else (a >= level)
+
+
+def test_leaning_tipping_acceleration_refuses_a_column_that_cannot_stand():
+    alpha = math.atan(1.0 / 6.0)
+    assert math.isnan(analytic.leaning_tipping_acceleration(1.0, 6.0, alpha + 1e-9))
+    out = analytic.leaning_tipping_acceleration(1.0, 6.0, np.array([0.0, 0.02]), toward_lean=False)
+    assert out == pytest.approx(G * np.tan(alpha + np.array([0.0, 0.02])), rel=1e-12)

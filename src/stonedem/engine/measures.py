@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from stonedem.engine.geometry import following
+from stonedem.engine.geometry import following, rotate_about
 from stonedem.engine.scene import Scene, posed_vertices
 
 
@@ -37,11 +37,11 @@ def supports(scene: Scene) -> list[int]:
     -1."""
     posed = [posed_vertices(b) for b in scene.bodies]
     out = []
-    for i, verts in enumerate(posed):
+    for i in range(len(posed)):
         if scene.bodies[i].driven:
             out.append(-1)
             continue
-        probe = bottom_centre(verts) - [0.0, 1e-6]
+        probe = seat_point(scene.bodies[i], 1e-6)
         found = -1
         for j, other in enumerate(posed):
             if j != i and _contains(other, probe):
@@ -49,6 +49,18 @@ def supports(scene: Scene) -> list[int]:
                 break
         out.append(found)
     return out
+
+
+def seat_point(body, below: float = 0.0) -> np.ndarray:
+    """The centre of a body's bottom face at t = 0, ``below`` [m] under it (a probe into its
+    support) [m]. A leaning body (``lean``, structure.tilt) has its bottom face found upright
+    and ``below`` taken square to that face: its lowest corner alone is no face, and straight
+    under it may lie outside the inclined body it rests on."""
+    if body.lean == 0.0:
+        return bottom_centre(posed_vertices(body)) - [0.0, below]
+    pivot = body.centroid
+    upright = rotate_about(posed_vertices(body), body.lean, pivot)
+    return rotate_about((bottom_centre(upright) - [0.0, below])[None, :], -body.lean, pivot)[0]
 
 
 def _contains(vertices: np.ndarray, point: np.ndarray) -> bool:
@@ -96,7 +108,7 @@ def sliding_frames(scene: Scene, support: list[int], x0, y0, theta0) -> SlidingF
     for i, s in enumerate(support):
         if s < 0:
             continue
-        point = bottom_centre(posed_vertices(scene.bodies[i]))
+        point = seat_point(scene.bodies[i])
         frames.body_x[i], frames.body_y[i] = _local(point, x0[i], y0[i], theta0[i])
         frames.support_x[i], frames.support_y[i] = _local(point, x0[s], y0[s], theta0[s])
     for i, s in enumerate(support):
@@ -141,10 +153,15 @@ def rocking_bodies(scene: Scene) -> np.ndarray:
     )
 
 
-def rocking_theta_cr(scene: Scene, body_group: np.ndarray, group_theta_cr: np.ndarray) -> float:
-    """theta_cr [rad] of the rocking measure: the smallest of its bodies' collapse groups."""
+def rocking_theta_cr(
+    scene: Scene, body_group: np.ndarray, group_theta_cr: np.ndarray, group_lean=None
+) -> float:
+    """theta_cr [rad] of the rocking measure: the smallest of its bodies' collapse groups; a
+    leaning group's toward its lean, theta_cr - |lean| (group_lean, structure.tilt)."""
     groups = np.unique(body_group[rocking_bodies(scene)])
-    return float(group_theta_cr[groups].min())
+    if group_lean is None or not np.any(group_lean[groups]):
+        return float(group_theta_cr[groups].min())
+    return float((group_theta_cr[groups] - np.abs(group_lean[groups])).min())
 
 
 def epistyle_bodies(scene: Scene) -> list[int]:

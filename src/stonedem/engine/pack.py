@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stonedem.engine import measures
-from stonedem.engine.geometry import following
+from stonedem.engine.geometry import following, rotate_about
 from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import Scene, initial_pose, posed_vertices
 from stonedem.errors import InputError
@@ -40,7 +40,9 @@ class SceneArrays:
     ref_theta: np.ndarray  # [rad]
     pair_mu: np.ndarray  # friction coefficient of every pair (n_body, n_body) [1]
     body_group: np.ndarray  # collapse group (column or single body), -1 for none (n_body,)
-    group_theta_cr: np.ndarray  # atan(b/h) of each group at rest (n_group,) [rad]
+    group_theta_cr: np.ndarray  # atan(b/h) of each group at rest, upright (n_group,) [rad]
+    # counter-clockwise rotation of each group's rest pose from upright (-lean) (n_group,) [rad]
+    group_lean: np.ndarray
     fall_depth: np.ndarray  # centroid drop meaning the body fell off (n_body,) [m]
     init_x: np.ndarray  # pose and velocity at t = 0 (n_body,)
     init_y: np.ndarray
@@ -97,9 +99,15 @@ def pack_scene(scene: Scene) -> SceneArrays:
         key = ("column", body.tier, body.column) if body.column >= 0 else ("body", i)
         body_group[i] = groups.setdefault(key, len(groups))
     group_theta_cr = np.empty(len(groups))
+    group_lean = np.zeros(len(groups))
     for g in groups.values():
         members = np.flatnonzero(body_group == g)
         verts = np.vstack([bodies[i].vertices for i in members])
+        leans = [bodies[i].lean for i in members]
+        lean = leans[0] if len(set(leans)) == 1 else float(np.mean(leans))
+        if lean != 0.0:  # a leaning group's slenderness is its upright one (structure.tilt)
+            verts = rotate_about(verts, lean, (0.0, 0.0))
+            group_lean[g] = -lean
         width, height = np.ptp(verts, axis=0)
         group_theta_cr[g] = math.atan2(width, height)  # thesis Eq. 6.2
     # a body fell once its centroid is half its height below where it rests; a body released
@@ -122,6 +130,7 @@ def pack_scene(scene: Scene) -> SceneArrays:
         pair_mu=np.ascontiguousarray(pair_mu),
         body_group=body_group,
         group_theta_cr=group_theta_cr,
+        group_lean=group_lean,
         fall_depth=fall_depth,
         init_x=init[:, 0].copy(),
         init_y=init[:, 1].copy(),
@@ -269,6 +278,7 @@ def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
         pair_mu=arrays.pair_mu,
         body_group=arrays.body_group,
         group_theta_cr=arrays.group_theta_cr,
+        group_lean=arrays.group_lean,
         fall_depth=arrays.fall_depth,
         margin=arrays.margin,
         sweep_axis=arrays.sweep_axis,
@@ -307,7 +317,9 @@ def watch_arrays(scene: Scene, arrays: SceneArrays) -> step.Watch:
     rocking = np.zeros(n)
     rocking[measures.rocking_bodies(scene).astype(np.int64)] = 1.0
     theta_cr = (
-        measures.rocking_theta_cr(scene, arrays.body_group, arrays.group_theta_cr)
+        measures.rocking_theta_cr(
+            scene, arrays.body_group, arrays.group_theta_cr, arrays.group_lean
+        )
         if rocking.any()
         else np.inf
     )

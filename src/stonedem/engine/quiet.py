@@ -38,14 +38,23 @@ def quiet_threshold(scene: Scene) -> float:
     A body slides only if a/g exceeds the smallest friction coefficient; an assembly above
     a joint rocks only if a/g exceeds (half the joint width) / (height of its centroid above
     the joint), which is at least (narrowest free body) / (2 x height of the free structure).
-    Halved (QUIET_MARGIN), so the soft contacts' own vibration has no part in it either.
+    Halved (QUIET_MARGIN), so the soft contacts' own vibration has no part in it either. A
+    leaning body (structure.tilt) lowers both bounds to those toward its lean.
     """
     free = [posed_vertices(b) for b in scene.bodies if not b.driven]
     mu = [b.friction if b.friction is not None else scene.friction for b in scene.bodies]
     mu_min = min(min(mu), *scene.pair_friction.values()) if scene.pair_friction else min(mu)
     width = min(float(np.ptp(v[:, 0])) for v in free)
     height = float(np.ptp(np.vstack(free)[:, 1]))
-    return QUIET_MARGIN * min(mu_min, width / (2.0 * height))
+    lean = max(abs(b.lean) for b in scene.bodies)
+    if lean == 0.0:
+        return QUIET_MARGIN * min(mu_min, width / (2.0 * height))
+    # a leaning column (structure.tilt): toward its lean it slides at (mu - tan b)/(1 + mu tan b)
+    # and rocks past an angle smaller by the lean
+    t = math.tan(lean)
+    slide = (mu_min - t) / (1.0 + mu_min * t)
+    rock = math.tan(max(math.atan(width / (2.0 * height)) - lean, 0.0))
+    return QUIET_MARGIN * max(min(slide, rock), 0.0)
 
 
 def quiet_steps(scene: Scene, dt: float, n_steps: int, out_every: int) -> tuple[int, int]:

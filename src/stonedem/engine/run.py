@@ -161,7 +161,7 @@ def response_measures(
     )
     total_sliding = np.abs(sliding[:, free]).sum(axis=1)
     theta_cr = measures.rocking_theta_cr(
-        scene, result.arrays.body_group, result.arrays.group_theta_cr
+        scene, result.arrays.body_group, result.arrays.group_theta_cr, result.arrays.group_lean
     )
     epistyles = measures.epistyle_bodies(scene)
     collapsed = result.collapse_step >= 0 and checks["status"] != "penetrated"

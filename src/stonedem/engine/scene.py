@@ -16,6 +16,7 @@ from __future__ import annotations
 import contextvars
 import copy
 import dataclasses
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -90,6 +91,16 @@ BODY = Spec(
         Field("density", "number", "kg m-3", "(0, inf)", doc="density (default: the scene's)"),
         Field("driven", "flag", default=False, doc="moves with the base"),
         Field("tilt", "mapping", spec=TILT, doc="initial tilt"),
+        Field(
+            "lean",
+            "number",
+            "rad",
+            "(-1.5, 1.5)",
+            0.0,
+            hint="give the lean in rad, positive toward +x",
+            doc="the body as given leans by this angle from its upright frame, positive toward "
+            "+x (structure.tilt sets it): its critical rotation and support are reckoned upright",
+        ),
         Field(
             "velocity",
             "numbers",
@@ -204,6 +215,9 @@ class Body:
     tilt_angle: float  # counter-clockwise rotation applied at t = 0 [rad]
     tilt_pivot: np.ndarray  # [m]
     velocity: tuple | None  # (vx [m s-1], vy [m s-1], omega [rad s-1]) or None
+    # the vertices as given lean by this angle from the body's upright frame, positive toward
+    # +x (clockwise; structure.tilt) [rad]
+    lean: float = 0.0
 
     @property
     def centroid(self) -> np.ndarray:
@@ -463,7 +477,33 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         kernel=solver["kernel"],
     )
     check_initial_overlaps(scene)
+    check_lean_friction(scene)
     return scene
+
+
+def check_lean_friction(scene: Scene) -> None:
+    """Refuse leaning bodies (``lean``, structure.tilt) whose friction cannot hold them on
+    their inclined seats: tan|lean| >= mu of a pair they touch at rest slides them off."""
+    leaning = [i for i, b in enumerate(scene.bodies) if b.lean != 0.0]
+    if not leaning:
+        return
+    steep = max(leaning, key=lambda i: abs(scene.bodies[i].lean))
+    steepest = abs(scene.bodies[steep].lean)
+    mus = [scene.friction if b.friction is None else b.friction for b in scene.bodies]
+    names = scene.body_names
+    # a pair's mu is the smaller of the two bodies' (stonedem.engine.pack), or its own
+    grip = min(mus[i] for i, b in enumerate(scene.bodies) if i in leaning or b.driven)
+    for pair, mu in scene.pair_friction.items():
+        if any(names.index(n) in leaning for n in pair):
+            grip = min(grip, mu)
+    if math.tan(steepest) >= grip:
+        built = isinstance(scene.spec.get("structure"), dict) and "tilt" in scene.spec["structure"]
+        raise InputError(
+            "structure.tilt" if built else f"bodies[{steep}] ({names[steep]}).lean",
+            f"tan({steepest:g} rad) = {math.tan(steepest):.3g} reaches the friction {grip:g}: "
+            "the drums slide down their inclined seats",
+            f"give a lean < atan(friction) = {math.atan(grip):.4g} rad, or more friction",
+        )
 
 
 def base_motions(spec: dict, base_dir: Path | str) -> tuple[BaseMotion, BaseMotion]:
@@ -526,6 +566,10 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         tilt_angle, tilt_pivot = _tilt(
             vertices, tilt["angle"], tilt["about"], f"{where}.tilt.about"
         )
+    if body["lean"] != 0.0 and body["driven"]:
+        raise InputError(
+            f"{where}.lean", "a driven body has no critical rotation to reckon", "remove lean:"
+        )
     velocity = body["velocity"]
     return Body(
         name=name if name is not None else f"body{index}",
@@ -540,6 +584,7 @@ def _body(spec: dict, index: int, density: float, depth: float) -> Body:
         tilt_angle=tilt_angle,
         tilt_pivot=tilt_pivot,
         velocity=None if velocity is None else tuple(velocity),
+        lean=body["lean"],
     )
 
 

@@ -11,6 +11,7 @@ the epistyle of a lower one (7.9).
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -114,10 +115,71 @@ def column(
 
 
 def standalone_column(
-    n_drums, height=6.0, width=1.0, density=2000.0, taper=1.0, capital=None, base_width=4.0
+    n_drums,
+    height=6.0,
+    width=1.0,
+    density=2000.0,
+    taper=1.0,
+    capital=None,
+    base_width=4.0,
+    tilt=0.0,
 ):
-    """Base + one column (thesis chapter 6)."""
-    return [base_body(base_width)] + column(n_drums, height, width, density, taper, capital)
+    """Base + one column (thesis chapter 6), leaning by ``tilt`` [rad] toward +x with its seat.
+
+    A leaning column stands square on the base's top face, which is inclined at ``tilt`` (a
+    differential settlement of the foundation, or a base slope: for a lone column the same
+    scene): every body turns clockwise by ``tilt`` about the centre of that face (:func:`lean`).
+    """
+    bodies = [base_body(base_width)] + column(n_drums, height, width, density, taper, capital)
+    if tilt == 0.0:
+        return bodies
+    own = column_alpha(bodies[1:])
+    if abs(tilt) >= own:
+        raise InputError(
+            "structure.tilt",
+            f"|{tilt:g}| rad reaches the column's own {own:.4g} rad (atan(b/h) of a plain "
+            "shaft): its centre of mass is past its toe and it cannot stand",
+            f"give |tilt| < {own:.4g} rad",
+        )
+    return lean(bodies, tilt)
+
+
+def column_alpha(bodies) -> float:
+    """The angle [rad] an upright column (its bodies, standing on y = 0, centred on x = 0, of one
+    density) leans to before its centre of mass passes its toe: atan((b_0 / 2) / y_c), b_0 the
+    bottom width of its lowest body, y_c the height of its centre of mass. atan(b/h) (thesis
+    Eq. 6.2) for a rectangular shaft; a capital raises y_c, a taper widens b_0."""
+    area = moment = 0.0
+    for body in bodies:
+        v = _vertices(body)
+        for (x0, y0), (x1, y1) in zip(v, v[1:] + v[:1]):
+            cross = x0 * y1 - x1 * y0
+            area += cross / 2.0
+            moment += cross * (y0 + y1) / 6.0
+    low = _vertices(bodies[0])
+    bottom = min(y for _, y in low)
+    xs = [x for x, y in low if y == bottom]
+    return math.atan2((max(xs) - min(xs)) / 2.0, moment / area)
+
+
+def lean(bodies, tilt, pivot=(0.0, 0.0)) -> list[dict]:
+    """Bodies turned clockwise by ``tilt`` [rad] (leaning toward +x) about ``pivot`` [m], as
+    polygons; the free ones carry ``lean: tilt`` (their upright frame, stonedem.engine.scene)."""
+    c, s = math.cos(tilt), math.sin(tilt)
+    px, py = pivot
+    out = []
+    for body in bodies:
+        turned = {k: v for k, v in body.items() if k != "box"}
+        turned["polygon"] = {
+            "vertices": [
+                [px + c * (x - px) + s * (y - py), py - s * (x - px) + c * (y - py)]
+                for x, y in _vertices(body)
+            ]
+        }
+        if not body.get("driven", False):
+            turned["lean"] = tilt
+        out.append(turned)
+    return out
 
 
 def _top(bodies):
@@ -333,6 +395,17 @@ ROW_KEYS = (
     *COLUMN_KEYS[2:],
 )
 BASE_MARGIN = Field("base_margin", "number", "m", "(0, inf)", 2.0, doc="base beyond the row")
+TILT = Field(
+    "tilt",
+    "number",
+    "rad",
+    "(-1.5, 1.5)",
+    0.0,
+    hint="give the lean in rad, positive toward +x, below the column's atan(b/h)",
+    doc="the column leans as a whole with its seat, the base's top face inclined at this "
+    "angle (differential settlement; for a lone column the same as a base slope), positive "
+    "toward +x; |tilt| < atan(b/h) and tan|tilt| < friction",
+)
 # a row of a two-tier colonnade: only the keys given (the builder has its own per-tier defaults)
 TIER = Spec(tuple(dataclasses.replace(f, default=None) for f in ROW_KEYS))
 
@@ -365,6 +438,7 @@ BUILDERS = {
                 ),
                 *COLUMN_KEYS,
                 Field("base_width", "number", "m", "(0, inf)", 4.0, doc="width of the driven base"),
+                TILT,
             )
         ),
         "base + one column (thesis chapter 6)",
@@ -406,6 +480,13 @@ def build_structure(spec: dict) -> list[dict]:
     if "kind" not in spec:
         raise InputError("structure.kind", "missing", KIND.hint)
     row = BUILDERS[KIND.check(spec["kind"], "structure.kind")]
+    if "tilt" in spec and "tilt" not in row.spec.keys:
+        raise InputError(
+            "structure.tilt",
+            f"a {spec['kind']} does not lean as a whole here (its epistyles rest on every "
+            "column; a settlement tilts them one by one)",
+            "drop tilt:, or use kind: column",
+        )
     values = Spec((KIND, *row.spec.fields)).check(spec, "structure")
     del values["kind"]
     return row.build(values)

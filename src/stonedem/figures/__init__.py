@@ -58,6 +58,7 @@ def chapters() -> tuple:
         importlib.import_module("stonedem.figures.chapter6"),
         importlib.import_module("stonedem.figures.chapter7"),
         importlib.import_module("stonedem.figures.sequences"),
+        importlib.import_module("stonedem.figures.tilt"),
     )
 
 

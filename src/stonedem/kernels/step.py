@@ -159,6 +159,9 @@ class Model(NamedTuple):
     pair_mu: np.ndarray  # friction coefficient of every pair (n_body, n_body) [1]
     body_group: np.ndarray  # collapse group of each body, -1 for none (n_body,)
     group_theta_cr: np.ndarray  # critical mean rotation of each group (n_group,) [rad]
+    # rotation of each group's rest pose from upright (a leaning column), added to its bodies'
+    # theta in the collapse check: toward the lean it collapses at theta_cr - |lean| (n_group,)
+    group_lean: np.ndarray
     fall_depth: np.ndarray  # centroid drop that means a body fell (n_body,) [m]
     margin: float  # broad-phase margin [m]
     sweep_axis: int  # 0 = x, 1 = y
@@ -426,7 +429,7 @@ def smallest_theta_cr(model):
     no group can have collapsed by rotation (:func:`track`'s tilt alarm)."""
     smallest = np.inf
     for g in range(model.group_theta_cr.shape[0]):
-        smallest = min(smallest, model.group_theta_cr[g])
+        smallest = min(smallest, model.group_theta_cr[g] - abs(model.group_lean[g]))
     return smallest
 
 
@@ -564,16 +567,18 @@ def at_rest(model, work, vel_h, vel_v, rest_speed):
 
 @njit(**NO_ALLOC_OPTIONS)
 def collapsed(model, state, work, d_v):
-    """True when a group's mean |theta| exceeds its theta_cr, or a body dropped below its support.
+    """True when a group's mean |theta + lean| exceeds its theta_cr, or a body dropped below its
+    support (lean: model.group_lean, 0 but for a leaning column).
 
     A body fell when its centroid, relative to the base (vertical displacement d_v [m]), is
     more than model.fall_depth below its reference; groups are model.body_group (column,
     epistyle, block), with critical mean rotation model.group_theta_cr = atan(b/h).
     """
-    body_driven, body_group, group_theta_cr = (
+    body_driven, body_group, group_theta_cr, group_lean = (
         model.body_driven,
         model.body_group,
         model.group_theta_cr,
+        model.group_lean,
     )
     ref_y, fall_depth = model.ref_y, model.fall_depth
     body_y, body_theta = state.body_y, state.body_theta
@@ -588,7 +593,7 @@ def collapsed(model, state, work, d_v):
             return True
         g = body_group[b]
         if g >= 0:
-            sums[g] += abs(body_theta[b])
+            sums[g] += abs(body_theta[b] + group_lean[g])
             counts[g] += 1.0
     for g in range(group_theta_cr.shape[0]):
         if counts[g] > 0.0 and sums[g] / counts[g] > group_theta_cr[g]:

@@ -1145,3 +1145,44 @@ def sequence_pulse_residual_sliding(a_p, T_p, mu, n_pulses, g=G):
     """
     u_max = float(newmark_pulse_max_sliding(a_p, T_p, mu, g=g))
     return u_max * np.arange(1, int(n_pulses) + 1, dtype=float)
+
+
+# --- leaning columns (issue 48: structure.tilt) ------------------------------------------
+
+
+def leaning_tipping_acceleration(width, height, tilt, toward_lean=True, g=G):
+    """Static base acceleration [m s-2] that uplifts a rigid block standing square on a seat
+    inclined at ``tilt`` [rad], the base accelerating horizontally.
+
+    The block (full width ``width``, height ``height`` [m], alpha = atan(b/h)) turns about its
+    toe once the resultant of gravity and the inertial force passes it: a horizontal
+    acceleration a uplifts it toward its lean at a = g tan(alpha - tilt), away from it at
+    a = g tan(alpha + tilt) (the inertial force points against a). Vectorised over the
+    arguments; NaN where alpha - tilt <= 0 (the block cannot stand) or alpha + tilt >= pi/2.
+    """
+    alpha = np.arctan2(np.asarray(width, dtype=float), np.asarray(height, dtype=float))
+    tilt = np.asarray(tilt, dtype=float)
+    angle = alpha - tilt if toward_lean else alpha + tilt
+    out = g * np.tan(angle)
+    out = np.where((alpha - np.abs(tilt) > 0.0) & (angle < 0.5 * np.pi), out, np.nan)
+    return float(out) if out.ndim == 0 else out
+
+
+def ramp_uplift_rotation(tau, width, height, tilt, rate, toward_lean=True, g=G):
+    """Rotation [rad] of a rigid block on a seat inclined at ``tilt`` a time ``tau`` [s] after
+    it uplifts under a base acceleration ramp of ``rate`` [m s-3] (linearised about the
+    uplift pose).
+
+    Past the threshold a_u (:func:`leaning_tipping_acceleration`) the excess a - a_u = rate tau
+    drives the rocking equation, linearised for theta << alpha' (alpha' = alpha -+ tilt, the
+    toe's angle from the vertical): theta'' = p^2 theta + q cos(alpha') rate tau, with
+    q = m R / I_0 = 3 / (4 R) and p^2 = q g / cos(alpha'). From rest,
+    theta = q cos(alpha') rate (sinh(p tau) - p tau) / p^3. A measured rotation threshold is
+    reached this long after the uplift; the delay is what a slow ramp adds to the static value.
+    """
+    alpha = math.atan2(width, height)
+    angle = alpha - tilt if toward_lean else alpha + tilt
+    q = 3.0 / (2.0 * math.hypot(width, height))  # m R / I_0 about a corner, R = half-diagonal
+    p = math.sqrt(q * g / math.cos(angle))
+    tau = np.asarray(tau, dtype=float)
+    return q * math.cos(angle) * rate * (np.sinh(p * tau) - p * tau) / p**3

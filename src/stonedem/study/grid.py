@@ -191,6 +191,17 @@ _ROWS = (
             doc="peak ground acceleration of the sequence's second record (the aftershock)",
         ),
     ),
+    # issue 48: a column leaning with its seat (stonedem.engine.structures.standalone_column)
+    (
+        "structure.tilt",
+        "tilt",
+        Field(
+            "tilt",
+            units="rad",
+            range="(-1.5, 1.5)",
+            doc="lean of the column with its seat, positive toward +x",
+        ),
+    ),
 )
 # one value of each swept parameter
 SWEPT = Spec(tuple(f for _, _, f in _ROWS), doc="the swept parameters of a study's grid and cases")

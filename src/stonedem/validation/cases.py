@@ -43,7 +43,7 @@ from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
-from stonedem.validation import sequence
+from stonedem.validation import sequence, tilt
 from stonedem.validation.result import ValidationResult
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
@@ -1596,6 +1596,7 @@ VALIDATIONS = {
     **{f"{name}_point": point_law_variant(check) for name, check in THESIS_5_1.items()},
     "pena_block": pena_block,
     **sequence.CHECKS,
+    **tilt.CHECKS,
 }
 
 

@@ -1,6 +1,6 @@
-"""What a validation returns: :class:`ValidationResult` (stonedem.validation.cases and the
-validations beyond the thesis, e.g. :mod:`stonedem.validation.sequence`, which cases imports to
-register them)."""
+"""What a validation returns (:class:`ValidationResult`), apart from the checks so that a
+feature's own module of checks (``stonedem.validation.<feature>``, registered in
+:data:`stonedem.validation.cases.VALIDATIONS`) needs no import of ``cases``."""
 
 from __future__ import annotations
 
@@ -16,3 +16,8 @@ class ValidationResult:
     passed: bool
     summary: dict = field(default_factory=dict)
     error: float = float("nan")  # the number held to attrs["tolerance"] (summary table)
+
+
+def attrs(units, long_name):
+    """A variable's attributes: units and long name."""
+    return {"units": units, "long_name": long_name}

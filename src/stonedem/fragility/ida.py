@@ -89,7 +89,7 @@ FRAGILITY = Spec(
             "mapping",
             default={},
             hint="write compare: {links: [column_3_drums, column_3_drums_titanium]}",
-            doc="{name: structures} drawn side by side in results/figures/fragility_compare_<name>"
+            doc="{name: structures} drawn side by side in the figure fragility_compare_<name>"
             ".png (variants of one structure: linked, tilted)",
         ),
     )

@@ -25,6 +25,7 @@ from stonedem.engine import geometry
 from stonedem.engine.graph import contact_graph as scene_graph
 from stonedem.engine.graph import why_broken
 from stonedem.engine.laws import LAWS, general_loop
+from stonedem.engine.links import anchor_point
 from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
@@ -104,6 +105,10 @@ def stability_limit(scene: Scene) -> float:
             k_trans = max(law.k_n * length, law.k_t)
             k_rot = k_trans * (arm2 * length**2 + float(np.sum(size[i] ** 2)) / 4.0)
             c_sum = max(row.pair_dashpot(law, length, body.mass), law.c_t)
+        for link in scene.links:  # a shear link is one more spring on the bodies it joins
+            if i in (link.lower, link.upper):
+                k_trans += link.stiffness
+                k_rot += link.stiffness * float(np.sum((anchor_point(scene, link) - centre) ** 2))
         omega = math.sqrt(2.0 * (k_trans / body.mass + k_rot / body.inertia))
         zeta = c_sum / (2.0 * math.sqrt(k_trans * body.mass))
         limit = min(limit, 2.0 / omega * (math.sqrt(1.0 + zeta**2) - zeta))
@@ -320,6 +325,11 @@ class RunResult:
     # [s] from which the general loop took over from the graph's, NaN: never
     handover_time: float = math.nan
     handover_reason: str = ""  # why (stonedem.engine.graph.why_broken)
+    # shear links at the end of the run (stonedem.kernels.links): plastic slip [m], status
+    # LINK_*, peak |force| [N] (n_link,)
+    link_slip: np.ndarray = None
+    link_status: np.ndarray = None
+    link_peak: np.ndarray = None
 
     @property
     def max_rocking(self) -> float:
@@ -479,8 +489,9 @@ class CompiledLoop:
         return status
 
 
-def initial_state(arrays: SceneArrays) -> step.State:
-    """The kernel's state at t = 0: the packed initial poses and velocities, no contact memory."""
+def initial_state(arrays: SceneArrays, n_link: int = 0) -> step.State:
+    """The kernel's state at t = 0: the packed initial poses and velocities, no contact memory,
+    ``n_link`` shear links engaged and unloaded."""
     n_body = len(arrays.body_mass)
     return step.State(
         body_x=arrays.init_x.copy(),
@@ -496,6 +507,10 @@ def initial_state(arrays: SceneArrays) -> step.State:
         peaks=np.zeros(step.N_PEAK),
         peak_theta=np.zeros(n_body),
         events=np.full(step.N_EVENT, -1, dtype=np.int64),
+        link_slip=np.zeros(n_link),
+        link_status=np.zeros(n_link, dtype=np.int64),
+        link_peak=np.zeros(n_link),
+        link_energy=np.zeros(n_link),
     )
 
 
@@ -530,8 +545,12 @@ class Plan:
 
 def uses_graph(scene: Scene) -> bool:
     """Whether the scene starts on the contact-graph loop (stonedem.kernels.contact_graph): under
-    the point law, unless ``solver.kernel: general``."""
-    return scene.kernel == "auto" and LAWS[scene.contact.model].code == step.CONTACT_POINT
+    the point law, unless ``solver.kernel: general`` or the scene has shear links."""
+    return (
+        scene.kernel == "auto"
+        and LAWS[scene.contact.model].code == step.CONTACT_POINT
+        and not scene.links  # the graph's loop has no links: a linked scene runs the general one
+    )
 
 
 def plan_run(scene: Scene, progress: bool = False) -> Plan:
@@ -552,7 +571,7 @@ def plan_run(scene: Scene, progress: bool = False) -> Plan:
     loop = CompiledLoop(
         kernel_model(scene, arrays),
         settings,
-        initial_state(arrays),
+        initial_state(arrays, len(scene.links)),
         cursor,
         Progress() if progress else None,
         graph=body_graph(scene, arrays) if uses_graph(scene) else None,
@@ -656,6 +675,9 @@ def finish_run(plan: Plan) -> RunResult:
         handover_reason=why_broken(*plan.loop.broken, plan.scene.body_names)
         if plan.loop.broken
         else "",
+        link_slip=state.link_slip.copy(),
+        link_status=state.link_status.copy(),
+        link_peak=state.link_peak.copy(),
     )
 
 

@@ -44,6 +44,7 @@ from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation import links
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
 
@@ -1603,6 +1604,7 @@ VALIDATIONS = {
     **THESIS_5_1,
     **{f"{name}_point": point_law_variant(check) for name, check in THESIS_5_1.items()},
     "pena_block": pena_block,
+    **links.CHECKS,  # beyond the thesis: shear links (issue 48)
 }
 
 

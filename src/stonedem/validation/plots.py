@@ -20,6 +20,7 @@ import xarray as xr  # noqa: E402
 
 from stonedem.io.atomic import write_atomically  # noqa: E402
 from stonedem.io.netcdf import open_result  # noqa: E402
+from stonedem.validation import links  # noqa: E402
 
 
 def label(da):
@@ -275,6 +276,7 @@ def _pena(ds, ax):
 # the point-law variants of the 5.1 validations (stonedem.validation.cases.VALIDATIONS) draw alike
 DRAWERS.update({f"{name}_point": draw for name, draw in list(DRAWERS.items())})
 DRAWERS["pena_block"] = _pena
+DRAWERS.update(links.DRAWERS)  # beyond the thesis: shear links (issue 48)
 
 
 def _fig_5_2(ds, fig):

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 
@@ -45,17 +44,9 @@ from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
 from stonedem.validation import links
+from stonedem.validation.result import ValidationResult
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
-
-
-@dataclass
-class ValidationResult:
-    name: str
-    dataset: xr.Dataset
-    passed: bool
-    summary: dict = field(default_factory=dict)
-    error: float = float("nan")  # the number held to attrs["tolerance"] (summary table)
 
 
 def _attrs(units, long_name):

@@ -22,23 +22,64 @@ import math
 import numpy as np
 import xarray as xr
 
+from stonedem.engine.laws import LAWS
 from stonedem.engine.links import PRESETS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import run_checks, simulate
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation.result import ValidationResult
+
+POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}  # the engine's default law
 
 
-# stonedem.validation.cases imports this module for its VALIDATIONS: what is shared with it is
-# looked up there when a check runs
 def _attrs(units, long_name):
     return {"units": units, "long_name": long_name}
 
 
-def _cases():
-    from stonedem.validation import cases
+def block_scene(width, height, *, excitation, duration, every, contact, tilt=0.0, **block):
+    """Scene dict of one rectangular block on a driven base whose top is at y = 0 (as
+    :func:`stonedem.validation.cases.block_scene`, which imports this module), friction
+    ``block["friction"]`` (default 10: no slip), density 2700 kg m-3 unless given."""
+    body = {
+        "name": "block",
+        "box": {"width": width, "height": height, "center": [0.0, height / 2]},
+        "density": block.get("density", 2700.0),
+    }
+    if tilt:
+        body["tilt"] = {"angle": abs(tilt), "about": "bottom_right" if tilt > 0 else "bottom_left"}
+    base_width = block.get("base_width") or max(4.0, 4.0 * width)
+    return {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": base_width, "height": 0.5, "center": [0.0, -0.25]},
+                "driven": True,
+            },
+            body,
+        ],
+        "friction": block.get("friction", 10.0),
+        "contact": dict(contact),
+        "excitation": excitation or {"kind": "none"},
+        "solver": {"duration": duration, "stop_on_collapse": False},
+        "output": {"every": every},
+    }
 
-    return cases
+
+def contact_attrs(contact):
+    """Dataset attrs naming the contact law of a validation."""
+    return {"contact_model": contact["model"], **{k: v for k, v in contact.items() if k != "model"}}
+
+
+def first_crossing_time(time, theta):
+    """Time [s] of the first sign change of theta from its start, linearly interpolated; NaN
+    if none (as :func:`stonedem.validation.cases.first_crossing_time`)."""
+    s = np.sign(theta)
+    idx = np.flatnonzero(s[1:] * s[0] <= 0)
+    if len(idx) == 0:
+        return math.nan
+    i = idx[0]
+    return float(time[i] + (0.0 - theta[i]) / (theta[i + 1] - theta[i]) * (time[i + 1] - time[i]))
 
 
 WIDTH, HEIGHT, DENSITY = 2.0, 0.5, 2700.0  # squat sliding block: tan(alpha) = 4, it cannot rock
@@ -61,7 +102,7 @@ def _sliding_link(capacity, stiffness):
 
 
 def _sliding_block(mu, capacity, stiffness, excitation, duration, base_width=8.0):
-    spec = _cases().block_scene(
+    spec = block_scene(
         WIDTH,
         HEIGHT,
         density=DENSITY,
@@ -70,7 +111,7 @@ def _sliding_block(mu, capacity, stiffness, excitation, duration, base_width=8.0
         duration=duration,
         every=1e-3,
         base_width=base_width,
-        contact=_cases().POINT_CONTACT,
+        contact=POINT_CONTACT,
     )
     spec["links"] = [_sliding_link(capacity, stiffness)]
     return scene_from_dict(spec)
@@ -150,7 +191,7 @@ def links_ramp_threshold(cases=RAMP_CASES, rate=RAMP_RATE):
         },
         attrs={
             "tolerance": tol,
-            **_cases().contact_attrs(_cases().POINT_CONTACT),
+            **contact_attrs(POINT_CONTACT),
             "ramp_rate": rate,
             "ramp_rate_units": "m s-3",
             "mass": MASS,
@@ -161,7 +202,7 @@ def links_ramp_threshold(cases=RAMP_CASES, rate=RAMP_RATE):
         },
     )
     worst = float(np.nanmax(np.abs(err))) if np.all(np.isfinite(err)) else math.inf
-    return _cases().ValidationResult(
+    return ValidationResult(
         "links_ramp_threshold",
         ds,
         worst <= tol,
@@ -232,13 +273,13 @@ def links_newmark_pulse(cases=NEWMARK_CASES):
         },
         attrs={
             "tolerance": tol,
-            **_cases().contact_attrs(_cases().POINT_CONTACT),
+            **contact_attrs(POINT_CONTACT),
             "mass": MASS,
             "link_stiffness": NEWMARK_STIFFNESS,
         },
     )
     worst = float(np.abs(err).max())
-    return _cases().ValidationResult(
+    return ValidationResult(
         "links_newmark_pulse",
         ds,
         worst <= tol,
@@ -257,10 +298,11 @@ ROCKING_CASES = (("titanium", 0.04, -0.2), ("wood", 0.08, -0.2))
 def _rocking_period(theta0, link, contact):
     width, height = ROCKING_BLOCK
     quarter = float(analytic.rocking_period_exact(width, height, theta0, g=G)) / 4.0
-    spec = _cases().block_scene(
+    spec = block_scene(
         width,
         height,
         tilt=theta0,
+        excitation=None,
         duration=1.3 * quarter,
         every=quarter / 2000.0,
         contact=contact,
@@ -270,7 +312,7 @@ def _rocking_period(theta0, link, contact):
     scene = scene_from_dict(spec)
     r = simulate(scene)
     peak = float(r.link_peak[0]) if link is not None else 0.0
-    return 4.0 * _cases().first_crossing_time(r.time, r.theta[:, 1]), peak
+    return 4.0 * first_crossing_time(r.time, r.theta[:, 1]), peak
 
 
 def links_rocking_far_edge(cases=ROCKING_CASES):
@@ -282,8 +324,8 @@ def links_rocking_far_edge(cases=ROCKING_CASES):
     for kind, theta0, at in cases:
         link = {"bodies": ["base", "block"], "kind": kind, "at": at}
         t_exact = float(analytic.rocking_period_exact(width, height, theta0, g=G))
-        t_link, peak = _rocking_period(theta0, link, _cases().POINT_CONTACT)
-        t_free, _ = _rocking_period(theta0, None, _cases().POINT_CONTACT)
+        t_link, peak = _rocking_period(theta0, link, POINT_CONTACT)
+        t_free, _ = _rocking_period(theta0, None, POINT_CONTACT)
         d = 0.5 * width - at
         rows.append((theta0, at, t_link, t_free, t_exact, peak, d * (1.0 - math.cos(theta0))))
     arr = np.array(rows)
@@ -323,13 +365,13 @@ def links_rocking_far_edge(cases=ROCKING_CASES):
         },
         attrs={
             "tolerance": tol,
-            **_cases().contact_attrs(_cases().POINT_CONTACT),
+            **contact_attrs(POINT_CONTACT),
             "block_width": width,
             "block_height": height,
         },
     )
     worst = float(max(np.abs(err_exact).max(), np.abs(err_free).max()))
-    return _cases().ValidationResult(
+    return ValidationResult(
         "links_rocking_far_edge",
         ds,
         worst <= tol,

@@ -57,6 +57,7 @@ def chapters() -> tuple:
     return (
         importlib.import_module("stonedem.figures.chapter6"),
         importlib.import_module("stonedem.figures.chapter7"),
+        importlib.import_module("stonedem.figures.links"),  # beyond the thesis (issue 48)
     )
 
 

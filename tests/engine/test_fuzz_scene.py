@@ -74,6 +74,41 @@ BASES = [
         ],
         "solver": {"duration": 0.5},
     },
+    # shear links (issue 48): a listed link with every number, and a column's links
+    {
+        "bodies": [
+            {
+                "name": "base",
+                "box": {"width": 4.0, "height": 0.5, "center": [0, -0.25]},
+                "driven": True,
+            },
+            {"name": "block", "box": {"width": 1.0, "height": 0.5, "center": [0, 0.25]}},
+        ],
+        "links": [
+            {
+                "bodies": ["base", "block"],
+                "kind": "custom",
+                "at": 0.2,
+                "stiffness": 1.0e7,
+                "capacity": 1.0e4,
+                "ultimate_slip": 0.05,
+                "gap": 0.001,
+                "pullout": 100.0,
+                "embedment": 0.05,
+            }
+        ],
+        "excitation": {"kind": "rect_pulse", "accel": 5.0, "duration": 0.2},
+        "solver": {"duration": 0.5},
+    },
+    {
+        "structure": {
+            "kind": "column",
+            "n_drums": 3,
+            "links": {"kind": "titanium", "joints": [1, 2], "at": 0.1, "gap": 0.002},
+        },
+        "excitation": {"kind": "harmonic", "amplitude": 0.1, "frequency": 1.0},
+        "solver": {"duration": 1.0},
+    },
 ]
 
 JUNK = st.one_of(

@@ -60,6 +60,7 @@ def law_bundles(
             n_epistyle=0.0,
             x0=np.zeros(n),
         ),
+        links=step.no_links(),
     )
     vel = np.asarray(vel, dtype=float)
     state = step.State(
@@ -76,6 +77,10 @@ def law_bundles(
         peaks=np.zeros(step.N_PEAK),
         peak_theta=np.zeros(n),
         events=np.full(step.N_EVENT, -1, dtype=np.int64),
+        link_slip=np.zeros(0),
+        link_status=np.zeros(0, dtype=np.int64),
+        link_peak=np.zeros(0),
+        link_energy=np.zeros(0),
     )
     work = step.allocate_work(model, 1)
     work.world_x[:] = verts[:, 0]

@@ -81,6 +81,7 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
             n_epistyle=0.0,
             x0=np.zeros(1),
         ),
+        links=step.no_links(),
     )
     settings = step.Settings(
         dt=dt,
@@ -104,6 +105,10 @@ def box_bundles(n_steps, dt, v0=(1.0, 2.0, 0.5), out_every=10):
         peaks=np.zeros(step.N_PEAK),
         peak_theta=np.zeros(1),
         events=np.full(step.N_EVENT, -1, dtype=np.int64),
+        link_slip=np.zeros(0),
+        link_status=np.zeros(0, dtype=np.int64),
+        link_peak=np.zeros(0),
+        link_energy=np.zeros(0),
     )
     n_out = n_steps // out_every + 2
     samples = step.Samples(

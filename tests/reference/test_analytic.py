@@ -746,3 +746,28 @@ def test_leaning_tipping_acceleration_refuses_a_column_that_cannot_stand():
     assert math.isnan(analytic.leaning_tipping_acceleration(1.0, 6.0, alpha + 1e-9))
     out = analytic.leaning_tipping_acceleration(1.0, 6.0, np.array([0.0, 0.02]), toward_lean=False)
     assert out == pytest.approx(G * np.tan(alpha + np.array([0.0, 0.02])), rel=1e-12)
+
+
+# --- shear links (issue 48) ----------------------------------------------------------------
+
+
+def test_linked_yield_acceleration_adds_the_link_to_friction():
+    a_y = analytic.linked_yield_acceleration(0.3, 2700.0, 5297.4, g=G)
+    assert a_y == pytest.approx(0.3 * G + 5297.4 / 2700.0, rel=1e-15)
+    assert analytic.linked_yield_acceleration(0.3, 2700.0, 0.0, g=G) == pytest.approx(0.3 * G)
+
+
+@pytest.mark.parametrize("mu", [0.1, 0.3])
+def test_linked_newmark_equals_the_rigid_plastic_block_with_the_added_resistance(mu):
+    a_p, t_p, mass, capacity = 0.8 * G, 0.5, 2700.0, 0.2 * G * 2700.0
+    u = analytic.linked_newmark_max_sliding(a_p, t_p, mu, mass, capacity, g=G)
+    mu_eff = mu + capacity / (mass * G)
+    t_end = t_p * a_p / (mu_eff * G) + 1.0
+    jump = analytic.rigid_plastic_sliding(
+        [0.0, 0.0, t_p, t_p, t_end], [0.0, a_p, a_p, 0.0, 0.0], mu_eff, g=G
+    )
+    assert u == pytest.approx(np.abs(jump.u).max(), rel=1e-12), "linked Eq. 5.5, tol 1e-12"
+    assert analytic.linked_newmark_max_sliding(a_p, t_p, mu, mass, 0.0, g=G) == pytest.approx(
+        analytic.newmark_pulse_max_sliding(a_p, t_p, mu, g=G), rel=1e-14
+    )
+    assert analytic.linked_newmark_max_sliding(0.2 * G, t_p, mu, mass, capacity, g=G) == 0.0

@@ -15,6 +15,7 @@ import numpy as np
 from stonedem.engine import measures
 from stonedem.engine.geometry import following, rotate_about
 from stonedem.engine.laws import LAWS
+from stonedem.engine.links import link_arrays
 from stonedem.engine.scene import Scene, initial_pose, posed_vertices
 from stonedem.errors import InputError
 from stonedem.kernels import step
@@ -294,6 +295,7 @@ def kernel_model(scene: Scene, arrays: SceneArrays) -> step.Model:
         horizontal=excitation(scene.horizontal),
         vertical=excitation(scene.vertical),
         watch=watch_arrays(scene, arrays),
+        links=link_arrays(scene),
     )
 
 

@@ -364,7 +364,54 @@ def scene_dataset(scene: Scene, result: RunResult, checks: dict | None = None) -
         "general_because": result.handover_reason,
         "integrator": "central difference (leapfrog form), thesis Eq. 3.7-3.16",
     }
+    if scene.links:
+        data_vars, coords, attrs = with_links(scene, result, data_vars, coords, attrs)
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def with_links(scene: Scene, result: RunResult, data_vars: dict, coords: dict, attrs: dict):
+    """The dataset's variables, coordinates and attributes with the scene's shear links: each
+    link's final status, peak force and plastic slip (stonedem.kernels.links)."""
+    from stonedem.kernels.links import LINK_STATUS
+
+    names = scene.body_names
+    links = scene.links
+    data_vars = {
+        **data_vars,
+        **schema_variables(
+            {
+                "link_status": (("link",), result.link_status.astype(np.int8)),
+                "link_peak_force": (("link",), result.link_peak),
+                "link_plastic_slip": (("link",), result.link_slip),
+            }
+        ),
+    }
+    data_vars["link_status"].attrs.update(
+        flag_values=np.arange(len(LINK_STATUS), dtype=np.int8),
+        flag_meanings=" ".join(LINK_STATUS),
+    )
+    coords = {
+        **coords,
+        **schema_variables(
+            {
+                "link": (("link",), np.arange(len(links), dtype=np.int32)),
+                "link_lower": (("link",), np.array([names[k.lower] for k in links], dtype=object)),
+                "link_upper": (("link",), np.array([names[k.upper] for k in links], dtype=object)),
+                "link_kind": (("link",), np.array([k.kind for k in links], dtype=object)),
+            }
+        ),
+    }
+    attrs = {
+        **attrs,
+        "links": bounded_json([k.description(names) for k in links], "links"),
+        "links_definition": "shear links (stonedem.engine.links): elastic-perfectly plastic "
+        "shear with a clearance, broken beyond the ultimate slip; pull-out resistance up to "
+        "the embedment, then pulled out; their stored energy is in energy_elastic and their "
+        "losses in energy_dissipated_tangential",
+        "links_units": "at, ultimate_slip, gap, embedment: m; stiffness: N m-1; capacity, "
+        "pullout: N",
+    }
+    return data_vars, coords, attrs
 
 
 def contact_attrs(scene: Scene) -> dict:

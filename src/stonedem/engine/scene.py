@@ -183,6 +183,13 @@ SCENE = Spec(
             hint="write interface_friction: [{bodies: [a, b], mu: 0.6}]",
             doc="friction of named pairs",
         ),
+        Field(
+            "links",
+            "list",
+            default=[],
+            hint="write links: [{bodies: [lower, upper], kind: titanium}]",
+            doc="shear links between stacked bodies (keys: links[], stonedem.engine.links)",
+        ),
         Field("contact", "any", doc="the contact law: the keys of its row (stonedem.engine.laws)"),
         Field("excitation", "any", doc="the base motion (stonedem.motion.excitation)"),
         Field(
@@ -245,6 +252,7 @@ class Scene:
     output_every: float
     spec: dict = field(repr=False)  # the fully defaulted input, for provenance
     kernel: str = "auto"  # solver.kernel: KERNELS
+    links: tuple = ()  # shear links (stonedem.engine.links.Link)
 
     @property
     def body_names(self) -> list[str]:
@@ -408,10 +416,15 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
     top = SCENE.check(spec)  # solver: and output: come after the bodies (a scene lacking both
     # hears of its bodies first)
     body_specs = top["bodies"]
+    structure_links = None
     if "structure" in spec:
         from stonedem.engine.structures import build_structure
 
-        body_specs = build_structure(spec["structure"]) + body_specs
+        structure = spec["structure"]
+        if isinstance(structure, dict) and "links" in structure:
+            structure = {k: v for k, v in structure.items() if k != "links"}
+            structure_links = spec["structure"]["links"]
+        body_specs = build_structure(structure) + body_specs
     if not body_specs:
         raise InputError("bodies", "the scene has no bodies", "list bodies: or give a structure:")
     if len(body_specs) > MAX_BODIES:
@@ -431,6 +444,11 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
             )
     if all(b.driven for b in bodies):
         raise InputError("bodies", "every body is driven", "leave at least one body free")
+    links = ()
+    if top["links"] or structure_links is not None:
+        from stonedem.engine.links import scene_links
+
+        links = scene_links(top["links"], structure_links, body_specs, bodies)
 
     contact = contact_law(spec.get("contact"))
     pair_friction = {}
@@ -475,6 +493,7 @@ def scene_from_dict(spec: dict, base_dir: Path | str = ".") -> Scene:
         output_every=every,
         spec=spec,
         kernel=solver["kernel"],
+        links=links,
     )
     check_initial_overlaps(scene)
     check_lean_friction(scene)

@@ -15,7 +15,7 @@ import math
 import sys
 import threading
 import time as wallclock
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -25,6 +25,7 @@ from stonedem.engine import geometry
 from stonedem.engine.graph import contact_graph as scene_graph
 from stonedem.engine.graph import why_broken
 from stonedem.engine.laws import LAWS, general_loop
+from stonedem.engine.links import anchor_point
 from stonedem.engine.memory import memory_budget, run_bytes
 from stonedem.engine.pack import SceneArrays, kernel_model, landing_drops, pack_scene
 from stonedem.engine.quiet import REST_SECONDS, REST_SPEED, carry, quiet_steps, settled_state
@@ -106,6 +107,10 @@ def stability_limit(scene: Scene) -> float:
             k_trans = max(law.k_n * length, law.k_t)
             k_rot = k_trans * (arm2 * length**2 + float(np.sum(size[i] ** 2)) / 4.0)
             c_sum = max(row.pair_dashpot(law, length, body.mass), law.c_t)
+        for link in scene.links:  # a shear link is one more spring on the bodies it joins
+            if i in (link.lower, link.upper):
+                k_trans += link.stiffness
+                k_rot += link.stiffness * float(np.sum((anchor_point(scene, link) - centre) ** 2))
         omega = math.sqrt(2.0 * (k_trans / body.mass + k_rot / body.inertia))
         zeta = c_sum / (2.0 * math.sqrt(k_trans * body.mass))
         limit = min(limit, 2.0 / omega * (math.sqrt(1.0 + zeta**2) - zeta))
@@ -304,6 +309,12 @@ class Handover:
     pair_memory: np.ndarray  # (n_body, n_body, N_MEMORY)
     energy_acc: np.ndarray  # (N_ENERGY_ACC,) [J]
     at_rest: bool  # the run ended at rest on a quiet base (its tail carried, not integrated)
+    # shear links (stonedem.kernels.links): plastic slip [m], status LINK_*, peak |force| [N]
+    # and stored energy [J] (n_link,): a broken or pulled-out link stays so
+    link_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    link_status: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    link_peak: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    link_energy: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass
@@ -347,6 +358,11 @@ class RunResult:
     end: Handover | None = None
     # a sequence's parts (simulate_sequence): per-part arrays, None for a single motion
     parts: dict | None = None
+    # shear links at the end of the run (stonedem.kernels.links): plastic slip [m], status
+    # LINK_*, peak |force| [N] (n_link,)
+    link_slip: np.ndarray = None
+    link_status: np.ndarray = None
+    link_peak: np.ndarray = None
 
     @property
     def max_rocking(self) -> float:
@@ -506,8 +522,9 @@ class CompiledLoop:
         return status
 
 
-def initial_state(arrays: SceneArrays) -> step.State:
-    """The kernel's state at t = 0: the packed initial poses and velocities, no contact memory."""
+def initial_state(arrays: SceneArrays, n_link: int = 0) -> step.State:
+    """The kernel's state at t = 0: the packed initial poses and velocities, no contact memory,
+    ``n_link`` shear links engaged and unloaded."""
     n_body = len(arrays.body_mass)
     return step.State(
         body_x=arrays.init_x.copy(),
@@ -523,6 +540,10 @@ def initial_state(arrays: SceneArrays) -> step.State:
         peaks=np.zeros(step.N_PEAK),
         peak_theta=np.zeros(n_body),
         events=np.full(step.N_EVENT, -1, dtype=np.int64),
+        link_slip=np.zeros(n_link),
+        link_status=np.zeros(n_link, dtype=np.int64),
+        link_peak=np.zeros(n_link),
+        link_energy=np.zeros(n_link),
     )
 
 
@@ -558,8 +579,12 @@ class Plan:
 
 def uses_graph(scene: Scene) -> bool:
     """Whether the scene starts on the contact-graph loop (stonedem.kernels.contact_graph): under
-    the point law, unless ``solver.kernel: general``."""
-    return scene.kernel == "auto" and LAWS[scene.contact.model].code == step.CONTACT_POINT
+    the point law, unless ``solver.kernel: general`` or the scene has shear links."""
+    return (
+        scene.kernel == "auto"
+        and LAWS[scene.contact.model].code == step.CONTACT_POINT
+        and not scene.links  # the graph's loop has no links: a linked scene runs the general one
+    )
 
 
 def plan_run(scene: Scene, progress: bool = False, start: Handover | None = None) -> Plan:
@@ -581,7 +606,9 @@ def plan_run(scene: Scene, progress: bool = False, start: Handover | None = None
     loop = CompiledLoop(
         kernel_model(scene, arrays),
         settings,
-        initial_state(arrays) if start is None else start_state(arrays, start),
+        initial_state(arrays, len(scene.links))
+        if start is None
+        else start_state(arrays, start, len(scene.links)),
         cursor,
         Progress() if progress else None,
         graph=body_graph(scene, arrays) if uses_graph(scene) else None,
@@ -603,17 +630,26 @@ def handed_rest_step(scene: Scene, dt: float, n_steps: int) -> int:
     return min(n_steps + 1, int(math.ceil(max(lengths, default=0.0) / dt)) + 1)
 
 
-def start_state(arrays: SceneArrays, start: Handover) -> step.State:
+def start_state(arrays: SceneArrays, start: Handover, n_link: int = 0) -> step.State:
     """The kernel's state at t = 0 from a handed-over end state (:class:`Handover`): the free
-    bodies' poses and velocities, the contacts' memory and the energy accumulators; the
-    driven bodies at their reference poses. The running peaks and events start afresh."""
-    state = initial_state(arrays)
+    bodies' poses and velocities, the contacts' memory, the shear links' state and the energy
+    accumulators; the driven bodies at their reference poses. The running peaks and events
+    start afresh, the links' peak forces carry on."""
+    state = initial_state(arrays, n_link)
     if start.pair_ft.shape != state.pair_ft.shape:
         raise InputError(
             "start",
             f"a state of {len(start.x)} bodies for a scene of {len(state.body_x)}",
             "start from the end of a run of the same bodies",
         )
+    if len(start.link_slip) != n_link:
+        raise InputError(
+            "start",
+            f"a state of {len(start.link_slip)} shear links for a scene of {n_link}",
+            "start from the end of a run of the same scene",
+        )
+    for name in ("link_slip", "link_status", "link_peak", "link_energy"):
+        getattr(state, name)[:] = getattr(start, name)
     free = ~arrays.body_driven
     for name in ("x", "y", "theta", "vx", "vy", "omega"):
         getattr(state, f"body_{name}")[free] = getattr(start, name)[free]
@@ -653,7 +689,20 @@ def end_state(plan: Plan, settled: int, last: int) -> Handover:
     theta, omega = state.body_theta.copy(), state.body_omega.copy()
     theta[~free], omega[~free] = arrays.ref_theta[~free], 0.0
     return Handover(
-        x, y, theta, vx, vy, omega, state.pair_ft, state.pair_memory, energy_acc, at_rest
+        x,
+        y,
+        theta,
+        vx,
+        vy,
+        omega,
+        state.pair_ft,
+        state.pair_memory,
+        energy_acc,
+        at_rest,
+        state.link_slip,
+        state.link_status,
+        state.link_peak,
+        state.link_energy,
     )
 
 
@@ -756,6 +805,9 @@ def finish_run(plan: Plan) -> RunResult:
         if plan.loop.broken
         else "",
         end=end,
+        link_slip=state.link_slip.copy(),
+        link_status=state.link_status.copy(),
+        link_peak=state.link_peak.copy(),
     )
 
 
@@ -911,6 +963,10 @@ def join_parts(scene: Scene, results: list[RunResult]) -> RunResult:
         else motion.starts[results.index(handover)] + handover.handover_time,
         handover_reason="" if handover is None else handover.handover_reason,
         parts=parts,
+        # the links' state carries from part to part: the last part's is the sequence's
+        link_slip=last.link_slip,
+        link_status=last.link_status,
+        link_peak=last.link_peak,
     )
 
 

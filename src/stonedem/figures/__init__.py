@@ -59,6 +59,7 @@ def chapters() -> tuple:
         importlib.import_module("stonedem.figures.chapter7"),
         importlib.import_module("stonedem.figures.sequences"),
         importlib.import_module("stonedem.figures.tilt"),
+        importlib.import_module("stonedem.figures.links"),  # beyond the thesis (issue 48)
     )
 
 

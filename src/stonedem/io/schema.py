@@ -94,6 +94,14 @@ SCENE_VARIABLES = {
         "(NaN: never, integrated to the end)",
     ),
     "part_run": ("1", "1 when the part was run (0: after a collapse that stopped the run)"),
+    # shear links (stonedem.engine.links; only in a scene with links)
+    "link": ("1", "shear link index"),
+    "link_lower": ("1", "lower body of the link"),
+    "link_upper": ("1", "upper body of the link"),
+    "link_kind": ("1", "link kind (titanium, wood, custom)"),
+    "link_status": ("1", "final state of the link: 0 engaged, 1 broken, 2 pulled out"),
+    "link_peak_force": ("N", "peak magnitude of the link force over the run"),
+    "link_plastic_slip": ("m", "plastic slip of the link at the end of the run"),
 }
 
 # the 3D wall solver (stonedem.wall.dataset.wall_dataset); lambda's units are the case's load units

@@ -72,7 +72,9 @@ def _member_bundles_source() -> str:
 
 
 N_LEAVES = sum(len(leaf_kinds(cls)) for cls in BUNDLES)
-_namespace = {cls.__name__: cls for cls in (*BUNDLES, step.Law, step.Excitation, step.Watch)}
+_namespace = {
+    cls.__name__: cls for cls in (*BUNDLES, step.Law, step.Excitation, step.Watch, step.Links)
+}
 exec(compile(_member_bundles_source(), f"<{__name__}.member_bundles>", "exec"), _namespace)
 # not cached: Numba caches only functions that live in a source file
 member_bundles = njit(**{**JIT_OPTIONS, "cache": False, "inline": "always"})(

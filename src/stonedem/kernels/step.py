@@ -16,6 +16,7 @@ Stages of one step at time t_n = n dt, numbered as in :func:`run_steps`:
 2. candidate pairs    needs_resweep; sweep when some body has moved half the margin
 3. contact forces     contact_forces: clear_forces, then the scene's law from the velocities
                       v_{n-1/2} (area_contact_forces or point_contact_forces, inlined)
+   shear links        link_forces (stonedem.kernels.links), only in a scene with links
 4. velocities at t_n  velocities_at_step: half a kick on from v_{n-1/2}
 5. power booking      contact_power and book_power: the powers at t_n, by accumulator slot
 6. sampling           every ``out_every`` steps, at the last and at a collapse that stops
@@ -58,6 +59,7 @@ from stonedem.kernels.contact import (
 )
 from stonedem.kernels.excitation import base_motion
 from stonedem.kernels.integrate import central_difference_step, drive_bodies, update_world_vertices
+from stonedem.kernels.links import link_forces
 from stonedem.kernels.overlap import MAX_OVERLAP_VERTICES
 from stonedem.kernels.point_contact import FACE_A, N_FACE_CACHE, point_contact_forces
 from stonedem.kernels.scalar import isfinite
@@ -142,6 +144,33 @@ class Watch(NamedTuple):
     x0: np.ndarray  # centroid x at t = 0 (n_body,) [m]
 
 
+class Links(NamedTuple):
+    """Shear links between bodies (:mod:`stonedem.kernels.links`; empty arrays: none), each
+    from the scene's ``links:`` (:func:`stonedem.engine.pack.link_arrays`)."""
+
+    a: np.ndarray  # lower body (n_link,) int64
+    b: np.ndarray  # upper body (n_link,) int64
+    a_x: np.ndarray  # anchor in a's frame (n_link,) [m]
+    a_y: np.ndarray
+    b_x: np.ndarray  # the same point as built, in b's frame (n_link,) [m]
+    b_y: np.ndarray
+    t_x: np.ndarray  # unit tangent of the interface in a's frame (n_link,) [1]
+    t_y: np.ndarray
+    stiffness: np.ndarray  # shear and axial stiffness (n_link,) [N m-1]
+    capacity: np.ndarray  # shear capacity (n_link,) [N]
+    ultimate_slip: np.ndarray  # total slip that breaks it (n_link,) [m]
+    gap: np.ndarray  # clearance before the shear engages (n_link,) [m]
+    pullout: np.ndarray  # pull-out resistance (n_link,) [N]
+    embedment: np.ndarray  # opening at which it is pulled out (n_link,) [m]
+
+
+def no_links() -> Links:
+    """The :class:`Links` of a scene without links (plain Python)."""
+    empty = np.zeros(0)
+    ends = np.zeros(0, dtype=np.int64)
+    return Links(ends, ends.copy(), *(empty.copy() for _ in Links._fields[2:]))
+
+
 class Model(NamedTuple):
     """The scene, read only: :class:`stonedem.engine.pack.SceneArrays` but the initial state, plus
     contact law, gravity and base motion (:func:`stonedem.engine.pack.kernel_model`)."""
@@ -170,6 +199,7 @@ class Model(NamedTuple):
     horizontal: Excitation
     vertical: Excitation
     watch: Watch
+    links: Links
 
 
 class Settings(NamedTuple):
@@ -203,6 +233,10 @@ class State(NamedTuple):
     peaks: np.ndarray  # running maxima over the steps run so far, slots PEAK_* (N_PEAK,)
     peak_theta: np.ndarray  # running maximum of each body's |theta| (n_body,) [rad]
     events: np.ndarray  # step of each first event, slots EVENT_*, -1: not yet (N_EVENT,) int64
+    link_slip: np.ndarray  # plastic slip of each link (n_link,) [m]
+    link_status: np.ndarray  # LINK_* of stonedem.kernels.links (n_link,) int64
+    link_peak: np.ndarray  # running maximum of each link's |force| (n_link,) [N]
+    link_energy: np.ndarray  # energy each link stored at its last step (n_link,) [J]
 
 
 class Samples(NamedTuple):
@@ -1053,6 +1087,8 @@ def steps_under_law(
         # 3. contact forces from the velocities v_{n-1/2}, by the scene's law
         sample = n % settings.out_every == 0 or n == n_steps or stop
         n_contact, elastic = contact_forces(model, state, work, n_pair, dt, sample, point_law)
+        if model.links.a.shape[0] > 0:  # 3b. shear links (a scene without them: nothing)
+            elastic += link_forces(model, state, work)
 
         # 4.-7. velocities and powers at t_n, a sample, the step to t_{n+1}
         status, n_sample, collapse_sample, done = finish_step(

@@ -1186,3 +1186,41 @@ def ramp_uplift_rotation(tau, width, height, tilt, rate, toward_lean=True, g=G):
     p = math.sqrt(q * g / math.cos(angle))
     tau = np.asarray(tau, dtype=float)
     return q * math.cos(angle) * rate * (np.sinh(p * tau) - p * tau) / p**3
+
+
+# --- shear links (issue 48, thesis 8.3) ----------------------------------------------------
+
+
+def linked_yield_acceleration(mu, mass, capacity, g=G):
+    """Base acceleration at which a block held by friction and a shear link starts to slide.
+
+    The interface resists sliding with Coulomb friction and the link's capacity in parallel
+    (thesis 8.3): a_y = (mu m g + V) / m = mu g + V / m.
+
+    Parameters
+    ----------
+    mu: Coulomb friction coefficient [-]
+    mass: block mass [kg]
+    capacity: the link's shear capacity V [N]
+    g: gravitational acceleration [m s-2]
+
+    Returns
+    -------
+    a_y [m s-2], shape of the broadcast inputs.
+    """
+    out = np.asarray(mu, dtype=float) * g + np.asarray(capacity, dtype=float) / mass
+    return out[()] if out.ndim == 0 else out
+
+
+def linked_newmark_max_sliding(a_p, T_p, mu, mass, capacity, g=G):
+    """Maximum sliding of a linked rigid block under a rectangular pulse: Eq. 5.5 with the
+    resistance of friction and link, a_y = mu g + V / m (:func:`linked_yield_acceleration`).
+
+    u_max = (a_p - a_y) a_p T_p^2 / (2 a_y) where a_p > a_y, else 0 [m]; the link is rigid and
+    perfectly plastic (its elastic slip V / k and its clearance are neglected).
+    """
+    a_y = np.asarray(linked_yield_acceleration(mu, mass, capacity, g), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u_max = (a_p - a_y) * a_p * T_p**2 / (2.0 * a_y)
+    out = np.where(a_p > a_y, u_max, 0.0)
+    return out[()] if out.ndim == 0 else out

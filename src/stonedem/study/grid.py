@@ -202,6 +202,18 @@ _ROWS = (
             doc="lean of the column with its seat, positive toward +x",
         ),
     ),
+    # issue 48: shear links at every drum-drum joint of a column (stonedem.engine.links)
+    (
+        "structure.links.kind",
+        "link",
+        Field(
+            "link_kind",
+            "choice",
+            "1",
+            choices=("none", "wood", "titanium"),
+            doc="shear links at every drum-drum joint (none, wood, titanium presets)",
+        ),
+    ),
 )
 # one value of each swept parameter
 SWEPT = Spec(tuple(f for _, _, f in _ROWS), doc="the swept parameters of a study's grid and cases")

@@ -43,7 +43,7 @@ from stonedem.io.netcdf import code_version, open_result, write_dataset
 from stonedem.motion.records import RECORDS_DIR
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
-from stonedem.validation import sequence, tilt
+from stonedem.validation import links, sequence, tilt
 from stonedem.validation.result import ValidationResult
 
 RECORD_NORTHRIDGE = RECORDS_DIR / "northridge_1994_mul009.nc"
@@ -1597,6 +1597,7 @@ VALIDATIONS = {
     "pena_block": pena_block,
     **sequence.CHECKS,
     **tilt.CHECKS,
+    **links.CHECKS,  # beyond the thesis: shear links (issue 48)
 }
 
 

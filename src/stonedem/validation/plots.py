@@ -20,7 +20,7 @@ import xarray as xr  # noqa: E402
 
 from stonedem.io.atomic import write_atomically  # noqa: E402
 from stonedem.io.netcdf import open_result  # noqa: E402
-from stonedem.validation import sequence, tilt  # noqa: E402
+from stonedem.validation import links, sequence, tilt  # noqa: E402
 
 
 def label(da):
@@ -278,6 +278,7 @@ DRAWERS.update({f"{name}_point": draw for name, draw in list(DRAWERS.items())})
 DRAWERS["pena_block"] = _pena
 DRAWERS.update(sequence.DRAWERS)
 DRAWERS.update(tilt.DRAWERS)
+DRAWERS.update(links.DRAWERS)  # beyond the thesis: shear links (issue 48)
 
 
 def _fig_5_2(ds, fig):

@@ -12,7 +12,8 @@ The path is relative to the repository root (the folder above ``docs/``). Option
 
 ``columns``   the columns to show, in order, comma-separated; ``name=Header`` renames one
               (default: every column of the file)
-``where``     keep the rows whose columns equal the values: ``system=colonnade; n_drums=1``
+``where``     keep the rows whose columns equal the values: ``system=colonnade; n_drums=1``;
+              ``name=a|b`` keeps either
 ``digits``    significant digits of floating-point values (default 4)
 ``max-rows``  show at most this many rows and say how many were left out
 ``make``      the command that makes the file, for the note shown when it is missing
@@ -101,17 +102,18 @@ def read_netcdf(path: Path, variables: list[str], attrs: list[str]):
 
 
 def _matches(row: dict, where: dict) -> bool:
-    for key, want in where.items():
-        have = row.get(key)
-        if str(have).strip() == want:
-            continue
-        try:
-            if float(have) == float(want):
-                continue
-        except (TypeError, ValueError):
-            pass
+    return all(
+        any(_equal(row.get(key), one) for one in want.split("|")) for key, want in where.items()
+    )
+
+
+def _equal(have, want: str) -> bool:
+    if str(have).strip() == want:
+        return True
+    try:
+        return float(have) == float(want)
+    except (TypeError, ValueError):
         return False
-    return True
 
 
 def build_table(header: list[str], rows: list[list[str]], caption: str | None) -> nodes.table:

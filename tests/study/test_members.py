@@ -140,12 +140,33 @@ def test_one_member_is_the_study_as_configured_and_k_members_multiply_every_case
     assert config_cases(_config(members=1)) == plain
     three = config_cases(_config(members=3, perturbation="tilt"))
     for study, cases in plain.items():
+        if "members" in _config()["studies"][study]:  # its own ensemble: the next test
+            continue
         assert len(three[study]) == 3 * len(cases)
         for case, members in zip(cases, zip(*[iter(three[study])] * 3)):
             assert [m.params for m in members] == [{**case.params, "member": j} for j in range(3)]
             assert [m.id for m in members] == [f"{case.id}_m-{j}" for j in range(3)]
             assert all(m.search == case.search for m in members)
             assert members[2].scene["ensemble"] == {"member": 2, "perturbation": "tilt"}
+
+
+def test_a_study_s_own_members_override_the_config_s():
+    config = _config(members=3)
+    config["studies"] = {"seq": dict(config["studies"]["sequence_records"], members=5)}
+    config["studies"]["ramp"] = dict(_config()["studies"]["ramp_drums"])
+    cases = config_cases(config)
+    n_seq = len(config_cases({**config, "ensemble": None}, ["seq"])["seq"]) // 5
+    assert len(cases["seq"]) == 5 * n_seq and cases["seq"][4].params["member"] == 4
+    assert len(cases["ramp"]) == 3 * len(config_cases({**config, "ensemble": None})["ramp"])
+    from stonedem.study.grid import STUDY
+    from stonedem.study.members import MAX_MEMBERS
+
+    assert STUDY["members"].range == f"[1, {MAX_MEMBERS}]"
+    for bad in (0, 1001, 2.5, "five"):
+        config["studies"]["seq"]["members"] = bad
+        with pytest.raises(InputError) as error:
+            check_config(config)
+        assert error.value.field == "studies.seq.members"
 
 
 def test_member_zero_of_an_ensemble_runs_bit_for_bit_as_the_case():

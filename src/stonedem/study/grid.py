@@ -269,6 +269,15 @@ STUDY = Spec(
         Field("cases", "list", hint="write cases: [{record: ..., pga: ...}]", doc="listed cases"),
         _SCENE["description"],
         Field("search", "any", doc="threshold search of each case (stonedem.study.search.SEARCH)"),
+        Field(
+            "members",
+            "integer",
+            "1",
+            "[1, 1000]",
+            hint="give members: 5 (at most stonedem.study.members.MAX_MEMBERS)",
+            doc="ensemble members of this study's every case, over ensemble.members: a verdict "
+            "near collapse as a fraction of K runs",
+        ),
     )
 )
 STUDY_KEYS = STUDY.keys
@@ -364,10 +373,21 @@ def config_cases(config: dict, studies=None) -> dict[str, list[Case]]:
     members, perturbation = ensemble_settings(config)
     return {
         name: with_members(
-            case_table(name, config["studies"][name], config.get("defaults")), members, perturbation
+            case_table(name, config["studies"][name], config.get("defaults")),
+            study_members(config["studies"][name], members, f"studies.{name}"),
+            perturbation,
         )
         for name in names
     }
+
+
+def study_members(study: dict, members: int, where: str) -> int:
+    """The ensemble members K of one study: its own ``members:`` (a study whose verdicts near
+    collapse are its point, e.g. the sequence study), else the config's ``ensemble.members``."""
+    own = study.get("members")
+    if own is None:
+        return members
+    return ensemble_spec()["members"].check(own, f"{where}.members")
 
 
 # ensemble.baseline_members: the stored baseline's K (ENSEMBLES.md section 3.2)
@@ -728,10 +748,11 @@ def check_config(
     # members differ from their case only in k_n's last bits (and a tilt): each case is checked once
     checker = _CaseChecker(records, records_dir, tilt=members > 1 and perturbation == "tilt")
     tables = {}
-    total = 0
+    total = runs = 0
     for name, study in studies.items():
         rows = _case_rows(name, study, defaults, exact=True)
         total += len(rows)
+        runs += len(rows) * study_members(study, members, f"studies.{name}")
         _within(
             total,
             MAX_CASES,
@@ -744,10 +765,10 @@ def check_config(
                 checker.check(case, study, defaults, origin, len(rows))
         tables[name] = [case for case, _ in rows]
     _within(
-        total * members,
+        runs,
         MAX_MEMBER_CASES,
         "ensemble.members",
-        f"{members} members of {total} cases make {total * members} runs, more "
+        f"{members} members of {total} cases make {runs} runs, more "
         f"than the limit of {MAX_MEMBER_CASES}",
         "run fewer members, or the ensemble of the whole "
         "study with python -m stonedem.study.ensemble (stonedem.study.grid.MAX_MEMBER_CASES)",

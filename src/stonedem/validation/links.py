@@ -22,65 +22,19 @@ import math
 import numpy as np
 import xarray as xr
 
-from stonedem.engine.laws import LAWS
 from stonedem.engine.links import PRESETS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import run_checks, simulate
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation.blocks import (
+    POINT_CONTACT,
+    block_scene,
+    contact_attrs,
+    first_crossing_time,
+)
 from stonedem.validation.result import ValidationResult
-
-POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}  # the engine's default law
-
-
-def _attrs(units, long_name):
-    return {"units": units, "long_name": long_name}
-
-
-def block_scene(width, height, *, excitation, duration, every, contact, tilt=0.0, **block):
-    """Scene dict of one rectangular block on a driven base whose top is at y = 0 (as
-    :func:`stonedem.validation.cases.block_scene`, which imports this module), friction
-    ``block["friction"]`` (default 10: no slip), density 2700 kg m-3 unless given."""
-    body = {
-        "name": "block",
-        "box": {"width": width, "height": height, "center": [0.0, height / 2]},
-        "density": block.get("density", 2700.0),
-    }
-    if tilt:
-        body["tilt"] = {"angle": abs(tilt), "about": "bottom_right" if tilt > 0 else "bottom_left"}
-    base_width = block.get("base_width") or max(4.0, 4.0 * width)
-    return {
-        "bodies": [
-            {
-                "name": "base",
-                "box": {"width": base_width, "height": 0.5, "center": [0.0, -0.25]},
-                "driven": True,
-            },
-            body,
-        ],
-        "friction": block.get("friction", 10.0),
-        "contact": dict(contact),
-        "excitation": excitation or {"kind": "none"},
-        "solver": {"duration": duration, "stop_on_collapse": False},
-        "output": {"every": every},
-    }
-
-
-def contact_attrs(contact):
-    """Dataset attrs naming the contact law of a validation."""
-    return {"contact_model": contact["model"], **{k: v for k, v in contact.items() if k != "model"}}
-
-
-def first_crossing_time(time, theta):
-    """Time [s] of the first sign change of theta from its start, linearly interpolated; NaN
-    if none (as :func:`stonedem.validation.cases.first_crossing_time`)."""
-    s = np.sign(theta)
-    idx = np.flatnonzero(s[1:] * s[0] <= 0)
-    if len(idx) == 0:
-        return math.nan
-    i = idx[0]
-    return float(time[i] + (0.0 - theta[i]) / (theta[i + 1] - theta[i]) * (time[i + 1] - time[i]))
-
+from stonedem.validation.result import attrs as _attrs
 
 WIDTH, HEIGHT, DENSITY = 2.0, 0.5, 2700.0  # squat sliding block: tan(alpha) = 4, it cannot rock
 MASS = WIDTH * HEIGHT * DENSITY  # [kg] per m of depth

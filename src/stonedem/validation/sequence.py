@@ -29,13 +29,14 @@ import math
 import numpy as np
 import xarray as xr
 
-from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.motion.excitation import sequence_offsets
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation.blocks import POINT_CONTACT, block_scene
 from stonedem.validation.result import ValidationResult
+from stonedem.validation.result import attrs as _attrs
 
 # the rocking block of sequence_exact and sequence_rocking: 0.5 m x 2 m, one-sine pulses
 # a_p / (g tan alpha) and omega_p / p below overturning (rigid_one_sine_response: none)
@@ -47,39 +48,6 @@ ROCKING_REST = 6.0  # [s] the block is at rest 5-6 s after such a pulse (point l
 FRESH_TOLERANCE = 0.01
 # sliding cases (a_p / g, T_p [s], mu) of sequence_newmark: two identical pulses
 NEWMARK_SEQUENCE_CASES = ((0.5, 1.0, 0.3), (0.8, 1.5, 0.5), (0.5, 1.0, 0.1))
-
-
-# the engine's default law (stonedem.validation.cases.POINT_CONTACT; cases imports this module)
-POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}
-
-
-def block_scene(width, height, *, friction, excitation, duration, base_width, density=2700.0):
-    """Scene dict of one rectangular block on a driven base (top at y = 0), point law, the
-    automatic step, sampled every 1 ms, no stop at collapse: the block of
-    :func:`stonedem.validation.cases.block_scene` with the engine's default law."""
-    return {
-        "bodies": [
-            {
-                "name": "base",
-                "box": {"width": base_width, "height": 0.5, "center": [0.0, -0.25]},
-                "driven": True,
-            },
-            {
-                "name": "block",
-                "box": {"width": width, "height": height, "center": [0.0, height / 2]},
-                "density": density,
-            },
-        ],
-        "friction": friction,
-        "contact": dict(POINT_CONTACT),
-        "excitation": excitation,
-        "solver": {"duration": duration, "stop_on_collapse": False},
-        "output": {"every": 1e-3},
-    }
-
-
-def _attrs(units, long_name):
-    return {"units": units, "long_name": long_name}
 
 
 def _one_sine(amplitude, ratio, width, height):
@@ -97,7 +65,13 @@ def _one_sine(amplitude, ratio, width, height):
 def _rocking_spec(excitation, duration):
     width, height = ROCKING_BLOCK
     return block_scene(
-        width, height, friction=10.0, excitation=excitation, duration=duration, base_width=6.0
+        width,
+        height,
+        friction=10.0,
+        excitation=excitation,
+        duration=duration,
+        base_width=6.0,
+        contact=POINT_CONTACT,
     )
 
 
@@ -243,6 +217,7 @@ def sequence_newmark(cases=NEWMARK_SEQUENCE_CASES, rest=None):
             excitation={"kind": "sequence", "parts": [pulse, pulse], "rest": part_rest},
             duration=2 * window,
             base_width=2.0 * reach + 10.0,
+            contact=POINT_CONTACT,
         )
         scene = scene_from_dict(spec)
         run = simulate(scene)

@@ -30,15 +30,13 @@ import numpy as np
 import xarray as xr
 from scipy.optimize import brentq
 
-from stonedem.engine.laws import LAWS
 from stonedem.engine.scene import scene_from_dict
 from stonedem.engine.simulate import simulate
 from stonedem.reference import analytic
 from stonedem.units import GRAVITY as G
+from stonedem.validation.blocks import POINT_CONTACT
 from stonedem.validation.result import ValidationResult
 from stonedem.validation.result import attrs as _attrs
-
-POINT_CONTACT = {"model": "point", **LAWS["point"].defaults}  # the engine's default law
 
 TOLERANCE = 0.01
 RATE = 0.5  # [m s-3] thesis Fig. 6.10's ramp

@@ -274,16 +274,17 @@ def test_slurm_profile_dry_run():
 
 
 def test_fragility_dry_run_packs_the_searches_into_tens_of_jobs():
-    # the full IDA's plan: 428 searches packed by fragility.job_seconds into tens of jobs
+    # the full IDA's plan: 628 searches (6 structures x 100 records, the block x 28) packed by
+    # fragility.job_seconds into tens of jobs
     from stonedem.fragility.ida import fragility_config
     from stonedem.study.grid import config_cases, load_config
     from stonedem.study.jobs import plan_jobs
 
     studies = config_cases(fragility_config(load_config(ROOT / "config" / "config.yaml")))
-    assert sum(len(cases) for cases in studies.values()) == 428
+    assert sum(len(cases) for cases in studies.values()) == 628
     jobs = plan_jobs(studies, ROOT / "records", search_seconds=300.0)
     assert 40 <= len(jobs) <= 150 and all(job.is_search for job in jobs), len(jobs)
-    # the quick profile on the cluster profile: one structure, four records, nothing else
+    # the quick profile on the cluster profile: two structures, four records, nothing else
     proc = snakemake(
         "fragility", "-n", "--profile", "config/profiles/slurm", "--configfile", "config/quick.yaml"
     )

@@ -29,7 +29,10 @@ from stonedem.study.grid import (
     SWEPT,
     check_config,
     config_cases,
+    ensemble_settings,
     load_config,
+    study_members,
+    with_members,
 )
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -350,9 +353,18 @@ def _check(config: dict):
     except InputError as error:
         _assert_refused_cleanly(error, config)
         return None
-    assert {n: [c.id for c in cases] for n, cases in tables.items()} == {
-        n: [c.id for c in cases] for n, cases in config_cases(config).items()
-    }, "common.smk's STUDIES"
+    members, perturbation = ensemble_settings(config)
+    assert {
+        n: [
+            c.id
+            for c in with_members(
+                cases, study_members(config["studies"][n], members, n), perturbation
+            )
+        ]
+        for n, cases in tables.items()
+    } == {n: [c.id for c in cases] for n, cases in config_cases(config).items()}, (
+        "common.smk's STUDIES"
+    )
     return tables
 
 

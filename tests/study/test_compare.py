@@ -45,6 +45,22 @@ def test_two_runs_differing_only_in_their_clocks_are_the_same(tmp_path, capsys):
     )
 
 
+def test_a_variable_s_array_attribute_is_compared_by_value(tmp_path, capsys):
+    # a link's status carries flag_values [0, 1, 2]: dicts of arrays cannot be compared by !=
+    a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
+    for folder, flags in ((a, [0, 1, 2]), (b, [0, 1, 2])):
+        ds = xr.Dataset({"status": ("link", [0, 2], {"flag_values": np.array(flags)})})
+        ds.to_netcdf(folder / "results/cubes/links.nc", engine="netcdf4")
+    assert _compare(capsys, a, b) == (0, [], ["3 files compared: the same"])
+    ds = xr.Dataset({"status": ("link", [0, 2], {"flag_values": np.array([0, 1, 3])})})
+    ds.to_netcdf(b / "results/cubes/links.nc", engine="netcdf4")
+    assert _compare(capsys, a, b) == (
+        1,
+        ["results/cubes/links.nc:status attrs differ"],
+        ["3 files compared: 1 differ"],
+    )
+
+
 def test_a_file_on_either_side_only_is_a_difference_named_with_its_folder(tmp_path, capsys):
     a, b = _study(tmp_path / "a"), _study(tmp_path / "b")
     (a / "results/tables/left.csv").write_text("x\n1\n")

@@ -74,6 +74,13 @@ def _unclocked(attrs: dict) -> dict:
     return {k: v for k, v in attrs.items() if k not in CLOCK}
 
 
+def _attrs_differ(a: dict, b: dict) -> set:
+    """The attributes, clocks aside, whose values differ; a value may be an array (a link's
+    flag values), which ``!=`` of two dicts cannot compare."""
+    a, b = _unclocked(a), _unclocked(b)
+    return {k for k in set(a) | set(b) if not same_values(a.get(k), b.get(k))}
+
+
 def _load(path: Path):
     """(the dataset, in memory, None), or (None, why it cannot be read)."""
     try:
@@ -101,13 +108,9 @@ def dataset_differences(path_a: Path, path_b: Path, label: str) -> list[str]:
     for name in a.variables:
         if a[name].dims != b[name].dims or not same_values(a[name].values, b[name].values):
             out.append(f"{label}:{name} differs")
-        elif _unclocked(a[name].attrs) != _unclocked(b[name].attrs):
+        elif _attrs_differ(a[name].attrs, b[name].attrs):
             out.append(f"{label}:{name} attrs differ")
-    differ = {
-        k
-        for k in set(_unclocked(a.attrs)) | set(_unclocked(b.attrs))
-        if not same_values(a.attrs.get(k), b.attrs.get(k))
-    }
+    differ = _attrs_differ(a.attrs, b.attrs)
     if differ:
         out.append(f"{label}: attrs {sorted(differ)} differ")
     return out

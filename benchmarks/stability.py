@@ -342,11 +342,12 @@ def stability_map(
 
 def study_scenes(config_path=ROOT / "config" / "config.yaml", duration: float = DURATION) -> dict:
     """{study: Scene}: the first case of every study in the config, shortened to ``duration``."""
-    from stonedem.study.grid import config_cases, load_config
+    from stonedem.study.grid import config_cases, load_config, scene_without_member
 
     scenes = {}
     for name, cases in config_cases(load_config(config_path)).items():
-        spec = copy.deepcopy(cases[0].scene)
+        # member 0 of a study with its own ensemble is the case as configured
+        spec, _ = scene_without_member(copy.deepcopy(cases[0].scene))
         spec.setdefault("solver", {}).update(duration=duration, stop_on_collapse=False)
         spec["solver"].pop("dt", None)  # the automatic step is what is measured
         spec.pop("name", None)
